@@ -1,0 +1,111 @@
+#include "kernel/mesh.h"
+
+#include "kernel/error.h"
+#include "kernel/transform.h"
+
+namespace wedge {
+
+std::uint32_t Mesh::add_vertex(const Point3& p) {
+  positions.push_back(p);
+  return static_cast<std::uint32_t>(positions.size() - 1);
+}
+
+std::uint32_t Mesh::add_triangle(std::uint32_t a, std::uint32_t b, std::uint32_t c, std::int32_t face_id) {
+  if (!face_ids.empty() || face_id != -1) {
+    face_ids.resize(triangles.size(), -1);
+    face_ids.push_back(face_id);
+  }
+  triangles.push_back({a, b, c});
+  return static_cast<std::uint32_t>(triangles.size() - 1);
+}
+
+void Mesh::append(const Mesh& other) {
+  const auto offset = static_cast<std::uint32_t>(positions.size());
+  const bool keep_normals = normals.size() == positions.size() && other.normals.size() == other.positions.size();
+  const bool keep_uvs = uvs.size() == positions.size() && other.uvs.size() == other.positions.size();
+  const bool ids = !face_ids.empty() || !other.face_ids.empty();
+  const std::size_t old_tris = triangles.size();
+
+  positions.insert(positions.end(), other.positions.begin(), other.positions.end());
+  if (keep_normals) normals.insert(normals.end(), other.normals.begin(), other.normals.end());
+  else normals.clear();
+  if (keep_uvs) uvs.insert(uvs.end(), other.uvs.begin(), other.uvs.end());
+  else uvs.clear();
+  for (const auto& t : other.triangles) triangles.push_back({t[0] + offset, t[1] + offset, t[2] + offset});
+  if (ids) {
+    face_ids.resize(old_tris, -1);
+    if (other.face_ids.empty()) face_ids.resize(triangles.size(), -1);
+    else face_ids.insert(face_ids.end(), other.face_ids.begin(), other.face_ids.end());
+  }
+}
+
+Box3 Mesh::bounds() const {
+  Box3 b;
+  for (const auto& p : positions) b.extend(p);
+  return b;
+}
+
+double Mesh::area() const {
+  double a = 0;
+  for (const auto& t : triangles)
+    a += 0.5 * (positions[t[1]] - positions[t[0]]).cross(positions[t[2]] - positions[t[0]]).norm();
+  return a;
+}
+
+double Mesh::volume() const {
+  double v = 0;
+  for (const auto& t : triangles) v += positions[t[0]].dot(positions[t[1]].cross(positions[t[2]]));
+  return v / 6.0;
+}
+
+Vec3 Mesh::triangle_normal(std::size_t i) const {
+  const auto& t = triangles[i];
+  Vec3 n = (positions[t[1]] - positions[t[0]]).cross(positions[t[2]] - positions[t[0]]);
+  double len = n.norm();
+  return len > 0 ? Vec3(n / len) : Vec3::Zero();
+}
+
+void Mesh::compute_vertex_normals() {
+  normals.assign(positions.size(), Vec3::Zero());
+  for (const auto& t : triangles) {
+    Vec3 n = (positions[t[1]] - positions[t[0]]).cross(positions[t[2]] - positions[t[0]]);
+    for (auto i : t) normals[i] += n;
+  }
+  for (auto& n : normals) {
+    double len = n.norm();
+    if (len > 0) n /= len;
+  }
+}
+
+Mesh Mesh::transformed(const Mat4& m) const {
+  Mesh out = *this;
+  for (auto& p : out.positions) p = apply_point(m, p);
+  if (!out.normals.empty()) {
+    Mat3 nm = m.block<3, 3>(0, 0).inverse().transpose();
+    for (auto& n : out.normals) {
+      n = nm * n;
+      double len = n.norm();
+      if (len > 0) n /= len;
+    }
+  }
+  if (reverses_orientation(m))
+    for (auto& t : out.triangles) std::swap(t[1], t[2]);
+  return out;
+}
+
+void Mesh::check() const {
+  if (!normals.empty() && normals.size() != positions.size())
+    fail("mesh has ", normals.size(), " normals for ", positions.size(), " vertices");
+  if (!uvs.empty() && uvs.size() != positions.size())
+    fail("mesh has ", uvs.size(), " texture coordinates for ", positions.size(), " vertices");
+  if (!face_ids.empty() && face_ids.size() != triangles.size())
+    fail("mesh has ", face_ids.size(), " face ids for ", triangles.size(), " triangles");
+  for (std::size_t i = 0; i < positions.size(); ++i)
+    if (!positions[i].allFinite()) fail("mesh vertex ", i, " has a non-finite coordinate");
+  for (std::size_t i = 0; i < triangles.size(); ++i)
+    for (auto v : triangles[i])
+      if (v >= positions.size())
+        fail("mesh triangle ", i, " refers to vertex ", v, " but there are only ", positions.size());
+}
+
+}  // namespace wedge

@@ -1,0 +1,54 @@
+// The plain triangle mesh that every module passes around: shared vertex positions, optional
+// per-vertex normals and texture coordinates, and for each triangle the id of the source face it
+// came from (a B-Rep face, a surface patch, an input triangle of a boolean), or -1.
+#pragma once
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "kernel/bbox.h"
+#include "kernel/types.h"
+
+namespace wedge {
+
+struct Mesh {
+  using Triangle = std::array<std::uint32_t, 3>;  // counter-clockwise seen from outside
+
+  std::vector<Point3> positions;
+  std::vector<Vec3> normals;        // empty, or one per position
+  std::vector<Vec2> uvs;            // empty, or one per position
+  std::vector<Triangle> triangles;
+  std::vector<std::int32_t> face_ids;  // empty, or one per triangle
+
+  std::size_t vertex_count() const { return positions.size(); }
+  std::size_t triangle_count() const { return triangles.size(); }
+  bool empty() const { return triangles.empty(); }
+
+  // Adds a vertex / triangle and returns its index.
+  std::uint32_t add_vertex(const Point3& p);
+  std::uint32_t add_triangle(std::uint32_t a, std::uint32_t b, std::uint32_t c, std::int32_t face_id = -1);
+
+  // Appends `other`, offsetting its indices. Attributes present in only one of the two are
+  // dropped (normals, uvs) or filled with -1 (face ids).
+  void append(const Mesh& other);
+
+  Box3 bounds() const;
+  double area() const;
+  // Signed volume by the divergence theorem; positive for a closed mesh oriented outward.
+  double volume() const;
+
+  // Area-weighted vertex normals (each triangle adds its unnormalised cross product to its three
+  // vertices), replacing any existing normals.
+  void compute_vertex_normals();
+  Vec3 triangle_normal(std::size_t t) const;  // unit, or zero for a degenerate triangle
+
+  // Applies a transform to positions and normals; a mirror also reverses triangle order so the
+  // mesh stays outward-oriented.
+  Mesh transformed(const Mat4& m) const;
+
+  // Throws wedge::Error naming the first inconsistency: attribute array sizes, an index out of
+  // range, a non-finite coordinate.
+  void check() const;
+};
+
+}  // namespace wedge

@@ -1,0 +1,287 @@
+#include "lua/lua_util.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <sstream>
+
+namespace wedge::lua {
+
+namespace {
+std::string format_number(double v) {
+  std::ostringstream out;
+  out.precision(17);
+  out << v;
+  return out.str();
+}
+}  // namespace
+
+int raise_arg_error(lua_State* L, int arg, const char* message) { return luaL_argerror(L, arg, message); }
+
+int raise_error(lua_State* L, const char* message) {
+  // Name the running function, as luaL_argerror does, so the message says where it came from.
+  lua_Debug ar;
+  if (lua_getstack(L, 0, &ar) && lua_getinfo(L, "n", &ar) && ar.name)
+    return luaL_error(L, "%s: %s", ar.name, message);
+  return luaL_error(L, "%s", message);
+}
+
+std::string type_name(lua_State* L, int idx) {
+  if (luaL_getmetafield(L, idx, "__name") == LUA_TSTRING) {
+    std::string name = lua_tostring(L, -1);
+    lua_pop(L, 1);
+    return name;
+  }
+  if (lua_type(L, idx) == LUA_TNONE) return "no value";
+  return luaL_typename(L, idx);
+}
+
+std::string describe(lua_State* L, int idx) {
+  switch (lua_type(L, idx)) {
+    case LUA_TNUMBER: return "number " + format_number(lua_tonumber(L, idx));
+    case LUA_TSTRING: return std::string("string '") + lua_tostring(L, idx) + "'";
+    case LUA_TBOOLEAN: return lua_toboolean(L, idx) ? "true" : "false";
+    default: return type_name(L, idx);
+  }
+}
+
+double check_number(lua_State* L, int idx) {
+  if (lua_type(L, idx) != LUA_TNUMBER) throw ArgError{idx, "number expected, got " + type_name(L, idx)};
+  double v = lua_tonumber(L, idx);
+  if (!std::isfinite(v)) throw ArgError{idx, "finite number expected, got " + format_number(v)};
+  return v;
+}
+
+double opt_number(lua_State* L, int idx, double fallback) {
+  return lua_isnoneornil(L, idx) ? fallback : check_number(L, idx);
+}
+
+bool check_boolean(lua_State* L, int idx) {
+  if (lua_type(L, idx) != LUA_TBOOLEAN) throw ArgError{idx, "boolean expected, got " + type_name(L, idx)};
+  return lua_toboolean(L, idx);
+}
+
+std::string check_string(lua_State* L, int idx) {
+  if (lua_type(L, idx) != LUA_TSTRING) throw ArgError{idx, "string expected, got " + type_name(L, idx)};
+  size_t len = 0;
+  const char* s = lua_tolstring(L, idx, &len);
+  return std::string(s, len);
+}
+
+int check_integer(lua_State* L, int idx) {
+  double v = check_number(L, idx);
+  if (v != std::floor(v) || std::fabs(v) > 2e9)
+    throw ArgError{idx, "integer expected, got " + format_number(v)};
+  return static_cast<int>(v);
+}
+
+void check_table(lua_State* L, int idx) {
+  if (lua_type(L, idx) != LUA_TTABLE) throw ArgError{idx, "table expected, got " + type_name(L, idx)};
+}
+
+template <int N>
+static Eigen::Matrix<double, N, 1> read_vector(lua_State* L, int idx, int arg, const std::string& what, bool allow_shorter) {
+  idx = lua_absindex(L, idx);
+  if (lua_type(L, idx) != LUA_TTABLE)
+    throw ArgError{arg, what + (N == 3 ? " must be a point {x, y, z}" : " must be a point {x, y}") + ", got " +
+                            type_name(L, idx)};
+  lua_Integer n = static_cast<lua_Integer>(lua_rawlen(L, idx));
+  if (n != N && !(allow_shorter && n == N - 1))
+    throw ArgError{arg, what + " must have " + std::to_string(N) + " coordinates, got " + std::to_string(n)};
+  Eigen::Matrix<double, N, 1> v = Eigen::Matrix<double, N, 1>::Zero();
+  for (lua_Integer i = 1; i <= n; ++i) {
+    int t = lua_rawgeti(L, idx, i);
+    double x = lua_tonumber(L, -1);
+    lua_pop(L, 1);
+    if (t != LUA_TNUMBER)
+      throw ArgError{arg, what + " coordinate " + std::to_string(i) + " must be a number"};
+    if (!std::isfinite(x))
+      throw ArgError{arg, what + " coordinate " + std::to_string(i) + " must be finite, got " + format_number(x)};
+    v[static_cast<int>(i - 1)] = x;
+  }
+  return v;
+}
+
+Vec3 to_vec3(lua_State* L, int idx, int arg, const std::string& what, bool allow_2d) {
+  return read_vector<3>(L, idx, arg, what, allow_2d);
+}
+Vec2 to_vec2(lua_State* L, int idx, int arg, const std::string& what) { return read_vector<2>(L, idx, arg, what, false); }
+
+Vec3 check_vec3(lua_State* L, int idx, bool allow_2d) {
+  if (lua_type(L, idx) != LUA_TTABLE) throw ArgError{idx, "point {x, y, z} expected, got " + type_name(L, idx)};
+  return to_vec3(L, idx, idx, "point", allow_2d);
+}
+Vec2 check_vec2(lua_State* L, int idx) {
+  if (lua_type(L, idx) != LUA_TTABLE) throw ArgError{idx, "point {x, y} expected, got " + type_name(L, idx)};
+  return to_vec2(L, idx, idx, "point");
+}
+
+void push_vec3(lua_State* L, const Vec3& v) {
+  lua_createtable(L, 3, 0);
+  for (int i = 0; i < 3; ++i) {
+    lua_pushnumber(L, v[i]);
+    lua_rawseti(L, -2, i + 1);
+  }
+}
+void push_vec2(lua_State* L, const Vec2& v) {
+  lua_createtable(L, 2, 0);
+  for (int i = 0; i < 2; ++i) {
+    lua_pushnumber(L, v[i]);
+    lua_rawseti(L, -2, i + 1);
+  }
+}
+
+// --- Options ---
+
+Options::Options(lua_State* L, int arg) : L_(L), arg_(arg), idx_(lua_absindex(L, arg)) {
+  if (lua_type(L, idx_) != LUA_TTABLE) throw ArgError{arg, "table of options expected, got " + type_name(L, idx_)};
+}
+
+void Options::mark(const char* key) {
+  if (std::find(known_.begin(), known_.end(), key) == known_.end()) known_.emplace_back(key);
+}
+
+int Options::push(const char* key) {
+  mark(key);
+  lua_pushstring(L_, key);
+  return lua_rawget(L_, idx_);
+}
+
+bool Options::has(const char* key) {
+  int t = push(key);
+  lua_pop(L_, 1);
+  return t != LUA_TNIL;
+}
+
+std::optional<double> Options::number(const char* key) {
+  int t = push(key);
+  double v = lua_tonumber(L_, -1);
+  lua_pop(L_, 1);
+  if (t == LUA_TNIL) return std::nullopt;
+  if (t != LUA_TNUMBER) {
+    push(key);
+    std::string got = type_name(L_, -1);
+    lua_pop(L_, 1);
+    throw ArgError{arg_, std::string("field '") + key + "' must be a number, got " + got};
+  }
+  if (!std::isfinite(v)) throw ArgError{arg_, std::string("field '") + key + "' must be finite, got " + format_number(v)};
+  return v;
+}
+
+double Options::number(const char* key, double fallback) { return number(key).value_or(fallback); }
+
+double Options::positive(const char* key, double fallback) {
+  double v = number(key, fallback);
+  if (!(v > 0)) throw ArgError{arg_, std::string("field '") + key + "' must be positive, got " + format_number(v)};
+  return v;
+}
+
+int Options::integer(const char* key, int fallback) {
+  auto v = number(key);
+  if (!v) return fallback;
+  if (*v != std::floor(*v) || std::fabs(*v) > 2e9)
+    throw ArgError{arg_, std::string("field '") + key + "' must be an integer, got " + format_number(*v)};
+  return static_cast<int>(*v);
+}
+
+bool Options::boolean(const char* key, bool fallback) {
+  int t = push(key);
+  bool v = lua_toboolean(L_, -1);
+  std::string got = t == LUA_TNIL || t == LUA_TBOOLEAN ? "" : type_name(L_, -1);
+  lua_pop(L_, 1);
+  if (t == LUA_TNIL) return fallback;
+  if (t != LUA_TBOOLEAN) throw ArgError{arg_, std::string("field '") + key + "' must be a boolean, got " + got};
+  return v;
+}
+
+std::string Options::string(const char* key, const std::string& fallback) {
+  int t = push(key);
+  std::string v = t == LUA_TSTRING ? lua_tostring(L_, -1) : "";
+  std::string got = t == LUA_TNIL || t == LUA_TSTRING ? "" : type_name(L_, -1);
+  lua_pop(L_, 1);
+  if (t == LUA_TNIL) return fallback;
+  if (t != LUA_TSTRING) throw ArgError{arg_, std::string("field '") + key + "' must be a string, got " + got};
+  return v;
+}
+
+std::optional<Vec3> Options::vec3(const char* key, bool allow_2d) {
+  int t = push(key);
+  if (t == LUA_TNIL) {
+    lua_pop(L_, 1);
+    return std::nullopt;
+  }
+  std::optional<Vec3> v;
+  std::string err;
+  int err_arg = 0;
+  try {
+    v = to_vec3(L_, -1, arg_, std::string("field '") + key + "'", allow_2d);
+  } catch (const ArgError& e) {
+    err_arg = e.arg;
+    err = e.message;
+  }
+  lua_pop(L_, 1);
+  if (err_arg) throw ArgError{err_arg, err};
+  return v;
+}
+
+Vec3 Options::vec3(const char* key, const Vec3& fallback, bool allow_2d) { return vec3(key, allow_2d).value_or(fallback); }
+
+Vec2 Options::vec2(const char* key, const Vec2& fallback) {
+  int t = push(key);
+  if (t == LUA_TNIL) {
+    lua_pop(L_, 1);
+    return fallback;
+  }
+  Vec2 v;
+  std::string err;
+  int err_arg = 0;
+  try {
+    v = to_vec2(L_, -1, arg_, std::string("field '") + key + "'");
+  } catch (const ArgError& e) {
+    err_arg = e.arg;
+    err = e.message;
+  }
+  lua_pop(L_, 1);
+  if (err_arg) throw ArgError{err_arg, err};
+  return v;
+}
+
+void Options::finish() {
+  lua_pushnil(L_);
+  while (lua_next(L_, idx_)) {
+    lua_pop(L_, 1);  // the value; the key stays for lua_next
+    if (lua_type(L_, -1) == LUA_TSTRING) {
+      std::string key = lua_tostring(L_, -1);
+      if (std::find(known_.begin(), known_.end(), key) == known_.end()) {
+        lua_pop(L_, 1);
+        std::string names;
+        for (const auto& k : known_) names += (names.empty() ? "" : ", ") + k;
+        throw ArgError{arg_, "unknown field '" + key + "'" + (names.empty() ? "" : " (known: " + names + ")")};
+      }
+    } else if (!(positional_ && lua_type(L_, -1) == LUA_TNUMBER)) {
+      std::string what = describe(L_, -1);
+      lua_pop(L_, 1);
+      throw ArgError{arg_, "unexpected key " + what + " in options table"};
+    }
+  }
+}
+
+// --- classes ---
+
+void register_class(lua_State* L, const char* registry_key, const char* display_name, const luaL_Reg* methods,
+                    const luaL_Reg* metamethods, lua_CFunction gc) {
+  luaL_newmetatable(L, registry_key);
+  lua_pushstring(L, display_name);
+  lua_setfield(L, -2, "__name");
+  lua_newtable(L);
+  if (methods) luaL_setfuncs(L, methods, 0);
+  lua_setfield(L, -2, "__index");
+  if (metamethods) luaL_setfuncs(L, metamethods, 0);
+  lua_pushcfunction(L, gc);
+  lua_setfield(L, -2, "__gc");
+  lua_pop(L, 1);
+}
+
+void set_functions(lua_State* L, const luaL_Reg* functions) { luaL_setfuncs(L, functions, 0); }
+
+}  // namespace wedge::lua

@@ -1,0 +1,142 @@
+// Helpers every binding uses. The rule they enforce: no Lua error (a longjmp) is ever raised while
+// a C++ frame with a destructor is live. Bindings run their body inside guarded(); argument checks
+// throw ArgError, kernel code throws wedge::Error, and guarded() turns either into a Lua error
+// only after the catch block has ended and the C++ objects are gone. The messages follow Lua's
+// own: "bad argument #2 to 'translate' (number expected, got string)", at the caller's file:line.
+#pragma once
+#include <lua.hpp>
+
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "kernel/kernel.h"
+
+namespace wedge::lua {
+
+// An error in argument `arg` of the running function; `message` goes inside the parentheses.
+struct ArgError {
+  int arg;
+  std::string message;
+};
+
+// Raises the pending error as a Lua error (never returns). Kept out of line, free of C++ objects.
+int raise_arg_error(lua_State* L, int arg, const char* message);
+int raise_error(lua_State* L, const char* message);
+
+template <class F>
+int guarded(lua_State* L, F&& body) {
+  int arg = 0;
+  std::string message;
+  try {
+    return body();
+  } catch (const ArgError& e) {
+    arg = e.arg;
+    message = e.message;
+  } catch (const std::exception& e) {
+    message = e.what();
+  } catch (...) {
+    message = "unknown C++ exception";
+  }
+  // The catch blocks are finished: only the string remains, and it is copied to Lua below.
+  return arg ? raise_arg_error(L, arg, message.c_str()) : raise_error(L, message.c_str());
+}
+
+// The name Lua shows for the value at idx: its metatable's __name, or its type name.
+std::string type_name(lua_State* L, int idx);
+std::string describe(lua_State* L, int idx);  // "number 3", "string 'abc'", "nil", ...
+
+// Argument checks (they throw ArgError). Numbers must be finite.
+double check_number(lua_State* L, int idx);
+double opt_number(lua_State* L, int idx, double fallback);
+bool check_boolean(lua_State* L, int idx);
+std::string check_string(lua_State* L, int idx);
+int check_integer(lua_State* L, int idx);
+void check_table(lua_State* L, int idx);
+// A point {x, y, z}; a 2-element table is accepted as {x, y, 0} only if allow_2d.
+Vec3 check_vec3(lua_State* L, int idx, bool allow_2d = false);
+Vec2 check_vec2(lua_State* L, int idx);
+// Reads the table at the top of the stack (not an argument slot) as a vector; `what` names it in
+// errors ("field 'center'").
+Vec3 to_vec3(lua_State* L, int idx, int arg, const std::string& what, bool allow_2d = false);
+Vec2 to_vec2(lua_State* L, int idx, int arg, const std::string& what);
+
+void push_vec3(lua_State* L, const Vec3& v);
+void push_vec2(lua_State* L, const Vec2& v);
+
+// A table of named options at argument `arg`. Each accessor records the field as known; finish()
+// rejects any field that was never asked for ("unknown field 'raduis'").
+class Options {
+ public:
+  Options(lua_State* L, int arg);
+  bool has(const char* key);
+  double number(const char* key, double fallback);
+  std::optional<double> number(const char* key);
+  double positive(const char* key, double fallback);  // > 0
+  int integer(const char* key, int fallback);
+  bool boolean(const char* key, bool fallback);
+  std::string string(const char* key, const std::string& fallback);
+  Vec3 vec3(const char* key, const Vec3& fallback, bool allow_2d = false);
+  std::optional<Vec3> vec3(const char* key, bool allow_2d = false);
+  Vec2 vec2(const char* key, const Vec2& fallback);
+  // Pushes the field's value (possibly nil) and returns its Lua type; the caller pops it.
+  int push(const char* key);
+  // Also accept the array part (t[1], t[2], ...) without complaint.
+  void allow_positional() { positional_ = true; }
+  void finish();
+  int arg() const { return arg_; }
+  lua_State* state() const { return L_; }
+
+ private:
+  void mark(const char* key);
+  lua_State* L_;
+  int arg_;
+  int idx_;
+  bool positional_ = false;
+  std::vector<std::string> known_;
+};
+
+// --- userdata holding a C++ value -----------------------------------------------------------
+// The userdata stores a pointer to a heap copy, so any alignment works (Eigen types included);
+// __gc deletes it and clears the pointer, so running it twice is harmless.
+void register_class(lua_State* L, const char* registry_key, const char* display_name, const luaL_Reg* methods,
+                    const luaL_Reg* metamethods, lua_CFunction gc);
+
+template <class T>
+int gc_object(lua_State* L) {
+  auto** p = static_cast<T**>(lua_touserdata(L, 1));
+  if (p && *p) {
+    delete *p;
+    *p = nullptr;
+  }
+  return 0;
+}
+
+template <class T>
+T& push_object(lua_State* L, const char* registry_key, T value) {
+  auto** slot = static_cast<T**>(lua_newuserdatauv(L, sizeof(T*), 0));
+  *slot = nullptr;
+  luaL_setmetatable(L, registry_key);
+  *slot = new T(std::move(value));
+  return **slot;
+}
+
+// The object at idx, or nullptr if it is not of this class.
+template <class T>
+T* test_object(lua_State* L, int idx, const char* registry_key) {
+  auto** p = static_cast<T**>(luaL_testudata(L, idx, registry_key));
+  return p ? *p : nullptr;
+}
+
+template <class T>
+T& check_object(lua_State* L, int idx, const char* registry_key, const char* display_name) {
+  T* p = test_object<T>(L, idx, registry_key);
+  if (!p) throw ArgError{idx, std::string(display_name) + " expected, got " + type_name(L, idx)};
+  return *p;
+}
+
+// Sets table[name] = f for each entry, on the table at the top of the stack.
+void set_functions(lua_State* L, const luaL_Reg* functions);
+
+}  // namespace wedge::lua

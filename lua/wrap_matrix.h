@@ -1,0 +1,11 @@
+// The Matrix userdata, for other bindings that take or return 4x4 transforms (s:transform(m)).
+#pragma once
+#include <lua.hpp>
+
+#include "kernel/types.h"
+
+namespace wedge::lua {
+const Mat4* test_matrix(lua_State* L, int idx);   // nullptr if not a Matrix
+const Mat4& check_matrix(lua_State* L, int idx);  // throws ArgError if not a Matrix
+void push_matrix_value(lua_State* L, const Mat4& m);
+}  // namespace wedge::lua

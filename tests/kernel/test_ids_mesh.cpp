@@ -1,0 +1,112 @@
+#include <catch2/catch.hpp>
+
+#include <unordered_set>
+
+#include "kernel/kernel.h"
+
+using namespace wedge;
+
+using AId = Id<struct ATag>;
+using BId = Id<struct BTag>;
+
+TEST_CASE("typed ids are distinct types, invalid by default", "[ids]") {
+  AId a;
+  CHECK_FALSE(a.valid());
+  CHECK(AId(3) == AId(3));
+  CHECK(AId(2) < AId(3));
+  STATIC_REQUIRE_FALSE(std::is_convertible_v<AId, BId>);
+  STATIC_REQUIRE_FALSE(std::is_convertible_v<int, AId>);
+  std::unordered_set<AId> set{AId(1), AId(2), AId(1)};
+  CHECK(set.size() == 2);
+}
+
+TEST_CASE("arenas hand out ids, tombstone removed elements and restore them", "[ids]") {
+  Arena<std::string, AId> arena;
+  AId x = arena.add("x"), y = arena.add("y"), z = arena.add("z");
+  CHECK(arena.size() == 3);
+  arena.remove(y);
+  CHECK(arena.size() == 2);
+  CHECK_FALSE(arena.contains(y));
+  CHECK(arena.ids() == std::vector<AId>{x, z});
+  CHECK_THROWS_WITH(arena[y], Catch::Contains("removed id 1"));
+  CHECK_THROWS_AS(arena.remove(y), Error);
+  arena.restore(y);
+  CHECK(arena[y] == "y");
+  CHECK(arena.size() == 3);
+  CHECK_THROWS_AS(arena.restore(y), Error);
+  CHECK_THROWS_AS(arena[AId()], Error);
+}
+
+TEST_CASE("bounding boxes", "[bbox]") {
+  Box3 b;
+  CHECK(b.empty());
+  b.extend(Vec3(1, 2, 3));
+  b.extend(Vec3(-1, 0, 5));
+  CHECK(b.min == Vec3(-1, 0, 3));
+  CHECK(b.max == Vec3(1, 2, 5));
+  CHECK(b.contains({0, 1, 4}));
+  CHECK_FALSE(b.contains({0, 3, 4}));
+  CHECK(b.intersects(Box3({1, 2, 5}, {9, 9, 9})));  // touching counts
+  CHECK_FALSE(b.intersects(Box3({1.1, 2, 5}, {9, 9, 9})));
+  CHECK_FALSE(b.intersects(Box3()));
+}
+
+namespace {
+Mesh unit_tetrahedron() {
+  Mesh m;
+  m.add_vertex({0, 0, 0});
+  m.add_vertex({1, 0, 0});
+  m.add_vertex({0, 1, 0});
+  m.add_vertex({0, 0, 1});
+  m.add_triangle(0, 2, 1, 0);
+  m.add_triangle(0, 1, 3, 1);
+  m.add_triangle(0, 3, 2, 2);
+  m.add_triangle(1, 2, 3, 3);
+  return m;
+}
+}  // namespace
+
+TEST_CASE("mesh volume, area and bounds", "[mesh]") {
+  Mesh m = unit_tetrahedron();
+  CHECK(m.volume() == Approx(1.0 / 6));
+  CHECK(m.area() == Approx(1.5 + std::sqrt(3.0) / 2));
+  CHECK(m.bounds().max == Vec3(1, 1, 1));
+  CHECK_NOTHROW(m.check());
+}
+
+TEST_CASE("a mirrored mesh stays outward-oriented", "[mesh]") {
+  Mesh m = unit_tetrahedron().transformed(reflect({1, 0, 0}));
+  CHECK(m.volume() == Approx(1.0 / 6));
+  Mesh s = unit_tetrahedron().transformed(scale({2, 2, 2}));
+  CHECK(s.volume() == Approx(8.0 / 6));
+}
+
+TEST_CASE("append offsets indices and keeps face ids", "[mesh]") {
+  Mesh a = unit_tetrahedron();
+  Mesh b = unit_tetrahedron().transformed(translate({5, 0, 0}));
+  a.append(b);
+  CHECK(a.triangle_count() == 8);
+  CHECK(a.face_ids.size() == 8);
+  CHECK(a.volume() == Approx(2.0 / 6));
+  CHECK(a.triangles[4][0] == 4);
+}
+
+TEST_CASE("vertex normals are area-weighted and unit", "[mesh]") {
+  Mesh m = unit_tetrahedron();
+  m.compute_vertex_normals();
+  REQUIRE(m.normals.size() == 4);
+  for (const auto& n : m.normals) CHECK(n.norm() == Approx(1));
+  // Vertex 3 = (0,0,1) touches faces with normals -x, -y and (1,1,1)/sqrt3 (area sqrt3/2).
+  Vec3 expected = (Vec3(-0.5, 0, 0) + Vec3(0, -0.5, 0) + Vec3(0.5, 0.5, 0.5)).normalized();
+  CHECK((m.normals[3] - expected).norm() < 1e-15);
+}
+
+TEST_CASE("mesh check names the first inconsistency", "[mesh][errors]") {
+  Mesh m = unit_tetrahedron();
+  m.triangles.push_back({0, 1, 9});
+  m.face_ids.push_back(-1);
+  CHECK_THROWS_WITH(m.check(), Catch::Contains("refers to vertex 9"));
+  Mesh n = unit_tetrahedron();
+  n.positions[2].x() = std::nan("");
+  CHECK_THROWS_WITH(n.check(), Catch::Contains("vertex 2 has a non-finite"));
+}

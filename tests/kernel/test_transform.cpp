@@ -1,0 +1,178 @@
+#include <catch2/catch.hpp>
+
+#include <cmath>
+
+#include "kernel/kernel.h"
+
+using namespace wedge;
+
+namespace {
+template <class A, class B>
+bool near(const Eigen::MatrixBase<A>& a, const Eigen::MatrixBase<B>& b, double tol) {
+  return (a - b).cwiseAbs().maxCoeff() <= tol;
+}
+}  // namespace
+
+TEST_CASE("translate moves points but not vectors", "[transform]") {
+  Mat4 t = translate({1, 2, 3});
+  CHECK(apply_point(t, {1, 1, 1}) == Vec3(2, 3, 4));
+  CHECK(apply_vector(t, {1, 1, 1}) == Vec3(1, 1, 1));
+}
+
+TEST_CASE("rotations about the axes match hand-worked values", "[transform]") {
+  CHECK(apply_point(rotate_z(90), {1, 0, 0}) == Vec3(0, 1, 0));   // exact at multiples of 90
+  CHECK(apply_point(rotate_x(90), {0, 1, 0}) == Vec3(0, 0, 1));
+  CHECK(apply_point(rotate_y(90), {0, 0, 1}) == Vec3(1, 0, 0));
+  Vec3 p = apply_point(rotate_z(30), {1, 0, 0});
+  CHECK(near(p, Vec3(std::sqrt(3.0) / 2, 0.5, 0), 1e-15));
+  // About an arbitrary axis: 120 degrees about (1,1,1) cycles the axes.
+  CHECK(near(apply_point(rotate(120, {1, 1, 1}), {1, 0, 0}), Vec3(0, 1, 0), 1e-15));
+  // The general formula agrees with the axis-specific matrices.
+  CHECK(near(rotate(37, {0, 0, 1}), rotate_z(37), 1e-15));
+  CHECK(near(rotate(-51, {2, 0, 0}), rotate_x(-51), 1e-15));
+  CHECK(near(rotate(200, {0, 5, 0}), rotate_y(200), 1e-15));
+}
+
+TEST_CASE("rotating 30 degrees about z through the pivot (1,2,3) is T(p) Rz T(-p) and fixes the pivot", "[transform]") {
+  Vec3 pivot(1, 2, 3);
+  Mat4 r = rotate(30, {0, 0, 1}, pivot);
+  Mat4 expected = translate({1, 2, 3}) * rotate_z(30) * translate({-1, -2, -3});
+  CHECK(near(r, expected, 1e-15));
+  CHECK(near(apply_point(r, pivot), pivot, 1e-15));
+  // A point one unit along x from the pivot swings to angle 30 degrees around it.
+  Vec3 q = apply_point(r, pivot + Vec3(1, 0, 0));
+  CHECK(near(q, pivot + Vec3(std::cos(radians(30)), std::sin(radians(30)), 0), 1e-15));
+  // Hand-worked entries of the matrix: translation column = p - R p.
+  double c = std::sqrt(3.0) / 2, s = 0.5;
+  CHECK(r(0, 3) == Approx(1 - (c * 1 - s * 2)).margin(1e-15));
+  CHECK(r(1, 3) == Approx(2 - (s * 1 + c * 2)).margin(1e-15));
+  CHECK(r(2, 3) == 0);
+}
+
+TEST_CASE("the 2D inverse of [[7,3],[2,1]] is [[1,-3],[-2,7]]", "[transform]") {
+  Mat3 m = Mat3::Identity();
+  m(0, 0) = 7; m(0, 1) = 3;
+  m(1, 0) = 2; m(1, 1) = 1;
+  Mat3 inv = inverse_2d(m);
+  CHECK(inv(0, 0) == Approx(1).margin(1e-14));
+  CHECK(inv(0, 1) == Approx(-3).margin(1e-14));
+  CHECK(inv(1, 0) == Approx(-2).margin(1e-14));
+  CHECK(inv(1, 1) == Approx(7).margin(1e-14));
+  CHECK((m * inv - Mat3::Identity()).cwiseAbs().maxCoeff() <= 1e-12);
+}
+
+TEST_CASE("composition does not commute: rotation then translation differs from translation then rotation", "[transform]") {
+  Mat4 r = rotate_z(90), t = translate({1, 0, 0});
+  CHECK_FALSE(near(r * t, t * r, 1e-9));
+  // R*T applies T first: (0,0,0) -> (1,0,0) -> (0,1,0); T*R: (0,0,0) -> (0,0,0) -> (1,0,0).
+  CHECK(apply_point(r * t, {0, 0, 0}) == Vec3(0, 1, 0));
+  CHECK(apply_point(t * r, {0, 0, 0}) == Vec3(1, 0, 0));
+}
+
+TEST_CASE("a matrix times its inverse is the identity within 1e-12", "[transform]") {
+  Mat4 m = translate({3, -2, 7}) * rotate(33, {1, 2, 3}, {4, 5, 6}) * scale({2, 0.5, 3}) *
+           shear({.xy = 0.3, .zx = -0.7});
+  CHECK(near(m * inverse(m), Mat4::Identity(), 1e-12));
+  CHECK(near(inverse(m) * m, Mat4::Identity(), 1e-12));
+  CHECK(near(inverse(inverse(m)), m, 1e-12));
+}
+
+TEST_CASE("a singular matrix has no inverse and says so", "[transform]") {
+  CHECK_THROWS_WITH(inverse(scale({1, 0, 1})), Catch::Contains("singular"));
+}
+
+TEST_CASE("scale about a fixed point leaves it fixed", "[transform]") {
+  Mat4 s = scale({2, 3, 4}, {1, 1, 1});
+  CHECK(apply_point(s, {1, 1, 1}) == Vec3(1, 1, 1));
+  CHECK(apply_point(s, {2, 2, 2}) == Vec3(3, 4, 5));
+}
+
+TEST_CASE("reflect mirrors across a plane and reverses orientation", "[transform]") {
+  Mat4 m = reflect({0, 0, 1}, {0, 0, 2});
+  CHECK(near(apply_point(m, {1, 2, 3}), Vec3(1, 2, 1), 1e-15));
+  CHECK(reverses_orientation(m));
+  CHECK_FALSE(reverses_orientation(rotate(40, {1, 1, 0})));
+  CHECK(near(m * m, Mat4::Identity(), 1e-15));
+}
+
+TEST_CASE("the six 3D shears", "[transform]") {
+  Vec3 p(1, 2, 3);
+  CHECK(apply_point(shear({.xy = 2}), p) == Vec3(1 + 4, 2, 3));
+  CHECK(apply_point(shear({.xz = 2}), p) == Vec3(1 + 6, 2, 3));
+  CHECK(apply_point(shear({.yx = 2}), p) == Vec3(1, 2 + 2, 3));
+  CHECK(apply_point(shear({.yz = 2}), p) == Vec3(1, 2 + 6, 3));
+  CHECK(apply_point(shear({.zx = 2}), p) == Vec3(1, 2, 3 + 2));
+  CHECK(apply_point(shear({.zy = 2}), p) == Vec3(1, 2, 3 + 4));
+}
+
+TEST_CASE("the 2D shear x' = x + y cot(theta)", "[transform]") {
+  Mat3 s = shear_x_2d(45);
+  CHECK(apply_point_2d(s, {1, 2}).x() == Approx(3).margin(1e-14));
+  CHECK(apply_point_2d(s, {1, 2}).y() == 2);
+  Mat3 s60 = shear_x_2d(60);
+  CHECK(apply_point_2d(s60, {0, 1}).x() == Approx(1 / std::sqrt(3.0)).margin(1e-15));
+  CHECK_THROWS_WITH(shear_x_2d(0), Catch::Contains("multiple of 180"));
+}
+
+TEST_CASE("2D rotation about a pivot and reflection", "[transform]") {
+  Mat3 r = rotate_2d(90, {1, 1});
+  CHECK(apply_point_2d(r, {1, 1}) == Vec2(1, 1));
+  CHECK(apply_point_2d(r, {2, 1}) == Vec2(1, 2));
+  Mat3 m = reflect_2d({1, 1});  // the line y = x swaps coordinates
+  CHECK((apply_point_2d(m, {3, 5}) - Vec2(5, 3)).norm() < 1e-14);
+}
+
+TEST_CASE("Euler rotation is Rz Ry Rx", "[transform]") {
+  CHECK(near(rotate_euler(10, 20, 30), rotate_z(30) * rotate_y(20) * rotate_x(10), 1e-15));
+  // x applied first: (0,1,0) -> Rx(90) -> (0,0,1) -> Rz(90) leaves it.
+  CHECK(near(apply_point(rotate_euler(90, 0, 90), {0, 1, 0}), Vec3(0, 0, 1), 1e-15));
+}
+
+TEST_CASE("normals transform by the inverse transpose", "[transform]") {
+  // Non-uniform scale: the plane x + y = 1 becomes x/2 + y = 1, whose normal is (1, 2, 0)/|.|.
+  Mat4 s = scale({2, 1, 1});
+  Vec3 n = apply_normal(s, Vec3(1, 1, 0).normalized());
+  CHECK(near(n, Vec3(1, 2, 0).normalized(), 1e-15));
+  CHECK_FALSE(near(apply_vector(s, Vec3(1, 1, 0)).normalized(), n, 1e-3));
+}
+
+TEST_CASE("projection matrices have glFrustum / gluPerspective / glOrtho entries", "[transform]") {
+  Mat4 f = frustum(-1, 1, -1, 1, 1, 10);
+  CHECK(f(0, 0) == 1);
+  CHECK(f(1, 1) == 1);
+  CHECK(f(2, 2) == Approx(-11.0 / 9));
+  CHECK(f(2, 3) == Approx(-20.0 / 9));
+  CHECK(f(3, 2) == -1);
+  CHECK(f(3, 3) == 0);
+  // gluPerspective(90, 1, 1, 10) is glFrustum(-1, 1, -1, 1, 1, 10).
+  CHECK(near(perspective(90, 1, 1, 10), f, 1e-15));
+  // The near plane maps to NDC z = -1, the far plane to +1.
+  CHECK(apply_point(f, {0, 0, -1}).z() == Approx(-1));
+  CHECK(apply_point(f, {0, 0, -10}).z() == Approx(1));
+  Mat4 o = ortho(0, 800, 0, 600, -1, 1);
+  CHECK(near(apply_point(o, {800, 600, 0}), Vec3(1, 1, 0), 1e-15));
+  CHECK(near(apply_point(o, {0, 0, 0}), Vec3(-1, -1, 0), 1e-15));
+  CHECK(o(2, 2) == -1);
+}
+
+TEST_CASE("lookAt puts the eye at the origin looking down -z", "[transform]") {
+  Mat4 v = look_at({0, 0, 5}, {0, 0, 0}, {0, 1, 0});
+  CHECK(near(v, translate({0, 0, -5}), 1e-15));
+  Mat4 w = look_at({5, 5, 5}, {0, 0, 0}, {0, 0, 1});
+  CHECK(near(apply_point(w, {5, 5, 5}), Vec3::Zero(), 1e-14));
+  Vec3 c = apply_point(w, {0, 0, 0});
+  CHECK(c.x() == Approx(0).margin(1e-14));
+  CHECK(c.y() == Approx(0).margin(1e-14));
+  CHECK(c.z() == Approx(-std::sqrt(75.0)));
+  // The world up (0,0,1) projects to +y on screen.
+  CHECK(apply_vector(w, {0, 0, 1}).y() > 0);
+  CHECK_THROWS_WITH(look_at({0, 0, 1}, {0, 0, 0}, {0, 0, 1}), Catch::Contains("parallel"));
+}
+
+TEST_CASE("bad transform input is an error naming what was wrong", "[transform][errors]") {
+  CHECK_THROWS_WITH(rotate(10, {0, 0, 0}), Catch::Contains("axis must be non-zero"));
+  CHECK_THROWS_WITH(translate({std::nan(""), 0, 0}), Catch::Contains("translation must be finite"));
+  CHECK_THROWS_WITH(rotate_z(INFINITY), Catch::Contains("angle"));
+  CHECK_THROWS_WITH(perspective(0, 1, 1, 10), Catch::Contains("fovy"));
+  CHECK_THROWS_AS(frustum(-1, 1, -1, 1, 0, 10), Error);
+}
