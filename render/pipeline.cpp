@@ -421,10 +421,12 @@ struct Raster {
             if (qq == 0) qq = ssum;
             u = float(ss / qq) * tex_w, vv = float(tt / qq) * tex_h;
           };
+          // Derivatives per 2x2 pixel quad, as GPUs (and llvmpipe) take them.
+          const double qx = double((px & ~1) - px), qy = double((py & ~1) - py);
           float u0, v0_, ux, vx, uy, vy;
-          uv_at(0, 0, u0, v0_);
-          uv_at(1, 0, ux, vx);
-          uv_at(0, 1, uy, vy);
+          uv_at(qx, qy, u0, v0_);
+          uv_at(qx + 1, qy, ux, vx);
+          uv_at(qx, qy + 1, uy, vy);
           float rx = std::hypot(ux - u0, vx - v0_), ry = std::hypot(uy - u0, vy - v0_);
           float rho = std::max(rx, ry);
           lambda = rho > 0 ? std::log2(rho) : -100.0f;
