@@ -241,6 +241,13 @@ struct Camera {
 // A named view ("iso", "dimetric", "front", "top", "side", "oblique") looking at `bounds`.
 Camera named_view(const std::string& name, const Box3& bounds);
 
+// How hidden surfaces are removed: the z-buffer, or drawing back to front without a depth test
+// (painter's algorithm: triangles sorted by their farthest eye-space depth; or a BSP tree built
+// over the world-space triangles, splitting those that straddle a node's plane, traversed back
+// to front from the eye). The last two give the z-buffer's image on scenes without cyclic
+// overlap (for the BSP tree with flat shading: a split triangle's pieces share its face normal).
+enum class Visibility { ZBuffer, Painter, Bsp };
+
 struct RenderOptions {
   int width = 800, height = 600;
   Camera camera;
@@ -257,6 +264,7 @@ struct RenderOptions {
   Vec4f fog_color{1, 1, 1, 1};
   int antialias = 1;  // supersampling factor per axis
   Vec4f background{1, 1, 1, 1};
+  Visibility visibility = Visibility::ZBuffer;
 };
 
 struct DrawItem {

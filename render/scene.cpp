@@ -6,6 +6,124 @@
 
 namespace wedge::render {
 
+namespace {
+
+struct WorldTri {
+  Point3 p[3];
+  Vec3 n[3];
+  Vec2 uv[3];
+  Vec3 face_normal;
+  int item = 0;
+};
+
+// A BSP tree over triangles (Fuchs, Kedem & Naylor 1980; Foley et al. 15.5.2): each node holds
+// the triangles on its splitting plane; triangles straddling a plane are cut in two or three.
+class BspTree {
+ public:
+  explicit BspTree(std::vector<WorldTri> tris) {
+    if (!tris.empty()) root_ = build(std::move(tris));
+  }
+  std::vector<WorldTri> back_to_front(const Point3& eye) const {
+    std::vector<WorldTri> out;
+    if (root_ >= 0) walk(root_, eye, out);
+    return out;
+  }
+
+ private:
+  struct Node {
+    Vec3 n;
+    double d;
+    std::vector<WorldTri> on;
+    int front = -1, back = -1;
+  };
+  std::vector<Node> nodes_;
+  int root_ = -1;
+
+  static WorldTri lerp_tri(const WorldTri& src, const std::array<int, 3>& a, const std::array<int, 3>& b,
+                           const std::array<double, 3>& t) {
+    WorldTri w = src;
+    for (int j = 0; j < 3; ++j) {
+      w.p[j] = src.p[a[j]] + t[j] * (src.p[b[j]] - src.p[a[j]]);
+      w.n[j] = src.n[a[j]] + t[j] * (src.n[b[j]] - src.n[a[j]]);
+      w.uv[j] = src.uv[a[j]] + t[j] * (src.uv[b[j]] - src.uv[a[j]]);
+    }
+    return w;
+  }
+
+  int build(std::vector<WorldTri> tris) {
+    const int id = int(nodes_.size());
+    nodes_.push_back({});
+    const WorldTri& s = tris.front();
+    Vec3 n = s.face_normal;
+    double d = -n.dot(s.p[0]);
+    double scale = 1e-9 * (1 + s.p[0].norm());
+    std::vector<WorldTri> front, back, on;
+    for (const auto& t : tris) {
+      double dist[3];
+      int pos = 0, neg = 0;
+      for (int j = 0; j < 3; ++j) {
+        dist[j] = n.dot(t.p[j]) + d;
+        if (std::abs(dist[j]) <= scale) dist[j] = 0;
+        pos += dist[j] > 0, neg += dist[j] < 0;
+      }
+      if (!pos && !neg) on.push_back(t);
+      else if (!neg) front.push_back(t);
+      else if (!pos) back.push_back(t);
+      else split(t, dist, front, back);
+    }
+    nodes_[id].n = n, nodes_[id].d = d, nodes_[id].on = std::move(on);
+    if (!front.empty()) {
+      int f = build(std::move(front));
+      nodes_[id].front = f;
+    }
+    if (!back.empty()) {
+      int b = build(std::move(back));
+      nodes_[id].back = b;
+    }
+    return id;
+  }
+
+  // Cuts a straddling triangle: the vertex alone on its side gives one triangle there and a
+  // quad (two triangles) on the other; a vertex on the plane gives one triangle each side.
+  static void split(const WorldTri& t, const double* dist, std::vector<WorldTri>& front, std::vector<WorldTri>& back) {
+    for (int r = 0; r < 3; ++r) {
+      int i = r, j = (r + 1) % 3, k = (r + 2) % 3;
+      if (dist[i] == 0) {  // j and k on opposite sides
+        double tt = dist[j] / (dist[j] - dist[k]);
+        WorldTri a = lerp_tri(t, {i, j, j}, {i, j, k}, {0, 0, tt});
+        WorldTri b = lerp_tri(t, {i, j, k}, {i, k, k}, {0, tt, 0});
+        (dist[j] > 0 ? front : back).push_back(a);
+        (dist[k] > 0 ? front : back).push_back(b);
+        return;
+      }
+    }
+    for (int r = 0; r < 3; ++r) {
+      int i = r, j = (r + 1) % 3, k = (r + 2) % 3;
+      if ((dist[i] > 0) != (dist[j] > 0) && (dist[i] > 0) != (dist[k] > 0)) {  // i alone
+        double tij = dist[i] / (dist[i] - dist[j]), tik = dist[i] / (dist[i] - dist[k]);
+        WorldTri alone = lerp_tri(t, {i, i, i}, {i, j, k}, {0, tij, tik});
+        WorldTri q1 = lerp_tri(t, {i, j, k}, {j, j, k}, {tij, 0, 0});
+        WorldTri q2 = lerp_tri(t, {i, k, i}, {j, k, k}, {tij, 0, tik});
+        (dist[i] > 0 ? front : back).push_back(alone);
+        (dist[i] > 0 ? back : front).push_back(q1);
+        (dist[i] > 0 ? back : front).push_back(q2);
+        return;
+      }
+    }
+  }
+
+  void walk(int id, const Point3& eye, std::vector<WorldTri>& out) const {
+    const Node& nd = nodes_[id];
+    const bool eye_front = nd.n.dot(eye) + nd.d >= 0;
+    const int first = eye_front ? nd.back : nd.front, second = eye_front ? nd.front : nd.back;
+    if (first >= 0) walk(first, eye, out);
+    out.insert(out.end(), nd.on.begin(), nd.on.end());
+    if (second >= 0) walk(second, eye, out);
+  }
+};
+
+}  // namespace
+
 Camera named_view(const std::string& name, const Box3& bounds) {
   Camera c;
   Vec3 dir;
@@ -150,44 +268,80 @@ Image render_scene(const std::vector<DrawItem>& items, const RenderOptions& o) {
   }
   if (aa > 1) g.line_width(float(aa)), g.point_size(float(aa));
 
-  for (const auto& it : items) {
+  const bool flat = o.shading == ShadeModel::Flat;
+  // World-space triangles of every item, with the attributes the pipeline needs.
+  std::vector<WorldTri> tris;
+  for (std::size_t k = 0; k < items.size(); ++k) {
+    const DrawItem& it = items[k];
     if (!it.mesh) continue;
     it.mesh->check();
     const Mesh& m = *it.mesh;
-    g.push_matrix();
-    g.mult_matrix(it.transform);
-    g.material(Face::FrontAndBack, it.material);
-    if (it.texture) {
-      g.enable(Cap::Texture2D);
-      g.bind_texture(it.texture);
-      g.tex_env_mode(TexEnvMode::Modulate);
-    } else {
-      g.disable(Cap::Texture2D);
-    }
-    const bool flat = o.shading == ShadeModel::Flat;
     std::vector<Vec3> normals = m.normals;
     if (normals.empty() && !flat) {
       Mesh copy = m;
       copy.compute_vertex_normals();  // area-weighted, only where the mesh has none
       normals = copy.normals;
     }
-    g.begin(Primitive::Triangles);
+    const bool mirror = reverses_orientation(it.transform);
     for (std::size_t t = 0; t < m.triangles.size(); ++t) {
-      const auto& tri = m.triangles[t];
-      if (flat) {
-        Vec3 fn = m.triangle_normal(t);  // a flat face is lit with its geometric normal
-        g.normal(fn.x(), fn.y(), fn.z());
+      WorldTri w;
+      w.item = int(k);
+      auto tri = m.triangles[t];
+      if (mirror) std::swap(tri[1], tri[2]);
+      for (int j = 0; j < 3; ++j) {
+        w.p[j] = apply_point(it.transform, m.positions[tri[j]]);
+        w.n[j] = flat ? Vec3::Zero() : apply_normal(it.transform, normals[tri[j]]);
+        w.uv[j] = m.uvs.empty() ? Vec2::Zero() : m.uvs[tri[j]];
       }
-      for (std::uint32_t vi : tri) {
-        if (!flat) g.normal(normals[vi].x(), normals[vi].y(), normals[vi].z());
-        if (!m.uvs.empty()) g.tex_coord(m.uvs[vi].x(), m.uvs[vi].y());
-        const Point3& p = m.positions[vi];
-        g.vertex(p.x(), p.y(), p.z());
-      }
+      w.face_normal = (w.p[1] - w.p[0]).cross(w.p[2] - w.p[0]).normalized();
+      tris.push_back(w);
     }
-    g.end();
-    g.pop_matrix();
   }
+  if (o.visibility == Visibility::Painter) {
+    // Farthest eye-space depth first.
+    auto far_z = [&](const WorldTri& t) {
+      double z = 1e300;
+      for (const auto& p : t.p) z = std::min(z, (view * p.homogeneous()).z());
+      return z;
+    };
+    std::vector<std::pair<double, std::size_t>> order;
+    for (std::size_t i = 0; i < tris.size(); ++i) order.push_back({far_z(tris[i]), i});
+    std::stable_sort(order.begin(), order.end());
+    std::vector<WorldTri> sorted;
+    for (auto& [z, i] : order) sorted.push_back(tris[i]);
+    tris.swap(sorted);
+    g.disable(Cap::DepthTest);
+  } else if (o.visibility == Visibility::Bsp) {
+    BspTree bsp(tris);
+    tris = bsp.back_to_front(c.eye);
+    g.disable(Cap::DepthTest);
+  }
+  int current = -1;
+  g.begin(Primitive::Triangles);
+  for (const auto& t : tris) {
+    if (t.item != current) {
+      g.end();
+      current = t.item;
+      const DrawItem& it = items[current];
+      g.material(Face::FrontAndBack, it.material);
+      if (it.texture) {
+        g.enable(Cap::Texture2D);
+        g.bind_texture(it.texture);
+        g.tex_env_mode(TexEnvMode::Modulate);
+      } else {
+        g.disable(Cap::Texture2D);
+      }
+      g.begin(Primitive::Triangles);
+    }
+    const bool uvs = items[t.item].mesh && !items[t.item].mesh->uvs.empty();
+    if (flat) g.normal(t.face_normal.x(), t.face_normal.y(), t.face_normal.z());  // a flat face's geometric normal
+    for (int j = 0; j < 3; ++j) {
+      if (!flat) g.normal(t.n[j].x(), t.n[j].y(), t.n[j].z());
+      if (uvs) g.tex_coord(t.uv[j].x(), t.uv[j].y());
+      g.vertex(t.p[j].x(), t.p[j].y(), t.p[j].z());
+    }
+  }
+  g.end();
   return downsample(g.image(), aa);
 }
 

@@ -143,3 +143,44 @@ TEST_CASE("scissor and depth range shape what reaches the framebuffer", "[render
   CHECK(c.read_depth(8, 8) == Approx(0.5).margin(1e-6));
   CHECK(c.read_depth(0, 0) == 1.0f);
 }
+
+TEST_CASE("painter's algorithm and the BSP tree give the z-buffer's image", "[render][visibility]") {
+  // Cubes that overlap on screen but not cyclically, including one rotated so that BSP planes
+  // cut other cubes' triangles.
+  Mesh m = cube();
+  std::vector<DrawItem> items(4);
+  const Mat4 xf[4] = {translate(Vec3(0, 0, 0)), translate(Vec3(1.2, 2.5, 0.3)) * rotate(30, Vec3(1, 1, 0)),
+                      translate(Vec3(-2.2, 1, -0.5)), translate(Vec3(2.5, -1, 1)) * scale(Vec3(0.5, 0.5, 0.5))};
+  const Vec4f col[4] = {{0.9f, 0.2f, 0.2f, 1}, {0.2f, 0.9f, 0.2f, 1}, {0.2f, 0.2f, 0.9f, 1}, {0.9f, 0.9f, 0.2f, 1}};
+  for (int i = 0; i < 4; ++i) items[i].mesh = &m, items[i].transform = xf[i], items[i].material.diffuse = col[i];
+  RenderOptions o = options();
+  o.width = 128, o.height = 96;
+  o.camera.eye = Point3(6, -9, 5);
+  o.shading = ShadeModel::Flat;
+  Image z = render_scene(items, o);
+  for (auto v : {Visibility::Painter, Visibility::Bsp}) {
+    o.visibility = v;
+    Image im = render_scene(items, o);
+    int covered = 0, diff = 0;
+    for (int y = 0; y < im.height; ++y)
+      for (int x = 0; x < im.width; ++x) {
+        auto a = z.pixel(x, y), b = im.pixel(x, y);
+        covered += a != std::array<std::uint8_t, 4>{0, 0, 0, 255};
+        int d = 0;
+        for (int k = 0; k < 3; ++k) d = std::max(d, std::abs(int(a[k]) - int(b[k])));
+        diff += d > 2;
+      }
+    INFO("visibility " << int(v) << ": " << diff << " of " << covered << " pixels differ");
+    CHECK(covered > 1000);
+    CHECK(diff <= covered / 1000);
+  }
+  // Without culling the painter must still hide back faces behind front ones.
+  o.cull = "none";
+  o.visibility = Visibility::ZBuffer;
+  Image z2 = render_scene(items, o);
+  o.visibility = Visibility::Bsp;
+  Image b2 = render_scene(items, o);
+  int diff = 0;
+  for (std::size_t i = 0; i < z2.rgba.size(); ++i) diff += std::abs(int(z2.rgba[i]) - int(b2.rgba[i])) > 2;
+  CHECK(diff <= 10);
+}
