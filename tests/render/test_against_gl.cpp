@@ -383,3 +383,55 @@ TEST_CASE("alpha blending and vertex arrays match OpenGL", "[render][gl][blend]"
   Diff d = WEDGE_BOTH("blend", W, H, scene);
   CHECK_MATCHES_GL(d);
 }
+
+TEST_CASE("texture coordinate generation (object-linear, eye-linear, sphere map) matches OpenGL", "[render][gl][texture]") {
+  for (int mode = 0; mode < 3; ++mode) {
+    auto tex = Texture::checker(32, 4, Vec4f(1, 1, 1, 1), Vec4f(0.8f, 0.6f, 0.5f, 1), false);
+    tex->min_filter = TexFilter::Linear;
+    auto scene = [&](auto& g) {
+      g.clear_color(0, 0, 0, 1);
+      g.clear();
+      camera(g, W, H);
+      g.enable(Cap::DepthTest);
+      g.enable(Cap::Texture2D);
+      g.bind_texture(tex);
+      g.tex_env_mode(TexEnvMode::Replace);
+      const auto m = static_cast<TexGenMode>(mode);
+      g.tex_gen(0, m, Vec4(0.5, 0, 0.2, 0.5));
+      g.tex_gen(1, m, Vec4(0, 0.5, 0.1, 0.5));
+      g.enable(Cap::TextureGenS);
+      g.enable(Cap::TextureGenT);
+      g.matrix_mode(MatrixMode::Texture);
+      g.scale(1.5, 1.5, 1);
+      g.matrix_mode(MatrixMode::ModelView);
+      g.rotate(20, 0, 1, 0);
+      sphere(g, 1.2, 24, 16);
+    };
+    Diff d = WEDGE_BOTH("texgen" + std::to_string(mode), W, H, scene);
+    INFO("texgen mode " << mode);
+    CHECK_MATCHES_GL(d);
+  }
+}
+
+TEST_CASE("point size and line width match OpenGL", "[render][gl][primitives]") {
+  for (int p = 0; p < 4; ++p) {
+    auto scene = [&](auto& g) {
+      g.clear_color(0, 0, 0, 1);
+      g.clear();
+      g.viewport(0, 0, W, H);
+      g.point_size(p == 0 ? 1 : 3);
+      g.line_width(p == 1 ? 1 : 3);
+      g.begin(p == 0 || p == 2 ? Primitive::Points : p == 1 ? Primitive::LineStrip : Primitive::LineLoop);
+      const double pts[6][2] = {{-0.83, -0.71}, {-0.52, 0.63}, {-0.13, -0.57}, {0.17, 0.74}, {0.42, -0.33}, {0.71, 0.52}};
+      for (int i = 0; i < 6; ++i) {
+        g.color(float(i % 3 == 0), float(i % 3 == 1), 0.5f);
+        g.vertex(pts[i][0], pts[i][1]);
+      }
+      g.end();
+    };
+    Diff d = WEDGE_BOTH("pointline" + std::to_string(p), W, H, scene);
+    INFO("case " << p << ": covered " << d.covered << ", outliers " << d.outliers);
+    CHECK(d.covered > 5);
+    CHECK(d.outliers <= std::max(1, d.covered / 100));
+  }
+}
