@@ -219,6 +219,14 @@ class Context {
   friend struct Pipeline;
 };
 
+// --- two-step texture mapping (Bier & Sloan 1986): an intermediate surface (cylinder, sphere
+// or box) around the object gets the (u, v) parametrisation, then each vertex takes the (u, v)
+// of the point where the ray from the centre through it (cylinder/sphere) or its dominant
+// normal axis (box) meets that surface. `axis` is the cylinder's axis; the centre is the mesh's
+// bounding-box centre. Returns a copy of the mesh with uvs set.
+enum class UvMapping { Cylinder, Sphere, Box };
+Mesh with_uv_mapping(const Mesh& mesh, UvMapping mapping, const Vec3& axis = Vec3(0, 0, 1));
+
 // --- a mesh drawn with a camera, lights and a material (the path Lua's render{} takes) -------
 struct LightSpec {
   enum class Type { Directional, Point, Spot } type = Type::Directional;
