@@ -13,6 +13,7 @@ using Registrar = void (*)(lua_State*);
 
 const Registrar kRegistrars[] = {
     register_matrix,
+    register_solid,
 };
 
 int version_fn(lua_State* L) {

@@ -13,7 +13,8 @@ constexpr const char* kKey = "wedge.Matrix";
 
 Mat4& push_matrix(lua_State* L, const Mat4& m) { return push_object(L, kKey, m); }
 
-// An axis given as {x, y, z} or as one of the strings "x", "y", "z".
+}  // namespace
+
 Vec3 check_axis(lua_State* L, int idx) {
   if (lua_type(L, idx) == LUA_TSTRING) {
     std::string s = lua_tostring(L, idx);
@@ -27,6 +28,8 @@ Vec3 check_axis(lua_State* L, int idx) {
   if (a.norm() == 0) throw ArgError{idx, "axis must be non-zero"};
   return a;
 }
+
+namespace {
 
 int identity_fn(lua_State* L) {
   return guarded(L, [&] {

@@ -8,4 +8,6 @@ namespace wedge::lua {
 const Mat4* test_matrix(lua_State* L, int idx);   // nullptr if not a Matrix
 const Mat4& check_matrix(lua_State* L, int idx);  // throws ArgError if not a Matrix
 void push_matrix_value(lua_State* L, const Mat4& m);
+// An axis given as {x, y, z} (non-zero) or as one of the strings "x", "y", "z"; throws ArgError.
+Vec3 check_axis(lua_State* L, int idx);
 }  // namespace wedge::lua
