@@ -14,6 +14,7 @@ using Registrar = void (*)(lua_State*);
 const Registrar kRegistrars[] = {
     register_matrix,
     register_solid,
+    register_io,
 };
 
 int version_fn(lua_State* L) {

@@ -28,5 +28,6 @@ int run_string(const std::string& code, const std::string& chunkname, std::ostre
 // Each adds its functions to the API table at the top of the stack and registers its classes.
 void register_matrix(lua_State* L);
 void register_solid(lua_State* L);
+void register_io(lua_State* L);
 
 }  // namespace wedge::lua
