@@ -7,6 +7,16 @@
 
 namespace wedge::lua {
 
+Shear check_shear(lua_State* L, int arg) {
+  Options o(L, arg);
+  Shear s;
+  s.xy = o.number("xy", 0); s.xz = o.number("xz", 0);
+  s.yx = o.number("yx", 0); s.yz = o.number("yz", 0);
+  s.zx = o.number("zx", 0); s.zy = o.number("zy", 0);
+  o.finish();
+  return s;
+}
+
 namespace {
 
 constexpr const char* kKey = "wedge.Matrix";
@@ -104,13 +114,7 @@ int mirror_fn(lua_State* L) {
 // matrix.shear{xy=, xz=, yx=, yz=, zx=, zy=}
 int shear_fn(lua_State* L) {
   return guarded(L, [&] {
-    Options o(L, 1);
-    Shear s;
-    s.xy = o.number("xy", 0); s.xz = o.number("xz", 0);
-    s.yx = o.number("yx", 0); s.yz = o.number("yz", 0);
-    s.zx = o.number("zx", 0); s.zy = o.number("zy", 0);
-    o.finish();
-    push_matrix(L, shear(s));
+    push_matrix(L, shear(check_shear(L, 1)));
     return 1;
   });
 }

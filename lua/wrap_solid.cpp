@@ -64,13 +64,7 @@ int mirror_m(lua_State* L) {
 
 int shear_m(lua_State* L) {
   return guarded(L, [&] {
-    Options o(L, 2);
-    Shear s;
-    s.xy = o.number("xy", 0); s.xz = o.number("xz", 0);
-    s.yx = o.number("yx", 0); s.yz = o.number("yz", 0);
-    s.zx = o.number("zx", 0); s.zy = o.number("zy", 0);
-    o.finish();
-    return push_transformed(L, shear(s));
+    return push_transformed(L, shear(check_shear(L, 2)));
   });
 }
 
