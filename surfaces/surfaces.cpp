@@ -44,11 +44,12 @@ std::vector<double> Surface::v_breaks() const {
 }
 
 Vec3 Surface::normal(double u, double v) const {
-  auto cross_at = [&](double uu, double vv) {
+  auto cross_at = [&](double uu, double vv) -> Vec3 {
     Vec3 su = derivative(uu, vv, 1, 0), sv = derivative(uu, vv, 0, 1);
     Vec3 n = su.cross(sv);
-    double scale = su.norm() * sv.norm();
-    return n.norm() > 1e-12 * scale && n.norm() > 0 ? Vec3(n.normalized()) : Vec3::Zero();
+    double size = 1e-9 * (1 + eval(uu, vv).norm());
+    if (su.norm() <= size || sv.norm() <= size || !(n.norm() > 1e-9 * su.norm() * sv.norm())) return Vec3::Zero();
+    return Vec3(n.normalized());
   };
   Vec3 n = cross_at(u, v);
   if (n != Vec3::Zero()) return n;
