@@ -241,3 +241,33 @@ TEST_CASE("trimming loops remove the outside of the parameter domain", "[trim]")
   Mesh m = p.mesh(0.01);
   CHECK(m.area() == Approx(0.75).epsilon(1e-12));
 }
+
+TEST_CASE("Newell's teapot: 32 patches, outward, watertight where patches meet", "[teapot]") {
+  std::vector<NurbsSurface> pot = teapot();
+  REQUIRE(pot.size() == 32);
+  // Body and rim patches (0..11) face away from the z axis.
+  for (int i = 0; i < 12; ++i) {
+    Point3 p = pot[i].eval(0.5, 0.5);
+    Vec3 n = pot[i].normal(0.5, 0.5);
+    CHECK(n.head<2>().dot(p.head<2>()) > 0);
+  }
+  // The knob top faces up, the bottom faces down.
+  CHECK(pot[20].normal(0.5, 0.1).z() > 0);  // the flat top of the knob
+  CHECK(pot[28].normal(0.5, 0.1).z() < 0);
+  // Neighbouring body patches share their boundary curves exactly.
+  for (int i = 0; i < 12; ++i) {
+    int next = (i % 4 == 3) ? i - 3 : i + 1;
+    for (int k = 0; k <= 10; ++k) {
+      double s = k / 10.0;
+      CHECK((pot[i].eval(1, s) - pot[next].eval(0, s)).norm() < 1e-14);
+    }
+  }
+  // The pot fits its classic bounding box.
+  Mesh all;
+  for (std::size_t i = 0; i < pot.size(); ++i) all.append(pot[i].mesh(0.01, int(i)));
+  Box3 b = all.bounds();
+  CHECK(b.min.z() == Approx(0).margin(1e-12));
+  CHECK(b.max.z() == Approx(3.15).margin(1e-3));
+  CHECK(b.max.x() == Approx(3.45).margin(0.03));  // spout tip
+  CHECK(all.volume() > 0);
+}
