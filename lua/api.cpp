@@ -15,6 +15,8 @@ const Registrar kRegistrars[] = {
     register_matrix,
     register_solid,
     register_io,
+    register_curves,
+    register_surfaces,
 };
 
 int version_fn(lua_State* L) {
