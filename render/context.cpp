@@ -264,19 +264,34 @@ static void check_arrays(const VertexArrays& a) {
 void Context::draw_arrays(Primitive p, const VertexArrays& a, int first, int count) {
   check_arrays(a);
   if (first < 0 || count < 0) fail("draw_arrays: negative first or count");
+  // Independent primitives go through the pipeline in batches, so memory stays bounded.
+  const int group = p == Primitive::Triangles ? 3 : p == Primitive::Lines ? 2 : p == Primitive::Points ? 1
+                  : p == Primitive::Quads ? 4 : 0;
+  const int batch = group ? group * 4096 : count;
   std::vector<InVertex> v;
-  v.reserve(count);
-  for (int i = 0; i < count; ++i) v.push_back(fetch(*s_, a, std::size_t(first + i)));
-  run_primitive(*s_, width_, height_, color_.data(), depth_.data(), p, v);
+  for (int start = 0; start < count; start += batch) {
+    const int n = std::min(batch, count - start);
+    v.clear();
+    v.reserve(n);
+    for (int i = 0; i < n; ++i) v.push_back(fetch(*s_, a, std::size_t(first + start + i)));
+    run_primitive(*s_, width_, height_, color_.data(), depth_.data(), p, v);
+  }
 }
 
 void Context::draw_elements(Primitive p, const VertexArrays& a, const std::uint32_t* indices, int count) {
   check_arrays(a);
   if (count < 0) fail("draw_elements: negative count");
+  const int group = p == Primitive::Triangles ? 3 : p == Primitive::Lines ? 2 : p == Primitive::Points ? 1
+                  : p == Primitive::Quads ? 4 : 0;
+  const int batch = group ? group * 4096 : count;
   std::vector<InVertex> v;
-  v.reserve(count);
-  for (int i = 0; i < count; ++i) v.push_back(fetch(*s_, a, indices[i]));
-  run_primitive(*s_, width_, height_, color_.data(), depth_.data(), p, v);
+  for (int start = 0; start < count; start += batch) {
+    const int n = std::min(batch, count - start);
+    v.clear();
+    v.reserve(n);
+    for (int i = 0; i < n; ++i) v.push_back(fetch(*s_, a, indices[start + i]));
+    run_primitive(*s_, width_, height_, color_.data(), depth_.data(), p, v);
+  }
 }
 
 }  // namespace wedge::render

@@ -31,8 +31,8 @@ class BspTree {
 
  private:
   struct Node {
-    Vec3 n;
-    double d;
+    Vec3 n = Vec3::Zero();
+    double d = 0;
     std::vector<WorldTri> on;
     int front = -1, back = -1;
   };
