@@ -94,6 +94,12 @@ Image Context::image() const {
 void Context::write_png(const std::string& path) const { render::write_png(path, image()); }
 void Context::write_depth_pfm(const std::string& path) const { write_pfm(path, width_, height_, depth_); }
 
+void Context::threads(int n) {
+  if (n < 1 || n > 256) fail("threads must be within 1..256, got ", n);
+  s_->threads = n;
+}
+int Context::threads() const { return s_->threads; }
+
 void Context::enable(Cap cap) { s_->enabled.set(static_cast<int>(cap)); }
 void Context::disable(Cap cap) { s_->enabled.reset(static_cast<int>(cap)); }
 bool Context::is_enabled(Cap cap) const { return s_->on(cap); }

@@ -128,6 +128,11 @@ class Context {
   void write_png(const std::string& path) const;
   void write_depth_pfm(const std::string& path) const;
 
+  // Rasterisation threads: with n > 1, primitives are binned into bands of rows drawn in
+  // parallel (same image as one thread). Default 1.
+  void threads(int n);
+  int threads() const;
+
   // --- state switches ---
   void enable(Cap cap);
   void disable(Cap cap);
@@ -273,6 +278,7 @@ struct RenderOptions {
   int antialias = 1;  // supersampling factor per axis
   Vec4f background{1, 1, 1, 1};
   Visibility visibility = Visibility::ZBuffer;
+  int threads = 0;  // rasterisation threads; 0 = all cores
 };
 
 struct DrawItem {

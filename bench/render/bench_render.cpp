@@ -141,18 +141,21 @@ double best_ms(int frames, const std::function<void()>& frame) {
   return best;
 }
 
+int g_threads = 1;
+
 template <class Scene>
 void run(const char* name, int w, int h, int frames, Scene scene) {
   double ours, gl;
   {
     Context c(w, h);
+    c.threads(g_threads);
     ours = best_ms(frames, [&] { scene(c); });
   }
   {
     oracle::GlContext g(w, h);
     gl = best_ms(frames, [&] {
       scene(g);
-      g.image();  // glFinish and read back
+      g.finish();
     });
   }
   std::printf("| %s | %.2f | %.2f | %.2fx |\n", name, ours, gl, gl / ours);
@@ -163,7 +166,8 @@ void run(const char* name, int w, int h, int frames, Scene scene) {
 
 int main() {
   const char* threads = std::getenv("LP_NUM_THREADS");
-  std::printf("llvmpipe threads (LP_NUM_THREADS): %s\n", threads ? threads : "default");
+  g_threads = threads ? std::max(1, std::atoi(threads)) : 1;
+  std::printf("threads: wedge %d, llvmpipe (LP_NUM_THREADS) %s\n", g_threads, threads ? threads : "default");
   std::printf("| scene | wedge ms | llvmpipe ms | speed-up |\n|---|---|---|---|\n");
   Arrays s20k = sphere(20000);
   run("sphere 20k tris, 800x600, point light", 800, 600, 10, [&](auto& g) { lit_sphere(g, s20k, 800, 600); });

@@ -227,6 +227,8 @@ void GlContext::draw_arrays(Primitive p, const VertexArrays& a, int first, int c
   glDisableClientState(GL_TEXTURE_COORD_ARRAY);
 }
 
+void GlContext::finish() { glFinish(); }
+
 Image GlContext::image() {
   glFinish();
   Image im;

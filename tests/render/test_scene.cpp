@@ -227,3 +227,38 @@ TEST_CASE("a texture loaded from PNG samples its texels, bottom row at t = 0", "
   CHECK(l->levels.size() == 2);
   CHECK(l->sample(0.25f, 0.75f, -1)[1] == Approx(1.0f));  // luminance of red is its red channel
 }
+
+TEST_CASE("banded multi-threaded rasterisation gives the single-threaded image", "[render][threads]") {
+  // Overlapping translucent, depth-tested, wireframe and filled triangles: order matters.
+  std::vector<double> pos;
+  std::vector<float> col;
+  for (int i = 0; i < 300; ++i) {
+    double cx = std::sin(i * 1.3) * 0.8, cy = std::cos(i * 0.7) * 0.8, z = std::sin(i * 0.31);
+    for (int k = 0; k < 3; ++k) {
+      double a = i * 0.9 + k * 2.1;
+      pos.insert(pos.end(), {cx + 0.3 * std::cos(a), cy + 0.3 * std::sin(a), z + 0.1 * k});
+      col.insert(col.end(), {float(k == 0), float(k == 1), float(k == 2), 0.6f});
+    }
+  }
+  auto draw = [&](int threads) {
+    Context c(97, 83);
+    c.threads(threads);
+    c.clear_color(0, 0, 0, 1);
+    c.clear();
+    c.enable(Cap::DepthTest);
+    c.depth_func(DepthFunc::LessEqual);
+    c.enable(Cap::Blend);
+    c.blend_func(BlendFactor::SrcAlpha, BlendFactor::OneMinusSrcAlpha);
+    VertexArrays a;
+    a.positions = pos.data();
+    a.colors = col.data();
+    c.draw_arrays(Primitive::Triangles, a, 0, 450);
+    c.polygon_mode(Face::FrontAndBack, PolygonMode::Line);
+    c.line_width(2);
+    c.draw_arrays(Primitive::Triangles, a, 450, 450);
+    return c.image();
+  };
+  Image one = draw(1), two = draw(2);
+  CHECK(one.rgba == two.rgba);
+  CHECK_THROWS(Context(4, 4).threads(0));
+}
