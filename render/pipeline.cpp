@@ -63,7 +63,7 @@ Vec4f clamp01(const Vec4f& c) { return c.cwiseMax(0.0f).cwiseMin(1.0f); }
 // The lighting equation of GL 1.x section 2.14.1 for one side. P is the eye-space position,
 // n the unit (or as given) eye-space normal; `vertex_color` feeds colour material.
 Vec4f light_vertex(const Context::State& s, const Vec4& P4, const Vec3& n, const Vec4f& vertex_color, int side) {
-  Material m = s.material[side];
+  Material m = s.material[side];  // a copy: colour material may replace parts of it
   if (s.on(Cap::ColorMaterial) &&
       (s.cm_face == Face::FrontAndBack || (s.cm_face == Face::Front) == (side == 0))) {
     switch (s.cm_mode) {
@@ -342,8 +342,9 @@ struct Raster {
         r[k] = c[k] * factor(s.blend_src, c[k], d[k], c.w(), d.w()) + d[k] * factor(s.blend_dst, c[k], d[k], c.w(), d.w());
       c = clamp01(r);
     }
+    // c is clamped to [0, 1]: round to nearest without a library call.
     for (int k = 0; k < 4; ++k)
-      if (s.color_mask[k]) p[k] = std::uint8_t(std::lround(c[k] * 255.0f));
+      if (s.color_mask[k]) p[k] = std::uint8_t(c[k] * 255.0f + 0.5f);
   }
 
   Vec4f phong_color(const float* a, int side) const {
@@ -402,6 +403,8 @@ struct Raster {
     const float tex_h = need_tex ? float(s.texture->levels[0].height) : 0;
 
     float attrs[kAttrs];
+    int quad_x = -1 << 30, quad_y = -1 << 30;
+    float quad_lambda = 0;
     for (int py = by0; py <= by1; ++py) {
       std::int64_t Py = std::int64_t(py) * 256 + 128, Px = std::int64_t(bx0) * 256 + 128;
       std::int64_t E[3];
@@ -444,15 +447,22 @@ struct Raster {
             if (qq == 0) qq = ssum;
             u = float(ss / qq) * tex_w, vv = float(tt / qq) * tex_h;
           };
-          // Derivatives per 2x2 pixel quad, as GPUs (and llvmpipe) take them.
-          const double qx = double((px & ~1) - px), qy = double((py & ~1) - py);
-          float u0, v0_, ux, vx, uy, vy;
-          uv_at(qx, qy, u0, v0_);
-          uv_at(qx + 1, qy, ux, vx);
-          uv_at(qx, qy + 1, uy, vy);
-          float rx = std::hypot(ux - u0, vx - v0_), ry = std::hypot(uy - u0, vy - v0_);
-          float rho = std::max(rx, ry);
-          lambda = rho > 0 ? std::log2(rho) : -100.0f;
+          // Derivatives per 2x2 pixel quad, as GPUs (and llvmpipe) take them; the pixels of
+          // one quad share the level of detail, so it is computed once per quad.
+          const int qkx = px & ~1, qky = py & ~1;
+          if (qkx != quad_x || qky != quad_y) {
+            const double qx = double(qkx - px), qy = double(qky - py);
+            float u0, v0_, ux, vx, uy, vy;
+            uv_at(qx, qy, u0, v0_);
+            uv_at(qx + 1, qy, ux, vx);
+            uv_at(qx, qy + 1, uy, vy);
+            float rx2 = (ux - u0) * (ux - u0) + (vx - v0_) * (vx - v0_);
+            float ry2 = (uy - u0) * (uy - u0) + (vy - v0_) * (vy - v0_);
+            float rho2 = std::max(rx2, ry2);
+            quad_lambda = rho2 > 0 ? 0.5f * std::log2(rho2) : -100.0f;
+            quad_x = qkx, quad_y = qky;
+          }
+          lambda = quad_lambda;
         }
         float fogz = fog ? interp(kFog) : 0;
         shade_fragment(px, py, c, need_tex ? tex : nullptr, lambda, fogz);
