@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <functional>
 
 #include "gl_oracle.h"
@@ -142,9 +143,11 @@ double best_ms(int frames, const std::function<void()>& frame) {
 }
 
 int g_threads = 1;
+const char* g_only = nullptr;  // run only the scenes whose name contains this
 
 template <class Scene>
 void run(const char* name, int w, int h, int frames, Scene scene) {
+  if (g_only && !std::strstr(name, g_only)) return;
   double ours, gl;
   {
     Context c(w, h);
@@ -164,7 +167,8 @@ void run(const char* name, int w, int h, int frames, Scene scene) {
 
 }  // namespace
 
-int main() {
+int main(int argc, char** argv) {
+  if (argc > 1) g_only = argv[1];
   const char* threads = std::getenv("LP_NUM_THREADS");
   g_threads = threads ? std::max(1, std::atoi(threads)) : 1;
   std::printf("threads: wedge %d, llvmpipe (LP_NUM_THREADS) %s\n", g_threads, threads ? threads : "default");
