@@ -666,9 +666,28 @@ void run_primitive(Context::State& s, int width, int height, std::uint8_t* color
     va.edge = e0, vb.edge = e1, vc.edge = e2;
     r.draw_triangle(va, vb, vc, v[prov]);
   };
+  // Which diagonal splits a quad changes how colours interpolate across it. GL leaves it open;
+  // Mesa splits (0,1,2),(0,2,3) on its fast path and (0,1,3),(1,2,3) when the batch goes
+  // through its clipping/two-side pipeline (some vertex outside the clip volume, or two-sided
+  // lighting). We follow Mesa, so that images compare pixel for pixel.
+  bool pipeline_split = false;
+  if (p == Primitive::Quads || p == Primitive::QuadStrip) {
+    pipeline_split = two_sided_lighting(s);
+    for (std::size_t i = 0; i < v.size() && !pipeline_split; ++i)
+      for (int k = 0; k < r.plane_count(); ++k)
+        if (r.plane_dist(v[i], k) < 0) {
+          pipeline_split = true;
+          break;
+        }
+  }
   auto quad = [&](std::size_t a, std::size_t b, std::size_t c, std::size_t d, std::size_t prov) {
-    tri(a, b, c, prov, true, true, false);
-    tri(a, c, d, prov, false, true, true);
+    if (pipeline_split) {
+      tri(a, b, d, prov, true, false, true);
+      tri(b, c, d, prov, true, true, false);
+    } else {
+      tri(a, b, c, prov, true, true, false);
+      tri(a, c, d, prov, false, true, true);
+    }
   };
   switch (p) {
     case Primitive::Points:
@@ -700,7 +719,10 @@ void run_primitive(Context::State& s, int width, int height, std::uint8_t* color
       for (std::size_t i = 0; i + 3 < n; i += 4) quad(i, i + 1, i + 2, i + 3, i + 3);
       break;
     case Primitive::QuadStrip:
-      for (std::size_t i = 0; i + 3 < n; i += 2) quad(i, i + 1, i + 3, i + 2, i + 3);
+      for (std::size_t i = 0; i + 3 < n; i += 2) {
+        if (pipeline_split) quad(i + 2, i, i + 1, i + 3, i + 3);  // Mesa's QUAD(i+2, i, i+1, i+3)
+        else quad(i, i + 1, i + 3, i + 2, i + 3);
+      }
       break;
     case Primitive::Polygon:
       for (std::size_t i = 1; i + 1 < n; ++i) tri(0, i, i + 1, 0, i == 1, true, i + 2 == n);
