@@ -451,11 +451,13 @@ struct Raster {
           // one quad share the level of detail, so it is computed once per quad.
           const int qkx = px & ~1, qky = py & ~1;
           if (qkx != quad_x || qky != quad_y) {
-            const double qx = double(qkx - px), qy = double(qky - py);
+            // The quad's reference pixel is its top-left one (framebuffers run top-down in
+            // llvmpipe): x differences along the upper row, y differences down the left column.
+            const double qx = double(qkx - px), qy = double(qky + 1 - py);
             float u0, v0_, ux, vx, uy, vy;
             uv_at(qx, qy, u0, v0_);
             uv_at(qx + 1, qy, ux, vx);
-            uv_at(qx, qy + 1, uy, vy);
+            uv_at(qx, qy - 1, uy, vy);
             float rx2 = (ux - u0) * (ux - u0) + (vx - v0_) * (vx - v0_);
             float ry2 = (uy - u0) * (uy - u0) + (vy - v0_) * (vy - v0_);
             float rho2 = std::max(rx2, ry2);
