@@ -262,3 +262,26 @@ TEST_CASE("banded multi-threaded rasterisation gives the single-threaded image",
   CHECK(one.rgba == two.rgba);
   CHECK_THROWS(Context(4, 4).threads(0));
 }
+
+TEST_CASE("a mesh's own normals are used; smooth normals are computed only when it has none", "[render][scene]") {
+  Mesh m;
+  m.add_vertex(Point3(-1, -1, 0)), m.add_vertex(Point3(1, -1, 0)), m.add_vertex(Point3(0, 1, 0));
+  m.add_triangle(0, 1, 2);
+  RenderOptions o;
+  o.width = o.height = 32;
+  o.camera.eye = Point3(0, 0, 5);
+  o.camera.up = Vec3(0, 1, 0);
+  o.background = Vec4f(0, 0, 0, 1);
+  o.ambient = Vec4f(0, 0, 0, 1);
+  LightSpec l;
+  l.direction = Vec3(0, 0, -1);  // straight at the triangle
+  l.specular = Vec4f(0, 0, 0, 1);
+  o.lights.push_back(l);
+  DrawItem it;
+  it.mesh = &m;
+  const int computed = render_scene({it}, o).pixel(16, 18)[0];
+  CHECK(computed == Approx(0.8 * 255).margin(2));  // n = +z: full diffuse 0.8
+  m.normals.assign(3, Vec3(1, 0, 0));               // the file's normals: perpendicular to the light
+  const int own = render_scene({it}, o).pixel(16, 18)[0];
+  CHECK(own == 0);
+}
