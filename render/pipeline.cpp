@@ -18,6 +18,7 @@
 #include <cmath>
 #include <cstring>
 
+#include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
@@ -648,9 +649,18 @@ void run_primitive(Context::State& s, int width, int height, std::uint8_t* color
   const Mat4& mv = s.top(MatrixMode::ModelView);
   const Mat3 nmat = mv.topLeftCorner<3, 3>().inverse().transpose();
   const Mat4& proj = s.top(MatrixMode::Projection);
-  std::vector<PVert> v;
-  v.reserve(in.size());
-  for (const auto& x : in) v.push_back(process_vertex(s, x, mv, nmat, proj));
+  std::vector<PVert> v(in.size());
+  if (s.threads > 1 && in.size() >= 1024) {
+    // The vertex stage is independent per vertex.
+    tbb::task_arena arena(s.threads);
+    arena.execute([&] {
+      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, in.size(), 256), [&](const tbb::blocked_range<std::size_t>& r) {
+        for (std::size_t i = r.begin(); i != r.end(); ++i) v[i] = process_vertex(s, in[i], mv, nmat, proj);
+      });
+    });
+  } else {
+    for (std::size_t i = 0; i < in.size(); ++i) v[i] = process_vertex(s, in[i], mv, nmat, proj);
+  }
   Raster r(s, width, height, color, depth);
   std::vector<Job> jobs;
   const bool banded = s.threads > 1 && in.size() >= 64;
