@@ -487,11 +487,9 @@ struct Raster {
     else first = int(std::floor(s1 - 0.5)) + 1, last = int(std::floor(s0 - 0.5));
     const int w = std::max(1, int(std::lround(s.line_width)));
     float attrs[kAttrs];
-    for (int i = first; i <= last; ++i) {
-      double c = i + 0.5;
-      double t = (c - s0) / len;
-      double minor = xmajor ? a.y + t * dy : a.x + t * dx;
-      int m0 = int(std::floor(minor)) - (w - 1) / 2;
+    // One column (x-major) or row (y-major) of w fragments at parameter t; `major`/`minor0` are
+    // the pixel indices along the axes.
+    auto column = [&](int major, int minor0, double t) {
       double z = a.z + t * (b.z - a.z);
       double wa = (1 - t) * a.inv_w, wb = t * b.inv_w;
       double sum = wa + wb;
@@ -507,12 +505,36 @@ struct Raster {
       } else {
         cc = Vec4f(attrs[col], attrs[col + 1], attrs[col + 2], attrs[col + 3]);
       }
-      for (int j = m0; j < m0 + w; ++j) {
-        int px = xmajor ? i : j, py = xmajor ? j : i;
+      for (int j = minor0; j < minor0 + w; ++j) {
+        int px = xmajor ? major : j, py = xmajor ? j : major;
         if (px < x0 || px >= x1 || py < y0 || py >= y1) continue;
         if (!depth_stage(px, py, float(z))) continue;
         shade_fragment(px, py, cc, texturing ? attrs + kTex : nullptr, 0, attrs[kFog]);
       }
+    };
+    // The diamond-exit rule at the ends of a 1-pixel line (GL 1.5, 3.4.1): the pixel whose
+    // diamond holds the start point is drawn (the line leaves it), the one holding the end point
+    // is not (the line never leaves it).
+    auto diamond = [](double x, double y, int& px, int& py) {
+      px = int(std::floor(x)), py = int(std::floor(y));
+      return std::abs(x - (px + 0.5)) + std::abs(y - (py + 0.5)) < 0.5;
+    };
+    int spx = 0, spy = 0, epx = 0, epy = 0;
+    const bool start_in = w == 1 && diamond(a.x, a.y, spx, spy);
+    const bool end_in = w == 1 && diamond(b.x, b.y, epx, epy);
+    auto minor_at = [&](int i) {
+      double t = (i + 0.5 - s0) / len;
+      return int(std::floor(xmajor ? a.y + t * dy : a.x + t * dx));
+    };
+    if (start_in) {
+      const int si = xmajor ? spx : spy, sm = xmajor ? spy : spx;
+      if (si < first || si > last || minor_at(si) != sm) column(si, sm, 0.0);
+    }
+    for (int i = first; i <= last; ++i) {
+      const double t = (i + 0.5 - s0) / len;
+      const int m = minor_at(i);
+      if (end_in && i == (xmajor ? epx : epy) && m == (xmajor ? epy : epx)) continue;
+      column(i, m - (w - 1) / 2, t);
     }
   }
 
