@@ -658,7 +658,9 @@ struct Raster {
       for (std::size_t i = 0, n = w.size(); i < n; ++i)
         if (poly[i].edge) emit_line(w[i], w[(i + 1) % n], side, flat_attrs);
     } else {
-      for (auto& v : w) emit_point(v, side);
+      // As Mesa's unfilled stage: a vertex is drawn when the edge leaving it is an original one.
+      for (std::size_t i = 0; i < w.size(); ++i)
+        if (poly[i].edge) emit_point(w[i], side);
     }
   }
 };
@@ -706,7 +708,7 @@ void run_primitive(Context::State& s, int width, int height, std::uint8_t* color
   // lighting). We follow Mesa, so that images compare pixel for pixel.
   bool pipeline_split = false;
   if (p == Primitive::Quads || p == Primitive::QuadStrip) {
-    pipeline_split = two_sided_lighting(s);
+    pipeline_split = two_sided_lighting(s) || s.poly_front != PolygonMode::Fill || s.poly_back != PolygonMode::Fill;
     for (std::size_t i = 0; i < v.size() && !pipeline_split; ++i)
       for (int k = 0; k < r.plane_count(); ++k)
         if (r.plane_dist(v[i], k) < 0) {
