@@ -474,8 +474,12 @@ struct Raster {
   }
 
   // --- lines: a DDA that samples the line at the pixel centres of its major axis ---
-  void line(const WinVert& a, const WinVert& b, int side, const float* flat) {
+  void line(const WinVert& a_in, const WinVert& b_in, int side, const float* flat) {
     const int col = side ? kBack : kFront;
+    // Endpoints snapped to the 1/256-pixel grid the triangle setup uses (and llvmpipe's).
+    WinVert a = a_in, b = b_in;
+    a.x = std::nearbyint(a.x * 256) / 256, a.y = std::nearbyint(a.y * 256) / 256;
+    b.x = std::nearbyint(b.x * 256) / 256, b.y = std::nearbyint(b.y * 256) / 256;
     double dx = b.x - a.x, dy = b.y - a.y;
     if (dx == 0 && dy == 0) return;
     const bool xmajor = std::abs(dx) >= std::abs(dy);
@@ -517,7 +521,7 @@ struct Raster {
     // is not (the line never leaves it).
     auto diamond = [](double x, double y, int& px, int& py) {
       px = int(std::floor(x)), py = int(std::floor(y));
-      return std::abs(x - (px + 0.5)) + std::abs(y - (py + 0.5)) < 0.5;
+      return std::abs(x - (px + 0.5)) + std::abs(y - (py + 0.5)) <= 0.5;
     };
     int spx = 0, spy = 0, epx = 0, epy = 0;
     const bool start_in = w == 1 && diamond(a.x, a.y, spx, spy);
@@ -538,8 +542,10 @@ struct Raster {
     }
   }
 
-  void point(const WinVert& p, int side) {
+  void point(const WinVert& p_in, int side) {
     const int col = side ? kBack : kFront;
+    WinVert p = p_in;  // snapped to the 1/256-pixel grid, as lines and triangles
+    p.x = std::nearbyint(p.x * 256) / 256, p.y = std::nearbyint(p.y * 256) / 256;
     const double size = std::max(1.0, double(std::lround(s.point_size)));
     int isz = int(size);
     // GL 3.4: odd sizes centre on the pixel containing the point, even sizes on the nearest corner.

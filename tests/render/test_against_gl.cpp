@@ -262,15 +262,14 @@ void textured_plane(G& g, std::shared_ptr<Texture> tex, TexEnvMode env) {
 
 }  // namespace
 
-// Known gap: a few line pixels (0.4%) differ from llvmpipe's line rasterisation where the line
-// passes near pixel centres; the outline is otherwise the same.
-TEST_CASE("wireframe (polygon mode line) and point mode match OpenGL", "[render][gl][wireframe][!mayfail]") {
+TEST_CASE("wireframe (polygon mode line) and point mode match OpenGL", "[render][gl][wireframe]") {
   for (auto mode : {PolygonMode::Line, PolygonMode::Point}) {
     auto scene = [&](auto& g) {
       g.clear_color(0, 0, 0, 1);
       g.clear();
       camera(g, W, H);
       g.polygon_mode(Face::FrontAndBack, mode);
+      g.point_size(3);
       g.color(1, 1, 0.5f);
       sphere(g, 1.2, 12, 8);
     };
