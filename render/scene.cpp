@@ -1,5 +1,9 @@
 // render_scene: a mesh drawn through a Context with a camera, lights and materials, the way
 // Lua's render{} asks for it. Supersampling renders at antialias x the size and box-filters down.
+// Besides the z-buffer, two classic visibility modes draw back to front with the depth test off:
+// the painter's algorithm (Newell, Newell & Sancha 1972, here without the overlap tests: a sort
+// by farthest eye-space depth) and a BSP tree (Fuchs, Kedem & Naylor 1980), built once over the
+// world-space triangles and walked far side - node - near side from the eye.
 #include <cmath>
 #include <thread>
 
