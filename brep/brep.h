@@ -109,7 +109,7 @@ struct Validation {
   explicit operator bool() const { return ok; }
 };
 
-struct MassProperties {
+struct BrepMass {
   double volume = 0;
   double area = 0;
   Point3 centroid = Point3::Zero();
@@ -236,7 +236,7 @@ class Model {
 
   // Mass properties of a closed solid with planar faces (divergence theorem over the faces'
   // fan triangles). Throws if a face or edge is curved.
-  MassProperties mass_properties() const;
+  BrepMass mass_properties() const;
   // The signed volume enclosed by the boundary polylines (arcs sampled), for any faces.
   double approximate_volume() const;
 

@@ -131,9 +131,9 @@ double Model::approximate_volume() const {
   return vol;
 }
 
-MassProperties Model::mass_properties() const {
+BrepMass Model::mass_properties() const {
   if (!all_planar()) fail("mass properties need planar faces and straight edges: this model has curved ones");
-  MassProperties mp;
+  BrepMass mp;
   Point3 ref = bounds().center();
   Vec3 first = Vec3::Zero();
   Mat3 second = Mat3::Zero();
