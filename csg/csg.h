@@ -1,5 +1,6 @@
-// wedge::csg — the CSG tree and its evaluator. The operations of its inner nodes.
+// wedge::csg — the CSG tree and its evaluator: the Solid value type and its leaves.
 #pragma once
+#include "csg/solid.h"
 #include "tessellate/tessellate.h"
 
 namespace wedge {

@@ -1,5 +1,7 @@
 #include "kernel/mesh.h"
 
+#include <unordered_map>
+
 #include "kernel/error.h"
 #include "kernel/transform.h"
 
@@ -75,6 +77,35 @@ void Mesh::compute_vertex_normals() {
     double len = n.norm();
     if (len > 0) n /= len;
   }
+}
+
+Mesh Mesh::with_face_normals() const {
+  Mesh out = *this;
+  if (normals.size() == positions.size() && !positions.empty()) return out;
+  if (face_ids.size() != triangles.size()) {
+    out.compute_vertex_normals();
+    return out;
+  }
+  // Split: one output vertex per (input vertex, face id).
+  std::unordered_map<std::uint64_t, std::uint32_t> split;
+  out.positions.clear();
+  out.uvs.clear();
+  out.normals.clear();
+  const bool has_uvs = uvs.size() == positions.size();
+  for (std::size_t t = 0; t < triangles.size(); ++t) {
+    for (int k = 0; k < 3; ++k) {
+      std::uint32_t v = triangles[t][k];
+      std::uint64_t key = (static_cast<std::uint64_t>(static_cast<std::uint32_t>(face_ids[t])) << 32) | v;
+      auto [it, inserted] = split.emplace(key, static_cast<std::uint32_t>(out.positions.size()));
+      if (inserted) {
+        out.positions.push_back(positions[v]);
+        if (has_uvs) out.uvs.push_back(uvs[v]);
+      }
+      out.triangles[t][k] = it->second;
+    }
+  }
+  out.compute_vertex_normals();
+  return out;
 }
 
 Mesh Mesh::transformed(const Mat4& m) const {

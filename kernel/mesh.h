@@ -42,6 +42,12 @@ struct Mesh {
   void compute_vertex_normals();
   Vec3 triangle_normal(std::size_t t) const;  // unit, or zero for a degenerate triangle
 
+  // A copy for shading: each vertex is split per source face (face_ids) and given the
+  // area-weighted normal of that face's triangles around it, so shading is smooth within a face
+  // and sharp across face boundaries (a box's faces stay flat, a cylinder's wall stays round).
+  // Without face ids this is compute_vertex_normals() on a copy. Existing normals are kept.
+  Mesh with_face_normals() const;
+
   // Applies a transform to positions and normals; a mirror also reverses triangle order so the
   // mesh stays outward-oriented.
   Mesh transformed(const Mat4& m) const;

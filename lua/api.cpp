@@ -13,6 +13,10 @@ using Registrar = void (*)(lua_State*);
 
 const Registrar kRegistrars[] = {
     register_matrix,
+    register_solid,
+    register_io,
+    register_curves,
+    register_surfaces,
 };
 
 int version_fn(lua_State* L) {

@@ -17,6 +17,18 @@ struct StateCloser {
   void operator()(lua_State* L) const { lua_close(L); }
 };
 
+using StatePtr = std::unique_ptr<lua_State, StateCloser>;
+
+// A fresh state with the API, or null after reporting why to `err`.
+StatePtr open_state(std::ostream& err) {
+  try {
+    return StatePtr(new_state());
+  } catch (const std::exception& e) {
+    err << "wedge: " << e.what() << "\n";
+    return nullptr;
+  }
+}
+
 int traceback_handler(lua_State* L) {
   const char* msg = lua_tostring(L, 1);
   if (!msg) {
@@ -53,13 +65,8 @@ int run_file(const std::string& path, const std::vector<std::string>& args, std:
       return 1;
     }
   }
-  std::unique_ptr<lua_State, StateCloser> state;
-  try {
-    state.reset(new_state());
-  } catch (const std::exception& e) {
-    err << "wedge: " << e.what() << "\n";
-    return 1;
-  }
+  StatePtr state = open_state(err);
+  if (!state) return 1;
   lua_State* L = state.get();
 
   // arg[0] = script, arg[1..n] = its arguments, as the lua interpreter does.
@@ -83,13 +90,8 @@ int run_file(const std::string& path, const std::vector<std::string>& args, std:
 }
 
 int run_string(const std::string& code, const std::string& chunkname, std::ostream& err) {
-  std::unique_ptr<lua_State, StateCloser> state;
-  try {
-    state.reset(new_state());
-  } catch (const std::exception& e) {
-    err << "wedge: " << e.what() << "\n";
-    return 1;
-  }
+  StatePtr state = open_state(err);
+  if (!state) return 1;
   lua_State* L = state.get();
   if (luaL_loadbufferx(L, code.data(), code.size(), chunkname.c_str(), "t") != LUA_OK) {
     const char* msg = lua_tostring(L, -1);

@@ -27,5 +27,9 @@ int run_string(const std::string& code, const std::string& chunkname, std::ostre
 // --- the registration functions of each bound area (one wrap_<type>.cpp each) ---
 // Each adds its functions to the API table at the top of the stack and registers its classes.
 void register_matrix(lua_State* L);
+void register_solid(lua_State* L);
+void register_io(lua_State* L);
+void register_curves(lua_State* L);    // wrap_curve.cpp
+void register_surfaces(lua_State* L);  // wrap_surface.cpp
 
 }  // namespace wedge::lua

@@ -7,13 +7,24 @@
 
 namespace wedge::lua {
 
+Shear check_shear(lua_State* L, int arg) {
+  Options o(L, arg);
+  Shear s;
+  s.xy = o.number("xy", 0); s.xz = o.number("xz", 0);
+  s.yx = o.number("yx", 0); s.yz = o.number("yz", 0);
+  s.zx = o.number("zx", 0); s.zy = o.number("zy", 0);
+  o.finish();
+  return s;
+}
+
 namespace {
 
 constexpr const char* kKey = "wedge.Matrix";
 
 Mat4& push_matrix(lua_State* L, const Mat4& m) { return push_object(L, kKey, m); }
 
-// An axis given as {x, y, z} or as one of the strings "x", "y", "z".
+}  // namespace
+
 Vec3 check_axis(lua_State* L, int idx) {
   if (lua_type(L, idx) == LUA_TSTRING) {
     std::string s = lua_tostring(L, idx);
@@ -27,6 +38,8 @@ Vec3 check_axis(lua_State* L, int idx) {
   if (a.norm() == 0) throw ArgError{idx, "axis must be non-zero"};
   return a;
 }
+
+namespace {
 
 int identity_fn(lua_State* L) {
   return guarded(L, [&] {
@@ -101,13 +114,7 @@ int mirror_fn(lua_State* L) {
 // matrix.shear{xy=, xz=, yx=, yz=, zx=, zy=}
 int shear_fn(lua_State* L) {
   return guarded(L, [&] {
-    Options o(L, 1);
-    Shear s;
-    s.xy = o.number("xy", 0); s.xz = o.number("xz", 0);
-    s.yx = o.number("yx", 0); s.yz = o.number("yz", 0);
-    s.zx = o.number("zx", 0); s.zy = o.number("zy", 0);
-    o.finish();
-    push_matrix(L, shear(s));
+    push_matrix(L, shear(check_shear(L, 1)));
     return 1;
   });
 }

@@ -1,11 +1,21 @@
-// wedge::surfaces — curves and surfaces. The interfaces every curve and surface implements;
-// the concrete kinds (Bezier, B-spline, NURBS, interpolating splines, swept surfaces) build on them.
+// wedge::surfaces — curves and surfaces. The interfaces every curve and surface implements, and
+// the concrete kinds: line, circular arc, Bezier, B-spline and NURBS curves (with the exact
+// conics), interpolating splines (polynomial, natural cubic, Hermite / Catmull-Rom /
+// Kochanek-Bartels, global NURBS interpolation), and the surfaces built on them (plane, bilinear,
+// Bezier and NURBS tensor products, exact quadrics, revolved, extruded, swept, lofted, the teapot).
+// Every bad argument throws wedge::Error naming the argument and saying why it is bad.
 #pragma once
+#include <memory>
+#include <string>
 #include <utility>
+#include <vector>
 
 #include "kernel/kernel.h"
 
 namespace wedge {
+
+// ---------------------------------------------------------------------------------------------
+// Interfaces
 
 // A parametric curve C(t) in 3D (2D curves have z = 0) over the interval [t0, t1].
 class Curve {
@@ -15,6 +25,29 @@ class Curve {
   virtual Point3 eval(double t) const = 0;
   // The k-th derivative at t (k = 0 is the point itself).
   virtual Vec3 derivative(double t, int k) const = 0;
+  // Parameters where the curve may lose smoothness (knots, segment joints), domain ends included.
+  // Tessellation and quadrature split there first.
+  virtual std::vector<double> breaks() const;
+  // True if C(t0) == C(t1): a closed curve is a profile.
+  virtual bool closed() const;
+
+  // Unit tangent (zero where the curve stops).
+  Vec3 tangent(double t) const;
+  // Arc length over [a, b] (default: the whole domain) by adaptive Gauss-Legendre quadrature (5 points, split until halves agree).
+  double length() const;
+  double length(double a, double b) const;
+  // Polyline whose chords stay within `tolerance` of the curve (recursive subdivision checked at
+  // interior samples of each chord). Returns the parameters; points(...) their positions.
+  std::vector<double> parameters(double tolerance) const;
+  std::vector<Point3> points(double tolerance) const;
+};
+
+using CurvePtr = std::shared_ptr<const Curve>;
+
+// A closed polyline in the (u, v) parameter plane. The outer loop runs counter-clockwise, holes
+// clockwise; the B-Rep uses these as a face's boundary on its surface.
+struct TrimLoop {
+  std::vector<Vec2> points;
 };
 
 // A parametric surface S(u, v) over [u0, u1] x [v0, v1].
@@ -26,12 +59,328 @@ class Surface {
   virtual Point3 eval(double u, double v) const = 0;
   // The partial derivative d^(ku+kv) S / du^ku dv^kv.
   virtual Vec3 derivative(double u, double v, int ku, int kv) const = 0;
-  // The unit normal Su x Sv (zero where the surface is degenerate).
-  Vec3 normal(double u, double v) const {
-    Vec3 n = derivative(u, v, 1, 0).cross(derivative(u, v, 0, 1));
-    double len = n.norm();
-    return len > 0 ? Vec3(n / len) : Vec3::Zero();
-  }
+  // Parameters where the surface may lose smoothness in u / in v (domain ends included).
+  virtual std::vector<double> u_breaks() const;
+  virtual std::vector<double> v_breaks() const;
+  // The unit normal Su x Sv. Where that vanishes (a pole), the normal is taken a small step inside
+  // the domain; zero only if the surface is degenerate there too.
+  Vec3 normal(double u, double v) const;
+
+  // Trimming: the part of the domain kept is inside the outer loops and outside the holes (even-odd
+  // rule over all loops). No loops: the whole domain.
+  std::vector<TrimLoop> trims;
+  bool inside_trim(double u, double v) const;
+
+  // A triangle mesh whose chordal error (distance between a triangle and the surface at the same
+  // parameters) stays below `tolerance`: a grid refined until midpoint samples of every cell agree.
+  // Positions, normals and uvs (the surface parameters) are filled; face_ids = face_id.
+  Mesh mesh(double tolerance, int face_id = -1) const;
 };
+
+using SurfacePtr = std::shared_ptr<const Surface>;
+
+// ---------------------------------------------------------------------------------------------
+// B-spline basis (The NURBS Book, chapter 2)
+
+// Throws wedge::Error saying in words why `knots` cannot carry `count` control points of this
+// degree: wrong length, a decreasing knot, a multiplicity above degree + 1, NaN.
+void check_knots(const std::vector<double>& knots, int degree, std::size_t count, const char* what = "knots");
+// Throws unless every weight is finite and > 0.
+void check_weights(const std::vector<double>& weights, std::size_t count, const char* what = "weights");
+// A2.1: the span index i with knots[i] <= u < knots[i+1] (the last non-empty span at the end).
+int find_span(int n, int degree, double u, const std::vector<double>& knots);
+// A2.2: the degree + 1 non-zero basis functions N[i-p..i] at u.
+void basis_functions(int span, double u, int degree, const std::vector<double>& knots, double* N);
+// A2.3: the basis functions and their derivatives up to order d: ders[k][j] = N^(k)_{span-p+j}(u).
+std::vector<std::vector<double>> basis_derivatives(int span, double u, int degree, int d,
+                                                    const std::vector<double>& knots);
+// Knot vectors: clamped with uniform interior knots over [0, 1], and unclamped uniform 0, 1, 2, ...
+std::vector<double> open_uniform_knots(int degree, std::size_t count);
+std::vector<double> uniform_knots(int degree, std::size_t count);
+
+// ---------------------------------------------------------------------------------------------
+// Curves
+
+class LineSegment : public Curve {
+ public:
+  LineSegment(const Point3& a, const Point3& b);
+  std::pair<double, double> domain() const override { return {0.0, 1.0}; }
+  Point3 eval(double t) const override;
+  Vec3 derivative(double t, int k) const override;
+  Point3 a, b;
+};
+
+// The trigonometric arc C(t) = c + r (cos t x + sin t y), t in [start, end] (radians).
+class CircularArc : public Curve {
+ public:
+  CircularArc(const Point3& center, double radius, double start, double end, const Vec3& normal = Vec3::UnitZ());
+  std::pair<double, double> domain() const override { return {start_, end_}; }
+  Point3 eval(double t) const override;
+  Vec3 derivative(double t, int k) const override;
+  bool closed() const override;
+
+ private:
+  Point3 center_;
+  double radius_, start_, end_;
+  Vec3 x_, y_;
+};
+
+// A Bezier curve of any degree, evaluated by de Casteljau over [0, 1].
+class BezierCurve : public Curve {
+ public:
+  explicit BezierCurve(std::vector<Point3> points);
+  std::pair<double, double> domain() const override { return {0.0, 1.0}; }
+  Point3 eval(double t) const override;
+  Vec3 derivative(double t, int k) const override;
+  int degree() const { return int(points_.size()) - 1; }
+  const std::vector<Point3>& control_points() const { return points_; }
+  // The two halves at t, each over [0, 1].
+  std::pair<BezierCurve, BezierCurve> subdivide(double t) const;
+  // The same curve as a Bezier of degree + 1.
+  BezierCurve elevated() const;
+
+ private:
+  std::vector<Point3> points_;
+};
+
+// A NURBS curve: degree p, control points P_i, weights w_i > 0 (all 1: a B-spline), knots of
+// length n + p + 1. Evaluation by A4.1 / A3.1 on homogeneous points, derivatives by A3.2 + A4.2.
+class NurbsCurve : public Curve {
+ public:
+  NurbsCurve(int degree, std::vector<Point3> points, std::vector<double> knots, std::vector<double> weights = {});
+  std::pair<double, double> domain() const override;
+  Point3 eval(double t) const override;
+  Vec3 derivative(double t, int k) const override;
+  std::vector<double> breaks() const override;
+  // All derivatives 0..d at t (cheaper than d + 1 calls).
+  std::vector<Vec3> derivatives(double t, int d) const;
+
+  int degree() const { return degree_; }
+  const std::vector<Point3>& control_points() const { return points_; }
+  const std::vector<double>& knots() const { return knots_; }
+  const std::vector<double>& weights() const { return weights_; }
+  bool rational() const;
+
+  // A5.1 (Boehm): the same curve with knot u inserted `times` times.
+  NurbsCurve with_knot(double u, int times = 1) const;
+  // The same curve with degree + 1: split into Bezier segments, elevate each (A5.9's idea without
+  // the final knot removal, so interior knots keep multiplicity degree + 1).
+  NurbsCurve elevated() const;
+  // The Bezier segments (as NurbsCurves on their own knot intervals), by knot insertion.
+  std::vector<NurbsCurve> bezier_segments() const;
+
+ private:
+  int degree_;
+  std::vector<Point3> points_;
+  std::vector<double> knots_;
+  std::vector<double> weights_;
+};
+
+// Exact conics as rational quadratic NURBS (A7.1). Angles in radians, measured from x_axis toward
+// y_axis; the arc of any angle up to 2 pi is split into at most four pieces of <= 90 degrees.
+NurbsCurve nurbs_arc(const Point3& center, const Vec3& x_axis, const Vec3& y_axis, double radius, double start,
+                     double end);
+NurbsCurve nurbs_circle(const Point3& center, double radius, const Vec3& normal = Vec3::UnitZ());
+NurbsCurve nurbs_ellipse(const Point3& center, const Vec3& x_axis, const Vec3& y_axis, double rx, double ry);
+// Curves that are piecewise polynomial or rational can convert exactly.
+NurbsCurve to_nurbs(const BezierCurve& c);
+NurbsCurve to_nurbs(const LineSegment& c);
+
+// A9.1: the NURBS curve of this degree through the points, chord-length parameters and averaged
+// knots (non-rational).
+NurbsCurve interpolate_nurbs(const std::vector<Point3>& points, int degree = 3);
+
+// The polynomial of degree k-1 through k points at uniform parameters over [0, 1], evaluated by
+// Neville's scheme (its derivatives by the differentiated recurrence). Oscillates for large k
+// (Runge): that is what it is for.
+class PolynomialInterpolant : public Curve {
+ public:
+  explicit PolynomialInterpolant(std::vector<Point3> points);
+  std::pair<double, double> domain() const override { return {0.0, 1.0}; }
+  Point3 eval(double t) const override;
+  Vec3 derivative(double t, int k) const override;
+
+ private:
+  std::vector<Point3> points_;
+  std::vector<double> params_;
+};
+
+// A piecewise cubic Hermite curve: at parameters t_i it passes through P_i with derivative D_i.
+// The base of the natural spline and of the Catmull-Rom / Kochanek-Bartels family.
+class HermiteSpline : public Curve {
+ public:
+  HermiteSpline(std::vector<double> params, std::vector<Point3> points, std::vector<Vec3> tangents);
+  // Separate outgoing (start of segment i) and incoming (end of segment i - 1) tangents: C0 only.
+  HermiteSpline(std::vector<double> params, std::vector<Point3> points, std::vector<Vec3> out_tangents,
+                std::vector<Vec3> in_tangents);
+  std::pair<double, double> domain() const override { return {params_.front(), params_.back()}; }
+  Point3 eval(double t) const override;
+  Vec3 derivative(double t, int k) const override;
+  std::vector<double> breaks() const override { return params_; }
+  // The exact NURBS form: cubic, each segment a Bezier piece (joint knots of multiplicity 3).
+  NurbsCurve to_nurbs() const;
+  const std::vector<double>& params() const { return params_; }
+
+ private:
+  std::vector<double> params_;
+  std::vector<Point3> points_;
+  std::vector<Vec3> out_, in_;
+};
+
+// The natural cubic spline through the points (C2, zero second derivative at the ends),
+// chord-length parameters, second derivatives from one tridiagonal solve.
+HermiteSpline natural_spline(const std::vector<Point3>& points);
+// The same at given increasing parameters.
+HermiteSpline natural_spline(const std::vector<double>& params, const std::vector<Point3>& points);
+
+// Kochanek-Bartels: tension, bias and continuity (all 0: Catmull-Rom), uniform parameters 0..n-1
+// (0..n if closed). An open spline takes its end tangents from mirrored phantom points.
+HermiteSpline kochanek_bartels(const std::vector<Point3>& points, double tension = 0, double bias = 0,
+                               double continuity = 0, bool closed = false);
+HermiteSpline catmull_rom(const std::vector<Point3>& points, bool closed = false);
+
+// ---------------------------------------------------------------------------------------------
+// Surfaces
+
+// The plane origin + u x_axis + v y_axis over the given domain.
+class Plane : public Surface {
+ public:
+  Plane(const Point3& origin, const Vec3& x_axis, const Vec3& y_axis, double u0 = 0, double u1 = 1, double v0 = 0,
+        double v1 = 1);
+  std::pair<double, double> u_domain() const override { return {u0_, u1_}; }
+  std::pair<double, double> v_domain() const override { return {v0_, v1_}; }
+  Point3 eval(double u, double v) const override { return origin_ + u * x_ + v * y_; }
+  Vec3 derivative(double u, double v, int ku, int kv) const override;
+
+ private:
+  Point3 origin_;
+  Vec3 x_, y_;
+  double u0_, u1_, v0_, v1_;
+};
+
+// A NURBS tensor-product surface: points[i][j] with i along u, j along v. Evaluation and
+// derivatives by A3.6 on homogeneous points and A4.4.
+class NurbsSurface : public Surface {
+ public:
+  NurbsSurface(int udegree, int vdegree, std::vector<std::vector<Point3>> points, std::vector<double> uknots,
+               std::vector<double> vknots, std::vector<std::vector<double>> weights = {});
+  std::pair<double, double> u_domain() const override;
+  std::pair<double, double> v_domain() const override;
+  Point3 eval(double u, double v) const override;
+  Vec3 derivative(double u, double v, int ku, int kv) const override;
+  std::vector<double> u_breaks() const override;
+  std::vector<double> v_breaks() const override;
+  // SKL[k][l] for k + l <= d.
+  std::vector<std::vector<Vec3>> derivatives(double u, double v, int d) const;
+
+  int udegree() const { return p_; }
+  int vdegree() const { return q_; }
+  const std::vector<std::vector<Point3>>& control_points() const { return points_; }
+  const std::vector<std::vector<double>>& weights() const { return weights_; }
+  const std::vector<double>& uknots() const { return uknots_; }
+  const std::vector<double>& vknots() const { return vknots_; }
+
+ private:
+  int p_, q_;
+  std::vector<std::vector<Point3>> points_;
+  std::vector<double> uknots_, vknots_;
+  std::vector<std::vector<double>> weights_;
+};
+
+// Bezier patch of any degree (grid[i][j], i along u) and the bilinear patch, as NURBS.
+NurbsSurface bezier_surface(const std::vector<std::vector<Point3>>& grid);
+NurbsSurface bilinear_surface(const Point3& p00, const Point3& p10, const Point3& p01, const Point3& p11);
+// A8.1: the exact NURBS surface of revolution of a NURBS curve about the axis through `point`
+// along `axis`, by `angle` radians (u: around the axis, v: along the curve).
+NurbsSurface nurbs_revolve(const NurbsCurve& curve, const Point3& point, const Vec3& axis, double angle);
+// Exact quadrics and the torus, as NURBS (axis +Z through the origin-side centre).
+NurbsSurface nurbs_sphere(const Point3& center, double radius);
+NurbsSurface nurbs_cylinder(const Point3& base, double radius, double height);
+NurbsSurface nurbs_cone(const Point3& base, double r1, double r2, double height);
+NurbsSurface nurbs_torus(const Point3& center, double major, double minor);
+
+// The surface of revolution of any curve: S(u, v) = rotation by u about the axis of C(v),
+// u in [0, angle] (radians). Exact, with analytic derivatives.
+class RevolvedSurface : public Surface {
+ public:
+  RevolvedSurface(CurvePtr curve, const Point3& point, const Vec3& axis, double angle);
+  std::pair<double, double> u_domain() const override { return {0.0, angle_}; }
+  std::pair<double, double> v_domain() const override { return curve_->domain(); }
+  Point3 eval(double u, double v) const override;
+  Vec3 derivative(double u, double v, int ku, int kv) const override;
+  std::vector<double> v_breaks() const override { return curve_->breaks(); }
+
+ private:
+  CurvePtr curve_;
+  Point3 point_;
+  Vec3 axis_;
+  double angle_;
+};
+
+// S(u, v) = C(u) + v * direction, v in [0, 1].
+class ExtrudedSurface : public Surface {
+ public:
+  ExtrudedSurface(CurvePtr curve, const Vec3& direction);
+  std::pair<double, double> u_domain() const override { return curve_->domain(); }
+  std::pair<double, double> v_domain() const override { return {0.0, 1.0}; }
+  Point3 eval(double u, double v) const override;
+  Vec3 derivative(double u, double v, int ku, int kv) const override;
+  std::vector<double> u_breaks() const override { return curve_->breaks(); }
+
+ private:
+  CurvePtr curve_;
+  Vec3 direction_;
+};
+
+// An orthonormal frame along a path: tangent t, and r, s spanning the normal plane (r x s = t).
+struct Frame {
+  Point3 origin;
+  Vec3 t, r, s;
+};
+
+// Rotation-minimising frames along a curve by the double reflection method (Wang, Juettler,
+// Zheng, Liu, "Computation of rotation minimizing frames", ACM TOG 27(1), 2008), at `count`
+// uniformly spaced parameters (ends included).
+std::vector<Frame> rotation_minimizing_frames(const Curve& path, int count);
+
+// A profile (its x, y in the path's normal plane: x along r, y along s) swept along a 3D path with
+// rotation-minimising frames. u: along the profile, v: along the path. The frame at any v is the
+// double-reflection step from the nearest precomputed frame, so it is continuous; the v
+// derivatives are taken by central differences of that frame field.
+class SweptSurface : public Surface {
+ public:
+  SweptSurface(CurvePtr profile, CurvePtr path, int frames = 512);
+  std::pair<double, double> u_domain() const override { return profile_->domain(); }
+  std::pair<double, double> v_domain() const override { return path_->domain(); }
+  Point3 eval(double u, double v) const override;
+  Vec3 derivative(double u, double v, int ku, int kv) const override;
+  std::vector<double> u_breaks() const override { return profile_->breaks(); }
+  Frame frame(double v) const;
+
+ private:
+  CurvePtr profile_, path_;
+  std::vector<Frame> frames_;
+  std::vector<double> params_;
+};
+
+// The skinned surface through section curves C_0..C_{n-1}: S(u, v) = sum_i C_i(u) N_i(v) with N_i
+// the cardinal natural cubic splines on v_i = i / (n - 1) (linear for two sections: a ruled surface),
+// so S(u, v_i) = C_i(u). Sections are reparametrised linearly onto [0, 1].
+class LoftedSurface : public Surface {
+ public:
+  explicit LoftedSurface(std::vector<CurvePtr> sections);
+  std::pair<double, double> u_domain() const override { return {0.0, 1.0}; }
+  std::pair<double, double> v_domain() const override { return {0.0, 1.0}; }
+  Point3 eval(double u, double v) const override;
+  Vec3 derivative(double u, double v, int ku, int kv) const override;
+  std::vector<double> v_breaks() const override;
+
+ private:
+  std::vector<CurvePtr> sections_;
+  std::vector<HermiteSpline> cardinal_;
+};
+
+// Newell's teapot: the 32 bicubic Bezier patches (rim, body, lid, handle, spout, bottom), z up.
+std::vector<NurbsSurface> teapot();
 
 }  // namespace wedge

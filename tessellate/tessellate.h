@@ -1,11 +1,5 @@
-// wedge::tessellate — B-Rep to Mesh, and mesh files. The file formats it reads and writes.
+// wedge::tessellate — B-Rep to Mesh (planar faces with holes), and mesh files.
 #pragma once
-#include <string_view>
-
 #include "brep/brep.h"
-
-namespace wedge {
-
-enum class MeshFormat { Obj, StlAscii, StlBinary, Ply, Off };
-
-}  // namespace wedge
+#include "tessellate/mesh_io.h"
+#include "tessellate/planar.h"

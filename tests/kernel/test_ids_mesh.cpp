@@ -110,3 +110,17 @@ TEST_CASE("mesh check names the first inconsistency", "[mesh][errors]") {
   n.positions[2].x() = std::nan("");
   CHECK_THROWS_WITH(n.check(), Catch::Contains("vertex 2 has a non-finite"));
 }
+
+TEST_CASE("shading normals are split per source face", "[mesh]") {
+  Mesh m = unit_tetrahedron();  // four faces, ids 0..3
+  Mesh s = m.with_face_normals();
+  CHECK(s.vertex_count() == 12);  // every corner belongs to a different face
+  CHECK(s.triangle_count() == 4);
+  for (std::size_t t = 0; t < 4; ++t)
+    for (auto v : s.triangles[t]) CHECK((s.normals[v] - s.triangle_normal(t)).norm() < 1e-15);
+  CHECK(s.volume() == Approx(m.volume()));
+  // Same face id on every triangle: nothing is split and normals are smooth.
+  Mesh one = unit_tetrahedron();
+  one.face_ids.assign(4, 7);
+  CHECK(one.with_face_normals().vertex_count() == 4);
+}

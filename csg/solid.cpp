@@ -1,0 +1,210 @@
+#include "csg/solid.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <numeric>
+
+namespace wedge {
+
+// --- mesh measurements ---
+
+MassProperties mass_properties(const Mesh& mesh) {
+  // For each triangle (a, b, c) the signed tetrahedron (0, a, b, c) contributes its volume
+  // det/6, its first moment vol*(a+b+c)/4 and its second moments
+  // vol/20 * (sum_i x_i x_i^T + (sum_i x_i)(sum_i x_i)^T) (Tonon 2004, covariance of a tetrahedron
+  // with one vertex at the origin).
+  MassProperties mp;
+  Vec3 first = Vec3::Zero();
+  Mat3 second = Mat3::Zero();  // integral of x x^T over the solid
+  for (const auto& t : mesh.triangles) {
+    const Vec3& a = mesh.positions[t[0]];
+    const Vec3& b = mesh.positions[t[1]];
+    const Vec3& c = mesh.positions[t[2]];
+    double v = a.dot(b.cross(c)) / 6.0;
+    mp.volume += v;
+    mp.area += 0.5 * (b - a).cross(c - a).norm();
+    Vec3 s = a + b + c;
+    first += v * s / 4.0;
+    second += v / 20.0 * (a * a.transpose() + b * b.transpose() + c * c.transpose() + s * s.transpose());
+  }
+  if (mp.volume != 0) mp.centroid = first / mp.volume;
+  // Second moment about the centroid, then the inertia tensor I = trace(C) Id - C.
+  Mat3 c = second - mp.volume * mp.centroid * mp.centroid.transpose();
+  mp.inertia = c.trace() * Mat3::Identity() - c;
+  return mp;
+}
+
+EulerCounts euler_counts(const Mesh& mesh) {
+  std::map<std::pair<std::uint32_t, std::uint32_t>, int> directed;
+  for (std::size_t i = 0; i < mesh.triangles.size(); ++i) {
+    const auto& t = mesh.triangles[i];
+    for (int k = 0; k < 3; ++k) {
+      auto key = std::make_pair(t[k], t[(k + 1) % 3]);
+      if (++directed[key] > 1)
+        fail("mesh is not 2-manifold: edge ", key.first, "-", key.second, " is used twice in the same direction");
+    }
+  }
+  for (const auto& [e, n] : directed)
+    if (!directed.count({e.second, e.first}))
+      fail("mesh is not closed: edge ", e.first, "-", e.second, " has only one triangle");
+  // Components by union-find over vertices used by triangles.
+  std::vector<std::uint32_t> parent(mesh.positions.size());
+  std::iota(parent.begin(), parent.end(), 0u);
+  auto find = [&](std::uint32_t x) {
+    while (parent[x] != x) x = parent[x] = parent[parent[x]];
+    return x;
+  };
+  std::vector<bool> used(mesh.positions.size(), false);
+  for (const auto& t : mesh.triangles)
+    for (int k = 0; k < 3; ++k) {
+      used[t[k]] = true;
+      parent[find(t[k])] = find(t[(k + 1) % 3]);
+    }
+  EulerCounts c;
+  for (std::size_t v = 0; v < used.size(); ++v)
+    if (used[v]) {
+      ++c.V;
+      if (find(static_cast<std::uint32_t>(v)) == v) ++c.S;
+    }
+  c.E = static_cast<long>(directed.size() / 2);
+  c.F = static_cast<long>(mesh.triangles.size());
+  long chi = c.V - c.E + c.F;  // = 2S - 2H
+  c.H = (2 * c.S - chi) / 2;
+  return c;
+}
+
+// --- MeshLeaf ---
+
+MeshLeaf::MeshLeaf(Mesh mesh, const std::string& what) : mesh_(std::move(mesh)) {
+  mesh_.check();
+  if (mesh_.triangles.empty()) fail(what, " has no triangles");
+  try {
+    counts_ = euler_counts(mesh_);
+  } catch (const Error& e) {
+    fail(what, ": ", e.what());
+  }
+  double v = mesh_.volume();
+  if (!(v > 0)) fail(what, " is inside out or flat (signed volume ", v, "): triangles must be counter-clockwise seen from outside");
+}
+
+std::shared_ptr<const SolidLeaf> MeshLeaf::transformed(const Mat4& m) const {
+  auto leaf = std::shared_ptr<MeshLeaf>(new MeshLeaf());
+  leaf->mesh_ = mesh_.transformed(m);
+  leaf->counts_ = counts_;
+  return leaf;
+}
+
+// --- the CSG tree ---
+
+namespace {
+// The largest stretch a transform applies to any direction (its spectral norm, bounded above by
+// the Frobenius norm of the linear part, which is cheap and safe for choosing tolerances).
+double m_norm(const Mat4& m) { return m.block<3, 3>(0, 0).norm(); }
+}  // namespace
+
+struct Solid::Node {
+  enum class Kind { Empty, Leaf, Transform } kind = Kind::Empty;
+  std::shared_ptr<const SolidLeaf> leaf;
+  Mat4 matrix = Mat4::Identity();
+  std::shared_ptr<const Node> child;
+};
+
+Solid::Solid() : node_(std::make_shared<Node>()) {}
+
+Solid::Solid(std::shared_ptr<const SolidLeaf> leaf) {
+  if (!leaf) fail("Solid: null leaf");
+  auto n = std::make_shared<Node>();
+  n->kind = Node::Kind::Leaf;
+  n->leaf = std::move(leaf);
+  node_ = n;
+}
+
+Solid::Solid(std::shared_ptr<const Node> node) : node_(std::move(node)) {}
+
+Solid Solid::from_mesh(Mesh mesh, const std::string& what) {
+  return Solid(std::make_shared<MeshLeaf>(std::move(mesh), what));
+}
+
+bool Solid::empty() const { return node_->kind == Node::Kind::Empty; }
+
+Solid Solid::transformed(const Mat4& m) const {
+  if (!m.allFinite()) fail("transform has non-finite entries");
+  if (std::abs(m.block<3, 3>(0, 0).determinant()) < 1e-300) fail("transform is singular: it would flatten the solid");
+  if ((m.row(3) - Eigen::RowVector4d(0, 0, 0, 1)).cwiseAbs().maxCoeff() != 0)
+    fail("transform is projective (last row not 0 0 0 1): solids take affine transforms only");
+  switch (node_->kind) {
+    case Node::Kind::Empty: return *this;
+    case Node::Kind::Leaf:
+      if (auto t = node_->leaf->transformed(m)) return Solid(std::move(t));
+      break;
+    case Node::Kind::Transform: {
+      // Fold consecutive transforms into one node.
+      auto n = std::make_shared<Node>(*node_);
+      n->matrix = m * node_->matrix;
+      return Solid(std::shared_ptr<const Node>(n));
+    }
+  }
+  auto n = std::make_shared<Node>();
+  n->kind = Node::Kind::Transform;
+  n->matrix = m;
+  n->child = node_;
+  return Solid(std::shared_ptr<const Node>(n));
+}
+
+Mesh Solid::mesh(const Tolerance& tol) const {
+  switch (node_->kind) {
+    case Node::Kind::Empty: return Mesh();
+    case Node::Kind::Leaf: return node_->leaf->mesh(tol);
+    case Node::Kind::Transform: {
+      // Tessellate the child finely enough that scaling up keeps the chordal error within tol.
+      Tolerance t = tol;
+      double stretch = m_norm(node_->matrix);
+      if (stretch > 0) t.chordal = tol.chordal / std::max(1.0, stretch);
+      return Solid(node_->child).mesh(t).transformed(node_->matrix);
+    }
+  }
+  return Mesh();
+}
+
+Box3 Solid::bounds() const {
+  switch (node_->kind) {
+    case Node::Kind::Empty: return Box3();
+    case Node::Kind::Leaf: return node_->leaf->bounds();
+    case Node::Kind::Transform: {
+      Box3 b = Solid(node_->child).bounds(), out;
+      if (b.empty()) return out;
+      for (int i = 0; i < 8; ++i) {
+        Vec3 corner((i & 1) ? b.max.x() : b.min.x(), (i & 2) ? b.max.y() : b.min.y(), (i & 4) ? b.max.z() : b.min.z());
+        out.extend(apply_point(node_->matrix, corner));
+      }
+      return out;
+    }
+  }
+  return Box3();
+}
+
+MassProperties Solid::mass_properties(const Tolerance& tol) const {
+  if (node_->kind == Node::Kind::Leaf)
+    if (auto mp = node_->leaf->mass_properties()) return *mp;
+  return wedge::mass_properties(mesh(tol));
+}
+
+EulerCounts Solid::euler(const Tolerance& tol) const {
+  if (node_->kind == Node::Kind::Empty) return EulerCounts();
+  if (node_->kind == Node::Kind::Leaf)
+    if (auto c = node_->leaf->euler()) return *c;
+  if (node_->kind == Node::Kind::Transform) return Solid(node_->child).euler(tol);
+  return euler_counts(mesh(tol));
+}
+
+std::string Solid::validate(const Tolerance& tol) const {
+  switch (node_->kind) {
+    case Node::Kind::Empty: return "";
+    case Node::Kind::Leaf: return node_->leaf->validate();
+    case Node::Kind::Transform: return Solid(node_->child).validate(tol);
+  }
+  return "";
+}
+
+}  // namespace wedge

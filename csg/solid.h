@@ -1,0 +1,94 @@
+// wedge::Solid — the value type users hold (in C++ and in Lua). Like Manifold's public type it is
+// immutable and cheap to copy: a shared pointer to a node of the CSG tree. Operations return new
+// Solids; evaluation happens on demand, when a query (volume, mesh, export, render) asks for it.
+//
+// A leaf of the tree is any SolidLeaf: a B-Rep model (csg/brep_leaf.h, planar faces tessellated by
+// tessellate/), an imported closed mesh (MeshLeaf below), later free-form solids. A leaf answers
+// exactly what it can (a B-Rep knows its Euler counts and exact volume); everything else falls back
+// to the leaf's triangle mesh.
+#pragma once
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "brep/brep.h"
+#include "kernel/kernel.h"
+
+namespace wedge {
+
+// Volume, area, centroid and inertia tensor (about the centroid, density 1) of a solid.
+struct MassProperties {
+  double volume = 0;
+  double area = 0;
+  Vec3 centroid = Vec3::Zero();
+  Mat3 inertia = Mat3::Zero();
+};
+
+class SolidLeaf {
+ public:
+  virtual ~SolidLeaf() = default;
+  virtual std::string kind() const = 0;                   // "brep", "mesh", ...
+  // A closed, outward-oriented triangle mesh within `tol` of the exact boundary.
+  virtual Mesh mesh(const Tolerance& tol) const = 0;
+  virtual Box3 bounds() const = 0;
+  // Exact answers where the leaf has them; nullopt means "ask the mesh".
+  virtual std::optional<MassProperties> mass_properties() const { return std::nullopt; }
+  virtual std::optional<EulerCounts> euler() const { return std::nullopt; }
+  // "" when valid, otherwise the broken rule in words.
+  virtual std::string validate() const = 0;
+  // An exactly transformed copy, or nullptr if this leaf cannot transform itself (the Solid then
+  // keeps a transform node and transforms the mesh).
+  virtual std::shared_ptr<const SolidLeaf> transformed(const Mat4& /*m*/) const { return nullptr; }
+};
+
+// A closed 2-manifold triangle mesh as a leaf (what import() returns).
+class MeshLeaf final : public SolidLeaf {
+ public:
+  // Throws wedge::Error if the mesh is not closed, not 2-manifold or inside out; `what` names the
+  // mesh in the message (e.g. the file it came from).
+  explicit MeshLeaf(Mesh mesh, const std::string& what = "mesh");
+  std::string kind() const override { return "mesh"; }
+  Mesh mesh(const Tolerance&) const override { return mesh_; }
+  Box3 bounds() const override { return mesh_.bounds(); }
+  std::optional<EulerCounts> euler() const override { return counts_; }
+  std::string validate() const override { return ""; }
+  std::shared_ptr<const SolidLeaf> transformed(const Mat4& m) const override;
+  const Mesh& triangles() const { return mesh_; }
+
+ private:
+  MeshLeaf() = default;
+  Mesh mesh_;
+  EulerCounts counts_;
+};
+
+class Solid {
+ public:
+  Solid();  // the empty solid
+  explicit Solid(std::shared_ptr<const SolidLeaf> leaf);
+  static Solid from_mesh(Mesh mesh, const std::string& what = "mesh");
+
+  bool empty() const;
+  Solid transformed(const Mat4& m) const;
+
+  // Queries. `tol` is the chordal tolerance used where the mesh is needed.
+  Mesh mesh(const Tolerance& tol) const;
+  Box3 bounds() const;
+  MassProperties mass_properties(const Tolerance& tol) const;
+  EulerCounts euler(const Tolerance& tol) const;
+  std::string validate(const Tolerance& tol) const;  // "" when valid
+
+  struct Node;  // the CSG node (csg/solid.cpp)
+ private:
+  explicit Solid(std::shared_ptr<const Node> node);
+  std::shared_ptr<const Node> node_;
+};
+
+// Mass properties of a closed, outward-oriented triangle mesh by the divergence theorem over
+// signed tetrahedra from the origin (exact for the polyhedron the mesh describes).
+MassProperties mass_properties(const Mesh& mesh);
+// V, E, F (triangles), S (connected components) of a closed triangle mesh, R = 0 and H from
+// Euler–Poincaré per component. Throws if an edge is not shared by exactly two triangles.
+EulerCounts euler_counts(const Mesh& mesh);
+
+}  // namespace wedge

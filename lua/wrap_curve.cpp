@@ -1,0 +1,325 @@
+// Lua bindings of the curves of surfaces/: bezier, bspline, nurbs, interpolate, catmull_rom,
+// natural_spline, circle, and the Curve methods. Curve parameters are normalised: t runs over
+// [0, 1] for every kind of curve, whatever its own domain.
+#include <cmath>
+#include <sstream>
+
+#include "lua/lua_util.h"
+#include "lua/wedge_lua.h"
+#include "lua/wrap_curve.h"
+
+namespace wedge::lua {
+
+namespace {
+
+std::string num(double x) {
+  std::ostringstream out;
+  out.precision(10);
+  out << x;
+  return out.str();
+}
+
+constexpr const char* kKey = "wedge.Curve";
+
+// Runs a kernel constructor, turning its wedge::Error into an error on argument `arg`.
+template <class F>
+auto as_arg(int arg, F&& f) -> decltype(f()) {
+  try {
+    return f();
+  } catch (const Error& e) {
+    throw ArgError{arg, e.what()};
+  }
+}
+
+// Reads the list of points at the top of the stack (value of argument `arg`).
+std::vector<Point3> read_points_top(lua_State* L, int arg, const std::string& what, bool& planar) {
+  if (lua_type(L, -1) != LUA_TTABLE) throw ArgError{arg, what + " must be a list of points, got " + type_name(L, -1)};
+  std::vector<Point3> pts;
+  lua_Integer n = luaL_len(L, -1);
+  for (lua_Integer i = 1; i <= n; ++i) {
+    lua_rawgeti(L, -1, i);
+    std::string err;
+    Point3 p;
+    if (lua_type(L, -1) != LUA_TTABLE) err = what + ": point " + std::to_string(i) + " must be {x, y} or {x, y, z}, got " + type_name(L, -1);
+    else {
+      if (luaL_len(L, -1) >= 3) planar = false;
+      try {
+        p = to_vec3(L, -1, arg, what + ": point " + std::to_string(i), true);
+      } catch (const ArgError& e) {
+        err = e.message;
+      }
+    }
+    lua_pop(L, 1);
+    if (!err.empty()) throw ArgError{arg, err};
+    pts.push_back(p);
+  }
+  return pts;
+}
+
+// The points of a curve constructor's table: points=..., or t[1] as the list, or the array part
+// itself (the bare-list shorthand bezier{{0,0},{1,2},{3,0}}).
+std::vector<Point3> read_points(lua_State* L, Options& o, bool& planar) {
+  planar = true;
+  if (o.has("points")) {
+    o.push("points");
+    auto pts = read_points_top(L, o.arg(), "points", planar);
+    lua_pop(L, 1);
+    return pts;
+  }
+  o.allow_positional();
+  int idx = lua_absindex(L, o.arg());
+  lua_rawgeti(L, idx, 1);
+  bool nested = false;
+  if (lua_type(L, -1) == LUA_TTABLE) {
+    lua_rawgeti(L, -1, 1);
+    nested = lua_type(L, -1) == LUA_TTABLE;
+    lua_pop(L, 1);
+  }
+  lua_pop(L, 1);
+  if (nested) {
+    lua_rawgeti(L, idx, 1);
+    auto pts = read_points_top(L, o.arg(), "points", planar);
+    lua_pop(L, 1);
+    return pts;
+  }
+  lua_pushvalue(L, idx);
+  auto pts = read_points_top(L, o.arg(), "points", planar);
+  lua_pop(L, 1);
+  return pts;
+}
+
+std::vector<double> read_numbers(lua_State* L, Options& o, const char* key) {
+  std::vector<double> out;
+  int t = o.push(key);
+  std::string err;
+  if (t != LUA_TTABLE) err = std::string("field '") + key + "' must be a list of numbers, got " + type_name(L, -1);
+  else {
+    lua_Integer n = luaL_len(L, -1);
+    for (lua_Integer i = 1; i <= n && err.empty(); ++i) {
+      int ti = lua_rawgeti(L, -1, i);
+      double x = lua_tonumber(L, -1);
+      if (ti != LUA_TNUMBER) err = std::string("field '") + key + "': entry " + std::to_string(i) + " must be a number";
+      else if (!std::isfinite(x)) err = std::string("field '") + key + "': entry " + std::to_string(i) + " must be finite, got " + num(x);
+      lua_pop(L, 1);
+      out.push_back(x);
+    }
+  }
+  lua_pop(L, 1);
+  if (!err.empty()) throw ArgError{o.arg(), err};
+  return out;
+}
+
+void push_point(lua_State* L, const Point3& p, bool planar) {
+  if (planar) push_vec2(L, p.head<2>());
+  else push_vec3(L, p);
+}
+
+// t in [0, 1] -> the curve's own parameter.
+double curve_param(lua_State* L, const Curve& c, int idx) {
+  double t = check_number(L, idx);
+  if (t < -1e-12 || t > 1 + 1e-12) throw ArgError{idx, "parameter t must be in [0, 1], got " + num(t)};
+  auto [a, b] = c.domain();
+  return a + std::clamp(t, 0.0, 1.0) * (b - a);
+}
+
+int bezier_fn(lua_State* L) {
+  return guarded(L, [&] {
+    Options o(L, 1);
+    bool planar;
+    auto pts = read_points(L, o, planar);
+    o.finish();
+    push_curve(L, {as_arg(1, [&] { return std::make_shared<const BezierCurve>(pts); }), planar});
+    return 1;
+  });
+}
+
+int bspline_fn(lua_State* L) {
+  return guarded(L, [&] {
+    Options o(L, 1);
+    bool planar;
+    auto pts = read_points(L, o, planar);
+    int degree = o.integer("degree", 3);
+    std::vector<double> knots;
+    if (o.has("knots")) knots = read_numbers(L, o, "knots");
+    std::vector<double> weights;
+    if (o.has("weights")) weights = read_numbers(L, o, "weights");
+    o.finish();
+    auto c = as_arg(1, [&] {
+      if (knots.empty()) knots = open_uniform_knots(degree, pts.size());
+      return std::make_shared<const NurbsCurve>(degree, pts, knots, weights);
+    });
+    push_curve(L, {c, planar});
+    return 1;
+  });
+}
+
+int interpolate_fn(lua_State* L) {
+  return guarded(L, [&] {
+    Options o(L, 1);
+    bool planar;
+    auto pts = read_points(L, o, planar);
+    int degree = o.integer("degree", 3);
+    o.finish();
+    push_curve(L, {as_arg(1, [&] { return std::make_shared<const NurbsCurve>(interpolate_nurbs(pts, degree)); }), planar});
+    return 1;
+  });
+}
+
+int catmull_rom_fn(lua_State* L) {
+  return guarded(L, [&] {
+    Options o(L, 1);
+    bool planar;
+    auto pts = read_points(L, o, planar);
+    bool closed = o.boolean("closed", false);
+    double t = o.number("tension", 0), b = o.number("bias", 0), c = o.number("continuity", 0);
+    o.finish();
+    push_curve(L, {as_arg(1, [&] { return std::make_shared<const HermiteSpline>(kochanek_bartels(pts, t, b, c, closed)); }), planar});
+    return 1;
+  });
+}
+
+int natural_spline_fn(lua_State* L) {
+  return guarded(L, [&] {
+    Options o(L, 1);
+    bool planar;
+    auto pts = read_points(L, o, planar);
+    o.finish();
+    push_curve(L, {as_arg(1, [&] { return std::make_shared<const HermiteSpline>(natural_spline(pts)); }), planar});
+    return 1;
+  });
+}
+
+// circle(r) | circle{r=1, center={0,0}}: the exact rational circle in the XY plane.
+int circle_fn(lua_State* L) {
+  return guarded(L, [&] {
+    double r;
+    Vec3 center = Vec3::Zero();
+    bool planar = true;
+    if (lua_type(L, 1) == LUA_TTABLE) {
+      Options o(L, 1);
+      r = o.number("r", 1);
+      if (auto c = o.vec3("center", true)) {
+        center = *c;
+        planar = center.z() == 0;
+      }
+      o.finish();
+    } else {
+      r = check_number(L, 1);
+    }
+    if (!(r > 0)) throw ArgError{1, "radius must be positive, got " + num(r)};
+    push_curve(L, {std::make_shared<const NurbsCurve>(nurbs_circle(center, r)), planar});
+    return 1;
+  });
+}
+
+// --- methods ---
+
+int eval_fn(lua_State* L) {
+  return guarded(L, [&] {
+    const LuaCurve& c = check_curve(L, 1);
+    push_point(L, c.curve->eval(curve_param(L, *c.curve, 2)), c.planar);
+    return 1;
+  });
+}
+
+int tangent_fn(lua_State* L) {
+  return guarded(L, [&] {
+    const LuaCurve& c = check_curve(L, 1);
+    push_point(L, c.curve->tangent(curve_param(L, *c.curve, 2)), c.planar);
+    return 1;
+  });
+}
+
+// c:derivative(t, k): d^k C / dt^k for the normalised t.
+int derivative_fn(lua_State* L) {
+  return guarded(L, [&] {
+    const LuaCurve& c = check_curve(L, 1);
+    double t = curve_param(L, *c.curve, 2);
+    int k = lua_isnoneornil(L, 3) ? 1 : check_integer(L, 3);
+    if (k < 0) throw ArgError{3, "derivative order must be >= 0, got " + std::to_string(k)};
+    auto [a, b] = c.curve->domain();
+    push_point(L, c.curve->derivative(t, k) * std::pow(b - a, k), c.planar);
+    return 1;
+  });
+}
+
+int length_fn(lua_State* L) {
+  return guarded(L, [&] {
+    lua_pushnumber(L, check_curve(L, 1).curve->length());
+    return 1;
+  });
+}
+
+int closed_fn(lua_State* L) {
+  return guarded(L, [&] {
+    lua_pushboolean(L, check_curve(L, 1).curve->closed());
+    return 1;
+  });
+}
+
+// c:points{tolerance=0.01}: a polyline within the chordal tolerance (a closed curve repeats its
+// first point last).
+int points_fn(lua_State* L) {
+  return guarded(L, [&] {
+    const LuaCurve& c = check_curve(L, 1);
+    double tol = 0.01;
+    if (!lua_isnoneornil(L, 2)) {
+      Options o(L, 2);
+      tol = o.positive("tolerance", 0.01);
+      o.finish();
+    }
+    std::vector<Point3> pts = c.curve->points(tol);
+    lua_createtable(L, int(pts.size()), 0);
+    for (std::size_t i = 0; i < pts.size(); ++i) {
+      push_point(L, pts[i], c.planar);
+      lua_rawseti(L, -2, lua_Integer(i + 1));
+    }
+    return 1;
+  });
+}
+
+int tostring_fn(lua_State* L) {
+  return guarded(L, [&] {
+    const LuaCurve& c = check_curve(L, 1);
+    std::string kind = "Curve";
+    if (dynamic_cast<const NurbsCurve*>(c.curve.get())) kind = "Curve(nurbs)";
+    else if (dynamic_cast<const BezierCurve*>(c.curve.get())) kind = "Curve(bezier)";
+    else if (dynamic_cast<const HermiteSpline*>(c.curve.get())) kind = "Curve(spline)";
+    lua_pushstring(L, kind.c_str());
+    return 1;
+  });
+}
+
+const luaL_Reg kFunctions[] = {
+    {"bezier", bezier_fn},
+    {"bspline", bspline_fn},
+    {"nurbs", bspline_fn},
+    {"interpolate", interpolate_fn},
+    {"catmull_rom", catmull_rom_fn},
+    {"natural_spline", natural_spline_fn},
+    {"circle", circle_fn},
+    {nullptr, nullptr}};
+
+const luaL_Reg kMethods[] = {
+    {"eval", eval_fn},
+    {"tangent", tangent_fn},
+    {"derivative", derivative_fn},
+    {"length", length_fn},
+    {"closed", closed_fn},
+    {"points", points_fn},
+    {nullptr, nullptr}};
+
+const luaL_Reg kMeta[] = {{"__tostring", tostring_fn}, {nullptr, nullptr}};
+
+}  // namespace
+
+const LuaCurve* test_curve(lua_State* L, int idx) { return test_object<LuaCurve>(L, idx, kKey); }
+const LuaCurve& check_curve(lua_State* L, int idx) { return check_object<LuaCurve>(L, idx, kKey, "Curve"); }
+void push_curve(lua_State* L, LuaCurve c) { push_object(L, kKey, std::move(c)); }
+
+void register_curves(lua_State* L) {
+  register_class(L, kKey, "Curve", kMethods, kMeta, gc_object<LuaCurve>);
+  set_functions(L, kFunctions);
+}
+
+}  // namespace wedge::lua

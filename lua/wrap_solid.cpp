@@ -1,0 +1,314 @@
+// Lua bindings of csg/solid.h: the Solid userdata, its transforms and queries, tolerance().
+#include "lua/wrap_solid.h"
+
+#include <sstream>
+
+#include "lua/lua_util.h"
+#include "lua/wedge_lua.h"
+#include "lua/wrap_matrix.h"
+
+namespace wedge::lua {
+
+namespace {
+
+constexpr const char* kKey = "wedge.Solid";
+constexpr const char* kToleranceKey = "wedge.tolerance";
+constexpr const char* kConvertersKey = "wedge.mesh_converters";
+
+const Solid& self(lua_State* L) { return check_solid(L, 1); }
+
+// Pushes s transformed by m, keeping the material of the Solid at index 1.
+int push_transformed(lua_State* L, const Mat4& m) {
+  push_solid(L, self(L).transformed(m), 1);
+  return 1;
+}
+
+int translate_m(lua_State* L) {
+  return guarded(L, [&] {
+    Vec3 d = lua_type(L, 2) == LUA_TTABLE ? check_vec3(L, 2, true)
+                                           : Vec3(check_number(L, 2), check_number(L, 3), opt_number(L, 4, 0));
+    return push_transformed(L, translate(d));
+  });
+}
+
+int rotate_m(lua_State* L) {
+  return guarded(L, [&] {
+    double a = check_number(L, 2);
+    Vec3 axis = lua_isnoneornil(L, 3) ? Vec3::UnitZ() : check_axis(L, 3);
+    Mat4 m = lua_isnoneornil(L, 4) ? rotate(a, axis) : rotate(a, axis, check_vec3(L, 4, true));
+    return push_transformed(L, m);
+  });
+}
+
+template <Mat4 (*F)(double)>
+int rotate_axis_m(lua_State* L) {
+  return guarded(L, [&] { return push_transformed(L, F(check_number(L, 2))); });
+}
+
+int scale_m(lua_State* L) {
+  return guarded(L, [&] {
+    double kx = check_number(L, 2);
+    Vec3 k = lua_isnoneornil(L, 3) ? Vec3(kx, kx, kx) : Vec3(kx, check_number(L, 3), check_number(L, 4));
+    if (k.x() == 0 || k.y() == 0 || k.z() == 0)
+      throw ArgError{2, "scale factors must be non-zero (a zero factor flattens the solid)"};
+    return push_transformed(L, scale(k));
+  });
+}
+
+int mirror_m(lua_State* L) {
+  return guarded(L, [&] {
+    Vec3 p = lua_isnoneornil(L, 3) ? Vec3::Zero() : check_vec3(L, 3, true);
+    return push_transformed(L, reflect(check_axis(L, 2), p));
+  });
+}
+
+int shear_m(lua_State* L) {
+  return guarded(L, [&] {
+    return push_transformed(L, shear(check_shear(L, 2)));
+  });
+}
+
+int transform_m(lua_State* L) {
+  return guarded(L, [&] { return push_transformed(L, check_matrix(L, 2)); });
+}
+
+int volume_m(lua_State* L) {
+  return guarded(L, [&] {
+    lua_pushnumber(L, self(L).mass_properties(current_tolerance(L)).volume);
+    return 1;
+  });
+}
+
+int area_m(lua_State* L) {
+  return guarded(L, [&] {
+    lua_pushnumber(L, self(L).mass_properties(current_tolerance(L)).area);
+    return 1;
+  });
+}
+
+int centroid_m(lua_State* L) {
+  return guarded(L, [&] {
+    push_vec3(L, self(L).mass_properties(current_tolerance(L)).centroid);
+    return 1;
+  });
+}
+
+int inertia_m(lua_State* L) {
+  return guarded(L, [&] {
+    Mat3 I = self(L).mass_properties(current_tolerance(L)).inertia;
+    lua_createtable(L, 3, 0);
+    for (int r = 0; r < 3; ++r) {
+      push_vec3(L, I.row(r).transpose());
+      lua_rawseti(L, -2, r + 1);
+    }
+    return 1;
+  });
+}
+
+int bounds_m(lua_State* L) {
+  return guarded(L, [&] {
+    Box3 b = self(L).bounds();
+    lua_createtable(L, 0, 2);
+    push_vec3(L, b.empty() ? Vec3::Zero() : b.min);
+    lua_setfield(L, -2, "min");
+    push_vec3(L, b.empty() ? Vec3::Zero() : b.max);
+    lua_setfield(L, -2, "max");
+    return 1;
+  });
+}
+
+int euler_m(lua_State* L) {
+  return guarded(L, [&] {
+    EulerCounts c = self(L).euler(current_tolerance(L));
+    lua_createtable(L, 0, 6);
+    const std::pair<const char*, long> fields[] = {{"V", c.V}, {"E", c.E}, {"F", c.F}, {"R", c.R}, {"H", c.H}, {"S", c.S}};
+    for (const auto& [name, value] : fields) {
+      lua_pushinteger(L, value);
+      lua_setfield(L, -2, name);
+    }
+    return 1;
+  });
+}
+
+// s:is_valid() -> true, or false and the broken rule in words.
+int is_valid_m(lua_State* L) {
+  return guarded(L, [&] {
+    const Solid& s = self(L);
+    std::string why = s.validate(current_tolerance(L));
+    if (why.empty()) {
+      EulerCounts c = s.euler(current_tolerance(L));
+      if (c.characteristic() != 0) {
+        std::ostringstream out;
+        out << "Euler-Poincare fails: V - E + F - R + 2H - 2S = " << c.characteristic();
+        why = out.str();
+      }
+    }
+    lua_pushboolean(L, why.empty());
+    if (why.empty()) return 1;
+    lua_pushlstring(L, why.data(), why.size());
+    return 2;
+  });
+}
+
+// s:triangles{tolerance=} -> the triangle count after tessellation
+int triangles_m(lua_State* L) {
+  return guarded(L, [&] {
+    Tolerance tol = current_tolerance(L);
+    if (!lua_isnoneornil(L, 2)) {
+      Options o(L, 2);
+      tol.chordal = o.positive("tolerance", tol.chordal);
+      o.finish();
+    }
+    lua_pushinteger(L, static_cast<lua_Integer>(self(L).mesh(tol).triangle_count()));
+    return 1;
+  });
+}
+
+// s:material{ambient=, diffuse=, specular=, shininess=, emission=, texture=} -> a copy carrying it.
+int material_m(lua_State* L) {
+  return guarded(L, [&] {
+    const Solid& s = self(L);
+    Options o(L, 2);
+    for (const char* colour : {"ambient", "diffuse", "specular", "emission"}) {
+      int t = o.push(colour);
+      bool ok = t == LUA_TNIL || (t == LUA_TTABLE && (lua_rawlen(L, -1) == 3 || lua_rawlen(L, -1) == 4));
+      lua_pop(L, 1);
+      if (!ok) throw ArgError{2, std::string("field '") + colour + "' must be a colour {r, g, b} or {r, g, b, a}"};
+    }
+    if (auto sh = o.number("shininess")) {
+      if (*sh < 0 || *sh > 128) throw ArgError{2, "field 'shininess' must be in 0..128 (OpenGL's range), got " + std::to_string(*sh)};
+    }
+    o.has("texture");
+    o.has("color");
+    o.finish();
+    push_solid(L, s);
+    lua_pushvalue(L, 2);
+    lua_setiuservalue(L, -2, 1);
+    return 1;
+  });
+}
+
+int tostring_m(lua_State* L) {
+  return guarded(L, [&] {
+    const Solid& s = self(L);
+    std::ostringstream out;
+    if (s.empty()) out << "Solid(empty)";
+    else {
+      Box3 b = s.bounds();
+      out << "Solid(bounds " << b.min.x() << " " << b.min.y() << " " << b.min.z() << " .. " << b.max.x() << " "
+          << b.max.y() << " " << b.max.z() << ")";
+    }
+    std::string str = out.str();
+    lua_pushlstring(L, str.data(), str.size());
+    return 1;
+  });
+}
+
+// tolerance() -> current; tolerance(t) sets the chordal tolerance for this state.
+int tolerance_fn(lua_State* L) {
+  return guarded(L, [&] {
+    if (!lua_isnoneornil(L, 1)) {
+      double t = check_number(L, 1);
+      if (!(t > 0)) throw ArgError{1, "tolerance must be positive, got " + std::to_string(t)};
+      lua_pushnumber(L, t);
+      lua_setfield(L, LUA_REGISTRYINDEX, kToleranceKey);
+    }
+    lua_pushnumber(L, current_tolerance(L).chordal);
+    return 1;
+  });
+}
+
+const luaL_Reg kMethods[] = {
+    {"translate", translate_m},
+    {"rotate", rotate_m},
+    {"rotate_x", rotate_axis_m<rotate_x>},
+    {"rotate_y", rotate_axis_m<rotate_y>},
+    {"rotate_z", rotate_axis_m<rotate_z>},
+    {"scale", scale_m},
+    {"mirror", mirror_m},
+    {"shear", shear_m},
+    {"transform", transform_m},
+    {"volume", volume_m},
+    {"area", area_m},
+    {"centroid", centroid_m},
+    {"inertia", inertia_m},
+    {"bounds", bounds_m},
+    {"euler", euler_m},
+    {"is_valid", is_valid_m},
+    {"triangles", triangles_m},
+    {"material", material_m},
+    {nullptr, nullptr}};
+
+const luaL_Reg kMeta[] = {{"__tostring", tostring_m}, {nullptr, nullptr}};
+
+const luaL_Reg kFunctions[] = {{"tolerance", tolerance_fn}, {nullptr, nullptr}};
+
+}  // namespace
+
+void push_solid(lua_State* L, Solid s, int material_from) {
+  if (material_from) material_from = lua_absindex(L, material_from);
+  auto** slot = static_cast<Solid**>(lua_newuserdatauv(L, sizeof(Solid*), 1));
+  *slot = nullptr;
+  luaL_setmetatable(L, kKey);
+  *slot = new Solid(std::move(s));
+  if (material_from && test_solid(L, material_from)) {
+    lua_getiuservalue(L, material_from, 1);
+    lua_setiuservalue(L, -2, 1);
+  }
+}
+
+const Solid* test_solid(lua_State* L, int idx) { return test_object<Solid>(L, idx, kKey); }
+
+const Solid& check_solid(lua_State* L, int idx) { return check_object<Solid>(L, idx, kKey, "Solid"); }
+
+int push_material(lua_State* L, int idx) {
+  if (!test_solid(L, idx)) {
+    lua_pushnil(L);
+    return LUA_TNIL;
+  }
+  return lua_getiuservalue(L, idx, 1);
+}
+
+Tolerance current_tolerance(lua_State* L) {
+  Tolerance t;
+  if (lua_getfield(L, LUA_REGISTRYINDEX, kToleranceKey) == LUA_TNUMBER) t.chordal = lua_tonumber(L, -1);
+  lua_pop(L, 1);
+  return t;
+}
+
+void add_mesh_converter(lua_State* L, MeshConverter converter) {
+  if (lua_getfield(L, LUA_REGISTRYINDEX, kConvertersKey) != LUA_TTABLE) {
+    lua_pop(L, 1);
+    lua_newtable(L);
+    lua_pushvalue(L, -1);
+    lua_setfield(L, LUA_REGISTRYINDEX, kConvertersKey);
+  }
+  lua_pushlightuserdata(L, reinterpret_cast<void*>(converter));
+  lua_rawseti(L, -2, static_cast<lua_Integer>(lua_rawlen(L, -2) + 1));
+  lua_pop(L, 1);
+}
+
+Mesh to_mesh(lua_State* L, int idx, int arg, const Tolerance& tol) {
+  idx = lua_absindex(L, idx);
+  if (const Solid* s = test_solid(L, idx)) return s->mesh(tol);
+  std::vector<MeshConverter> converters;
+  if (lua_getfield(L, LUA_REGISTRYINDEX, kConvertersKey) == LUA_TTABLE) {
+    lua_Integer n = static_cast<lua_Integer>(lua_rawlen(L, -1));
+    for (lua_Integer i = 1; i <= n; ++i) {
+      lua_rawgeti(L, -1, i);
+      converters.push_back(reinterpret_cast<MeshConverter>(lua_touserdata(L, -1)));
+      lua_pop(L, 1);
+    }
+  }
+  lua_pop(L, 1);
+  for (MeshConverter c : converters)
+    if (auto m = c(L, idx, tol)) return std::move(*m);
+  throw ArgError{arg, "Solid or mesh expected, got " + type_name(L, idx)};
+}
+
+void register_solid(lua_State* L) {
+  register_class(L, kKey, "Solid", kMethods, kMeta, gc_object<Solid>);
+  set_functions(L, kFunctions);
+}
+
+}  // namespace wedge::lua

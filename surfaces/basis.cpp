@@ -1,0 +1,158 @@
+// B-spline basis functions and knot vectors, after The NURBS Book (Piegl & Tiller, 2nd ed.),
+// chapter 2: A2.1 finds the knot span by binary search, A2.2 computes the p + 1 non-vanishing
+// basis functions by the triangular Cox-de Boor recurrence (left/right differences, no division
+// by zero), A2.3 their derivatives from the same table. check_knots says in words what is wrong.
+#include <algorithm>
+#include <cmath>
+
+#include "surfaces/surfaces.h"
+
+namespace wedge {
+
+void check_knots(const std::vector<double>& knots, int degree, std::size_t count, const char* what) {
+  if (degree < 1) fail("degree must be at least 1, got ", degree);
+  if (count < std::size_t(degree) + 1)
+    fail("a curve of degree ", degree, " needs at least ", degree + 1, " control points, got ", count);
+  std::size_t expected = count + std::size_t(degree) + 1;
+  if (knots.size() != expected)
+    fail(what, ": ", count, " control points of degree ", degree, " need ", expected,
+         " knots (points + degree + 1), got ", knots.size());
+  for (std::size_t i = 0; i < knots.size(); ++i)
+    if (!std::isfinite(knots[i])) fail(what, ": knot ", i + 1, " is not a finite number (", knots[i], ")");
+  for (std::size_t i = 1; i < knots.size(); ++i)
+    if (knots[i] < knots[i - 1])
+      fail(what, " must be non-decreasing: knot ", i + 1, " (", knots[i], ") is less than knot ", i, " (",
+           knots[i - 1], ")");
+  for (std::size_t i = 0; i < knots.size();) {
+    std::size_t j = i;
+    while (j < knots.size() && knots[j] == knots[i]) ++j;
+    std::size_t mult = j - i;
+    bool end = i == 0 || j == knots.size();
+    if (mult > std::size_t(degree) + 1 || (!end && mult > std::size_t(degree)))
+      fail(what, ": knot ", knots[i], " appears ", mult, " times; at most ", end ? degree + 1 : degree,
+           " allowed for degree ", degree, end ? " at an end" : " inside");
+    i = j;
+  }
+  if (!(knots[degree] < knots[count]))
+    fail(what, ": the curve's domain [knot ", degree + 1, ", knot ", count + 1, "] = [", knots[degree], ", ",
+         knots[count], "] is empty");
+}
+
+void check_weights(const std::vector<double>& weights, std::size_t count, const char* what) {
+  if (weights.size() != count) fail(what, ": need one weight per control point (", count, "), got ", weights.size());
+  for (std::size_t i = 0; i < weights.size(); ++i)
+    if (!(std::isfinite(weights[i]) && weights[i] > 0))
+      fail(what, ": weight ", i + 1, " must be a positive finite number, got ", weights[i]);
+}
+
+int find_span(int n, int p, double u, const std::vector<double>& U) {
+  // n is the number of control points; the domain is [U[p], U[n]].
+  if (u >= U[n]) {
+    int k = n - 1;
+    while (k > p && U[k] == U[n]) --k;
+    return k;
+  }
+  if (u <= U[p]) {
+    int k = p;
+    while (k + 1 < n && U[k + 1] == U[p]) ++k;
+    return k;
+  }
+  int low = p, high = n;
+  int mid = (low + high) / 2;
+  while (u < U[mid] || u >= U[mid + 1]) {
+    if (u < U[mid]) high = mid;
+    else low = mid;
+    mid = (low + high) / 2;
+  }
+  return mid;
+}
+
+void basis_functions(int i, double u, int p, const std::vector<double>& U, double* N) {
+  double left[32], right[32];
+  N[0] = 1.0;
+  for (int j = 1; j <= p; ++j) {
+    left[j] = u - U[i + 1 - j];
+    right[j] = U[i + j] - u;
+    double saved = 0.0;
+    for (int r = 0; r < j; ++r) {
+      double temp = N[r] / (right[r + 1] + left[j - r]);
+      N[r] = saved + right[r + 1] * temp;
+      saved = left[j - r] * temp;
+    }
+    N[j] = saved;
+  }
+}
+
+std::vector<std::vector<double>> basis_derivatives(int i, double u, int p, int n, const std::vector<double>& U) {
+  std::vector<std::vector<double>> ders(n + 1, std::vector<double>(p + 1, 0.0));
+  std::vector<std::vector<double>> ndu(p + 1, std::vector<double>(p + 1)), a(2, std::vector<double>(p + 1));
+  std::vector<double> left(p + 1), right(p + 1);
+  ndu[0][0] = 1.0;
+  for (int j = 1; j <= p; ++j) {
+    left[j] = u - U[i + 1 - j];
+    right[j] = U[i + j] - u;
+    double saved = 0.0;
+    for (int r = 0; r < j; ++r) {
+      ndu[j][r] = right[r + 1] + left[j - r];  // lower triangle: knot differences
+      double temp = ndu[r][j - 1] / ndu[j][r];
+      ndu[r][j] = saved + right[r + 1] * temp;  // upper triangle: basis functions
+      saved = left[j - r] * temp;
+    }
+    ndu[j][j] = saved;
+  }
+  for (int j = 0; j <= p; ++j) ders[0][j] = ndu[j][p];
+  int dmax = std::min(n, p);
+  for (int r = 0; r <= p; ++r) {
+    int s1 = 0, s2 = 1;
+    a[0][0] = 1.0;
+    for (int k = 1; k <= dmax; ++k) {
+      double d = 0.0;
+      int rk = r - k, pk = p - k;
+      if (r >= k) {
+        a[s2][0] = a[s1][0] / ndu[pk + 1][rk];
+        d = a[s2][0] * ndu[rk][pk];
+      }
+      int j1 = rk >= -1 ? 1 : -rk;
+      int j2 = (r - 1 <= pk) ? k - 1 : p - r;
+      for (int j = j1; j <= j2; ++j) {
+        a[s2][j] = (a[s1][j] - a[s1][j - 1]) / ndu[pk + 1][rk + j];
+        d += a[s2][j] * ndu[rk + j][pk];
+      }
+      if (r <= pk) {
+        a[s2][k] = -a[s1][k - 1] / ndu[pk + 1][r];
+        d += a[s2][k] * ndu[r][pk];
+      }
+      ders[k][r] = d;
+      std::swap(s1, s2);
+    }
+  }
+  double factor = p;
+  for (int k = 1; k <= dmax; ++k) {
+    for (int j = 0; j <= p; ++j) ders[k][j] *= factor;
+    factor *= (p - k);
+  }
+  return ders;
+}
+
+std::vector<double> open_uniform_knots(int degree, std::size_t count) {
+  if (degree < 1) fail("degree must be at least 1, got ", degree);
+  if (count < std::size_t(degree) + 1)
+    fail("a curve of degree ", degree, " needs at least ", degree + 1, " control points, got ", count);
+  std::vector<double> U;
+  std::size_t spans = count - degree;
+  for (int i = 0; i < degree; ++i) U.push_back(0.0);
+  for (std::size_t i = 0; i <= spans; ++i) U.push_back(double(i) / double(spans));
+  for (int i = 0; i < degree; ++i) U.push_back(1.0);
+  return U;
+}
+
+std::vector<double> uniform_knots(int degree, std::size_t count) {
+  if (degree < 1) fail("degree must be at least 1, got ", degree);
+  if (count < std::size_t(degree) + 1)
+    fail("a curve of degree ", degree, " needs at least ", degree + 1, " control points, got ", count);
+  std::vector<double> U(count + degree + 1);
+  for (std::size_t i = 0; i < U.size(); ++i) U[i] = double(i);
+  return U;
+}
+
+}  // namespace wedge

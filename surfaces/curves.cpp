@@ -1,0 +1,393 @@
+// The simple curves and the interpolating splines. Bezier curves use de Casteljau's algorithm
+// (evaluation, subdivision) and the hodograph for derivatives; elevation is the convex combination
+// Q_i = i/(n+1) P_{i-1} + (1 - i/(n+1)) P_i. Polynomial interpolation is Neville's scheme, with the
+// derivative of its recurrence for derivatives. The cubic Hermite form carries the natural spline
+// (second derivatives M_i from the tridiagonal system h_{i-1} M_{i-1} + 2 (h_{i-1} + h_i) M_i +
+// h_i M_{i+1} = 6 (slope_i - slope_{i-1}), solved by the Thomas algorithm) and Kochanek & Bartels'
+// splines ("Interpolating splines with local tension, continuity, and bias control", SIGGRAPH 1984),
+// whose source/destination tangents reduce to Catmull-Rom's (P_{i+1} - P_{i-1}) / 2 at t = b = c = 0.
+// Tessellation subdivides each chord until interior samples lie within the tolerance; arc length is
+// adaptive Gauss-Legendre quadrature of |C'(t)|.
+#include <algorithm>
+#include <cmath>
+#include <functional>
+
+#include "surfaces/surfaces.h"
+
+namespace wedge {
+
+// --- Curve ---
+
+std::vector<double> Curve::breaks() const {
+  auto [a, b] = domain();
+  return {a, b};
+}
+
+bool Curve::closed() const {
+  auto [a, b] = domain();
+  Point3 p = eval(a), q = eval(b);
+  return (p - q).norm() <= 1e-12 * (1 + p.norm());
+}
+
+Vec3 Curve::tangent(double t) const {
+  Vec3 d = derivative(t, 1);
+  double n = d.norm();
+  if (n == 0) {
+    d = derivative(t, 2);  // a cusp of the parametrisation: the tangent is the next derivative's
+    n = d.norm();
+  }
+  return n > 0 ? Vec3(d / n) : Vec3::Zero();
+}
+
+namespace {
+
+double gauss5(const std::function<double(double)>& f, double a, double b) {
+  static const double x[5] = {0.0, -0.5384693101056831, 0.5384693101056831, -0.9061798459386640, 0.9061798459386640};
+  static const double w[5] = {0.5688888888888889, 0.4786286704993665, 0.4786286704993665, 0.2369268850561891,
+                              0.2369268850561891};
+  double m = 0.5 * (a + b), h = 0.5 * (b - a), s = 0;
+  for (int i = 0; i < 5; ++i) s += w[i] * f(m + h * x[i]);
+  return s * h;
+}
+
+double adaptive(const std::function<double(double)>& f, double a, double b, double whole, double tol, int depth) {
+  double m = 0.5 * (a + b);
+  double left = gauss5(f, a, m), right = gauss5(f, m, b);
+  if (depth <= 0 || std::abs(left + right - whole) <= tol) return left + right;
+  return adaptive(f, a, m, left, tol / 2, depth - 1) + adaptive(f, m, b, right, tol / 2, depth - 1);
+}
+
+double point_segment_distance(const Point3& p, const Point3& a, const Point3& b) {
+  Vec3 ab = b - a;
+  double l2 = ab.squaredNorm();
+  double s = l2 > 0 ? std::clamp((p - a).dot(ab) / l2, 0.0, 1.0) : 0.0;
+  return (p - (a + s * ab)).norm();
+}
+
+}  // namespace
+
+double Curve::length(double a, double b) const {
+  require_finite(a, "start parameter");
+  require_finite(b, "end parameter");
+  auto f = [this](double t) { return derivative(t, 1).norm(); };
+  double total = 0;
+  std::vector<double> br = breaks();
+  std::vector<double> cuts{a};
+  for (double x : br)
+    if (x > a && x < b) cuts.push_back(x);
+  cuts.push_back(b);
+  for (std::size_t i = 0; i + 1 < cuts.size(); ++i) {
+    double whole = gauss5(f, cuts[i], cuts[i + 1]);
+    total += adaptive(f, cuts[i], cuts[i + 1], whole, 1e-13 * (1 + std::abs(whole)), 30);
+  }
+  return total;
+}
+
+double Curve::length() const {
+  auto [a, b] = domain();
+  return length(a, b);
+}
+
+std::vector<double> Curve::parameters(double tolerance) const {
+  if (!(tolerance > 0) || !std::isfinite(tolerance)) fail("tolerance must be a positive number, got ", tolerance);
+  std::vector<double> out;
+  std::function<void(double, double, const Point3&, const Point3&, int)> split =
+      [&](double a, double b, const Point3& pa, const Point3& pb, int depth) {
+        double err = 0;
+        for (double f : {0.25, 0.5, 0.75}) err = std::max(err, point_segment_distance(eval(a + f * (b - a)), pa, pb));
+        if (err > tolerance && depth < 40) {
+          double m = 0.5 * (a + b);
+          Point3 pm = eval(m);
+          split(a, m, pa, pm, depth + 1);
+          split(m, b, pm, pb, depth + 1);
+        } else {
+          out.push_back(b);
+        }
+      };
+  std::vector<double> br = breaks();
+  out.push_back(br.front());
+  for (std::size_t i = 0; i + 1 < br.size(); ++i) {
+    const int initial = 4;
+    for (int j = 0; j < initial; ++j) {
+      double a = br[i] + (br[i + 1] - br[i]) * j / initial;
+      double b = j + 1 == initial ? br[i + 1] : br[i] + (br[i + 1] - br[i]) * (j + 1) / initial;
+      split(a, b, eval(a), eval(b), 0);
+    }
+  }
+  return out;
+}
+
+std::vector<Point3> Curve::points(double tolerance) const {
+  std::vector<Point3> out;
+  for (double t : parameters(tolerance)) out.push_back(eval(t));
+  return out;
+}
+
+// --- line and arc ---
+
+LineSegment::LineSegment(const Point3& a_, const Point3& b_) : a(a_), b(b_) {
+  if (!a.allFinite() || !b.allFinite()) fail("line segment end points must be finite");
+}
+
+Point3 LineSegment::eval(double t) const { return a + t * (b - a); }
+
+Vec3 LineSegment::derivative(double t, int k) const {
+  if (k == 0) return eval(t);
+  return k == 1 ? Vec3(b - a) : Vec3::Zero();
+}
+
+CircularArc::CircularArc(const Point3& center, double radius, double start, double end, const Vec3& normal)
+    : center_(center), radius_(radius), start_(start), end_(end) {
+  require_positive(radius, "radius");
+  require_finite(start, "start angle");
+  require_finite(end, "end angle");
+  if (!(end > start)) fail("arc end angle (", end, ") must be greater than its start angle (", start, ")");
+  if (!center.allFinite()) fail("arc centre must be finite");
+  if (!(normal.norm() > 0) || !normal.allFinite()) fail("arc normal must be a non-zero vector");
+  Vec3 n = normal.normalized();
+  x_ = n == Vec3::UnitZ() ? Vec3::UnitX() : Vec3(std::abs(n.x()) < 0.9 ? Vec3::UnitX() : Vec3::UnitY());
+  x_ = (x_ - x_.dot(n) * n).normalized();
+  y_ = n.cross(x_);
+}
+
+Point3 CircularArc::eval(double t) const {
+  return center_ + radius_ * (std::cos(t) * x_ + std::sin(t) * y_);
+}
+
+Vec3 CircularArc::derivative(double t, int k) const {
+  if (k == 0) return eval(t);
+  // d^k/dt^k (cos t, sin t) = (cos(t + k pi/2), sin(t + k pi/2))
+  double s = t + k * kPi / 2;
+  return radius_ * (std::cos(s) * x_ + std::sin(s) * y_);
+}
+
+bool CircularArc::closed() const { return end_ - start_ >= 2 * kPi - 1e-12; }
+
+// --- Bezier ---
+
+BezierCurve::BezierCurve(std::vector<Point3> points) : points_(std::move(points)) {
+  if (points_.size() < 2) fail("a Bezier curve needs at least 2 control points, got ", points_.size());
+  for (std::size_t i = 0; i < points_.size(); ++i)
+    if (!points_[i].allFinite()) fail("points: point ", i + 1, " has a coordinate that is not a finite number");
+}
+
+Point3 BezierCurve::eval(double t) const {
+  std::vector<Point3> q = points_;
+  for (std::size_t r = 1; r < q.size(); ++r)
+    for (std::size_t i = 0; i + r < q.size(); ++i) q[i] = (1 - t) * q[i] + t * q[i + 1];
+  return q[0];
+}
+
+Vec3 BezierCurve::derivative(double t, int k) const {
+  if (k < 0) fail("derivative order must be >= 0, got ", k);
+  int n = degree();
+  if (k > n) return Vec3::Zero();
+  // The k-th hodograph: forward differences scaled by n (n-1) ... (n-k+1), then de Casteljau.
+  std::vector<Point3> q = points_;
+  double scale = 1;
+  for (int r = 0; r < k; ++r) {
+    for (std::size_t i = 0; i + 1 < q.size(); ++i) q[i] = q[i + 1] - q[i];
+    q.pop_back();
+    scale *= (n - r);
+  }
+  for (std::size_t r = 1; r < q.size(); ++r)
+    for (std::size_t i = 0; i + r < q.size(); ++i) q[i] = (1 - t) * q[i] + t * q[i + 1];
+  return scale * q[0];
+}
+
+std::pair<BezierCurve, BezierCurve> BezierCurve::subdivide(double t) const {
+  if (!(t > 0 && t < 1)) fail("subdivision parameter must be in (0, 1), got ", t);
+  std::vector<Point3> q = points_, left, right;
+  std::size_t n = q.size();
+  left.push_back(q[0]);
+  right.push_back(q[n - 1]);
+  for (std::size_t r = 1; r < n; ++r) {
+    for (std::size_t i = 0; i + r < n; ++i) q[i] = (1 - t) * q[i] + t * q[i + 1];
+    left.push_back(q[0]);
+    right.push_back(q[n - 1 - r]);
+  }
+  std::reverse(right.begin(), right.end());
+  return {BezierCurve(std::move(left)), BezierCurve(std::move(right))};
+}
+
+BezierCurve BezierCurve::elevated() const {
+  std::size_t n = points_.size();  // degree n - 1 -> n
+  std::vector<Point3> q(n + 1);
+  q[0] = points_[0];
+  q[n] = points_[n - 1];
+  for (std::size_t i = 1; i < n; ++i) {
+    double a = double(i) / double(n);
+    q[i] = a * points_[i - 1] + (1 - a) * points_[i];
+  }
+  return BezierCurve(std::move(q));
+}
+
+// --- polynomial interpolation ---
+
+PolynomialInterpolant::PolynomialInterpolant(std::vector<Point3> points) : points_(std::move(points)) {
+  if (points_.size() < 2) fail("polynomial interpolation needs at least 2 points, got ", points_.size());
+  for (std::size_t i = 0; i < points_.size(); ++i) {
+    if (!points_[i].allFinite()) fail("points: point ", i + 1, " has a coordinate that is not a finite number");
+    params_.push_back(double(i) / double(points_.size() - 1));
+  }
+}
+
+Point3 PolynomialInterpolant::eval(double t) const { return derivative(t, 0); }
+
+Vec3 PolynomialInterpolant::derivative(double t, int k) const {
+  if (k < 0) fail("derivative order must be >= 0, got ", k);
+  std::size_t n = points_.size();
+  // D[m][i]: m-th derivative of the polynomial through points i..i+L at level L.
+  std::vector<std::vector<Vec3>> D(k + 1, std::vector<Vec3>(n, Vec3::Zero()));
+  for (std::size_t i = 0; i < n; ++i) D[0][i] = points_[i];
+  for (std::size_t L = 1; L < n; ++L) {
+    for (std::size_t i = 0; i + L < n; ++i) {
+      double ti = params_[i], tj = params_[i + L], h = tj - ti;
+      for (int m = k; m >= 0; --m) {
+        Vec3 v = (t - ti) * D[m][i + 1] - (t - tj) * D[m][i];
+        if (m > 0) v += m * (D[m - 1][i + 1] - D[m - 1][i]);
+        D[m][i] = v / h;
+      }
+    }
+  }
+  return D[k][0];
+}
+
+// --- Hermite family ---
+
+HermiteSpline::HermiteSpline(std::vector<double> params, std::vector<Point3> points, std::vector<Vec3> tangents)
+    : HermiteSpline(std::move(params), std::move(points), tangents, tangents) {}
+
+HermiteSpline::HermiteSpline(std::vector<double> params, std::vector<Point3> points, std::vector<Vec3> out_tangents,
+                             std::vector<Vec3> in_tangents)
+    : params_(std::move(params)), points_(std::move(points)), out_(std::move(out_tangents)), in_(std::move(in_tangents)) {
+  if (points_.size() < 2) fail("a Hermite spline needs at least 2 points, got ", points_.size());
+  if (params_.size() != points_.size() || out_.size() != points_.size() || in_.size() != points_.size())
+    fail("a Hermite spline needs one parameter and one tangent per point");
+  for (std::size_t i = 0; i < points_.size(); ++i) {
+    if (!points_[i].allFinite()) fail("points: point ", i + 1, " has a coordinate that is not a finite number");
+    if (!out_[i].allFinite() || !in_[i].allFinite()) fail("tangents: tangent ", i + 1, " is not finite");
+    if (!std::isfinite(params_[i])) fail("parameter ", i + 1, " is not finite");
+    if (i > 0 && !(params_[i] > params_[i - 1])) fail("parameters must increase: parameter ", i + 1, " is not greater than parameter ", i);
+  }
+}
+
+Point3 HermiteSpline::eval(double t) const { return derivative(t, 0); }
+
+Vec3 HermiteSpline::derivative(double t, int k) const {
+  if (k < 0) fail("derivative order must be >= 0, got ", k);
+  if (k > 3) return Vec3::Zero();
+  std::size_t n = params_.size();
+  std::size_t i = std::upper_bound(params_.begin(), params_.end(), t) - params_.begin();
+  i = std::clamp<std::size_t>(i == 0 ? 0 : i - 1, 0, n - 2);
+  double h = params_[i + 1] - params_[i], s = (t - params_[i]) / h;
+  double b[4];  // h00, h10, h01, h11 and their s-derivatives
+  switch (k) {
+    case 0: b[0] = (2 * s - 3) * s * s + 1; b[1] = ((s - 2) * s + 1) * s; b[2] = (3 - 2 * s) * s * s; b[3] = (s - 1) * s * s; break;
+    case 1: b[0] = 6 * s * s - 6 * s; b[1] = 3 * s * s - 4 * s + 1; b[2] = -6 * s * s + 6 * s; b[3] = 3 * s * s - 2 * s; break;
+    case 2: b[0] = 12 * s - 6; b[1] = 6 * s - 4; b[2] = -12 * s + 6; b[3] = 6 * s - 2; break;
+    default: b[0] = 12; b[1] = 6; b[2] = -12; b[3] = 6; break;
+  }
+  Vec3 v = b[0] * points_[i] + b[1] * h * out_[i] + b[2] * points_[i + 1] + b[3] * h * in_[i + 1];
+  return v / std::pow(h, k);
+}
+
+NurbsCurve HermiteSpline::to_nurbs() const {
+  std::vector<Point3> P;
+  std::vector<double> K(4, params_.front());
+  for (std::size_t i = 0; i + 1 < params_.size(); ++i) {
+    double h = params_[i + 1] - params_[i];
+    if (i == 0) P.push_back(points_[0]);
+    P.push_back(points_[i] + h * out_[i] / 3);
+    P.push_back(points_[i + 1] - h * in_[i + 1] / 3);
+    P.push_back(points_[i + 1]);
+    K.insert(K.end(), i + 2 == params_.size() ? 4 : 3, params_[i + 1]);
+  }
+  return NurbsCurve(3, std::move(P), std::move(K));
+}
+
+HermiteSpline natural_spline(const std::vector<Point3>& P) {
+  std::size_t n = P.size();
+  if (n < 2) fail("a natural spline needs at least 2 points, got ", n);
+  for (std::size_t i = 0; i < n; ++i)
+    if (!P[i].allFinite()) fail("points: point ", i + 1, " has a coordinate that is not a finite number");
+  std::vector<double> t(n, 0.0);
+  for (std::size_t i = 0; i + 1 < n; ++i) {
+    double h = (P[i + 1] - P[i]).norm();
+    if (h == 0) fail("points ", i + 1, " and ", i + 2, " coincide: a spline needs distinct consecutive points");
+    t[i + 1] = t[i] + h;
+  }
+  return natural_spline(t, P);
+}
+
+HermiteSpline natural_spline(const std::vector<double>& t, const std::vector<Point3>& P) {
+  std::size_t n = P.size();
+  if (n < 2) fail("a natural spline needs at least 2 points, got ", n);
+  if (t.size() != n) fail("a natural spline needs one parameter per point");
+  std::vector<double> h(n - 1);
+  for (std::size_t i = 0; i + 1 < n; ++i) {
+    h[i] = t[i + 1] - t[i];
+    if (!(h[i] > 0)) fail("parameters must increase: parameter ", i + 2, " is not greater than parameter ", i + 1);
+  }
+  std::vector<Vec3> M(n, Vec3::Zero());
+  if (n > 2) {
+    // Thomas algorithm on the interior unknowns M_1..M_{n-2}.
+    std::size_t m = n - 2;
+    std::vector<double> diag(m), upper(m);
+    std::vector<Vec3> rhs(m);
+    for (std::size_t j = 0; j < m; ++j) {
+      std::size_t i = j + 1;
+      diag[j] = 2 * (h[i - 1] + h[i]);
+      upper[j] = h[i];
+      rhs[j] = 6 * ((P[i + 1] - P[i]) / h[i] - (P[i] - P[i - 1]) / h[i - 1]);
+    }
+    for (std::size_t j = 1; j < m; ++j) {
+      double w = h[j] / diag[j - 1];  // lower[j] = h[j] (= h_{i-1} for i = j + 1)
+      diag[j] -= w * upper[j - 1];
+      rhs[j] -= w * rhs[j - 1];
+    }
+    M[m] = rhs[m - 1] / diag[m - 1];
+    for (std::size_t j = m - 1; j-- > 0;) M[j + 1] = (rhs[j] - upper[j] * M[j + 2]) / diag[j];
+  }
+  std::vector<Vec3> D(n);
+  for (std::size_t i = 0; i + 1 < n; ++i) D[i] = (P[i + 1] - P[i]) / h[i] - h[i] * (2 * M[i] + M[i + 1]) / 6;
+  D[n - 1] = (P[n - 1] - P[n - 2]) / h[n - 2] + h[n - 2] * (M[n - 2] + 2 * M[n - 1]) / 6;
+  return HermiteSpline(t, P, std::move(D));
+}
+
+HermiteSpline kochanek_bartels(const std::vector<Point3>& points, double tension, double bias, double continuity,
+                               bool closed) {
+  require_finite(tension, "tension");
+  require_finite(bias, "bias");
+  require_finite(continuity, "continuity");
+  std::size_t n = points.size();
+  if (n < (closed ? 3u : 2u))
+    fail(closed ? "a closed spline needs at least 3 points, got " : "a spline needs at least 2 points, got ", n);
+  for (std::size_t i = 0; i < n; ++i)
+    if (!points[i].allFinite()) fail("points: point ", i + 1, " has a coordinate that is not a finite number");
+  auto at = [&](long i) -> Point3 {
+    if (closed) return points[((i % long(n)) + long(n)) % long(n)];
+    if (i < 0) return 2 * points[0] - points[1];
+    if (i >= long(n)) return 2 * points[n - 1] - points[n - 2];
+    return points[i];
+  };
+  double t = tension, b = bias, c = continuity;
+  std::size_t count = closed ? n + 1 : n;
+  std::vector<double> params(count);
+  std::vector<Point3> P(count);
+  std::vector<Vec3> out(count), in(count);
+  for (std::size_t i = 0; i < count; ++i) {
+    Vec3 before = at(long(i)) - at(long(i) - 1), after = at(long(i) + 1) - at(long(i));
+    out[i] = (1 - t) * (1 + b) * (1 - c) / 2 * before + (1 - t) * (1 - b) * (1 + c) / 2 * after;
+    in[i] = (1 - t) * (1 + b) * (1 + c) / 2 * before + (1 - t) * (1 - b) * (1 - c) / 2 * after;
+    params[i] = double(i);
+    P[i] = at(long(i));
+  }
+  return HermiteSpline(std::move(params), std::move(P), std::move(out), std::move(in));
+}
+
+HermiteSpline catmull_rom(const std::vector<Point3>& points, bool closed) {
+  return kochanek_bartels(points, 0, 0, 0, closed);
+}
+
+}  // namespace wedge

@@ -1,0 +1,538 @@
+// Surfaces. NURBS tensor products after The NURBS Book: derivatives of the homogeneous surface by
+// A3.6 and rational derivatives by A4.4; surfaces of revolution of a NURBS curve by A8.1 (each
+// control point sweeps the rational quadratic circle of A7.1). The general surface of revolution
+// rotates C(v) by Rodrigues' formula, whose u-derivatives are those of cos and sin. Sweeps carry
+// the profile along rotation-minimising frames from the double reflection method (Wang, Juettler,
+// Zheng, Liu, ACM TOG 27(1), 2008): reflect the frame in the bisector plane of the chord, then in
+// the plane that maps the reflected tangent onto the next one. Lofts blend the sections with
+// cardinal natural cubic splines. Meshes: a parameter grid, split per knot interval, doubled where
+// a cell's edge midpoints, diagonal midpoint or triangle centroids leave the surface by more than
+// half the tolerance (so the whole triangle, whose error is quadratic, stays within it).
+#include <algorithm>
+#include <cmath>
+
+#include "surfaces/surfaces.h"
+
+namespace wedge {
+
+namespace {
+
+double binomial(int n, int k) {
+  double r = 1;
+  for (int i = 1; i <= k; ++i) r = r * (n - k + i) / i;
+  return r;
+}
+
+std::vector<double> unique_sorted(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  v.erase(std::unique(v.begin(), v.end()), v.end());
+  return v;
+}
+
+}  // namespace
+
+// --- Surface ---
+
+std::vector<double> Surface::u_breaks() const {
+  auto [a, b] = u_domain();
+  return {a, b};
+}
+
+std::vector<double> Surface::v_breaks() const {
+  auto [a, b] = v_domain();
+  return {a, b};
+}
+
+Vec3 Surface::normal(double u, double v) const {
+  auto cross_at = [&](double uu, double vv) -> Vec3 {
+    Vec3 su = derivative(uu, vv, 1, 0), sv = derivative(uu, vv, 0, 1);
+    Vec3 n = su.cross(sv);
+    double size = 1e-9 * (1 + eval(uu, vv).norm());
+    if (su.norm() <= size || sv.norm() <= size || !(n.norm() > 1e-9 * su.norm() * sv.norm())) return Vec3::Zero();
+    return Vec3(n.normalized());
+  };
+  Vec3 n = cross_at(u, v);
+  if (n != Vec3::Zero()) return n;
+  // A pole or a degenerate edge: step a little toward the middle of the domain.
+  auto [u0, u1] = u_domain();
+  auto [v0, v1] = v_domain();
+  double um = 0.5 * (u0 + u1), vm = 0.5 * (v0 + v1);
+  for (double f : {1e-7, 1e-5, 1e-3}) {
+    n = cross_at(u + f * (um - u), v + f * (vm - v));
+    if (n != Vec3::Zero()) return n;
+  }
+  return Vec3::Zero();
+}
+
+bool Surface::inside_trim(double u, double v) const {
+  if (trims.empty()) return true;
+  bool inside = false;
+  for (const TrimLoop& loop : trims) {
+    const auto& p = loop.points;
+    for (std::size_t i = 0, j = p.size() - 1; i < p.size(); j = i++) {
+      if ((p[i].y() > v) != (p[j].y() > v) &&
+          u < (p[j].x() - p[i].x()) * (v - p[i].y()) / (p[j].y() - p[i].y()) + p[i].x())
+        inside = !inside;
+    }
+  }
+  return inside;
+}
+
+Mesh Surface::mesh(double tolerance, int face_id) const {
+  if (!(tolerance > 0) || !std::isfinite(tolerance)) fail("tolerance must be a positive number, got ", tolerance);
+  std::vector<double> ub = unique_sorted(u_breaks()), vb = unique_sorted(v_breaks());
+  std::vector<int> cu(ub.size() - 1, 2), cv(vb.size() - 1, 2);
+  auto params = [](const std::vector<double>& br, const std::vector<int>& count, std::vector<int>& owner) {
+    std::vector<double> t;
+    owner.clear();
+    for (std::size_t i = 0; i + 1 < br.size(); ++i)
+      for (int j = 0; j < count[i]; ++j) {
+        t.push_back(br[i] + (br[i + 1] - br[i]) * j / count[i]);
+        owner.push_back(int(i));
+      }
+    t.push_back(br.back());
+    return t;
+  };
+  const double limit = 0.5 * tolerance;
+  const std::size_t max_vertices = std::size_t(1) << 22;
+  std::vector<double> us, vs;
+  std::vector<int> uo, vo;
+  std::vector<Point3> grid;
+  for (int round = 0;; ++round) {
+    us = params(ub, cu, uo);
+    vs = params(vb, cv, vo);
+    std::size_t nu = us.size(), nv = vs.size();
+    grid.resize(nu * nv);
+    for (std::size_t a = 0; a < nu; ++a)
+      for (std::size_t b = 0; b < nv; ++b) grid[a * nv + b] = eval(us[a], vs[b]);
+    std::vector<char> ref_u(cu.size(), 0), ref_v(cv.size(), 0);
+    bool any = false;
+    for (std::size_t a = 0; a + 1 < nu; ++a)
+      for (std::size_t b = 0; b + 1 < nv; ++b) {
+        const Point3 &p00 = grid[a * nv + b], &p10 = grid[(a + 1) * nv + b], &p01 = grid[a * nv + b + 1],
+                     &p11 = grid[(a + 1) * nv + b + 1];
+        double um = 0.5 * (us[a] + us[a + 1]), vm = 0.5 * (vs[b] + vs[b + 1]);
+        double eu = std::max((eval(um, vs[b]) - 0.5 * (p00 + p10)).norm(), (eval(um, vs[b + 1]) - 0.5 * (p01 + p11)).norm());
+        double ev = std::max((eval(us[a], vm) - 0.5 * (p00 + p01)).norm(), (eval(us[a + 1], vm) - 0.5 * (p10 + p11)).norm());
+        double ed = (eval(um, vm) - 0.5 * (p00 + p11)).norm();
+        ed = std::max(ed, (eval((us[a] + 2 * us[a + 1]) / 3, (2 * vs[b] + vs[b + 1]) / 3) - (p00 + p10 + p11) / 3).norm());
+        ed = std::max(ed, (eval((2 * us[a] + us[a + 1]) / 3, (vs[b] + 2 * vs[b + 1]) / 3) - (p00 + p11 + p01) / 3).norm());
+        if (eu > limit || ed > limit) ref_u[uo[a]] = 1;
+        if (ev > limit || ed > limit) ref_v[vo[b]] = 1;
+      }
+    std::size_t next_u = 1, next_v = 1;
+    for (std::size_t i = 0; i < cu.size(); ++i) next_u += std::size_t(cu[i]) * (ref_u[i] ? 2 : 1);
+    for (std::size_t i = 0; i < cv.size(); ++i) next_v += std::size_t(cv[i]) * (ref_v[i] ? 2 : 1);
+    for (char f : ref_u) any = any || f;
+    for (char f : ref_v) any = any || f;
+    if (!any || next_u * next_v > max_vertices) break;
+    for (std::size_t i = 0; i < cu.size(); ++i) cu[i] *= ref_u[i] ? 2 : 1;
+    for (std::size_t i = 0; i < cv.size(); ++i) cv[i] *= ref_v[i] ? 2 : 1;
+  }
+  Mesh m;
+  std::size_t nu = us.size(), nv = vs.size();
+  m.positions = grid;
+  m.normals.resize(nu * nv);
+  m.uvs.resize(nu * nv);
+  for (std::size_t a = 0; a < nu; ++a)
+    for (std::size_t b = 0; b < nv; ++b) {
+      m.normals[a * nv + b] = normal(us[a], vs[b]);
+      m.uvs[a * nv + b] = Vec2(us[a], vs[b]);
+    }
+  auto idx = [&](std::size_t a, std::size_t b) { return std::uint32_t(a * nv + b); };
+  auto keep = [&](double u, double v) { return inside_trim(u, v); };
+  for (std::size_t a = 0; a + 1 < nu; ++a)
+    for (std::size_t b = 0; b + 1 < nv; ++b) {
+      if (keep((us[a] + 2 * us[a + 1]) / 3, (2 * vs[b] + vs[b + 1]) / 3))
+        m.add_triangle(idx(a, b), idx(a + 1, b), idx(a + 1, b + 1), face_id);
+      if (keep((2 * us[a] + us[a + 1]) / 3, (vs[b] + 2 * vs[b + 1]) / 3))
+        m.add_triangle(idx(a, b), idx(a + 1, b + 1), idx(a, b + 1), face_id);
+    }
+  return m;
+}
+
+// --- Plane ---
+
+Plane::Plane(const Point3& origin, const Vec3& x_axis, const Vec3& y_axis, double u0, double u1, double v0, double v1)
+    : origin_(origin), x_(x_axis), y_(y_axis), u0_(u0), u1_(u1), v0_(v0), v1_(v1) {
+  if (!origin.allFinite() || !x_axis.allFinite() || !y_axis.allFinite()) fail("plane: origin and axes must be finite");
+  if (!(x_axis.cross(y_axis).norm() > 0)) fail("plane: the two axes must be non-zero and not parallel");
+  if (!(u1 > u0) || !(v1 > v0)) fail("plane: the parameter ranges must be non-empty");
+}
+
+Vec3 Plane::derivative(double u, double v, int ku, int kv) const {
+  if (ku == 0 && kv == 0) return eval(u, v);
+  if (ku + kv > 1) return Vec3::Zero();
+  return ku == 1 ? x_ : y_;
+}
+
+// --- NURBS surface ---
+
+NurbsSurface::NurbsSurface(int udegree, int vdegree, std::vector<std::vector<Point3>> points,
+                           std::vector<double> uknots, std::vector<double> vknots,
+                           std::vector<std::vector<double>> weights)
+    : p_(udegree), q_(vdegree), points_(std::move(points)), uknots_(std::move(uknots)), vknots_(std::move(vknots)),
+      weights_(std::move(weights)) {
+  if (points_.empty() || points_[0].empty()) fail("points: the control grid is empty");
+  if (p_ > 30 || q_ > 30) fail("degree must be at most 30");
+  std::size_t m = points_[0].size();
+  for (std::size_t i = 0; i < points_.size(); ++i) {
+    if (points_[i].size() != m)
+      fail("points: the control grid must be rectangular: row ", i + 1, " has ", points_[i].size(), " points, row 1 has ", m);
+    for (std::size_t j = 0; j < m; ++j)
+      if (!points_[i][j].allFinite()) fail("points: point [", i + 1, "][", j + 1, "] is not finite");
+  }
+  check_knots(uknots_, p_, points_.size(), "uknots");
+  check_knots(vknots_, q_, m, "vknots");
+  if (weights_.empty()) weights_.assign(points_.size(), std::vector<double>(m, 1.0));
+  if (weights_.size() != points_.size()) fail("weights: need one row of weights per row of points");
+  for (std::size_t i = 0; i < weights_.size(); ++i) {
+    if (weights_[i].size() != m) fail("weights: row ", i + 1, " must hold ", m, " weights");
+    for (std::size_t j = 0; j < m; ++j)
+      if (!(std::isfinite(weights_[i][j]) && weights_[i][j] > 0))
+        fail("weights: weight [", i + 1, "][", j + 1, "] must be a positive finite number, got ", weights_[i][j]);
+  }
+}
+
+std::pair<double, double> NurbsSurface::u_domain() const { return {uknots_[p_], uknots_[points_.size()]}; }
+std::pair<double, double> NurbsSurface::v_domain() const { return {vknots_[q_], vknots_[points_[0].size()]}; }
+
+std::vector<double> NurbsSurface::u_breaks() const {
+  auto [a, b] = u_domain();
+  std::vector<double> out;
+  for (double k : uknots_)
+    if (k >= a && k <= b) out.push_back(k);
+  return unique_sorted(out);
+}
+
+std::vector<double> NurbsSurface::v_breaks() const {
+  auto [a, b] = v_domain();
+  std::vector<double> out;
+  for (double k : vknots_)
+    if (k >= a && k <= b) out.push_back(k);
+  return unique_sorted(out);
+}
+
+Point3 NurbsSurface::eval(double u, double v) const {
+  int nu = int(points_.size()), nv = int(points_[0].size());
+  int su = find_span(nu, p_, u, uknots_), sv = find_span(nv, q_, v, vknots_);
+  double Nu[31], Nv[31];
+  basis_functions(su, u, p_, uknots_, Nu);
+  basis_functions(sv, v, q_, vknots_, Nv);
+  Vec3 a = Vec3::Zero();
+  double w = 0;
+  for (int k = 0; k <= p_; ++k) {
+    int i = su - p_ + k;
+    for (int l = 0; l <= q_; ++l) {
+      int j = sv - q_ + l;
+      double c = Nu[k] * Nv[l] * weights_[i][j];
+      a += c * points_[i][j];
+      w += c;
+    }
+  }
+  return a / w;
+}
+
+std::vector<std::vector<Vec3>> NurbsSurface::derivatives(double u, double v, int d) const {
+  int nu = int(points_.size()), nv = int(points_[0].size());
+  int su = find_span(nu, p_, u, uknots_), sv = find_span(nv, q_, v, vknots_);
+  auto Du = basis_derivatives(su, u, p_, d, uknots_);
+  auto Dv = basis_derivatives(sv, v, q_, d, vknots_);
+  std::vector<std::vector<Vec3>> A(d + 1, std::vector<Vec3>(d + 1, Vec3::Zero()));
+  std::vector<std::vector<double>> W(d + 1, std::vector<double>(d + 1, 0.0));
+  std::vector<Vec4> temp(q_ + 1);
+  for (int k = 0; k <= d; ++k) {
+    for (int s = 0; s <= q_; ++s) {
+      temp[s] = Vec4::Zero();
+      for (int r = 0; r <= p_; ++r) {
+        int i = su - p_ + r, j = sv - q_ + s;
+        double w = weights_[i][j];
+        Vec4 pw;
+        pw << w * points_[i][j], w;
+        temp[s] += Du[k][r] * pw;
+      }
+    }
+    for (int l = 0; k + l <= d; ++l) {
+      Vec4 sum = Vec4::Zero();
+      for (int s = 0; s <= q_; ++s) sum += Dv[l][s] * temp[s];
+      A[k][l] = sum.head<3>();
+      W[k][l] = sum[3];
+    }
+  }
+  std::vector<std::vector<Vec3>> S(d + 1, std::vector<Vec3>(d + 1, Vec3::Zero()));
+  for (int k = 0; k <= d; ++k)
+    for (int l = 0; k + l <= d; ++l) {
+      Vec3 v2 = A[k][l];
+      for (int j = 1; j <= l; ++j) v2 -= binomial(l, j) * W[0][j] * S[k][l - j];
+      for (int i = 1; i <= k; ++i) {
+        v2 -= binomial(k, i) * W[i][0] * S[k - i][l];
+        Vec3 v3 = Vec3::Zero();
+        for (int j = 1; j <= l; ++j) v3 += binomial(l, j) * W[i][j] * S[k - i][l - j];
+        v2 -= binomial(k, i) * v3;
+      }
+      S[k][l] = v2 / W[0][0];
+    }
+  return S;
+}
+
+Vec3 NurbsSurface::derivative(double u, double v, int ku, int kv) const {
+  if (ku < 0 || kv < 0) fail("derivative orders must be >= 0");
+  if (ku == 0 && kv == 0) return eval(u, v);
+  return derivatives(u, v, ku + kv)[ku][kv];
+}
+
+NurbsSurface bezier_surface(const std::vector<std::vector<Point3>>& grid) {
+  if (grid.size() < 2 || grid[0].size() < 2)
+    fail("a Bezier patch needs at least 2 x 2 control points, got ", grid.size(), " x ", grid.empty() ? 0 : grid[0].size());
+  int p = int(grid.size()) - 1, q = int(grid[0].size()) - 1;
+  std::vector<double> U(p + 1, 0.0), V(q + 1, 0.0);
+  U.insert(U.end(), p + 1, 1.0);
+  V.insert(V.end(), q + 1, 1.0);
+  return NurbsSurface(p, q, grid, U, V);
+}
+
+NurbsSurface bilinear_surface(const Point3& p00, const Point3& p10, const Point3& p01, const Point3& p11) {
+  return bezier_surface({{p00, p01}, {p10, p11}});
+}
+
+// --- revolution ---
+
+namespace {
+
+// The rational quadratic arc over [0, angle] of A7.1 as (cos, sin, distance factor, weight) rows
+// and its knots.
+struct ArcTemplate {
+  std::vector<double> c, s, scale, w, knots;
+};
+
+ArcTemplate arc_template(double angle) {
+  if (!(angle > 0) || angle > 2 * kPi + 1e-12) fail("angle must be in (0, 360] degrees, got ", degrees(angle));
+  int narcs = std::clamp(int(std::ceil(angle / (kPi / 2) - 1e-9)), 1, 4);
+  double d = angle / narcs, w1 = std::cos(d / 2);
+  ArcTemplate t;
+  auto add = [&](double a, double scale, double w) {
+    t.c.push_back(std::cos(a));
+    t.s.push_back(std::sin(a));
+    t.scale.push_back(scale);
+    t.w.push_back(w);
+  };
+  t.knots = {0, 0, 0};
+  add(0, 1, 1);
+  for (int i = 1; i <= narcs; ++i) {
+    add((i - 0.5) * d, 1 / w1, w1);
+    add(i * d, 1, 1);
+    if (i < narcs) t.knots.insert(t.knots.end(), 2, double(i) / narcs);
+  }
+  if (angle >= 2 * kPi - 1e-15) {
+    t.c.back() = 1;
+    t.s.back() = 0;
+  }
+  t.knots.insert(t.knots.end(), 3, 1.0);
+  return t;
+}
+
+Vec3 unit_axis(const Vec3& axis) {
+  if (!axis.allFinite() || !(axis.norm() > 0)) fail("axis must be a non-zero vector");
+  return axis.normalized();
+}
+
+}  // namespace
+
+NurbsSurface nurbs_revolve(const NurbsCurve& curve, const Point3& point, const Vec3& axis, double angle) {
+  require_finite(angle, "angle");
+  if (!point.allFinite()) fail("axis point must be finite");
+  Vec3 a = unit_axis(axis);
+  ArcTemplate t = arc_template(angle);
+  const auto& P = curve.control_points();
+  const auto& Wc = curve.weights();
+  std::size_t nu = t.c.size(), nv = P.size();
+  std::vector<std::vector<Point3>> grid(nu, std::vector<Point3>(nv));
+  std::vector<std::vector<double>> W(nu, std::vector<double>(nv));
+  for (std::size_t j = 0; j < nv; ++j) {
+    Point3 O = point + (P[j] - point).dot(a) * a;
+    Vec3 X = P[j] - O;
+    Vec3 Y = a.cross(X);
+    for (std::size_t i = 0; i < nu; ++i) {
+      grid[i][j] = O + t.scale[i] * (t.c[i] * X + t.s[i] * Y);
+      W[i][j] = t.w[i] * Wc[j];
+    }
+  }
+  return NurbsSurface(2, curve.degree(), std::move(grid), t.knots, curve.knots(), std::move(W));
+}
+
+NurbsSurface nurbs_sphere(const Point3& center, double radius) {
+  require_positive(radius, "radius");
+  NurbsCurve half = nurbs_arc(center, Vec3::UnitX(), Vec3::UnitZ(), radius, -kPi / 2, kPi / 2);
+  return nurbs_revolve(half, center, Vec3::UnitZ(), 2 * kPi);
+}
+
+NurbsSurface nurbs_cylinder(const Point3& base, double radius, double height) {
+  return nurbs_cone(base, radius, radius, height);
+}
+
+NurbsSurface nurbs_cone(const Point3& base, double r1, double r2, double height) {
+  require_finite(r1, "r1");
+  require_finite(r2, "r2");
+  require_positive(height, "height");
+  if (r1 < 0 || r2 < 0 || (r1 == 0 && r2 == 0)) fail("cone radii must be >= 0 and not both 0, got ", r1, " and ", r2);
+  NurbsCurve side(1, {base + Vec3(r1, 0, 0), base + Vec3(r2, 0, height)}, {0, 0, 1, 1});
+  return nurbs_revolve(side, base, Vec3::UnitZ(), 2 * kPi);
+}
+
+NurbsSurface nurbs_torus(const Point3& center, double major, double minor) {
+  require_positive(major, "major radius");
+  require_positive(minor, "minor radius");
+  if (!(minor < major)) fail("torus minor radius (", minor, ") must be smaller than the major radius (", major, ")");
+  NurbsCurve tube = nurbs_arc(center + Vec3(major, 0, 0), Vec3::UnitX(), Vec3::UnitZ(), minor, 0, 2 * kPi);
+  return nurbs_revolve(tube, center, Vec3::UnitZ(), 2 * kPi);
+}
+
+RevolvedSurface::RevolvedSurface(CurvePtr curve, const Point3& point, const Vec3& axis, double angle)
+    : curve_(std::move(curve)), point_(point), axis_(unit_axis(axis)), angle_(angle) {
+  if (!curve_) fail("revolved surface: no curve");
+  if (!point.allFinite()) fail("axis point must be finite");
+  require_finite(angle, "angle");
+  if (!(angle > 0) || angle > 2 * kPi + 1e-12) fail("angle must be in (0, 360] degrees, got ", degrees(angle));
+}
+
+Point3 RevolvedSurface::eval(double u, double v) const { return derivative(u, v, 0, 0); }
+
+Vec3 RevolvedSurface::derivative(double u, double v, int ku, int kv) const {
+  if (ku < 0 || kv < 0) fail("derivative orders must be >= 0");
+  Vec3 x = curve_->derivative(v, kv);
+  if (kv == 0) x -= point_;
+  Vec3 along = axis_.dot(x) * axis_, perp = x - along, side = axis_.cross(x);
+  double c = std::cos(u + ku * kPi / 2), s = std::sin(u + ku * kPi / 2);
+  Vec3 r = perp * c + side * s;
+  if (ku == 0) r += along + (kv == 0 ? point_ : Vec3::Zero());
+  return r;
+}
+
+// --- extrusion ---
+
+ExtrudedSurface::ExtrudedSurface(CurvePtr curve, const Vec3& direction) : curve_(std::move(curve)), direction_(direction) {
+  if (!curve_) fail("extruded surface: no curve");
+  if (!direction.allFinite() || !(direction.norm() > 0)) fail("extrusion vector must be a non-zero finite vector");
+}
+
+Point3 ExtrudedSurface::eval(double u, double v) const { return curve_->eval(u) + v * direction_; }
+
+Vec3 ExtrudedSurface::derivative(double u, double v, int ku, int kv) const {
+  if (ku < 0 || kv < 0) fail("derivative orders must be >= 0");
+  if (kv == 0) return ku == 0 ? eval(u, v) : curve_->derivative(u, ku);
+  return (kv == 1 && ku == 0) ? direction_ : Vec3::Zero();
+}
+
+// --- rotation-minimising frames and sweeps ---
+
+namespace {
+
+Frame reflect_step(const Frame& f, const Point3& x1, const Vec3& t1) {
+  Vec3 v1 = x1 - f.origin;
+  double c1 = v1.squaredNorm();
+  Vec3 rL = f.r, tL = f.t;
+  if (c1 > 0) {
+    rL = f.r - (2 / c1) * v1.dot(f.r) * v1;
+    tL = f.t - (2 / c1) * v1.dot(f.t) * v1;
+  }
+  Vec3 v2 = t1 - tL;
+  double c2 = v2.squaredNorm();
+  Vec3 r1 = c2 > 0 ? Vec3(rL - (2 / c2) * v2.dot(rL) * v2) : rL;
+  // Re-orthonormalise against round-off accumulated over many steps.
+  r1 = (r1 - r1.dot(t1) * t1).normalized();
+  return Frame{x1, t1, r1, t1.cross(r1)};
+}
+
+Vec3 path_tangent(const Curve& path, double t) {
+  Vec3 d = path.tangent(t);
+  if (d == Vec3::Zero()) fail("sweep path has no tangent at parameter ", t);
+  return d;
+}
+
+}  // namespace
+
+std::vector<Frame> rotation_minimizing_frames(const Curve& path, int count) {
+  if (count < 2) fail("frame count must be at least 2, got ", count);
+  auto [a, b] = path.domain();
+  std::vector<Frame> frames;
+  Frame f;
+  f.origin = path.eval(a);
+  f.t = path_tangent(path, a);
+  Vec3 seed = std::abs(f.t.x()) < 0.9 ? Vec3::UnitX() : Vec3::UnitY();
+  f.r = (seed - seed.dot(f.t) * f.t).normalized();
+  f.s = f.t.cross(f.r);
+  frames.push_back(f);
+  for (int i = 1; i < count; ++i) {
+    double t = a + (b - a) * i / (count - 1);
+    frames.push_back(reflect_step(frames.back(), path.eval(t), path_tangent(path, t)));
+  }
+  return frames;
+}
+
+SweptSurface::SweptSurface(CurvePtr profile, CurvePtr path, int frames) : profile_(std::move(profile)), path_(std::move(path)) {
+  if (!profile_ || !path_) fail("swept surface: missing profile or path");
+  frames_ = rotation_minimizing_frames(*path_, frames);
+  auto [a, b] = path_->domain();
+  for (int i = 0; i < frames; ++i) params_.push_back(a + (b - a) * i / (frames - 1));
+}
+
+Frame SweptSurface::frame(double v) const {
+  std::size_t i = std::upper_bound(params_.begin(), params_.end(), v) - params_.begin();
+  i = i == 0 ? 0 : std::min(i - 1, params_.size() - 1);
+  if (v == params_[i]) return frames_[i];
+  return reflect_step(frames_[i], path_->eval(v), path_tangent(*path_, v));
+}
+
+Point3 SweptSurface::eval(double u, double v) const {
+  Frame f = frame(v);
+  Point3 p = profile_->eval(u);
+  return f.origin + p.x() * f.r + p.y() * f.s + p.z() * f.t;
+}
+
+Vec3 SweptSurface::derivative(double u, double v, int ku, int kv) const {
+  if (ku < 0 || kv < 0) fail("derivative orders must be >= 0");
+  if (kv == 0) {
+    if (ku == 0) return eval(u, v);
+    Frame f = frame(v);
+    Vec3 p = profile_->derivative(u, ku);
+    return p.x() * f.r + p.y() * f.s + p.z() * f.t;
+  }
+  auto [a, b] = path_->domain();
+  double h = 1e-4 * (b - a);
+  double c = std::clamp(v, a + h, b - h);
+  return (derivative(u, c + h, ku, kv - 1) - derivative(u, c - h, ku, kv - 1)) / (2 * h);
+}
+
+// --- lofting ---
+
+LoftedSurface::LoftedSurface(std::vector<CurvePtr> sections) : sections_(std::move(sections)) {
+  std::size_t n = sections_.size();
+  if (n < 2) fail("a loft needs at least 2 sections, got ", n);
+  for (std::size_t i = 0; i < n; ++i)
+    if (!sections_[i]) fail("loft: section ", i + 1, " is missing");
+  std::vector<double> v(n);
+  for (std::size_t i = 0; i < n; ++i) v[i] = double(i) / double(n - 1);
+  for (std::size_t i = 0; i < n; ++i) {
+    std::vector<Point3> e(n, Point3::Zero());
+    e[i] = Point3(1, 0, 0);
+    cardinal_.push_back(natural_spline(v, e));
+  }
+}
+
+std::vector<double> LoftedSurface::v_breaks() const { return cardinal_[0].params(); }
+
+Point3 LoftedSurface::eval(double u, double v) const { return derivative(u, v, 0, 0); }
+
+Vec3 LoftedSurface::derivative(double u, double v, int ku, int kv) const {
+  if (ku < 0 || kv < 0) fail("derivative orders must be >= 0");
+  Vec3 s = Vec3::Zero();
+  for (std::size_t i = 0; i < sections_.size(); ++i) {
+    double N = cardinal_[i].derivative(v, kv).x();
+    if (N == 0) continue;
+    auto [a, b] = sections_[i]->domain();
+    s += N * std::pow(b - a, ku) * sections_[i]->derivative(a + u * (b - a), ku);
+  }
+  return s;
+}
+
+}  // namespace wedge

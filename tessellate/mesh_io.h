@@ -1,0 +1,28 @@
+// Mesh files: OBJ, STL (ASCII and binary), PLY and OFF, read and written through OpenMesh.
+// Writing is atomic: the mesh goes to a temporary file beside the target, which is renamed over
+// it only once complete, so a failed export never leaves a half-written file.
+#pragma once
+#include <string>
+
+#include "kernel/mesh.h"
+
+namespace wedge {
+
+struct MeshWriteOptions {
+  bool ascii = false;  // STL and PLY: ASCII instead of binary (OBJ and OFF are always ASCII)
+};
+
+// The format from the file name's extension (case-insensitive): .obj .stl .ply .off. Throws
+// wedge::Error naming the extension and the supported ones otherwise.
+std::string mesh_format(const std::string& path);
+
+// Reads a triangle mesh. Polygons are fanned into triangles. For OBJ, the file's own normals and
+// texture coordinates are kept (a vertex used with different uv or normal in different corners is
+// split so each corner keeps its own). Throws wedge::Error naming the path and the reason.
+Mesh read_mesh(const std::string& path);
+
+// Writes a mesh (positions, and for OBJ/PLY/OFF the normals and uvs it has). Throws wedge::Error
+// naming the path and the reason; on error the target file is left as it was.
+void write_mesh(const Mesh& mesh, const std::string& path, const MeshWriteOptions& options = {});
+
+}  // namespace wedge

@@ -1,0 +1,139 @@
+// The curve and surface bindings: values agree with the C++ kernel, parameters are normalised to
+// [0, 1], meshes come back as tables, and bad input is an error naming the function and argument.
+#include <catch2/catch.hpp>
+
+#include <sstream>
+
+#include "lua/wedge_lua.h"
+
+using namespace wedge::lua;
+
+namespace {
+struct Result {
+  int status;
+  std::string err;
+};
+Result run_lua(const std::string& code, const std::string& chunk = "@curves.lua") {
+  std::ostringstream err;
+  int status = run_string(code, chunk, err);
+  return {status, err.str()};
+}
+}  // namespace
+
+TEST_CASE("curve constructors and methods", "[lua][curves]") {
+  auto r = run_lua(R"LUA(
+    local function near(a, b, eps) return math.abs(a - b) <= (eps or 1e-12) end
+    -- the bare-list shorthand and points=
+    local b = bezier{{0, 0}, {1, 2}, {3, 0}}
+    local b2 = bezier{points = {{0, 0}, {1, 2}, {3, 0}}}
+    local p = b:eval(0.5)
+    assert(#p == 2 and near(p[1], 1.25) and near(p[2], 1.0), "bezier midpoint")
+    assert(near(b2:eval(0.5)[1], 1.25))
+    local t = b:tangent(0)
+    assert(near(t[1], 1 / math.sqrt(5)) and near(t[2], 2 / math.sqrt(5)))
+    -- circle: exact radius, closed, length 2 pi r
+    local c = circle(2)
+    assert(c:closed())
+    for i = 0, 100 do
+      local q = c:eval(i / 100)
+      assert(near(math.sqrt(q[1]^2 + q[2]^2), 2, 1e-14))
+    end
+    assert(near(c:length(), 4 * math.pi, 1e-10))
+    local pts = c:points{tolerance = 0.001}
+    assert(#pts > 20 and #pts < 400, #pts)
+    -- B-spline with default open-uniform knots passes through its end points
+    local s = bspline{{{0, 0, 0}, {1, 1, 0}, {2, -1, 1}, {3, 0, 0}, {4, 2, 0}}, degree = 3}
+    local e = s:eval(1)
+    assert(#e == 3 and near(e[1], 4) and near(e[2], 2))
+    -- nurbs: a quarter circle with weights
+    local w = math.sqrt(0.5)
+    local q = nurbs{points = {{1, 0}, {1, 1}, {0, 1}}, weights = {1, w, 1}, knots = {0, 0, 0, 1, 1, 1}, degree = 2}
+    for i = 0, 10 do local z = q:eval(i / 10) assert(near(z[1]^2 + z[2]^2, 1, 1e-14)) end
+    -- interpolating splines pass through their points
+    local data = {{0, 0}, {1, 2}, {2, 2.5}, {4, 0}}
+    local ns = natural_spline{data}
+    assert(near(ns:eval(0)[1], 0) and near(ns:eval(1)[1], 4))
+    local cr = catmull_rom{data, closed = false}
+    local kb = catmull_rom{data, tension = 0, bias = 0, continuity = 0}
+    for i = 0, 3 do
+      local a, b = cr:eval(i / 3), data[i + 1]
+      assert(near(a[1], b[1]) and near(a[2], b[2]))
+      assert(near(kb:eval(i / 3)[1], a[1]))
+    end
+    local closed = catmull_rom{data, closed = true, tension = 0.5}
+    assert(closed:closed())
+    assert(tostring(c) == "Curve(nurbs)")
+  )LUA");
+  INFO(r.err);
+  CHECK(r.status == 0);
+}
+
+TEST_CASE("surface constructors and methods", "[lua][surfaces]") {
+  auto r = run_lua(R"LUA(
+    local function near(a, b, eps) return math.abs(a - b) <= (eps or 1e-12) end
+    local grid = {}
+    for i = 1, 4 do grid[i] = {} for j = 1, 4 do grid[i][j] = {i, j, (i == 2 and j == 2) and 1 or 0} end end
+    local B = bezier_surface{grid}
+    local B2 = bezier_surface(grid)
+    local p = B:eval(0, 0)
+    assert(p[1] == 1 and p[2] == 1 and p[3] == 0)
+    assert(near(B2:eval(1, 1)[1], 4))
+    local n = B:normal(0.5, 0.5)
+    assert(near(n[1]^2 + n[2]^2 + n[3]^2, 1))
+    local N = nurbs_surface{points = grid, udegree = 2, vdegree = 3}
+    assert(near(N:eval(1, 1)[2], 4))
+    -- revolving a vertical segment x = 2 gives a cylinder of radius 2 and height 3
+    local cyl = revolved_surface(bspline{{{2, 0}, {2, 3}}, degree = 1})
+    for i = 0, 10 do
+      local q = cyl:eval(i / 10, 0.5)
+      assert(near(math.sqrt(q[1]^2 + q[2]^2), 2, 1e-14) and near(q[3], 1.5))
+    end
+    local half = revolved_surface(circle{r = 0.5, center = {2, 0}}, {angle = 180})
+    assert(near(half:eval(1, 0)[1], -2.5, 1e-12))
+    local ex = extruded_surface(circle(1), {0, 0, 2})
+    assert(near(ex:eval(0.3, 1)[3], 2))
+    local sw = swept_surface(circle(0.1), bspline{{{0, 0, 0}, {0, 0, 1}, {1, 0, 2}, {2, 0, 2}}, degree = 2})
+    local m = sw:mesh{tolerance = 0.01}
+    assert(#m.triangles > 10 and #m.vertices == #m.normals and #m.uvs == #m.vertices)
+    local tri = m.triangles[1]
+    assert(tri[1] >= 1 and tri[3] <= #m.vertices)
+    local pot = teapot()
+    assert(pot:patches() == 32)
+    local pm = pot:mesh{tolerance = 0.05}
+    assert(#pm.patches == #pm.triangles and pm.patches[#pm.patches] == 32)
+    local lid = pot:eval(0, 0, 21)
+    assert(near(lid[3], 3.15))
+    local loft = lofted_surface{circle(1), circle{r = 2, center = {0, 0, 1}}}
+    assert(near(loft:eval(0, 1)[1], 2) and near(loft:eval(0, 1)[3], 1))
+  )LUA");
+  INFO(r.err);
+  CHECK(r.status == 0);
+}
+
+TEST_CASE("bad curve and surface input is an error naming the argument, at the script's line", "[lua][errors]") {
+  auto few = run_lua("\nlocal c = bspline{{{0, 0}, {1, 1}}, degree = 3}\n", "@few.lua");
+  CHECK_THAT(few.err, Catch::StartsWith("few.lua:2: bad argument #1 to 'bspline' (a curve of degree 3 needs at least 4 control points, got 2)"));
+  auto knots = run_lua("local c = nurbs{points = {{0,0},{1,1},{2,0}}, knots = {0, 0, 1, 0.5, 1, 1}, degree = 2}\n", "@k.lua");
+  CHECK_THAT(knots.err, Catch::StartsWith("k.lua:1: bad argument #1 to 'nurbs' (knots must be non-decreasing"));
+  auto weight = run_lua("local c = nurbs{points = {{0,0},{1,1},{2,0}}, weights = {1, 0, 1}, degree = 2}\n", "@w.lua");
+  CHECK_THAT(weight.err, Catch::StartsWith("w.lua:1: bad argument #1 to 'nurbs' (weights: weight 2 must be a positive finite number, got 0)"));
+  auto neg = run_lua("local c = nurbs{points = {{0,0},{1,1},{2,0}}, weights = {1, -2, 1}, degree = 2}\n", "@neg.lua");
+  CHECK_THAT(neg.err, Catch::Contains("weight 2 must be a positive finite number, got -2"));
+  auto nan = run_lua("local c = bezier{{0, 0}, {0/0, 1}}\n", "@nan.lua");
+  CHECK_THAT(nan.err, Catch::StartsWith("nan.lua:1: bad argument #1 to 'bezier' (points: point 2 coordinate 1 must be finite"));
+  auto radius = run_lua("local c = circle(-1)\n", "@r.lua");
+  CHECK_THAT(radius.err, Catch::StartsWith("r.lua:1: bad argument #1 to 'circle' (radius must be positive"));
+  auto field = run_lua("local c = catmull_rom{{{0,0},{1,1}}, tensoin = 1}\n", "@f.lua");
+  CHECK_THAT(field.err, Catch::StartsWith("f.lua:1: bad argument #1 to 'catmull_rom' (unknown field 'tensoin'"));
+  auto param = run_lua("local c = circle(1)\nlocal p = c:eval(2)\n", "@t.lua");
+  CHECK_THAT(param.err, Catch::StartsWith("t.lua:2: bad argument #1 to 'eval' (parameter t must be in [0, 1], got 2)"));
+  auto tol = run_lua("local p = circle(1):points{tolerance = 0}\n", "@tol.lua");
+  CHECK_THAT(tol.err, Catch::Contains("field 'tolerance' must be positive"));
+  auto grid = run_lua("local s = bezier_surface{{{{0,0,0},{1,0,0}}, {{0,1,0}}}}\n", "@g.lua");
+  CHECK_THAT(grid.err, Catch::StartsWith("g.lua:1: bad argument #1 to 'bezier_surface' (grid must be rectangular"));
+  auto sw = run_lua("local s = swept_surface(circle(1), 3)\n", "@sw.lua");
+  CHECK_THAT(sw.err, Catch::StartsWith("sw.lua:1: bad argument #2 to 'swept_surface' (Curve expected, got number)"));
+  auto vk = run_lua(R"LUA(local g = {} for i = 1, 4 do g[i] = {} for j = 1, 4 do g[i][j] = {i, j, 0} end end
+local s = nurbs_surface{points = g, vknots = {0, 0, 0, 0, 2, 1, 1, 1}})LUA", "@vk.lua");
+  CHECK_THAT(vk.err, Catch::StartsWith("vk.lua:2: bad argument #1 to 'nurbs_surface' (vknots must be non-decreasing"));
+}

@@ -1,0 +1,93 @@
+#include <catch2/catch.hpp>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "lua/wedge_lua.h"
+
+namespace fs = std::filesystem;
+
+namespace {
+struct Run {
+  int status;
+  std::string err;
+};
+Run run(const std::string& code, const std::string& chunk = "@io.lua") {
+  std::ostringstream err;
+  int status = wedge::lua::run_string(code, chunk, err);
+  return {status, err.str()};
+}
+
+// A unit tetrahedron as an OFF file, and a directory for the test.
+struct Fixture {
+  fs::path dir = fs::temp_directory_path() / ("wedge-lua-io-" + std::to_string(::getpid()));
+  Fixture() {
+    fs::create_directories(dir);
+    std::ofstream(dir / "tet.off") << "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n";
+    std::ofstream(dir / "open.off") << "OFF\n4 3 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n";
+  }
+  ~Fixture() {
+    std::error_code ec;
+    fs::remove_all(dir, ec);
+  }
+  std::string lua_dir() const { return "local dir = '" + dir.string() + "'\n"; }
+};
+}  // namespace
+
+TEST_CASE("import gives a Solid whose queries, transforms and export work", "[lua][solid][io]") {
+  Fixture f;
+  auto r = run(f.lua_dir() + R"(
+    local t = import(dir .. "/tet.off")
+    assert(math.abs(t:volume() - 1/6) < 1e-15, t:volume())
+    local e = t:euler()
+    assert(e.V == 4 and e.E == 6 and e.F == 4 and e.S == 1 and e.H == 0)
+    assert(t:is_valid())
+    local b = t:translate(1, 2, 3):bounds()
+    assert(b.min[1] == 1 and b.max[3] == 4)
+    local big = t:scale(2)
+    assert(math.abs(big:volume() - 8/6) < 1e-14)
+    local c = t:centroid()
+    assert(math.abs(c[1] - 0.25) < 1e-15 and math.abs(c[3] - 0.25) < 1e-15)
+    assert(math.abs(t:mirror({1, 0, 0}):volume() - 1/6) < 1e-15)
+    assert(t:triangles() == 4)
+    local n = export(t:rotate(30, {0, 0, 1}, {1, 1, 1}), dir .. "/out.stl")
+    assert(n == 4)
+    local back = import(dir .. "/out.stl")
+    assert(math.abs(back:volume() - 1/6) < 1e-6)
+    export(t, dir .. "/out.obj", {ascii = true})
+    assert(tostring(t):find("^Solid"))
+    local m = t:material{diffuse = {1, 0, 0}, shininess = 20}
+    assert(m:translate(1, 0, 0):volume() > 0)
+  )");
+  INFO(r.err);
+  CHECK(r.status == 0);
+}
+
+TEST_CASE("bad files and bad export arguments are Lua errors naming what was wrong", "[lua][io][errors]") {
+  Fixture f;
+  auto open = run(f.lua_dir() + "local s = import(dir .. '/open.off')\n", "@imp.lua");
+  CHECK_THAT(open.err, Catch::Contains("imp.lua:2: import:"));
+  CHECK_THAT(open.err, Catch::Contains("open.off: mesh is not closed"));
+
+  auto missing = run("import('/no/such/part.stl')\n", "@miss.lua");
+  CHECK_THAT(missing.err, Catch::StartsWith("miss.lua:1: import: cannot read '/no/such/part.stl'"));
+
+  auto ext = run(f.lua_dir() + "export(import(dir .. '/tet.off'), dir .. '/x.step')\n", "@ext.lua");
+  CHECK_THAT(ext.err, Catch::Contains("unknown mesh format '.step'"));
+
+  auto notsolid = run("export(42, 'x.stl')\n", "@ns.lua");
+  CHECK_THAT(notsolid.err, Catch::StartsWith("ns.lua:1: bad argument #1 to 'export' (Solid or mesh expected, got number)"));
+
+  auto field = run(f.lua_dir() + "export(import(dir .. '/tet.off'), dir .. '/x.stl', {asci = true})\n", "@f.lua");
+  CHECK_THAT(field.err, Catch::Contains("unknown field 'asci'"));
+
+  auto mat = run(f.lua_dir() + "import(dir .. '/tet.off'):material{shininess = 500}\n", "@mat.lua");
+  CHECK_THAT(mat.err, Catch::Contains("shininess"));
+
+  auto tol = run("tolerance(-1)\n", "@tol.lua");
+  CHECK_THAT(tol.err, Catch::StartsWith("tol.lua:1: bad argument #1 to 'tolerance' (tolerance must be positive"));
+  // No stray files from the failed exports.
+  CHECK_FALSE(fs::exists(f.dir / "x.stl"));
+  CHECK_FALSE(fs::exists(f.dir / "x.step"));
+}

@@ -1,0 +1,273 @@
+// Surfaces: exact quadrics, revolution of segments, derivatives vs central differences, swept
+// frames, lofts through their sections, mesh chordal error measured on samples, trimming.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <memory>
+
+#include "surfaces/surfaces.h"
+
+using namespace wedge;
+
+namespace {
+
+void check_surface_derivatives(const Surface& s, double tol, int order = 2) {
+  auto [u0, u1] = s.u_domain();
+  auto [v0, v1] = s.v_domain();
+  double hu = 1e-5 * (u1 - u0), hv = 1e-5 * (v1 - v0);
+  for (int i = 1; i < 8; ++i)
+    for (int j = 1; j < 8; ++j) {
+      double u = u0 + (u1 - u0) * (i + 0.31) / 8.7, v = v0 + (v1 - v0) * (j + 0.17) / 8.5;
+      for (int ku = 0; ku <= order; ++ku)
+        for (int kv = 0; ku + kv <= order; ++kv) {
+          Vec3 d = s.derivative(u, v, ku + 1, kv);
+          Vec3 fd = (s.derivative(u + hu, v, ku, kv) - s.derivative(u - hu, v, ku, kv)) / (2 * hu);
+          INFO("u=" << u << " v=" << v << " d/du of (" << ku << "," << kv << ")");
+          CHECK((d - fd).norm() <= tol * (1 + d.norm()));
+          d = s.derivative(u, v, ku, kv + 1);
+          fd = (s.derivative(u, v + hv, ku, kv) - s.derivative(u, v - hv, ku, kv)) / (2 * hv);
+          INFO("d/dv of (" << ku << "," << kv << ")");
+          CHECK((d - fd).norm() <= tol * (1 + d.norm()));
+        }
+    }
+}
+
+// The largest distance between a mesh triangle and the surface at the same parameters, sampled at
+// 15 barycentric points per triangle.
+double chordal_error(const Surface& s, const Mesh& m) {
+  double worst = 0;
+  for (const auto& t : m.triangles)
+    for (int a = 0; a <= 4; ++a)
+      for (int b = 0; a + b <= 4; ++b) {
+        double l0 = a / 4.0, l1 = b / 4.0, l2 = 1 - l0 - l1;
+        Vec2 uv = l0 * m.uvs[t[0]] + l1 * m.uvs[t[1]] + l2 * m.uvs[t[2]];
+        Point3 p = l0 * m.positions[t[0]] + l1 * m.positions[t[1]] + l2 * m.positions[t[2]];
+        worst = std::max(worst, (s.eval(uv.x(), uv.y()) - p).norm());
+      }
+  return worst;
+}
+
+}  // namespace
+
+TEST_CASE("NURBS sphere, cylinder, cone and torus are exact", "[quadrics]") {
+  NurbsSurface sphere = nurbs_sphere(Point3(1, 2, 3), 2);
+  NurbsSurface cyl = nurbs_cylinder(Point3(0, 0, 1), 1.5, 4);
+  NurbsSurface cone = nurbs_cone(Point3(0, 0, 0), 2, 0.5, 3);
+  NurbsSurface torus = nurbs_torus(Point3(0, 0, 0), 3, 1);
+  for (int i = 0; i <= 40; ++i)
+    for (int j = 0; j <= 40; ++j) {
+      double u = i / 40.0, v = j / 40.0;
+      Point3 p = sphere.eval(u, v);
+      CHECK(std::abs((p - Point3(1, 2, 3)).norm() - 2) < 1e-14 * 4);
+      p = cyl.eval(u, v);
+      CHECK(std::abs(p.head<2>().norm() - 1.5) < 1e-14 * 2);
+      CHECK(p.z() == Approx(1 + 4 * v).margin(1e-14));
+      p = cone.eval(u, v);
+      CHECK(std::abs(p.head<2>().norm() - (2 - 1.5 * p.z() / 3)) < 1e-14 * 3);
+      p = torus.eval(u, v);
+      CHECK(std::abs(Vec2(p.head<2>().norm() - 3, p.z()).norm() - 1) < 1e-14 * 4);
+      // Outward normals.
+      Vec3 n = sphere.normal(u, v);
+      CHECK(n.dot(sphere.eval(u, v) - Point3(1, 2, 3)) > 1.99);
+    }
+  check_surface_derivatives(sphere, 1e-5);
+  check_surface_derivatives(torus, 1e-5);
+}
+
+TEST_CASE("a surface of revolution of a segment is an exact cylinder or cone", "[revolution]") {
+  auto side = std::make_shared<LineSegment>(Point3(2, 0, 0), Point3(2, 0, 5));
+  RevolvedSurface cyl(side, Point3(0, 0, 0), Vec3::UnitZ(), 2 * kPi);
+  auto slant = std::make_shared<LineSegment>(Point3(3, 0, 1), Point3(1, 0, 5));
+  RevolvedSurface cone(slant, Point3(0, 0, 0), Vec3(0, 0, 2), 2 * kPi);
+  // About an oblique axis: distance to the axis is linear along the segment.
+  Vec3 axis = Vec3(1, 1, 1).normalized();
+  Point3 base(0.5, -1, 0);
+  auto seg = std::make_shared<LineSegment>(base + 2 * Vec3(1, -1, 0).normalized(), base + 2 * Vec3(1, -1, 0).normalized() + 3 * axis);
+  RevolvedSurface oblique(seg, base, axis, kPi);
+  for (int i = 0; i <= 50; ++i)
+    for (int j = 0; j <= 50; ++j) {
+      double u = 2 * kPi * i / 50, v = j / 50.0;
+      Point3 p = cyl.eval(u, v);
+      CHECK(std::abs(p.head<2>().norm() - 2) < 1e-14 * 2);
+      CHECK(p.z() == Approx(5 * v).margin(1e-14));
+      p = cone.eval(u, v);
+      CHECK(std::abs(p.head<2>().norm() - (3 - 2 * v)) < 1e-14 * 3);
+      CHECK(p.z() == Approx(1 + 4 * v).margin(1e-14));
+      p = oblique.eval(u / 2, v);
+      Vec3 d = p - base;
+      CHECK(std::abs((d - d.dot(axis) * axis).norm() - 2) < 1e-14 * 4);
+      CHECK(d.dot(axis) == Approx(3 * v).margin(1e-14));
+    }
+  check_surface_derivatives(cone, 1e-6);
+  // The exact NURBS revolution of the same segment agrees with the trigonometric one in shape.
+  NurbsSurface ncone = nurbs_revolve(to_nurbs(*slant), Point3(0, 0, 0), Vec3::UnitZ(), kPi / 3);
+  for (int i = 0; i <= 20; ++i) {
+    Point3 p = ncone.eval(i / 20.0, 0.25);
+    CHECK(std::abs(p.head<2>().norm() - 2.5) < 1e-14 * 3);
+    CHECK(std::atan2(p.y(), p.x()) >= -1e-15);
+    CHECK(std::atan2(p.y(), p.x()) <= kPi / 3 + 1e-15);
+  }
+}
+
+TEST_CASE("tensor-product surfaces: Bezier patch, bilinear, derivatives", "[nurbs]") {
+  std::vector<std::vector<Point3>> grid(4, std::vector<Point3>(4));
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; j < 4; ++j) grid[i][j] = Point3(i, j, std::sin(i + 2.0 * j));
+  NurbsSurface b = bezier_surface(grid);
+  // Bernstein tensor formula at one point.
+  auto B = [](int i, double t) {
+    const double c[4] = {1, 3, 3, 1};
+    return c[i] * std::pow(t, i) * std::pow(1 - t, 3 - i);
+  };
+  double u = 0.3, v = 0.8;
+  Point3 expect = Point3::Zero();
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; j < 4; ++j) expect += B(i, u) * B(j, v) * grid[i][j];
+  CHECK((b.eval(u, v) - expect).norm() < 1e-14);
+  check_surface_derivatives(b, 1e-5);
+  NurbsSurface bl = bilinear_surface(Point3(0, 0, 0), Point3(1, 0, 0), Point3(0, 1, 0), Point3(1, 1, 1));
+  CHECK((bl.eval(0.5, 0.5) - Point3(0.5, 0.5, 0.25)).norm() < 1e-15);
+  CHECK(bl.derivative(0.2, 0.7, 1, 1).isApprox(Vec3(0, 0, 1)));
+  // A rational surface with uneven weights.
+  std::vector<std::vector<double>> w(4, std::vector<double>(4, 1.0));
+  w[1][2] = 3;
+  w[2][1] = 0.4;
+  NurbsSurface r(3, 3, grid, {0, 0, 0, 0, 1, 1, 1, 1}, {0, 0, 0, 0, 1, 1, 1, 1}, w);
+  check_surface_derivatives(r, 1e-5);
+  CHECK_THROWS_WITH(NurbsSurface(3, 3, grid, {0, 0, 0, 0, 1, 1, 1, 1}, {0, 0, 0, 1, 0.5, 1, 1, 1}),
+                    Catch::Contains("vknots must be non-decreasing"));
+  w[0][0] = 0;
+  CHECK_THROWS_WITH(NurbsSurface(3, 3, grid, {0, 0, 0, 0, 1, 1, 1, 1}, {0, 0, 0, 0, 1, 1, 1, 1}, w),
+                    Catch::Contains("weight [1][1]"));
+}
+
+TEST_CASE("swept frames stay orthonormal and do not flip", "[sweep]") {
+  SECTION("helix") {
+    // A helix as an interpolating spline through its points: a general 3D path.
+    std::vector<Point3> pts;
+    for (int i = 0; i <= 60; ++i) {
+      double a = i * 0.25;
+      pts.emplace_back(2 * std::cos(a), 2 * std::sin(a), 0.3 * a);
+    }
+    NurbsCurve helix = interpolate_nurbs(pts, 3);
+    auto frames = rotation_minimizing_frames(helix, 400);
+    for (std::size_t i = 0; i < frames.size(); ++i) {
+      const Frame& f = frames[i];
+      CHECK(std::abs(f.t.norm() - 1) < 1e-12);
+      CHECK(std::abs(f.r.norm() - 1) < 1e-12);
+      CHECK(std::abs(f.s.norm() - 1) < 1e-12);
+      CHECK(std::abs(f.t.dot(f.r)) < 1e-12);
+      CHECK(std::abs(f.r.dot(f.s)) < 1e-12);
+      CHECK((f.r.cross(f.s) - f.t).norm() < 1e-12);
+      if (i > 0) CHECK(f.r.dot(frames[i - 1].r) > 0.99);  // no flip between neighbours
+    }
+  }
+  SECTION("planar S-curve: the frame stays put through the inflection") {
+    BezierCurve s({{0, 0, 0}, {4, 0, 0}, {0, 4, 0}, {4, 4, 0}});
+    auto frames = rotation_minimizing_frames(s, 300);
+    // For a planar curve the RMF keeps the plane normal as one of its axes.
+    for (const Frame& f : frames) {
+      CHECK(std::abs(std::abs(f.s.z()) - 1) < 1e-9);
+      CHECK(f.s.z() * frames[0].s.z() > 0);
+      CHECK(std::abs(f.t.dot(f.r)) < 1e-12);
+    }
+    // The Frenet normal flips at the inflection; the RMF does not.
+    auto swept = SweptSurface(std::make_shared<CircularArc>(Point3(0, 0, 0), 0.2, 0, 2 * kPi),
+                              std::make_shared<BezierCurve>(s));
+    for (int i = 0; i <= 100; ++i) {
+      Frame a = swept.frame(i / 100.0), b = swept.frame(i / 100.0 + 0.0037);
+      CHECK(a.r.dot(b.r) > 0.99);
+      CHECK((swept.eval(0, i / 100.0) - a.origin).norm() == Approx(0.2).epsilon(1e-12));
+    }
+    check_surface_derivatives(swept, 1e-5, 1);  // its v-derivatives are numeric already
+  }
+}
+
+TEST_CASE("extruded and lofted surfaces", "[loft]") {
+  auto arc = std::make_shared<NurbsCurve>(nurbs_circle(Point3(0, 0, 0), 1));
+  ExtrudedSurface e(arc, Vec3(0, 0, 3));
+  CHECK((e.eval(0.3, 0.5) - (arc->eval(0.3) + Vec3(0, 0, 1.5))).norm() < 1e-15);
+  check_surface_derivatives(e, 1e-5);
+  std::vector<CurvePtr> sections{
+      std::make_shared<NurbsCurve>(nurbs_circle(Point3(0, 0, 0), 1)),
+      std::make_shared<NurbsCurve>(nurbs_circle(Point3(0, 0, 1), 2)),
+      std::make_shared<CircularArc>(Point3(0, 0, 2), 1.5, 0, 2 * kPi),
+      std::make_shared<NurbsCurve>(nurbs_circle(Point3(0.5, 0, 3), 1)),
+  };
+  LoftedSurface loft(sections);
+  for (std::size_t i = 0; i < sections.size(); ++i)
+    for (int j = 0; j <= 20; ++j) {
+      double u = j / 20.0;
+      auto [a, b] = sections[i]->domain();
+      CHECK((loft.eval(u, i / 3.0) - sections[i]->eval(a + u * (b - a))).norm() < 1e-14);
+    }
+  check_surface_derivatives(loft, 1e-5);
+  CHECK_THROWS_WITH(LoftedSurface({sections[0]}), Catch::Contains("at least 2 sections"));
+}
+
+TEST_CASE("mesh chordal error is below the requested tolerance", "[mesh]") {
+  auto slant = std::make_shared<NurbsCurve>(interpolate_nurbs({{1, 0, 0}, {2, 0, 1}, {1.5, 0, 2}, {2.5, 0, 3}}, 3));
+  std::vector<std::unique_ptr<Surface>> surfaces;
+  surfaces.push_back(std::make_unique<NurbsSurface>(nurbs_sphere(Point3(0, 0, 0), 2)));
+  surfaces.push_back(std::make_unique<NurbsSurface>(nurbs_torus(Point3(0, 0, 0), 3, 1)));
+  surfaces.push_back(std::make_unique<RevolvedSurface>(slant, Point3(0, 0, 0), Vec3::UnitZ(), 2 * kPi));
+  surfaces.push_back(std::make_unique<Plane>(Point3(0, 0, 0), Vec3::UnitX(), Vec3::UnitY()));
+  for (const auto& s : surfaces)
+    for (double tol : {0.05, 0.005}) {
+      Mesh m = s->mesh(tol, 7);
+      REQUIRE_NOTHROW(m.check());
+      REQUIRE(m.uvs.size() == m.positions.size());
+      REQUIRE(m.normals.size() == m.positions.size());
+      CHECK(m.face_ids.front() == 7);
+      double err = chordal_error(*s, m);
+      CHECK(err <= tol);
+      if (s.get() != surfaces[3].get()) CHECK(err > tol / 50);  // and not absurdly fine (a plane is exact)
+    }
+  Mesh plane = surfaces[3]->mesh(0.01);
+  CHECK(plane.area() == Approx(1).epsilon(1e-14));
+  Mesh sphere = surfaces[0]->mesh(0.001);
+  CHECK(sphere.area() == Approx(16 * kPi).epsilon(2e-3));
+  CHECK(std::abs(sphere.volume()) == Approx(32 * kPi / 3).epsilon(3e-3));
+  CHECK(sphere.volume() > 0);  // outward orientation
+  for (std::size_t i = 0; i < sphere.positions.size(); ++i) CHECK(sphere.normals[i].dot(sphere.positions[i]) > 1.99);
+}
+
+TEST_CASE("trimming loops remove the outside of the parameter domain", "[trim]") {
+  Plane p(Point3(0, 0, 0), Vec3::UnitX(), Vec3::UnitY());
+  p.trims.push_back({{{0, 0}, {1, 0}, {1, 1}, {0, 1}}});
+  p.trims.push_back({{{0.25, 0.25}, {0.25, 0.75}, {0.75, 0.75}, {0.75, 0.25}}});  // a hole
+  CHECK(p.inside_trim(0.1, 0.1));
+  CHECK_FALSE(p.inside_trim(0.5, 0.5));
+  Mesh m = p.mesh(0.01);
+  CHECK(m.area() == Approx(0.75).epsilon(1e-12));
+}
+
+TEST_CASE("Newell's teapot: 32 patches, outward, watertight where patches meet", "[teapot]") {
+  std::vector<NurbsSurface> pot = teapot();
+  REQUIRE(pot.size() == 32);
+  // Body and rim patches (0..11) face away from the z axis.
+  for (int i = 0; i < 12; ++i) {
+    Point3 p = pot[i].eval(0.5, 0.5);
+    Vec3 n = pot[i].normal(0.5, 0.5);
+    CHECK(n.head<2>().dot(p.head<2>()) > 0);
+  }
+  // The knob top faces up, the bottom faces down.
+  CHECK(pot[20].normal(0.5, 0.1).z() > 0);  // the flat top of the knob
+  CHECK(pot[28].normal(0.5, 0.1).z() < 0);
+  // Neighbouring body patches share their boundary curves exactly.
+  for (int i = 0; i < 12; ++i) {
+    int next = (i % 4 == 3) ? i - 3 : i + 1;
+    for (int k = 0; k <= 10; ++k) {
+      double s = k / 10.0;
+      CHECK((pot[i].eval(1, s) - pot[next].eval(0, s)).norm() < 1e-14);
+    }
+  }
+  // The pot fits its classic bounding box.
+  Mesh all;
+  for (std::size_t i = 0; i < pot.size(); ++i) all.append(pot[i].mesh(0.01, int(i)));
+  Box3 b = all.bounds();
+  CHECK(b.min.z() == Approx(0).margin(1e-12));
+  CHECK(b.max.z() == Approx(3.15).margin(1e-3));
+  CHECK(b.max.x() == Approx(3.45).margin(0.03));  // spout tip
+  CHECK(all.volume() > 0);
+}

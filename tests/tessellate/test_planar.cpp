@@ -1,0 +1,56 @@
+#include <catch2/catch.hpp>
+
+#include <set>
+
+#include "tessellate/tessellate.h"
+
+using namespace wedge;
+
+namespace {
+double area_about(const std::vector<Point3>& p, const std::vector<Triangle>& tris, const Vec3& n, bool& all_ccw) {
+  double a = 0;
+  all_ccw = true;
+  for (const auto& t : tris) {
+    double s = 0.5 * (p[t[1]] - p[t[0]]).cross(p[t[2]] - p[t[0]]).dot(n.normalized());
+    if (s <= 0) all_ccw = false;
+    a += s;
+  }
+  return a;
+}
+}  // namespace
+
+TEST_CASE("a square face with a square hole is triangulated without new points", "[planar]") {
+  // Outer 4x4 square CCW about +z, hole 2x2 CW, in the plane z = 1.
+  std::vector<Point3> p = {{0, 0, 1}, {4, 0, 1}, {4, 4, 1}, {0, 4, 1}, {1, 1, 1}, {1, 3, 1}, {3, 3, 1}, {3, 1, 1}};
+  auto tris = triangulate_face(p, {{0, 1, 2, 3}, {4, 5, 6, 7}}, {0, 0, 1});
+  bool ccw = false;
+  CHECK(area_about(p, tris, {0, 0, 1}, ccw) == Approx(16 - 4));
+  CHECK(ccw);
+  CHECK(tris.size() == 8);  // an annulus of 8 vertices and 2 loops: V + 2(loops - 2) = 8 triangles
+  std::set<std::uint32_t> used;
+  for (const auto& t : tris) used.insert(t.begin(), t.end());
+  CHECK(used.size() == 8);
+}
+
+TEST_CASE("a non-convex face in a tilted plane keeps its concavity", "[planar]") {
+  // An L shape of area 3 in the plane x = y (normal (1,-1,0)/sqrt2), CCW about that normal.
+  Vec3 u = Vec3(1, 1, 0).normalized(), w(0, 0, 1), n = u.cross(w);
+  std::vector<Vec2> l = {{0, 0}, {2, 0}, {2, 1}, {1, 1}, {1, 2}, {0, 2}};
+  std::vector<Point3> p;
+  for (const auto& q : l) p.push_back(q.x() * u + q.y() * w + Vec3(5, 5, 5));
+  auto tris = triangulate_face(p, {{0, 1, 2, 3, 4, 5}}, n);
+  bool ccw = false;
+  CHECK(area_about(p, tris, n, ccw) == Approx(3));
+  CHECK(ccw);
+  CHECK(tris.size() == 4);
+  CHECK(newell_normal(p, {0, 1, 2, 3, 4, 5}).normalized().isApprox(n.normalized(), 1e-12));
+  CHECK(newell_normal(p, {0, 1, 2, 3, 4, 5}).norm() == Approx(2 * 3));
+}
+
+TEST_CASE("bad faces are errors in words", "[planar][errors]") {
+  std::vector<Point3> p = {{0, 0, 0}, {2, 2, 0}, {2, 0, 0}, {0, 2, 0}};
+  CHECK_THROWS_WITH(triangulate_face(p, {{0, 1, 2, 3}}, {0, 0, 1}), Catch::Contains("cross"));
+  CHECK_THROWS_WITH(triangulate_face(p, {{0, 1}}, {0, 0, 1}), Catch::Contains("3 or more"));
+  CHECK_THROWS_WITH(triangulate_face(p, {{0, 1, 9}}, {0, 0, 1}), Catch::Contains("vertex 9"));
+  CHECK_THROWS_WITH(triangulate_face(p, {{0, 1, 2}}, {0, 0, 0}), Catch::Contains("normal is zero"));
+}
