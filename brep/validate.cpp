@@ -456,10 +456,6 @@ Validation Model::validate(bool geometry) const {
           return bad(name + " is not planar: loop " + std::to_string(l.value) + " has a point " + std::to_string((p - p0).dot(n)) +
                      " off its plane");
       if (pts.size() < 3) return bad(name + "'s loop " + std::to_string(l.value) + " has fewer than three corners");
-      Vec3 nl = newell(pts);
-      bool outer = l == face.outer;
-      if (outer && nl.dot(n) <= 0) return bad(name + "'s outer loop " + std::to_string(l.value) + " is not counter-clockwise seen from outside");
-      if (!outer && nl.dot(n) >= 0) return bad(name + "'s inner loop " + std::to_string(l.value) + " is not clockwise seen from outside");
       std::vector<Point2> q;
       for (const Point3& p : pts) q.emplace_back(p[i0], p[i1]);
       std::size_t m = q.size();
@@ -470,6 +466,10 @@ Validation Model::validate(bool geometry) const {
             return bad(name + "'s loop " + std::to_string(l.value) + " intersects itself (segments " + std::to_string(i) + " and " +
                        std::to_string(j) + ")");
         }
+      Vec3 nl = newell(pts);
+      bool outer = l == face.outer;
+      if (outer && nl.dot(n) <= 0) return bad(name + "'s outer loop " + std::to_string(l.value) + " is not counter-clockwise seen from outside");
+      if (!outer && nl.dot(n) >= 0) return bad(name + "'s inner loop " + std::to_string(l.value) + " is not clockwise seen from outside");
     }
   }
   double vol = approximate_volume();

@@ -419,3 +419,34 @@ TEST_CASE("random legal operator sequences, all undone, restore the model exactl
   CHECK(applied > 10000);
   for (long n : per_op) CHECK(n > 200);  // every operator was exercised
 }
+
+TEST_CASE("validate() checks the geometry of plane faces", "[brep][validate]") {
+  Model m = prism({{{0, 0}, {2, 0}, {2, 2}, {0, 2}}, {}}, 1);
+  FaceId top = face_facing(m, Vec3::UnitZ());
+  SECTION("a loop crossing itself") {
+    auto vs = m.loop_vertices(m.faces()[top].outer);
+    Point3 a = m.point(vs[0]), b = m.point(vs[1]);
+    m.set_point(vs[0], b);
+    m.set_point(vs[1], a);
+    Validation v = m.validate();
+    CHECK_THAT(v.message, Catch::Contains("face " + std::to_string(top.value) + "'s loop") && Catch::Contains("intersects itself"));
+  }
+  SECTION("an outer loop clockwise seen from outside") {
+    m.set_surface(top, PlaneSurface{Point3(0, 0, 1), -Vec3::UnitZ()});
+    CHECK_THAT(m.validate().message, Catch::EndsWith("is not counter-clockwise seen from outside"));
+  }
+  SECTION("a face that is not flat") {
+    m.set_point(m.loop_vertices(m.faces()[top].outer)[0], Point3(0, 0, 1.5));
+    CHECK_THAT(m.validate().message, Catch::Contains("is not planar"));
+  }
+  SECTION("a ring counter-clockwise seen from outside") {
+    auto strut = m.mev(top, first_vertex(m, top), Point3(0.5, 0.5, 1));
+    auto a = m.mev(top, strut.v, Point3(1.5, 0.5, 1));
+    auto b = m.mev(top, a.v, Point3(1.5, 1.5, 1));  // counter-clockwise about +z: wrong for a ring
+    m.mef_at(EdgeSide{b.e, 1}, EdgeSide{strut.e, 1});
+    LoopId ring = m.kemr(strut.e);
+    CHECK(m.validate(false).ok);
+    CHECK(m.validate().message == "face " + std::to_string(top.value) + "'s inner loop " + std::to_string(ring.value) +
+                                      " is not clockwise seen from outside");
+  }
+}
