@@ -253,7 +253,8 @@ class Model {
   BrepSide& side_mut(EdgeSide s) { return edges_[s.edge].side[s.side]; }
   // link(a, b): next(a) = b, prev(b) = a
   void link(EdgeSide a, EdgeSide b);
-  void relabel(EdgeSide start, LoopId l);  // set the loop of every side in start's cycle
+  void relabel(EdgeSide start, LoopId l);
+  void append_arc_interior(EdgeSide s, int arc_segments, std::vector<Point3>& out) const;  // set the loop of every side in start's cycle
   bool find_corner(FaceId f, VertexId v, Corner* c) const;
   bool ring_stays_connected(FaceId f, LoopId ring, std::vector<FaceId>* component) const;
   void require_vertex(VertexId v, const char* op, const char* what) const;

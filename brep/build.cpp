@@ -287,12 +287,22 @@ Model polyhedron(const std::vector<Point3>& points, const std::vector<std::vecto
       int x = f[(k + f.size() - 1) % f.size()], u = f[k], y = f[(k + 1) % f.size()];
       sigma[static_cast<std::size_t>(u)].emplace_back(x, y);
     }
-  std::vector<std::unordered_map<int, int>> succ(static_cast<std::size_t>(np));
+  // A vertex has a handful of neighbours: a linear scan beats a hash map.
+  struct Rotation {
+    std::vector<std::pair<int, int>> xy;
+    int at(int x) const {
+      for (const auto& p : xy)
+        if (p.first == x) return p.second;
+      fail("polyhedron: point ", x + 1, " has no successor in a fan");
+    }
+    std::size_t size() const { return xy.size(); }
+  };
+  std::vector<Rotation> succ(static_cast<std::size_t>(np));
   for (int u = 0; u < np; ++u) {
     auto& su = succ[static_cast<std::size_t>(u)];
-    for (auto [x, y] : sigma[static_cast<std::size_t>(u)]) su[x] = y;
+    su.xy = std::move(sigma[static_cast<std::size_t>(u)]);
     // One fan: following sigma from any neighbour visits all of them.
-    int start = su.begin()->first, x = start;
+    int start = su.xy[0].first, x = start;
     std::size_t steps = 0;
     do {
       x = su.at(x);
@@ -323,7 +333,7 @@ Model polyhedron(const std::vector<Point3>& points, const std::vector<std::vecto
   std::vector<int> parent(static_cast<std::size_t>(np), -2);
   std::vector<std::vector<int>> nbrs(static_cast<std::size_t>(np));
   for (int u = 0; u < np; ++u)
-    for (const auto& xy : succ[static_cast<std::size_t>(u)]) nbrs[static_cast<std::size_t>(u)].push_back(xy.second);
+    for (const auto& xy : succ[static_cast<std::size_t>(u)].xy) nbrs[static_cast<std::size_t>(u)].push_back(xy.second);
   std::unordered_map<std::int32_t, int> point_of;  // vertex id → point index
   auto remember = [&](int p, VertexId v) {
     vid[static_cast<std::size_t>(p)] = v;

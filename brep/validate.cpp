@@ -26,6 +26,21 @@ std::string side_name(EdgeSide s) {
 }
 Validation bad(const std::string& m) { return Validation{false, m}; }
 
+// A floating-point filter before the exact segment test: false only when one segment lies
+// clearly on one side of the other's line (by a margin far above the rounding error).
+bool may_cross(const Point2& p, const Point2& q, const Point2& a, const Point2& b) {
+  auto side = [](const Point2& o, const Point2& d, const Point2& x) {
+    double det = (d.x() - o.x()) * (x.y() - o.y()) - (d.y() - o.y()) * (x.x() - o.x());
+    double mag = (std::abs(d.x() - o.x()) + std::abs(d.y() - o.y())) * (std::abs(x.x() - o.x()) + std::abs(x.y() - o.y()));
+    return det > 1e-12 * mag ? 1 : det < -1e-12 * mag ? -1 : 0;
+  };
+  int sa = side(p, q, a), sb = side(p, q, b);
+  if (sa != 0 && sa == sb) return false;
+  int sp = side(a, b, p), sq = side(a, b, q);
+  if (sp != 0 && sp == sq) return false;
+  return true;
+}
+
 Vec3 newell(const std::vector<Point3>& pts) {
   Vec3 n = Vec3::Zero();
   for (std::size_t i = 0; i < pts.size(); ++i) {
@@ -37,21 +52,25 @@ Vec3 newell(const std::vector<Point3>& pts) {
 }
 }  // namespace
 
+void Model::append_arc_interior(EdgeSide s, int arc_segments, std::vector<Point3>& out) const {
+  auto* arc = std::get_if<ArcCurve>(&curves_[static_cast<std::size_t>(s.edge.value)]);
+  if (!arc) return;
+  // The arc runs counter-clockwise about its axis from v[0] to v[1].
+  Point3 p0 = point(edges_[s.edge].v[0]), p1 = point(edges_[s.edge].v[1]);
+  Vec3 x = (p0 - arc->center).normalized();
+  Vec3 y = arc->axis.cross(x);
+  Vec3 d1 = p1 - arc->center;
+  double sweep = std::atan2(d1.dot(y), d1.dot(x));
+  if (sweep <= 1e-12) sweep += 2 * kPi;
+  for (int k = 1; k < arc_segments; ++k) {
+    double t = sweep * (s.side == 0 ? k : arc_segments - k) / arc_segments;
+    out.push_back(arc->center + arc->radius * (std::cos(t) * x + std::sin(t) * y));
+  }
+}
+
 std::vector<Point3> Model::side_polyline(EdgeSide s, int arc_segments) const {
   std::vector<Point3> out{point(origin(s))};
-  if (auto* arc = std::get_if<ArcCurve>(&curves_[static_cast<std::size_t>(s.edge.value)])) {
-    // The arc runs counter-clockwise about its axis from v[0] to v[1].
-    Point3 p0 = point(edges_[s.edge].v[0]), p1 = point(edges_[s.edge].v[1]);
-    Vec3 x = (p0 - arc->center).normalized();
-    Vec3 y = arc->axis.cross(x);
-    Vec3 d1 = p1 - arc->center;
-    double sweep = std::atan2(d1.dot(y), d1.dot(x));
-    if (sweep <= 1e-12) sweep += 2 * kPi;
-    for (int k = 1; k < arc_segments; ++k) {
-      double t = sweep * (s.side == 0 ? k : arc_segments - k) / arc_segments;
-      out.push_back(arc->center + arc->radius * (std::cos(t) * x + std::sin(t) * y));
-    }
-  }
+  append_arc_interior(s, arc_segments, out);
   out.push_back(point(dest(s)));
   return out;
 }
@@ -60,10 +79,14 @@ std::vector<Point3> Model::loop_polyline(LoopId l, int arc_segments) const {
   const BrepLoop& lp = loops_[l];
   if (!lp.first.valid()) return {point(lp.lone)};
   std::vector<Point3> out;
-  for (EdgeSide s : loop_sides(l)) {
-    std::vector<Point3> p = side_polyline(s, arc_segments);
-    out.insert(out.end(), p.begin(), p.end() - 1);
-  }
+  EdgeSide s = lp.first;
+  std::size_t guard = 2 * edges_.capacity() + 2, n = 0;
+  do {
+    out.push_back(point(origin(s)));
+    append_arc_interior(s, arc_segments, out);
+    s = side(s).next;
+    if (++n > guard) fail("loop ", l.value, " is not a closed cycle");
+  } while (!(s == lp.first));
   return out;
 }
 
@@ -395,20 +418,24 @@ Validation Model::validate(bool geometry) const {
       }
       ++F;
       R += static_cast<long>(face.rings.size());
-      std::vector<LoopId> ls{face.outer};
-      ls.insert(ls.end(), face.rings.begin(), face.rings.end());
-      for (LoopId l : ls) {
-        for (VertexId v : loop_vertices(l))
-          if (!vseen[static_cast<std::size_t>(v.value)]++) ++V;
-        if (!loops_[l].first.valid()) continue;
-        for (EdgeSide s : loop_sides(l)) {
+      for (std::size_t li = 0; li <= face.rings.size(); ++li) {
+        LoopId l = li == 0 ? face.outer : face.rings[li - 1];
+        const BrepLoop& lp = loops_[l];
+        if (!lp.first.valid()) {
+          if (!vseen[static_cast<std::size_t>(lp.lone.value)]++) ++V;
+          continue;
+        }
+        EdgeSide s = lp.first;
+        do {
+          if (!vseen[static_cast<std::size_t>(origin(s).value)]++) ++V;
           ++E2;
           FaceId g = loops_[side(s.mate()).loop].face;
           if (comp[static_cast<std::size_t>(g.value)] < 0) {
             comp[static_cast<std::size_t>(g.value)] = c;
             queue.push_back(g);
           }
-        }
+          s = side(s).next;
+        } while (!(s == lp.first));
       }
     }
     if (shells_[faces_[start].shell].faces != F) {
@@ -440,7 +467,8 @@ Validation Model::validate(bool geometry) const {
     if (std::holds_alternative<CylinderSurface>(surface(f))) continue;
     Vec3 n = face_normal(f);
     if (n.norm() < 0.5) return bad(name + " has no normal: its outer loop encloses no area");
-    Point3 p0 = point(loop_vertices(face.outer)[0]);
+    const BrepLoop& outer_loop = loops_[face.outer];
+    Point3 p0 = point(outer_loop.first.valid() ? origin(outer_loop.first) : outer_loop.lone);
     if (auto* pl = std::get_if<PlaneSurface>(&surface(f))) p0 = pl->point;
     std::vector<LoopId> ls{face.outer};
     ls.insert(ls.end(), face.rings.begin(), face.rings.end());
@@ -462,7 +490,7 @@ Validation Model::validate(bool geometry) const {
       for (std::size_t i = 0; i < m; ++i)
         for (std::size_t j = i + 2; j < m; ++j) {
           if (i == 0 && j == m - 1) continue;  // neighbours share a corner
-          if (segments_intersect_2d(q[i], q[(i + 1) % m], q[j], q[(j + 1) % m]))
+          if (may_cross(q[i], q[(i + 1) % m], q[j], q[(j + 1) % m]) && segments_intersect_2d(q[i], q[(i + 1) % m], q[j], q[(j + 1) % m]))
             return bad(name + "'s loop " + std::to_string(l.value) + " intersects itself (segments " + std::to_string(i) + " and " +
                        std::to_string(j) + ")");
         }

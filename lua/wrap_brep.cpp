@@ -6,6 +6,15 @@
 // its arena (0-based, never reused within one model). An integer is only meaningful for the model
 // and element kind it came from; a wrong one is caught by the operator's precondition check
 // ("mev: 7 is not a face of this model").
+//
+// Methods of a Brep (b = brep()):
+//   v, f = b:mvfs{x,y,z}          e, v2 = b:mev(f, v, {x,y,z})     e, f2 = b:mef(f, v1, v2)
+//   ring = b:kemr(e)              e = b:mekr(v1, v2)               ring = b:kfmrh(f_hole, f)
+//   f2 = b:mfkrh(f, ring)         b:kev(e, v)  b:kef(e, f)  b:kvfs(v)
+//   e2, v = b:semv(e, {x,y,z})    b:jekv(e2, v)                    (split / join an edge)
+//   b:counts() -> {V=,E=,F=,R=,H=,S=}     b:validate([geometry=true]) -> true | false, message
+//   b:point(v) -> {x,y,z}         b:vertices(f) -> outer loop's vertex ids
+//   b:solid() -> a Solid (a copy of the model; it must validate)
 #include <string>
 
 #include "csg/brep_leaf.h"
