@@ -17,6 +17,7 @@ const Registrar kRegistrars[] = {
     register_io,
     register_curves,
     register_surfaces,
+    register_render,
 };
 
 int version_fn(lua_State* L) {

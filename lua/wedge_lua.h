@@ -31,5 +31,6 @@ void register_solid(lua_State* L);
 void register_io(lua_State* L);
 void register_curves(lua_State* L);    // wrap_curve.cpp
 void register_surfaces(lua_State* L);  // wrap_surface.cpp
+void register_render(lua_State* L);
 
 }  // namespace wedge::lua
