@@ -163,8 +163,11 @@ class NurbsCurve : public Curve {
 
   // A5.1 (Boehm): the same curve with knot u inserted `times` times.
   NurbsCurve with_knot(double u, int times = 1) const;
-  // The same curve with degree + 1: split into Bezier segments, elevate each (A5.9's idea without
-  // the final knot removal, so interior knots keep multiplicity degree + 1).
+  // A5.8: knot u removed up to `times` times, as far as the curve stays within `tolerance`
+  // (absolute, in homogeneous coordinates); the inverse of with_knot.
+  NurbsCurve without_knot(double u, int times = 1, double tolerance = 1e-9) const;
+  // The same curve with degree + 1: split into Bezier segments, elevate each, then remove the knots
+  // that elevation made redundant (A5.9's result: each interior knot's multiplicity grows by one).
   NurbsCurve elevated() const;
   // The Bezier segments (as NurbsCurves on their own knot intervals), by knot insertion.
   std::vector<NurbsCurve> bezier_segments() const;

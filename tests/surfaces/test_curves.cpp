@@ -3,6 +3,7 @@
 // the tessellation / arc length against known values.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <random>
@@ -98,10 +99,29 @@ TEST_CASE("knot insertion leaves the curve unchanged", "[nurbs]") {
   CHECK(max_deviation(u, v) < 1e-12);
 }
 
+TEST_CASE("knot removal undoes knot insertion", "[nurbs]") {
+  NurbsCurve c = sample_nurbs();
+  NurbsCurve d = c.with_knot(0.37, 2).without_knot(0.37, 2);
+  REQUIRE(d.knots() == c.knots());
+  for (std::size_t i = 0; i < c.control_points().size(); ++i) {
+    CHECK((d.control_points()[i] - c.control_points()[i]).norm() < 1e-12);
+    CHECK(d.weights()[i] == Approx(c.weights()[i]).epsilon(1e-12));
+  }
+  // A knot the curve needs (its C1 break at 0.5) cannot be removed: the curve stays as it was.
+  NurbsCurve kept = c.without_knot(0.5, 1);
+  CHECK(kept.knots() == c.knots());
+  CHECK(max_deviation(c, kept) < 1e-14);
+}
+
 TEST_CASE("degree elevation leaves the curve unchanged", "[nurbs]") {
   NurbsCurve c = sample_nurbs();
   NurbsCurve e = c.elevated();
   CHECK(e.degree() == 4);
+  // The NURBS Book's count: n + (distinct interior knots + 1) new control points (0.2 and 0.5 here),
+  // and each interior knot's multiplicity grows by one.
+  CHECK(e.control_points().size() == c.control_points().size() + 3);
+  CHECK(std::count(e.knots().begin(), e.knots().end(), 0.5) == 3);
+  CHECK(std::count(e.knots().begin(), e.knots().end(), 0.2) == 2);
   CHECK(max_deviation(c, e) < 1e-12);
   NurbsCurve e2 = e.elevated();
   CHECK(e2.degree() == 5);
