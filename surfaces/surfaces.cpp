@@ -125,7 +125,9 @@ Mesh Surface::mesh(double tolerance, int face_id) const {
     for (std::size_t i = 0; i < cv.size(); ++i) next_v += std::size_t(cv[i]) * (ref_v[i] ? 2 : 1);
     for (char f : ref_u) any = any || f;
     for (char f : ref_v) any = any || f;
-    if (!any || next_u * next_v > max_vertices) break;
+    if (!any) break;
+    if (next_u * next_v > max_vertices)
+      fail("tolerance ", tolerance, " would need more than ", max_vertices, " mesh vertices on this surface: use a larger tolerance");
     for (std::size_t i = 0; i < cu.size(); ++i) cu[i] *= ref_u[i] ? 2 : 1;
     for (std::size_t i = 0; i < cv.size(); ++i) cv[i] *= ref_v[i] ? 2 : 1;
   }

@@ -288,3 +288,25 @@ TEST_CASE("tessellation stays within the chordal tolerance; arc length", "[tesse
   }
   CHECK_THROWS_WITH(c.points(0), Catch::Contains("tolerance"));
 }
+
+TEST_CASE("high-degree polynomial interpolation oscillates where a cubic spline does not (Runge)", "[interpolation]") {
+  // Runge's function 1 / (1 + 25 x^2) sampled at 15 uniform points on [-1, 1].
+  auto f = [](double x) { return 1 / (1 + 25 * x * x); };
+  std::vector<Point3> Q;
+  for (int i = 0; i < 15; ++i) {
+    double x = -1 + 2.0 * i / 14;
+    Q.emplace_back(x, f(x), 0);
+  }
+  PolynomialInterpolant poly(Q);
+  NurbsCurve spline = interpolate_nurbs(Q, 3);
+  double poly_err = 0, spline_err = 0;
+  for (int i = 0; i <= 2000; ++i) {
+    double t = i / 2000.0;
+    Point3 p = poly.eval(t);  // uniform parameters: x = -1 + 2 t
+    poly_err = std::max(poly_err, std::abs(p.y() - f(p.x())));
+    Point3 s = spline.eval(t);
+    spline_err = std::max(spline_err, std::abs(s.y() - f(s.x())));
+  }
+  CHECK(poly_err > 1.0);
+  CHECK(spline_err < 0.05);
+}
