@@ -73,6 +73,8 @@ class Surface {
 
   // A triangle mesh whose chordal error (distance between a triangle and the surface at the same
   // parameters) stays below `tolerance`: a grid refined until midpoint samples of every cell agree.
+  // Vertices along a closed seam or a pole are not merged. Throws if the tolerance would need more
+  // than 4M vertices.
   // Positions, normals and uvs (the surface parameters) are filled; face_ids = face_id.
   Mesh mesh(double tolerance, int face_id = -1) const;
 };
