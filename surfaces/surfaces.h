@@ -163,7 +163,8 @@ class NurbsCurve : public Curve {
   const std::vector<double>& weights() const { return weights_; }
   bool rational() const;
 
-  // A5.1 (Boehm): the same curve with knot u inserted `times` times.
+  // Boehm knot insertion (A5.1, one knot at a time): the same curve with knot u inserted `times`
+  // times, never beyond multiplicity = degree.
   NurbsCurve with_knot(double u, int times = 1) const;
   // A5.8: knot u removed up to `times` times, as far as the curve stays within `tolerance`
   // (absolute, in homogeneous coordinates); the inverse of with_knot.
