@@ -240,6 +240,8 @@ TEST_CASE("interpolating splines pass through their points", "[interpolation]") 
       for (std::size_t i = 0; i < Q.size(); ++i) CHECK((kb.eval(double(i)) - Q[i]).norm() < 1e-12);
       if (closed) CHECK((kb.eval(double(Q.size())) - Q[0]).norm() < 1e-12);
       CHECK(kb.closed() == closed);
+      check_derivatives(kb, 3, 1e-5);
+      CHECK(max_deviation(kb, kb.to_nurbs()) < 1e-12);
     }
   }
 }
@@ -257,6 +259,11 @@ TEST_CASE("Kochanek-Bartels with t = b = c = 0 is Catmull-Rom", "[interpolation]
                              (-Q[i - 1] + 3 * Q[i] - 3 * Q[i + 1] + Q[i + 2]) * s3);
       CHECK((kb.eval(i + s) - expect).norm() < 1e-13);
     }
+  // Continuity 0 keeps the tangent continuous at the points; continuity != 0 breaks it there.
+  HermiteSpline kinked = kochanek_bartels(Q, 0, 0, 0.5);
+  double e = 1e-9;
+  CHECK((cr.derivative(2 - e, 1) - cr.derivative(2 + e, 1)).norm() < 1e-6);
+  CHECK((kinked.derivative(2 - e, 1) - kinked.derivative(2 + e, 1)).norm() > 0.1);
   // Tension 1 gives zero tangents at the points.
   HermiteSpline tight = kochanek_bartels(Q, 1, 0, 0);
   CHECK(tight.derivative(2, 1).norm() < 1e-14);
