@@ -18,6 +18,7 @@ const Registrar kRegistrars[] = {
     register_curves,
     register_surfaces,
     register_brep,
+    register_render,
 };
 
 int version_fn(lua_State* L) {

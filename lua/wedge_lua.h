@@ -32,5 +32,6 @@ void register_io(lua_State* L);
 void register_curves(lua_State* L);    // wrap_curve.cpp
 void register_surfaces(lua_State* L);  // wrap_surface.cpp
 void register_brep(lua_State* L);      // wrap_brep.cpp
+void register_render(lua_State* L);
 
 }  // namespace wedge::lua

@@ -49,14 +49,14 @@ int nesting(lua_State* L) {
 std::vector<std::vector<Point3>> read_grid_top(lua_State* L, int arg, const std::string& what) {
   if (lua_type(L, -1) != LUA_TTABLE) throw ArgError{arg, what + " must be a grid of points, got " + type_name(L, -1)};
   std::vector<std::vector<Point3>> grid;
-  lua_Integer rows = luaL_len(L, -1);
+  lua_Integer rows = lua_Integer(lua_rawlen(L, -1));
   for (lua_Integer i = 1; i <= rows; ++i) {
     lua_rawgeti(L, -1, i);
     std::string err;
     std::vector<Point3> row;
     if (lua_type(L, -1) != LUA_TTABLE) err = what + ": row " + std::to_string(i) + " must be a list of points";
     else {
-      lua_Integer cols = luaL_len(L, -1);
+      lua_Integer cols = lua_Integer(lua_rawlen(L, -1));
       for (lua_Integer j = 1; j <= cols && err.empty(); ++j) {
         lua_rawgeti(L, -1, j);
         std::string name = what + "[" + std::to_string(i) + "][" + std::to_string(j) + "]";
@@ -84,12 +84,12 @@ std::vector<std::vector<double>> read_number_grid(lua_State* L, Options& o, cons
   std::string err;
   if (lua_type(L, -1) != LUA_TTABLE) err = std::string("field '") + key + "' must be a grid of numbers";
   else
-    for (lua_Integer i = 1; i <= luaL_len(L, -1) && err.empty(); ++i) {
+    for (lua_Integer i = 1; i <= lua_Integer(lua_rawlen(L, -1)) && err.empty(); ++i) {
       lua_rawgeti(L, -1, i);
       std::vector<double> row;
       if (lua_type(L, -1) != LUA_TTABLE) err = std::string("field '") + key + "': row " + std::to_string(i) + " must be a list of numbers";
       else
-        for (lua_Integer j = 1; j <= luaL_len(L, -1) && err.empty(); ++j) {
+        for (lua_Integer j = 1; j <= lua_Integer(lua_rawlen(L, -1)) && err.empty(); ++j) {
           int t = lua_rawgeti(L, -1, j);
           double x = lua_tonumber(L, -1);
           if (t != LUA_TNUMBER || !std::isfinite(x))
@@ -111,7 +111,7 @@ std::vector<double> read_number_list(lua_State* L, Options& o, const char* key) 
   std::string err;
   if (lua_type(L, -1) != LUA_TTABLE) err = std::string("field '") + key + "' must be a list of numbers";
   else
-    for (lua_Integer i = 1; i <= luaL_len(L, -1) && err.empty(); ++i) {
+    for (lua_Integer i = 1; i <= lua_Integer(lua_rawlen(L, -1)) && err.empty(); ++i) {
       int t = lua_rawgeti(L, -1, i);
       double x = lua_tonumber(L, -1);
       if (t != LUA_TNUMBER || !std::isfinite(x)) err = std::string("field '") + key + "': entry " + std::to_string(i) + " must be a finite number";
@@ -238,7 +238,7 @@ int lofted_surface_fn(lua_State* L) {
   return guarded(L, [&] {
     check_table(L, 1);
     std::vector<CurvePtr> sections;
-    lua_Integer n = luaL_len(L, 1);
+    lua_Integer n = lua_Integer(lua_rawlen(L, 1));
     for (lua_Integer i = 1; i <= n; ++i) {
       lua_rawgeti(L, 1, i);
       const LuaCurve* c = test_curve(L, -1);

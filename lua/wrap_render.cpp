@@ -1,0 +1,249 @@
+// Lua binding of render::render_scene: render{ mesh, out=, size=, camera=, lights=, ambient=,
+// local_viewer=, two_side=, shading=, wireframe=, cull=, depth=, fog=, antialias=, background= }
+// (API.md, "Rendering"). Until the Solid type lands, the mesh is a table
+// { vertices = {{x,y,z}, ...}, triangles = {{i,j,k}, ...} (1-based), material = {...} }.
+#include "lua/lua_util.h"
+#include "lua/wedge_lua.h"
+#include "render/render.h"
+
+namespace wedge::lua {
+
+namespace {
+
+using render::Vec4f;
+
+Vec4f to_color(lua_State* L, int idx, int arg, const std::string& what) {
+  if (lua_type(L, idx) != LUA_TTABLE) throw ArgError{arg, what + " must be a colour {r, g, b}, got " + type_name(L, idx)};
+  Vec4f c(0, 0, 0, 1);
+  lua_Integer n = luaL_len(L, idx);
+  if (n < 3 || n > 4) throw ArgError{arg, what + " must have 3 or 4 components"};
+  for (int k = 1; k <= n; ++k) {
+    lua_geti(L, idx, k);
+    if (!lua_isnumber(L, -1)) {
+      lua_pop(L, 1);
+      throw ArgError{arg, what + " component " + std::to_string(k) + " must be a number"};
+    }
+    c[k - 1] = float(lua_tonumber(L, -1));
+    lua_pop(L, 1);
+  }
+  return c;
+}
+
+Vec4f opt_color(Options& o, const char* key, const Vec4f& fallback) {
+  lua_State* L = o.state();
+  int t = o.push(key);
+  Vec4f c = fallback;
+  if (t != LUA_TNIL) {
+    try {
+      c = to_color(L, lua_gettop(L), o.arg(), std::string("field '") + key + "'");
+    } catch (...) {
+      lua_pop(L, 1);
+      throw;
+    }
+  }
+  lua_pop(L, 1);
+  return c;
+}
+
+render::Material read_material(lua_State* L, int idx, int arg) {
+  Options o(L, idx);
+  (void)arg;
+  render::Material m;
+  m.ambient = opt_color(o, "ambient", m.ambient);
+  m.diffuse = opt_color(o, "diffuse", m.diffuse);
+  m.specular = opt_color(o, "specular", m.specular);
+  m.emission = opt_color(o, "emission", m.emission);
+  m.shininess = float(o.number("shininess", 0));
+  if (m.shininess < 0 || m.shininess > 128) throw ArgError{arg, "material shininess must be within 0..128"};
+  o.finish();
+  return m;
+}
+
+// A mesh table { vertices=, triangles=, material= }.
+Mesh read_mesh(lua_State* L, int idx, render::Material& material) {
+  idx = lua_absindex(L, idx);
+  Mesh m;
+  lua_getfield(L, idx, "vertices");
+  if (!lua_istable(L, -1)) {
+    lua_pop(L, 1);
+    throw ArgError{1, "mesh table needs 'vertices' = {{x, y, z}, ...}"};
+  }
+  int vt = lua_gettop(L);
+  for (lua_Integer i = 1, n = luaL_len(L, vt); i <= n; ++i) {
+    lua_geti(L, vt, i);
+    Vec3 p = to_vec3(L, lua_gettop(L), 1, "vertex " + std::to_string(i));
+    lua_pop(L, 1);
+    m.add_vertex(p);
+  }
+  lua_pop(L, 1);
+  lua_getfield(L, idx, "triangles");
+  if (!lua_istable(L, -1)) {
+    lua_pop(L, 1);
+    throw ArgError{1, "mesh table needs 'triangles' = {{i, j, k}, ...}"};
+  }
+  int tt = lua_gettop(L);
+  for (lua_Integer i = 1, n = luaL_len(L, tt); i <= n; ++i) {
+    lua_geti(L, tt, i);
+    Vec3 t = to_vec3(L, lua_gettop(L), 1, "triangle " + std::to_string(i));
+    lua_pop(L, 1);
+    std::uint32_t ids[3];
+    for (int k = 0; k < 3; ++k) {
+      double v = t[k];
+      if (v != std::floor(v) || v < 1 || v > double(m.vertex_count()))
+        throw ArgError{1, "triangle " + std::to_string(i) + " refers to vertex " + std::to_string(v) + ", not in 1.." +
+                              std::to_string(m.vertex_count())};
+      ids[k] = std::uint32_t(v) - 1;
+    }
+    m.add_triangle(ids[0], ids[1], ids[2]);
+  }
+  lua_pop(L, 1);
+  lua_getfield(L, idx, "material");
+  if (lua_istable(L, -1)) material = read_material(L, lua_gettop(L), 1);
+  lua_pop(L, 1);
+  return m;
+}
+
+render::Camera read_camera(lua_State* L, int idx, const Box3& bounds) {
+  Options o(L, idx);
+  std::string view = o.string("view", "");
+  render::Camera c = view.empty() ? render::named_view("iso", bounds) : render::named_view(view, bounds);
+  if (view.empty()) {
+    std::string proj = o.string("projection", "perspective");
+    if (proj == "perspective") {
+      c.orthographic = false;
+      c.eye = o.vec3("eye", Vec3(5, 5, 5));
+      c.center = o.vec3("center", Vec3(0, 0, 0));
+      c.up = o.vec3("up", Vec3(0, 0, 1));
+      c.fovy = o.positive("fovy", 45);
+      bool explicit_range = o.has("near") || o.has("far");
+      c.near = o.positive("near", 0.1);
+      c.far = o.positive("far", 100);
+      c.fit = !explicit_range;
+    } else if (proj == "ortho") {
+      c.orthographic = true;
+      c.eye = o.vec3("eye", c.eye);
+      c.center = o.vec3("center", c.center);
+      c.up = o.vec3("up", c.up);
+      c.left = o.number("left", c.left), c.right = o.number("right", c.right);
+      c.bottom = o.number("bottom", c.bottom), c.top = o.number("top", c.top);
+      bool explicit_range = o.has("near") || o.has("far");
+      c.near = o.number("near", c.near), c.far = o.number("far", c.far);
+      c.fit = !explicit_range;
+    } else {
+      throw ArgError{idx, "camera projection must be \"perspective\" or \"ortho\", got '" + proj + "'"};
+    }
+  }
+  o.finish();
+  if (c.fovy >= 180) throw ArgError{idx, "camera fovy must be below 180"};
+  return c;
+}
+
+render::LightSpec read_light(lua_State* L, int idx) {
+  Options o(L, idx);
+  render::LightSpec l;
+  std::string type = o.string("type", "directional");
+  if (type == "directional") l.type = render::LightSpec::Type::Directional;
+  else if (type == "point") l.type = render::LightSpec::Type::Point;
+  else if (type == "spot") l.type = render::LightSpec::Type::Spot;
+  else throw ArgError{idx, "light type must be \"directional\", \"point\" or \"spot\", got '" + type + "'"};
+  l.position = o.vec3("position", l.position);
+  l.direction = o.vec3("direction", l.direction);
+  l.ambient = opt_color(o, "ambient", l.ambient);
+  l.diffuse = opt_color(o, "diffuse", l.diffuse);
+  l.specular = opt_color(o, "specular", l.specular);
+  l.attenuation = o.vec3("attenuation", l.attenuation);
+  l.cutoff = float(o.number("cutoff", 45));
+  l.exponent = float(o.number("exponent", 0));
+  l.eye_space = o.string("space", "world") == "eye";
+  o.finish();
+  return l;
+}
+
+int render_fn(lua_State* L) {
+  return guarded(L, [&] {
+    check_table(L, 1);
+    Options o(L, 1);
+    o.allow_positional();
+    lua_geti(L, 1, 1);
+    if (!lua_istable(L, -1)) throw ArgError{1, "render{} needs a mesh as its first element, got " + type_name(L, -1)};
+    render::DrawItem item;
+    Mesh mesh = read_mesh(L, lua_gettop(L), item.material);
+    lua_pop(L, 1);
+    item.mesh = &mesh;
+    Box3 bounds = mesh.bounds();
+
+    render::RenderOptions ro;
+    std::string out = o.string("out", "");
+    if (out.empty()) throw ArgError{1, "render{} needs out=\"file.png\""};
+    Vec2 size = o.vec2("size", Vec2(800, 600));
+    if (size.x() < 1 || size.y() < 1 || size.x() > 8192 || size.y() > 8192 || size.x() != std::floor(size.x()) ||
+        size.y() != std::floor(size.y()))
+      throw ArgError{1, "size must be two whole numbers within 1..8192"};
+    ro.width = int(size.x()), ro.height = int(size.y());
+    if (o.push("camera") == LUA_TTABLE) {
+      int top = lua_gettop(L);
+      ro.camera = read_camera(L, top, bounds);
+    } else {
+      ro.camera = render::named_view("iso", bounds);
+    }
+    lua_pop(L, 1);
+    if (o.push("lights") == LUA_TTABLE) {
+      int top = lua_gettop(L);
+      for (lua_Integer i = 1, n = luaL_len(L, top); i <= n; ++i) {
+        lua_geti(L, top, i);
+        if (!lua_istable(L, -1)) throw ArgError{1, "lights[" + std::to_string(i) + "] must be a table"};
+        ro.lights.push_back(read_light(L, lua_gettop(L)));
+        lua_pop(L, 1);
+      }
+    }
+    lua_pop(L, 1);
+    ro.ambient = opt_color(o, "ambient", ro.ambient);
+    ro.local_viewer = o.boolean("local_viewer", false);
+    ro.two_side = o.boolean("two_side", false);
+    std::string shading = o.string("shading", "gouraud");
+    if (shading == "flat") ro.shading = render::ShadeModel::Flat;
+    else if (shading == "gouraud" || shading == "smooth") ro.shading = render::ShadeModel::Smooth;
+    else if (shading == "phong") ro.shading = render::ShadeModel::Phong;
+    else throw ArgError{1, "shading must be \"flat\", \"gouraud\" or \"phong\", got '" + shading + "'"};
+    ro.wireframe = o.boolean("wireframe", false);
+    ro.cull = o.string("cull", "back");
+    if (ro.cull != "none" && ro.cull != "back" && ro.cull != "front" && ro.cull != "both")
+      throw ArgError{1, "cull must be \"none\", \"back\", \"front\" or \"both\", got '" + ro.cull + "'"};
+    std::string depth = o.string("depth", "less");
+    const char* names[] = {"never", "less", "equal", "lequal", "greater", "notequal", "gequal", "always"};
+    bool found = false;
+    for (int i = 0; i < 8; ++i)
+      if (depth == names[i]) ro.depth = static_cast<render::DepthFunc>(i), found = true;
+    if (!found) throw ArgError{1, "depth must be one of never, less, equal, lequal, greater, notequal, gequal, always; got '" + depth + "'"};
+    if (o.push("fog") == LUA_TTABLE) {
+      int top = lua_gettop(L);
+      Options f(L, top);
+      ro.fog = true;
+      std::string mode = f.string("mode", "linear");
+      ro.fog_mode = mode == "exp" ? render::FogMode::Exp : mode == "exp2" ? render::FogMode::Exp2 : render::FogMode::Linear;
+      if (mode != "linear" && mode != "exp" && mode != "exp2") throw ArgError{1, "fog mode must be linear, exp or exp2"};
+      ro.fog_start = float(f.number("start", 0));
+      ro.fog_end = float(f.number("stop", 1));
+      ro.fog_density = float(f.number("density", 1));
+      ro.fog_color = opt_color(f, "color", ro.fog_color);
+      f.finish();
+    }
+    lua_pop(L, 1);
+    ro.antialias = o.integer("antialias", 1);
+    if (ro.antialias < 1 || ro.antialias > 4) throw ArgError{1, "antialias must be 1, 2, 3 or 4"};
+    ro.background = opt_color(o, "background", ro.background);
+    o.finish();
+    render::Image im = render::render_scene({item}, ro);
+    render::write_png(out, im);
+    return 0;
+  });
+}
+
+}  // namespace
+
+void register_render(lua_State* L) {
+  static const luaL_Reg functions[] = {{"render", render_fn}, {nullptr, nullptr}};
+  set_functions(L, functions);
+}
+
+}  // namespace wedge::lua

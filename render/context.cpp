@@ -1,0 +1,282 @@
+// render::Context: the state machine side of the OpenGL 1.x pipeline (setters with GL's
+// semantics: light positions and clip planes are transformed by the modelview matrix current at
+// the time of the call; matrix operations multiply on the right as glMultMatrix).
+#include <cmath>
+
+#include "render/context_state.h"
+
+namespace wedge::render {
+
+namespace {
+constexpr std::array<std::size_t, 3> kStackDepth{32, 2, 2};
+
+void check_light(int i) {
+  if (i < 0 || i >= 8) fail("light index ", i, " out of range 0..7");
+}
+}  // namespace
+
+Context::Context(int width, int height) : width_(width), height_(height), s_(std::make_unique<State>()) {
+  if (width <= 0 || height <= 0 || width > 16384 || height > 16384)
+    fail("render context size ", width, "x", height, " must be within 1..16384");
+  color_.assign(std::size_t(width) * height * 4, 0);
+  depth_.assign(std::size_t(width) * height, 1.0f);
+  s_->vp_w = s_->sc_w = width;
+  s_->vp_h = s_->sc_h = height;
+  for (auto& st : s_->stacks) st.push_back(Mat4::Identity());
+  s_->lights[0].diffuse = Vec4f(1, 1, 1, 1);
+  s_->lights[0].specular = Vec4f(1, 1, 1, 1);
+}
+
+Context::~Context() = default;
+
+void Context::clear_color(float r, float g, float b, float a) { s_->clear_color = Vec4f(r, g, b, a); }
+void Context::clear_depth(double d) { s_->clear_depth = std::clamp(d, 0.0, 1.0); }
+
+void Context::clear(bool color, bool depth) {
+  int x0 = 0, y0 = 0, x1 = width_, y1 = height_;
+  if (s_->on(Cap::ScissorTest)) {
+    x0 = std::max(x0, s_->sc_x), y0 = std::max(y0, s_->sc_y);
+    x1 = std::min(x1, s_->sc_x + s_->sc_w), y1 = std::min(y1, s_->sc_y + s_->sc_h);
+  }
+  std::array<std::uint8_t, 4> c;
+  for (int k = 0; k < 4; ++k) c[k] = std::uint8_t(std::lround(std::clamp(s_->clear_color[k], 0.0f, 1.0f) * 255.0f));
+  const auto& m = s_->color_mask;
+  const bool all = m[0] && m[1] && m[2] && m[3];
+  for (int y = y0; y < y1; ++y) {
+    std::uint8_t* row = &color_[(std::size_t(y) * width_) * 4];
+    float* drow = &depth_[std::size_t(y) * width_];
+    for (int x = x0; x < x1; ++x) {
+      if (color) {
+        if (all) std::memcpy(row + x * 4, c.data(), 4);
+        else
+          for (int k = 0; k < 4; ++k)
+            if (m[k]) row[x * 4 + k] = c[k];
+      }
+      if (depth && s_->depth_mask) drow[x] = float(s_->clear_depth);
+    }
+  }
+}
+
+void Context::viewport(int x, int y, int w, int h) {
+  if (w < 0 || h < 0) fail("viewport size ", w, "x", h, " must not be negative");
+  s_->vp_x = x, s_->vp_y = y, s_->vp_w = w, s_->vp_h = h;
+}
+void Context::depth_range(double n, double f) {
+  s_->depth_near = std::clamp(n, 0.0, 1.0);
+  s_->depth_far = std::clamp(f, 0.0, 1.0);
+}
+void Context::scissor(int x, int y, int w, int h) {
+  if (w < 0 || h < 0) fail("scissor size ", w, "x", h, " must not be negative");
+  s_->sc_x = x, s_->sc_y = y, s_->sc_w = w, s_->sc_h = h;
+}
+void Context::color_mask(bool r, bool g, bool b, bool a) { s_->color_mask = {r, g, b, a}; }
+
+std::array<std::uint8_t, 4> Context::read_pixel(int x, int y) const {
+  if (x < 0 || y < 0 || x >= width_ || y >= height_) fail("read_pixel(", x, ", ", y, ") outside the framebuffer");
+  const std::uint8_t* p = &color_[(std::size_t(y) * width_ + x) * 4];
+  return {p[0], p[1], p[2], p[3]};
+}
+float Context::read_depth(int x, int y) const {
+  if (x < 0 || y < 0 || x >= width_ || y >= height_) fail("read_depth(", x, ", ", y, ") outside the framebuffer");
+  return depth_[std::size_t(y) * width_ + x];
+}
+
+Image Context::image() const {
+  Image im;
+  im.width = width_, im.height = height_;
+  im.rgba.resize(color_.size());
+  const std::size_t row = std::size_t(width_) * 4;
+  for (int y = 0; y < height_; ++y)
+    std::memcpy(&im.rgba[(height_ - 1 - y) * row], &color_[y * row], row);
+  return im;
+}
+
+void Context::write_png(const std::string& path) const { render::write_png(path, image()); }
+void Context::write_depth_pfm(const std::string& path) const { write_pfm(path, width_, height_, depth_); }
+
+void Context::enable(Cap cap) { s_->enabled.set(static_cast<int>(cap)); }
+void Context::disable(Cap cap) { s_->enabled.reset(static_cast<int>(cap)); }
+bool Context::is_enabled(Cap cap) const { return s_->on(cap); }
+void Context::depth_func(DepthFunc f) { s_->depth_func = f; }
+void Context::depth_mask(bool write) { s_->depth_mask = write; }
+void Context::cull_face(Face f) { s_->cull_face = f; }
+void Context::front_face(FrontFace f) { s_->front_face = f; }
+void Context::shade_model(ShadeModel m) { s_->shade = m; }
+void Context::polygon_mode(Face face, PolygonMode mode) {
+  if (face != Face::Back) s_->poly_front = mode;
+  if (face != Face::Front) s_->poly_back = mode;
+}
+void Context::point_size(float v) {
+  if (!(v > 0)) fail("point size must be positive, got ", v);
+  s_->point_size = v;
+}
+void Context::line_width(float w) {
+  if (!(w > 0)) fail("line width must be positive, got ", w);
+  s_->line_width = w;
+}
+void Context::blend_func(BlendFactor src, BlendFactor dst) { s_->blend_src = src, s_->blend_dst = dst; }
+void Context::clip_plane(int i, const Vec4& plane) {
+  if (i < 0 || i >= 6) fail("clip plane index ", i, " out of range 0..5");
+  // A plane p (row vector) in object space is p * M^-1 in eye space.
+  s_->clip_planes[i] = (plane.transpose() * inverse(s_->top(MatrixMode::ModelView))).transpose();
+}
+
+// --- matrices ---
+void Context::matrix_mode(MatrixMode m) { s_->mode = m; }
+static Mat4& current(Context::State& s) { return s.stacks[static_cast<int>(s.mode)].back(); }
+void Context::load_identity() { current(*s_) = Mat4::Identity(); }
+void Context::load_matrix(const Mat4& m) { current(*s_) = m; }
+void Context::mult_matrix(const Mat4& m) { current(*s_) = current(*s_) * m; }
+void Context::push_matrix() {
+  auto& st = s_->stacks[static_cast<int>(s_->mode)];
+  if (st.size() >= kStackDepth[static_cast<int>(s_->mode)])
+    fail("push_matrix: stack overflow (depth ", kStackDepth[static_cast<int>(s_->mode)], ")");
+  st.push_back(st.back());
+}
+void Context::pop_matrix() {
+  auto& st = s_->stacks[static_cast<int>(s_->mode)];
+  if (st.size() <= 1) fail("pop_matrix: stack underflow");
+  st.pop_back();
+}
+void Context::translate(double x, double y, double z) { mult_matrix(wedge::translate(Vec3(x, y, z))); }
+void Context::rotate(double deg, double x, double y, double z) { mult_matrix(wedge::rotate(deg, Vec3(x, y, z))); }
+void Context::scale(double x, double y, double z) { mult_matrix(wedge::scale(Vec3(x, y, z))); }
+void Context::frustum(double l, double r, double b, double t, double n, double f) { mult_matrix(wedge::frustum(l, r, b, t, n, f)); }
+void Context::ortho(double l, double r, double b, double t, double n, double f) { mult_matrix(wedge::ortho(l, r, b, t, n, f)); }
+void Context::perspective(double fovy, double aspect, double n, double f) { mult_matrix(wedge::perspective(fovy, aspect, n, f)); }
+void Context::look_at(const Point3& eye, const Point3& center, const Vec3& up) { mult_matrix(wedge::look_at(eye, center, up)); }
+const Mat4& Context::matrix(MatrixMode m) const { return s_->top(m); }
+
+// --- lighting ---
+void Context::light_position(int i, const Vec4f& p) {
+  check_light(i);
+  s_->lights[i].position = (s_->top(MatrixMode::ModelView) * p.cast<double>()).cast<float>();
+}
+void Context::light_spot_direction(int i, const Vec3& d) {
+  check_light(i);
+  s_->lights[i].spot_direction = s_->top(MatrixMode::ModelView).topLeftCorner<3, 3>() * d;
+}
+void Context::light_ambient(int i, const Vec4f& c) { check_light(i), s_->lights[i].ambient = c; }
+void Context::light_diffuse(int i, const Vec4f& c) { check_light(i), s_->lights[i].diffuse = c; }
+void Context::light_specular(int i, const Vec4f& c) { check_light(i), s_->lights[i].specular = c; }
+void Context::light_spot(int i, float exponent, float cutoff) {
+  check_light(i);
+  if (exponent < 0 || exponent > 128) fail("spot exponent ", exponent, " must be within 0..128");
+  if (!((cutoff >= 0 && cutoff <= 90) || cutoff == 180)) fail("spot cutoff ", cutoff, " must be within 0..90 or 180");
+  s_->lights[i].spot_exponent = exponent, s_->lights[i].spot_cutoff = cutoff;
+}
+void Context::light_attenuation(int i, float c, float l, float q) {
+  check_light(i);
+  if (c < 0 || l < 0 || q < 0) fail("light attenuation factors must not be negative");
+  s_->lights[i].constant_attenuation = c, s_->lights[i].linear_attenuation = l, s_->lights[i].quadratic_attenuation = q;
+}
+const Light& Context::light(int i) const {
+  check_light(i);
+  return s_->lights[i];
+}
+void Context::light_model_ambient(const Vec4f& c) { s_->model_ambient = c; }
+void Context::light_model_local_viewer(bool on) { s_->local_viewer = on; }
+void Context::light_model_two_side(bool on) { s_->two_side = on; }
+
+template <class F>
+static void each_face(Context::State& s, Face f, F&& fn) {
+  if (f != Face::Back) fn(s.material[0]);
+  if (f != Face::Front) fn(s.material[1]);
+}
+void Context::material_ambient(Face f, const Vec4f& c) { each_face(*s_, f, [&](Material& m) { m.ambient = c; }); }
+void Context::material_diffuse(Face f, const Vec4f& c) { each_face(*s_, f, [&](Material& m) { m.diffuse = c; }); }
+void Context::material_specular(Face f, const Vec4f& c) { each_face(*s_, f, [&](Material& m) { m.specular = c; }); }
+void Context::material_emission(Face f, const Vec4f& c) { each_face(*s_, f, [&](Material& m) { m.emission = c; }); }
+void Context::material_shininess(Face f, float v) {
+  if (v < 0 || v > 128) fail("shininess ", v, " must be within 0..128");
+  each_face(*s_, f, [&](Material& m) { m.shininess = v; });
+}
+void Context::material(Face f, const Material& mat) {
+  if (mat.shininess < 0 || mat.shininess > 128) fail("shininess ", mat.shininess, " must be within 0..128");
+  each_face(*s_, f, [&](Material& m) { m = mat; });
+}
+void Context::color_material(Face f, ColorMaterialMode mode) { s_->cm_face = f, s_->cm_mode = mode; }
+
+// --- texturing and fog ---
+void Context::bind_texture(std::shared_ptr<const Texture> t) { s_->texture = std::move(t); }
+void Context::tex_env_mode(TexEnvMode m) { s_->env_mode = m; }
+void Context::tex_env_color(const Vec4f& c) { s_->env_color = c; }
+void Context::tex_gen(int coord, TexGenMode mode, const Vec4& plane) {
+  if (coord < 0 || coord > 1) fail("tex_gen coordinate ", coord, " must be 0 (s) or 1 (t)");
+  s_->gen_mode[coord] = mode;
+  if (mode == TexGenMode::ObjectLinear) s_->obj_plane[coord] = plane;
+  if (mode == TexGenMode::EyeLinear)
+    s_->eye_plane[coord] = (plane.transpose() * inverse(s_->top(MatrixMode::ModelView))).transpose();
+}
+void Context::fog_mode(FogMode m) { s_->fog_mode = m; }
+void Context::fog_color(const Vec4f& c) { s_->fog_color = c; }
+void Context::fog_start(float v) { s_->fog_start = v; }
+void Context::fog_end(float v) { s_->fog_end = v; }
+void Context::fog_density(float d) {
+  if (d < 0) fail("fog density must not be negative, got ", d);
+  s_->fog_density = d;
+}
+
+// --- immediate mode ---
+void Context::begin(Primitive p) {
+  if (s_->in_begin) fail("begin called inside begin/end");
+  s_->in_begin = true;
+  s_->prim = p;
+  s_->verts.clear();
+}
+void Context::end() {
+  if (!s_->in_begin) fail("end called without begin");
+  s_->in_begin = false;
+  run_primitive(*s_, width_, height_, color_.data(), depth_.data(), s_->prim, s_->verts);
+  s_->verts.clear();
+}
+void Context::vertex(double x, double y, double z, double w) {
+  if (!s_->in_begin) fail("vertex called outside begin/end");
+  s_->verts.push_back({Vec4(x, y, z, w), s_->cur_normal, s_->cur_color, s_->cur_tex});
+}
+void Context::normal(double x, double y, double z) { s_->cur_normal = Vec3(x, y, z); }
+void Context::color(float r, float g, float b, float a) { s_->cur_color = Vec4f(r, g, b, a); }
+void Context::tex_coord(double s, double t, double r, double q) { s_->cur_tex = Vec4(s, t, r, q); }
+
+// --- vertex arrays ---
+static InVertex fetch(const Context::State& s, const VertexArrays& a, std::size_t i) {
+  InVertex v{Vec4(0, 0, 0, 1), s.cur_normal, s.cur_color, s.cur_tex};
+  for (int k = 0; k < a.position_size; ++k) v.position[k] = a.positions[i * a.position_size + k];
+  if (a.normals) v.normal = Vec3(a.normals[i * 3], a.normals[i * 3 + 1], a.normals[i * 3 + 2]);
+  if (a.colors) {
+    v.color = Vec4f(0, 0, 0, 1);
+    for (int k = 0; k < a.color_size; ++k) v.color[k] = a.colors[i * a.color_size + k];
+  }
+  if (a.texcoords) {
+    v.tex = Vec4(0, 0, 0, 1);
+    for (int k = 0; k < a.texcoord_size; ++k) v.tex[k] = a.texcoords[i * a.texcoord_size + k];
+  }
+  return v;
+}
+
+static void check_arrays(const VertexArrays& a) {
+  if (!a.positions) fail("draw: the position array is required");
+  if (a.position_size < 2 || a.position_size > 4) fail("draw: position size ", a.position_size, " must be 2, 3 or 4");
+  if (a.colors && (a.color_size < 3 || a.color_size > 4)) fail("draw: colour size ", a.color_size, " must be 3 or 4");
+  if (a.texcoords && (a.texcoord_size < 1 || a.texcoord_size > 4)) fail("draw: texcoord size must be 1..4");
+}
+
+void Context::draw_arrays(Primitive p, const VertexArrays& a, int first, int count) {
+  check_arrays(a);
+  if (first < 0 || count < 0) fail("draw_arrays: negative first or count");
+  std::vector<InVertex> v;
+  v.reserve(count);
+  for (int i = 0; i < count; ++i) v.push_back(fetch(*s_, a, std::size_t(first + i)));
+  run_primitive(*s_, width_, height_, color_.data(), depth_.data(), p, v);
+}
+
+void Context::draw_elements(Primitive p, const VertexArrays& a, const std::uint32_t* indices, int count) {
+  check_arrays(a);
+  if (count < 0) fail("draw_elements: negative count");
+  std::vector<InVertex> v;
+  v.reserve(count);
+  for (int i = 0; i < count; ++i) v.push_back(fetch(*s_, a, indices[i]));
+  run_primitive(*s_, width_, height_, color_.data(), depth_.data(), p, v);
+}
+
+}  // namespace wedge::render

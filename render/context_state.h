@@ -1,0 +1,71 @@
+// The state of a render::Context: OpenGL 1.x's state vector, with GL's initial values.
+// Private to render/ (not installed).
+#pragma once
+#include <bitset>
+
+#include "render/render.h"
+
+namespace wedge::render {
+
+struct InVertex {
+  Vec4 position;       // object coordinates
+  Vec3 normal;
+  Vec4f color;
+  Vec4 tex;
+};
+
+struct Context::State {
+  int vp_x = 0, vp_y = 0, vp_w = 0, vp_h = 0;
+  double depth_near = 0, depth_far = 1;
+  int sc_x = 0, sc_y = 0, sc_w = 0, sc_h = 0;
+  Vec4f clear_color{0, 0, 0, 0};
+  double clear_depth = 1;
+  std::array<bool, 4> color_mask{true, true, true, true};
+  std::bitset<32> enabled;
+  DepthFunc depth_func = DepthFunc::Less;
+  bool depth_mask = true;
+  Face cull_face = Face::Back;
+  FrontFace front_face = FrontFace::CCW;
+  ShadeModel shade = ShadeModel::Smooth;
+  PolygonMode poly_front = PolygonMode::Fill, poly_back = PolygonMode::Fill;
+  float point_size = 1, line_width = 1;
+  BlendFactor blend_src = BlendFactor::One, blend_dst = BlendFactor::Zero;
+  std::array<Vec4, 6> clip_planes{};
+
+  MatrixMode mode = MatrixMode::ModelView;
+  std::array<std::vector<Mat4>, 3> stacks;
+
+  std::array<Light, 8> lights;
+  Vec4f model_ambient{0.2f, 0.2f, 0.2f, 1};
+  bool local_viewer = false, two_side = false;
+  std::array<Material, 2> material;  // front, back
+  ColorMaterialMode cm_mode = ColorMaterialMode::AmbientAndDiffuse;
+  Face cm_face = Face::FrontAndBack;
+
+  std::shared_ptr<const Texture> texture;
+  TexEnvMode env_mode = TexEnvMode::Modulate;
+  Vec4f env_color{0, 0, 0, 0};
+  std::array<TexGenMode, 2> gen_mode{TexGenMode::EyeLinear, TexGenMode::EyeLinear};
+  std::array<Vec4, 2> obj_plane{Vec4(1, 0, 0, 0), Vec4(0, 1, 0, 0)};
+  std::array<Vec4, 2> eye_plane{Vec4(1, 0, 0, 0), Vec4(0, 1, 0, 0)};
+
+  FogMode fog_mode = FogMode::Exp;
+  Vec4f fog_color{0, 0, 0, 0};
+  float fog_start = 0, fog_end = 1, fog_density = 1;
+
+  bool in_begin = false;
+  Primitive prim = Primitive::Points;
+  std::vector<InVertex> verts;
+  Vec4f cur_color{1, 1, 1, 1};
+  Vec3 cur_normal{0, 0, 1};
+  Vec4 cur_tex{0, 0, 0, 1};
+
+  bool on(Cap c) const { return enabled[static_cast<int>(c)]; }
+  const Mat4& top(MatrixMode m) const { return stacks[static_cast<int>(m)].back(); }
+};
+
+// Runs a batch of vertices as one primitive through the pipeline (pipeline.cpp).
+void run_primitive(Context::State& s, int width, int height, std::uint8_t* color, float* depth, Primitive p,
+                   const std::vector<InVertex>& verts);
+
+}  // namespace wedge::render

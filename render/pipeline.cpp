@@ -1,0 +1,622 @@
+// The OpenGL 1.x fixed-function pipeline, stage by stage, following the OpenGL 1.5 specification
+// (Segal & Akeley), chapters 2-4:
+//   vertex stage   object -> eye (modelview), normal by the inverse transpose, lighting (2.14.1:
+//                  emission + global ambient + per light attenuation * spot * (ambient + diffuse
+//                  + specular), clamped per vertex), texgen and the texture matrix, eye -> clip;
+//   assembly       primitives by type, with GL's provoking vertex for flat shading (table 2.12);
+//   clipping       in homogeneous clip space before the divide: Sutherland-Hodgman against
+//                  -w <= x, y, z <= w and the user planes (in eye space), with edge flags so
+//                  that polygon-mode lines skip the edges clipping made;
+//   facing/culling by the signed window-space area (2.14.1 / 3.5.1);
+//   rasterisation  triangles by edge functions in 24.8 fixed point with a top-left tie rule and
+//                  perspective-correct attributes (3.5, a/w and 1/w interpolated linearly);
+//                  lines by a diamond-exit DDA, points as squares;
+//   fragments      texturing with the env mode, fog (3.10), depth test, blending, colour mask.
+// Per-pixel Phong (beyond GL 1.x) evaluates the same lighting equation per fragment on the
+// interpolated eye-space normal and position.
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+#include "render/context_state.h"
+
+namespace wedge::render {
+
+namespace {
+
+// Attribute layout of a pipeline vertex.
+enum : int { kFront = 0, kBack = 4, kTex = 8, kFog = 12, kEye = 13, kNormal = 17, kAttrs = 20 };
+
+struct PVert {
+  Vec4 clip;
+  float a[kAttrs];
+  bool edge = true;  // the edge from this vertex to the next one is an original polygon edge
+};
+
+struct WinVert {
+  double x, y, z, inv_w;
+  const float* a;
+};
+
+Vec4f clamp01(const Vec4f& c) { return c.cwiseMax(0.0f).cwiseMin(1.0f); }
+
+// The lighting equation of GL 1.x section 2.14.1 for one side. P is the eye-space position,
+// n the unit (or as given) eye-space normal; `vertex_color` feeds colour material.
+Vec4f light_vertex(const Context::State& s, const Vec4& P4, const Vec3& n, const Vec4f& vertex_color, int side) {
+  Material m = s.material[side];
+  if (s.on(Cap::ColorMaterial) &&
+      (s.cm_face == Face::FrontAndBack || (s.cm_face == Face::Front) == (side == 0))) {
+    switch (s.cm_mode) {
+      case ColorMaterialMode::Ambient: m.ambient = vertex_color; break;
+      case ColorMaterialMode::Diffuse: m.diffuse = vertex_color; break;
+      case ColorMaterialMode::Specular: m.specular = vertex_color; break;
+      case ColorMaterialMode::Emission: m.emission = vertex_color; break;
+      case ColorMaterialMode::AmbientAndDiffuse: m.ambient = m.diffuse = vertex_color; break;
+    }
+  }
+  const Vec3 P = P4.head<3>() / P4.w();
+  Eigen::Vector3d c = m.emission.head<3>().cast<double>() +
+                      m.ambient.head<3>().cast<double>().cwiseProduct(s.model_ambient.head<3>().cast<double>());
+  for (int i = 0; i < 8; ++i) {
+    if (!s.on(light_cap(i))) continue;
+    const Light& L = s.lights[i];
+    Vec3 VP;
+    double att = 1;
+    if (L.position.w() != 0) {
+      Vec3 lp = L.position.head<3>().cast<double>() / L.position.w();
+      VP = lp - P;
+      double d = VP.norm();
+      VP /= d;
+      att = 1.0 / (L.constant_attenuation + L.linear_attenuation * d + L.quadratic_attenuation * d * d);
+    } else {
+      VP = L.position.head<3>().cast<double>().normalized();
+    }
+    double spot = 1;
+    if (L.spot_cutoff != 180) {
+      double cosang = (-VP).dot(L.spot_direction.normalized());
+      if (cosang < std::cos(radians(L.spot_cutoff))) spot = 0;
+      else spot = std::pow(std::max(cosang, 0.0), double(L.spot_exponent));
+    }
+    if (att * spot == 0) continue;
+    Vec3 term = m.ambient.head<3>().cast<double>().cwiseProduct(L.ambient.head<3>().cast<double>());
+    double ndl = n.dot(VP);
+    if (ndl > 0) {
+      term += ndl * m.diffuse.head<3>().cast<double>().cwiseProduct(L.diffuse.head<3>().cast<double>());
+      Vec3 h = VP + (s.local_viewer ? Vec3(-P.normalized()) : Vec3(0, 0, 1));
+      double hn = h.norm();
+      if (hn > 0) {
+        double ndh = n.dot(h / hn);
+        if (ndh > 0) {
+          double f = m.shininess == 0 ? 1.0 : std::pow(ndh, double(m.shininess));
+          term += f * m.specular.head<3>().cast<double>().cwiseProduct(L.specular.head<3>().cast<double>());
+        }
+      }
+    }
+    c += att * spot * term;
+  }
+  Vec4f out(float(c.x()), float(c.y()), float(c.z()), m.diffuse.w());
+  return clamp01(out);
+}
+
+bool two_sided_lighting(const Context::State& s) { return s.on(Cap::Lighting) && s.two_side; }
+
+// Vertex stage: object coordinates to clip coordinates with all per-vertex attributes.
+PVert process_vertex(const Context::State& s, const InVertex& v, const Mat4& mv, const Mat3& nmat, const Mat4& proj) {
+  PVert out;
+  Vec4 eye = mv * v.position;
+  out.clip = proj * eye;
+  Vec3 n = nmat * v.normal;
+  if (s.on(Cap::Normalize) || s.shade == ShadeModel::Phong) {
+    double len = n.norm();
+    if (len > 0) n /= len;
+  }
+  const bool phong = s.shade == ShadeModel::Phong && s.on(Cap::Lighting);
+  if (s.on(Cap::Lighting) && !phong) {
+    Vec4f f = light_vertex(s, eye, n, v.color, 0);
+    Vec4f b = s.two_side ? light_vertex(s, eye, -n, v.color, 1) : f;
+    for (int k = 0; k < 4; ++k) out.a[kFront + k] = f[k], out.a[kBack + k] = b[k];
+  } else {
+    Vec4f c = clamp01(v.color);
+    for (int k = 0; k < 4; ++k) out.a[kFront + k] = out.a[kBack + k] = c[k];
+  }
+  Vec4 tex = v.tex;
+  for (int k = 0; k < 2; ++k) {
+    if (!s.on(k == 0 ? Cap::TextureGenS : Cap::TextureGenT)) continue;
+    switch (s.gen_mode[k]) {
+      case TexGenMode::ObjectLinear: tex[k] = s.obj_plane[k].dot(v.position); break;
+      case TexGenMode::EyeLinear: tex[k] = s.eye_plane[k].dot(eye); break;
+      case TexGenMode::SphereMap: {
+        Vec3 u = (eye.head<3>() / eye.w()).normalized();
+        Vec3 nn = n.normalized();
+        Vec3 r = u - 2 * nn.dot(u) * nn;
+        double m = 2 * std::sqrt(r.x() * r.x() + r.y() * r.y() + (r.z() + 1) * (r.z() + 1));
+        tex[k] = (k == 0 ? r.x() : r.y()) / m + 0.5;
+        break;
+      }
+    }
+  }
+  if (s.on(Cap::Texture2D)) tex = s.top(MatrixMode::Texture) * tex;
+  for (int k = 0; k < 4; ++k) out.a[kTex + k] = float(tex[k]);
+  out.a[kFog] = float(std::abs(eye.z()));
+  for (int k = 0; k < 4; ++k) out.a[kEye + k] = float(eye[k]);
+  for (int k = 0; k < 3; ++k) out.a[kNormal + k] = float(n[k]);
+  return out;
+}
+
+PVert lerp(const PVert& a, const PVert& b, double t) {
+  PVert r;
+  r.clip = a.clip + t * (b.clip - a.clip);
+  for (int k = 0; k < kAttrs; ++k) r.a[k] = float(a.a[k] + t * (b.a[k] - a.a[k]));
+  return r;
+}
+
+struct Raster {
+  Context::State& s;
+  int width, height;
+  std::uint8_t* color;
+  float* depth;
+  // Clip planes: 6 frustum planes then the enabled user planes (as eye-space planes).
+  std::vector<Vec4> user_planes;
+  int x0, y0, x1, y1;  // pixel bounds (framebuffer ∩ scissor), half open
+  bool phong, lighting, texturing, fog, blend, depth_test;
+
+  Raster(Context::State& st, int w, int h, std::uint8_t* c, float* d) : s(st), width(w), height(h), color(c), depth(d) {
+    for (int i = 0; i < 6; ++i)
+      if (s.on(clip_plane_cap(i))) user_planes.push_back(s.clip_planes[i]);
+    x0 = 0, y0 = 0, x1 = w, y1 = h;
+    if (s.on(Cap::ScissorTest)) {
+      x0 = std::max(x0, s.sc_x), y0 = std::max(y0, s.sc_y);
+      x1 = std::min(x1, s.sc_x + s.sc_w), y1 = std::min(y1, s.sc_y + s.sc_h);
+    }
+    lighting = s.on(Cap::Lighting);
+    phong = lighting && s.shade == ShadeModel::Phong;
+    texturing = s.on(Cap::Texture2D) && s.texture && !s.texture->levels.empty();
+    fog = s.on(Cap::Fog);
+    blend = s.on(Cap::Blend);
+    depth_test = s.on(Cap::DepthTest);
+  }
+
+  // Signed distance of a vertex to clip plane i (>= 0 inside).
+  double plane_dist(const PVert& v, int i) const {
+    const Vec4& c = v.clip;
+    switch (i) {
+      case 0: return c.w() + c.x();
+      case 1: return c.w() - c.x();
+      case 2: return c.w() + c.y();
+      case 3: return c.w() - c.y();
+      case 4: return c.w() + c.z();
+      case 5: return c.w() - c.z();
+      default: {
+        const Vec4& p = user_planes[i - 6];
+        return p[0] * v.a[kEye] + p[1] * v.a[kEye + 1] + p[2] * v.a[kEye + 2] + p[3] * v.a[kEye + 3];
+      }
+    }
+  }
+  int plane_count() const { return 6 + int(user_planes.size()); }
+
+  // Sutherland-Hodgman in homogeneous coordinates, one plane at a time.
+  void clip_polygon(std::vector<PVert>& poly) const {
+    std::vector<PVert> out;
+    for (int p = 0; p < plane_count() && !poly.empty(); ++p) {
+      bool all_in = true;
+      for (auto& v : poly)
+        if (plane_dist(v, p) < 0) all_in = false;
+      if (all_in) continue;
+      out.clear();
+      const std::size_t n = poly.size();
+      for (std::size_t i = 0; i < n; ++i) {
+        const PVert& a = poly[i];
+        const PVert& b = poly[(i + 1) % n];
+        double da = plane_dist(a, p), db = plane_dist(b, p);
+        if (da >= 0) out.push_back(a);
+        if ((da >= 0) != (db >= 0)) {
+          // Always interpolate from the inside vertex, so a shared edge clips identically.
+          PVert v = da >= 0 ? lerp(a, b, da / (da - db)) : lerp(b, a, db / (db - da));
+          // Leaving: the next edge runs along the plane (made by clipping). Entering: the rest
+          // of the original edge a-b.
+          v.edge = da >= 0 ? false : a.edge;
+          out.push_back(v);
+        }
+      }
+      poly.swap(out);
+    }
+  }
+
+  WinVert to_window(const PVert& v) const {
+    double iw = 1.0 / v.clip.w();
+    double nx = v.clip.x() * iw, ny = v.clip.y() * iw, nz = v.clip.z() * iw;
+    WinVert w;
+    w.x = s.vp_x + (nx + 1) * 0.5 * s.vp_w;
+    w.y = s.vp_y + (ny + 1) * 0.5 * s.vp_h;
+    w.z = s.depth_near + (nz + 1) * 0.5 * (s.depth_far - s.depth_near);
+    w.inv_w = iw;
+    w.a = v.a;
+    return w;
+  }
+
+  static bool depth_pass(DepthFunc f, float z, float d) {
+    switch (f) {
+      case DepthFunc::Never: return false;
+      case DepthFunc::Less: return z < d;
+      case DepthFunc::Equal: return z == d;
+      case DepthFunc::LessEqual: return z <= d;
+      case DepthFunc::Greater: return z > d;
+      case DepthFunc::NotEqual: return z != d;
+      case DepthFunc::GreaterEqual: return z >= d;
+      case DepthFunc::Always: return true;
+    }
+    return false;
+  }
+
+  static float factor(BlendFactor f, float src, float dst, float sa, float da) {
+    switch (f) {
+      case BlendFactor::Zero: return 0;
+      case BlendFactor::One: return 1;
+      case BlendFactor::SrcAlpha: return sa;
+      case BlendFactor::OneMinusSrcAlpha: return 1 - sa;
+      case BlendFactor::DstAlpha: return da;
+      case BlendFactor::OneMinusDstAlpha: return 1 - da;
+      case BlendFactor::SrcColor: return src;
+      case BlendFactor::OneMinusSrcColor: return 1 - src;
+      case BlendFactor::DstColor: return dst;
+      case BlendFactor::OneMinusDstColor: return 1 - dst;
+    }
+    return 0;
+  }
+
+  // Depth test for a fragment; returns false if it fails. Writes depth when it passes.
+  bool depth_stage(int x, int y, float z) {
+    if (!depth_test) return true;
+    float& d = depth[std::size_t(y) * width + x];
+    // Depth buffers hold fixed-point values in GL; quantise to 24 bits as Mesa's default.
+    float zq = float(std::nearbyint(double(std::clamp(z, 0.0f, 1.0f)) * 16777215.0) / 16777215.0);
+    if (!depth_pass(s.depth_func, zq, d)) return false;
+    if (s.depth_mask) d = zq;
+    return true;
+  }
+
+  // Texture environment, fog, blending, colour write (depth already tested).
+  void shade_fragment(int x, int y, Vec4f c, const float* tex, float lambda, float fogz) {
+    if (texturing && tex) {
+      float q = tex[3] != 0 ? tex[3] : 1.0f;
+      Vec4f t = s.texture->sample(tex[0] / q, tex[1] / q, lambda);
+      const TexFormat fmt = s.texture->format;
+      switch (s.env_mode) {
+        case TexEnvMode::Modulate:
+          c.head<3>() = c.head<3>().cwiseProduct(t.head<3>());
+          if (fmt == TexFormat::RGBA) c.w() *= t.w();
+          break;
+        case TexEnvMode::Replace:
+          c.head<3>() = t.head<3>();
+          if (fmt == TexFormat::RGBA) c.w() = t.w();
+          break;
+        case TexEnvMode::Decal:
+          if (fmt == TexFormat::RGBA) c.head<3>() = c.head<3>() * (1 - t.w()) + t.head<3>() * t.w();
+          else if (fmt == TexFormat::RGB) c.head<3>() = t.head<3>();
+          break;
+        case TexEnvMode::Blend:
+          for (int k = 0; k < 3; ++k) c[k] = c[k] * (1 - t[k]) + s.env_color[k] * t[k];
+          if (fmt == TexFormat::RGBA) c.w() *= t.w();
+          break;
+      }
+    }
+    if (fog) {
+      float f = 1;
+      switch (s.fog_mode) {
+        case FogMode::Linear: f = s.fog_end == s.fog_start ? 1.0f : (s.fog_end - fogz) / (s.fog_end - s.fog_start); break;
+        case FogMode::Exp: f = std::exp(-s.fog_density * fogz); break;
+        case FogMode::Exp2: f = std::exp(-(s.fog_density * fogz) * (s.fog_density * fogz)); break;
+      }
+      f = std::clamp(f, 0.0f, 1.0f);
+      c.head<3>() = f * c.head<3>() + (1 - f) * s.fog_color.head<3>();
+    }
+    c = clamp01(c);
+    std::uint8_t* p = &color[(std::size_t(y) * width + x) * 4];
+    if (blend) {
+      Vec4f d(p[0] / 255.0f, p[1] / 255.0f, p[2] / 255.0f, p[3] / 255.0f);
+      Vec4f r;
+      for (int k = 0; k < 4; ++k)
+        r[k] = c[k] * factor(s.blend_src, c[k], d[k], c.w(), d.w()) + d[k] * factor(s.blend_dst, c[k], d[k], c.w(), d.w());
+      c = clamp01(r);
+    }
+    for (int k = 0; k < 4; ++k)
+      if (s.color_mask[k]) p[k] = std::uint8_t(std::lround(c[k] * 255.0f));
+  }
+
+  Vec4f phong_color(const float* a, int side) const {
+    Vec4 eye(a[kEye], a[kEye + 1], a[kEye + 2], a[kEye + 3]);
+    Vec3 n(a[kNormal], a[kNormal + 1], a[kNormal + 2]);
+    double len = n.norm();
+    if (len > 0) n /= len;
+    Vec4f vc(a[kFront], a[kFront + 1], a[kFront + 2], a[kFront + 3]);
+    return light_vertex(s, eye, side ? Vec3(-n) : n, vc, side);
+  }
+
+  // --- triangles ---
+  void triangle(const WinVert& v0, const WinVert& v1in, const WinVert& v2in, int side, const float* flat) {
+    constexpr double kSub = 256.0;
+    const WinVert* v[3] = {&v0, &v1in, &v2in};
+    std::int64_t X[3], Y[3];
+    for (int i = 0; i < 3; ++i) X[i] = std::llround(v[i]->x * kSub), Y[i] = std::llround(v[i]->y * kSub);
+    std::int64_t area = (X[1] - X[0]) * (Y[2] - Y[0]) - (X[2] - X[0]) * (Y[1] - Y[0]);
+    if (area == 0) return;
+    if (area < 0) {
+      std::swap(v[1], v[2]), std::swap(X[1], X[2]), std::swap(Y[1], Y[2]);
+      area = -area;
+    }
+    int bx0 = std::max<std::int64_t>(x0, std::min({X[0], X[1], X[2]}) >> 8);
+    int bx1 = std::min<std::int64_t>(x1 - 1, (std::max({X[0], X[1], X[2]}) >> 8) + 1);
+    int by0 = std::max<std::int64_t>(y0, std::min({Y[0], Y[1], Y[2]}) >> 8);
+    int by1 = std::min<std::int64_t>(y1 - 1, (std::max({Y[0], Y[1], Y[2]}) >> 8) + 1);
+    if (bx0 > bx1 || by0 > by1) return;
+
+    // Edge i is opposite vertex i: from v[(i+1)%3] to v[(i+2)%3]. E_i > 0 inside (CCW).
+    std::int64_t A[3], B[3], bias[3];
+    for (int i = 0; i < 3; ++i) {
+      int a = (i + 1) % 3, b = (i + 2) % 3;
+      std::int64_t dx = X[b] - X[a], dy = Y[b] - Y[a];
+      A[i] = -dy;  // dE/dPx
+      B[i] = dx;   // dE/dPy
+      // Tie rule: a pixel centre on an edge belongs to the triangle if the edge is a "left"
+      // edge (going down in y-up window space) or a "top" edge (horizontal, going left).
+      bool top_left = dy < 0 || (dy == 0 && dx < 0);
+      bias[i] = top_left ? 0 : -1;
+    }
+    auto edge_at = [&](int i, std::int64_t px, std::int64_t py) {
+      int a = (i + 1) % 3;
+      return A[i] * (px - X[a]) + B[i] * (py - Y[a]);
+    };
+    const double inv_area = 1.0 / double(area);
+    // Per-vertex values pre-divided by w for perspective correction.
+    const bool need_tex = texturing;
+    const bool smooth = flat == nullptr;
+    const int col = side ? kBack : kFront;
+    float zv[3], iw[3];
+    for (int i = 0; i < 3; ++i) zv[i] = float(v[i]->z), iw[i] = float(v[i]->inv_w);
+    const double dl_dx[3] = {A[0] * kSub * inv_area, A[1] * kSub * inv_area, A[2] * kSub * inv_area};
+    const double dl_dy[3] = {B[0] * kSub * inv_area, B[1] * kSub * inv_area, B[2] * kSub * inv_area};
+    const float tex_w = need_tex ? float(s.texture->levels[0].width) : 0;
+    const float tex_h = need_tex ? float(s.texture->levels[0].height) : 0;
+
+    float attrs[kAttrs];
+    for (int py = by0; py <= by1; ++py) {
+      std::int64_t Py = std::int64_t(py) * 256 + 128, Px = std::int64_t(bx0) * 256 + 128;
+      std::int64_t E[3];
+      for (int i = 0; i < 3; ++i) E[i] = edge_at(i, Px, Py);
+      for (int px = bx0; px <= bx1; ++px, E[0] += A[0] * 256, E[1] += A[1] * 256, E[2] += A[2] * 256) {
+        if (E[0] + bias[0] < 0 || E[1] + bias[1] < 0 || E[2] + bias[2] < 0) continue;
+        double l[3] = {E[0] * inv_area, E[1] * inv_area, E[2] * inv_area};
+        float z = float(l[0] * zv[0] + l[1] * zv[1] + l[2] * zv[2]);
+        if (!depth_stage(px, py, z)) continue;
+        // Perspective-correct weights: l_i / w_i normalised.
+        double pw[3] = {l[0] * iw[0], l[1] * iw[1], l[2] * iw[2]};
+        double sum = pw[0] + pw[1] + pw[2];
+        for (double& w : pw) w /= sum;
+        auto interp = [&](int k) { return float(pw[0] * v[0]->a[k] + pw[1] * v[1]->a[k] + pw[2] * v[2]->a[k]); };
+        Vec4f c;
+        if (phong) {
+          for (int k = 0; k < kAttrs; ++k) attrs[k] = interp(k);
+          if (!smooth)
+            for (int k = 0; k < 4; ++k) attrs[kFront + k] = flat[kFront + k];
+          c = phong_color(attrs, side);
+        } else if (smooth) {
+          c = Vec4f(interp(col), interp(col + 1), interp(col + 2), interp(col + 3));
+        } else {
+          c = Vec4f(flat[col], flat[col + 1], flat[col + 2], flat[col + 3]);
+        }
+        float tex[4];
+        float lambda = 0;
+        if (need_tex) {
+          for (int k = 0; k < 4; ++k) tex[k] = interp(kTex + k);
+          // Level of detail from the screen-space derivatives of (u, v) = (s W, t H).
+          auto uv_at = [&](double ox, double oy, float& u, float& vv) {
+            double q[3], ssum = 0;
+            for (int i = 0; i < 3; ++i) q[i] = (l[i] + ox * dl_dx[i] + oy * dl_dy[i]) * iw[i], ssum += q[i];
+            double ss = 0, tt = 0, qq = 0;
+            for (int i = 0; i < 3; ++i) {
+              ss += q[i] * v[i]->a[kTex];
+              tt += q[i] * v[i]->a[kTex + 1];
+              qq += q[i] * v[i]->a[kTex + 3];
+            }
+            if (qq == 0) qq = ssum;
+            u = float(ss / qq) * tex_w, vv = float(tt / qq) * tex_h;
+          };
+          // Derivatives per 2x2 pixel quad, as GPUs (and llvmpipe) take them.
+          const double qx = double((px & ~1) - px), qy = double((py & ~1) - py);
+          float u0, v0_, ux, vx, uy, vy;
+          uv_at(qx, qy, u0, v0_);
+          uv_at(qx + 1, qy, ux, vx);
+          uv_at(qx, qy + 1, uy, vy);
+          float rx = std::hypot(ux - u0, vx - v0_), ry = std::hypot(uy - u0, vy - v0_);
+          float rho = std::max(rx, ry);
+          lambda = rho > 0 ? std::log2(rho) : -100.0f;
+        }
+        float fogz = fog ? interp(kFog) : 0;
+        shade_fragment(px, py, c, need_tex ? tex : nullptr, lambda, fogz);
+      }
+    }
+  }
+
+  // --- lines: a DDA that samples the line at the pixel centres of its major axis ---
+  void line(const WinVert& a, const WinVert& b, int side, const float* flat) {
+    const int col = side ? kBack : kFront;
+    double dx = b.x - a.x, dy = b.y - a.y;
+    if (dx == 0 && dy == 0) return;
+    const bool xmajor = std::abs(dx) >= std::abs(dy);
+    const double s0 = xmajor ? a.x : a.y, s1 = xmajor ? b.x : b.y;
+    const double len = s1 - s0;
+    // Centres c with s0 <= c < s1 (or s1 < c <= s0): the diamond-exit rule along the major axis.
+    int first, last;
+    if (len > 0) first = int(std::ceil(s0 - 0.5)), last = int(std::ceil(s1 - 0.5)) - 1;
+    else first = int(std::floor(s1 - 0.5)) + 1, last = int(std::floor(s0 - 0.5));
+    const int w = std::max(1, int(std::lround(s.line_width)));
+    float attrs[kAttrs];
+    for (int i = first; i <= last; ++i) {
+      double c = i + 0.5;
+      double t = (c - s0) / len;
+      double minor = xmajor ? a.y + t * dy : a.x + t * dx;
+      int m0 = int(std::floor(minor)) - (w - 1) / 2;
+      double z = a.z + t * (b.z - a.z);
+      double wa = (1 - t) * a.inv_w, wb = t * b.inv_w;
+      double sum = wa + wb;
+      wa /= sum, wb /= sum;
+      for (int k = 0; k < kAttrs; ++k) attrs[k] = float(wa * a.a[k] + wb * b.a[k]);
+      Vec4f cc;
+      if (phong) {
+        if (flat)
+          for (int k = 0; k < 4; ++k) attrs[kFront + k] = flat[kFront + k];
+        cc = phong_color(attrs, side);
+      } else if (flat) {
+        cc = Vec4f(flat[col], flat[col + 1], flat[col + 2], flat[col + 3]);
+      } else {
+        cc = Vec4f(attrs[col], attrs[col + 1], attrs[col + 2], attrs[col + 3]);
+      }
+      for (int j = m0; j < m0 + w; ++j) {
+        int px = xmajor ? i : j, py = xmajor ? j : i;
+        if (px < x0 || px >= x1 || py < y0 || py >= y1) continue;
+        if (!depth_stage(px, py, float(z))) continue;
+        shade_fragment(px, py, cc, texturing ? attrs + kTex : nullptr, 0, attrs[kFog]);
+      }
+    }
+  }
+
+  void point(const WinVert& p, int side) {
+    const int col = side ? kBack : kFront;
+    const double size = std::max(1.0, double(std::lround(s.point_size)));
+    int isz = int(size);
+    // GL 3.4: odd sizes centre on the pixel containing the point, even sizes on the nearest corner.
+    int xa = (isz % 2) ? int(std::floor(p.x)) - (isz - 1) / 2 : int(std::floor(p.x + 0.5)) - isz / 2;
+    int ya = (isz % 2) ? int(std::floor(p.y)) - (isz - 1) / 2 : int(std::floor(p.y + 0.5)) - isz / 2;
+    Vec4f c;
+    if (phong) c = phong_color(p.a, side);
+    else c = Vec4f(p.a[col], p.a[col + 1], p.a[col + 2], p.a[col + 3]);
+    for (int y = ya; y < ya + isz; ++y)
+      for (int x = xa; x < xa + isz; ++x) {
+        if (x < x0 || x >= x1 || y < y0 || y >= y1) continue;
+        if (!depth_stage(x, y, float(p.z))) continue;
+        shade_fragment(x, y, c, texturing ? p.a + kTex : nullptr, 0, p.a[kFog]);
+      }
+  }
+
+  // --- primitive-level drivers (after assembly) ---
+  void draw_point(const PVert& v) {
+    for (int p = 0; p < plane_count(); ++p)
+      if (plane_dist(v, p) < 0) return;
+    point(to_window(v), 0);
+  }
+
+  void draw_line(const PVert& a0, const PVert& b0, const PVert& provoking) {
+    // Parametric clipping in homogeneous space (Liang-Barsky's idea applied to the clip volume).
+    double t0 = 0, t1 = 1;
+    for (int p = 0; p < plane_count(); ++p) {
+      double da = plane_dist(a0, p), db = plane_dist(b0, p);
+      if (da < 0 && db < 0) return;
+      if (da < 0) t0 = std::max(t0, da / (da - db));
+      else if (db < 0) t1 = std::min(t1, da / (da - db));
+    }
+    if (t0 > t1) return;
+    PVert a = t0 > 0 ? lerp(a0, b0, t0) : a0;
+    PVert b = t1 < 1 ? lerp(a0, b0, t1) : b0;
+    const bool flat = s.shade == ShadeModel::Flat;
+    line(to_window(a), to_window(b), 0, flat ? provoking.a : nullptr);
+  }
+
+  // A polygon with its provoking vertex (for flat shading): clip, find its facing, cull, then
+  // fill it as a triangle fan or draw its outline or vertices per the polygon mode.
+  void draw_polygon(std::vector<PVert> poly, const PVert& provoking) {
+    PVert prov = provoking;
+    clip_polygon(poly);
+    if (poly.size() < 3) return;
+    std::vector<WinVert> w(poly.size());
+    for (std::size_t i = 0; i < poly.size(); ++i) w[i] = to_window(poly[i]);
+    double area = 0;
+    for (std::size_t i = 0, n = w.size(); i < n; ++i) {
+      const WinVert& a = w[i];
+      const WinVert& b = w[(i + 1) % n];
+      area += a.x * b.y - b.x * a.y;
+    }
+    bool front = (area > 0) == (s.front_face == FrontFace::CCW);
+    if (s.on(Cap::CullFace)) {
+      if (s.cull_face == Face::FrontAndBack) return;
+      if ((s.cull_face == Face::Front) == front) return;
+    }
+    const int side = (!front && two_sided_lighting(s)) ? 1 : 0;
+    const bool flat = s.shade == ShadeModel::Flat;
+    const float* flat_attrs = flat ? prov.a : nullptr;
+    PolygonMode mode = front ? s.poly_front : s.poly_back;
+    if (mode == PolygonMode::Fill) {
+      for (std::size_t i = 1; i + 1 < w.size(); ++i) triangle(w[0], w[i], w[i + 1], side, flat_attrs);
+    } else if (mode == PolygonMode::Line) {
+      for (std::size_t i = 0, n = w.size(); i < n; ++i)
+        if (poly[i].edge) line(w[i], w[(i + 1) % n], side, flat_attrs);
+    } else {
+      for (auto& v : w) point(v, side);
+    }
+  }
+};
+
+}  // namespace
+
+void run_primitive(Context::State& s, int width, int height, std::uint8_t* color, float* depth, Primitive p,
+                   const std::vector<InVertex>& in) {
+  if (in.empty()) return;
+  const Mat4& mv = s.top(MatrixMode::ModelView);
+  const Mat3 nmat = mv.topLeftCorner<3, 3>().inverse().transpose();
+  const Mat4& proj = s.top(MatrixMode::Projection);
+  std::vector<PVert> v;
+  v.reserve(in.size());
+  for (const auto& x : in) v.push_back(process_vertex(s, x, mv, nmat, proj));
+  Raster r(s, width, height, color, depth);
+  const std::size_t n = v.size();
+  // Every polygon is split into triangles before clipping, as Mesa does (quads as (0,1,2),
+  // (0,2,3) keeping the last vertex as provoking; polygons as a fan from vertex 0); the edge
+  // flags hide the inner diagonals in polygon-mode line.
+  auto tri = [&](std::size_t a, std::size_t b, std::size_t c, std::size_t prov, bool e0 = true, bool e1 = true,
+                 bool e2 = true) {
+    PVert va = v[a], vb = v[b], vc = v[c];
+    va.edge = e0, vb.edge = e1, vc.edge = e2;
+    r.draw_polygon({va, vb, vc}, v[prov]);
+  };
+  auto quad = [&](std::size_t a, std::size_t b, std::size_t c, std::size_t d, std::size_t prov) {
+    tri(a, b, c, prov, true, true, false);
+    tri(a, c, d, prov, false, true, true);
+  };
+  switch (p) {
+    case Primitive::Points:
+      for (auto& x : v) r.draw_point(x);
+      break;
+    case Primitive::Lines:
+      for (std::size_t i = 0; i + 1 < n; i += 2) r.draw_line(v[i], v[i + 1], v[i + 1]);
+      break;
+    case Primitive::LineStrip:
+      for (std::size_t i = 0; i + 1 < n; ++i) r.draw_line(v[i], v[i + 1], v[i + 1]);
+      break;
+    case Primitive::LineLoop:
+      for (std::size_t i = 0; i + 1 < n; ++i) r.draw_line(v[i], v[i + 1], v[i + 1]);
+      if (n > 1) r.draw_line(v[n - 1], v[0], v[0]);
+      break;
+    case Primitive::Triangles:
+      for (std::size_t i = 0; i + 2 < n; i += 3) tri(i, i + 1, i + 2, i + 2);
+      break;
+    case Primitive::TriangleStrip:
+      for (std::size_t i = 0; i + 2 < n; ++i) {
+        if (i % 2 == 0) tri(i, i + 1, i + 2, i + 2);
+        else tri(i + 1, i, i + 2, i + 2);
+      }
+      break;
+    case Primitive::TriangleFan:
+      for (std::size_t i = 1; i + 1 < n; ++i) tri(0, i, i + 1, i + 1);
+      break;
+    case Primitive::Quads:
+      for (std::size_t i = 0; i + 3 < n; i += 4) quad(i, i + 1, i + 2, i + 3, i + 3);
+      break;
+    case Primitive::QuadStrip:
+      for (std::size_t i = 0; i + 3 < n; i += 2) quad(i, i + 1, i + 3, i + 2, i + 3);
+      break;
+    case Primitive::Polygon:
+      for (std::size_t i = 1; i + 1 < n; ++i) tri(0, i, i + 1, 0, i == 1, true, i + 2 == n);
+      break;
+  }
+}
+
+}  // namespace wedge::render

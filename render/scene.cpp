@@ -1,0 +1,348 @@
+// render_scene: a mesh drawn through a Context with a camera, lights and materials, the way
+// Lua's render{} asks for it. Supersampling renders at antialias x the size and box-filters down.
+#include <cmath>
+
+#include "render/render.h"
+
+namespace wedge::render {
+
+namespace {
+
+struct WorldTri {
+  Point3 p[3];
+  Vec3 n[3];
+  Vec2 uv[3];
+  Vec3 face_normal;
+  int item = 0;
+};
+
+// A BSP tree over triangles (Fuchs, Kedem & Naylor 1980; Foley et al. 15.5.2): each node holds
+// the triangles on its splitting plane; triangles straddling a plane are cut in two or three.
+class BspTree {
+ public:
+  explicit BspTree(std::vector<WorldTri> tris) {
+    if (!tris.empty()) root_ = build(std::move(tris));
+  }
+  std::vector<WorldTri> back_to_front(const Point3& eye) const {
+    std::vector<WorldTri> out;
+    if (root_ >= 0) walk(root_, eye, out);
+    return out;
+  }
+
+ private:
+  struct Node {
+    Vec3 n;
+    double d;
+    std::vector<WorldTri> on;
+    int front = -1, back = -1;
+  };
+  std::vector<Node> nodes_;
+  int root_ = -1;
+
+  static WorldTri lerp_tri(const WorldTri& src, const std::array<int, 3>& a, const std::array<int, 3>& b,
+                           const std::array<double, 3>& t) {
+    WorldTri w = src;
+    for (int j = 0; j < 3; ++j) {
+      w.p[j] = src.p[a[j]] + t[j] * (src.p[b[j]] - src.p[a[j]]);
+      w.n[j] = src.n[a[j]] + t[j] * (src.n[b[j]] - src.n[a[j]]);
+      w.uv[j] = src.uv[a[j]] + t[j] * (src.uv[b[j]] - src.uv[a[j]]);
+    }
+    return w;
+  }
+
+  int build(std::vector<WorldTri> tris) {
+    const int id = int(nodes_.size());
+    nodes_.push_back({});
+    const WorldTri& s = tris.front();
+    Vec3 n = s.face_normal;
+    double d = -n.dot(s.p[0]);
+    double scale = 1e-9 * (1 + s.p[0].norm());
+    std::vector<WorldTri> front, back, on;
+    for (const auto& t : tris) {
+      double dist[3];
+      int pos = 0, neg = 0;
+      for (int j = 0; j < 3; ++j) {
+        dist[j] = n.dot(t.p[j]) + d;
+        if (std::abs(dist[j]) <= scale) dist[j] = 0;
+        pos += dist[j] > 0, neg += dist[j] < 0;
+      }
+      if (!pos && !neg) on.push_back(t);
+      else if (!neg) front.push_back(t);
+      else if (!pos) back.push_back(t);
+      else split(t, dist, front, back);
+    }
+    nodes_[id].n = n, nodes_[id].d = d, nodes_[id].on = std::move(on);
+    if (!front.empty()) {
+      int f = build(std::move(front));
+      nodes_[id].front = f;
+    }
+    if (!back.empty()) {
+      int b = build(std::move(back));
+      nodes_[id].back = b;
+    }
+    return id;
+  }
+
+  // Cuts a straddling triangle: the vertex alone on its side gives one triangle there and a
+  // quad (two triangles) on the other; a vertex on the plane gives one triangle each side.
+  static void split(const WorldTri& t, const double* dist, std::vector<WorldTri>& front, std::vector<WorldTri>& back) {
+    for (int r = 0; r < 3; ++r) {
+      int i = r, j = (r + 1) % 3, k = (r + 2) % 3;
+      if (dist[i] == 0) {  // j and k on opposite sides
+        double tt = dist[j] / (dist[j] - dist[k]);
+        WorldTri a = lerp_tri(t, {i, j, j}, {i, j, k}, {0, 0, tt});
+        WorldTri b = lerp_tri(t, {i, j, k}, {i, k, k}, {0, tt, 0});
+        (dist[j] > 0 ? front : back).push_back(a);
+        (dist[k] > 0 ? front : back).push_back(b);
+        return;
+      }
+    }
+    for (int r = 0; r < 3; ++r) {
+      int i = r, j = (r + 1) % 3, k = (r + 2) % 3;
+      if ((dist[i] > 0) != (dist[j] > 0) && (dist[i] > 0) != (dist[k] > 0)) {  // i alone
+        double tij = dist[i] / (dist[i] - dist[j]), tik = dist[i] / (dist[i] - dist[k]);
+        WorldTri alone = lerp_tri(t, {i, i, i}, {i, j, k}, {0, tij, tik});
+        WorldTri q1 = lerp_tri(t, {i, j, k}, {j, j, k}, {tij, 0, 0});
+        WorldTri q2 = lerp_tri(t, {i, k, i}, {j, k, k}, {tij, 0, tik});
+        (dist[i] > 0 ? front : back).push_back(alone);
+        (dist[i] > 0 ? back : front).push_back(q1);
+        (dist[i] > 0 ? back : front).push_back(q2);
+        return;
+      }
+    }
+  }
+
+  void walk(int id, const Point3& eye, std::vector<WorldTri>& out) const {
+    const Node& nd = nodes_[id];
+    const bool eye_front = nd.n.dot(eye) + nd.d >= 0;
+    const int first = eye_front ? nd.back : nd.front, second = eye_front ? nd.front : nd.back;
+    if (first >= 0) walk(first, eye, out);
+    out.insert(out.end(), nd.on.begin(), nd.on.end());
+    if (second >= 0) walk(second, eye, out);
+  }
+};
+
+}  // namespace
+
+Camera named_view(const std::string& name, const Box3& bounds) {
+  Camera c;
+  Vec3 dir;
+  Vec3 up(0, 0, 1);
+  if (name == "iso") dir = Vec3(1, -1, 1);
+  else if (name == "dimetric") dir = Vec3(1, -2, 1.5);
+  else if (name == "front") dir = Vec3(0, -1, 0);
+  else if (name == "top") dir = Vec3(0, 0, 1), up = Vec3(0, 1, 0);
+  else if (name == "side") dir = Vec3(1, 0, 0);
+  else if (name == "oblique") dir = Vec3(0.5, -1, 0.5);
+  else fail("unknown view '", name, "' (expected iso, dimetric, front, top, side or oblique)");
+  Point3 center = bounds.empty() ? Point3::Zero() : Point3(bounds.center());
+  double r = bounds.empty() ? 1.0 : std::max(1e-9, 0.5 * bounds.diagonal());
+  c.orthographic = true;
+  c.center = center;
+  c.eye = center + dir.normalized() * (3 * r);
+  c.up = up;
+  c.left = -r * 1.1, c.right = r * 1.1, c.bottom = -r * 1.1, c.top = r * 1.1;
+  c.near = r * 0.5, c.far = r * 6;
+  c.fit = true;
+  return c;
+}
+
+Image downsample(const Image& im, int f) {
+  if (f <= 1) return im;
+  Image out;
+  out.width = im.width / f, out.height = im.height / f;
+  out.rgba.resize(std::size_t(out.width) * out.height * 4);
+  for (int y = 0; y < out.height; ++y)
+    for (int x = 0; x < out.width; ++x)
+      for (int k = 0; k < 4; ++k) {
+        int sum = 0;
+        for (int dy = 0; dy < f; ++dy)
+          for (int dx = 0; dx < f; ++dx) sum += im.rgba[((std::size_t(y) * f + dy) * im.width + x * f + dx) * 4 + k];
+        out.rgba[(std::size_t(y) * out.width + x) * 4 + k] = std::uint8_t((sum + f * f / 2) / (f * f));
+      }
+  return out;
+}
+
+Image render_scene(const std::vector<DrawItem>& items, const RenderOptions& o) {
+  if (o.width < 1 || o.height < 1 || o.width > 8192 || o.height > 8192)
+    fail("render: size ", o.width, "x", o.height, " must be within 1..8192");
+  if (o.antialias < 1 || o.antialias > 4) fail("render: antialias ", o.antialias, " must be 1, 2, 3 or 4");
+  if (o.lights.size() > 8) fail("render: at most 8 lights, got ", o.lights.size());
+  const int aa = o.antialias, W = o.width * aa, H = o.height * aa;
+  Context g(W, H);
+  g.clear_color(o.background[0], o.background[1], o.background[2], o.background[3]);
+  g.clear();
+  Box3 bounds;
+  for (const auto& it : items)
+    if (it.mesh)
+      for (const auto& p : it.mesh->positions) bounds.extend(apply_point(it.transform, p));
+
+  const Camera& c = o.camera;
+  const Mat4 view = look_at(c.eye, c.center, c.up);
+  double n = c.near, f = c.far;
+  if (c.fit && !bounds.empty()) {
+    // Near and far just around the scene, so the depth buffer's precision is spent on it.
+    double zmin = 1e300, zmax = -1e300;
+    for (int i = 0; i < 8; ++i) {
+      Point3 corner((i & 1) ? bounds.max.x() : bounds.min.x(), (i & 2) ? bounds.max.y() : bounds.min.y(),
+                    (i & 4) ? bounds.max.z() : bounds.min.z());
+      double z = -(view * corner.homogeneous()).z();
+      zmin = std::min(zmin, z), zmax = std::max(zmax, z);
+    }
+    double pad = 0.01 * (zmax - zmin) + 1e-6;
+    f = zmax + pad;
+    n = c.orthographic ? zmin - pad : std::max(zmin - pad, f * 1e-4);
+  }
+  g.matrix_mode(MatrixMode::Projection);
+  g.load_identity();
+  const double aspect = double(W) / H;
+  if (c.orthographic) {
+    double l = c.left, r = c.right, b = c.bottom, t = c.top;
+    // Keep square pixels: widen the box to the image's aspect.
+    double cx = 0.5 * (l + r), hw = 0.5 * (r - l), hh = 0.5 * (t - b);
+    if (hw / hh < aspect) hw = hh * aspect;
+    else hh = hw / aspect;
+    g.ortho(cx - hw, cx + hw, 0.5 * (b + t) - hh, 0.5 * (b + t) + hh, n, f);
+  } else {
+    g.perspective(c.fovy, aspect, n, f);
+  }
+  g.matrix_mode(MatrixMode::ModelView);
+  g.load_identity();
+
+  g.enable(Cap::Lighting);
+  g.enable(Cap::Normalize);
+  g.light_model_ambient(o.ambient);
+  g.light_model_local_viewer(o.local_viewer);
+  g.light_model_two_side(o.two_side);
+  std::vector<LightSpec> lights = o.lights;
+  if (lights.empty()) {
+    LightSpec head;  // a headlight from over the viewer's shoulder
+    head.type = LightSpec::Type::Directional;
+    head.direction = Vec3(-0.3, -0.4, -1);
+    head.eye_space = true;
+    head.specular = Vec4f(0.3f, 0.3f, 0.3f, 1);
+    lights.push_back(head);
+  }
+  for (std::size_t i = 0; i < lights.size(); ++i) {
+    const LightSpec& L = lights[i];
+    const int k = int(i);
+    g.load_identity();
+    if (!L.eye_space) g.mult_matrix(view);
+    g.enable(light_cap(k));
+    g.light_ambient(k, L.ambient);
+    g.light_diffuse(k, L.diffuse);
+    g.light_specular(k, L.specular);
+    if (L.type == LightSpec::Type::Directional) {
+      Vec3 d = -L.direction;
+      g.light_position(k, Vec4f(float(d.x()), float(d.y()), float(d.z()), 0));
+    } else {
+      g.light_position(k, Vec4f(float(L.position.x()), float(L.position.y()), float(L.position.z()), 1));
+      g.light_attenuation(k, float(L.attenuation.x()), float(L.attenuation.y()), float(L.attenuation.z()));
+      if (L.type == LightSpec::Type::Spot) {
+        g.light_spot_direction(k, L.direction);
+        g.light_spot(k, L.exponent, L.cutoff);
+      }
+    }
+  }
+  g.load_identity();
+  g.mult_matrix(view);
+
+  g.enable(Cap::DepthTest);
+  g.depth_func(o.depth);
+  if (o.cull != "none") {
+    g.enable(Cap::CullFace);
+    if (o.cull == "back") g.cull_face(Face::Back);
+    else if (o.cull == "front") g.cull_face(Face::Front);
+    else if (o.cull == "both") g.cull_face(Face::FrontAndBack);
+    else fail("render: cull must be \"none\", \"back\", \"front\" or \"both\", got '", o.cull, "'");
+  }
+  g.shade_model(o.shading);
+  if (o.wireframe) g.polygon_mode(Face::FrontAndBack, PolygonMode::Line);
+  if (o.fog) {
+    g.enable(Cap::Fog);
+    g.fog_mode(o.fog_mode);
+    g.fog_color(o.fog_color);
+    g.fog_start(o.fog_start);
+    g.fog_end(o.fog_end);
+    g.fog_density(o.fog_density);
+  }
+  if (aa > 1) g.line_width(float(aa)), g.point_size(float(aa));
+
+  const bool flat = o.shading == ShadeModel::Flat;
+  // World-space triangles of every item, with the attributes the pipeline needs.
+  std::vector<WorldTri> tris;
+  for (std::size_t k = 0; k < items.size(); ++k) {
+    const DrawItem& it = items[k];
+    if (!it.mesh) continue;
+    it.mesh->check();
+    const Mesh& m = *it.mesh;
+    std::vector<Vec3> normals = m.normals;
+    if (normals.empty() && !flat) {
+      Mesh copy = m;
+      copy.compute_vertex_normals();  // area-weighted, only where the mesh has none
+      normals = copy.normals;
+    }
+    const bool mirror = reverses_orientation(it.transform);
+    for (std::size_t t = 0; t < m.triangles.size(); ++t) {
+      WorldTri w;
+      w.item = int(k);
+      auto tri = m.triangles[t];
+      if (mirror) std::swap(tri[1], tri[2]);
+      for (int j = 0; j < 3; ++j) {
+        w.p[j] = apply_point(it.transform, m.positions[tri[j]]);
+        w.n[j] = flat ? Vec3::Zero() : apply_normal(it.transform, normals[tri[j]]);
+        w.uv[j] = m.uvs.empty() ? Vec2::Zero() : m.uvs[tri[j]];
+      }
+      w.face_normal = (w.p[1] - w.p[0]).cross(w.p[2] - w.p[0]).normalized();
+      tris.push_back(w);
+    }
+  }
+  if (o.visibility == Visibility::Painter) {
+    // Farthest eye-space depth first.
+    auto far_z = [&](const WorldTri& t) {
+      double z = 1e300;
+      for (const auto& p : t.p) z = std::min(z, (view * p.homogeneous()).z());
+      return z;
+    };
+    std::vector<std::pair<double, std::size_t>> order;
+    for (std::size_t i = 0; i < tris.size(); ++i) order.push_back({far_z(tris[i]), i});
+    std::stable_sort(order.begin(), order.end());
+    std::vector<WorldTri> sorted;
+    for (auto& [z, i] : order) sorted.push_back(tris[i]);
+    tris.swap(sorted);
+    g.disable(Cap::DepthTest);
+  } else if (o.visibility == Visibility::Bsp) {
+    BspTree bsp(tris);
+    tris = bsp.back_to_front(c.eye);
+    g.disable(Cap::DepthTest);
+  }
+  int current = -1;
+  g.begin(Primitive::Triangles);
+  for (const auto& t : tris) {
+    if (t.item != current) {
+      g.end();
+      current = t.item;
+      const DrawItem& it = items[current];
+      g.material(Face::FrontAndBack, it.material);
+      if (it.texture) {
+        g.enable(Cap::Texture2D);
+        g.bind_texture(it.texture);
+        g.tex_env_mode(TexEnvMode::Modulate);
+      } else {
+        g.disable(Cap::Texture2D);
+      }
+      g.begin(Primitive::Triangles);
+    }
+    const bool uvs = items[t.item].mesh && !items[t.item].mesh->uvs.empty();
+    if (flat) g.normal(t.face_normal.x(), t.face_normal.y(), t.face_normal.z());  // a flat face's geometric normal
+    for (int j = 0; j < 3; ++j) {
+      if (!flat) g.normal(t.n[j].x(), t.n[j].y(), t.n[j].z());
+      if (uvs) g.tex_coord(t.uv[j].x(), t.uv[j].y());
+      g.vertex(t.p[j].x(), t.p[j].y(), t.p[j].z());
+    }
+  }
+  g.end();
+  return downsample(g.image(), aa);
+}
+
+}  // namespace wedge::render

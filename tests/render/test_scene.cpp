@@ -1,0 +1,186 @@
+// render_scene (the path of Lua's render{}), image output and supersampling.
+#include <catch2/catch.hpp>
+
+#include <filesystem>
+#include <fstream>
+#include <set>
+
+#include "render/render.h"
+
+using namespace wedge;
+using namespace wedge::render;
+
+namespace {
+
+Mesh cube() {
+  Mesh m;
+  for (int i = 0; i < 8; ++i) m.add_vertex(Point3(i & 1 ? 1 : -1, i & 2 ? 1 : -1, i & 4 ? 1 : -1));
+  const int f[12][3] = {{0, 2, 3}, {0, 3, 1}, {4, 5, 7}, {4, 7, 6}, {0, 1, 5}, {0, 5, 4},
+                        {2, 6, 7}, {2, 7, 3}, {0, 4, 6}, {0, 6, 2}, {1, 3, 7}, {1, 7, 5}};
+  for (auto& t : f) m.add_triangle(t[0], t[1], t[2]);
+  return m;
+}
+
+RenderOptions options() {
+  RenderOptions o;
+  o.width = 64, o.height = 48;
+  o.camera.eye = Point3(4, -5, 3);
+  o.background = Vec4f(0, 0, 0, 1);
+  LightSpec l;
+  l.direction = Vec3(-1, 2, -3);
+  o.lights.push_back(l);
+  return o;
+}
+
+std::set<std::array<std::uint8_t, 4>> colours(const Image& im) {
+  std::set<std::array<std::uint8_t, 4>> s;
+  for (int y = 0; y < im.height; ++y)
+    for (int x = 0; x < im.width; ++x) s.insert(im.pixel(x, y));
+  return s;
+}
+
+}  // namespace
+
+TEST_CASE("a flat-shaded cube shows one colour per visible face", "[render][scene]") {
+  Mesh m = cube();
+  CHECK(m.volume() > 0);
+  DrawItem it;
+  it.mesh = &m;
+  RenderOptions o = options();
+  o.shading = ShadeModel::Flat;
+  Image im = render_scene({it}, o);
+  // Background plus three visible faces, each uniformly lit with its geometric normal.
+  CHECK(colours(im).size() == 4);
+}
+
+TEST_CASE("supersampling blends edge pixels; smooth shading varies across faces", "[render][scene]") {
+  Mesh m = cube();
+  DrawItem it;
+  it.mesh = &m;
+  RenderOptions o = options();
+  o.shading = ShadeModel::Flat;
+  o.antialias = 3;
+  CHECK(colours(render_scene({it}, o)).size() > 10);
+  o.antialias = 1;
+  o.shading = ShadeModel::Phong;
+  CHECK(colours(render_scene({it}, o)).size() > 10);
+}
+
+TEST_CASE("wireframe draws the outline only; culling both draws nothing", "[render][scene]") {
+  Mesh m = cube();
+  DrawItem it;
+  it.mesh = &m;
+  RenderOptions o = options();
+  auto covered = [](const Image& im) {
+    int n = 0;
+    for (int y = 0; y < im.height; ++y)
+      for (int x = 0; x < im.width; ++x) n += im.pixel(x, y) != std::array<std::uint8_t, 4>{0, 0, 0, 255};
+    return n;
+  };
+  int filled = covered(render_scene({it}, o));
+  o.wireframe = true;
+  int wire = covered(render_scene({it}, o));
+  CHECK(wire > 20);
+  CHECK(wire < filled / 2);
+  o.wireframe = false;
+  o.cull = "both";
+  CHECK(covered(render_scene({it}, o)) == 0);
+}
+
+TEST_CASE("PNG output round-trips and leaves no temporary file", "[render][io]") {
+  Context c(20, 10);
+  c.clear_color(0.2f, 0.4f, 0.6f, 1);
+  c.clear();
+  auto dir = std::filesystem::path(WEDGE_BINARY_DIR) / "png_roundtrip";
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  c.write_png((dir / "a.png").string());
+  Image im = read_png((dir / "a.png").string());
+  CHECK(im.width == 20);
+  CHECK(im.height == 10);
+  CHECK(im.pixel(5, 5) == std::array<std::uint8_t, 4>{51, 102, 153, 255});
+  c.write_depth_pfm((dir / "d.pfm").string());
+  CHECK(std::filesystem::file_size(dir / "d.pfm") > 20 * 10 * 4);
+  int files = 0;
+  for (auto& e : std::filesystem::directory_iterator(dir)) files += e.is_regular_file();
+  CHECK(files == 2);
+  CHECK_THROWS_WITH(write_png((dir / "no/such/dir/x.png").string(), im), Catch::Contains("cannot write"));
+  CHECK_THROWS_WITH(read_png((dir / "missing.png").string()), Catch::Contains("missing.png"));
+}
+
+TEST_CASE("matrix stacks have GL's depths and report overflow and underflow", "[render][matrix]") {
+  Context c(4, 4);
+  c.matrix_mode(MatrixMode::Projection);
+  c.push_matrix();
+  CHECK_THROWS_WITH(c.push_matrix(), Catch::Contains("overflow"));
+  c.pop_matrix();
+  CHECK_THROWS_WITH(c.pop_matrix(), Catch::Contains("underflow"));
+  c.matrix_mode(MatrixMode::ModelView);
+  for (int i = 0; i < 31; ++i) c.push_matrix();
+  CHECK_THROWS(c.push_matrix());
+  c.translate(1, 2, 3);
+  CHECK(c.matrix(MatrixMode::ModelView)(0, 3) == 1);
+  c.pop_matrix();
+  CHECK(c.matrix(MatrixMode::ModelView)(0, 3) == 0);
+}
+
+TEST_CASE("scissor and depth range shape what reaches the framebuffer", "[render][framebuffer]") {
+  Context c(16, 16);
+  c.clear_color(0, 0, 0, 1);
+  c.clear();
+  c.enable(Cap::ScissorTest);
+  c.scissor(4, 4, 8, 8);
+  c.enable(Cap::DepthTest);
+  c.depth_range(0.25, 0.75);
+  c.begin(Primitive::Quads);
+  c.color(1, 1, 1);
+  c.vertex(-1, -1, 0), c.vertex(1, -1, 0), c.vertex(1, 1, 0), c.vertex(-1, 1, 0);
+  c.end();
+  CHECK(c.read_pixel(3, 8)[0] == 0);
+  CHECK(c.read_pixel(4, 8)[0] == 255);
+  CHECK(c.read_pixel(11, 11)[0] == 255);
+  CHECK(c.read_pixel(12, 11)[0] == 0);
+  CHECK(c.read_depth(8, 8) == Approx(0.5).margin(1e-6));
+  CHECK(c.read_depth(0, 0) == 1.0f);
+}
+
+TEST_CASE("painter's algorithm and the BSP tree give the z-buffer's image", "[render][visibility]") {
+  // Cubes that overlap on screen but not cyclically, including one rotated so that BSP planes
+  // cut other cubes' triangles.
+  Mesh m = cube();
+  std::vector<DrawItem> items(4);
+  const Mat4 xf[4] = {translate(Vec3(0, 0, 0)), translate(Vec3(1.2, 2.5, 0.3)) * rotate(30, Vec3(1, 1, 0)),
+                      translate(Vec3(-2.2, 1, -0.5)), translate(Vec3(2.5, -1, 1)) * scale(Vec3(0.5, 0.5, 0.5))};
+  const Vec4f col[4] = {{0.9f, 0.2f, 0.2f, 1}, {0.2f, 0.9f, 0.2f, 1}, {0.2f, 0.2f, 0.9f, 1}, {0.9f, 0.9f, 0.2f, 1}};
+  for (int i = 0; i < 4; ++i) items[i].mesh = &m, items[i].transform = xf[i], items[i].material.diffuse = col[i];
+  RenderOptions o = options();
+  o.width = 128, o.height = 96;
+  o.camera.eye = Point3(6, -9, 5);
+  o.shading = ShadeModel::Flat;
+  Image z = render_scene(items, o);
+  for (auto v : {Visibility::Painter, Visibility::Bsp}) {
+    o.visibility = v;
+    Image im = render_scene(items, o);
+    int covered = 0, diff = 0;
+    for (int y = 0; y < im.height; ++y)
+      for (int x = 0; x < im.width; ++x) {
+        auto a = z.pixel(x, y), b = im.pixel(x, y);
+        covered += a != std::array<std::uint8_t, 4>{0, 0, 0, 255};
+        int d = 0;
+        for (int k = 0; k < 3; ++k) d = std::max(d, std::abs(int(a[k]) - int(b[k])));
+        diff += d > 2;
+      }
+    INFO("visibility " << int(v) << ": " << diff << " of " << covered << " pixels differ");
+    CHECK(covered > 1000);
+    CHECK(diff <= covered / 1000);
+  }
+  // Without culling the painter must still hide back faces behind front ones.
+  o.cull = "none";
+  o.visibility = Visibility::ZBuffer;
+  Image z2 = render_scene(items, o);
+  o.visibility = Visibility::Bsp;
+  Image b2 = render_scene(items, o);
+  int diff = 0;
+  for (std::size_t i = 0; i < z2.rgba.size(); ++i) diff += std::abs(int(z2.rgba[i]) - int(b2.rgba[i])) > 2;
+  CHECK(diff <= 10);
+}
