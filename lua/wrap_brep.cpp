@@ -39,14 +39,18 @@ void push_id(lua_State* L, IdT id) {
   lua_pushinteger(L, id.value);
 }
 
-// Runs an operator; its message loses the "op: " prefix, which the Lua error adds back.
+// Runs an operator. When Lua knows the running function's name, the Lua error puts it in front
+// of the message (lua_util's raise_error), so the message's own "op: " prefix is dropped; under
+// pcall(b.kemr, b, e) Lua has no name and the prefix stays.
 template <class F>
-auto op(const char* name, F&& f) {
+auto op(lua_State* L, const char* name, F&& f) {
   try {
     return f();
   } catch (const Error& e) {
     std::string m = e.what(), prefix = std::string(name) + ": ";
-    if (m.rfind(prefix, 0) == 0) m = m.substr(prefix.size());
+    lua_Debug ar;
+    bool named = lua_getstack(L, 0, &ar) && lua_getinfo(L, "n", &ar) && ar.name;
+    if (named && m.rfind(prefix, 0) == 0) m = m.substr(prefix.size());
     throw Error(m);
   }
 }
@@ -62,7 +66,7 @@ int mvfs_m(lua_State* L) {
   return guarded(L, [&] {
     Model& m = self(L);
     Point3 p = check_vec3(L, 2, true);
-    auto r = op("mvfs", [&] { return m.mvfs(p); });
+    auto r = op(L, "mvfs", [&] { return m.mvfs(p); });
     push_id(L, r.v);
     push_id(L, r.f);
     return 2;
@@ -75,7 +79,7 @@ int mev_m(lua_State* L) {
     auto f = check_id<FaceId>(L, 2);
     auto v = check_id<VertexId>(L, 3);
     Point3 p = check_vec3(L, 4, true);
-    auto r = op("mev", [&] { return m.mev(f, v, p); });
+    auto r = op(L, "mev", [&] { return m.mev(f, v, p); });
     push_id(L, r.e);
     push_id(L, r.v);
     return 2;
@@ -88,7 +92,7 @@ int mef_m(lua_State* L) {
     auto f = check_id<FaceId>(L, 2);
     auto v1 = check_id<VertexId>(L, 3);
     auto v2 = check_id<VertexId>(L, 4);
-    auto r = op("mef", [&] { return m.mef(f, v1, v2); });
+    auto r = op(L, "mef", [&] { return m.mef(f, v1, v2); });
     push_id(L, r.e);
     push_id(L, r.f);
     return 2;
@@ -99,7 +103,7 @@ int kemr_m(lua_State* L) {
   return guarded(L, [&] {
     Model& m = self(L);
     auto e = check_id<EdgeId>(L, 2);
-    push_id(L, op("kemr", [&] { return m.kemr(e); }));
+    push_id(L, op(L, "kemr", [&] { return m.kemr(e); }));
     return 1;
   });
 }
@@ -109,7 +113,7 @@ int mekr_m(lua_State* L) {
     Model& m = self(L);
     auto v1 = check_id<VertexId>(L, 2);
     auto v2 = check_id<VertexId>(L, 3);
-    push_id(L, op("mekr", [&] { return m.mekr(v1, v2); }));
+    push_id(L, op(L, "mekr", [&] { return m.mekr(v1, v2); }));
     return 1;
   });
 }
@@ -119,7 +123,7 @@ int kfmrh_m(lua_State* L) {
     Model& m = self(L);
     auto h = check_id<FaceId>(L, 2);
     auto f = check_id<FaceId>(L, 3);
-    push_id(L, op("kfmrh", [&] { return m.kfmrh(h, f); }));
+    push_id(L, op(L, "kfmrh", [&] { return m.kfmrh(h, f); }));
     return 1;
   });
 }
@@ -129,7 +133,7 @@ int mfkrh_m(lua_State* L) {
     Model& m = self(L);
     auto f = check_id<FaceId>(L, 2);
     auto l = check_id<LoopId>(L, 3);
-    push_id(L, op("mfkrh", [&] { return m.mfkrh(f, l); }));
+    push_id(L, op(L, "mfkrh", [&] { return m.mfkrh(f, l); }));
     return 1;
   });
 }
@@ -139,7 +143,7 @@ int kev_m(lua_State* L) {
     Model& m = self(L);
     auto e = check_id<EdgeId>(L, 2);
     auto v = check_id<VertexId>(L, 3);
-    op("kev", [&] { m.kev(e, v); });
+    op(L, "kev", [&] { m.kev(e, v); });
     return 0;
   });
 }
@@ -149,7 +153,7 @@ int kef_m(lua_State* L) {
     Model& m = self(L);
     auto e = check_id<EdgeId>(L, 2);
     auto f = check_id<FaceId>(L, 3);
-    op("kef", [&] { m.kef(e, f); });
+    op(L, "kef", [&] { m.kef(e, f); });
     return 0;
   });
 }
@@ -158,7 +162,7 @@ int kvfs_m(lua_State* L) {
   return guarded(L, [&] {
     Model& m = self(L);
     auto v = check_id<VertexId>(L, 2);
-    op("kvfs", [&] { m.kvfs(v); });
+    op(L, "kvfs", [&] { m.kvfs(v); });
     return 0;
   });
 }
@@ -168,7 +172,7 @@ int semv_m(lua_State* L) {
     Model& m = self(L);
     auto e = check_id<EdgeId>(L, 2);
     Point3 p = check_vec3(L, 3, true);
-    auto r = op("semv", [&] { return m.semv(e, p); });
+    auto r = op(L, "semv", [&] { return m.semv(e, p); });
     push_id(L, r.e);
     push_id(L, r.v);
     return 2;
@@ -180,7 +184,7 @@ int jekv_m(lua_State* L) {
     Model& m = self(L);
     auto e = check_id<EdgeId>(L, 2);
     auto v = check_id<VertexId>(L, 3);
-    op("jekv", [&] { m.jekv(e, v); });
+    op(L, "jekv", [&] { m.jekv(e, v); });
     return 0;
   });
 }
@@ -218,7 +222,7 @@ int point_m(lua_State* L) {
   return guarded(L, [&] {
     Model& m = self(L);
     auto v = check_id<VertexId>(L, 2);
-    push_vec3(L, op("point", [&] { return m.point(v); }));
+    push_vec3(L, op(L, "point", [&] { return m.point(v); }));
     return 1;
   });
 }
@@ -342,7 +346,7 @@ int polyhedron_fn(lua_State* L) {
     }
     lua_pop(L, 1);
     o.finish();
-    push_solid(L, brep_solid(op("polyhedron", [&] { return polyhedron(pts, faces); })));
+    push_solid(L, brep_solid(op(L, "polyhedron", [&] { return polyhedron(pts, faces); })));
     return 1;
   });
 }

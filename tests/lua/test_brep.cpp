@@ -157,3 +157,10 @@ TEST_CASE("bad primitive arguments are Lua errors naming the function and value"
   auto c = run("\nlocal s = polyhedron{points={{0,0,0},{1,0,0},{0,1,0},{0,0,1}}, faces={{1,3,2},{1,2,4},{1,4,3}}}\n", "@open.lua");
   CHECK_THAT(c.err, Catch::StartsWith("open.lua:2: polyhedron: the surface is open: edge"));
 }
+
+TEST_CASE("examples/euler.lua runs to the end", "[lua][examples][brep]") {
+  std::ostringstream err;
+  int status = wedge::lua::run_file(std::string(WEDGE_SOURCE_DIR) + "/examples/euler.lua", {}, err);
+  INFO(err.str());
+  CHECK(status == 0);
+}
