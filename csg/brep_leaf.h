@@ -29,5 +29,8 @@ class BrepLeaf final : public SolidLeaf {
 
 // A Solid whose leaf is the model (validated).
 Solid brep_solid(Model model);
+// The planar extrude as a Solid: the profile (outer counter-clockwise, any holes) at z = 0 swept
+// to z = height through Euler operators (brep/build.cpp's prism), for binding to extrude().
+inline Solid prism_solid(const Profile& profile, double height) { return brep_solid(prism(profile, height)); }
 
 }  // namespace wedge

@@ -39,6 +39,12 @@ TEST_CASE("a B-Rep leaf answers exactly and tessellates watertight", "[csg][brep
     CHECK(mp.volume == Approx(6));
     CHECK(mp.centroid.x() == Approx(9.5));
   }
+  SECTION("a prism with a hole as a Solid") {
+    Solid s = prism_solid({{{0, 0}, {4, 0}, {4, 4}, {0, 4}}, {{{1, 1}, {3, 1}, {3, 3}, {1, 3}}}}, 2);
+    CHECK(s.euler(Tolerance{}) == EulerCounts{16, 24, 10, 2, 1, 1});
+    CHECK(s.mass_properties(Tolerance{}).volume == Approx(24));
+    CHECK(s.mesh(Tolerance{}).volume() == Approx(24));
+  }
   SECTION("an invalid model is refused") {
     Model m;
     m.mvfs(Point3(0, 0, 0));
