@@ -15,6 +15,7 @@ const Registrar kRegistrars[] = {
     register_matrix,
     register_solid,
     register_io,
+    register_profiles,
     register_curves,
     register_surfaces,
     register_brep,
