@@ -40,7 +40,7 @@ void push_id(lua_State* L, IdT id) {
 }
 
 // Runs an operator. When Lua knows the running function's name, the Lua error puts it in front
-// of the message (lua_util's raise_error), so the message's own "op: " prefix is dropped; under
+// of the message (lua_util's raise_pending), so the message's own "op: " prefix is dropped; under
 // pcall(b.kemr, b, e) Lua has no name and the prefix stays.
 template <class F>
 auto op(lua_State* L, const char* name, F&& f) {
