@@ -1,9 +1,12 @@
 // Lua binding of render::render_scene: render{ mesh, out=, size=, camera=, lights=, ambient=,
 // local_viewer=, two_side=, shading=, wireframe=, cull=, depth=, fog=, antialias=, background= }
-// (API.md, "Rendering"). Until the Solid type lands, the mesh is a table
+// (API.md, "Rendering"). The thing drawn is a Solid (with the material of s:material{...}),
+// anything else to_mesh() accepts, or a plain mesh table
 // { vertices = {{x,y,z}, ...}, triangles = {{i,j,k}, ...} (1-based), material = {...} }.
+// checker{n=, size=, colors=} makes a procedural texture for a material's texture= field.
 #include "lua/lua_util.h"
 #include "lua/wedge_lua.h"
+#include "lua/wrap_solid.h"
 #include "render/render.h"
 
 namespace wedge::lua {
@@ -11,6 +14,8 @@ namespace wedge::lua {
 namespace {
 
 using render::Vec4f;
+using TexturePtr = std::shared_ptr<render::Texture>;
+constexpr const char* kTextureKey = "wedge.Texture";
 
 Vec4f to_color(lua_State* L, int idx, int arg, const std::string& what) {
   if (lua_type(L, idx) != LUA_TTABLE) throw ArgError{arg, what + " must be a colour {r, g, b}, got " + type_name(L, idx)};
@@ -45,7 +50,7 @@ Vec4f opt_color(Options& o, const char* key, const Vec4f& fallback) {
   return c;
 }
 
-render::Material read_material(lua_State* L, int idx, int arg) {
+render::Material read_material(lua_State* L, int idx, int arg, std::shared_ptr<const render::Texture>& texture) {
   Options o(L, idx);
   (void)arg;
   render::Material m;
@@ -53,14 +58,31 @@ render::Material read_material(lua_State* L, int idx, int arg) {
   m.diffuse = opt_color(o, "diffuse", m.diffuse);
   m.specular = opt_color(o, "specular", m.specular);
   m.emission = opt_color(o, "emission", m.emission);
+  if (o.has("color")) {
+    Vec4f c = opt_color(o, "color", m.diffuse);
+    m.ambient = m.diffuse = c;
+  }
   m.shininess = float(o.number("shininess", 0));
   if (m.shininess < 0 || m.shininess > 128) throw ArgError{arg, "material shininess must be within 0..128"};
+  int t = o.push("texture");
+  if (t == LUA_TSTRING) {
+    std::string path = lua_tostring(L, -1);
+    lua_pop(L, 1);
+    texture = render::Texture::load_png(path);
+  } else if (t != LUA_TNIL) {
+    TexturePtr* p = test_object<TexturePtr>(L, -1, kTextureKey);
+    lua_pop(L, 1);
+    if (!p) throw ArgError{arg, "material texture must be checker{...} or a PNG file name"};
+    texture = *p;
+  } else {
+    lua_pop(L, 1);
+  }
   o.finish();
   return m;
 }
 
 // A mesh table { vertices=, triangles=, material= }.
-Mesh read_mesh(lua_State* L, int idx, render::Material& material) {
+Mesh read_mesh(lua_State* L, int idx, render::Material& material, std::shared_ptr<const render::Texture>& texture) {
   idx = lua_absindex(L, idx);
   Mesh m;
   lua_getfield(L, idx, "vertices");
@@ -98,7 +120,7 @@ Mesh read_mesh(lua_State* L, int idx, render::Material& material) {
   }
   lua_pop(L, 1);
   lua_getfield(L, idx, "material");
-  if (lua_istable(L, -1)) material = read_material(L, lua_gettop(L), 1);
+  if (lua_istable(L, -1)) material = read_material(L, lua_gettop(L), 1, texture);
   lua_pop(L, 1);
   return m;
 }
@@ -165,10 +187,23 @@ int render_fn(lua_State* L) {
     Options o(L, 1);
     o.allow_positional();
     lua_geti(L, 1, 1);
-    if (!lua_istable(L, -1)) throw ArgError{1, "render{} needs a mesh as its first element, got " + type_name(L, -1)};
+    const int obj = lua_gettop(L);
     render::DrawItem item;
-    Mesh mesh = read_mesh(L, lua_gettop(L), item.material);
+    Mesh mesh;
+    if (lua_isnil(L, obj)) throw ArgError{1, "render{} needs the thing to draw as its first element"};
+    if (lua_istable(L, obj) && lua_getfield(L, obj, "vertices") != LUA_TNIL) {
+      lua_pop(L, 1);
+      mesh = read_mesh(L, obj, item.material, item.texture);
+    } else {
+      if (lua_istable(L, obj)) lua_pop(L, 1);
+      mesh = to_mesh(L, obj, 1, current_tolerance(L));
+      if (test_solid(L, obj) && push_material(L, obj) == LUA_TTABLE) item.material = read_material(L, lua_gettop(L), 1, item.texture);
+      else if (lua_gettop(L) > obj) lua_pop(L, 1);
+      lua_settop(L, obj);
+    }
     lua_pop(L, 1);
+    // A texture on a mesh without texture coordinates: the two-step box mapping.
+    if (item.texture && mesh.uvs.empty()) mesh = render::with_uv_mapping(mesh, render::UvMapping::Box);
     item.mesh = &mesh;
     Box3 bounds = mesh.bounds();
 
@@ -239,10 +274,40 @@ int render_fn(lua_State* L) {
   });
 }
 
+// checker{n=8, size=256, colors={{1,1,1},{0,0,0}}}: an n x n checkerboard texture.
+int checker_fn(lua_State* L) {
+  return guarded(L, [&] {
+    int n = 8, size = 256;
+    Vec4f a(1, 1, 1, 1), b(0, 0, 0, 1);
+    if (!lua_isnoneornil(L, 1)) {
+      Options o(L, 1);
+      n = o.integer("n", 8);
+      size = o.integer("size", 256);
+      if (o.push("colors") == LUA_TTABLE) {
+        int t = lua_gettop(L);
+        lua_geti(L, t, 1);
+        a = to_color(L, lua_gettop(L), 1, "colors[1]");
+        lua_pop(L, 1);
+        lua_geti(L, t, 2);
+        b = to_color(L, lua_gettop(L), 1, "colors[2]");
+        lua_pop(L, 1);
+      }
+      lua_pop(L, 1);
+      o.finish();
+    }
+    if (n < 1 || size < 1 || size > 4096 || n > size) throw ArgError{1, "checker needs 1 <= n <= size <= 4096"};
+    push_object<TexturePtr>(L, kTextureKey, render::Texture::checker(size, n, a, b));
+    return 1;
+  });
+}
+
 }  // namespace
 
 void register_render(lua_State* L) {
-  static const luaL_Reg functions[] = {{"render", render_fn}, {nullptr, nullptr}};
+  static const luaL_Reg meta[] = {{nullptr, nullptr}};
+  static const luaL_Reg methods[] = {{nullptr, nullptr}};
+  register_class(L, kTextureKey, "Texture", methods, meta, gc_object<TexturePtr>);
+  static const luaL_Reg functions[] = {{"render", render_fn}, {"checker", checker_fn}, {nullptr, nullptr}};
   set_functions(L, functions);
 }
 

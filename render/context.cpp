@@ -94,6 +94,12 @@ Image Context::image() const {
 void Context::write_png(const std::string& path) const { render::write_png(path, image()); }
 void Context::write_depth_pfm(const std::string& path) const { write_pfm(path, width_, height_, depth_); }
 
+void Context::threads(int n) {
+  if (n < 1 || n > 256) fail("threads must be within 1..256, got ", n);
+  s_->threads = n;
+}
+int Context::threads() const { return s_->threads; }
+
 void Context::enable(Cap cap) { s_->enabled.set(static_cast<int>(cap)); }
 void Context::disable(Cap cap) { s_->enabled.reset(static_cast<int>(cap)); }
 bool Context::is_enabled(Cap cap) const { return s_->on(cap); }
@@ -264,19 +270,34 @@ static void check_arrays(const VertexArrays& a) {
 void Context::draw_arrays(Primitive p, const VertexArrays& a, int first, int count) {
   check_arrays(a);
   if (first < 0 || count < 0) fail("draw_arrays: negative first or count");
+  // Independent primitives go through the pipeline in batches, so memory stays bounded.
+  const int group = p == Primitive::Triangles ? 3 : p == Primitive::Lines ? 2 : p == Primitive::Points ? 1
+                  : p == Primitive::Quads ? 4 : 0;
+  const int batch = group ? group * 4096 : count;
   std::vector<InVertex> v;
-  v.reserve(count);
-  for (int i = 0; i < count; ++i) v.push_back(fetch(*s_, a, std::size_t(first + i)));
-  run_primitive(*s_, width_, height_, color_.data(), depth_.data(), p, v);
+  for (int start = 0; start < count; start += batch) {
+    const int n = std::min(batch, count - start);
+    v.clear();
+    v.reserve(n);
+    for (int i = 0; i < n; ++i) v.push_back(fetch(*s_, a, std::size_t(first + start + i)));
+    run_primitive(*s_, width_, height_, color_.data(), depth_.data(), p, v);
+  }
 }
 
 void Context::draw_elements(Primitive p, const VertexArrays& a, const std::uint32_t* indices, int count) {
   check_arrays(a);
   if (count < 0) fail("draw_elements: negative count");
+  const int group = p == Primitive::Triangles ? 3 : p == Primitive::Lines ? 2 : p == Primitive::Points ? 1
+                  : p == Primitive::Quads ? 4 : 0;
+  const int batch = group ? group * 4096 : count;
   std::vector<InVertex> v;
-  v.reserve(count);
-  for (int i = 0; i < count; ++i) v.push_back(fetch(*s_, a, indices[i]));
-  run_primitive(*s_, width_, height_, color_.data(), depth_.data(), p, v);
+  for (int start = 0; start < count; start += batch) {
+    const int n = std::min(batch, count - start);
+    v.clear();
+    v.reserve(n);
+    for (int i = 0; i < n; ++i) v.push_back(fetch(*s_, a, indices[start + i]));
+    run_primitive(*s_, width_, height_, color_.data(), depth_.data(), p, v);
+  }
 }
 
 }  // namespace wedge::render

@@ -53,6 +53,8 @@ struct Context::State {
   Vec4f fog_color{0, 0, 0, 0};
   float fog_start = 0, fog_end = 1, fog_density = 1;
 
+  int threads = 1;  // rasterisation threads (bands of rows)
+
   bool in_begin = false;
   Primitive prim = Primitive::Points;
   std::vector<InVertex> verts;

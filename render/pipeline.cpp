@@ -18,6 +18,10 @@
 #include <cmath>
 #include <cstring>
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
 #include "render/context_state.h"
 
 namespace wedge::render {
@@ -38,12 +42,29 @@ struct WinVert {
   const float* a;
 };
 
+// A set-up primitive waiting for rasterisation (binned to bands of rows, then drawn by bands in
+// parallel; within a band the primitives keep their submission order, so the image is the same
+// as drawing them one by one).
+struct JobVert {
+  double x, y, z, inv_w;
+  float a[kAttrs];
+};
+struct Job {
+  enum Kind : std::uint8_t { Tri, Line, Point } kind;
+  std::uint8_t side;
+  bool has_flat;
+  int row0, row1;  // rows the primitive may touch
+  JobVert v[3];
+  float flat[kAttrs];
+};
+constexpr int kBandRows = 32;
+
 Vec4f clamp01(const Vec4f& c) { return c.cwiseMax(0.0f).cwiseMin(1.0f); }
 
 // The lighting equation of GL 1.x section 2.14.1 for one side. P is the eye-space position,
 // n the unit (or as given) eye-space normal; `vertex_color` feeds colour material.
 Vec4f light_vertex(const Context::State& s, const Vec4& P4, const Vec3& n, const Vec4f& vertex_color, int side) {
-  Material m = s.material[side];
+  Material m = s.material[side];  // a copy: colour material may replace parts of it
   if (s.on(Cap::ColorMaterial) &&
       (s.cm_face == Face::FrontAndBack || (s.cm_face == Face::Front) == (side == 0))) {
     switch (s.cm_mode) {
@@ -159,6 +180,9 @@ struct Raster {
   std::vector<Vec4> user_planes;
   int x0, y0, x1, y1;  // pixel bounds (framebuffer ∩ scissor), half open
   bool phong, lighting, texturing, fog, blend, depth_test;
+  std::vector<Job>* sink = nullptr;  // when set, primitives are queued instead of drawn
+  std::vector<PVert> poly_scratch, clip_scratch;
+  std::vector<WinVert> win_scratch;
 
   Raster(Context::State& st, int w, int h, std::uint8_t* c, float* d) : s(st), width(w), height(h), color(c), depth(d) {
     for (int i = 0; i < 6; ++i)
@@ -195,8 +219,8 @@ struct Raster {
   int plane_count() const { return 6 + int(user_planes.size()); }
 
   // Sutherland-Hodgman in homogeneous coordinates, one plane at a time.
-  void clip_polygon(std::vector<PVert>& poly) const {
-    std::vector<PVert> out;
+  void clip_polygon(std::vector<PVert>& poly) {
+    std::vector<PVert>& out = clip_scratch;
     for (int p = 0; p < plane_count() && !poly.empty(); ++p) {
       bool all_in = true;
       for (auto& v : poly)
@@ -319,8 +343,9 @@ struct Raster {
         r[k] = c[k] * factor(s.blend_src, c[k], d[k], c.w(), d.w()) + d[k] * factor(s.blend_dst, c[k], d[k], c.w(), d.w());
       c = clamp01(r);
     }
+    // c is clamped to [0, 1]: round to nearest without a library call.
     for (int k = 0; k < 4; ++k)
-      if (s.color_mask[k]) p[k] = std::uint8_t(std::lround(c[k] * 255.0f));
+      if (s.color_mask[k]) p[k] = std::uint8_t(c[k] * 255.0f + 0.5f);
   }
 
   Vec4f phong_color(const float* a, int side) const {
@@ -379,6 +404,8 @@ struct Raster {
     const float tex_h = need_tex ? float(s.texture->levels[0].height) : 0;
 
     float attrs[kAttrs];
+    int quad_x = -1 << 30, quad_y = -1 << 30;
+    float quad_lambda = 0;
     for (int py = by0; py <= by1; ++py) {
       std::int64_t Py = std::int64_t(py) * 256 + 128, Px = std::int64_t(bx0) * 256 + 128;
       std::int64_t E[3];
@@ -421,15 +448,24 @@ struct Raster {
             if (qq == 0) qq = ssum;
             u = float(ss / qq) * tex_w, vv = float(tt / qq) * tex_h;
           };
-          // Derivatives per 2x2 pixel quad, as GPUs (and llvmpipe) take them.
-          const double qx = double((px & ~1) - px), qy = double((py & ~1) - py);
-          float u0, v0_, ux, vx, uy, vy;
-          uv_at(qx, qy, u0, v0_);
-          uv_at(qx + 1, qy, ux, vx);
-          uv_at(qx, qy + 1, uy, vy);
-          float rx = std::hypot(ux - u0, vx - v0_), ry = std::hypot(uy - u0, vy - v0_);
-          float rho = std::max(rx, ry);
-          lambda = rho > 0 ? std::log2(rho) : -100.0f;
+          // Derivatives per 2x2 pixel quad, as GPUs (and llvmpipe) take them; the pixels of
+          // one quad share the level of detail, so it is computed once per quad.
+          const int qkx = px & ~1, qky = py & ~1;
+          if (qkx != quad_x || qky != quad_y) {
+            // The quad's reference pixel is its top-left one (framebuffers run top-down in
+            // llvmpipe): x differences along the upper row, y differences down the left column.
+            const double qx = double(qkx - px), qy = double(qky + 1 - py);
+            float u0, v0_, ux, vx, uy, vy;
+            uv_at(qx, qy, u0, v0_);
+            uv_at(qx + 1, qy, ux, vx);
+            uv_at(qx, qy - 1, uy, vy);
+            float rx2 = (ux - u0) * (ux - u0) + (vx - v0_) * (vx - v0_);
+            float ry2 = (uy - u0) * (uy - u0) + (vy - v0_) * (vy - v0_);
+            float rho2 = std::max(rx2, ry2);
+            quad_lambda = rho2 > 0 ? 0.5f * std::log2(rho2) : -100.0f;
+            quad_x = qkx, quad_y = qky;
+          }
+          lambda = quad_lambda;
         }
         float fogz = fog ? interp(kFog) : 0;
         shade_fragment(px, py, c, need_tex ? tex : nullptr, lambda, fogz);
@@ -498,11 +534,57 @@ struct Raster {
       }
   }
 
+  // --- queueing for banded rasterisation ---
+  static void copy_vert(JobVert& d, const WinVert& w) {
+    d.x = w.x, d.y = w.y, d.z = w.z, d.inv_w = w.inv_w;
+    std::memcpy(d.a, w.a, sizeof(d.a));
+  }
+  Job& new_job(Job::Kind k, int side, const float* flat) {
+    Job& j = sink->emplace_back();
+    j.kind = k;
+    j.side = std::uint8_t(side);
+    j.has_flat = flat != nullptr;
+    if (flat) std::memcpy(j.flat, flat, sizeof(j.flat));
+    return j;
+  }
+  void emit_triangle(const WinVert& a, const WinVert& b, const WinVert& c, int side, const float* flat) {
+    if (!sink) return triangle(a, b, c, side, flat);
+    Job& j = new_job(Job::Tri, side, flat);
+    copy_vert(j.v[0], a), copy_vert(j.v[1], b), copy_vert(j.v[2], c);
+    j.row0 = int(std::floor(std::min({a.y, b.y, c.y}))) - 1;
+    j.row1 = int(std::floor(std::max({a.y, b.y, c.y}))) + 1;
+  }
+  void emit_line(const WinVert& a, const WinVert& b, int side, const float* flat) {
+    if (!sink) return line(a, b, side, flat);
+    Job& j = new_job(Job::Line, side, flat);
+    copy_vert(j.v[0], a), copy_vert(j.v[1], b);
+    const int pad = int(std::ceil(s.line_width)) + 1;
+    j.row0 = int(std::floor(std::min(a.y, b.y))) - pad;
+    j.row1 = int(std::floor(std::max(a.y, b.y))) + pad;
+  }
+  void emit_point(const WinVert& p, int side) {
+    if (!sink) return point(p, side);
+    Job& j = new_job(Job::Point, side, nullptr);
+    copy_vert(j.v[0], p);
+    const int pad = int(std::ceil(s.point_size)) + 1;
+    j.row0 = int(std::floor(p.y)) - pad;
+    j.row1 = int(std::floor(p.y)) + pad;
+  }
+  void exec(const Job& j) {
+    WinVert w[3];
+    const int n = j.kind == Job::Tri ? 3 : j.kind == Job::Line ? 2 : 1;
+    for (int i = 0; i < n; ++i) w[i] = WinVert{j.v[i].x, j.v[i].y, j.v[i].z, j.v[i].inv_w, j.v[i].a};
+    const float* flat = j.has_flat ? j.flat : nullptr;
+    if (j.kind == Job::Tri) triangle(w[0], w[1], w[2], j.side, flat);
+    else if (j.kind == Job::Line) line(w[0], w[1], j.side, flat);
+    else point(w[0], j.side);
+  }
+
   // --- primitive-level drivers (after assembly) ---
   void draw_point(const PVert& v) {
     for (int p = 0; p < plane_count(); ++p)
       if (plane_dist(v, p) < 0) return;
-    point(to_window(v), 0);
+    emit_point(to_window(v), 0);
   }
 
   void draw_line(const PVert& a0, const PVert& b0, const PVert& provoking) {
@@ -518,16 +600,20 @@ struct Raster {
     PVert a = t0 > 0 ? lerp(a0, b0, t0) : a0;
     PVert b = t1 < 1 ? lerp(a0, b0, t1) : b0;
     const bool flat = s.shade == ShadeModel::Flat;
-    line(to_window(a), to_window(b), 0, flat ? provoking.a : nullptr);
+    emit_line(to_window(a), to_window(b), 0, flat ? provoking.a : nullptr);
   }
 
   // A polygon with its provoking vertex (for flat shading): clip, find its facing, cull, then
   // fill it as a triangle fan or draw its outline or vertices per the polygon mode.
-  void draw_polygon(std::vector<PVert> poly, const PVert& provoking) {
-    PVert prov = provoking;
+  void draw_triangle(const PVert& a, const PVert& b, const PVert& c, const PVert& provoking) {
+    std::vector<PVert>& poly = poly_scratch;
+    poly.clear();
+    poly.push_back(a), poly.push_back(b), poly.push_back(c);
+    const PVert& prov = provoking;
     clip_polygon(poly);
     if (poly.size() < 3) return;
-    std::vector<WinVert> w(poly.size());
+    std::vector<WinVert>& w = win_scratch;
+    w.resize(poly.size());
     for (std::size_t i = 0; i < poly.size(); ++i) w[i] = to_window(poly[i]);
     double area = 0;
     for (std::size_t i = 0, n = w.size(); i < n; ++i) {
@@ -545,12 +631,12 @@ struct Raster {
     const float* flat_attrs = flat ? prov.a : nullptr;
     PolygonMode mode = front ? s.poly_front : s.poly_back;
     if (mode == PolygonMode::Fill) {
-      for (std::size_t i = 1; i + 1 < w.size(); ++i) triangle(w[0], w[i], w[i + 1], side, flat_attrs);
+      for (std::size_t i = 1; i + 1 < w.size(); ++i) emit_triangle(w[0], w[i], w[i + 1], side, flat_attrs);
     } else if (mode == PolygonMode::Line) {
       for (std::size_t i = 0, n = w.size(); i < n; ++i)
-        if (poly[i].edge) line(w[i], w[(i + 1) % n], side, flat_attrs);
+        if (poly[i].edge) emit_line(w[i], w[(i + 1) % n], side, flat_attrs);
     } else {
-      for (auto& v : w) point(v, side);
+      for (auto& v : w) emit_point(v, side);
     }
   }
 };
@@ -563,10 +649,25 @@ void run_primitive(Context::State& s, int width, int height, std::uint8_t* color
   const Mat4& mv = s.top(MatrixMode::ModelView);
   const Mat3 nmat = mv.topLeftCorner<3, 3>().inverse().transpose();
   const Mat4& proj = s.top(MatrixMode::Projection);
-  std::vector<PVert> v;
-  v.reserve(in.size());
-  for (const auto& x : in) v.push_back(process_vertex(s, x, mv, nmat, proj));
+  std::vector<PVert> v(in.size());
+  if (s.threads > 1 && in.size() >= 1024) {
+    // The vertex stage is independent per vertex.
+    tbb::task_arena arena(s.threads);
+    arena.execute([&] {
+      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, in.size(), 256), [&](const tbb::blocked_range<std::size_t>& r) {
+        for (std::size_t i = r.begin(); i != r.end(); ++i) v[i] = process_vertex(s, in[i], mv, nmat, proj);
+      });
+    });
+  } else {
+    for (std::size_t i = 0; i < in.size(); ++i) v[i] = process_vertex(s, in[i], mv, nmat, proj);
+  }
   Raster r(s, width, height, color, depth);
+  std::vector<Job> jobs;
+  const bool banded = s.threads > 1 && in.size() >= 64;
+  if (banded) {
+    jobs.reserve(in.size());
+    r.sink = &jobs;
+  }
   const std::size_t n = v.size();
   // Every polygon is split into triangles before clipping, as Mesa does (quads as (0,1,2),
   // (0,2,3) keeping the last vertex as provoking; polygons as a fan from vertex 0); the edge
@@ -575,11 +676,30 @@ void run_primitive(Context::State& s, int width, int height, std::uint8_t* color
                  bool e2 = true) {
     PVert va = v[a], vb = v[b], vc = v[c];
     va.edge = e0, vb.edge = e1, vc.edge = e2;
-    r.draw_polygon({va, vb, vc}, v[prov]);
+    r.draw_triangle(va, vb, vc, v[prov]);
   };
+  // Which diagonal splits a quad changes how colours interpolate across it. GL leaves it open;
+  // Mesa splits (0,1,2),(0,2,3) on its fast path and (0,1,3),(1,2,3) when the batch goes
+  // through its clipping/two-side pipeline (some vertex outside the clip volume, or two-sided
+  // lighting). We follow Mesa, so that images compare pixel for pixel.
+  bool pipeline_split = false;
+  if (p == Primitive::Quads || p == Primitive::QuadStrip) {
+    pipeline_split = two_sided_lighting(s);
+    for (std::size_t i = 0; i < v.size() && !pipeline_split; ++i)
+      for (int k = 0; k < r.plane_count(); ++k)
+        if (r.plane_dist(v[i], k) < 0) {
+          pipeline_split = true;
+          break;
+        }
+  }
   auto quad = [&](std::size_t a, std::size_t b, std::size_t c, std::size_t d, std::size_t prov) {
-    tri(a, b, c, prov, true, true, false);
-    tri(a, c, d, prov, false, true, true);
+    if (pipeline_split) {
+      tri(a, b, d, prov, true, false, true);
+      tri(b, c, d, prov, true, true, false);
+    } else {
+      tri(a, b, c, prov, true, true, false);
+      tri(a, c, d, prov, false, true, true);
+    }
   };
   switch (p) {
     case Primitive::Points:
@@ -611,12 +731,36 @@ void run_primitive(Context::State& s, int width, int height, std::uint8_t* color
       for (std::size_t i = 0; i + 3 < n; i += 4) quad(i, i + 1, i + 2, i + 3, i + 3);
       break;
     case Primitive::QuadStrip:
-      for (std::size_t i = 0; i + 3 < n; i += 2) quad(i, i + 1, i + 3, i + 2, i + 3);
+      for (std::size_t i = 0; i + 3 < n; i += 2) {
+        if (pipeline_split) quad(i + 2, i, i + 1, i + 3, i + 3);  // Mesa's QUAD(i+2, i, i+1, i+3)
+        else quad(i, i + 1, i + 3, i + 2, i + 3);
+      }
       break;
     case Primitive::Polygon:
       for (std::size_t i = 1; i + 1 < n; ++i) tri(0, i, i + 1, 0, i == 1, true, i + 2 == n);
       break;
   }
+  if (!banded || jobs.empty()) return;
+  // Bin the queued primitives by bands of rows, then rasterise the bands in parallel: each
+  // band owns its pixels, and draws its primitives in submission order.
+  const int bands = (height + kBandRows - 1) / kBandRows;
+  std::vector<std::vector<std::uint32_t>> bins(bands);
+  for (std::uint32_t i = 0; i < jobs.size(); ++i) {
+    const int b0 = std::max(0, jobs[i].row0 / kBandRows), b1 = std::min(bands - 1, std::max(0, jobs[i].row1) / kBandRows);
+    if (jobs[i].row1 < 0) continue;
+    for (int b = b0; b <= b1; ++b) bins[b].push_back(i);
+  }
+  r.sink = nullptr;
+  tbb::task_arena arena(s.threads);
+  arena.execute([&] {
+    tbb::parallel_for(0, bands, [&](int b) {
+      if (bins[b].empty()) return;
+      Raster band = r;
+      band.y0 = std::max(r.y0, b * kBandRows);
+      band.y1 = std::min(r.y1, (b + 1) * kBandRows);
+      for (std::uint32_t i : bins[b]) band.exec(jobs[i]);
+    });
+  });
 }
 
 }  // namespace wedge::render

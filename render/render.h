@@ -128,6 +128,11 @@ class Context {
   void write_png(const std::string& path) const;
   void write_depth_pfm(const std::string& path) const;
 
+  // Rasterisation threads: with n > 1, primitives are binned into bands of rows drawn in
+  // parallel (same image as one thread). Default 1.
+  void threads(int n);
+  int threads() const;
+
   // --- state switches ---
   void enable(Cap cap);
   void disable(Cap cap);
@@ -219,6 +224,14 @@ class Context {
   friend struct Pipeline;
 };
 
+// --- two-step texture mapping (Bier & Sloan 1986): an intermediate surface (cylinder, sphere
+// or box) around the object gets the (u, v) parametrisation, then each vertex takes the (u, v)
+// of the point where the ray from the centre through it (cylinder/sphere) or its dominant
+// normal axis (box) meets that surface. `axis` is the cylinder's axis; the centre is the mesh's
+// bounding-box centre. Returns a copy of the mesh with uvs set.
+enum class UvMapping { Cylinder, Sphere, Box };
+Mesh with_uv_mapping(const Mesh& mesh, UvMapping mapping, const Vec3& axis = Vec3(0, 0, 1));
+
 // --- a mesh drawn with a camera, lights and a material (the path Lua's render{} takes) -------
 struct LightSpec {
   enum class Type { Directional, Point, Spot } type = Type::Directional;
@@ -265,6 +278,7 @@ struct RenderOptions {
   int antialias = 1;  // supersampling factor per axis
   Vec4f background{1, 1, 1, 1};
   Visibility visibility = Visibility::ZBuffer;
+  int threads = 0;  // rasterisation threads; 0 = all cores
 };
 
 struct DrawItem {

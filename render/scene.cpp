@@ -1,6 +1,7 @@
 // render_scene: a mesh drawn through a Context with a camera, lights and materials, the way
 // Lua's render{} asks for it. Supersampling renders at antialias x the size and box-filters down.
 #include <cmath>
+#include <thread>
 
 #include "render/render.h"
 
@@ -31,8 +32,8 @@ class BspTree {
 
  private:
   struct Node {
-    Vec3 n;
-    double d;
+    Vec3 n = Vec3::Zero();
+    double d = 0;
     std::vector<WorldTri> on;
     int front = -1, back = -1;
   };
@@ -170,6 +171,7 @@ Image render_scene(const std::vector<DrawItem>& items, const RenderOptions& o) {
   if (o.lights.size() > 8) fail("render: at most 8 lights, got ", o.lights.size());
   const int aa = o.antialias, W = o.width * aa, H = o.height * aa;
   Context g(W, H);
+  g.threads(o.threads > 0 ? o.threads : std::max(1, int(std::thread::hardware_concurrency())));
   g.clear_color(o.background[0], o.background[1], o.background[2], o.background[3]);
   g.clear();
   Box3 bounds;

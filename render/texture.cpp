@@ -14,7 +14,8 @@ namespace {
 
 Vec4f texel(const Image& im, TexFormat fmt, int i, int j) {
   const std::uint8_t* p = &im.rgba[(std::size_t(j) * im.width + i) * 4];
-  Vec4f c(p[0] / 255.0f, p[1] / 255.0f, p[2] / 255.0f, p[3] / 255.0f);
+  constexpr float k = 1.0f / 255.0f;
+  Vec4f c(p[0] * k, p[1] * k, p[2] * k, p[3] * k);
   if (fmt == TexFormat::Luminance) c = Vec4f(c[0], c[0], c[0], 1);
   else if (fmt == TexFormat::RGB) c.w() = 1;
   return c;

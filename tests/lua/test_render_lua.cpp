@@ -2,6 +2,7 @@
 #include <catch2/catch.hpp>
 
 #include <filesystem>
+#include <fstream>
 #include <sstream>
 
 #include "lua/wedge_lua.h"
@@ -56,4 +57,37 @@ TEST_CASE("render{} names a bad option and the script line", "[lua][render]") {
   status = run("render{{vertices={{0,0,0}}, triangles={{1,2,3}}}, out='x.png'}", err);
   CHECK(status != 0);
   CHECK(err.find("vertex") != std::string::npos);
+}
+
+TEST_CASE("render{} draws an imported Solid with its s:material, textured by checker{}", "[lua][render]") {
+  std::string dir = std::string(WEDGE_BINARY_DIR) + "/";
+  {
+    std::ofstream obj(dir + "render_cube.obj");
+    obj << "v -1 -1 -1\nv 1 -1 -1\nv 1 1 -1\nv -1 1 -1\nv -1 -1 1\nv 1 -1 1\nv 1 1 1\nv -1 1 1\n"
+           "f 1 3 2\nf 1 4 3\nf 5 6 7\nf 5 7 8\nf 1 2 6\nf 1 6 5\nf 2 3 7\nf 2 7 6\nf 3 4 8\nf 3 8 7\nf 4 1 5\nf 4 5 8\n";
+  }
+  std::string out = dir + "lua_render_solid.png";
+  std::string err;
+  int status = run("local s = import('" + dir + "render_cube.obj')\n" + R"(
+    local red = s:material{diffuse={0.9, 0.1, 0.1}}
+    render{red, out=')" + out + R"(', size={64, 48}, camera={view='iso'}, background={0, 0, 0}}
+    local t = s:material{diffuse={1, 1, 1}, texture=checker{n=4, colors={{1, 1, 0}, {0, 0, 1}}}}
+    render{t, out=')" + dir + R"(lua_render_tex.png', size={64, 48}, camera={view='iso'}, background={0, 0, 0},
+           shading='phong', antialias=2})",
+                   err);
+  INFO(err);
+  REQUIRE(status == 0);
+  render::Image im = render::read_png(out);
+  auto mid = im.pixel(32, 24);
+  CHECK(int(mid[0]) > 3 * int(mid[1]));  // the red material
+  render::Image tex = render::read_png(dir + "lua_render_tex.png");
+  int yellowish = 0, blueish = 0;
+  for (int y = 0; y < tex.height; ++y)
+    for (int x = 0; x < tex.width; ++x) {
+      auto p = tex.pixel(x, y);
+      yellowish += p[0] > 60 && p[2] < p[0] / 2;
+      blueish += p[2] > 60 && p[0] < p[2] / 2;
+    }
+  CHECK(yellowish > 50);
+  CHECK(blueish > 50);
 }

