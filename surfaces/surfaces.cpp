@@ -143,9 +143,20 @@ Mesh Surface::mesh(double tolerance, int face_id) const {
     if (next_u * next_v > max_vertices || round > 30)
       fail("tolerance ", tolerance, " would need more than ", max_vertices, " mesh vertices on this surface: use a larger tolerance");
   }
+  return mesh_grid(us, vs, face_id, &grid);
+}
+
+Mesh Surface::mesh_grid(const std::vector<double>& us, const std::vector<double>& vs, int face_id,
+                        const std::vector<Point3>* points) const {
+  if (us.size() < 2 || vs.size() < 2) fail("mesh_grid: need at least two parameters in each direction");
   Mesh m;
   std::size_t nu = us.size(), nv = vs.size();
-  m.positions = grid;
+  if (points && points->size() == nu * nv) m.positions = *points;
+  else {
+    m.positions.resize(nu * nv);
+    for (std::size_t a = 0; a < nu; ++a)
+      for (std::size_t b = 0; b < nv; ++b) m.positions[a * nv + b] = eval(us[a], vs[b]);
+  }
   m.normals.resize(nu * nv);
   m.uvs.resize(nu * nv);
   for (std::size_t a = 0; a < nu; ++a)

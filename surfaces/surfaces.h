@@ -77,6 +77,12 @@ class Surface {
   // than 4M vertices.
   // Positions, normals and uvs (the surface parameters) are filled; face_ids = face_id.
   Mesh mesh(double tolerance, int face_id = -1) const;
+  // The mesh of the grid us x vs (parameters increasing; trims applied as in mesh()). Patches that
+  // share an edge and are meshed with the same parameters along it get the same edge points,
+  // which is how multi-patch surfaces are tessellated without cracks. `points`, if given, holds
+  // the already evaluated grid (row-major, us outer).
+  Mesh mesh_grid(const std::vector<double>& us, const std::vector<double>& vs, int face_id = -1,
+                 const std::vector<Point3>* points = nullptr) const;
 };
 
 using SurfacePtr = std::shared_ptr<const Surface>;
