@@ -1,8 +1,26 @@
-// wedge::brep — the winged-edge boundary representation. The typed ids of its elements: each is
-// an index into one arena of the model (see kernel/ids.h).
+// wedge::brep — the winged-edge boundary representation (Baumgart 1975, "A polyhedron
+// representation for computer vision"), with the Euler operators of Mäntylä ("An Introduction to
+// Solid Modeling", 1988, ch. 9–12) as the only way to change its topology.
+//
+// Notation. A Model holds shells → faces → loops (one outer loop, any number of inner loops =
+// rings) → edges → vertices, each in an arena addressed by a typed id. Every edge has two vertices
+// v[0], v[1] and two sides: side 0 runs v[0]→v[1], side 1 runs v[1]→v[0]. Each side lies in one
+// loop and has the four wings of Baumgart's edge: the predecessor and successor edge on that side.
+// A wing is stored as an EdgeSide (edge id + side bit) rather than a bare edge id, so that an edge
+// with the same loop on both sides (a "strut", which mev makes) is never ambiguous. A loop with no
+// edge holds a lone vertex (the state mvfs makes). Geometry is attached by id in parallel tables:
+// a point per vertex, a curve (line or circular arc) per edge, a surface (plane or cylinder, or
+// "none" = the plane fitted to the outer loop) per face.
+//
+// Counts: V, E, F, S are the live vertices, edges, faces, shells; R = loops − faces (the rings);
+// H, the through-holes (genus), is counted by the operators (kfmrh/mfkrh) and checked by
+// validate() against the genus of each shell found by traversal.
 #pragma once
+#include <string>
+#include <variant>
+#include <vector>
+
 #include "kernel/kernel.h"
-#include "surfaces/surfaces.h"
 
 namespace wedge {
 
@@ -18,6 +36,283 @@ struct EulerCounts {
   long V = 0, E = 0, F = 0, R = 0, H = 0, S = 0;
   long characteristic() const { return V - E + F - R + 2 * H - 2 * S; }
   bool operator==(const EulerCounts&) const = default;
+  EulerCounts operator-(const EulerCounts& o) const {
+    return {V - o.V, E - o.E, F - o.F, R - o.R, H - o.H, S - o.S};
+  }
 };
+
+// One side of an edge: the edge traversed v[0]→v[1] (side 0) or v[1]→v[0] (side 1).
+struct EdgeSide {
+  EdgeId edge;
+  int side = 0;
+  bool valid() const { return edge.valid(); }
+  EdgeSide mate() const { return {edge, 1 - side}; }
+  bool operator==(const EdgeSide&) const = default;
+};
+
+// --- geometry -----------------------------------------------------------------------------
+struct LineCurve {};
+// A circular arc from v[0] to v[1], counter-clockwise about `axis` (unit) around `center`.
+struct ArcCurve {
+  Point3 center;
+  Vec3 axis;
+  double radius = 0;
+};
+using EdgeCurve = std::variant<LineCurve, ArcCurve>;
+
+struct NoSurface {};  // a plane, fitted to the outer loop when asked
+struct PlaneSurface {
+  Point3 point;
+  Vec3 normal;  // unit, pointing out of the solid
+};
+struct CylinderSurface {
+  Point3 origin;
+  Vec3 axis;  // unit
+  double radius = 0;
+  bool outward = true;  // the solid's outward normal points away from the axis
+};
+using FaceSurface = std::variant<NoSurface, PlaneSurface, CylinderSurface>;
+
+// The arc from a through m to b (three distinct, non-collinear points).
+ArcCurve arc_through(const Point3& a, const Point3& m, const Point3& b);
+
+// --- topology records ---------------------------------------------------------------------
+struct BrepVertex {
+  EdgeSide out;  // some side starting here; invalid for a lone vertex
+};
+struct BrepSide {
+  LoopId loop;
+  EdgeSide next, prev;  // successor and predecessor in the loop (the wings of this side)
+};
+struct BrepEdge {
+  VertexId v[2];
+  BrepSide side[2];
+};
+struct BrepLoop {
+  FaceId face;
+  EdgeSide first;   // invalid when the loop holds only `lone`
+  VertexId lone;
+};
+struct BrepFace {
+  ShellId shell;
+  LoopId outer;
+  std::vector<LoopId> rings;
+};
+struct BrepShell {
+  int faces = 0;
+};
+
+// The verdict of validate(): ok, or the first rule that broke, where, in words.
+struct Validation {
+  bool ok = true;
+  std::string message;
+  explicit operator bool() const { return ok; }
+};
+
+struct BrepMass {
+  double volume = 0;
+  double area = 0;
+  Point3 centroid = Point3::Zero();
+  Mat3 inertia = Mat3::Zero();  // about the centroid, density 1
+};
+
+// A corner of a loop at vertex v: the side `out` leaving v in that loop (invalid when v is the
+// loop's lone vertex). Corners say where an operator inserts when a vertex occurs more than once.
+struct Corner {
+  LoopId loop;
+  EdgeSide out;
+  VertexId v;
+};
+
+class Model {
+ public:
+  // ---------------------------------------------------------------------------------------
+  // The Euler operators. Each checks its precondition first and throws wedge::Error naming the
+  // precondition that failed, leaving the model exactly as it was. Effects are on (V,E,F,R,H,S).
+  // ---------------------------------------------------------------------------------------
+
+  struct Mvfs { VertexId v; FaceId f; ShellId s; };
+  // Make vertex, face, shell: a new shell of one face whose loop holds the lone vertex at p.
+  // Precondition: p finite. Effect V+1 F+1 S+1. Inverse: kvfs(v).
+  Mvfs mvfs(const Point3& p);
+  // Kill vertex, face, shell. Precondition: v is the lone vertex of a one-face shell.
+  // Effect V−1 F−1 S−1. Inverse: mvfs(p).
+  void kvfs(VertexId v);
+
+  struct Mev { EdgeId e; VertexId v; };
+  // Make edge and vertex: a new edge from v (e.v[0] = v) to a new vertex at p, inside face f.
+  // Precondition: v lies on a loop of f. The edge is inserted at v's first corner in that loop
+  // (see mev_at for a chosen corner). Effect V+1 E+1. Inverse: kev(e, new v).
+  Mev mev(FaceId f, VertexId v, const Point3& p, EdgeCurve curve = LineCurve{});
+  // As mev, at a chosen corner: the new edge goes in just before side c.out.
+  Mev mev_at(Corner c, const Point3& p, EdgeCurve curve = LineCurve{});
+  // Kill edge and vertex. Precondition: v is an end of e and e is the only edge at v.
+  // Effect V−1 E−1. Inverse: mev(f, other end, point of v).
+  void kev(EdgeId e, VertexId v);
+
+  struct Mef { EdgeId e; FaceId f; };
+  // Make edge and face: split face f by a new edge v1→v2 (e.v[0] = v1). Precondition: v1 ≠ v2
+  // lie on the same loop of f. The new face gets the part of the loop from v1 to v2 closed by the
+  // new edge back to v1; f keeps the rest and its rings. Effect E+1 F+1. Inverse: kef(e, new f).
+  Mef mef(FaceId f, VertexId v1, VertexId v2, EdgeCurve curve = LineCurve{});
+  // As mef, at chosen corners: c1 and c2 are sides of one loop starting at v1 and v2.
+  Mef mef_at(EdgeSide c1, EdgeSide c2, EdgeCurve curve = LineCurve{});
+  // Kill edge and face: remove e and merge face f into the face g on e's other side (f's rings
+  // move to g). Precondition: e's sides lie in two different faces, one of them f, on f's outer
+  // loop. Effect E−1 F−1. Inverse: mef(g, ...).
+  void kef(EdgeId e, FaceId f);
+
+  // Kill edge, make ring: e has its loop on both sides; removing it splits the loop in two. The
+  // part at e.v[0] stays (as outer loop if it was), the part at e.v[1] becomes a new ring of the
+  // same face (a lone-vertex loop when e.v[1] hung only on e). Precondition: both sides of e in
+  // one loop. Effect E−1 R+1. Inverse: mekr(e.v[0], e.v[1]). Returns the new ring.
+  LoopId kemr(EdgeId e);
+  // Make edge, kill ring: a new edge v1→v2 joining two loops of one face; the loop of v2 is
+  // killed if it is a ring, else the loop of v1. Precondition: v1, v2 on two different loops of
+  // one face, at least one of them a ring. Effect E+1 R−1. Inverse: kemr(e).
+  EdgeId mekr(VertexId v1, VertexId v2, EdgeCurve curve = LineCurve{});
+  EdgeId mekr_at(Corner c1, Corner c2, EdgeCurve curve = LineCurve{});
+
+  // Kill face, make ring and hole: the single loop of face `hole` becomes a ring of face f.
+  // Precondition: hole ≠ f, hole has no rings. Effect F−1 R+1 and H+1 when both faces are in
+  // one shell, else S−1 (the shells merge). Inverse: mfkrh(f, ring). Returns the ring.
+  LoopId kfmrh(FaceId hole, FaceId f);
+  // Make face, kill ring and hole: ring (a ring of f) becomes the outer loop of a new face.
+  // Effect F+1 R−1 and H−1, or S+1 when the new face is no longer connected to f (it then
+  // gets a new shell). Precondition: ring is a ring of f; H > 0 when no shell splits.
+  // Inverse: kfmrh(new f, f).
+  FaceId mfkrh(FaceId f, LoopId ring);
+
+  // Split edge, make vertex: e (v0→v1) becomes v0→new v and a new edge new v→v1.
+  // Effect V+1 E+1. Inverse: jekv(new e).
+  Mev semv(EdgeId e, const Point3& p);
+  // Join edges, kill vertex: kills vertex v and its edge e2, extending v's other edge e to e2's
+  // far end (e may be flipped to run into v). Precondition: v is an end of e2 and has exactly
+  // two edges. Effect V−1 E−1. Inverse: semv(e, point of v).
+  void jekv(EdgeId e2, VertexId v);
+
+  // Reverses edge e: swaps v[0] and v[1] and its two sides (an arc's axis flips). Not a
+  // topological change: every loop passes the same edges in the same order.
+  void reverse_edge(EdgeId e);
+
+  // ---------------------------------------------------------------------------------------
+  // Queries.
+  EulerCounts counts() const;
+  // The structural rules (wings, closed loops, 2-manifold edges, shells by traversal, rings,
+  // genus vs H) and, with geometry, the geometric ones (planar faces, simple loops, outer
+  // loops counter-clockwise seen from outside and rings clockwise, positive volume).
+  Validation validate(bool geometry = true) const;
+
+  const Arena<BrepVertex, VertexId>& vertices() const { return vertices_; }
+  const Arena<BrepEdge, EdgeId>& edges() const { return edges_; }
+  const Arena<BrepLoop, LoopId>& loops() const { return loops_; }
+  const Arena<BrepFace, FaceId>& faces() const { return faces_; }
+  const Arena<BrepShell, ShellId>& shells() const { return shells_; }
+  long holes() const { return holes_; }
+
+  const Point3& point(VertexId v) const;
+  const EdgeCurve& curve(EdgeId e) const;
+  const FaceSurface& surface(FaceId f) const;
+  void set_point(VertexId v, const Point3& p);
+  void set_curve(EdgeId e, EdgeCurve c);
+  void set_surface(FaceId f, FaceSurface s);
+
+  // The first corner of v in loop l (throws if v is not on l).
+  Corner corner(LoopId l, VertexId v) const;
+  const BrepSide& side(EdgeSide s) const { return edges_[s.edge].side[s.side]; }
+  VertexId origin(EdgeSide s) const { return edges_[s.edge].v[s.side]; }
+  VertexId dest(EdgeSide s) const { return edges_[s.edge].v[1 - s.side]; }
+  // The sides of a loop in order (empty for a lone-vertex loop), and its vertices.
+  std::vector<EdgeSide> loop_sides(LoopId l) const;
+  std::vector<VertexId> loop_vertices(LoopId l) const;
+  // The loop's boundary as points: each side's start, arcs sampled with `arc_segments` pieces.
+  std::vector<Point3> loop_polyline(LoopId l, int arc_segments = 16) const;
+  // One side as points from its start to its end inclusive (arcs sampled).
+  std::vector<Point3> side_polyline(EdgeSide s, int arc_segments = 16) const;
+  // The outward unit normal of a face at its loop (plane normal; fitted for NoSurface).
+  Vec3 face_normal(FaceId f) const;
+  Box3 bounds() const;
+  bool all_planar() const;  // every face a plane (or none) and every edge a line
+
+  // Mass properties of a closed solid with planar faces (divergence theorem over the faces'
+  // fan triangles). Throws if a face or edge is curved.
+  BrepMass mass_properties() const;
+  // The signed volume enclosed by the boundary polylines (arcs sampled), for any faces.
+  double approximate_volume() const;
+
+  // Applies m to the geometry. A mirror (negative determinant) reverses every loop so that outer
+  // loops stay counter-clockwise seen from outside. Throws for a non-similarity on curved geometry.
+  void transform(const Mat4& m);
+
+  // For validate()'s tests only: direct access that bypasses the Euler operators.
+  BrepEdge& raw_edge(EdgeId e) { return edges_[e]; }
+  BrepLoop& raw_loop(LoopId l) { return loops_[l]; }
+  EdgeId raw_add_edge(BrepEdge e);
+
+ private:
+  BrepSide& side_mut(EdgeSide s) { return edges_[s.edge].side[s.side]; }
+  // link(a, b): next(a) = b, prev(b) = a
+  void link(EdgeSide a, EdgeSide b);
+  void relabel(EdgeSide start, LoopId l);
+  void append_arc_interior(EdgeSide s, int arc_segments, std::vector<Point3>& out) const;  // set the loop of every side in start's cycle
+  bool find_corner(FaceId f, VertexId v, Corner* c) const;
+  bool ring_stays_connected(FaceId f, LoopId ring, std::vector<FaceId>* component) const;
+  void require_vertex(VertexId v, const char* op, const char* what) const;
+  void require_edge(EdgeId e, const char* op) const;
+  void require_face(FaceId f, const char* op) const;
+  EdgeId new_edge(VertexId a, VertexId b, EdgeCurve c);
+  VertexId new_vertex(const Point3& p);
+  FaceId new_face(ShellId s);
+  void kill_face(FaceId f);
+
+  Arena<BrepVertex, VertexId> vertices_;
+  Arena<BrepEdge, EdgeId> edges_;
+  Arena<BrepLoop, LoopId> loops_;
+  Arena<BrepFace, FaceId> faces_;
+  Arena<BrepShell, ShellId> shells_;
+  long holes_ = 0;
+  // Geometry, attached by id (index = id value).
+  std::vector<Point3> points_;
+  std::vector<EdgeCurve> curves_;
+  std::vector<FaceSurface> surfaces_;
+};
+
+// ---------------------------------------------------------------------------------------------
+// Solids built only through the Euler operators (brep/build.cpp). Outward orientation: outer
+// loops counter-clockwise seen from outside.
+
+// An axis-aligned box with its minimum corner at `corner`. Sizes must be positive.
+Model box(const Vec3& size, const Point3& corner = Point3::Zero());
+
+// A 2D profile: the outer polygon counter-clockwise, holes clockwise or counter-clockwise (they
+// are reoriented), in the xy-plane.
+struct Profile {
+  std::vector<Vec2> outer;
+  std::vector<std::vector<Vec2>> holes;
+};
+// The planar extrude: the profile at z = 0 swept to z = height (a through-hole per profile hole).
+Model prism(const Profile& profile, double height);
+// A frustum of a pyramid: the polygon `base` at z = 0, the same polygon scaled by `top_scale`
+// about `apex_xy` at z = height; top_scale = 0 gives a pyramid with apex (apex_xy, height).
+Model frustum(const std::vector<Vec2>& base, double height, double top_scale, const Vec2& apex_xy);
+
+// A closed 2-manifold polyhedron from points and faces (0-based indices, each face
+// counter-clockwise seen from outside). Rejects open or non-manifold input, inconsistent
+// orientation, repeated or unused indices, with a message naming the edge, vertex or face.
+// Any genus; each connected component becomes a shell.
+Model polyhedron(const std::vector<Point3>& points, const std::vector<std::vector<int>>& faces);
+
+// Sweeps face f of m by d (Mäntylä's translational sweep, through mev and mef only): every
+// loop of f gets a side wall; f ends up moved by d. Side faces of arcs get cylinders.
+void sweep(Model& m, FaceId f, const Vec3& d);
+
+// The seed's worked example: a block with a protrusion, a sharp-cornered depression, a round-
+// cornered depression and a round through-hole. `rows` receives each feature's own counts
+// (block, protrusion, sharp depression, round depression, hole), in that order.
+struct FeatureRow {
+  std::string name;
+  EulerCounts counts;
+};
+Model worked_example(std::vector<FeatureRow>* rows = nullptr);
 
 }  // namespace wedge

@@ -15,8 +15,10 @@ const Registrar kRegistrars[] = {
     register_matrix,
     register_solid,
     register_io,
+    register_profiles,
     register_curves,
     register_surfaces,
+    register_brep,
     register_render,
 };
 

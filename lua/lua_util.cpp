@@ -16,13 +16,12 @@ std::string format_number(double v) {
 }
 }  // namespace
 
-int raise_arg_error(lua_State* L, int arg, const char* message) { return luaL_argerror(L, arg, message); }
-
-int raise_error(lua_State* L, const char* message) {
+int raise_pending(lua_State* L, int arg) {
+  const char* message = lua_tostring(L, -1);  // stays valid: the string stays on the stack
+  if (arg) return luaL_argerror(L, arg, message);
   // Name the running function, as luaL_argerror does, so the message says where it came from.
   lua_Debug ar;
-  if (lua_getstack(L, 0, &ar) && lua_getinfo(L, "n", &ar) && ar.name)
-    return luaL_error(L, "%s: %s", ar.name, message);
+  if (lua_getstack(L, 0, &ar) && lua_getinfo(L, "n", &ar) && ar.name) return luaL_error(L, "%s: %s", ar.name, message);
   return luaL_error(L, "%s", message);
 }
 

@@ -21,26 +21,29 @@ struct ArgError {
   std::string message;
 };
 
-// Raises the pending error as a Lua error (never returns). Kept out of line, free of C++ objects.
-int raise_arg_error(lua_State* L, int arg, const char* message);
-int raise_error(lua_State* L, const char* message);
+// Raises the error whose message is on top of the Lua stack: as an argument error when arg > 0.
+// Never returns. It runs after every C++ object of the failed call has been destroyed.
+int raise_pending(lua_State* L, int arg);
 
 template <class F>
 int guarded(lua_State* L, F&& body) {
   int arg = 0;
-  std::string message;
-  try {
-    return body();
-  } catch (const ArgError& e) {
-    arg = e.arg;
-    message = e.message;
-  } catch (const std::exception& e) {
-    message = e.what();
-  } catch (...) {
-    message = "unknown C++ exception";
+  {
+    std::string message;
+    try {
+      return body();
+    } catch (const ArgError& e) {
+      arg = e.arg;
+      message = e.message;
+    } catch (const std::exception& e) {
+      message = e.what();
+    } catch (...) {
+      message = "unknown C++ exception";
+    }
+    // Hand the message to Lua; the std::string dies at the end of this block, before the longjmp.
+    lua_pushlstring(L, message.data(), message.size());
   }
-  // The catch blocks are finished: only the string remains, and it is copied to Lua below.
-  return arg ? raise_arg_error(L, arg, message.c_str()) : raise_error(L, message.c_str());
+  return raise_pending(L, arg);
 }
 
 // The name Lua shows for the value at idx: its metatable's __name, or its type name.

@@ -29,8 +29,10 @@ int run_string(const std::string& code, const std::string& chunkname, std::ostre
 void register_matrix(lua_State* L);
 void register_solid(lua_State* L);
 void register_io(lua_State* L);
+void register_profiles(lua_State* L);  // wrap_profile.cpp
 void register_curves(lua_State* L);    // wrap_curve.cpp
 void register_surfaces(lua_State* L);  // wrap_surface.cpp
+void register_brep(lua_State* L);      // wrap_brep.cpp
 void register_render(lua_State* L);
 
 }  // namespace wedge::lua

@@ -35,14 +35,14 @@ auto as_arg(int arg, F&& f) -> decltype(f()) {
 std::vector<Point3> read_points_top(lua_State* L, int arg, const std::string& what, bool& planar) {
   if (lua_type(L, -1) != LUA_TTABLE) throw ArgError{arg, what + " must be a list of points, got " + type_name(L, -1)};
   std::vector<Point3> pts;
-  lua_Integer n = luaL_len(L, -1);
+  lua_Integer n = lua_Integer(lua_rawlen(L, -1));
   for (lua_Integer i = 1; i <= n; ++i) {
     lua_rawgeti(L, -1, i);
     std::string err;
     Point3 p;
     if (lua_type(L, -1) != LUA_TTABLE) err = what + ": point " + std::to_string(i) + " must be {x, y} or {x, y, z}, got " + type_name(L, -1);
     else {
-      if (luaL_len(L, -1) >= 3) planar = false;
+      if (lua_Integer(lua_rawlen(L, -1)) >= 3) planar = false;
       try {
         p = to_vec3(L, -1, arg, what + ": point " + std::to_string(i), true);
       } catch (const ArgError& e) {
@@ -94,7 +94,7 @@ std::vector<double> read_numbers(lua_State* L, Options& o, const char* key) {
   std::string err;
   if (t != LUA_TTABLE) err = std::string("field '") + key + "' must be a list of numbers, got " + type_name(L, -1);
   else {
-    lua_Integer n = luaL_len(L, -1);
+    lua_Integer n = lua_Integer(lua_rawlen(L, -1));
     for (lua_Integer i = 1; i <= n && err.empty(); ++i) {
       int ti = lua_rawgeti(L, -1, i);
       double x = lua_tonumber(L, -1);

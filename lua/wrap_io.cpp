@@ -1,6 +1,7 @@
 // Lua bindings of mesh files: export(value, path [, {ascii=, tolerance=}]) and import(path).
 #include "lua/lua_util.h"
 #include "lua/wedge_lua.h"
+#include "lua/wrap_curve.h"
 #include "lua/wrap_solid.h"
 #include "tessellate/mesh_io.h"
 
@@ -35,10 +36,19 @@ int import_fn(lua_State* L) {
   });
 }
 
+// Free-form surfaces (and the teapot's patches) export and render as their meshes.
+std::optional<Mesh> surface_to_mesh(lua_State* L, int idx, const Tolerance& tol) {
+  if (const LuaSurface* s = test_surface(L, idx)) return surface_mesh(*s, tol.chordal);
+  return std::nullopt;
+}
+
 const luaL_Reg kFunctions[] = {{"export", export_fn}, {"import", import_fn}, {nullptr, nullptr}};
 
 }  // namespace
 
-void register_io(lua_State* L) { set_functions(L, kFunctions); }
+void register_io(lua_State* L) {
+  set_functions(L, kFunctions);
+  add_mesh_converter(L, surface_to_mesh);
+}
 
 }  // namespace wedge::lua

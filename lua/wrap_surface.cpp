@@ -1,6 +1,7 @@
 // Lua bindings of the surfaces of surfaces/: bezier_surface, nurbs_surface, revolved_surface,
 // extruded_surface, swept_surface, lofted_surface, teapot, and the Surface methods. Surface
 // parameters are normalised: (u, v) in [0, 1] x [0, 1] for every kind of surface.
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -49,14 +50,14 @@ int nesting(lua_State* L) {
 std::vector<std::vector<Point3>> read_grid_top(lua_State* L, int arg, const std::string& what) {
   if (lua_type(L, -1) != LUA_TTABLE) throw ArgError{arg, what + " must be a grid of points, got " + type_name(L, -1)};
   std::vector<std::vector<Point3>> grid;
-  lua_Integer rows = luaL_len(L, -1);
+  lua_Integer rows = lua_Integer(lua_rawlen(L, -1));
   for (lua_Integer i = 1; i <= rows; ++i) {
     lua_rawgeti(L, -1, i);
     std::string err;
     std::vector<Point3> row;
     if (lua_type(L, -1) != LUA_TTABLE) err = what + ": row " + std::to_string(i) + " must be a list of points";
     else {
-      lua_Integer cols = luaL_len(L, -1);
+      lua_Integer cols = lua_Integer(lua_rawlen(L, -1));
       for (lua_Integer j = 1; j <= cols && err.empty(); ++j) {
         lua_rawgeti(L, -1, j);
         std::string name = what + "[" + std::to_string(i) + "][" + std::to_string(j) + "]";
@@ -84,12 +85,12 @@ std::vector<std::vector<double>> read_number_grid(lua_State* L, Options& o, cons
   std::string err;
   if (lua_type(L, -1) != LUA_TTABLE) err = std::string("field '") + key + "' must be a grid of numbers";
   else
-    for (lua_Integer i = 1; i <= luaL_len(L, -1) && err.empty(); ++i) {
+    for (lua_Integer i = 1; i <= lua_Integer(lua_rawlen(L, -1)) && err.empty(); ++i) {
       lua_rawgeti(L, -1, i);
       std::vector<double> row;
       if (lua_type(L, -1) != LUA_TTABLE) err = std::string("field '") + key + "': row " + std::to_string(i) + " must be a list of numbers";
       else
-        for (lua_Integer j = 1; j <= luaL_len(L, -1) && err.empty(); ++j) {
+        for (lua_Integer j = 1; j <= lua_Integer(lua_rawlen(L, -1)) && err.empty(); ++j) {
           int t = lua_rawgeti(L, -1, j);
           double x = lua_tonumber(L, -1);
           if (t != LUA_TNUMBER || !std::isfinite(x))
@@ -111,7 +112,7 @@ std::vector<double> read_number_list(lua_State* L, Options& o, const char* key) 
   std::string err;
   if (lua_type(L, -1) != LUA_TTABLE) err = std::string("field '") + key + "' must be a list of numbers";
   else
-    for (lua_Integer i = 1; i <= luaL_len(L, -1) && err.empty(); ++i) {
+    for (lua_Integer i = 1; i <= lua_Integer(lua_rawlen(L, -1)) && err.empty(); ++i) {
       int t = lua_rawgeti(L, -1, i);
       double x = lua_tonumber(L, -1);
       if (t != LUA_TNUMBER || !std::isfinite(x)) err = std::string("field '") + key + "': entry " + std::to_string(i) + " must be a finite number";
@@ -238,7 +239,7 @@ int lofted_surface_fn(lua_State* L) {
   return guarded(L, [&] {
     check_table(L, 1);
     std::vector<CurvePtr> sections;
-    lua_Integer n = luaL_len(L, 1);
+    lua_Integer n = lua_Integer(lua_rawlen(L, 1));
     for (lua_Integer i = 1; i <= n; ++i) {
       lua_rawgeti(L, 1, i);
       const LuaCurve* c = test_curve(L, -1);
@@ -386,9 +387,42 @@ const LuaSurface* test_surface(lua_State* L, int idx) { return test_object<LuaSu
 const LuaSurface& check_surface(lua_State* L, int idx) { return check_object<LuaSurface>(L, idx, kKey, "Surface"); }
 
 Mesh surface_mesh(const LuaSurface& s, double tolerance) {
+  if (s.patches.empty()) return Mesh();
+  if (s.patches.size() == 1) return s.patches[0]->mesh(tolerance, 0);
+  // Several patches (the teapot): patches meshed independently would sample a shared edge at
+  // different points and leave cracks (T-junctions). Instead every patch gets the same uniform
+  // grid, as fine as the most demanding patch needs, so shared edges get the same points.
+  std::size_t n = 1;
+  bool trimmed = false;
+  for (const auto& p : s.patches) {
+    trimmed = trimmed || !p->trims.empty();
+    Mesh m = p->mesh(tolerance);
+    std::vector<double> us, vs;
+    for (const auto& uv : m.uvs) {
+      us.push_back(uv.x());
+      vs.push_back(uv.y());
+    }
+    for (auto* t : {&us, &vs}) {
+      std::sort(t->begin(), t->end());
+      n = std::max(n, std::size_t(std::unique(t->begin(), t->end()) - t->begin()) - 1);
+    }
+  }
   Mesh all;
   for (std::size_t i = 0; i < s.patches.size(); ++i) {
-    Mesh m = s.patches[i]->mesh(tolerance, int(i));
+    const auto& p = *s.patches[i];
+    Mesh m;
+    if (trimmed) {
+      m = p.mesh(tolerance, int(i));
+    } else {
+      auto [u0, u1] = p.u_domain();
+      auto [v0, v1] = p.v_domain();
+      std::vector<double> us(n + 1), vs(n + 1);
+      for (std::size_t k = 0; k <= n; ++k) {
+        us[k] = k == n ? u1 : u0 + (u1 - u0) * double(k) / double(n);
+        vs[k] = k == n ? v1 : v0 + (v1 - v0) * double(k) / double(n);
+      }
+      m = p.mesh_grid(us, vs, int(i));
+    }
     if (i == 0) all = std::move(m);
     else all.append(m);
   }

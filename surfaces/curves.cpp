@@ -95,6 +95,8 @@ std::vector<double> Curve::parameters(double tolerance) const {
       [&](double a, double b, const Point3& pa, const Point3& pb, int depth) {
         double err = 0;
         for (double f : {0.25, 0.5, 0.75}) err = std::max(err, point_segment_distance(eval(a + f * (b - a)), pa, pb));
+        if (out.size() > 1'000'000)
+          fail("tolerance ", tolerance, " would need more than a million points on this curve: use a larger tolerance");
         if (err > tolerance && depth < 40) {
           double m = 0.5 * (a + b);
           Point3 pm = eval(m);

@@ -1,8 +1,10 @@
 // NURBS curves after The NURBS Book (Piegl & Tiller): a rational curve is a B-spline in
 // homogeneous space, Cw(u) = sum N_i,p(u) (w_i P_i, w_i). Points by A4.1, derivatives of Cw by A3.2
 // and the rational derivatives by A4.2 (Leibniz rule on A(u) = w(u) C(u)). Knot insertion is
-// Boehm's insertion (the single-knot form of A5.1, repeated); degree elevation splits into Bezier pieces by insertion and raises each
-// piece with the Bezier elevation formula. Conics are rational quadratics (A7.1): a circular arc of
+// Boehm's single-knot formula (A5.1 one knot at a time); knot removal is A5.8 one knot at a time
+// (solve the insertion equations from both ends, accept if they meet within the tolerance). Degree
+// elevation splits into Bezier pieces by insertion, raises each piece with the Bezier formula, and
+// removes the knots that became redundant, which gives A5.9's result. Conics are rational quadratics (A7.1): a circular arc of
 // at most 90 degrees has middle weight cos(half angle), and an ellipse is its affine image.
 // Global interpolation is A9.1 (chord-length parameters, averaged knots, one linear solve).
 #include <algorithm>
@@ -152,6 +154,64 @@ std::vector<NurbsCurve> NurbsCurve::bezier_segments() const {
   return out;
 }
 
+namespace {
+
+// One removal of the knot at index r (its last copy; multiplicity s) from Pw/U, A5.8 with num = 1.
+bool remove_once(std::vector<Vec4>& Pw, std::vector<double>& U, int p, int r, int s, double tol) {
+  double u = U[r];
+  int ord = p + 1, first = r - p, last = r - s, off = first - 1;
+  std::vector<Vec4> temp(last - off + 2);
+  temp[0] = Pw[off];
+  temp[last + 1 - off] = Pw[last + 1];
+  int i = first, j = last, ii = 1, jj = last - off;
+  while (j - i > 0) {
+    double ai = (u - U[i]) / (U[i + ord] - U[i]);
+    double aj = (u - U[j]) / (U[j + ord] - U[j]);
+    temp[ii] = (Pw[i] - (1 - ai) * temp[ii - 1]) / ai;
+    temp[jj] = (Pw[j] - aj * temp[jj + 1]) / (1 - aj);
+    ++i, ++ii, --j, --jj;
+  }
+  bool ok;
+  if (j - i < 0) {
+    ok = (temp[ii - 1] - temp[jj + 1]).norm() <= tol;
+  } else {
+    double ai = (u - U[i]) / (U[i + ord] - U[i]);
+    ok = (Pw[i] - (ai * temp[ii + 1] + (1 - ai) * temp[ii - 1])).norm() <= tol;
+  }
+  if (!ok) return false;
+  for (i = first, j = last; j - i > 0; ++i, --j) {
+    Pw[i] = temp[i - off];
+    Pw[j] = temp[j - off];
+  }
+  U.erase(U.begin() + r);
+  Pw.erase(Pw.begin() + (2 * r - s - p) / 2);
+  return true;
+}
+
+}  // namespace
+
+NurbsCurve NurbsCurve::without_knot(double u, int times, double tolerance) const {
+  auto [a, b] = domain();
+  if (!std::isfinite(u) || !(u > a && u < b)) fail("knot to remove (", u, ") must lie inside the domain (", a, ", ", b, ")");
+  std::vector<Vec4> Pw(points_.size());
+  for (std::size_t i = 0; i < Pw.size(); ++i) Pw[i] << weights_[i] * points_[i], weights_[i];
+  std::vector<double> U = knots_;
+  for (int k = 0; k < times; ++k) {
+    auto it = std::upper_bound(U.begin(), U.end(), u);
+    int s = int(std::count(U.begin(), U.end(), u));
+    if (s == 0) break;
+    int r = int(it - U.begin()) - 1;
+    if (!remove_once(Pw, U, degree_, r, s, tolerance)) break;
+  }
+  std::vector<Point3> P(Pw.size());
+  std::vector<double> w(Pw.size());
+  for (std::size_t i = 0; i < Pw.size(); ++i) {
+    w[i] = Pw[i][3];
+    P[i] = Pw[i].head<3>() / w[i];
+  }
+  return NurbsCurve(degree_, std::move(P), std::move(U), std::move(w));
+}
+
 NurbsCurve NurbsCurve::elevated() const {
   int p = degree_, q = p + 1;
   if (q > kMaxDegree) fail("degree must be at most ", kMaxDegree);
@@ -177,7 +237,16 @@ NurbsCurve NurbsCurve::elevated() const {
     first = false;
   }
   K.insert(K.end(), q + 1, domain().second);
-  return NurbsCurve(q, std::move(P), std::move(K), std::move(W));
+  NurbsCurve out(q, std::move(P), std::move(K), std::move(W));
+  // Each interior knot of multiplicity m now has q = p + 1 copies; the elevated curve needs m + 1.
+  double scale = 1;
+  for (std::size_t i = 0; i < points_.size(); ++i) scale = std::max(scale, (weights_[i] * points_[i]).norm() + weights_[i]);
+  for (double u : breaks()) {
+    if (u == domain().first || u == domain().second) continue;
+    int m = int(std::count(knots_.begin(), knots_.end(), u));
+    out = out.without_knot(u, p - m, 1e-10 * scale);
+  }
+  return out;
 }
 
 // --- conics ---

@@ -5,9 +5,11 @@
 // the profile along rotation-minimising frames from the double reflection method (Wang, Juettler,
 // Zheng, Liu, ACM TOG 27(1), 2008): reflect the frame in the bisector plane of the chord, then in
 // the plane that maps the reflected tangent onto the next one. Lofts blend the sections with
-// cardinal natural cubic splines. Meshes: a parameter grid, split per knot interval, doubled where
-// a cell's edge midpoints, diagonal midpoint or triangle centroids leave the surface by more than
-// half the tolerance (so the whole triangle, whose error is quadratic, stays within it).
+// cardinal natural cubic splines. Meshes: a parameter grid, uniform within each knot interval,
+// refined where a cell's edge midpoints, diagonal midpoint or triangle centroids leave the surface
+// by more than half the tolerance (the error of a linear interpolant of a smooth surface is
+// quadratic over the triangle, so bounding these samples by tol/2 keeps the whole triangle within
+// about 2/3 tol); an interval's count grows by the square root of its worst error ratio.
 #include <algorithm>
 #include <cmath>
 
@@ -105,8 +107,8 @@ Mesh Surface::mesh(double tolerance, int face_id) const {
     grid.resize(nu * nv);
     for (std::size_t a = 0; a < nu; ++a)
       for (std::size_t b = 0; b < nv; ++b) grid[a * nv + b] = eval(us[a], vs[b]);
-    std::vector<char> ref_u(cu.size(), 0), ref_v(cv.size(), 0);
-    bool any = false;
+    // Worst error / limit per knot interval, in each direction.
+    std::vector<double> ratio_u(cu.size(), 0.0), ratio_v(cv.size(), 0.0);
     for (std::size_t a = 0; a + 1 < nu; ++a)
       for (std::size_t b = 0; b + 1 < nv; ++b) {
         const Point3 &p00 = grid[a * nv + b], &p10 = grid[(a + 1) * nv + b], &p01 = grid[a * nv + b + 1],
@@ -117,21 +119,44 @@ Mesh Surface::mesh(double tolerance, int face_id) const {
         double ed = (eval(um, vm) - 0.5 * (p00 + p11)).norm();
         ed = std::max(ed, (eval((us[a] + 2 * us[a + 1]) / 3, (2 * vs[b] + vs[b + 1]) / 3) - (p00 + p10 + p11) / 3).norm());
         ed = std::max(ed, (eval((2 * us[a] + us[a + 1]) / 3, (vs[b] + 2 * vs[b + 1]) / 3) - (p00 + p11 + p01) / 3).norm());
-        if (eu > limit || ed > limit) ref_u[uo[a]] = 1;
-        if (ev > limit || ed > limit) ref_v[vo[b]] = 1;
+        ratio_u[uo[a]] = std::max(ratio_u[uo[a]], std::max(eu, ed) / limit);
+        ratio_v[vo[b]] = std::max(ratio_v[vo[b]], std::max(ev, ed) / limit);
       }
+    // The chordal error falls with the square of the step: scale each interval's count by the
+    // square root of its worst ratio (a little more, and at least one more cell).
+    auto grow = [](std::vector<int>& count, const std::vector<double>& ratio) {
+      bool changed = false;
+      for (std::size_t i = 0; i < count.size(); ++i)
+        if (ratio[i] > 1) {
+          double target = std::ceil(count[i] * std::sqrt(ratio[i]) * 1.1);
+          count[i] = int(std::min(target, 1e7));
+          changed = true;
+        }
+      return changed;
+    };
+    bool any = grow(cu, ratio_u);
+    any = grow(cv, ratio_v) || any;
+    if (!any) break;
     std::size_t next_u = 1, next_v = 1;
-    for (std::size_t i = 0; i < cu.size(); ++i) next_u += std::size_t(cu[i]) * (ref_u[i] ? 2 : 1);
-    for (std::size_t i = 0; i < cv.size(); ++i) next_v += std::size_t(cv[i]) * (ref_v[i] ? 2 : 1);
-    for (char f : ref_u) any = any || f;
-    for (char f : ref_v) any = any || f;
-    if (!any || next_u * next_v > max_vertices) break;
-    for (std::size_t i = 0; i < cu.size(); ++i) cu[i] *= ref_u[i] ? 2 : 1;
-    for (std::size_t i = 0; i < cv.size(); ++i) cv[i] *= ref_v[i] ? 2 : 1;
+    for (int c : cu) next_u += std::size_t(c);
+    for (int c : cv) next_v += std::size_t(c);
+    if (next_u * next_v > max_vertices || round > 30)
+      fail("tolerance ", tolerance, " would need more than ", max_vertices, " mesh vertices on this surface: use a larger tolerance");
   }
+  return mesh_grid(us, vs, face_id, &grid);
+}
+
+Mesh Surface::mesh_grid(const std::vector<double>& us, const std::vector<double>& vs, int face_id,
+                        const std::vector<Point3>* points) const {
+  if (us.size() < 2 || vs.size() < 2) fail("mesh_grid: need at least two parameters in each direction");
   Mesh m;
   std::size_t nu = us.size(), nv = vs.size();
-  m.positions = grid;
+  if (points && points->size() == nu * nv) m.positions = *points;
+  else {
+    m.positions.resize(nu * nv);
+    for (std::size_t a = 0; a < nu; ++a)
+      for (std::size_t b = 0; b < nv; ++b) m.positions[a * nv + b] = eval(us[a], vs[b]);
+  }
   m.normals.resize(nu * nv);
   m.uvs.resize(nu * nv);
   for (std::size_t a = 0; a < nu; ++a)

@@ -73,8 +73,16 @@ class Surface {
 
   // A triangle mesh whose chordal error (distance between a triangle and the surface at the same
   // parameters) stays below `tolerance`: a grid refined until midpoint samples of every cell agree.
+  // Vertices along a closed seam or a pole are not merged. Throws if the tolerance would need more
+  // than 4M vertices.
   // Positions, normals and uvs (the surface parameters) are filled; face_ids = face_id.
   Mesh mesh(double tolerance, int face_id = -1) const;
+  // The mesh of the grid us x vs (parameters increasing; trims applied as in mesh()). Patches that
+  // share an edge and are meshed with the same parameters along it get the same edge points,
+  // which is how multi-patch surfaces are tessellated without cracks. `points`, if given, holds
+  // the already evaluated grid (row-major, us outer).
+  Mesh mesh_grid(const std::vector<double>& us, const std::vector<double>& vs, int face_id = -1,
+                 const std::vector<Point3>* points = nullptr) const;
 };
 
 using SurfacePtr = std::shared_ptr<const Surface>;
@@ -161,10 +169,14 @@ class NurbsCurve : public Curve {
   const std::vector<double>& weights() const { return weights_; }
   bool rational() const;
 
-  // A5.1 (Boehm): the same curve with knot u inserted `times` times.
+  // Boehm knot insertion (A5.1, one knot at a time): the same curve with knot u inserted `times`
+  // times, never beyond multiplicity = degree.
   NurbsCurve with_knot(double u, int times = 1) const;
-  // The same curve with degree + 1: split into Bezier segments, elevate each (A5.9's idea without
-  // the final knot removal, so interior knots keep multiplicity degree + 1).
+  // A5.8: knot u removed up to `times` times, as far as the curve stays within `tolerance`
+  // (absolute, in homogeneous coordinates); the inverse of with_knot.
+  NurbsCurve without_knot(double u, int times = 1, double tolerance = 1e-9) const;
+  // The same curve with degree + 1: split into Bezier segments, elevate each, then remove the knots
+  // that elevation made redundant (A5.9's result: each interior knot's multiplicity grows by one).
   NurbsCurve elevated() const;
   // The Bezier segments (as NurbsCurves on their own knot intervals), by knot insertion.
   std::vector<NurbsCurve> bezier_segments() const;

@@ -137,3 +137,10 @@ TEST_CASE("bad curve and surface input is an error naming the argument, at the s
 local s = nurbs_surface{points = g, vknots = {0, 0, 0, 0, 2, 1, 1, 1}})LUA", "@vk.lua");
   CHECK_THAT(vk.err, Catch::StartsWith("vk.lua:2: bad argument #1 to 'nurbs_surface' (vknots must be non-decreasing"));
 }
+
+TEST_CASE("examples/surfaces.lua runs to the end", "[lua][examples]") {
+  std::ostringstream err;
+  int status = run_file(std::string(WEDGE_SOURCE_DIR) + "/examples/surfaces.lua", {}, err);
+  INFO(err.str());
+  CHECK(status == 0);
+}

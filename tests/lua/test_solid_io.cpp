@@ -91,3 +91,15 @@ TEST_CASE("bad files and bad export arguments are Lua errors naming what was wro
   CHECK_FALSE(fs::exists(f.dir / "x.stl"));
   CHECK_FALSE(fs::exists(f.dir / "x.step"));
 }
+
+TEST_CASE("free-form surfaces export as their meshes", "[lua][io]") {
+  Fixture f;
+  auto r = run(f.lua_dir() + R"(
+    local n = export(teapot(), dir .. "/teapot.ply", {tolerance = 0.05})
+    assert(n > 500, n)
+    local s = bezier_surface{{{0,0,0},{1,0,0}},{{0,1,0},{1,1,1}}}
+    assert(export(s, dir .. "/patch.obj") >= 2)
+  )");
+  INFO(r.err);
+  CHECK(r.status == 0);
+}

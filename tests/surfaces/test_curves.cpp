@@ -3,6 +3,7 @@
 // the tessellation / arc length against known values.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <random>
@@ -98,10 +99,29 @@ TEST_CASE("knot insertion leaves the curve unchanged", "[nurbs]") {
   CHECK(max_deviation(u, v) < 1e-12);
 }
 
+TEST_CASE("knot removal undoes knot insertion", "[nurbs]") {
+  NurbsCurve c = sample_nurbs();
+  NurbsCurve d = c.with_knot(0.37, 2).without_knot(0.37, 2);
+  REQUIRE(d.knots() == c.knots());
+  for (std::size_t i = 0; i < c.control_points().size(); ++i) {
+    CHECK((d.control_points()[i] - c.control_points()[i]).norm() < 1e-12);
+    CHECK(d.weights()[i] == Approx(c.weights()[i]).epsilon(1e-12));
+  }
+  // A knot the curve needs (its C1 break at 0.5) cannot be removed: the curve stays as it was.
+  NurbsCurve kept = c.without_knot(0.5, 1);
+  CHECK(kept.knots() == c.knots());
+  CHECK(max_deviation(c, kept) < 1e-14);
+}
+
 TEST_CASE("degree elevation leaves the curve unchanged", "[nurbs]") {
   NurbsCurve c = sample_nurbs();
   NurbsCurve e = c.elevated();
   CHECK(e.degree() == 4);
+  // The NURBS Book's count: n + (distinct interior knots + 1) new control points (0.2 and 0.5 here),
+  // and each interior knot's multiplicity grows by one.
+  CHECK(e.control_points().size() == c.control_points().size() + 3);
+  CHECK(std::count(e.knots().begin(), e.knots().end(), 0.5) == 3);
+  CHECK(std::count(e.knots().begin(), e.knots().end(), 0.2) == 2);
   CHECK(max_deviation(c, e) < 1e-12);
   NurbsCurve e2 = e.elevated();
   CHECK(e2.degree() == 5);
@@ -220,6 +240,8 @@ TEST_CASE("interpolating splines pass through their points", "[interpolation]") 
       for (std::size_t i = 0; i < Q.size(); ++i) CHECK((kb.eval(double(i)) - Q[i]).norm() < 1e-12);
       if (closed) CHECK((kb.eval(double(Q.size())) - Q[0]).norm() < 1e-12);
       CHECK(kb.closed() == closed);
+      check_derivatives(kb, 3, 1e-5);
+      CHECK(max_deviation(kb, kb.to_nurbs()) < 1e-12);
     }
   }
 }
@@ -237,6 +259,11 @@ TEST_CASE("Kochanek-Bartels with t = b = c = 0 is Catmull-Rom", "[interpolation]
                              (-Q[i - 1] + 3 * Q[i] - 3 * Q[i + 1] + Q[i + 2]) * s3);
       CHECK((kb.eval(i + s) - expect).norm() < 1e-13);
     }
+  // Continuity 0 keeps the tangent continuous at the points; continuity != 0 breaks it there.
+  HermiteSpline kinked = kochanek_bartels(Q, 0, 0, 0.5);
+  double e = 1e-9;
+  CHECK((cr.derivative(2 - e, 1) - cr.derivative(2 + e, 1)).norm() < 1e-6);
+  CHECK((kinked.derivative(2 - e, 1) - kinked.derivative(2 + e, 1)).norm() > 0.1);
   // Tension 1 gives zero tangents at the points.
   HermiteSpline tight = kochanek_bartels(Q, 1, 0, 0);
   CHECK(tight.derivative(2, 1).norm() < 1e-14);
@@ -267,4 +294,26 @@ TEST_CASE("tessellation stays within the chordal tolerance; arc length", "[tesse
     CHECK(ps.size() < 4 * std::ceil(kPi / std::acos(1 - tol)) + 20);  // not absurdly fine
   }
   CHECK_THROWS_WITH(c.points(0), Catch::Contains("tolerance"));
+}
+
+TEST_CASE("high-degree polynomial interpolation oscillates where a cubic spline does not (Runge)", "[interpolation]") {
+  // Runge's function 1 / (1 + 25 x^2) sampled at 15 uniform points on [-1, 1].
+  auto f = [](double x) { return 1 / (1 + 25 * x * x); };
+  std::vector<Point3> Q;
+  for (int i = 0; i < 15; ++i) {
+    double x = -1 + 2.0 * i / 14;
+    Q.emplace_back(x, f(x), 0);
+  }
+  PolynomialInterpolant poly(Q);
+  NurbsCurve spline = interpolate_nurbs(Q, 3);
+  double poly_err = 0, spline_err = 0;
+  for (int i = 0; i <= 2000; ++i) {
+    double t = i / 2000.0;
+    Point3 p = poly.eval(t);  // uniform parameters: x = -1 + 2 t
+    poly_err = std::max(poly_err, std::abs(p.y() - f(p.x())));
+    Point3 s = spline.eval(t);
+    spline_err = std::max(spline_err, std::abs(s.y() - f(s.x())));
+  }
+  CHECK(poly_err > 1.0);
+  CHECK(spline_err < 0.05);
 }

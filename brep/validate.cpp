@@ -1,0 +1,508 @@
+// validate(): the structural and geometric rules of a winged-edge solid, checked from the stored
+// pointers alone (never from the counters), each failure reported in words with the element ids.
+//
+// Order of the rules: wings present and pointing back (the "broken wing" and "open loop" cases),
+// each loop a closed cycle of sides that name it, every side in exactly one loop (a side no loop
+// reaches is a dangling edge), every vertex a single fan of edges (2-manifold), faces and loops
+// naming each other, shells as connected components found by traversal, and the genus of each
+// shell from its Euler characteristic V − E + F − R = 2 − 2g, summed against H. Geometry: plane
+// faces flat and their loops simple (segment tests with the exact orient2d of kernel/predicates),
+// outer loops counter-clockwise about the outward normal and rings clockwise (Newell normals),
+// and a positive enclosed volume.
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+#include <unordered_map>
+
+#include "brep/brep.h"
+
+namespace wedge {
+
+namespace {
+std::string side_name(EdgeSide s) {
+  std::ostringstream o;
+  o << "edge " << s.edge.value << " side " << s.side;
+  return o.str();
+}
+Validation bad(const std::string& m) { return Validation{false, m}; }
+
+// A floating-point filter before the exact segment test: false only when one segment lies
+// clearly on one side of the other's line (by a margin far above the rounding error).
+bool may_cross(const Point2& p, const Point2& q, const Point2& a, const Point2& b) {
+  auto side = [](const Point2& o, const Point2& d, const Point2& x) {
+    double det = (d.x() - o.x()) * (x.y() - o.y()) - (d.y() - o.y()) * (x.x() - o.x());
+    double mag = (std::abs(d.x() - o.x()) + std::abs(d.y() - o.y())) * (std::abs(x.x() - o.x()) + std::abs(x.y() - o.y()));
+    return det > 1e-12 * mag ? 1 : det < -1e-12 * mag ? -1 : 0;
+  };
+  int sa = side(p, q, a), sb = side(p, q, b);
+  if (sa != 0 && sa == sb) return false;
+  int sp = side(a, b, p), sq = side(a, b, q);
+  if (sp != 0 && sp == sq) return false;
+  return true;
+}
+
+Vec3 newell(const std::vector<Point3>& pts) {
+  Vec3 n = Vec3::Zero();
+  for (std::size_t i = 0; i < pts.size(); ++i) {
+    const Point3& a = pts[i];
+    const Point3& b = pts[(i + 1) % pts.size()];
+    n += a.cross(b);
+  }
+  return 0.5 * n;
+}
+}  // namespace
+
+void Model::append_arc_interior(EdgeSide s, int arc_segments, std::vector<Point3>& out) const {
+  auto* arc = std::get_if<ArcCurve>(&curves_[static_cast<std::size_t>(s.edge.value)]);
+  if (!arc) return;
+  // The arc runs counter-clockwise about its axis from v[0] to v[1].
+  Point3 p0 = point(edges_[s.edge].v[0]), p1 = point(edges_[s.edge].v[1]);
+  Vec3 x = (p0 - arc->center).normalized();
+  Vec3 y = arc->axis.cross(x);
+  Vec3 d1 = p1 - arc->center;
+  double sweep = std::atan2(d1.dot(y), d1.dot(x));
+  if (sweep <= 1e-12) sweep += 2 * kPi;
+  for (int k = 1; k < arc_segments; ++k) {
+    double t = sweep * (s.side == 0 ? k : arc_segments - k) / arc_segments;
+    out.push_back(arc->center + arc->radius * (std::cos(t) * x + std::sin(t) * y));
+  }
+}
+
+std::vector<Point3> Model::side_polyline(EdgeSide s, int arc_segments) const {
+  std::vector<Point3> out{point(origin(s))};
+  append_arc_interior(s, arc_segments, out);
+  out.push_back(point(dest(s)));
+  return out;
+}
+
+std::vector<Point3> Model::loop_polyline(LoopId l, int arc_segments) const {
+  const BrepLoop& lp = loops_[l];
+  if (!lp.first.valid()) return {point(lp.lone)};
+  std::vector<Point3> out;
+  EdgeSide s = lp.first;
+  std::size_t guard = 2 * edges_.capacity() + 2, n = 0;
+  do {
+    out.push_back(point(origin(s)));
+    append_arc_interior(s, arc_segments, out);
+    s = side(s).next;
+    if (++n > guard) fail("loop ", l.value, " is not a closed cycle");
+  } while (!(s == lp.first));
+  return out;
+}
+
+Vec3 Model::face_normal(FaceId f) const {
+  const FaceSurface& s = surface(f);
+  if (auto* pl = std::get_if<PlaneSurface>(&s)) return pl->normal;
+  Vec3 n = newell(loop_polyline(faces_[f].outer));
+  double len = n.norm();
+  return len > 0 ? Vec3(n / len) : Vec3::Zero();
+}
+
+Box3 Model::bounds() const {
+  Box3 b;
+  vertices_.for_each([&](VertexId v, const BrepVertex&) { b.extend(point(v)); });
+  // Arcs bulge past their ends: include their sampled points.
+  edges_.for_each([&](EdgeId e, const BrepEdge& ed) {
+    if (!std::holds_alternative<ArcCurve>(curve(e))) return;
+    LoopId l = ed.side[0].loop;
+    if (loops_.contains(l))
+      for (const Point3& p : loop_polyline(l, 64)) b.extend(p);
+  });
+  return b;
+}
+
+bool Model::all_planar() const {
+  bool ok = true;
+  faces_.for_each([&](FaceId f, const BrepFace&) {
+    if (std::holds_alternative<CylinderSurface>(surface(f))) ok = false;
+  });
+  edges_.for_each([&](EdgeId e, const BrepEdge&) {
+    if (std::holds_alternative<ArcCurve>(curve(e))) ok = false;
+  });
+  return ok;
+}
+
+double Model::approximate_volume() const {
+  Point3 ref = bounds().center();
+  double vol = 0;
+  auto tri = [&](const Point3& a, const Point3& b, const Point3& c) { vol += (a - ref).dot((b - ref).cross(c - ref)) / 6.0; };
+  faces_.for_each([&](FaceId f, const BrepFace& face) {
+    // A cylinder patch bounded by arc, line, arc, line: a strip of quads between the two arcs.
+    if (std::holds_alternative<CylinderSurface>(surface(f)) && face.rings.empty()) {
+      std::vector<EdgeSide> sides = loop_sides(face.outer);
+      if (sides.size() == 4) {
+        int k = std::holds_alternative<ArcCurve>(curve(sides[0].edge)) ? 0 : 1;
+        std::vector<Point3> a = side_polyline(sides[static_cast<std::size_t>(k)]);
+        std::vector<Point3> b = side_polyline(sides[static_cast<std::size_t>(k + 2)]);
+        if (a.size() == b.size()) {
+          std::reverse(b.begin(), b.end());
+          for (std::size_t i = 0; i + 1 < a.size(); ++i) {
+            tri(a[i], a[i + 1], b[i + 1]);
+            tri(a[i], b[i + 1], b[i]);
+          }
+          return;
+        }
+      }
+    }
+    std::vector<LoopId> ls{face.outer};
+    ls.insert(ls.end(), face.rings.begin(), face.rings.end());
+    for (LoopId l : ls) {
+      std::vector<Point3> p = loop_polyline(l);
+      for (std::size_t i = 1; i + 1 < p.size(); ++i) tri(p[0], p[i], p[i + 1]);
+    }
+  });
+  return vol;
+}
+
+BrepMass Model::mass_properties() const {
+  if (!all_planar()) fail("mass properties need planar faces and straight edges: this model has curved ones");
+  BrepMass mp;
+  Point3 ref = bounds().center();
+  Vec3 first = Vec3::Zero();
+  Mat3 second = Mat3::Zero();
+  faces_.for_each([&](FaceId f, const BrepFace& face) {
+    Vec3 n = face_normal(f);
+    auto add_loop = [&](LoopId l) {
+      std::vector<Point3> p = loop_polyline(l);
+      for (std::size_t i = 1; i + 1 < p.size(); ++i) {
+        Vec3 a = p[0] - ref, b = p[i] - ref, c = p[i + 1] - ref;
+        mp.area += 0.5 * (b - a).cross(c - a).dot(n);
+        // Signed tetrahedron (ref, a, b, c): volume, first and second moments (the covariance of
+        // the canonical tetrahedron mapped by [a b c], Blow & Binstock 2004).
+        double det = a.dot(b.cross(c));
+        mp.volume += det / 6.0;
+        first += det / 24.0 * (a + b + c);
+        Vec3 s = a + b + c;
+        second += det / 120.0 * (a * a.transpose() + b * b.transpose() + c * c.transpose() + s * s.transpose());
+      }
+    };
+    add_loop(face.outer);
+    for (LoopId r : face.rings) add_loop(r);
+  });
+  if (!(mp.volume > 0)) fail("mass properties: the model encloses no positive volume (", mp.volume, ")");
+  Vec3 cl = first / mp.volume;  // centroid relative to ref
+  mp.centroid = ref + cl;
+  Mat3 cov = second - mp.volume * cl * cl.transpose();
+  mp.inertia = cov.trace() * Mat3::Identity() - cov;
+  return mp;
+}
+
+void Model::transform(const Mat4& m) {
+  Mat3 lin = m.block<3, 3>(0, 0);
+  double det = lin.determinant();
+  if (!std::isfinite(det) || std::abs(det) < 1e-300) fail("transform: the matrix is singular");
+  if (m.row(3) != Eigen::RowVector4d(0, 0, 0, 1)) fail("transform: a projective matrix cannot move a solid");
+  double s = std::cbrt(std::abs(det));
+  bool curved = !all_planar();
+  if (curved && !(lin.transpose() * lin).isApprox(s * s * Mat3::Identity(), 1e-9))
+    fail("transform: a non-uniform scale or shear would turn arcs into ellipses; this model has curved edges");
+  for (auto& p : points_) p = apply_point(m, p);
+  for (auto& c : curves_)
+    if (auto* a = std::get_if<ArcCurve>(&c)) {
+      a->center = apply_point(m, a->center);
+      a->axis = apply_vector(m, a->axis).normalized();
+      a->radius *= s;
+    }
+  for (auto& f : surfaces_) {
+    if (auto* p = std::get_if<PlaneSurface>(&f)) {
+      p->point = apply_point(m, p->point);
+      p->normal = apply_normal(m, p->normal);
+    } else if (auto* c = std::get_if<CylinderSurface>(&f)) {
+      c->origin = apply_point(m, c->origin);
+      c->axis = apply_vector(m, c->axis).normalized();
+      c->radius *= s;
+    }
+  }
+  if (det < 0) {
+    // A mirror: reverse every loop so outer loops stay counter-clockwise seen from outside.
+    edges_.for_each([&](EdgeId e, const BrepEdge&) {
+      BrepEdge& ed = edges_[e];
+      std::swap(ed.v[0], ed.v[1]);
+      for (auto& sd : ed.side) std::swap(sd.next, sd.prev);
+    });
+    vertices_.for_each([&](VertexId v, const BrepVertex&) {
+      BrepVertex& vx = vertices_[v];
+      if (vx.out.valid()) vx.out = vx.out.mate();
+    });
+  }
+}
+
+Validation Model::validate(bool geometry) const {
+  // 1. Wings: present, alive, pointing back, meeting end to end.
+  Validation verdict;
+  bool stop = false;
+  edges_.for_each([&](EdgeId e, const BrepEdge& ed) {
+    if (stop) return;
+    for (int k = 0; k < 2; ++k)
+      if (!vertices_.contains(ed.v[k])) {
+        verdict = bad("edge " + std::to_string(e.value) + " names a missing vertex " + std::to_string(ed.v[k].value));
+        stop = true;
+        return;
+      }
+    if (ed.v[0] == ed.v[1]) {
+      verdict = bad("edge " + std::to_string(e.value) + " starts and ends at vertex " + std::to_string(ed.v[0].value));
+      stop = true;
+      return;
+    }
+    for (int k = 0; k < 2 && !stop; ++k) {
+      EdgeSide s{e, k};
+      const BrepSide& sd = ed.side[k];
+      if (!loops_.contains(sd.loop)) {
+        verdict = bad(side_name(s) + " names no live loop (" + std::to_string(sd.loop.value) + ")");
+        stop = true;
+      } else if (!sd.next.valid() || !edges_.contains(sd.next.edge) || !sd.prev.valid() || !edges_.contains(sd.prev.edge)) {
+        verdict = bad("loop " + std::to_string(sd.loop.value) + " is not closed: " + side_name(s) + " has no " +
+                      (!sd.next.valid() || !edges_.contains(sd.next.edge) ? "successor" : "predecessor"));
+        stop = true;
+      }
+    }
+  });
+  if (!verdict) return verdict;
+  edges_.for_each([&](EdgeId e, const BrepEdge& ed) {
+    for (int k = 0; k < 2 && !stop; ++k) {
+      EdgeSide s{e, k};
+      const BrepSide& sd = ed.side[k];
+      if (!(side(sd.next).prev == s)) {
+        verdict = bad("broken wing: the successor of " + side_name(s) + " is " + side_name(sd.next) +
+                      ", whose predecessor is " + side_name(side(sd.next).prev) + ", not it");
+        stop = true;
+      } else if (!(side(sd.prev).next == s)) {
+        verdict = bad("broken wing: the predecessor of " + side_name(s) + " is " + side_name(sd.prev) +
+                      ", whose successor is " + side_name(side(sd.prev).next) + ", not it");
+        stop = true;
+      } else if (dest(s) != origin(sd.next)) {
+        verdict = bad("broken wing: " + side_name(s) + " ends at vertex " + std::to_string(dest(s).value) + " but its successor " +
+                      side_name(sd.next) + " starts at vertex " + std::to_string(origin(sd.next).value));
+        stop = true;
+      } else if (side(sd.next).loop != sd.loop) {
+        verdict = bad(side_name(s) + " is in loop " + std::to_string(sd.loop.value) + " but its successor " +
+                      side_name(sd.next) + " is in loop " + std::to_string(side(sd.next).loop.value));
+        stop = true;
+      }
+    }
+  });
+  if (!verdict) return verdict;
+
+  // 2. Loops: closed cycles from their first side; every side reached exactly once.
+  std::vector<char> seen(2 * edges_.capacity(), 0);
+  auto slot = [](EdgeSide s) { return 2 * static_cast<std::size_t>(s.edge.value) + static_cast<std::size_t>(s.side); };
+  loops_.for_each([&](LoopId l, const BrepLoop& lp) {
+    if (stop) return;
+    if (!faces_.contains(lp.face)) {
+      verdict = bad("loop " + std::to_string(l.value) + " names no live face");
+      stop = true;
+      return;
+    }
+    if (!lp.first.valid()) {
+      if (!vertices_.contains(lp.lone)) {
+        verdict = bad("loop " + std::to_string(l.value) + " has neither edges nor a lone vertex");
+        stop = true;
+      } else if (vertices_[lp.lone].out.valid()) {
+        verdict = bad("vertex " + std::to_string(lp.lone.value) + " is the lone vertex of loop " + std::to_string(l.value) + " but has edges");
+        stop = true;
+      }
+      return;
+    }
+    if (!edges_.contains(lp.first.edge) || side(lp.first).loop != l) {
+      verdict = bad("loop " + std::to_string(l.value) + " starts at a side that is not in it");
+      stop = true;
+      return;
+    }
+    EdgeSide s = lp.first;
+    do {
+      if (seen[slot(s)]++) {
+        verdict = bad("loop " + std::to_string(l.value) + " is not a closed cycle: it passes " + side_name(s) + " twice");
+        stop = true;
+        return;
+      }
+      s = side(s).next;
+    } while (!(s == lp.first));
+  });
+  if (!verdict) return verdict;
+  edges_.for_each([&](EdgeId e, const BrepEdge& ed) {
+    if (stop) return;
+    for (int k = 0; k < 2; ++k)
+      if (!seen[slot({e, k})]) {
+        verdict = bad("edge " + std::to_string(e.value) + " is dangling: its side " + std::to_string(k) + " lies on no loop's cycle (loop " +
+                      std::to_string(ed.side[k].loop.value) + " does not pass through it)");
+        stop = true;
+        return;
+      }
+  });
+  if (!verdict) return verdict;
+
+  // 3. Vertices: `out` leaves the vertex, and the sides leaving it form one fan (2-manifold).
+  std::vector<int> degree(vertices_.capacity(), 0);
+  edges_.for_each([&](EdgeId, const BrepEdge& ed) {
+    degree[static_cast<std::size_t>(ed.v[0].value)]++;
+    degree[static_cast<std::size_t>(ed.v[1].value)]++;
+  });
+  vertices_.for_each([&](VertexId v, const BrepVertex& vx) {
+    if (stop) return;
+    int deg = degree[static_cast<std::size_t>(v.value)];
+    std::string name = "vertex " + std::to_string(v.value);
+    if (!vx.out.valid()) {
+      if (deg) verdict = bad(name + " has edges but no outgoing side recorded");
+      stop = !verdict.ok;
+      return;
+    }
+    if (!edges_.contains(vx.out.edge) || origin(vx.out) != v) {
+      verdict = bad(name + " records an outgoing side that does not start at it");
+      stop = true;
+      return;
+    }
+    int n = 0;
+    EdgeSide s = vx.out;
+    do {
+      ++n;
+      s = side(s).prev.mate();
+    } while (!(s == vx.out) && n <= deg);
+    if (n != deg) {
+      verdict = bad(name + " is not 2-manifold: its " + std::to_string(deg) + " edges do not form a single fan (" +
+                    std::to_string(n) + " reached around it)");
+      stop = true;
+    }
+  });
+  if (!verdict) return verdict;
+
+  // 4. Faces and loops name each other; every loop belongs to exactly one face.
+  std::vector<int> owners(loops_.capacity(), 0);
+  faces_.for_each([&](FaceId f, const BrepFace& face) {
+    if (stop) return;
+    std::string name = "face " + std::to_string(f.value);
+    if (!shells_.contains(face.shell)) {
+      verdict = bad(name + " names no live shell");
+      stop = true;
+      return;
+    }
+    auto check = [&](LoopId l, const char* what) {
+      if (!loops_.contains(l) || loops_[l].face != f) {
+        verdict = bad(name + "'s " + what + " loop " + std::to_string(l.value) + " does not name the face back");
+        stop = true;
+        return;
+      }
+      owners[static_cast<std::size_t>(l.value)]++;
+    };
+    check(face.outer, "outer");
+    for (LoopId r : face.rings)
+      if (!stop) check(r, "inner");
+  });
+  if (!verdict) return verdict;
+  loops_.for_each([&](LoopId l, const BrepLoop&) {
+    if (!stop && owners[static_cast<std::size_t>(l.value)] != 1) {
+      verdict = bad("loop " + std::to_string(l.value) + " is listed by " + std::to_string(owners[static_cast<std::size_t>(l.value)]) + " faces, not one");
+      stop = true;
+    }
+  });
+  if (!verdict) return verdict;
+
+  // 5. Shells by traversal, then the genus of each.
+  std::vector<int> comp(faces_.capacity(), -1);
+  int ncomp = 0;
+  long genus_total = 0;
+  std::vector<char> vseen(vertices_.capacity(), 0);
+  for (FaceId start : faces_.ids()) {
+    if (comp[static_cast<std::size_t>(start.value)] >= 0) continue;
+    int c = ncomp++;
+    std::vector<FaceId> queue{start};
+    comp[static_cast<std::size_t>(start.value)] = c;
+    long V = 0, E2 = 0, F = 0, R = 0;
+    for (std::size_t qi = 0; qi < queue.size(); ++qi) {
+      FaceId f = queue[qi];
+      const BrepFace& face = faces_[f];
+      if (face.shell != faces_[start].shell) {
+        verdict = bad("faces " + std::to_string(start.value) + " and " + std::to_string(f.value) +
+                      " are connected but name different shells " + std::to_string(faces_[start].shell.value) + " and " +
+                      std::to_string(face.shell.value));
+        return verdict;
+      }
+      ++F;
+      R += static_cast<long>(face.rings.size());
+      for (std::size_t li = 0; li <= face.rings.size(); ++li) {
+        LoopId l = li == 0 ? face.outer : face.rings[li - 1];
+        const BrepLoop& lp = loops_[l];
+        if (!lp.first.valid()) {
+          if (!vseen[static_cast<std::size_t>(lp.lone.value)]++) ++V;
+          continue;
+        }
+        EdgeSide s = lp.first;
+        do {
+          if (!vseen[static_cast<std::size_t>(origin(s).value)]++) ++V;
+          ++E2;
+          FaceId g = loops_[side(s.mate()).loop].face;
+          if (comp[static_cast<std::size_t>(g.value)] < 0) {
+            comp[static_cast<std::size_t>(g.value)] = c;
+            queue.push_back(g);
+          }
+          s = side(s).next;
+        } while (!(s == lp.first));
+      }
+    }
+    if (shells_[faces_[start].shell].faces != F) {
+      verdict = bad("shell " + std::to_string(faces_[start].shell.value) + " is not connected: face " + std::to_string(start.value) +
+                    " reaches " + std::to_string(F) + " of its " + std::to_string(shells_[faces_[start].shell].faces) + " faces");
+      return verdict;
+    }
+    long chi = V - E2 / 2 + F - R;
+    if ((2 - chi) % 2 != 0 || chi > 2) {
+      verdict = bad("shell " + std::to_string(faces_[start].shell.value) + " has Euler characteristic V - E + F - R = " +
+                    std::to_string(chi) + ", which gives no integer genus >= 0");
+      return verdict;
+    }
+    genus_total += (2 - chi) / 2;
+  }
+  if (static_cast<std::size_t>(ncomp) != shells_.size())
+    return bad("the faces form " + std::to_string(ncomp) + " connected shells but the model records " + std::to_string(shells_.size()));
+  if (genus_total != holes_)
+    return bad("the shells' genus totals " + std::to_string(genus_total) + " through-holes but the model records H = " + std::to_string(holes_));
+
+  if (!geometry) return verdict;
+
+  // 6. Geometry.
+  double scale = std::max(bounds().diagonal(), 1e-300);
+  double tol = 1e-7 * scale;
+  for (FaceId f : faces_.ids()) {
+    const BrepFace& face = faces_[f];
+    std::string name = "face " + std::to_string(f.value);
+    if (std::holds_alternative<CylinderSurface>(surface(f))) continue;
+    Vec3 n = face_normal(f);
+    if (n.norm() < 0.5) return bad(name + " has no normal: its outer loop encloses no area");
+    const BrepLoop& outer_loop = loops_[face.outer];
+    Point3 p0 = point(outer_loop.first.valid() ? origin(outer_loop.first) : outer_loop.lone);
+    if (auto* pl = std::get_if<PlaneSurface>(&surface(f))) p0 = pl->point;
+    std::vector<LoopId> ls{face.outer};
+    ls.insert(ls.end(), face.rings.begin(), face.rings.end());
+    // 2D projection: drop the dominant axis of n, keeping counter-clockwise about n.
+    int ax = 0;
+    n.cwiseAbs().maxCoeff(&ax);
+    int i0 = (ax + 1) % 3, i1 = (ax + 2) % 3;
+    if (n[ax] < 0) std::swap(i0, i1);
+    for (LoopId l : ls) {
+      std::vector<Point3> pts = loop_polyline(l);
+      for (const Point3& p : pts)
+        if (std::abs((p - p0).dot(n)) > tol)
+          return bad(name + " is not planar: loop " + std::to_string(l.value) + " has a point " + std::to_string((p - p0).dot(n)) +
+                     " off its plane");
+      if (pts.size() < 3) return bad(name + "'s loop " + std::to_string(l.value) + " has fewer than three corners");
+      std::vector<Point2> q;
+      for (const Point3& p : pts) q.emplace_back(p[i0], p[i1]);
+      std::size_t m = q.size();
+      for (std::size_t i = 0; i < m; ++i)
+        for (std::size_t j = i + 2; j < m; ++j) {
+          if (i == 0 && j == m - 1) continue;  // neighbours share a corner
+          if (may_cross(q[i], q[(i + 1) % m], q[j], q[(j + 1) % m]) && segments_intersect_2d(q[i], q[(i + 1) % m], q[j], q[(j + 1) % m]))
+            return bad(name + "'s loop " + std::to_string(l.value) + " intersects itself (segments " + std::to_string(i) + " and " +
+                       std::to_string(j) + ")");
+        }
+      Vec3 nl = newell(pts);
+      bool outer = l == face.outer;
+      if (outer && nl.dot(n) <= 0) return bad(name + "'s outer loop " + std::to_string(l.value) + " is not counter-clockwise seen from outside");
+      if (!outer && nl.dot(n) >= 0) return bad(name + "'s inner loop " + std::to_string(l.value) + " is not clockwise seen from outside");
+    }
+  }
+  double vol = approximate_volume();
+  if (!(vol > 0)) return bad("the solid does not enclose a positive volume (" + std::to_string(vol) + "): its faces point inwards or it is flat");
+  return verdict;
+}
+
+}  // namespace wedge

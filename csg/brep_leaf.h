@@ -1,0 +1,36 @@
+// A winged-edge B-Rep model as a leaf of the CSG tree: Euler counts, validation and (for planar
+// faces) mass properties come exactly from the model; the mesh is its faces tessellated.
+#pragma once
+#include <memory>
+
+#include "brep/brep.h"
+#include "csg/solid.h"
+
+namespace wedge {
+
+class BrepLeaf final : public SolidLeaf {
+ public:
+  // Throws wedge::Error with validate()'s message when the model is not a valid solid.
+  explicit BrepLeaf(Model model);
+  std::string kind() const override { return "brep"; }
+  // Planar faces by constrained Delaunay (tessellate/planar.h); a cylinder patch bounded by two
+  // arcs and two rulings as a strip. Each arc is sampled once, at `tol.chordal`, for both faces.
+  Mesh mesh(const Tolerance& tol) const override;
+  Box3 bounds() const override { return model_->bounds(); }
+  std::optional<MassProperties> mass_properties() const override;
+  std::optional<EulerCounts> euler() const override { return model_->counts(); }
+  std::string validate() const override { return model_->validate().message; }
+  std::shared_ptr<const SolidLeaf> transformed(const Mat4& m) const override;
+  const Model& model() const { return *model_; }
+
+ private:
+  std::shared_ptr<const Model> model_;
+};
+
+// A Solid whose leaf is the model (validated).
+Solid brep_solid(Model model);
+// The planar extrude as a Solid: the profile (outer counter-clockwise, any holes) at z = 0 swept
+// to z = height through Euler operators (brep/build.cpp's prism), for binding to extrude().
+inline Solid prism_solid(const Profile& profile, double height) { return brep_solid(prism(profile, height)); }
+
+}  // namespace wedge

@@ -1,0 +1,53 @@
+#include <catch2/catch.hpp>
+
+#include <cmath>
+
+#include "csg/brep_leaf.h"
+
+using namespace wedge;
+
+TEST_CASE("a B-Rep leaf answers exactly and tessellates watertight", "[csg][brep]") {
+  SECTION("a box") {
+    Solid s = brep_solid(box(Vec3(2, 3, 4)));
+    MassProperties mp = s.mass_properties(Tolerance{});
+    CHECK(mp.volume == Approx(24).epsilon(1e-14));
+    CHECK(s.euler(Tolerance{}) == EulerCounts{8, 12, 6, 0, 0, 1});
+    CHECK(s.validate(Tolerance{}).empty());
+    Mesh m = s.mesh(Tolerance{});
+    CHECK(m.triangle_count() == 12);
+    CHECK(m.volume() == Approx(24));
+    CHECK(euler_counts(m).characteristic() == 0);
+  }
+  SECTION("the worked example, arcs and cylinders included") {
+    Solid s = brep_solid(worked_example());
+    CHECK(s.euler(Tolerance{}) == EulerCounts{44, 66, 27, 5, 1, 1});
+    Tolerance tol;
+    tol.chordal = 1e-4;
+    Mesh m = s.mesh(tol);
+    EulerCounts mc = euler_counts(m);  // throws unless closed and 2-manifold
+    CHECK(mc.S == 1);
+    CHECK(mc.H == 1);
+    double expected = 320 + 8 - 4 - (4 * 2.5 - (4 - kPi) * 0.25) - 4 * kPi;
+    CHECK(m.volume() == Approx(expected).epsilon(1e-4));
+    // Curved faces: the volume comes from the mesh.
+    CHECK(s.mass_properties(tol).volume == Approx(expected).epsilon(1e-4));
+  }
+  SECTION("a mirrored box stays an exact, valid B-Rep") {
+    Solid s = brep_solid(box(Vec3(1, 2, 3))).transformed(reflect(Vec3(1, 0, 0), Point3(5, 0, 0)));
+    CHECK(s.validate(Tolerance{}).empty());
+    MassProperties mp = s.mass_properties(Tolerance{});
+    CHECK(mp.volume == Approx(6));
+    CHECK(mp.centroid.x() == Approx(9.5));
+  }
+  SECTION("a prism with a hole as a Solid") {
+    Solid s = prism_solid({{{0, 0}, {4, 0}, {4, 4}, {0, 4}}, {{{1, 1}, {3, 1}, {3, 3}, {1, 3}}}}, 2);
+    CHECK(s.euler(Tolerance{}) == EulerCounts{16, 24, 10, 2, 1, 1});
+    CHECK(s.mass_properties(Tolerance{}).volume == Approx(24));
+    CHECK(s.mesh(Tolerance{}).volume() == Approx(24));
+  }
+  SECTION("an invalid model is refused") {
+    Model m;
+    m.mvfs(Point3(0, 0, 0));
+    CHECK_THROWS_WITH(brep_solid(std::move(m)), Catch::StartsWith("not a valid solid:"));
+  }
+}

@@ -1,0 +1,68 @@
+#include <catch2/catch.hpp>
+
+#include <sstream>
+
+#include "lua/wedge_lua.h"
+
+namespace {
+struct Run {
+  int status;
+  std::string err;
+};
+Run run(const std::string& code, const std::string& chunk = "@profile.lua") {
+  std::ostringstream err;
+  int status = wedge::lua::run_string(code, chunk, err);
+  return {status, err.str()};
+}
+}  // namespace
+
+TEST_CASE("extrude builds prisms, frusta and pyramids from profiles", "[lua][profile]") {
+  auto r = run(R"(
+    local function near(a, b, tol) return math.abs(a - b) <= (tol or 1e-12) end
+    local b = extrude(rect(2, 3), 4)
+    assert(near(b:volume(), 24), b:volume())
+    local e = b:euler()
+    assert(e.V == 8 and e.E == 12 and e.F == 6 and e.S == 1)
+    assert(b:is_valid())
+
+    -- A square with a square hole: a through hole, H = 1, R = 2 (one ring on each end face).
+    local frame = polygon{outer = {{0,0},{4,0},{4,4},{0,4}}, holes = {{{1,1},{3,1},{3,3},{1,3}}}}
+    assert(near(frame:area(), 12))
+    local f = extrude(frame, 2)
+    assert(near(f:volume(), 24))
+    e = f:euler()
+    assert(e.V == 16 and e.E == 24 and e.F == 10 and e.R == 2 and e.H == 1 and e.S == 1)
+    assert(e.V - e.E + e.F - e.R + 2 * e.H - 2 * e.S == 0)
+
+    -- A clockwise outline is reoriented, not turned inside out.
+    local cw = extrude(polygon{{0,0},{0,1},{1,1},{1,0}}, 1)
+    assert(near(cw:volume(), 1))
+
+    -- scale = 0 is a pyramid (area * h / 3), scale 0.5 a frustum.
+    assert(near(extrude(rect(3, 3, true), 2, {scale = 0}):volume(), 6))
+    assert(near(extrude(rect(2, 2, true), 3, {scale = 0.5}):volume(), 3 * (4 + 1 + 2) / 3))
+
+    -- A closed curve extrudes as its polyline: an inscribed polygon, within the tolerance.
+    tolerance(0.001)
+    local c = extrude(circle(1), 1)
+    assert(c:volume() < math.pi and c:volume() > math.pi - 2 * math.pi * 0.001, c:volume())
+    local bb = c:bounds()
+    assert(near(bb.max[1], 1, 1e-9) and near(bb.max[3], 1))
+  )");
+  INFO(r.err);
+  CHECK(r.status == 0);
+}
+
+TEST_CASE("bad profiles and extrude arguments are errors naming the argument", "[lua][profile][errors]") {
+  CHECK_THAT(run("rect(-1, 2)\n", "@r.lua").err, Catch::StartsWith("r.lua:1: bad argument #1 to 'rect' (width must be positive"));
+  CHECK_THAT(run("polygon{{0,0},{1,1}}\n", "@p.lua").err, Catch::Contains("polygon needs at least 3 points, got 2"));
+  CHECK_THAT(run("polygon{{0,0},{1,1},{2,2}}\n", "@p.lua").err, Catch::Contains("zero area"));
+  CHECK_THAT(run("polygon{{0,0},{1,'x'},{2,2}}\n", "@p.lua").err, Catch::Contains("polygon point 2 coordinate 2 must be a number"));
+  CHECK_THAT(run("extrude(42, 1)\n", "@e.lua").err,
+             Catch::StartsWith("e.lua:1: bad argument #1 to 'extrude' (profile (polygon, rect or closed curve) expected, got number)"));
+  CHECK_THAT(run("extrude(rect(1,1), 0)\n", "@e.lua").err, Catch::Contains("height must be positive"));
+  CHECK_THAT(run("extrude(rect(1,1), 1, {twist = 30})\n", "@e.lua").err, Catch::Contains("twist is not supported yet"));
+  CHECK_THAT(run("extrude(rect(1,1), 1, {scael = 2})\n", "@e.lua").err, Catch::Contains("unknown field 'scael'"));
+  CHECK_THAT(run("extrude(bezier{{0,0},{1,1},{2,0}}, 1)\n", "@e.lua").err, Catch::Contains("the curve is open"));
+  CHECK_THAT(run("polygon{outer={{0,0},{1,0},{1,1}}, holes=5}\n", "@h.lua").err, Catch::Contains("field 'holes' must be a list"));
+}
