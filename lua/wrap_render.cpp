@@ -197,6 +197,8 @@ int render_fn(lua_State* L) {
     } else {
       if (lua_istable(L, obj)) lua_pop(L, 1);
       mesh = to_mesh(L, obj, 1, current_tolerance(L));
+      // A solid shades flat across its faces' edges and smooth within a curved face.
+      if (test_solid(L, obj)) mesh = mesh.with_face_normals();
       if (test_solid(L, obj) && push_material(L, obj) == LUA_TTABLE) item.material = read_material(L, lua_gettop(L), 1, item.texture);
       else if (lua_gettop(L) > obj) lua_pop(L, 1);
       lua_settop(L, obj);

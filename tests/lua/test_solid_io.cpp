@@ -103,3 +103,23 @@ TEST_CASE("free-form surfaces export as their meshes", "[lua][io]") {
   INFO(r.err);
   CHECK(r.status == 0);
 }
+
+#include "render/render.h"
+
+TEST_CASE("a rendered box shades each planar face in one colour (normals split per face)", "[lua][render]") {
+  Fixture f;
+  auto r = run(f.lua_dir() + R"(
+    render{extrude(rect(2, 2, true), 1), out = dir .. "/box.png", size = {64, 64}, shading = "gouraud",
+           camera = {eye = {0, 0, 10}, center = {0, 0, 0}, up = {0, 1, 0}, fovy = 30},
+           lights = {{type = "directional", direction = {0.3, 0.2, -1}}}}
+  )");
+  INFO(r.err);
+  REQUIRE(r.status == 0);
+  wedge::render::Image img = wedge::render::read_png((f.dir / "box.png").string());
+  // Seen from above, the top face fills the middle of the picture. With normals shared across
+  // the box's edges the colour would vary across it; with per-face normals it is constant.
+  auto centre = img.pixel(32, 32);
+  for (int y = 24; y <= 40; y += 4)
+    for (int x = 24; x <= 40; x += 4) CHECK(img.pixel(x, y) == centre);
+  CHECK(centre != img.pixel(1, 1));  // and it is not the background
+}
