@@ -746,7 +746,25 @@ void run_primitive(Context::State& s, int width, int height, std::uint8_t* color
       if (n > 1) r.draw_line(v[n - 1], v[0], v[0]);
       break;
     case Primitive::Triangles:
-      for (std::size_t i = 0; i + 2 < n; i += 3) tri(i, i + 1, i + 2, i + 2);
+      if (banded && n >= 3 * 512) {
+        // Clipping and setup in parallel over chunks of triangles, each into its own queue;
+        // the queues are joined in chunk order, so submission order is kept.
+        const std::size_t tris = n / 3, chunk = 256, chunks = (tris + chunk - 1) / chunk;
+        std::vector<std::vector<Job>> queues(chunks);
+        tbb::task_arena arena(s.threads);
+        arena.execute([&] {
+          tbb::parallel_for(std::size_t(0), chunks, [&](std::size_t c) {
+            Raster rc = r;
+            rc.sink = &queues[c];
+            queues[c].reserve(chunk + 16);
+            for (std::size_t t = c * chunk; t < std::min(tris, (c + 1) * chunk); ++t)
+              rc.draw_triangle(v[3 * t], v[3 * t + 1], v[3 * t + 2], v[3 * t + 2]);
+          });
+        });
+        for (auto& q : queues) jobs.insert(jobs.end(), q.begin(), q.end());
+      } else {
+        for (std::size_t i = 0; i + 2 < n; i += 3) tri(i, i + 1, i + 2, i + 2);
+      }
       break;
     case Primitive::TriangleStrip:
       for (std::size_t i = 0; i + 2 < n; ++i) {

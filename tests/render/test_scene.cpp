@@ -232,7 +232,7 @@ TEST_CASE("banded multi-threaded rasterisation gives the single-threaded image",
   // Overlapping translucent, depth-tested, wireframe and filled triangles: order matters.
   std::vector<double> pos;
   std::vector<float> col;
-  for (int i = 0; i < 600; ++i) {  // enough vertices for the parallel vertex stage too
+  for (int i = 0; i < 1200; ++i) {  // enough for the parallel vertex stage and setup too
     double cx = std::sin(i * 1.3) * 0.8, cy = std::cos(i * 0.7) * 0.8, z = std::sin(i * 0.31);
     for (int k = 0; k < 3; ++k) {
       double a = i * 0.9 + k * 2.1;
@@ -252,10 +252,10 @@ TEST_CASE("banded multi-threaded rasterisation gives the single-threaded image",
     VertexArrays a;
     a.positions = pos.data();
     a.colors = col.data();
-    c.draw_arrays(Primitive::Triangles, a, 0, 1200);
+    c.draw_arrays(Primitive::Triangles, a, 0, 3000);
     c.polygon_mode(Face::FrontAndBack, PolygonMode::Line);
     c.line_width(2);
-    c.draw_arrays(Primitive::Triangles, a, 1200, 600);
+    c.draw_arrays(Primitive::Triangles, a, 3000, 600);
     return c.image();
   };
   Image one = draw(1), two = draw(2);
