@@ -30,7 +30,7 @@ render{plate:material{diffuse = {0.8, 0.5, 0.2}, specular = {0.4, 0.4, 0.4}, shi
        lights = {{type = "directional", direction = {-0.4, 0.6, -1}}}}
 print("wrote " .. out .. "/plate.png")
 
-render{spire:material{diffuse = {0.3, 0.5, 0.9}}, out = out .. "/spire.png", size = {320, 320}, camera = {view = "iso"}}
+render{spire:material{diffuse = {0.3, 0.5, 0.9}}, out = out .. "/spire.png", size = {320, 320}, view = "iso"}
 print("wrote " .. out .. "/spire.png")
 
 render{teapot(), out = out .. "/teapot.png", size = {640, 480}, shading = "phong",

@@ -20,7 +20,7 @@ constexpr const char* kTextureKey = "wedge.Texture";
 Vec4f to_color(lua_State* L, int idx, int arg, const std::string& what) {
   if (lua_type(L, idx) != LUA_TTABLE) throw ArgError{arg, what + " must be a colour {r, g, b}, got " + type_name(L, idx)};
   Vec4f c(0, 0, 0, 1);
-  lua_Integer n = luaL_len(L, idx);
+  lua_Integer n = static_cast<lua_Integer>(lua_rawlen(L, idx));
   if (n < 3 || n > 4) throw ArgError{arg, what + " must have 3 or 4 components"};
   for (int k = 1; k <= n; ++k) {
     lua_geti(L, idx, k);
@@ -91,7 +91,7 @@ Mesh read_mesh(lua_State* L, int idx, render::Material& material, std::shared_pt
     throw ArgError{1, "mesh table needs 'vertices' = {{x, y, z}, ...}"};
   }
   int vt = lua_gettop(L);
-  for (lua_Integer i = 1, n = luaL_len(L, vt); i <= n; ++i) {
+  for (lua_Integer i = 1, n = static_cast<lua_Integer>(lua_rawlen(L, vt)); i <= n; ++i) {
     lua_geti(L, vt, i);
     Vec3 p = to_vec3(L, lua_gettop(L), 1, "vertex " + std::to_string(i));
     lua_pop(L, 1);
@@ -104,7 +104,7 @@ Mesh read_mesh(lua_State* L, int idx, render::Material& material, std::shared_pt
     throw ArgError{1, "mesh table needs 'triangles' = {{i, j, k}, ...}"};
   }
   int tt = lua_gettop(L);
-  for (lua_Integer i = 1, n = luaL_len(L, tt); i <= n; ++i) {
+  for (lua_Integer i = 1, n = static_cast<lua_Integer>(lua_rawlen(L, tt)); i <= n; ++i) {
     lua_geti(L, tt, i);
     Vec3 t = to_vec3(L, lua_gettop(L), 1, "triangle " + std::to_string(i));
     lua_pop(L, 1);
@@ -217,16 +217,24 @@ int render_fn(lua_State* L) {
         size.y() != std::floor(size.y()))
       throw ArgError{1, "size must be two whole numbers within 1..8192"};
     ro.width = int(size.x()), ro.height = int(size.y());
-    if (o.push("camera") == LUA_TTABLE) {
+    // camera={...}, or a named view: view="front" (or camera="front").
+    std::string view = o.string("view", "");
+    int camera_type = o.push("camera");
+    if (camera_type == LUA_TTABLE) {
+      if (!view.empty()) throw ArgError{1, "give either camera={...} or view=, not both"};
       int top = lua_gettop(L);
       ro.camera = read_camera(L, top, bounds);
+    } else if (camera_type == LUA_TSTRING) {
+      ro.camera = render::named_view(lua_tostring(L, -1), bounds);
+    } else if (camera_type != LUA_TNIL) {
+      throw ArgError{1, "field 'camera' must be a table or a view name, got " + type_name(L, -1)};
     } else {
-      ro.camera = render::named_view("iso", bounds);
+      ro.camera = render::named_view(view.empty() ? "iso" : view, bounds);
     }
     lua_pop(L, 1);
     if (o.push("lights") == LUA_TTABLE) {
       int top = lua_gettop(L);
-      for (lua_Integer i = 1, n = luaL_len(L, top); i <= n; ++i) {
+      for (lua_Integer i = 1, n = static_cast<lua_Integer>(lua_rawlen(L, top)); i <= n; ++i) {
         lua_geti(L, top, i);
         if (!lua_istable(L, -1)) throw ArgError{1, "lights[" + std::to_string(i) + "] must be a table"};
         ro.lights.push_back(read_light(L, lua_gettop(L)));

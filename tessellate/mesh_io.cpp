@@ -125,7 +125,9 @@ Mesh read_mesh(const std::string& path) {
       }
       tri[k++] = it->second;
     }
-    if (k == 3) m.add_triangle(tri[0], tri[1], tri[2], fh.idx());
+    // No face ids: a file's triangles carry no B-Rep faces, so a renderer smooths the normals
+    // over the whole mesh where the file gives none.
+    if (k == 3) m.add_triangle(tri[0], tri[1], tri[2]);
   }
   if (format == "stl") weld_identical_vertices(m);
   if (has_normals) {

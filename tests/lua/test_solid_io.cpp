@@ -123,3 +123,21 @@ TEST_CASE("a rendered box shades each planar face in one colour (normals split p
     for (int x = 24; x <= 40; x += 4) CHECK(img.pixel(x, y) == centre);
   CHECK(centre != img.pixel(1, 1));  // and it is not the background
 }
+
+TEST_CASE("render{} takes a named view at the top level or as camera=", "[lua][render]") {
+  Fixture f;
+  auto ok = run(f.lua_dir() + R"(
+    local b = box(1, 2, 3)
+    render{b, out = dir .. "/front.png", size = {32, 32}, view = "front"}
+    render{b, out = dir .. "/top.png", size = {32, 32}, camera = "top"}
+  )");
+  INFO(ok.err);
+  CHECK(ok.status == 0);
+  CHECK(fs::exists(f.dir / "front.png"));
+  CHECK(fs::exists(f.dir / "top.png"));
+  auto both = run(f.lua_dir() + "render{box(1,1,1), out = dir .. '/x.png', view = 'iso', camera = {eye = {1,1,1}}}\n", "@v.lua");
+  CHECK_THAT(both.err, Catch::Contains("either camera={...} or view="));
+  auto bad = run(f.lua_dir() + "render{box(1,1,1), out = dir .. '/x.png', camera = 42}\n", "@v.lua");
+  CHECK_THAT(bad.err, Catch::Contains("field 'camera' must be a table or a view name, got number"));
+  CHECK_FALSE(fs::exists(f.dir / "x.png"));
+}

@@ -50,6 +50,7 @@ TEST_CASE("meshes round-trip through every format and stay closed", "[mesh_io]")
       // STL stores floats; the others keep doubles.
       CHECK(back.volume() == Approx(box.volume()).epsilon(1e-6));
       CHECK(euler_counts(back) == EulerCounts{8, 18, 12, 0, 0, 1});
+      CHECK(back.face_ids.empty());  // a file's triangles belong to no B-Rep face
     }
   }
   CHECK(dir.count() == 5);  // no temporary files left behind
