@@ -16,6 +16,13 @@ std::string format_number(double v) {
 }
 }  // namespace
 
+std::string number_text(double x) {
+  std::ostringstream out;
+  out.precision(10);
+  out << x;
+  return out.str();
+}
+
 int raise_pending(lua_State* L, int arg) {
   const char* message = lua_tostring(L, -1);  // stays valid: the string stays on the stack
   if (arg) return luaL_argerror(L, arg, message);

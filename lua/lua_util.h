@@ -46,6 +46,20 @@ int guarded(lua_State* L, F&& body) {
   return raise_pending(L, arg);
 }
 
+// Runs f, turning a wedge::Error it throws into an ArgError on argument `arg` (for kernel
+// constructors whose message is about one argument).
+template <class F>
+auto as_arg(int arg, F&& f) -> decltype(f()) {
+  try {
+    return f();
+  } catch (const Error& e) {
+    throw ArgError{arg, e.what()};
+  }
+}
+
+// A number as text for messages, with up to 10 significant digits.
+std::string number_text(double x);
+
 // The name Lua shows for the value at idx: its metatable's __name, or its type name.
 std::string type_name(lua_State* L, int idx);
 std::string describe(lua_State* L, int idx);  // "number 3", "string 'abc'", "nil", ...

@@ -12,24 +12,8 @@ namespace wedge::lua {
 
 namespace {
 
-std::string num(double x) {
-  std::ostringstream out;
-  out.precision(10);
-  out << x;
-  return out.str();
-}
-
 constexpr const char* kKey = "wedge.Curve";
 
-// Runs a kernel constructor, turning its wedge::Error into an error on argument `arg`.
-template <class F>
-auto as_arg(int arg, F&& f) -> decltype(f()) {
-  try {
-    return f();
-  } catch (const Error& e) {
-    throw ArgError{arg, e.what()};
-  }
-}
 
 // Reads the list of points at the top of the stack (value of argument `arg`).
 std::vector<Point3> read_points_top(lua_State* L, int arg, const std::string& what, bool& planar) {
@@ -99,7 +83,7 @@ std::vector<double> read_numbers(lua_State* L, Options& o, const char* key) {
       int ti = lua_rawgeti(L, -1, i);
       double x = lua_tonumber(L, -1);
       if (ti != LUA_TNUMBER) err = std::string("field '") + key + "': entry " + std::to_string(i) + " must be a number";
-      else if (!std::isfinite(x)) err = std::string("field '") + key + "': entry " + std::to_string(i) + " must be finite, got " + num(x);
+      else if (!std::isfinite(x)) err = std::string("field '") + key + "': entry " + std::to_string(i) + " must be finite, got " + number_text(x);
       lua_pop(L, 1);
       out.push_back(x);
     }
@@ -117,7 +101,7 @@ void push_point(lua_State* L, const Point3& p, bool planar) {
 // t in [0, 1] -> the curve's own parameter.
 double curve_param(lua_State* L, const Curve& c, int idx) {
   double t = check_number(L, idx);
-  if (t < -1e-12 || t > 1 + 1e-12) throw ArgError{idx, "parameter t must be in [0, 1], got " + num(t)};
+  if (t < -1e-12 || t > 1 + 1e-12) throw ArgError{idx, "parameter t must be in [0, 1], got " + number_text(t)};
   auto [a, b] = c.domain();
   return a + std::clamp(t, 0.0, 1.0) * (b - a);
 }
@@ -206,7 +190,7 @@ int circle_fn(lua_State* L) {
     } else {
       r = check_number(L, 1);
     }
-    if (!(r > 0)) throw ArgError{1, "radius must be positive, got " + num(r)};
+    if (!(r > 0)) throw ArgError{1, "radius must be positive, got " + number_text(r)};
     push_curve(L, {std::make_shared<const NurbsCurve>(nurbs_circle(center, r)), planar});
     return 1;
   });

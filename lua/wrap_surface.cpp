@@ -13,23 +13,8 @@ namespace wedge::lua {
 
 namespace {
 
-std::string num(double x) {
-  std::ostringstream out;
-  out.precision(10);
-  out << x;
-  return out.str();
-}
-
 constexpr const char* kKey = "wedge.Surface";
 
-template <class F>
-auto as_arg(int arg, F&& f) -> decltype(f()) {
-  try {
-    return f();
-  } catch (const Error& e) {
-    throw ArgError{arg, e.what()};
-  }
-}
 
 void push_surface(lua_State* L, LuaSurface s) { push_object(L, kKey, std::move(s)); }
 
@@ -206,7 +191,7 @@ int revolved_surface_fn(lua_State* L) {
       angle = o.number("angle", 360);
       o.finish();
     }
-    if (!(angle > 0 && angle <= 360)) throw ArgError{2, "angle must be in (0, 360], got " + num(angle)};
+    if (!(angle > 0 && angle <= 360)) throw ArgError{2, "angle must be in (0, 360], got " + number_text(angle)};
     CurvePtr curve = c.planar ? CurvePtr(std::make_shared<StoodUp>(c.curve)) : c.curve;
     push_surface(L, {{as_arg(1, [&] { return std::make_shared<const RevolvedSurface>(curve, Point3::Zero(), Vec3::UnitZ(), radians(angle)); })}});
     return 1;
@@ -266,8 +251,8 @@ int teapot_fn(lua_State* L) {
 // (u, v [, patch]) at idx, idx+1, idx+2 -> the patch and its own parameters.
 const Surface& locate(lua_State* L, const LuaSurface& s, int idx, double& u, double& v) {
   double nu = check_number(L, idx), nv = check_number(L, idx + 1);
-  if (nu < -1e-12 || nu > 1 + 1e-12) throw ArgError{idx, "parameter u must be in [0, 1], got " + num(nu)};
-  if (nv < -1e-12 || nv > 1 + 1e-12) throw ArgError{idx + 1, "parameter v must be in [0, 1], got " + num(nv)};
+  if (nu < -1e-12 || nu > 1 + 1e-12) throw ArgError{idx, "parameter u must be in [0, 1], got " + number_text(nu)};
+  if (nv < -1e-12 || nv > 1 + 1e-12) throw ArgError{idx + 1, "parameter v must be in [0, 1], got " + number_text(nv)};
   int patch = lua_isnoneornil(L, idx + 2) ? 1 : check_integer(L, idx + 2);
   if (patch < 1 || patch > int(s.patches.size()))
     throw ArgError{idx + 2, "patch must be 1.." + std::to_string(s.patches.size()) + ", got " + std::to_string(patch)};
