@@ -210,46 +210,39 @@ std::string Options::string(const char* key, const std::string& fallback) {
   return v;
 }
 
+namespace {
+// Reads the value on top of the stack with `read`, then pops it, also when `read` throws.
+template <class T, class F>
+T read_and_pop(lua_State* L, F&& read) {
+  std::optional<T> v;
+  std::optional<ArgError> err;
+  try {
+    v = read();
+  } catch (const ArgError& e) {
+    err = e;
+  }
+  lua_pop(L, 1);
+  if (err) throw *err;
+  return *v;
+}
+}  // namespace
+
 std::optional<Vec3> Options::vec3(const char* key, bool allow_2d) {
-  int t = push(key);
-  if (t == LUA_TNIL) {
+  if (push(key) == LUA_TNIL) {
     lua_pop(L_, 1);
     return std::nullopt;
   }
-  std::optional<Vec3> v;
-  std::string err;
-  int err_arg = 0;
-  try {
-    v = to_vec3(L_, -1, arg_, std::string("field '") + key + "'", allow_2d);
-  } catch (const ArgError& e) {
-    err_arg = e.arg;
-    err = e.message;
-  }
-  lua_pop(L_, 1);
-  if (err_arg) throw ArgError{err_arg, err};
-  return v;
+  return read_and_pop<Vec3>(L_, [&] { return to_vec3(L_, -1, arg_, std::string("field '") + key + "'", allow_2d); });
 }
 
 Vec3 Options::vec3(const char* key, const Vec3& fallback, bool allow_2d) { return vec3(key, allow_2d).value_or(fallback); }
 
 Vec2 Options::vec2(const char* key, const Vec2& fallback) {
-  int t = push(key);
-  if (t == LUA_TNIL) {
+  if (push(key) == LUA_TNIL) {
     lua_pop(L_, 1);
     return fallback;
   }
-  Vec2 v;
-  std::string err;
-  int err_arg = 0;
-  try {
-    v = to_vec2(L_, -1, arg_, std::string("field '") + key + "'");
-  } catch (const ArgError& e) {
-    err_arg = e.arg;
-    err = e.message;
-  }
-  lua_pop(L_, 1);
-  if (err_arg) throw ArgError{err_arg, err};
-  return v;
+  return read_and_pop<Vec2>(L_, [&] { return to_vec2(L_, -1, arg_, std::string("field '") + key + "'"); });
 }
 
 void Options::finish() {
