@@ -27,4 +27,4 @@ print("tube swept along the helix: point at (0.25, 0.5) " .. fmt(tube:eval(0.25,
 local pot = teapot()
 local pm = pot:mesh{tolerance = 0.01}
 print("teapot: " .. pot:patches() .. " patches, " .. #pm.triangles .. " triangles at tolerance 0.01")
-print("  lid knob top " .. fmt(pot:eval(0, 0, 21)) .. ", normal there " .. fmt(pot:normal(0.5, 0.1, 21)))
+print("  lid knob top " .. fmt(pot:eval(0, 0, 21)) .. ", normal there " .. fmt(pot:normal(0, 0, 21)))
