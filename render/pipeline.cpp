@@ -28,6 +28,15 @@ namespace wedge::render {
 
 namespace {
 
+// llvmpipe's level-of-detail log2 (gallivm's fast log2): the float's exponent minus one plus its
+// mantissa in [1, 2), a piecewise-linear log2 exact at powers of two. Its blend fraction between
+// two mipmap levels follows this curve, not the true logarithm.
+float fast_log2(float x) {
+  int e = 0;
+  float m = std::frexp(x, &e);  // x = m 2^e, m in [0.5, 1)
+  return float(e - 2) + 2 * m;
+}
+
 // Attribute layout of a pipeline vertex.
 enum : int { kFront = 0, kBack = 4, kTex = 8, kFog = 12, kEye = 13, kNormal = 17, kAttrs = 20 };
 
@@ -462,7 +471,7 @@ struct Raster {
             float rx2 = (ux - u0) * (ux - u0) + (vx - v0_) * (vx - v0_);
             float ry2 = (uy - u0) * (uy - u0) + (vy - v0_) * (vy - v0_);
             float rho2 = std::max(rx2, ry2);
-            quad_lambda = rho2 > 0 ? 0.5f * std::log2(rho2) : -100.0f;
+            quad_lambda = rho2 > 0 ? 0.5f * fast_log2(rho2) : -100.0f;
             quad_x = qkx, quad_y = qky;
           }
           lambda = quad_lambda;
