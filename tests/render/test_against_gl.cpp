@@ -427,6 +427,5 @@ void check_points_lines(int from, int to) {
 
 TEST_CASE("points of size 1 and 3 and 1-pixel lines match OpenGL", "[render][gl][primitives]") { check_points_lines(0, 3); }
 
-// Known gap: 3-pixel-wide lines differ from llvmpipe's wide-line quads in a few joint pixels
-// (6 of about 1100 covered: 0.5%).
-TEST_CASE("3-pixel-wide lines match OpenGL", "[render][gl][primitives][!mayfail]") { check_points_lines(3, 4); }
+// The joints of a wide line loop test the diamond-exit rule at each end of a wide line.
+TEST_CASE("3-pixel-wide lines match OpenGL", "[render][gl][primitives]") { check_points_lines(3, 4); }
