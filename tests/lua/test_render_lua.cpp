@@ -96,20 +96,19 @@ TEST_CASE("drawing{} writes a multi-view sheet of a box, the front view showing 
   std::string out = std::string(WEDGE_BINARY_DIR) + "/lua_drawing_box.png";
   std::filesystem::remove(out);
   std::string err;
-  int status = run("drawing{box(4, 2, 1), out='" + out + "', size={300, 200}, views={'front', 'top', 'side', 'iso'}}", err);
+  int status = run("drawing{box(4, 2, 1):material{diffuse={0.9, 0.5, 0.2}}, out='" + out + "', size={300, 200}, views={'front', 'top', 'side', 'iso'}}", err);
   INFO(err);
   REQUIRE(status == 0);
   render::Image im = render::read_png(out);
   REQUIRE(im.width == 300);
   REQUIRE(im.height == 200);
-  // Cells of 150 x 100; pixels darker than the white background and not the grey border/ink.
+  // Cells of 150 x 100; the object's tinted pixels (background, border and label ink are grey).
   auto extent = [&](int cx, int cy, int& w, int& h) {
     int x0 = 1 << 30, x1 = -1, y0 = 1 << 30, y1 = -1, n = 0;
     for (int y = cy + 14; y < cy + 99; ++y)  // below the label band
       for (int x = cx + 1; x < cx + 149; ++x) {
         auto p = im.pixel(x, y);
-        if (p[0] == 255 && p[1] == 255 && p[2] == 255) continue;
-        if (p[0] == 128 && p[1] == 128 && p[2] == 128) continue;
+        if (p[0] == p[1] && p[1] == p[2]) continue;
         ++n, x0 = std::min(x0, x), x1 = std::max(x1, x), y0 = std::min(y0, y), y1 = std::max(y1, y);
       }
     w = x1 - x0 + 1, h = y1 - y0 + 1;
