@@ -4,6 +4,7 @@
 // anything else to_mesh() accepts, or a plain mesh table
 // { vertices = {{x,y,z}, ...}, triangles = {{i,j,k}, ...} (1-based), material = {...} }.
 // checker{n=, size=, colors=} makes a procedural texture for a material's texture= field.
+// drawing{s, out=, views=, ...} is the multi-view orthographic sheet (render::render_drawing).
 #include "lua/lua_util.h"
 #include "lua/wedge_lua.h"
 #include "lua/wrap_solid.h"
@@ -181,32 +182,38 @@ render::LightSpec read_light(lua_State* L, int idx) {
   return l;
 }
 
+// The thing to draw, t[1] of the options table at index 1: a Solid (with its material), a
+// plain mesh table, or anything else to_mesh() accepts. Fills `mesh` and the item's material.
+void read_drawn(lua_State* L, const char* fn, Mesh& mesh, render::DrawItem& item) {
+  lua_geti(L, 1, 1);
+  const int obj = lua_gettop(L);
+  if (lua_isnil(L, obj)) throw ArgError{1, std::string(fn) + "{} needs the thing to draw as its first element"};
+  if (lua_istable(L, obj) && lua_getfield(L, obj, "vertices") != LUA_TNIL) {
+    lua_pop(L, 1);
+    mesh = read_mesh(L, obj, item.material, item.texture);
+  } else {
+    if (lua_istable(L, obj)) lua_pop(L, 1);
+    mesh = to_mesh(L, obj, 1, current_tolerance(L));
+    // A solid shades flat across its faces' edges and smooth within a curved face.
+    if (test_solid(L, obj)) mesh = mesh.with_face_normals();
+    if (test_solid(L, obj) && push_material(L, obj) == LUA_TTABLE) item.material = read_material(L, lua_gettop(L), 1, item.texture);
+    else if (lua_gettop(L) > obj) lua_pop(L, 1);
+    lua_settop(L, obj);
+  }
+  lua_pop(L, 1);
+  // A texture on a mesh without texture coordinates: the two-step box mapping.
+  if (item.texture && mesh.uvs.empty()) mesh = render::with_uv_mapping(mesh, render::UvMapping::Box);
+  item.mesh = &mesh;
+}
+
 int render_fn(lua_State* L) {
   return guarded(L, [&] {
     check_table(L, 1);
     Options o(L, 1);
     o.allow_positional();
-    lua_geti(L, 1, 1);
-    const int obj = lua_gettop(L);
     render::DrawItem item;
     Mesh mesh;
-    if (lua_isnil(L, obj)) throw ArgError{1, "render{} needs the thing to draw as its first element"};
-    if (lua_istable(L, obj) && lua_getfield(L, obj, "vertices") != LUA_TNIL) {
-      lua_pop(L, 1);
-      mesh = read_mesh(L, obj, item.material, item.texture);
-    } else {
-      if (lua_istable(L, obj)) lua_pop(L, 1);
-      mesh = to_mesh(L, obj, 1, current_tolerance(L));
-      // A solid shades flat across its faces' edges and smooth within a curved face.
-      if (test_solid(L, obj)) mesh = mesh.with_face_normals();
-      if (test_solid(L, obj) && push_material(L, obj) == LUA_TTABLE) item.material = read_material(L, lua_gettop(L), 1, item.texture);
-      else if (lua_gettop(L) > obj) lua_pop(L, 1);
-      lua_settop(L, obj);
-    }
-    lua_pop(L, 1);
-    // A texture on a mesh without texture coordinates: the two-step box mapping.
-    if (item.texture && mesh.uvs.empty()) mesh = render::with_uv_mapping(mesh, render::UvMapping::Box);
-    item.mesh = &mesh;
+    read_drawn(L, "render", mesh, item);
     Box3 bounds = mesh.bounds();
 
     render::RenderOptions ro;
@@ -284,6 +291,64 @@ int render_fn(lua_State* L) {
   });
 }
 
+// drawing{s, out=, views={"front","top","side","iso"}, size={800, 600}, columns=, border=true,
+// labels=true, background=, shading=, antialias=}: a multi-view orthographic sheet.
+int drawing_fn(lua_State* L) {
+  return guarded(L, [&] {
+    check_table(L, 1);
+    Options o(L, 1);
+    o.allow_positional();
+    render::DrawItem item;
+    Mesh mesh;
+    read_drawn(L, "drawing", mesh, item);
+    render::DrawingOptions d;
+    std::string out = o.string("out", "");
+    if (out.empty()) throw ArgError{1, "drawing{} needs out=\"file.png\""};
+    int views_type = o.push("views");
+    if (views_type == LUA_TTABLE) {
+      int top = lua_gettop(L);
+      d.views.clear();
+      for (lua_Integer i = 1, n = static_cast<lua_Integer>(lua_rawlen(L, top)); i <= n; ++i) {
+        lua_geti(L, top, i);
+        if (lua_type(L, -1) != LUA_TSTRING)
+          throw ArgError{1, "views[" + std::to_string(i) + "] must be a view name, got " + type_name(L, -1)};
+        std::string v = lua_tostring(L, -1);
+        lua_pop(L, 1);
+        if (v != "iso" && v != "dimetric" && v != "front" && v != "top" && v != "side" && v != "oblique")
+          throw ArgError{1, "views[" + std::to_string(i) + "] '" + v +
+                                "' is not a view (expected iso, dimetric, front, top, side or oblique)"};
+        d.views.push_back(v);
+      }
+      if (d.views.empty() || d.views.size() > 16) throw ArgError{1, "views must list 1 to 16 view names"};
+    } else if (views_type != LUA_TNIL) {
+      throw ArgError{1, "field 'views' must be a list of view names, got " + type_name(L, -1)};
+    }
+    lua_pop(L, 1);
+    Vec2 size = o.vec2("size", Vec2(800, 600));
+    if (size.x() < 1 || size.y() < 1 || size.x() > 8192 || size.y() > 8192 || size.x() != std::floor(size.x()) ||
+        size.y() != std::floor(size.y()))
+      throw ArgError{1, "size must be two whole numbers within 1..8192"};
+    d.width = int(size.x()), d.height = int(size.y());
+    d.columns = o.integer("columns", 0);
+    if (d.columns < 0 || d.columns > int(d.views.size()))
+      throw ArgError{1, "columns must be within 0.." + std::to_string(d.views.size()) + " (0: automatic)"};
+    d.border = o.boolean("border", true);
+    d.labels = o.boolean("labels", true);
+    d.render.background = opt_color(o, "background", d.render.background);
+    std::string shading = o.string("shading", "gouraud");
+    if (shading == "flat") d.render.shading = render::ShadeModel::Flat;
+    else if (shading == "gouraud" || shading == "smooth") d.render.shading = render::ShadeModel::Smooth;
+    else if (shading == "phong") d.render.shading = render::ShadeModel::Phong;
+    else throw ArgError{1, "shading must be \"flat\", \"gouraud\" or \"phong\", got '" + shading + "'"};
+    d.render.antialias = o.integer("antialias", 1);
+    if (d.render.antialias < 1 || d.render.antialias > 4) throw ArgError{1, "antialias must be 1, 2, 3 or 4"};
+    o.finish();
+    render::Image im = render::render_drawing({item}, d);
+    render::write_png(out, im);
+    return 0;
+  });
+}
+
 // checker{n=8, size=256, colors={{1,1,1},{0,0,0}}}: an n x n checkerboard texture.
 int checker_fn(lua_State* L) {
   return guarded(L, [&] {
@@ -317,7 +382,7 @@ void register_render(lua_State* L) {
   static const luaL_Reg meta[] = {{nullptr, nullptr}};
   static const luaL_Reg methods[] = {{nullptr, nullptr}};
   register_class(L, kTextureKey, "Texture", methods, meta, gc_object<TexturePtr>);
-  static const luaL_Reg functions[] = {{"render", render_fn}, {"checker", checker_fn}, {nullptr, nullptr}};
+  static const luaL_Reg functions[] = {{"render", render_fn}, {"drawing", drawing_fn}, {"checker", checker_fn}, {nullptr, nullptr}};
   set_functions(L, functions);
 }
 

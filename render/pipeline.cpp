@@ -28,6 +28,15 @@ namespace wedge::render {
 
 namespace {
 
+// llvmpipe's level-of-detail log2 (gallivm's fast log2): the float's exponent minus one plus its
+// mantissa in [1, 2), a piecewise-linear log2 exact at powers of two. Its blend fraction between
+// two mipmap levels follows this curve, not the true logarithm.
+float fast_log2(float x) {
+  int e = 0;
+  float m = std::frexp(x, &e);  // x = m 2^e, m in [0.5, 1)
+  return float(e - 2) + 2 * m;
+}
+
 // Attribute layout of a pipeline vertex.
 enum : int { kFront = 0, kBack = 4, kTex = 8, kFog = 12, kEye = 13, kNormal = 17, kAttrs = 20 };
 
@@ -462,7 +471,7 @@ struct Raster {
             float rx2 = (ux - u0) * (ux - u0) + (vx - v0_) * (vx - v0_);
             float ry2 = (uy - u0) * (uy - u0) + (vy - v0_) * (vy - v0_);
             float rho2 = std::max(rx2, ry2);
-            quad_lambda = rho2 > 0 ? 0.5f * std::log2(rho2) : -100.0f;
+            quad_lambda = rho2 > 0 ? 0.5f * fast_log2(rho2) : -100.0f;
             quad_x = qkx, quad_y = qky;
           }
           lambda = quad_lambda;
@@ -516,23 +525,24 @@ struct Raster {
         shade_fragment(px, py, cc, texturing ? attrs + kTex : nullptr, 0, attrs[kFog]);
       }
     };
-    // The diamond-exit rule at the ends of a 1-pixel line (GL 1.5, 3.4.1): the pixel whose
-    // diamond holds the start point is drawn (the line leaves it), the one holding the end point
-    // is not (the line never leaves it).
+    // The diamond-exit rule at the ends of a line (GL 1.5, 3.4.1): the pixel whose diamond holds
+    // the start point is drawn (the line leaves it), the one holding the end point is not (the
+    // line never leaves it). llvmpipe applies it to wide lines too, a whole column of w pixels
+    // centred on that pixel.
     auto diamond = [](double x, double y, int& px, int& py) {
       px = int(std::floor(x)), py = int(std::floor(y));
       return std::abs(x - (px + 0.5)) + std::abs(y - (py + 0.5)) <= 0.5;
     };
     int spx = 0, spy = 0, epx = 0, epy = 0;
-    const bool start_in = w == 1 && diamond(a.x, a.y, spx, spy);
-    const bool end_in = w == 1 && diamond(b.x, b.y, epx, epy);
+    const bool start_in = diamond(a.x, a.y, spx, spy);
+    const bool end_in = diamond(b.x, b.y, epx, epy);
     auto minor_at = [&](int i) {
       double t = (i + 0.5 - s0) / len;
       return int(std::floor(xmajor ? a.y + t * dy : a.x + t * dx));
     };
     if (start_in) {
       const int si = xmajor ? spx : spy, sm = xmajor ? spy : spx;
-      if (si < first || si > last || minor_at(si) != sm) column(si, sm, 0.0);
+      if (si < first || si > last || minor_at(si) != sm) column(si, sm - (w - 1) / 2, 0.0);
     }
     for (int i = first; i <= last; ++i) {
       const double t = (i + 0.5 - s0) / len;

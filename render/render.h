@@ -291,6 +291,24 @@ struct DrawItem {
 // Renders the items; smooth normals are computed (area-weighted) only for meshes without them;
 // flat shading uses each triangle's geometric normal.
 Image render_scene(const std::vector<DrawItem>& items, const RenderOptions& options);
+// A multi-view orthographic sheet (drawing{} in API.md): the named views on a grid of
+// `columns` (0: ceil(sqrt(views))) cells, each view's orthographic box fitted to the items'
+// bounds seen along it, with a one-pixel border and the view's name if asked. `render` gives
+// lights, shading, background and antialiasing; its size and camera are set per cell.
+struct DrawingOptions {
+  std::vector<std::string> views{"front", "top", "side", "iso"};
+  int width = 800, height = 600;  // the whole sheet
+  int columns = 0;
+  bool border = true, labels = true;
+  RenderOptions render;
+};
+Image render_drawing(const std::vector<DrawItem>& items, const DrawingOptions& options);
+// Text in the built-in 5x7 bitmap font (6 x 7 pixels a character cell, times `scale`), top-left
+// corner at (x, y); characters outside A-Z, 0-9 and "-._:" are left blank. Pixels outside the
+// image are skipped.
+void draw_text(Image& image, int x, int y, const std::string& text, const std::array<std::uint8_t, 4>& color,
+               int scale = 1);
+int text_width(const std::string& text, int scale = 1);
 // Box-filter downsampling by `factor` per axis (the supersampling resolve).
 Image downsample(const Image& image, int factor);
 

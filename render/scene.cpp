@@ -28,9 +28,12 @@ class BspTree {
   explicit BspTree(std::vector<WorldTri> tris) {
     if (!tris.empty()) root_ = build(std::move(tris));
   }
-  std::vector<WorldTri> back_to_front(const Point3& eye) const {
+  // Back to front as seen from the point `eye` (perspective), or, when `view_dir` is given, along
+  // that direction (orthographic: the eye is at infinity, so a node's front side is the one
+  // facing against the view direction, wherever the eye point lies).
+  std::vector<WorldTri> back_to_front(const Point3& eye, const Vec3* view_dir = nullptr) const {
     std::vector<WorldTri> out;
-    if (root_ >= 0) walk(root_, eye, out);
+    if (root_ >= 0) walk(root_, eye, view_dir, out);
     return out;
   }
 
@@ -117,13 +120,13 @@ class BspTree {
     }
   }
 
-  void walk(int id, const Point3& eye, std::vector<WorldTri>& out) const {
+  void walk(int id, const Point3& eye, const Vec3* view_dir, std::vector<WorldTri>& out) const {
     const Node& nd = nodes_[id];
-    const bool eye_front = nd.n.dot(eye) + nd.d >= 0;
+    const bool eye_front = view_dir ? nd.n.dot(*view_dir) <= 0 : nd.n.dot(eye) + nd.d >= 0;
     const int first = eye_front ? nd.back : nd.front, second = eye_front ? nd.front : nd.back;
-    if (first >= 0) walk(first, eye, out);
+    if (first >= 0) walk(first, eye, view_dir, out);
     out.insert(out.end(), nd.on.begin(), nd.on.end());
-    if (second >= 0) walk(second, eye, out);
+    if (second >= 0) walk(second, eye, view_dir, out);
   }
 };
 
@@ -319,7 +322,8 @@ Image render_scene(const std::vector<DrawItem>& items, const RenderOptions& o) {
     g.disable(Cap::DepthTest);
   } else if (o.visibility == Visibility::Bsp) {
     BspTree bsp(tris);
-    tris = bsp.back_to_front(c.eye);
+    const Vec3 dir = (c.center - c.eye).normalized();
+    tris = bsp.back_to_front(c.eye, c.orthographic ? &dir : nullptr);
     g.disable(Cap::DepthTest);
   }
   int current = -1;

@@ -91,3 +91,40 @@ TEST_CASE("render{} draws an imported Solid with its s:material, textured by che
   CHECK(yellowish > 50);
   CHECK(blueish > 50);
 }
+
+TEST_CASE("drawing{} writes a multi-view sheet of a box, the front view showing its x/z extent", "[lua][render][drawing]") {
+  std::string out = std::string(WEDGE_BINARY_DIR) + "/lua_drawing_box.png";
+  std::filesystem::remove(out);
+  std::string err;
+  int status = run("drawing{box(4, 2, 1):material{diffuse={0.9, 0.5, 0.2}}, out='" + out + "', size={300, 200}, views={'front', 'top', 'side', 'iso'}}", err);
+  INFO(err);
+  REQUIRE(status == 0);
+  render::Image im = render::read_png(out);
+  REQUIRE(im.width == 300);
+  REQUIRE(im.height == 200);
+  // Cells of 150 x 100; the object's tinted pixels (background, border and label ink are grey).
+  auto extent = [&](int cx, int cy, int& w, int& h) {
+    int x0 = 1 << 30, x1 = -1, y0 = 1 << 30, y1 = -1, n = 0;
+    for (int y = cy + 14; y < cy + 99; ++y)  // below the label band
+      for (int x = cx + 1; x < cx + 149; ++x) {
+        auto p = im.pixel(x, y);
+        if (p[0] == p[1] && p[1] == p[2]) continue;
+        ++n, x0 = std::min(x0, x), x1 = std::max(x1, x), y0 = std::min(y0, y), y1 = std::max(y1, y);
+      }
+    w = x1 - x0 + 1, h = y1 - y0 + 1;
+    return n;
+  };
+  int w = 0, h = 0;
+  for (int v = 0; v < 4; ++v) CHECK(extent((v % 2) * 150, (v / 2) * 100, w, h) > 300);
+  extent(0, 0, w, h);
+  CHECK(double(w) / h == Approx(4.0).epsilon(0.1));
+  CHECK(w > 110);
+  // Errors name the function and the bad value.
+  status = run("\ndrawing{box(1, 1, 1), out='x.png', views={'front', 'sideways'}}", err);
+  CHECK(status != 0);
+  CHECK(err.find("render_test.lua:2:") != std::string::npos);
+  CHECK(err.find("drawing") != std::string::npos);
+  CHECK(err.find("sideways") != std::string::npos);
+  status = run("drawing{box(1, 1, 1)}", err);
+  CHECK(err.find("out=") != std::string::npos);
+}

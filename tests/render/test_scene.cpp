@@ -285,3 +285,39 @@ TEST_CASE("a mesh's own normals are used; smooth normals are computed only when 
   const int own = render_scene({it}, o).pixel(16, 18)[0];
   CHECK(own == 0);
 }
+
+TEST_CASE("the BSP tree with an orthographic camera sorts along the view direction", "[render][visibility]") {
+  // The eye point lies between two cubes; the orthographic view still shows the one behind the
+  // eye point (nearer the viewer at infinity) in front. Sorting from the eye point would draw it
+  // first and let the far cube cover it.
+  Mesh m = cube();
+  std::vector<DrawItem> items(2);
+  items[0].mesh = &m, items[0].transform = scale(Vec3(0.5, 0.5, 0.5));  // near, small, red
+  items[0].material.diffuse = Vec4f(0.9f, 0.2f, 0.2f, 1);
+  items[1].mesh = &m, items[1].transform = translate(Vec3(0, 0, -4));  // far, large, blue
+  items[1].material.diffuse = Vec4f(0.2f, 0.2f, 0.9f, 1);
+  RenderOptions o = options();
+  o.cull = "none";
+  o.shading = ShadeModel::Flat;
+  o.camera.orthographic = true;
+  o.camera.eye = Point3(0.3, 0.2, -2), o.camera.center = Point3(0.3, 0.2, -10), o.camera.up = Vec3(0, 1, 0);
+  o.camera.left = -2, o.camera.right = 2, o.camera.bottom = -1.5, o.camera.top = 1.5;
+  Image z = render_scene(items, o);
+  // The centre of the image shows the near cube.
+  auto centre = z.pixel(z.width / 2, z.height / 2);
+  REQUIRE(centre[0] > centre[2]);
+  o.visibility = Visibility::Bsp;
+  Image b = render_scene(items, o);
+  int covered = 0, diff = 0;
+  for (int y = 0; y < b.height; ++y)
+    for (int x = 0; x < b.width; ++x) {
+      auto p = z.pixel(x, y), q = b.pixel(x, y);
+      covered += p != std::array<std::uint8_t, 4>{0, 0, 0, 255};
+      int d = 0;
+      for (int k = 0; k < 3; ++k) d = std::max(d, std::abs(int(p[k]) - int(q[k])));
+      diff += d > 2;
+    }
+  INFO(diff << " of " << covered << " pixels differ");
+  CHECK(covered > 500);
+  CHECK(diff <= covered / 1000);
+}
