@@ -5,6 +5,7 @@
 #include <cmath>
 #include <memory>
 
+#include "csg/solid.h"
 #include "surfaces/surfaces.h"
 
 using namespace wedge;
@@ -270,4 +271,124 @@ TEST_CASE("Newell's teapot: 32 patches, outward, watertight where patches meet",
   CHECK(b.max.z() == Approx(3.15).margin(1e-3));
   CHECK(b.max.x() == Approx(3.45).margin(0.03));  // spout tip
   CHECK(all.volume() > 0);
+}
+
+// --- Welded (closed) meshes ---
+
+namespace {
+
+// Every welded triangle is non-degenerate and its normal agrees with the vertex normals' side.
+void check_welded(const Mesh& m) {
+  REQUIRE_NOTHROW(m.check());
+  std::size_t degenerate = 0, flipped = 0;
+  for (std::size_t t = 0; t < m.triangles.size(); ++t) {
+    const auto& tri = m.triangles[t];
+    if (tri[0] == tri[1] || tri[1] == tri[2] || tri[2] == tri[0] || !(m.triangle_normal(t).norm() > 0.5)) {
+      ++degenerate;
+      continue;
+    }
+    double side = 0;
+    for (auto i : tri) side += m.triangle_normal(t).dot(m.normals[i]);
+    if (!(side > 0)) ++flipped;
+  }
+  CHECK(degenerate == 0);
+  CHECK(flipped == 0);
+}
+
+}  // namespace
+
+TEST_CASE("welded mesh of the NURBS sphere is a closed genus-0 surface with the right volume", "[surfaces][mesh]") {
+  const double r = 2, tol = 1e-3;
+  Point3 c(1, -2, 0.5);
+  NurbsSurface s = nurbs_sphere(c, r);
+  Mesh m = s.welded_mesh(tol);
+  check_welded(m);
+  EulerCounts e = euler_counts(m);
+  CHECK(e.V - e.E + e.F == 2);
+  CHECK(e.S == 1);
+  CHECK(e.H == 0);
+  // Vertices on the sphere, so the mesh is inside it; the gap is at most area x tolerance.
+  double exact = 4.0 / 3.0 * M_PI * r * r * r;
+  CHECK(m.volume() > 0);
+  CHECK(m.volume() <= exact);
+  CHECK(exact - m.volume() <= 4 * M_PI * r * r * tol);
+  // Pole vertices carry the limit normal (+-Z), every vertex normal is radial.
+  int poles = 0;
+  double worst = 1;
+  for (std::size_t i = 0; i < m.positions.size(); ++i) {
+    Vec3 radial = (m.positions[i] - c).normalized();
+    worst = std::min(worst, m.normals[i].dot(radial));
+    if (std::abs(std::abs(radial.z()) - 1) < 1e-12) {
+      ++poles;
+      CHECK(m.normals[i].dot(radial) > 1 - 1e-9);
+    }
+  }
+  CHECK(worst > 1 - 1e-6);
+  CHECK(poles == 2);
+  // The render mesh keeps the seam and pole rows: it has more vertices and is open.
+  Mesh render = s.mesh(tol);
+  CHECK(render.positions.size() > m.positions.size());
+  CHECK_THROWS_AS(euler_counts(render), Error);
+}
+
+TEST_CASE("welded mesh of the NURBS torus is closed with genus 1", "[surfaces][mesh]") {
+  const double R = 3, r = 1, tol = 1e-3;
+  Mesh m = nurbs_torus(Point3(0, 0, 1), R, r).welded_mesh(tol);
+  check_welded(m);
+  EulerCounts e = euler_counts(m);
+  CHECK(e.V - e.E + e.F == 0);
+  CHECK(e.H == 1);
+  double exact = 2 * M_PI * M_PI * R * r * r, area = 4 * M_PI * M_PI * R * r;
+  CHECK(m.volume() > 0);
+  CHECK(std::abs(exact - m.volume()) <= area * tol);
+}
+
+TEST_CASE("welded meshes of revolved closed profiles are closed and outward", "[surfaces][mesh]") {
+  const double tol = 1e-3;
+  SECTION("a circle revolved about Z (a torus), either direction of the profile") {
+    for (double sign : {1.0, -1.0}) {
+      auto circle = std::make_shared<CircularArc>(Point3(2.5, 0, 0), 0.75, 0, 2 * M_PI, sign * Vec3::UnitY());
+      RevolvedSurface s(circle, Point3(0, 0, 0), Vec3::UnitZ(), 2 * M_PI);
+      Mesh m = s.welded_mesh(tol);
+      check_welded(m);
+      EulerCounts e = euler_counts(m);
+      CHECK(e.V - e.E + e.F == 0);
+      CHECK(e.H == 1);
+      double exact = 2 * M_PI * M_PI * 2.5 * 0.75 * 0.75, area = 4 * M_PI * M_PI * 2.5 * 0.75;
+      CHECK(m.volume() > 0);
+      CHECK(std::abs(exact - m.volume()) <= area * tol);
+    }
+  }
+  SECTION("a profile from the axis to the axis (poles at both ends)") {
+    // A spline bulb: starts and ends on the Z axis.
+    auto profile = std::make_shared<NurbsCurve>(interpolate_nurbs(
+        {Point3(0, 0, 0), Point3(1, 0, 0.3), Point3(1.2, 0, 1), Point3(0.6, 0, 1.8), Point3(0, 0, 2)}, 3));
+    RevolvedSurface s(profile, Point3(0, 0, 0), Vec3::UnitZ(), 2 * M_PI);
+    Mesh m = s.welded_mesh(tol);
+    check_welded(m);
+    EulerCounts e = euler_counts(m);
+    CHECK(e.V - e.E + e.F == 2);
+    CHECK(m.volume() > 0);
+    // Pappus by quadrature: V = pi * integral x^2 dz over the profile.
+    double exact = 0;
+    const int n = 20000;
+    for (int i = 0; i < n; ++i) {
+      double t = (i + 0.5) / n;
+      Point3 p = profile->eval(t);
+      exact += M_PI * p.x() * p.x() * profile->derivative(t, 1).z() / n;
+    }
+    exact = std::abs(exact);
+    CHECK(std::abs(exact - m.volume()) <= 2 * M_PI * 1.2 * 2.5 * tol);
+  }
+}
+
+TEST_CASE("welded mesh leaves an open surface open and merges nothing on a plane", "[surfaces][mesh]") {
+  Plane p(Point3(0, 0, 0), Vec3::UnitX(), Vec3::UnitY());
+  Mesh a = p.mesh(0.01), b = p.welded_mesh(0.01);
+  CHECK(a.positions.size() == b.positions.size());
+  CHECK(a.triangles.size() == b.triangles.size());
+  // A half cylinder (open in u): no seam, the ends stay open.
+  auto half = std::make_shared<CircularArc>(Point3(0, 0, 0), 1, 0, M_PI);
+  ExtrudedSurface e(half, Vec3(0, 0, 1));
+  CHECK_THROWS_AS(euler_counts(e.welded_mesh(1e-3)), Error);
 }
