@@ -611,16 +611,50 @@ Point3 SweptSurface::eval(double u, double v) const {
 
 Vec3 SweptSurface::derivative(double u, double v, int ku, int kv) const {
   if (ku < 0 || kv < 0) fail("derivative orders must be >= 0");
+  Frame f = frame(v);
   if (kv == 0) {
     if (ku == 0) return eval(u, v);
-    Frame f = frame(v);
     Vec3 p = profile_->derivative(u, ku);
     return p.x() * f.r + p.y() * f.s + p.z() * f.t;
   }
+  // S = O + x(u) r + y(u) s + z(u) t. With L = |C'| and t = C'/L (primes: d/dv):
+  //   t' = (C2 - L1 t) / L with L1 = C2.t, and t'' = (C3 - L2 t - 2 L1 t') / L with L2 = C3.t + C2.t'
+  // (Ck the k-th derivative of the path). A rotation-minimising frame does not turn about t, so
+  // r' = -(r.t') t (and s likewise), and differentiating again (r'.t' = 0):
+  // r'' = -(r.t'') t - (r.t') t'. The frame evaluated here is the double-reflection step from the
+  // nearest stored frame, which turns about t only by that method's O(h^4) error, so these agree
+  // with differences of eval() to that order. Orders above two, and points where C' vanishes, are
+  // central differences of the analytic order below.
+  Vec3 d1 = path_->derivative(v, 1);
+  Vec3 d2 = path_->derivative(v, 2);
+  double L = d1.norm();
   auto [a, b] = path_->domain();
-  double h = 1e-4 * (b - a);
-  double c = std::clamp(v, a + h, b - h);
-  return (derivative(u, c + h, ku, kv - 1) - derivative(u, c - h, ku, kv - 1)) / (2 * h);
+  if (kv > 2 || !(L > 1e-12 * (1 + d2.norm()))) {
+    double h = 1e-4 * (b - a);
+    double c = std::clamp(v, a + h, b - h);
+    return (derivative(u, c + h, ku, kv - 1) - derivative(u, c - h, ku, kv - 1)) / (2 * h);
+  }
+  Vec3 t = d1 / L;
+  double L1 = d2.dot(t);
+  Vec3 t1 = (d2 - L1 * t) / L;
+  Vec3 O, r, s, tt;
+  if (kv == 1) {
+    O = d1;
+    tt = t1;
+    r = -f.r.dot(t1) * t;
+    s = -f.s.dot(t1) * t;
+  } else {
+    Vec3 d3 = path_->derivative(v, 3);
+    double L2 = d3.dot(t) + d2.dot(t1);
+    Vec3 t2 = (d3 - L2 * t - 2 * L1 * t1) / L;
+    O = d2;
+    tt = t2;
+    r = -f.r.dot(t2) * t - f.r.dot(t1) * t1;
+    s = -f.s.dot(t2) * t - f.s.dot(t1) * t1;
+  }
+  Vec3 p = ku == 0 ? Vec3(profile_->eval(u)) : profile_->derivative(u, ku);
+  Vec3 d = p.x() * r + p.y() * s + p.z() * tt;
+  return ku == 0 ? Vec3(O + d) : d;
 }
 
 // --- lofting ---

@@ -374,8 +374,9 @@ std::vector<Frame> rotation_minimizing_frames(const Curve& path, int count);
 
 // A profile (its x, y in the path's normal plane: x along r, y along s) swept along a 3D path with
 // rotation-minimising frames. u: along the profile, v: along the path. The frame at any v is the
-// double-reflection step from the nearest precomputed frame, so it is continuous; the v
-// derivatives are taken by central differences of that frame field.
+// double-reflection step from the nearest precomputed frame, so it is continuous. The v
+// derivatives up to order 2 are analytic (the RMF does not turn about the tangent:
+// r' = -(r.t') t); higher orders are central differences of those.
 class SweptSurface : public Surface {
  public:
   SweptSurface(CurvePtr profile, CurvePtr path, int frames = 512);
