@@ -3,7 +3,9 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <map>
 #include <memory>
+#include <set>
 
 #include "csg/solid.h"
 #include "surfaces/surfaces.h"
@@ -427,4 +429,35 @@ TEST_CASE("swept surface v-derivatives are analytic and agree with differences o
     CHECK(worst2 < 1e-4);  // the second difference of eval loses half the digits
     CHECK(worst_mixed < 1e-7);
   }
+}
+
+TEST_CASE("welded mesh of a swept tube merges the profile's seam and leaves the ends open", "[surfaces][mesh]") {
+  // A circle swept along a planar S-curve: closed in u (the profile), open in v (the path).
+  auto circle = std::make_shared<CircularArc>(Point3(0, 0, 0), 0.3, 0, 2 * M_PI);
+  auto path = std::make_shared<BezierCurve>(std::vector<Point3>{{0, 0, 0}, {4, 0, 0}, {0, 4, 0}, {4, 4, 0}});
+  SweptSurface tube(circle, path);
+  Mesh m = tube.welded_mesh(2e-3);
+  check_welded(m);
+  // Every edge has two triangles except those of the two end circles: one boundary loop per end.
+  std::map<std::pair<std::uint32_t, std::uint32_t>, int> edges;
+  for (const auto& t : m.triangles)
+    for (int k = 0; k < 3; ++k) ++edges[{std::min(t[k], t[(k + 1) % 3]), std::max(t[k], t[(k + 1) % 3])}];
+  std::set<std::uint32_t> boundary_vertices;
+  std::size_t boundary = 0, over = 0;
+  for (const auto& [e, n] : edges) {
+    if (n == 1) {
+      ++boundary;
+      boundary_vertices.insert(e.first);
+      boundary_vertices.insert(e.second);
+    }
+    if (n > 2) ++over;
+  }
+  CHECK(over == 0);
+  CHECK(boundary > 0);
+  CHECK(boundary == boundary_vertices.size());  // closed loops: as many edges as vertices
+  for (auto v : boundary_vertices) {
+    double d0 = (m.positions[v] - path->eval(0)).norm(), d1 = (m.positions[v] - path->eval(1)).norm();
+    CHECK(std::min(d0, d1) == Approx(0.3).epsilon(1e-9));
+  }
+  CHECK(m.positions.size() < tube.mesh(2e-3).positions.size());
 }
