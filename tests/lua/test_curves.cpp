@@ -203,3 +203,20 @@ TEST_CASE("bad hermite and polynomial input names the argument", "[lua][errors]"
   auto typo = run_lua("local c = polynomial{points = {{0,0},{1,1}}, degre = 2}\n", "@pt.lua");
   CHECK_THAT(typo.err, Catch::StartsWith("pt.lua:1: bad argument #1 to 'polynomial' (unknown field 'degre'"));
 }
+
+TEST_CASE("S:mesh{welded=true} closes seams and poles", "[lua][curves]") {
+  auto r = run_lua(R"LUA(
+    -- closed 2-manifold: every edge in two triangles, so E = 3T/2 and V - E + T = 2 - 2 genus
+    local torus = revolved_surface(circle{r = 0.5, center = {2, 0}})
+    local open, m = torus:mesh{tolerance = 0.01}, torus:mesh{tolerance = 0.01, welded = true}
+    assert(#m.vertices < #open.vertices and #m.triangles == #open.triangles)
+    assert(#m.vertices - 3 * #m.triangles / 2 + #m.triangles == 0, "torus: genus 1")
+    local bulb = revolved_surface(bezier{{0, 0}, {2, 1}, {0, 2}})
+    m = bulb:mesh{tolerance = 0.01, welded = true}
+    assert(#m.vertices - 3 * #m.triangles / 2 + #m.triangles == 2, "bulb: genus 0")
+  )LUA");
+  INFO(r.err);
+  CHECK(r.status == 0);
+  auto pot = run_lua("local m = teapot():mesh{tolerance = 0.1, welded = true}\n", "@wp.lua");
+  CHECK_THAT(pot.err, Catch::StartsWith("wp.lua:1: bad argument #1 to 'mesh' (welded=true needs a single-patch surface (this one has 32 patches)"));
+}
