@@ -1,5 +1,5 @@
 // Lua bindings of the curves of surfaces/: bezier, bspline, nurbs, interpolate, catmull_rom,
-// natural_spline, circle, and the Curve methods. Curve parameters are normalised: t runs over
+// natural_spline, hermite, polynomial, circle, and the Curve methods. Curve parameters are normalised: t runs over
 // [0, 1] for every kind of curve, whatever its own domain.
 #include <cmath>
 #include <sstream>
@@ -16,19 +16,20 @@ constexpr const char* kKey = "wedge.Curve";
 
 
 // Reads the list of points at the top of the stack (value of argument `arg`).
-std::vector<Point3> read_points_top(lua_State* L, int arg, const std::string& what, bool& planar) {
-  if (lua_type(L, -1) != LUA_TTABLE) throw ArgError{arg, what + " must be a list of points, got " + type_name(L, -1)};
+std::vector<Point3> read_points_top(lua_State* L, int arg, const std::string& what, bool& planar,
+                                    const std::string& item = "point") {
+  if (lua_type(L, -1) != LUA_TTABLE) throw ArgError{arg, what + " must be a list of " + item + "s, got " + type_name(L, -1)};
   std::vector<Point3> pts;
   lua_Integer n = lua_Integer(lua_rawlen(L, -1));
   for (lua_Integer i = 1; i <= n; ++i) {
     lua_rawgeti(L, -1, i);
     std::string err;
     Point3 p;
-    if (lua_type(L, -1) != LUA_TTABLE) err = what + ": point " + std::to_string(i) + " must be {x, y} or {x, y, z}, got " + type_name(L, -1);
+    if (lua_type(L, -1) != LUA_TTABLE) err = what + ": " + item + " " + std::to_string(i) + " must be {x, y} or {x, y, z}, got " + type_name(L, -1);
     else {
       if (lua_Integer(lua_rawlen(L, -1)) >= 3) planar = false;
       try {
-        p = to_vec3(L, -1, arg, what + ": point " + std::to_string(i), true);
+        p = to_vec3(L, -1, arg, what + ": " + item + " " + std::to_string(i), true);
       } catch (const ArgError& e) {
         err = e.message;
       }
@@ -173,6 +174,46 @@ int natural_spline_fn(lua_State* L) {
   });
 }
 
+// hermite{points=, tangents=[, params=]}: the cubic Hermite spline through the points with the
+// given derivatives (at parameters 0, 1, ..., n-1 unless params= gives increasing ones).
+int hermite_fn(lua_State* L) {
+  return guarded(L, [&] {
+    Options o(L, 1);
+    bool planar;
+    auto pts = read_points(L, o, planar);
+    if (!o.has("tangents")) throw ArgError{o.arg(), "field 'tangents' is required: one tangent per point"};
+    o.push("tangents");
+    bool tangents_planar = true;
+    auto tangents = read_points_top(L, o.arg(), "tangents", tangents_planar, "tangent");
+    lua_pop(L, 1);
+    std::vector<double> params;
+    if (o.has("params")) params = read_numbers(L, o, "params");
+    o.finish();
+    if (pts.size() < 2) throw ArgError{o.arg(), "points: a Hermite spline needs at least 2 points, got " + std::to_string(pts.size())};
+    if (tangents.size() != pts.size())
+      throw ArgError{o.arg(), "tangents: need one per point (" + std::to_string(pts.size()) + " points), got " + std::to_string(tangents.size())};
+    if (!params.empty() && params.size() != pts.size())
+      throw ArgError{o.arg(), "params: need one per point (" + std::to_string(pts.size()) + " points), got " + std::to_string(params.size())};
+    if (params.empty())
+      for (std::size_t i = 0; i < pts.size(); ++i) params.push_back(double(i));
+    std::vector<Vec3> d(tangents.begin(), tangents.end());
+    push_curve(L, {as_arg(1, [&] { return std::make_shared<const HermiteSpline>(params, pts, d); }), planar && tangents_planar});
+    return 1;
+  });
+}
+
+// polynomial{points}: the interpolating polynomial of degree n-1 (Neville), to show Runge's wiggles.
+int polynomial_fn(lua_State* L) {
+  return guarded(L, [&] {
+    Options o(L, 1);
+    bool planar;
+    auto pts = read_points(L, o, planar);
+    o.finish();
+    push_curve(L, {as_arg(1, [&] { return std::make_shared<const PolynomialInterpolant>(pts); }), planar});
+    return 1;
+  });
+}
+
 // circle(r) | circle{r=1, center={0,0}}: the exact rational circle in the XY plane.
 int circle_fn(lua_State* L) {
   return guarded(L, [&] {
@@ -269,6 +310,7 @@ int tostring_fn(lua_State* L) {
     if (dynamic_cast<const NurbsCurve*>(c.curve.get())) kind = "Curve(nurbs)";
     else if (dynamic_cast<const BezierCurve*>(c.curve.get())) kind = "Curve(bezier)";
     else if (dynamic_cast<const HermiteSpline*>(c.curve.get())) kind = "Curve(spline)";
+    else if (dynamic_cast<const PolynomialInterpolant*>(c.curve.get())) kind = "Curve(polynomial)";
     lua_pushstring(L, kind.c_str());
     return 1;
   });
@@ -281,6 +323,8 @@ const luaL_Reg kFunctions[] = {
     {"interpolate", interpolate_fn},
     {"catmull_rom", catmull_rom_fn},
     {"natural_spline", natural_spline_fn},
+    {"hermite", hermite_fn},
+    {"polynomial", polynomial_fn},
     {"circle", circle_fn},
     {nullptr, nullptr}};
 

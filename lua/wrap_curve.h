@@ -25,6 +25,7 @@ void push_curve(lua_State* L, LuaCurve c);
 const LuaSurface* test_surface(lua_State* L, int idx);
 const LuaSurface& check_surface(lua_State* L, int idx);
 // All patches meshed to `tolerance`; face_ids are the 0-based patch numbers.
-Mesh surface_mesh(const LuaSurface& s, double tolerance);
+// welded: Surface::welded_mesh (seams merged, poles collapsed); single-patch surfaces only.
+Mesh surface_mesh(const LuaSurface& s, double tolerance, bool welded = false);
 
 }  // namespace wedge::lua

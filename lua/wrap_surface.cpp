@@ -301,16 +301,20 @@ void push_points(lua_State* L, const std::vector<Vec3>& pts) {
 
 // S:mesh{tolerance=0.01} -> {vertices={{x,y,z},...}, normals=..., uvs={{u,v},...},
 // triangles={{i,j,k},...} (1-based, counter-clockwise seen from the normal side), patches={p,...}}.
+// welded=true: closed seams merged and poles collapsed (a closed surface gives a closed mesh, oriented
+// outward; uvs jump across the seam).
 int mesh_fn(lua_State* L) {
   return guarded(L, [&] {
     const LuaSurface& s = check_surface(L, 1);
     double tol = 0.01;
+    bool welded = false;
     if (!lua_isnoneornil(L, 2)) {
       Options o(L, 2);
       tol = o.positive("tolerance", 0.01);
+      welded = o.boolean("welded", false);
       o.finish();
     }
-    Mesh m = surface_mesh(s, tol);
+    Mesh m = as_arg(2, [&] { return surface_mesh(s, tol, welded); });
     lua_createtable(L, 0, 5);
     push_points(L, m.positions);
     lua_setfield(L, -2, "vertices");
@@ -371,8 +375,13 @@ const luaL_Reg kMeta[] = {{"__tostring", tostring_fn}, {nullptr, nullptr}};
 const LuaSurface* test_surface(lua_State* L, int idx) { return test_object<LuaSurface>(L, idx, kKey); }
 const LuaSurface& check_surface(lua_State* L, int idx) { return check_object<LuaSurface>(L, idx, kKey, "Surface"); }
 
-Mesh surface_mesh(const LuaSurface& s, double tolerance) {
+Mesh surface_mesh(const LuaSurface& s, double tolerance, bool welded) {
   if (s.patches.empty()) return Mesh();
+  if (welded) {
+    if (s.patches.size() != 1)
+      fail("welded=true needs a single-patch surface (this one has ", s.patches.size(), " patches)");
+    return s.patches[0]->welded_mesh(tolerance, 0);
+  }
   if (s.patches.size() == 1) return s.patches[0]->mesh(tolerance, 0);
   // Several patches (the teapot): patches meshed independently would sample a shared edge at
   // different points and leave cracks (T-junctions). Instead every patch gets the same uniform

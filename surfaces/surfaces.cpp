@@ -81,6 +81,21 @@ bool Surface::inside_trim(double u, double v) const {
 }
 
 Mesh Surface::mesh(double tolerance, int face_id) const {
+  std::vector<double> us, vs;
+  std::vector<Point3> grid;
+  refine_grid(tolerance, us, vs, grid);
+  return mesh_grid(us, vs, face_id, &grid);
+}
+
+Mesh Surface::welded_mesh(double tolerance, int face_id) const {
+  std::vector<double> us, vs;
+  std::vector<Point3> grid;
+  refine_grid(tolerance, us, vs, grid);
+  return welded_grid(us, vs, face_id, &grid);
+}
+
+void Surface::refine_grid(double tolerance, std::vector<double>& us, std::vector<double>& vs,
+                          std::vector<Point3>& grid) const {
   if (!(tolerance > 0) || !std::isfinite(tolerance)) fail("tolerance must be a positive number, got ", tolerance);
   std::vector<double> ub = unique_sorted(u_breaks()), vb = unique_sorted(v_breaks());
   std::vector<int> cu(ub.size() - 1, 2), cv(vb.size() - 1, 2);
@@ -97,9 +112,7 @@ Mesh Surface::mesh(double tolerance, int face_id) const {
   };
   const double limit = 0.5 * tolerance;
   const std::size_t max_vertices = std::size_t(1) << 22;
-  std::vector<double> us, vs;
   std::vector<int> uo, vo;
-  std::vector<Point3> grid;
   for (int round = 0;; ++round) {
     us = params(ub, cu, uo);
     vs = params(vb, cv, vo);
@@ -143,7 +156,6 @@ Mesh Surface::mesh(double tolerance, int face_id) const {
     if (next_u * next_v > max_vertices || round > 30)
       fail("tolerance ", tolerance, " would need more than ", max_vertices, " mesh vertices on this surface: use a larger tolerance");
   }
-  return mesh_grid(us, vs, face_id, &grid);
 }
 
 Mesh Surface::mesh_grid(const std::vector<double>& us, const std::vector<double>& vs, int face_id,
@@ -173,6 +185,89 @@ Mesh Surface::mesh_grid(const std::vector<double>& us, const std::vector<double>
       if (keep((2 * us[a] + us[a + 1]) / 3, (vs[b] + 2 * vs[b + 1]) / 3))
         m.add_triangle(idx(a, b), idx(a + 1, b + 1), idx(a, b + 1), face_id);
     }
+  return m;
+}
+
+Mesh Surface::welded_grid(const std::vector<double>& us, const std::vector<double>& vs, int face_id,
+                          const std::vector<Point3>* points) const {
+  if (us.size() < 2 || vs.size() < 2) fail("welded mesh: need at least two parameters in each direction");
+  const std::size_t nu = us.size(), nv = vs.size();
+  std::vector<Point3> grid;
+  if (points && points->size() == nu * nv) grid = *points;
+  else {
+    grid.resize(nu * nv);
+    for (std::size_t a = 0; a < nu; ++a)
+      for (std::size_t b = 0; b < nv; ++b) grid[a * nv + b] = eval(us[a], vs[b]);
+  }
+  auto at = [&](std::size_t a, std::size_t b) -> const Point3& { return grid[a * nv + b]; };
+  // Coincidence is judged relative to the surface's size: its grid's bounding-box diagonal.
+  Box3 box;
+  for (const Point3& p : grid) box.extend(p);
+  const double eps = 1e-9 * std::max(box.diagonal(), 1e-300);
+  auto same = [&](const Point3& p, const Point3& q) { return (p - q).norm() <= eps; };
+  bool u_seam = true, v_seam = true;
+  for (std::size_t b = 0; b < nv && u_seam; ++b) u_seam = same(at(0, b), at(nu - 1, b));
+  for (std::size_t a = 0; a < nu && v_seam; ++a) v_seam = same(at(a, 0), at(a, nv - 1));
+  // A pole: a whole row of constant u (u_pole[a]) or column of constant v (v_pole[b]) at one point.
+  std::vector<char> u_pole(nu, 1), v_pole(nv, 1);
+  for (std::size_t a = 0; a < nu; ++a)
+    for (std::size_t b = 1; b < nv && u_pole[a]; ++b) u_pole[a] = same(at(a, b), at(a, 0));
+  for (std::size_t b = 0; b < nv; ++b)
+    for (std::size_t a = 1; a < nu && v_pole[b]; ++a) v_pole[b] = same(at(a, b), at(0, b));
+  // The grid point that stands for (a, b): across a seam the first row, on a pole its first point.
+  auto canonical = [&](std::size_t a, std::size_t b) {
+    if (u_seam && a == nu - 1) a = 0;
+    if (v_seam && b == nv - 1) b = 0;
+    if (v_pole[b]) a = 0;
+    if (u_pole[a]) b = 0;
+    return a * nv + b;
+  };
+  Mesh m;
+  std::vector<std::uint32_t> index(nu * nv, UINT32_MAX);
+  for (std::size_t a = 0; a < nu; ++a)
+    for (std::size_t b = 0; b < nv; ++b) {
+      std::size_t c = canonical(a, b);
+      if (index[c] == UINT32_MAX) {
+        index[c] = m.add_vertex(grid[c]);
+        std::size_t ca = c / nv, cb = c % nv;
+        Vec3 n = normal(us[ca], vs[cb]);
+        Vec2 uv(us[ca], vs[cb]);
+        // A pole's limit normal: the mean of the normals found stepping in from each point of the
+        // collapsed row (all equal on a smooth pole; the axis direction at a cone's apex).
+        if (v_pole[cb] || u_pole[ca]) {
+          Vec3 sum = Vec3::Zero();
+          if (v_pole[cb])
+            for (std::size_t k = 0; k + 1 < nu; ++k) sum += normal(us[k], vs[cb]);
+          else
+            for (std::size_t k = 0; k + 1 < nv; ++k) sum += normal(us[ca], vs[k]);
+          if (sum.norm() > 1e-12) n = sum.normalized();
+          if (v_pole[cb]) uv.x() = 0.5 * (us.front() + us.back());
+          else uv.y() = 0.5 * (vs.front() + vs.back());
+        }
+        m.normals.push_back(n);
+        m.uvs.push_back(uv);
+      }
+      index[a * nv + b] = index[c];
+    }
+  auto keep = [&](double u, double v) { return inside_trim(u, v); };
+  auto add = [&](std::size_t i, std::size_t j, std::size_t k) {
+    std::uint32_t x = index[i], y = index[j], z = index[k];
+    if (x != y && y != z && z != x) m.add_triangle(x, y, z, face_id);  // no slivers at a pole
+  };
+  for (std::size_t a = 0; a + 1 < nu; ++a)
+    for (std::size_t b = 0; b + 1 < nv; ++b) {
+      if (keep((us[a] + 2 * us[a + 1]) / 3, (2 * vs[b] + vs[b + 1]) / 3))
+        add(a * nv + b, (a + 1) * nv + b, (a + 1) * nv + b + 1);
+      if (keep((2 * us[a] + us[a + 1]) / 3, (vs[b] + 2 * vs[b + 1]) / 3))
+        add(a * nv + b, (a + 1) * nv + b + 1, a * nv + b + 1);
+    }
+  // A closed result faces outward: if Su x Sv points in (a profile drawn the other way round),
+  // reverse the triangles and the normals so the mesh is a solid's boundary.
+  bool closed = trims.empty() && (u_seam || (u_pole[0] && u_pole[nu - 1])) && (v_seam || (v_pole[0] && v_pole[nv - 1]));
+  if (closed && m.volume() < 0) {
+    for (auto& t : m.triangles) std::swap(t[1], t[2]);
+    for (auto& n : m.normals) n = -n;
+  }
   return m;
 }
 
@@ -516,16 +611,50 @@ Point3 SweptSurface::eval(double u, double v) const {
 
 Vec3 SweptSurface::derivative(double u, double v, int ku, int kv) const {
   if (ku < 0 || kv < 0) fail("derivative orders must be >= 0");
+  Frame f = frame(v);
   if (kv == 0) {
     if (ku == 0) return eval(u, v);
-    Frame f = frame(v);
     Vec3 p = profile_->derivative(u, ku);
     return p.x() * f.r + p.y() * f.s + p.z() * f.t;
   }
+  // S = O + x(u) r + y(u) s + z(u) t. With L = |C'| and t = C'/L (primes: d/dv):
+  //   t' = (C2 - L1 t) / L with L1 = C2.t, and t'' = (C3 - L2 t - 2 L1 t') / L with L2 = C3.t + C2.t'
+  // (Ck the k-th derivative of the path). A rotation-minimising frame does not turn about t, so
+  // r' = -(r.t') t (and s likewise), and differentiating again (r'.t' = 0):
+  // r'' = -(r.t'') t - (r.t') t'. The frame evaluated here is the double-reflection step from the
+  // nearest stored frame, which turns about t only by that method's O(h^4) error, so these agree
+  // with differences of eval() to that order. Orders above two, and points where C' vanishes, are
+  // central differences of the analytic order below.
+  Vec3 d1 = path_->derivative(v, 1);
+  Vec3 d2 = path_->derivative(v, 2);
+  double L = d1.norm();
   auto [a, b] = path_->domain();
-  double h = 1e-4 * (b - a);
-  double c = std::clamp(v, a + h, b - h);
-  return (derivative(u, c + h, ku, kv - 1) - derivative(u, c - h, ku, kv - 1)) / (2 * h);
+  if (kv > 2 || !(L > 1e-12 * (1 + d2.norm()))) {
+    double h = 1e-4 * (b - a);
+    double c = std::clamp(v, a + h, b - h);
+    return (derivative(u, c + h, ku, kv - 1) - derivative(u, c - h, ku, kv - 1)) / (2 * h);
+  }
+  Vec3 t = d1 / L;
+  double L1 = d2.dot(t);
+  Vec3 t1 = (d2 - L1 * t) / L;
+  Vec3 O, r, s, tt;
+  if (kv == 1) {
+    O = d1;
+    tt = t1;
+    r = -f.r.dot(t1) * t;
+    s = -f.s.dot(t1) * t;
+  } else {
+    Vec3 d3 = path_->derivative(v, 3);
+    double L2 = d3.dot(t) + d2.dot(t1);
+    Vec3 t2 = (d3 - L2 * t - 2 * L1 * t1) / L;
+    O = d2;
+    tt = t2;
+    r = -f.r.dot(t2) * t - f.r.dot(t1) * t1;
+    s = -f.s.dot(t2) * t - f.s.dot(t1) * t1;
+  }
+  Vec3 p = ku == 0 ? Vec3(profile_->eval(u)) : profile_->derivative(u, ku);
+  Vec3 d = p.x() * r + p.y() * s + p.z() * tt;
+  return ku == 0 ? Vec3(O + d) : d;
 }
 
 // --- lofting ---

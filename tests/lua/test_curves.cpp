@@ -144,3 +144,79 @@ TEST_CASE("examples/surfaces.lua runs to the end", "[lua][examples]") {
   INFO(err.str());
   CHECK(status == 0);
 }
+
+TEST_CASE("hermite and polynomial curves", "[lua][curves]") {
+  auto r = run_lua(R"LUA(
+    local function near(a, b, eps) return math.abs(a - b) <= (eps or 1e-12) end
+    -- hermite: through its points with its tangents (derivatives in the normalised t scale by the
+    -- parameter range: 0..2 here).
+    local h = hermite{points = {{0, 0}, {1, 1}, {2, 0}}, tangents = {{1, 0}, {1, 0}, {0, -1}}}
+    assert(tostring(h) == "Curve(spline)")
+    local p = h:eval(0.5)
+    assert(#p == 2 and near(p[1], 1) and near(p[2], 1), "hermite passes through its middle point")
+    local d = h:derivative(0)
+    assert(near(d[1], 2) and near(d[2], 0), "hermite start derivative = tangent x range")
+    d = h:derivative(1)
+    assert(near(d[1], 0) and near(d[2], -2), "hermite end derivative")
+    local tg = h:tangent(0.5)
+    assert(near(tg[1], 1) and near(tg[2], 0), "hermite unit tangent at the middle point")
+    -- given parameters: the middle point at t = 0.25 of [0, 4]
+    local hp = hermite{points = {{0, 0, 0}, {1, 1, 1}, {2, 0, 0}}, tangents = {{1, 0, 0}, {1, 0, 0}, {1, 0, 0}}, params = {0, 1, 4}}
+    local q = hp:eval(0.25)
+    assert(#q == 3 and near(q[1], 1) and near(q[2], 1) and near(q[3], 1))
+    -- 2D points with a 3D tangent give a 3D curve
+    assert(#hermite{points = {{0, 0}, {1, 0}}, tangents = {{0, 0, 1}, {1, 0}}}:eval(0.5) == 3)
+    -- polynomial: degree n-1 through n points at uniform parameters; a parabola stays a parabola
+    local poly = polynomial{{0, 0}, {1, 1}, {2, 4}, {3, 9}}
+    assert(tostring(poly) == "Curve(polynomial)")
+    for i = 0, 20 do
+      local x = poly:eval(i / 20)
+      assert(near(x[2], x[1] * x[1], 1e-12), "polynomial reproduces y = x^2")
+    end
+    local dp = poly:derivative(1)
+    assert(near(dp[1], 3) and near(dp[2], 18, 1e-11), "polynomial end derivative")
+    assert(near(polynomial{points = {{0, 0}, {3, 4}}}:length(), 5, 1e-9))
+  )LUA");
+  INFO(r.err);
+  CHECK(r.status == 0);
+}
+
+TEST_CASE("bad hermite and polynomial input names the argument", "[lua][errors]") {
+  auto count = run_lua("local c = hermite{points = {{0,0},{1,1},{2,0}}, tangents = {{1,0},{1,0}}}\n", "@hc.lua");
+  CHECK_THAT(count.err, Catch::StartsWith("hc.lua:1: bad argument #1 to 'hermite' (tangents: need one per point (3 points), got 2)"));
+  auto missing = run_lua("\nlocal c = hermite{points = {{0,0},{1,1}}}\n", "@hm.lua");
+  CHECK_THAT(missing.err, Catch::StartsWith("hm.lua:2: bad argument #1 to 'hermite' (field 'tangents' is required"));
+  auto nan = run_lua("local c = hermite{points = {{0,0},{1,1}}, tangents = {{1,0},{0/0,1}}}\n", "@hn.lua");
+  CHECK_THAT(nan.err, Catch::StartsWith("hn.lua:1: bad argument #1 to 'hermite' (tangents: tangent 2 coordinate 1 must be finite"));
+  auto pnan = run_lua("local c = hermite{points = {{0,0},{1,0/0}}, tangents = {{1,0},{1,0}}}\n", "@hp.lua");
+  CHECK_THAT(pnan.err, Catch::StartsWith("hp.lua:1: bad argument #1 to 'hermite' (points: point 2 coordinate 2 must be finite"));
+  auto params = run_lua("local c = hermite{points = {{0,0},{1,1}}, tangents = {{1,0},{1,0}}, params = {1, 0}}\n", "@hq.lua");
+  CHECK_THAT(params.err, Catch::StartsWith("hq.lua:1: bad argument #1 to 'hermite' (parameters must increase"));
+  auto pcount = run_lua("local c = hermite{points = {{0,0},{1,1}}, tangents = {{1,0},{1,0}}, params = {0}}\n", "@hr.lua");
+  CHECK_THAT(pcount.err, Catch::StartsWith("hr.lua:1: bad argument #1 to 'hermite' (params: need one per point (2 points), got 1)"));
+  auto one = run_lua("local c = hermite{points = {{0,0}}, tangents = {{1,0}}}\n", "@h1.lua");
+  CHECK_THAT(one.err, Catch::StartsWith("h1.lua:1: bad argument #1 to 'hermite' (points: a Hermite spline needs at least 2 points, got 1)"));
+  auto few = run_lua("local c = polynomial{{0,0}}\n", "@pf.lua");
+  CHECK_THAT(few.err, Catch::StartsWith("pf.lua:1: bad argument #1 to 'polynomial' (polynomial interpolation needs at least 2 points, got 1)"));
+  auto pn = run_lua("local c = polynomial{{0,0},{1,1},{0/0,2}}\n", "@pn.lua");
+  CHECK_THAT(pn.err, Catch::StartsWith("pn.lua:1: bad argument #1 to 'polynomial' (points: point 3 coordinate 1 must be finite"));
+  auto typo = run_lua("local c = polynomial{points = {{0,0},{1,1}}, degre = 2}\n", "@pt.lua");
+  CHECK_THAT(typo.err, Catch::StartsWith("pt.lua:1: bad argument #1 to 'polynomial' (unknown field 'degre'"));
+}
+
+TEST_CASE("S:mesh{welded=true} closes seams and poles", "[lua][curves]") {
+  auto r = run_lua(R"LUA(
+    -- closed 2-manifold: every edge in two triangles, so E = 3T/2 and V - E + T = 2 - 2 genus
+    local torus = revolved_surface(circle{r = 0.5, center = {2, 0}})
+    local open, m = torus:mesh{tolerance = 0.01}, torus:mesh{tolerance = 0.01, welded = true}
+    assert(#m.vertices < #open.vertices and #m.triangles == #open.triangles)
+    assert(#m.vertices - 3 * #m.triangles / 2 + #m.triangles == 0, "torus: genus 1")
+    local bulb = revolved_surface(bezier{{0, 0}, {2, 1}, {0, 2}})
+    m = bulb:mesh{tolerance = 0.01, welded = true}
+    assert(#m.vertices - 3 * #m.triangles / 2 + #m.triangles == 2, "bulb: genus 0")
+  )LUA");
+  INFO(r.err);
+  CHECK(r.status == 0);
+  auto pot = run_lua("local m = teapot():mesh{tolerance = 0.1, welded = true}\n", "@wp.lua");
+  CHECK_THAT(pot.err, Catch::StartsWith("wp.lua:1: bad argument #1 to 'mesh' (welded=true needs a single-patch surface (this one has 32 patches)"));
+}

@@ -3,8 +3,11 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <map>
 #include <memory>
+#include <set>
 
+#include "csg/solid.h"
 #include "surfaces/surfaces.h"
 
 using namespace wedge;
@@ -179,7 +182,7 @@ TEST_CASE("swept frames stay orthonormal and do not flip", "[sweep]") {
       CHECK(a.r.dot(b.r) > 0.99);
       CHECK((swept.eval(0, i / 100.0) - a.origin).norm() == Approx(0.2).epsilon(1e-12));
     }
-    check_surface_derivatives(swept, 1e-5, 1);  // its v-derivatives are numeric already
+    check_surface_derivatives(swept, 1e-6, 1);  // analytic v-derivatives (orders 1, 2) vs differences
   }
 }
 
@@ -270,4 +273,191 @@ TEST_CASE("Newell's teapot: 32 patches, outward, watertight where patches meet",
   CHECK(b.max.z() == Approx(3.15).margin(1e-3));
   CHECK(b.max.x() == Approx(3.45).margin(0.03));  // spout tip
   CHECK(all.volume() > 0);
+}
+
+// --- Welded (closed) meshes ---
+
+namespace {
+
+// Every welded triangle is non-degenerate and its normal agrees with the vertex normals' side.
+void check_welded(const Mesh& m) {
+  REQUIRE_NOTHROW(m.check());
+  std::size_t degenerate = 0, flipped = 0;
+  for (std::size_t t = 0; t < m.triangles.size(); ++t) {
+    const auto& tri = m.triangles[t];
+    if (tri[0] == tri[1] || tri[1] == tri[2] || tri[2] == tri[0] || !(m.triangle_normal(t).norm() > 0.5)) {
+      ++degenerate;
+      continue;
+    }
+    double side = 0;
+    for (auto i : tri) side += m.triangle_normal(t).dot(m.normals[i]);
+    if (!(side > 0)) ++flipped;
+  }
+  CHECK(degenerate == 0);
+  CHECK(flipped == 0);
+}
+
+}  // namespace
+
+TEST_CASE("welded mesh of the NURBS sphere is a closed genus-0 surface with the right volume", "[surfaces][mesh]") {
+  const double r = 2, tol = 1e-3;
+  Point3 c(1, -2, 0.5);
+  NurbsSurface s = nurbs_sphere(c, r);
+  Mesh m = s.welded_mesh(tol);
+  check_welded(m);
+  EulerCounts e = euler_counts(m);
+  CHECK(e.V - e.E + e.F == 2);
+  CHECK(e.S == 1);
+  CHECK(e.H == 0);
+  // Vertices on the sphere, so the mesh is inside it; the gap is at most area x tolerance.
+  double exact = 4.0 / 3.0 * M_PI * r * r * r;
+  CHECK(m.volume() > 0);
+  CHECK(m.volume() <= exact);
+  CHECK(exact - m.volume() <= 4 * M_PI * r * r * tol);
+  // Pole vertices carry the limit normal (+-Z), every vertex normal is radial.
+  int poles = 0;
+  double worst = 1;
+  for (std::size_t i = 0; i < m.positions.size(); ++i) {
+    Vec3 radial = (m.positions[i] - c).normalized();
+    worst = std::min(worst, m.normals[i].dot(radial));
+    if (std::abs(std::abs(radial.z()) - 1) < 1e-12) {
+      ++poles;
+      CHECK(m.normals[i].dot(radial) > 1 - 1e-9);
+    }
+  }
+  CHECK(worst > 1 - 1e-6);
+  CHECK(poles == 2);
+  // The render mesh keeps the seam and pole rows: it has more vertices and is open.
+  Mesh render = s.mesh(tol);
+  CHECK(render.positions.size() > m.positions.size());
+  CHECK_THROWS_AS(euler_counts(render), Error);
+}
+
+TEST_CASE("welded mesh of the NURBS torus is closed with genus 1", "[surfaces][mesh]") {
+  const double R = 3, r = 1, tol = 1e-3;
+  Mesh m = nurbs_torus(Point3(0, 0, 1), R, r).welded_mesh(tol);
+  check_welded(m);
+  EulerCounts e = euler_counts(m);
+  CHECK(e.V - e.E + e.F == 0);
+  CHECK(e.H == 1);
+  double exact = 2 * M_PI * M_PI * R * r * r, area = 4 * M_PI * M_PI * R * r;
+  CHECK(m.volume() > 0);
+  CHECK(std::abs(exact - m.volume()) <= area * tol);
+}
+
+TEST_CASE("welded meshes of revolved closed profiles are closed and outward", "[surfaces][mesh]") {
+  const double tol = 1e-3;
+  SECTION("a circle revolved about Z (a torus), either direction of the profile") {
+    for (double sign : {1.0, -1.0}) {
+      auto circle = std::make_shared<CircularArc>(Point3(2.5, 0, 0), 0.75, 0, 2 * M_PI, sign * Vec3::UnitY());
+      RevolvedSurface s(circle, Point3(0, 0, 0), Vec3::UnitZ(), 2 * M_PI);
+      Mesh m = s.welded_mesh(tol);
+      check_welded(m);
+      EulerCounts e = euler_counts(m);
+      CHECK(e.V - e.E + e.F == 0);
+      CHECK(e.H == 1);
+      double exact = 2 * M_PI * M_PI * 2.5 * 0.75 * 0.75, area = 4 * M_PI * M_PI * 2.5 * 0.75;
+      CHECK(m.volume() > 0);
+      CHECK(std::abs(exact - m.volume()) <= area * tol);
+    }
+  }
+  SECTION("a profile from the axis to the axis (poles at both ends)") {
+    // A spline bulb: starts and ends on the Z axis.
+    auto profile = std::make_shared<NurbsCurve>(interpolate_nurbs(
+        {Point3(0, 0, 0), Point3(1, 0, 0.3), Point3(1.2, 0, 1), Point3(0.6, 0, 1.8), Point3(0, 0, 2)}, 3));
+    RevolvedSurface s(profile, Point3(0, 0, 0), Vec3::UnitZ(), 2 * M_PI);
+    Mesh m = s.welded_mesh(tol);
+    check_welded(m);
+    EulerCounts e = euler_counts(m);
+    CHECK(e.V - e.E + e.F == 2);
+    CHECK(m.volume() > 0);
+    // Pappus by quadrature: V = pi * integral x^2 dz over the profile.
+    double exact = 0;
+    const int n = 20000;
+    for (int i = 0; i < n; ++i) {
+      double t = (i + 0.5) / n;
+      Point3 p = profile->eval(t);
+      exact += M_PI * p.x() * p.x() * profile->derivative(t, 1).z() / n;
+    }
+    exact = std::abs(exact);
+    CHECK(std::abs(exact - m.volume()) <= 2 * M_PI * 1.2 * 2.5 * tol);
+  }
+}
+
+TEST_CASE("welded mesh leaves an open surface open and merges nothing on a plane", "[surfaces][mesh]") {
+  Plane p(Point3(0, 0, 0), Vec3::UnitX(), Vec3::UnitY());
+  Mesh a = p.mesh(0.01), b = p.welded_mesh(0.01);
+  CHECK(a.positions.size() == b.positions.size());
+  CHECK(a.triangles.size() == b.triangles.size());
+  // A half cylinder (open in u): no seam, the ends stay open.
+  auto half = std::make_shared<CircularArc>(Point3(0, 0, 0), 1, 0, M_PI);
+  ExtrudedSurface e(half, Vec3(0, 0, 1));
+  CHECK_THROWS_AS(euler_counts(e.welded_mesh(1e-3)), Error);
+}
+
+TEST_CASE("swept surface v-derivatives are analytic and agree with differences of eval", "[swept]") {
+  // A helix path (constant curvature and torsion) and a profile off-centre with a z component, so
+  // every term of S = O + x r + y s + z t is exercised.
+  struct Helix : Curve {
+    std::pair<double, double> domain() const override { return {0.0, 4 * M_PI}; }
+    Point3 eval(double t) const override { return Point3(2 * std::cos(t), 2 * std::sin(t), 0.5 * t); }
+    Vec3 derivative(double t, int k) const override {
+      if (k == 0) return eval(t);
+      double c = std::cos(t + k * M_PI / 2), s = std::sin(t + k * M_PI / 2);
+      return Vec3(2 * c, 2 * s, k == 1 ? 0.5 : 0.0);
+    }
+  };
+  auto profile = std::make_shared<BezierCurve>(std::vector<Point3>{{0.3, 0, 0.1}, {0, 0.4, 0}, {-0.3, 0.1, -0.1}});
+  for (CurvePtr path : {CurvePtr(std::make_shared<Helix>()),
+                        CurvePtr(std::make_shared<BezierCurve>(std::vector<Point3>{{0, 0, 0}, {4, 0, 0}, {0, 4, 0}, {4, 4, 0}}))}) {
+    SweptSurface s(profile, path);
+    auto [v0, v1] = s.v_domain();
+    const double h = 1e-4 * (v1 - v0), k = 1e-6 * (v1 - v0);  // k: first differences
+    double worst1 = 0, worst2 = 0, worst_mixed = 0;
+    for (int i = 1; i < 40; ++i)
+      for (double u : {0.0, 0.37, 1.0}) {
+        double v = v0 + (v1 - v0) * (i + 0.13) / 40.0;
+        Vec3 p = s.eval(u, v), pp = s.eval(u, v + h), pm = s.eval(u, v - h);
+        Vec3 fd1 = (s.eval(u, v + k) - s.eval(u, v - k)) / (2 * k), fd2 = (pp - 2 * p + pm) / (h * h);
+        Vec3 d1 = s.derivative(u, v, 0, 1), d2 = s.derivative(u, v, 0, 2);
+        worst1 = std::max(worst1, (d1 - fd1).norm() / (1 + d1.norm()));
+        worst2 = std::max(worst2, (d2 - fd2).norm() / (1 + d2.norm()));
+        Vec3 fdm = (s.derivative(u, v + k, 1, 0) - s.derivative(u, v - k, 1, 0)) / (2 * k);
+        worst_mixed = std::max(worst_mixed, (s.derivative(u, v, 1, 1) - fdm).norm() / (1 + fdm.norm()));
+      }
+    CHECK(worst1 < 1e-7);
+    CHECK(worst2 < 1e-4);  // the second difference of eval loses half the digits
+    CHECK(worst_mixed < 1e-7);
+  }
+}
+
+TEST_CASE("welded mesh of a swept tube merges the profile's seam and leaves the ends open", "[surfaces][mesh]") {
+  // A circle swept along a planar S-curve: closed in u (the profile), open in v (the path).
+  auto circle = std::make_shared<CircularArc>(Point3(0, 0, 0), 0.3, 0, 2 * M_PI);
+  auto path = std::make_shared<BezierCurve>(std::vector<Point3>{{0, 0, 0}, {4, 0, 0}, {0, 4, 0}, {4, 4, 0}});
+  SweptSurface tube(circle, path);
+  Mesh m = tube.welded_mesh(2e-3);
+  check_welded(m);
+  // Every edge has two triangles except those of the two end circles: one boundary loop per end.
+  std::map<std::pair<std::uint32_t, std::uint32_t>, int> edges;
+  for (const auto& t : m.triangles)
+    for (int k = 0; k < 3; ++k) ++edges[{std::min(t[k], t[(k + 1) % 3]), std::max(t[k], t[(k + 1) % 3])}];
+  std::set<std::uint32_t> boundary_vertices;
+  std::size_t boundary = 0, over = 0;
+  for (const auto& [e, n] : edges) {
+    if (n == 1) {
+      ++boundary;
+      boundary_vertices.insert(e.first);
+      boundary_vertices.insert(e.second);
+    }
+    if (n > 2) ++over;
+  }
+  CHECK(over == 0);
+  CHECK(boundary > 0);
+  CHECK(boundary == boundary_vertices.size());  // closed loops: as many edges as vertices
+  for (auto v : boundary_vertices) {
+    double d0 = (m.positions[v] - path->eval(0)).norm(), d1 = (m.positions[v] - path->eval(1)).norm();
+    CHECK(std::min(d0, d1) == Approx(0.3).epsilon(1e-9));
+  }
+  CHECK(m.positions.size() < tube.mesh(2e-3).positions.size());
 }
