@@ -21,7 +21,11 @@ int export_fn(lua_State* L) {
       o.finish();
     }
     mesh_format(path);  // an unknown extension is an error before any tessellation work
-    Mesh mesh = to_mesh(L, 1, 1, tol);
+    // A single surface is exported welded (closed seams merged, poles collapsed), so a closed
+    // surface such as a sphere or torus makes a closed file; several patches are exported as
+    // they are (patches are not welded to each other).
+    const LuaSurface* surface = test_surface(L, 1);
+    Mesh mesh = surface && surface->patches.size() == 1 ? surface_mesh(*surface, tol.chordal, true) : to_mesh(L, 1, 1, tol);
     write_mesh(mesh, path, options);
     lua_pushinteger(L, static_cast<lua_Integer>(mesh.triangle_count()));
     return 1;

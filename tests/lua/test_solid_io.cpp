@@ -99,6 +99,13 @@ TEST_CASE("free-form surfaces export as their meshes", "[lua][io]") {
     assert(n > 500, n)
     local s = bezier_surface{{{0,0,0},{1,0,0}},{{0,1,0},{1,1,1}}}
     assert(export(s, dir .. "/patch.obj") >= 2)
+    -- A closed surface exports closed: the file imports as a solid (import rejects open meshes).
+    local ball = revolved_surface(circle{r = 1, center = {2, 0}})
+    export(ball, dir .. "/ring.stl", {tolerance = 0.01})
+    local ring = import(dir .. "/ring.stl")
+    local e = ring:euler()
+    assert(e.H == 1 and e.S == 1, "a revolved circle is a torus")
+    assert(math.abs(ring:volume() - 2 * math.pi^2 * 2) < 0.02 * 2 * math.pi^2 * 2, ring:volume())
   )");
   INFO(r.err);
   CHECK(r.status == 0);
