@@ -37,3 +37,7 @@ render{teapot(), out = out .. "/teapot.png", size = {640, 480}, shading = "phong
        camera = {eye = {6, -6, 5}, center = {0, 0, 1.2}, up = {0, 0, 1}, fovy = 30},
        lights = {{type = "point", position = {5, -5, 8}}}}
 print("wrote " .. out .. "/teapot.png")
+
+-- A multi-view orthographic sheet of the plate: front, top, side and isometric views.
+drawing{plate:material{diffuse = {0.8, 0.5, 0.2}}, out = out .. "/plate-views.png", size = {640, 480}}
+print("wrote " .. out .. "/plate-views.png")
