@@ -293,7 +293,12 @@ struct Raster {
     if (!depth_test) return true;
     float& d = depth[std::size_t(y) * width + x];
     // Depth buffers hold fixed-point values in GL; quantise to 24 bits as Mesa's default.
-    float zq = float(std::nearbyint(double(std::clamp(z, 0.0f, 1.0f)) * 16777215.0) / 16777215.0);
+    // Round to nearest even as nearbyint does, without a libm call: adding and removing 2^52
+    // leaves no fraction bits for values in [0, 2^52).
+    constexpr double kRound = 0x1p52;  // not folded: no -ffast-math (no reassociation)
+    double zr = double(std::clamp(z, 0.0f, 1.0f)) * 16777215.0;
+    zr = (zr + kRound) - kRound;
+    float zq = float(zr / 16777215.0);
     if (!depth_pass(s.depth_func, zq, d)) return false;
     if (s.depth_mask) d = zq;
     return true;
