@@ -274,7 +274,7 @@ void Context::draw_arrays(Primitive p, const VertexArrays& a, int first, int cou
   const int group = p == Primitive::Triangles ? 3 : p == Primitive::Lines ? 2 : p == Primitive::Points ? 1
                   : p == Primitive::Quads ? 4 : 0;
   const int batch = group ? group * 4096 : count;
-  std::vector<InVertex> v;
+  static thread_local std::vector<InVertex> v;  // reused: no page faults per frame
   for (int start = 0; start < count; start += batch) {
     const int n = std::min(batch, count - start);
     v.clear();
@@ -290,7 +290,7 @@ void Context::draw_elements(Primitive p, const VertexArrays& a, const std::uint3
   const int group = p == Primitive::Triangles ? 3 : p == Primitive::Lines ? 2 : p == Primitive::Points ? 1
                   : p == Primitive::Quads ? 4 : 0;
   const int batch = group ? group * 4096 : count;
-  std::vector<InVertex> v;
+  static thread_local std::vector<InVertex> v;  // reused: no page faults per frame
   for (int start = 0; start < count; start += batch) {
     const int n = std::min(batch, count - start);
     v.clear();

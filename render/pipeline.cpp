@@ -684,7 +684,11 @@ void run_primitive(Context::State& s, int width, int height, std::uint8_t* color
   const Mat4& mv = s.top(MatrixMode::ModelView);
   const Mat3 nmat = mv.topLeftCorner<3, 3>().inverse().transpose();
   const Mat4& proj = s.top(MatrixMode::Projection);
-  std::vector<PVert> v(in.size());
+  // Kept between calls (per thread): a fresh megabyte-sized vector per batch costs page faults.
+  // (Named through a reference: TBB workers in the lambdas below must see the caller's vector.)
+  static thread_local std::vector<PVert> tl_verts;
+  std::vector<PVert>& v = tl_verts;
+  v.resize(in.size());
   if (s.threads > 1 && in.size() >= 1024) {
     // The vertex stage is independent per vertex.
     tbb::task_arena arena(s.threads);
@@ -697,7 +701,9 @@ void run_primitive(Context::State& s, int width, int height, std::uint8_t* color
     for (std::size_t i = 0; i < in.size(); ++i) v[i] = process_vertex(s, in[i], mv, nmat, proj);
   }
   Raster r(s, width, height, color, depth);
-  std::vector<Job> jobs;
+  static thread_local std::vector<Job> tl_jobs;
+  std::vector<Job>& jobs = tl_jobs;
+  jobs.clear();
   const bool banded = s.threads > 1 && in.size() >= 64;
   if (banded) {
     jobs.reserve(in.size());
