@@ -422,8 +422,8 @@ struct Raster {
         if (!depth_stage(px, py, z)) continue;
         // Perspective-correct weights: l_i / w_i normalised.
         double pw[3] = {l[0] * iw[0], l[1] * iw[1], l[2] * iw[2]};
-        double sum = pw[0] + pw[1] + pw[2];
-        for (double& w : pw) w /= sum;
+        const double inv_sum = 1.0 / (pw[0] + pw[1] + pw[2]);  // one division, not three
+        for (double& w : pw) w *= inv_sum;
         auto interp = [&](int k) { return float(pw[0] * v[0]->a[k] + pw[1] * v[1]->a[k] + pw[2] * v[2]->a[k]); };
         Vec4f c;
         if (phong) {
