@@ -374,10 +374,12 @@ struct Raster {
       std::swap(v[1], v[2]), std::swap(X[1], X[2]), std::swap(Y[1], Y[2]);
       area = -area;
     }
-    int bx0 = std::max<std::int64_t>(x0, std::min({X[0], X[1], X[2]}) >> 8);
-    int bx1 = std::min<std::int64_t>(x1 - 1, (std::max({X[0], X[1], X[2]}) >> 8) + 1);
-    int by0 = std::max<std::int64_t>(y0, std::min({Y[0], Y[1], Y[2]}) >> 8);
-    int by1 = std::min<std::int64_t>(y1 - 1, (std::max({Y[0], Y[1], Y[2]}) >> 8) + 1);
+    // Pixels whose centre (p + 1/2) lies within the vertices' bounding box: a covered centre is
+    // inside the closed triangle, so no other pixel can be drawn (ceil / floor by shifts).
+    int bx0 = std::max<std::int64_t>(x0, (std::min({X[0], X[1], X[2]}) - 128 + 255) >> 8);
+    int bx1 = std::min<std::int64_t>(x1 - 1, (std::max({X[0], X[1], X[2]}) - 128) >> 8);
+    int by0 = std::max<std::int64_t>(y0, (std::min({Y[0], Y[1], Y[2]}) - 128 + 255) >> 8);
+    int by1 = std::min<std::int64_t>(y1 - 1, (std::max({Y[0], Y[1], Y[2]}) - 128) >> 8);
     if (bx0 > bx1 || by0 > by1) return;
 
     // Edge i is opposite vertex i: from v[(i+1)%3] to v[(i+2)%3]. E_i > 0 inside (CCW).
