@@ -691,18 +691,52 @@ void run_primitive(Context::State& s, int width, int height, std::uint8_t* color
   static thread_local std::vector<PVert> tl_verts;
   std::vector<PVert>& v = tl_verts;
   v.resize(in.size());
+  Raster r(s, width, height, color, depth);
+  // Independent triangles with face culling: a triangle wholly inside the clip volume that the
+  // cull test removes (decided exactly as draw_triangle would, on the same window coordinates)
+  // is marked here and its vertices are never lit. Every vertex of a non-indexed batch belongs
+  // to one triangle, so a closed lit mesh lights about half of its vertices.
+  static thread_local std::vector<std::uint8_t> tl_culled;
+  std::vector<std::uint8_t>& culled = tl_culled;
+  const bool precull = p == Primitive::Triangles && s.on(Cap::CullFace) && r.user_planes.empty();
+  const std::size_t units = precull ? in.size() / 3 : in.size();
+  if (precull) culled.assign(units, 0);
+  auto stage = [&](std::size_t lo, std::size_t hi) {
+    for (std::size_t u = lo; u < hi; ++u) {
+      if (!precull) {
+        v[u] = process_vertex(s, in[u], mv, nmat, proj);
+        continue;
+      }
+      PVert c[3];
+      bool inside = true;
+      for (int k = 0; k < 3; ++k) {
+        c[k].clip = proj * (mv * in[3 * u + k].position);  // as process_vertex computes it
+        for (int pl = 0; pl < 6; ++pl)
+          if (r.plane_dist(c[k], pl) < 0) inside = false;
+      }
+      if (inside) {
+        const WinVert w[3] = {r.to_window(c[0]), r.to_window(c[1]), r.to_window(c[2])};
+        double area = 0;
+        for (int i = 0; i < 3; ++i) area += w[i].x * w[(i + 1) % 3].y - w[(i + 1) % 3].x * w[i].y;
+        const bool front = (area > 0) == (s.front_face == FrontFace::CCW);
+        if (s.cull_face == Face::FrontAndBack || (s.cull_face == Face::Front) == front) {
+          culled[u] = 1;
+          continue;
+        }
+      }
+      for (int k = 0; k < 3; ++k) v[3 * u + k] = process_vertex(s, in[3 * u + k], mv, nmat, proj);
+    }
+  };
   if (s.threads > 1 && in.size() >= 1024) {
     // The vertex stage is independent per vertex.
     tbb::task_arena arena(s.threads);
     arena.execute([&] {
-      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, in.size(), 256), [&](const tbb::blocked_range<std::size_t>& r) {
-        for (std::size_t i = r.begin(); i != r.end(); ++i) v[i] = process_vertex(s, in[i], mv, nmat, proj);
-      });
+      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, units, 256),
+                        [&](const tbb::blocked_range<std::size_t>& br) { stage(br.begin(), br.end()); });
     });
   } else {
-    for (std::size_t i = 0; i < in.size(); ++i) v[i] = process_vertex(s, in[i], mv, nmat, proj);
+    stage(0, units);
   }
-  Raster r(s, width, height, color, depth);
   static thread_local std::vector<Job> tl_jobs;
   std::vector<Job>& jobs = tl_jobs;
   jobs.clear();
@@ -771,12 +805,13 @@ void run_primitive(Context::State& s, int width, int height, std::uint8_t* color
             rc.sink = &queues[c];
             queues[c].reserve(chunk + 16);
             for (std::size_t t = c * chunk; t < std::min(tris, (c + 1) * chunk); ++t)
-              rc.draw_triangle(v[3 * t], v[3 * t + 1], v[3 * t + 2], v[3 * t + 2]);
+              if (!precull || !culled[t]) rc.draw_triangle(v[3 * t], v[3 * t + 1], v[3 * t + 2], v[3 * t + 2]);
           });
         });
         for (auto& q : queues) jobs.insert(jobs.end(), q.begin(), q.end());
       } else {
-        for (std::size_t i = 0; i + 2 < n; i += 3) tri(i, i + 1, i + 2, i + 2);
+        for (std::size_t i = 0; i + 2 < n; i += 3)
+          if (!precull || !culled[i / 3]) tri(i, i + 1, i + 2, i + 2);
       }
       break;
     case Primitive::TriangleStrip:
