@@ -740,7 +740,9 @@ void run_primitive(Context::State& s, int width, int height, std::uint8_t* color
   static thread_local std::vector<Job> tl_jobs;
   std::vector<Job>& jobs = tl_jobs;
   jobs.clear();
-  const bool banded = s.threads > 1 && in.size() >= 64;
+  // Bands pay for many primitives, or for few on a large framebuffer (a couple of big textured
+  // triangles are all fragment work).
+  const bool banded = s.threads > 1 && (in.size() >= 64 || std::int64_t(width) * height >= 512 * 512);
   if (banded) {
     jobs.reserve(in.size());
     r.sink = &jobs;
