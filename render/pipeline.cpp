@@ -289,7 +289,7 @@ struct Raster {
   }
 
   // Depth test for a fragment; returns false if it fails. Writes depth when it passes.
-  bool depth_stage(int x, int y, float z) {
+  [[gnu::always_inline]] bool depth_stage(int x, int y, float z) {
     if (!depth_test) return true;
     float& d = depth[std::size_t(y) * width + x];
     // Depth buffers hold fixed-point values in GL; quantise to 24 bits as Mesa's default.
@@ -305,7 +305,7 @@ struct Raster {
   }
 
   // Texture environment, fog, blending, colour write (depth already tested).
-  void shade_fragment(int x, int y, Vec4f c, const float* tex, float lambda, float fogz) {
+  [[gnu::always_inline]] void shade_fragment(int x, int y, Vec4f c, const float* tex, float lambda, float fogz) {
     if (texturing && tex) {
       float q = tex[3] != 0 ? tex[3] : 1.0f;
       Vec4f t = s.texture->sample(tex[0] / q, tex[1] / q, lambda);
