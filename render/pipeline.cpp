@@ -641,6 +641,26 @@ struct Raster {
   // A polygon with its provoking vertex (for flat shading): clip, find its facing, cull, then
   // fill it as a triangle fan or draw its outline or vertices per the polygon mode.
   void draw_triangle(const PVert& a, const PVert& b, const PVert& c, const PVert& provoking) {
+    // Fast path: a filled triangle wholly inside the clip volume needs no polygon copies (the
+    // same window coordinates, area and cull decisions as the general path below).
+    if (s.poly_front == PolygonMode::Fill && s.poly_back == PolygonMode::Fill) {
+      bool inside = true;
+      for (int p = 0; p < plane_count() && inside; ++p)
+        if (plane_dist(a, p) < 0 || plane_dist(b, p) < 0 || plane_dist(c, p) < 0) inside = false;
+      if (inside) {
+        const WinVert w[3] = {to_window(a), to_window(b), to_window(c)};
+        double area = 0;
+        for (int i = 0; i < 3; ++i) area += w[i].x * w[(i + 1) % 3].y - w[(i + 1) % 3].x * w[i].y;
+        const bool front = (area > 0) == (s.front_face == FrontFace::CCW);
+        if (s.on(Cap::CullFace)) {
+          if (s.cull_face == Face::FrontAndBack) return;
+          if ((s.cull_face == Face::Front) == front) return;
+        }
+        const int side = (!front && two_sided_lighting(s)) ? 1 : 0;
+        emit_triangle(w[0], w[1], w[2], side, s.shade == ShadeModel::Flat ? provoking.a : nullptr);
+        return;
+      }
+    }
     std::vector<PVert>& poly = poly_scratch;
     poly.clear();
     poly.push_back(a), poly.push_back(b), poly.push_back(c);
