@@ -42,6 +42,29 @@ void Context::clear(bool color, bool depth) {
   for (int k = 0; k < 4; ++k) c[k] = std::uint8_t(std::lround(std::clamp(s_->clear_color[k], 0.0f, 1.0f) * 255.0f));
   const auto& m = s_->color_mask;
   const bool all = m[0] && m[1] && m[2] && m[3];
+  if (x1 <= x0 || y1 <= y0) return;
+  const bool clear_depth = depth && s_->depth_mask;
+  if (all || !color) {
+    // Whole pixels and depth words, row by row (or in one run when the rows are contiguous).
+    alignas(64) std::uint8_t pattern[512];
+    for (std::size_t i = 0; i < sizeof(pattern); i += 4) std::memcpy(pattern + i, c.data(), 4);
+    const float dv = float(s_->clear_depth);
+    const bool full_rows = x0 == 0 && x1 == width_;
+    const int rows = full_rows ? 1 : y1 - y0;
+    const std::size_t run = full_rows ? std::size_t(width_) * (y1 - y0) : std::size_t(x1 - x0);
+    for (int r = 0; r < rows; ++r) {
+      const std::size_t at = std::size_t(y0 + r) * width_ + x0;
+      if (color) {
+        // Copies of a small pattern held in L1 (byte copies: no aliasing casts).
+        std::uint8_t* p = color_.data() + at * 4;
+        const std::size_t bytes = run * 4;
+        for (std::size_t done = 0; done < bytes; done += sizeof(pattern))
+          std::memcpy(p + done, pattern, std::min(sizeof(pattern), bytes - done));
+      }
+      if (clear_depth) std::fill_n(depth_.data() + at, run, dv);
+    }
+    return;
+  }
   for (int y = y0; y < y1; ++y) {
     std::uint8_t* row = &color_[(std::size_t(y) * width_) * 4];
     float* drow = &depth_[std::size_t(y) * width_];
@@ -274,7 +297,7 @@ void Context::draw_arrays(Primitive p, const VertexArrays& a, int first, int cou
   const int group = p == Primitive::Triangles ? 3 : p == Primitive::Lines ? 2 : p == Primitive::Points ? 1
                   : p == Primitive::Quads ? 4 : 0;
   const int batch = group ? group * 4096 : count;
-  std::vector<InVertex> v;
+  static thread_local std::vector<InVertex> v;  // reused: no page faults per frame
   for (int start = 0; start < count; start += batch) {
     const int n = std::min(batch, count - start);
     v.clear();
@@ -290,7 +313,7 @@ void Context::draw_elements(Primitive p, const VertexArrays& a, const std::uint3
   const int group = p == Primitive::Triangles ? 3 : p == Primitive::Lines ? 2 : p == Primitive::Points ? 1
                   : p == Primitive::Quads ? 4 : 0;
   const int batch = group ? group * 4096 : count;
-  std::vector<InVertex> v;
+  static thread_local std::vector<InVertex> v;  // reused: no page faults per frame
   for (int start = 0; start < count; start += batch) {
     const int n = std::min(batch, count - start);
     v.clear();

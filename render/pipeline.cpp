@@ -298,18 +298,23 @@ struct Raster {
   }
 
   // Depth test for a fragment; returns false if it fails. Writes depth when it passes.
-  bool depth_stage(int x, int y, float z) {
+  [[gnu::always_inline]] bool depth_stage(int x, int y, float z) {
     if (!depth_test) return true;
     float& d = depth[std::size_t(y) * width + x];
     // Depth buffers hold fixed-point values in GL; quantise to 24 bits as Mesa's default.
-    float zq = float(std::nearbyint(double(std::clamp(z, 0.0f, 1.0f)) * 16777215.0) / 16777215.0);
+    // Round to nearest even as nearbyint does, without a libm call: adding and removing 2^52
+    // leaves no fraction bits for values in [0, 2^52).
+    constexpr double kRound = 0x1p52;  // not folded: no -ffast-math (no reassociation)
+    double zr = double(std::clamp(z, 0.0f, 1.0f)) * 16777215.0;
+    zr = (zr + kRound) - kRound;
+    float zq = float(zr / 16777215.0);
     if (!depth_pass(s.depth_func, zq, d)) return false;
     if (s.depth_mask) d = zq;
     return true;
   }
 
   // Texture environment, fog, blending, colour write (depth already tested).
-  void shade_fragment(int x, int y, Vec4f c, const float* tex, float lambda, float fogz) {
+  [[gnu::always_inline]] void shade_fragment(int x, int y, Vec4f c, const float* tex, float lambda, float fogz) {
     if (texturing && tex) {
       float q = tex[3] != 0 ? tex[3] : 1.0f;
       Vec4f t = s.texture->sample(tex[0] / q, tex[1] / q, lambda);
@@ -378,10 +383,12 @@ struct Raster {
       std::swap(v[1], v[2]), std::swap(X[1], X[2]), std::swap(Y[1], Y[2]);
       area = -area;
     }
-    int bx0 = std::max<std::int64_t>(x0, std::min({X[0], X[1], X[2]}) >> 8);
-    int bx1 = std::min<std::int64_t>(x1 - 1, (std::max({X[0], X[1], X[2]}) >> 8) + 1);
-    int by0 = std::max<std::int64_t>(y0, std::min({Y[0], Y[1], Y[2]}) >> 8);
-    int by1 = std::min<std::int64_t>(y1 - 1, (std::max({Y[0], Y[1], Y[2]}) >> 8) + 1);
+    // Pixels whose centre (p + 1/2) lies within the vertices' bounding box: a covered centre is
+    // inside the closed triangle, so no other pixel can be drawn (ceil / floor by shifts).
+    int bx0 = std::max<std::int64_t>(x0, (std::min({X[0], X[1], X[2]}) - 128 + 255) >> 8);
+    int bx1 = std::min<std::int64_t>(x1 - 1, (std::max({X[0], X[1], X[2]}) - 128) >> 8);
+    int by0 = std::max<std::int64_t>(y0, (std::min({Y[0], Y[1], Y[2]}) - 128 + 255) >> 8);
+    int by1 = std::min<std::int64_t>(y1 - 1, (std::max({Y[0], Y[1], Y[2]}) - 128) >> 8);
     if (bx0 > bx1 || by0 > by1) return;
 
     // Edge i is opposite vertex i: from v[(i+1)%3] to v[(i+2)%3]. E_i > 0 inside (CCW).
@@ -426,8 +433,8 @@ struct Raster {
         if (!depth_stage(px, py, z)) continue;
         // Perspective-correct weights: l_i / w_i normalised.
         double pw[3] = {l[0] * iw[0], l[1] * iw[1], l[2] * iw[2]};
-        double sum = pw[0] + pw[1] + pw[2];
-        for (double& w : pw) w /= sum;
+        const double inv_sum = 1.0 / (pw[0] + pw[1] + pw[2]);  // one division, not three
+        for (double& w : pw) w *= inv_sum;
         auto interp = [&](int k) { return float(pw[0] * v[0]->a[k] + pw[1] * v[1]->a[k] + pw[2] * v[2]->a[k]); };
         Vec4f c;
         if (phong) {
@@ -644,6 +651,26 @@ struct Raster {
   // A polygon with its provoking vertex (for flat shading): clip, find its facing, cull, then
   // fill it as a triangle fan or draw its outline or vertices per the polygon mode.
   void draw_triangle(const PVert& a, const PVert& b, const PVert& c, const PVert& provoking) {
+    // Fast path: a filled triangle wholly inside the clip volume needs no polygon copies (the
+    // same window coordinates, area and cull decisions as the general path below).
+    if (s.poly_front == PolygonMode::Fill && s.poly_back == PolygonMode::Fill) {
+      bool inside = true;
+      for (int p = 0; p < plane_count() && inside; ++p)
+        if (plane_dist(a, p) < 0 || plane_dist(b, p) < 0 || plane_dist(c, p) < 0) inside = false;
+      if (inside) {
+        const WinVert w[3] = {to_window(a), to_window(b), to_window(c)};
+        double area = 0;
+        for (int i = 0; i < 3; ++i) area += w[i].x * w[(i + 1) % 3].y - w[(i + 1) % 3].x * w[i].y;
+        const bool front = (area > 0) == (s.front_face == FrontFace::CCW);
+        if (s.on(Cap::CullFace)) {
+          if (s.cull_face == Face::FrontAndBack) return;
+          if ((s.cull_face == Face::Front) == front) return;
+        }
+        const int side = (!front && two_sided_lighting(s)) ? 1 : 0;
+        emit_triangle(w[0], w[1], w[2], side, s.shade == ShadeModel::Flat ? provoking.a : nullptr);
+        return;
+      }
+    }
     std::vector<PVert>& poly = poly_scratch;
     poly.clear();
     poly.push_back(a), poly.push_back(b), poly.push_back(c);
@@ -689,21 +716,63 @@ void run_primitive(Context::State& s, int width, int height, std::uint8_t* color
   const Mat4& mv = s.top(MatrixMode::ModelView);
   const Mat3 nmat = mv.topLeftCorner<3, 3>().inverse().transpose();
   const Mat4& proj = s.top(MatrixMode::Projection);
-  std::vector<PVert> v(in.size());
+  // Kept between calls (per thread): a fresh megabyte-sized vector per batch costs page faults.
+  // (Named through a reference: TBB workers in the lambdas below must see the caller's vector.)
+  static thread_local std::vector<PVert> tl_verts;
+  std::vector<PVert>& v = tl_verts;
+  v.resize(in.size());
+  Raster r(s, width, height, color, depth);
+  // Independent triangles with face culling: a triangle wholly inside the clip volume that the
+  // cull test removes (decided exactly as draw_triangle would, on the same window coordinates)
+  // is marked here and its vertices are never lit. Every vertex of a non-indexed batch belongs
+  // to one triangle, so a closed lit mesh lights about half of its vertices.
+  static thread_local std::vector<std::uint8_t> tl_culled;
+  std::vector<std::uint8_t>& culled = tl_culled;
+  const bool precull = p == Primitive::Triangles && s.on(Cap::CullFace) && r.user_planes.empty();
+  const std::size_t units = precull ? in.size() / 3 : in.size();
+  if (precull) culled.assign(units, 0);
+  auto stage = [&](std::size_t lo, std::size_t hi) {
+    for (std::size_t u = lo; u < hi; ++u) {
+      if (!precull) {
+        v[u] = process_vertex(s, in[u], mv, nmat, proj);
+        continue;
+      }
+      PVert c[3];
+      bool inside = true;
+      for (int k = 0; k < 3; ++k) {
+        c[k].clip = proj * (mv * in[3 * u + k].position);  // as process_vertex computes it
+        for (int pl = 0; pl < 6; ++pl)
+          if (r.plane_dist(c[k], pl) < 0) inside = false;
+      }
+      if (inside) {
+        const WinVert w[3] = {r.to_window(c[0]), r.to_window(c[1]), r.to_window(c[2])};
+        double area = 0;
+        for (int i = 0; i < 3; ++i) area += w[i].x * w[(i + 1) % 3].y - w[(i + 1) % 3].x * w[i].y;
+        const bool front = (area > 0) == (s.front_face == FrontFace::CCW);
+        if (s.cull_face == Face::FrontAndBack || (s.cull_face == Face::Front) == front) {
+          culled[u] = 1;
+          continue;
+        }
+      }
+      for (int k = 0; k < 3; ++k) v[3 * u + k] = process_vertex(s, in[3 * u + k], mv, nmat, proj);
+    }
+  };
   if (s.threads > 1 && in.size() >= 1024) {
     // The vertex stage is independent per vertex.
     tbb::task_arena arena(s.threads);
     arena.execute([&] {
-      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, in.size(), 256), [&](const tbb::blocked_range<std::size_t>& r) {
-        for (std::size_t i = r.begin(); i != r.end(); ++i) v[i] = process_vertex(s, in[i], mv, nmat, proj);
-      });
+      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, units, 256),
+                        [&](const tbb::blocked_range<std::size_t>& br) { stage(br.begin(), br.end()); });
     });
   } else {
-    for (std::size_t i = 0; i < in.size(); ++i) v[i] = process_vertex(s, in[i], mv, nmat, proj);
+    stage(0, units);
   }
-  Raster r(s, width, height, color, depth);
-  std::vector<Job> jobs;
-  const bool banded = s.threads > 1 && in.size() >= 64;
+  static thread_local std::vector<Job> tl_jobs;
+  std::vector<Job>& jobs = tl_jobs;
+  jobs.clear();
+  // Bands pay for many primitives, or for few on a large framebuffer (a couple of big textured
+  // triangles are all fragment work).
+  const bool banded = s.threads > 1 && (in.size() >= 64 || std::int64_t(width) * height >= 512 * 512);
   if (banded) {
     jobs.reserve(in.size());
     r.sink = &jobs;
@@ -768,12 +837,13 @@ void run_primitive(Context::State& s, int width, int height, std::uint8_t* color
             rc.sink = &queues[c];
             queues[c].reserve(chunk + 16);
             for (std::size_t t = c * chunk; t < std::min(tris, (c + 1) * chunk); ++t)
-              rc.draw_triangle(v[3 * t], v[3 * t + 1], v[3 * t + 2], v[3 * t + 2]);
+              if (!precull || !culled[t]) rc.draw_triangle(v[3 * t], v[3 * t + 1], v[3 * t + 2], v[3 * t + 2]);
           });
         });
         for (auto& q : queues) jobs.insert(jobs.end(), q.begin(), q.end());
       } else {
-        for (std::size_t i = 0; i + 2 < n; i += 3) tri(i, i + 1, i + 2, i + 2);
+        for (std::size_t i = 0; i + 2 < n; i += 3)
+          if (!precull || !culled[i / 3]) tri(i, i + 1, i + 2, i + 2);
       }
       break;
     case Primitive::TriangleStrip:

@@ -23,6 +23,7 @@ Vec4f texel(const Image& im, TexFormat fmt, int i, int j) {
 
 int wrap_index(int i, int size, TexWrap w) {
   if (w == TexWrap::Repeat) {
+    if (unsigned(i) < unsigned(size)) return i;  // already inside: skip the division
     i %= size;
     return i < 0 ? i + size : i;
   }

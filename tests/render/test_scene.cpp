@@ -256,6 +256,9 @@ TEST_CASE("banded multi-threaded rasterisation gives the single-threaded image",
     c.polygon_mode(Face::FrontAndBack, PolygonMode::Line);
     c.line_width(2);
     c.draw_arrays(Primitive::Triangles, a, 3000, 600);
+    c.polygon_mode(Face::FrontAndBack, PolygonMode::Fill);  // culled triangles skip the vertex stage
+    c.enable(Cap::CullFace);
+    c.draw_arrays(Primitive::Triangles, a, 0, 3600);
     return c.image();
   };
   Image one = draw(1), two = draw(2);
