@@ -56,7 +56,7 @@ float wrap_coord(float s, TexWrap w) {
 inline V4 load(const Vec4f& v) { return _mm_loadu_ps(v.data()); }
 
 // One level sampled at wrapped coordinates (ws, wt) in [0, 1] (wrap_coord already applied).
-V4 sample_level(const Texture& t, int level, float ws, float wt, bool linear) {
+[[gnu::always_inline]] inline V4 sample_level(const Texture& t, int level, float ws, float wt, bool linear) {
   const Image& im = t.levels[level];
   const int w = im.width, h = im.height;
   const std::uint8_t* base = im.rgba.data();
@@ -100,7 +100,55 @@ V4 sample_level(const Texture& t, int level, float ws, float wt, bool linear) {
   return _mm_add_ps(r, _mm_mul_ps(splat(a * b), c11));
 }
 
-V4 sample_v(const Texture& t, float s, float tt, float lambda) {
+// floor of four floats with SSE2 alone: truncate, then step down where truncation rounded up.
+inline V4 floor4(V4 x) {
+  const V4 t = _mm_cvtepi32_ps(_mm_cvttps_epi32(x));
+  return _mm_sub_ps(t, _mm_and_ps(_mm_cmpgt_ps(t, x), splat(1.0f)));
+}
+
+// A wrapped column or row index: repeat (by mask when the size is a power of two) or clamp to edge.
+[[gnu::always_inline]] inline int wrap_fast(int i, int size, TexWrap w) {
+  return w == TexWrap::Repeat ? wrap_repeat(i, size) : std::clamp(i, 0, size - 1);
+}
+
+// LINEAR_MIPMAP_LINEAR between levels d and d + 1 without GL_CLAMP borders: both levels' texel
+// coordinates, floors and fractions in one register (s W0, t H0, s W1, t H1), then the eight
+// texels. Same operations as two calls of sample_level and the level blend, in the same order.
+[[gnu::always_inline]] inline V4 sample_trilinear(const Texture& t, int d, float ws, float wt, float f) {
+  const Image& l0 = t.levels[d];
+  const Image& l1 = t.levels[d + 1];
+  const V4 dims = _mm_cvtepi32_ps(_mm_set_epi32(l1.height, l1.width, l0.height, l0.width));
+  const V4 uv = _mm_mul_ps(_mm_set_ps(wt, ws, wt, ws), dims);
+  const V4 uvf = _mm_sub_ps(uv, splat(0.5f));
+  const V4 fl = floor4(uvf);
+  alignas(16) std::int32_t ij[4];
+  _mm_store_si128(reinterpret_cast<__m128i*>(ij), _mm_cvttps_epi32(fl));
+  const V4 ab = _mm_sub_ps(uvf, fl);           // (a0, b0, a1, b1)
+  const V4 one_ab = _mm_sub_ps(splat(1.0f), ab);  // (1-a0, 1-b0, 1-a1, 1-b1)
+  // Weights of level k in texel order 00, 10, 01, 11: (1-a)(1-b), a(1-b), (1-a)b, ab.
+  auto weights = [&](int k) {
+    const V4 a = _mm_unpacklo_ps(one_ab, ab);  // (1-a0, a0, 1-b0, b0)
+    const V4 b = _mm_unpackhi_ps(one_ab, ab);  // (1-a1, a1, 1-b1, b1)
+    const V4 src = k == 0 ? a : b;
+    const V4 x = _mm_shuffle_ps(src, src, _MM_SHUFFLE(1, 0, 1, 0));
+    const V4 y = _mm_shuffle_ps(src, src, _MM_SHUFFLE(3, 3, 2, 2));
+    return _mm_mul_ps(x, y);
+  };
+  auto level = [&](const Image& im, int i0, int j0, V4 w) {
+    const int iw = im.width, ih = im.height;
+    const int i1 = wrap_fast(i0 + 1, iw, t.wrap_s), j1 = wrap_fast(j0 + 1, ih, t.wrap_t);
+    i0 = wrap_fast(i0, iw, t.wrap_s), j0 = wrap_fast(j0, ih, t.wrap_t);
+    const std::uint8_t* base = im.rgba.data();
+    V4 r = _mm_mul_ps(_mm_shuffle_ps(w, w, 0x00), texel(base, iw, t.format, i0, j0));
+    r = _mm_add_ps(r, _mm_mul_ps(_mm_shuffle_ps(w, w, 0x55), texel(base, iw, t.format, i1, j0)));
+    r = _mm_add_ps(r, _mm_mul_ps(_mm_shuffle_ps(w, w, 0xaa), texel(base, iw, t.format, i0, j1)));
+    return _mm_add_ps(r, _mm_mul_ps(_mm_shuffle_ps(w, w, 0xff), texel(base, iw, t.format, i1, j1)));
+  };
+  const V4 c0 = level(l0, ij[0], ij[1], weights(0)), c1 = level(l1, ij[2], ij[3], weights(1));
+  return _mm_add_ps(_mm_mul_ps(splat(1 - f), c0), _mm_mul_ps(splat(f), c1));
+}
+
+[[gnu::always_inline]] inline V4 sample_v(const Texture& t, float s, float tt, float lambda) {
   const float ws = wrap_coord(s, t.wrap_s), wt = wrap_coord(tt, t.wrap_t);
   const TexFilter min_filter = t.min_filter;
   const bool mag = lambda <= 0 || t.levels.size() == 1;
@@ -125,6 +173,7 @@ V4 sample_v(const Texture& t, float s, float tt, float lambda) {
       if (lambda >= last) return sample_level(t, last, ws, wt, lin);
       int d1 = int(std::floor(lambda));
       float f = lambda - d1;
+      if (lin && t.wrap_s != TexWrap::Clamp && t.wrap_t != TexWrap::Clamp) return sample_trilinear(t, d1, ws, wt, f);
       // Both levels share the wrapped coordinates computed above.
       V4 c0 = sample_level(t, d1, ws, wt, lin), c1 = sample_level(t, d1 + 1, ws, wt, lin);
       return _mm_add_ps(_mm_mul_ps(splat(1 - f), c0), _mm_mul_ps(splat(f), c1));
