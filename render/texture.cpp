@@ -134,7 +134,7 @@ inline V4 floor4(V4 x) {
     const V4 y = _mm_shuffle_ps(src, src, _MM_SHUFFLE(3, 3, 2, 2));
     return _mm_mul_ps(x, y);
   };
-  auto level = [&](const Image& im, int i0, int j0, V4 w) {
+  auto level = [&](const Image& im, int i0, int j0, V4 w) __attribute__((always_inline)) {
     const int iw = im.width, ih = im.height;
     const int i1 = wrap_fast(i0 + 1, iw, t.wrap_s), j1 = wrap_fast(j0 + 1, ih, t.wrap_t);
     i0 = wrap_fast(i0, iw, t.wrap_s), j0 = wrap_fast(j0, ih, t.wrap_t);
