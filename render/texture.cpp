@@ -24,21 +24,42 @@ using V4 = __m128;
 
 inline V4 splat(float x) { return _mm_set1_ps(x); }
 
-// Texel (i, j) of a level, already inside the image, as floats in [0, 1] after the format's
-// expansion (luminance to grey with alpha 1, RGB with alpha 1).
-[[gnu::always_inline]] inline V4 texel(const std::uint8_t* base, int width, TexFormat fmt, int i, int j) {
-  std::int32_t bits;
-  std::memcpy(&bits, base + (std::size_t(j) * width + i) * 4, 4);
-  const __m128i zero = _mm_setzero_si128();
-  __m128i x = _mm_unpacklo_epi8(_mm_cvtsi32_si128(bits), zero);
-  x = _mm_unpacklo_epi16(x, zero);
-  V4 c = _mm_mul_ps(_mm_cvtepi32_ps(x), splat(1.0f / 255.0f));
+// Format expansion of a converted texel (luminance to grey, alpha 1 unless RGBA).
+[[gnu::always_inline]] inline V4 expand(V4 c, TexFormat fmt) {
   if (fmt != TexFormat::RGBA) {
     if (fmt == TexFormat::Luminance) c = _mm_shuffle_ps(c, c, 0);
     const V4 rgb = _mm_castsi128_ps(_mm_set_epi32(0, -1, -1, -1));
     c = _mm_or_ps(_mm_and_ps(c, rgb), _mm_andnot_ps(rgb, splat(1.0f)));
   }
   return c;
+}
+
+// Texel (i, j) of a level, already inside the image, as floats in [0, 1] after the format's
+// expansion.
+[[gnu::always_inline]] inline V4 texel(const std::uint8_t* base, int width, TexFormat fmt, int i, int j) {
+  std::int32_t bits;
+  std::memcpy(&bits, base + (std::size_t(j) * width + i) * 4, 4);
+  const __m128i zero = _mm_setzero_si128();
+  __m128i x = _mm_unpacklo_epi8(_mm_cvtsi32_si128(bits), zero);
+  x = _mm_unpacklo_epi16(x, zero);
+  return expand(_mm_mul_ps(_mm_cvtepi32_ps(x), splat(1.0f / 255.0f)), fmt);
+}
+
+// Texels (i0, j) and (i1, j): one 8-byte load when they are neighbours in memory (the usual case
+// of a bilinear footprint that does not wrap), else two texel loads.
+[[gnu::always_inline]] inline void texel_pair(const std::uint8_t* base, int width, TexFormat fmt, int i0, int i1,
+                                              int j, V4& c0, V4& c1) {
+  if (i1 != i0 + 1) {
+    c0 = texel(base, width, fmt, i0, j), c1 = texel(base, width, fmt, i1, j);
+    return;
+  }
+  std::int64_t bits;
+  std::memcpy(&bits, base + (std::size_t(j) * width + i0) * 4, 8);
+  const __m128i zero = _mm_setzero_si128();
+  const __m128i x = _mm_unpacklo_epi8(_mm_cvtsi64_si128(bits), zero);
+  const V4 k = splat(1.0f / 255.0f);
+  c0 = expand(_mm_mul_ps(_mm_cvtepi32_ps(_mm_unpacklo_epi16(x, zero)), k), fmt);
+  c1 = expand(_mm_mul_ps(_mm_cvtepi32_ps(_mm_unpackhi_epi16(x, zero)), k), fmt);
 }
 
 int wrap_repeat(int i, int size) {
@@ -139,10 +160,13 @@ inline V4 floor4(V4 x) {
     const int i1 = wrap_fast(i0 + 1, iw, t.wrap_s), j1 = wrap_fast(j0 + 1, ih, t.wrap_t);
     i0 = wrap_fast(i0, iw, t.wrap_s), j0 = wrap_fast(j0, ih, t.wrap_t);
     const std::uint8_t* base = im.rgba.data();
-    V4 r = _mm_mul_ps(_mm_shuffle_ps(w, w, 0x00), texel(base, iw, t.format, i0, j0));
-    r = _mm_add_ps(r, _mm_mul_ps(_mm_shuffle_ps(w, w, 0x55), texel(base, iw, t.format, i1, j0)));
-    r = _mm_add_ps(r, _mm_mul_ps(_mm_shuffle_ps(w, w, 0xaa), texel(base, iw, t.format, i0, j1)));
-    return _mm_add_ps(r, _mm_mul_ps(_mm_shuffle_ps(w, w, 0xff), texel(base, iw, t.format, i1, j1)));
+    V4 c00, c10, c01, c11;
+    texel_pair(base, iw, t.format, i0, i1, j0, c00, c10);
+    texel_pair(base, iw, t.format, i0, i1, j1, c01, c11);
+    V4 r = _mm_mul_ps(_mm_shuffle_ps(w, w, 0x00), c00);
+    r = _mm_add_ps(r, _mm_mul_ps(_mm_shuffle_ps(w, w, 0x55), c10));
+    r = _mm_add_ps(r, _mm_mul_ps(_mm_shuffle_ps(w, w, 0xaa), c01));
+    return _mm_add_ps(r, _mm_mul_ps(_mm_shuffle_ps(w, w, 0xff), c11));
   };
   const V4 c0 = level(l0, ij[0], ij[1], weights(0)), c1 = level(l1, ij[2], ij[3], weights(1));
   return _mm_add_ps(_mm_mul_ps(splat(1 - f), c0), _mm_mul_ps(splat(f), c1));
