@@ -3,7 +3,10 @@
 // colour) and clamp-to-edge; magnification nearest/linear; minification nearest/linear and the
 // four mipmap filters, choosing the level d = lambda (nearest level: round, as the spec's
 // ceil(lambda + 1/2) - 1) or blending the two levels around it. The mipmap chain is built by
-// 2x2 box filtering (what gluBuild2DMipmaps does for power-of-two images).
+// 2x2 box filtering (what gluBuild2DMipmaps does for power-of-two images). Sampling runs on SSE2
+// registers (one RGBA colour per register, both mip levels' coordinates in one register for
+// trilinear) with the same float operations in the same order as the per-channel formulation, so
+// the results are unchanged bit for bit; x86-64 is assumed (SSE2 is part of its base ISA).
 #include <cmath>
 #include <cstring>
 
