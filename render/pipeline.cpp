@@ -188,7 +188,7 @@ struct Raster {
   // Clip planes: 6 frustum planes then the enabled user planes (as eye-space planes).
   std::vector<Vec4> user_planes;
   int x0, y0, x1, y1;  // pixel bounds (framebuffer ∩ scissor), half open
-  bool phong, lighting, texturing, fog, blend, depth_test;
+  bool phong, lighting, texturing, fog, blend, depth_test, all_mask;
   std::vector<Job>* sink = nullptr;  // when set, primitives are queued instead of drawn
   std::vector<PVert> poly_scratch, clip_scratch;
   std::vector<WinVert> win_scratch;
@@ -207,6 +207,7 @@ struct Raster {
     fog = s.on(Cap::Fog);
     blend = s.on(Cap::Blend);
     depth_test = s.on(Cap::DepthTest);
+    all_mask = s.color_mask[0] && s.color_mask[1] && s.color_mask[2] && s.color_mask[3];
   }
 
   // Signed distance of a vertex to clip plane i (>= 0 inside).
@@ -299,7 +300,11 @@ struct Raster {
 
   // Depth test for a fragment; returns false if it fails. Writes depth when it passes.
   [[gnu::always_inline]] bool depth_stage(int x, int y, float z) {
-    if (!depth_test) return true;
+    return depth_test ? depth_stage_t<true>(x, y, z) : true;
+  }
+  template <bool Depth>
+  [[gnu::always_inline]] bool depth_stage_t(int x, int y, float z) {
+    if constexpr (!Depth) return true;
     float& d = depth[std::size_t(y) * width + x];
     // Depth buffers hold fixed-point values in GL; quantise to 24 bits as Mesa's default.
     // Round to nearest even as nearbyint does, without a libm call: adding and removing 2^52
@@ -315,7 +320,16 @@ struct Raster {
 
   // Texture environment, fog, blending, colour write (depth already tested).
   [[gnu::always_inline]] void shade_fragment(int x, int y, Vec4f c, const float* tex, float lambda, float fogz) {
-    if (texturing && tex) {
+    const bool t = texturing && tex;
+    if (t && fog) shade_fragment_t<true, true>(x, y, c, tex, lambda, fogz);
+    else if (t) shade_fragment_t<true, false>(x, y, c, tex, lambda, fogz);
+    else if (fog) shade_fragment_t<false, true>(x, y, c, tex, lambda, fogz);
+    else shade_fragment_t<false, false>(x, y, c, tex, lambda, fogz);
+  }
+  // The same, specialised on texturing and fog (chosen once per primitive, not per fragment).
+  template <bool Tex, bool Fog>
+  [[gnu::always_inline]] void shade_fragment_t(int x, int y, Vec4f c, const float* tex, float lambda, float fogz) {
+    if constexpr (Tex) {
       float q = tex[3] != 0 ? tex[3] : 1.0f;
       Vec4f t = s.texture->sample(tex[0] / q, tex[1] / q, lambda);
       const TexFormat fmt = s.texture->format;
@@ -338,7 +352,7 @@ struct Raster {
           break;
       }
     }
-    if (fog) {
+    if constexpr (Fog) {
       float f = 1;
       switch (s.fog_mode) {
         case FogMode::Linear: f = s.fog_end == s.fog_start ? 1.0f : (s.fog_end - fogz) / (s.fog_end - s.fog_start); break;
@@ -358,8 +372,12 @@ struct Raster {
       c = clamp01(r);
     }
     // c is clamped to [0, 1]: round to nearest without a library call.
-    for (int k = 0; k < 4; ++k)
-      if (s.color_mask[k]) p[k] = std::uint8_t(c[k] * 255.0f + 0.5f);
+    if (all_mask) {
+      for (int k = 0; k < 4; ++k) p[k] = std::uint8_t(c[k] * 255.0f + 0.5f);
+    } else {
+      for (int k = 0; k < 4; ++k)
+        if (s.color_mask[k]) p[k] = std::uint8_t(c[k] * 255.0f + 0.5f);
+    }
   }
 
   Vec4f phong_color(const float* a, int side) const {
@@ -372,7 +390,23 @@ struct Raster {
   }
 
   // --- triangles ---
-  void triangle(const WinVert& v0, const WinVert& v1in, const WinVert& v2in, int side, const float* flat) {
+  // The fragment loop is specialised on the state that changes its work per fragment (Phong,
+  // smooth colour, texturing, fog, depth test), chosen once per triangle: no per-pixel branch
+  // on those, the same arithmetic in every specialisation.
+  void triangle(const WinVert& v0, const WinVert& v1, const WinVert& v2, int side, const float* flat) {
+    const int key = (phong ? 16 : 0) | (flat == nullptr ? 8 : 0) | (texturing ? 4 : 0) | (fog ? 2 : 0) | (depth_test ? 1 : 0);
+    switch (key) {
+#define WEDGE_TRI(k) \
+  case k: return triangle_t<(k & 16) != 0, (k & 8) != 0, (k & 4) != 0, (k & 2) != 0, (k & 1) != 0>(v0, v1, v2, side, flat);
+      WEDGE_TRI(0) WEDGE_TRI(1) WEDGE_TRI(2) WEDGE_TRI(3) WEDGE_TRI(4) WEDGE_TRI(5) WEDGE_TRI(6) WEDGE_TRI(7)
+      WEDGE_TRI(8) WEDGE_TRI(9) WEDGE_TRI(10) WEDGE_TRI(11) WEDGE_TRI(12) WEDGE_TRI(13) WEDGE_TRI(14) WEDGE_TRI(15)
+      WEDGE_TRI(16) WEDGE_TRI(17) WEDGE_TRI(18) WEDGE_TRI(19) WEDGE_TRI(20) WEDGE_TRI(21) WEDGE_TRI(22) WEDGE_TRI(23)
+      WEDGE_TRI(24) WEDGE_TRI(25) WEDGE_TRI(26) WEDGE_TRI(27) WEDGE_TRI(28) WEDGE_TRI(29) WEDGE_TRI(30) WEDGE_TRI(31)
+#undef WEDGE_TRI
+    }
+  }
+  template <bool Phong, bool Smooth, bool Tex, bool Fog, bool Depth>
+  void triangle_t(const WinVert& v0, const WinVert& v1in, const WinVert& v2in, int side, const float* flat) {
     constexpr double kSub = 256.0;
     const WinVert* v[3] = {&v0, &v1in, &v2in};
     std::int64_t X[3], Y[3];
@@ -409,8 +443,8 @@ struct Raster {
     };
     const double inv_area = 1.0 / double(area);
     // Per-vertex values pre-divided by w for perspective correction.
-    const bool need_tex = texturing;
-    const bool smooth = flat == nullptr;
+    constexpr bool need_tex = Tex;
+    constexpr bool smooth = Smooth;
     const int col = side ? kBack : kFront;
     float zv[3], iw[3];
     for (int i = 0; i < 3; ++i) zv[i] = float(v[i]->z), iw[i] = float(v[i]->inv_w);
@@ -430,26 +464,26 @@ struct Raster {
         if (E[0] + bias[0] < 0 || E[1] + bias[1] < 0 || E[2] + bias[2] < 0) continue;
         double l[3] = {E[0] * inv_area, E[1] * inv_area, E[2] * inv_area};
         float z = float(l[0] * zv[0] + l[1] * zv[1] + l[2] * zv[2]);
-        if (!depth_stage(px, py, z)) continue;
+        if (!depth_stage_t<Depth>(px, py, z)) continue;
         // Perspective-correct weights: l_i / w_i normalised.
         double pw[3] = {l[0] * iw[0], l[1] * iw[1], l[2] * iw[2]};
         const double inv_sum = 1.0 / (pw[0] + pw[1] + pw[2]);  // one division, not three
         for (double& w : pw) w *= inv_sum;
         auto interp = [&](int k) { return float(pw[0] * v[0]->a[k] + pw[1] * v[1]->a[k] + pw[2] * v[2]->a[k]); };
         Vec4f c;
-        if (phong) {
+        if constexpr (Phong) {
           for (int k = 0; k < kAttrs; ++k) attrs[k] = interp(k);
           if (!smooth)
             for (int k = 0; k < 4; ++k) attrs[kFront + k] = flat[kFront + k];
           c = phong_color(attrs, side);
-        } else if (smooth) {
+        } else if constexpr (Smooth) {
           c = Vec4f(interp(col), interp(col + 1), interp(col + 2), interp(col + 3));
         } else {
           c = Vec4f(flat[col], flat[col + 1], flat[col + 2], flat[col + 3]);
         }
-        float tex[4];
+        float tex[4] = {0, 0, 0, 1};
         float lambda = 0;
-        if (need_tex) {
+        if constexpr (Tex) {
           for (int k = 0; k < 4; ++k) tex[k] = interp(kTex + k);
           // Level of detail from the screen-space derivatives of (u, v) = (s W, t H).
           auto uv_at = [&](double ox, double oy, float& u, float& vv) {
@@ -483,8 +517,9 @@ struct Raster {
           }
           lambda = quad_lambda;
         }
-        float fogz = fog ? interp(kFog) : 0;
-        shade_fragment(px, py, c, need_tex ? tex : nullptr, lambda, fogz);
+        float fogz = 0;
+        if constexpr (Fog) fogz = interp(kFog);
+        shade_fragment_t<Tex, Fog>(px, py, c, tex, lambda, fogz);
       }
     }
   }
