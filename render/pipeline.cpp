@@ -70,12 +70,55 @@ constexpr int kBandRows = 32;
 
 Vec4f clamp01(const Vec4f& c) { return c.cwiseMax(0.0f).cwiseMin(1.0f); }
 
-// The lighting equation of GL 1.x section 2.14.1 for one side. P is the eye-space position,
-// n the unit (or as given) eye-space normal; `vertex_color` feeds colour material.
-Vec4f light_vertex(const Context::State& s, const Vec4& P4, const Vec3& n, const Vec4f& vertex_color, int side) {
+// Per-draw lighting constants (float, as GL implementations light): the enabled lights with
+// their position divided by w or their unit direction, unit spot direction and cosine of the
+// cutoff, so that the per-vertex work is the equation itself.
+using Vec3f = Eigen::Vector3f;
+
+struct LightSetup {
+  struct L {
+    Vec3f pos;    // point light: position / w; directional: unit direction
+    bool local;   // w != 0
+    float kc, kl, kq;
+    bool spot;
+    Vec3f sdir;   // unit spot direction
+    float cos_cut, sexp;
+    Vec3f amb, dif, spec;
+  };
+  L l[8];
+  int n = 0;
+  Vec3f model_ambient;
+  bool local_viewer = false;
+  bool color_material[2] = {false, false};
+  explicit LightSetup(const Context::State& s) {
+    model_ambient = s.model_ambient.head<3>();
+    local_viewer = s.local_viewer;
+    for (int side = 0; side < 2; ++side)
+      color_material[side] = s.on(Cap::ColorMaterial) &&
+                             (s.cm_face == Face::FrontAndBack || (s.cm_face == Face::Front) == (side == 0));
+    for (int i = 0; i < 8; ++i) {
+      if (!s.on(light_cap(i))) continue;
+      const Light& src = s.lights[i];
+      L& d = l[n++];
+      d.local = src.position.w() != 0;
+      d.pos = d.local ? Vec3f(src.position.head<3>() / src.position.w()) : Vec3f(src.position.head<3>().normalized());
+      d.kc = src.constant_attenuation, d.kl = src.linear_attenuation, d.kq = src.quadratic_attenuation;
+      d.spot = src.spot_cutoff != 180;
+      d.sdir = src.spot_direction.normalized().cast<float>();
+      d.cos_cut = float(std::cos(radians(src.spot_cutoff)));
+      d.sexp = src.spot_exponent;
+      d.amb = src.ambient.head<3>(), d.dif = src.diffuse.head<3>(), d.spec = src.specular.head<3>();
+    }
+  }
+};
+
+// The lighting equation of GL 1.x section 2.14.1 for one side, in float. P is the eye-space
+// position, n the unit (or as given) eye-space normal; `vertex_color` feeds colour material.
+// pow only for a positive specular term with non-zero shininess, as GL defines 0^0 = 1.
+Vec4f light_vertex(const Context::State& s, const LightSetup& ls, const Vec4& P4, const Vec3& nd,
+                   const Vec4f& vertex_color, int side) {
   Material m = s.material[side];  // a copy: colour material may replace parts of it
-  if (s.on(Cap::ColorMaterial) &&
-      (s.cm_face == Face::FrontAndBack || (s.cm_face == Face::Front) == (side == 0))) {
+  if (ls.color_material[side]) {
     switch (s.cm_mode) {
       case ColorMaterialMode::Ambient: m.ambient = vertex_color; break;
       case ColorMaterialMode::Diffuse: m.diffuse = vertex_color; break;
@@ -84,54 +127,55 @@ Vec4f light_vertex(const Context::State& s, const Vec4& P4, const Vec3& n, const
       case ColorMaterialMode::AmbientAndDiffuse: m.ambient = m.diffuse = vertex_color; break;
     }
   }
-  const Vec3 P = P4.head<3>() / P4.w();
-  Eigen::Vector3d c = m.emission.head<3>().cast<double>() +
-                      m.ambient.head<3>().cast<double>().cwiseProduct(s.model_ambient.head<3>().cast<double>());
-  for (int i = 0; i < 8; ++i) {
-    if (!s.on(light_cap(i))) continue;
-    const Light& L = s.lights[i];
-    Vec3 VP;
-    double att = 1;
-    if (L.position.w() != 0) {
-      Vec3 lp = L.position.head<3>().cast<double>() / L.position.w();
-      VP = lp - P;
-      double d = VP.norm();
+  const Vec3f P = (P4.head<3>() / P4.w()).cast<float>();
+  const Vec3f n = nd.cast<float>();
+  const Vec3f ma = m.ambient.head<3>(), md = m.diffuse.head<3>(), ms = m.specular.head<3>();
+  Vec3f c = m.emission.head<3>() + ma.cwiseProduct(ls.model_ambient);
+  Vec3f eye_dir(0, 0, 1);
+  if (ls.local_viewer) eye_dir = -P.normalized();
+  for (int i = 0; i < ls.n; ++i) {
+    const LightSetup::L& L = ls.l[i];
+    Vec3f VP;
+    float att = 1;
+    if (L.local) {
+      VP = L.pos - P;
+      float d = VP.norm();
       VP /= d;
-      att = 1.0 / (L.constant_attenuation + L.linear_attenuation * d + L.quadratic_attenuation * d * d);
+      att = 1.0f / (L.kc + L.kl * d + L.kq * d * d);
     } else {
-      VP = L.position.head<3>().cast<double>().normalized();
+      VP = L.pos;
     }
-    double spot = 1;
-    if (L.spot_cutoff != 180) {
-      double cosang = (-VP).dot(L.spot_direction.normalized());
-      if (cosang < std::cos(radians(L.spot_cutoff))) spot = 0;
-      else spot = std::pow(std::max(cosang, 0.0), double(L.spot_exponent));
+    float spot = 1;
+    if (L.spot) {
+      float cosang = -VP.dot(L.sdir);
+      if (cosang < L.cos_cut) spot = 0;
+      else spot = L.sexp == 0 ? 1.0f : std::pow(std::max(cosang, 0.0f), L.sexp);
     }
     if (att * spot == 0) continue;
-    Vec3 term = m.ambient.head<3>().cast<double>().cwiseProduct(L.ambient.head<3>().cast<double>());
-    double ndl = n.dot(VP);
+    Vec3f term = ma.cwiseProduct(L.amb);
+    float ndl = n.dot(VP);
     if (ndl > 0) {
-      term += ndl * m.diffuse.head<3>().cast<double>().cwiseProduct(L.diffuse.head<3>().cast<double>());
-      Vec3 h = VP + (s.local_viewer ? Vec3(-P.normalized()) : Vec3(0, 0, 1));
-      double hn = h.norm();
+      term += ndl * md.cwiseProduct(L.dif);
+      Vec3f h = VP + eye_dir;
+      float hn = h.norm();
       if (hn > 0) {
-        double ndh = n.dot(h / hn);
+        float ndh = n.dot(h) / hn;
         if (ndh > 0) {
-          double f = m.shininess == 0 ? 1.0 : std::pow(ndh, double(m.shininess));
-          term += f * m.specular.head<3>().cast<double>().cwiseProduct(L.specular.head<3>().cast<double>());
+          float f = m.shininess == 0 ? 1.0f : std::pow(ndh, m.shininess);
+          term += f * ms.cwiseProduct(L.spec);
         }
       }
     }
-    c += att * spot * term;
+    c += (att * spot) * term;
   }
-  Vec4f out(float(c.x()), float(c.y()), float(c.z()), m.diffuse.w());
+  Vec4f out(c.x(), c.y(), c.z(), m.diffuse.w());
   return clamp01(out);
 }
 
 bool two_sided_lighting(const Context::State& s) { return s.on(Cap::Lighting) && s.two_side; }
 
 // Vertex stage: object coordinates to clip coordinates with all per-vertex attributes.
-PVert process_vertex(const Context::State& s, const InVertex& v, const Mat4& mv, const Mat3& nmat, const Mat4& proj) {
+PVert process_vertex(const Context::State& s, const LightSetup& ls, const InVertex& v, const Mat4& mv, const Mat3& nmat, const Mat4& proj) {
   PVert out;
   Vec4 eye = mv * v.position;
   out.clip = proj * eye;
@@ -142,8 +186,8 @@ PVert process_vertex(const Context::State& s, const InVertex& v, const Mat4& mv,
   }
   const bool phong = s.shade == ShadeModel::Phong && s.on(Cap::Lighting);
   if (s.on(Cap::Lighting) && !phong) {
-    Vec4f f = light_vertex(s, eye, n, v.color, 0);
-    Vec4f b = s.two_side ? light_vertex(s, eye, -n, v.color, 1) : f;
+    Vec4f f = light_vertex(s, ls, eye, n, v.color, 0);
+    Vec4f b = s.two_side ? light_vertex(s, ls, eye, -n, v.color, 1) : f;
     for (int k = 0; k < 4; ++k) out.a[kFront + k] = f[k], out.a[kBack + k] = b[k];
   } else {
     Vec4f c = clamp01(v.color);
@@ -193,7 +237,10 @@ struct Raster {
   std::vector<PVert> poly_scratch, clip_scratch;
   std::vector<WinVert> win_scratch;
 
-  Raster(Context::State& st, int w, int h, std::uint8_t* c, float* d) : s(st), width(w), height(h), color(c), depth(d) {
+  LightSetup lights;
+
+  Raster(Context::State& st, int w, int h, std::uint8_t* c, float* d)
+      : s(st), width(w), height(h), color(c), depth(d), lights(st) {
     for (int i = 0; i < 6; ++i)
       if (s.on(clip_plane_cap(i))) user_planes.push_back(s.clip_planes[i]);
     x0 = 0, y0 = 0, x1 = w, y1 = h;
@@ -386,7 +433,7 @@ struct Raster {
     double len = n.norm();
     if (len > 0) n /= len;
     Vec4f vc(a[kFront], a[kFront + 1], a[kFront + 2], a[kFront + 3]);
-    return light_vertex(s, eye, side ? Vec3(-n) : n, vc, side);
+    return light_vertex(s, lights, eye, side ? Vec3(-n) : n, vc, side);
   }
 
   // --- triangles ---
@@ -757,6 +804,7 @@ void run_primitive(Context::State& s, int width, int height, std::uint8_t* color
   std::vector<PVert>& v = tl_verts;
   v.resize(in.size());
   Raster r(s, width, height, color, depth);
+  const LightSetup& lights = r.lights;
   // Independent triangles with face culling: a triangle wholly inside the clip volume that the
   // cull test removes (decided exactly as draw_triangle would, on the same window coordinates)
   // is marked here and its vertices are never lit. Every vertex of a non-indexed batch belongs
@@ -769,7 +817,7 @@ void run_primitive(Context::State& s, int width, int height, std::uint8_t* color
   auto stage = [&](std::size_t lo, std::size_t hi) {
     for (std::size_t u = lo; u < hi; ++u) {
       if (!precull) {
-        v[u] = process_vertex(s, in[u], mv, nmat, proj);
+        v[u] = process_vertex(s, lights, in[u], mv, nmat, proj);
         continue;
       }
       PVert c[3];
@@ -789,7 +837,7 @@ void run_primitive(Context::State& s, int width, int height, std::uint8_t* color
           continue;
         }
       }
-      for (int k = 0; k < 3; ++k) v[3 * u + k] = process_vertex(s, in[3 * u + k], mv, nmat, proj);
+      for (int k = 0; k < 3; ++k) v[3 * u + k] = process_vertex(s, lights, in[3 * u + k], mv, nmat, proj);
     }
   };
   if (s.threads > 1 && in.size() >= 1024) {
