@@ -175,10 +175,11 @@ Vec4f light_vertex(const Context::State& s, const LightSetup& ls, const Vec4& P4
 bool two_sided_lighting(const Context::State& s) { return s.on(Cap::Lighting) && s.two_side; }
 
 // Vertex stage: object coordinates to clip coordinates with all per-vertex attributes.
-PVert process_vertex(const Context::State& s, const LightSetup& ls, const InVertex& v, const Mat4& mv, const Mat3& nmat, const Mat4& proj) {
+// `eye` and `clip` are the vertex's mv * position and proj * eye, computed by the caller.
+PVert process_vertex(const Context::State& s, const LightSetup& ls, const InVertex& v, const Vec4& eye,
+                     const Vec4& clip, const Mat3& nmat) {
   PVert out;
-  Vec4 eye = mv * v.position;
-  out.clip = proj * eye;
+  out.clip = clip;
   Vec3 n = nmat * v.normal;
   if (s.on(Cap::Normalize) || s.shade == ShadeModel::Phong) {
     double len = n.norm();
@@ -817,13 +818,16 @@ void run_primitive(Context::State& s, int width, int height, std::uint8_t* color
   auto stage = [&](std::size_t lo, std::size_t hi) {
     for (std::size_t u = lo; u < hi; ++u) {
       if (!precull) {
-        v[u] = process_vertex(s, lights, in[u], mv, nmat, proj);
+        const Vec4 eye = mv * in[u].position;
+        v[u] = process_vertex(s, lights, in[u], eye, proj * eye, nmat);
         continue;
       }
       PVert c[3];
+      Vec4 eye[3];
       bool inside = true;
       for (int k = 0; k < 3; ++k) {
-        c[k].clip = proj * (mv * in[3 * u + k].position);  // as process_vertex computes it
+        eye[k] = mv * in[3 * u + k].position;
+        c[k].clip = proj * eye[k];
         for (int pl = 0; pl < 6; ++pl)
           if (r.plane_dist(c[k], pl) < 0) inside = false;
       }
@@ -837,7 +841,7 @@ void run_primitive(Context::State& s, int width, int height, std::uint8_t* color
           continue;
         }
       }
-      for (int k = 0; k < 3; ++k) v[3 * u + k] = process_vertex(s, lights, in[3 * u + k], mv, nmat, proj);
+      for (int k = 0; k < 3; ++k) v[3 * u + k] = process_vertex(s, lights, in[3 * u + k], eye[k], c[k].clip, nmat);
     }
   };
   if (s.threads > 1 && in.size() >= 1024) {
@@ -925,8 +929,9 @@ void run_primitive(Context::State& s, int width, int height, std::uint8_t* color
         });
         for (auto& q : queues) jobs.insert(jobs.end(), q.begin(), q.end());
       } else {
+        // Vertices leave the vertex stage with their edge flags set: no copies needed.
         for (std::size_t i = 0; i + 2 < n; i += 3)
-          if (!precull || !culled[i / 3]) tri(i, i + 1, i + 2, i + 2);
+          if (!precull || !culled[i / 3]) r.draw_triangle(v[i], v[i + 1], v[i + 2], v[i + 2]);
       }
       break;
     case Primitive::TriangleStrip:
