@@ -514,10 +514,11 @@ struct Raster {
         float z = float(l[0] * zv[0] + l[1] * zv[1] + l[2] * zv[2]);
         if (!depth_stage_t<Depth>(px, py, z)) continue;
         // Perspective-correct weights: l_i / w_i normalised.
-        double pw[3] = {l[0] * iw[0], l[1] * iw[1], l[2] * iw[2]};
-        const double inv_sum = 1.0 / (pw[0] + pw[1] + pw[2]);  // one division, not three
-        for (double& w : pw) w *= inv_sum;
-        auto interp = [&](int k) { return float(pw[0] * v[0]->a[k] + pw[1] * v[1]->a[k] + pw[2] * v[2]->a[k]); };
+        // In float (attributes are floats; the weights need no more precision than they have).
+        float pw[3] = {float(l[0]) * iw[0], float(l[1]) * iw[1], float(l[2]) * iw[2]};
+        const float inv_sum = 1.0f / (pw[0] + pw[1] + pw[2]);  // one division, not three
+        for (float& w : pw) w *= inv_sum;
+        auto interp = [&](int k) { return pw[0] * v[0]->a[k] + pw[1] * v[1]->a[k] + pw[2] * v[2]->a[k]; };
         Vec4f c;
         if constexpr (Phong) {
           for (int k = 0; k < kAttrs; ++k) attrs[k] = interp(k);
