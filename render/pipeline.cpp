@@ -352,6 +352,11 @@ struct Raster {
   }
   template <bool Depth>
   [[gnu::always_inline]] bool depth_stage_t(int x, int y, float z) {
+    return depth_stage_t<Depth>(x, y, z, s.depth_func, s.depth_mask);
+  }
+  // The function and mask passed in (loop-invariant locals: colour stores may alias the state).
+  template <bool Depth>
+  [[gnu::always_inline]] bool depth_stage_t(int x, int y, float z, DepthFunc func, bool mask) {
     if constexpr (!Depth) return true;
     float& d = depth[std::size_t(y) * width + x];
     // Depth buffers hold fixed-point values in GL; quantise to 24 bits as Mesa's default.
@@ -360,9 +365,13 @@ struct Raster {
     constexpr double kRound = 0x1p52;  // not folded: no -ffast-math (no reassociation)
     double zr = double(std::clamp(z, 0.0f, 1.0f)) * 16777215.0;
     zr = (zr + kRound) - kRound;
-    float zq = float(zr / 16777215.0);
-    if (!depth_pass(s.depth_func, zq, d)) return false;
-    if (s.depth_mask) d = zq;
+    // Times the reciprocal, not a division: the double result is within 2 ulps (2^-52
+    // relative) of the quotient, while k / (2^24 - 1) lies at least about 2^-50 (relative) from
+    // any float rounding boundary, so the float is the same (checked for all 2^24 values).
+    constexpr double kInvMax = 1.0 / 16777215.0;
+    float zq = float(zr * kInvMax);
+    if (!depth_pass(func, zq, d)) return false;
+    if (mask) d = zq;
     return true;
   }
 
@@ -501,6 +510,8 @@ struct Raster {
     const float tex_w = need_tex ? float(s.texture->levels[0].width) : 0;
     const float tex_h = need_tex ? float(s.texture->levels[0].height) : 0;
 
+    const DepthFunc dfunc = s.depth_func;
+    const bool dmask = s.depth_mask;
     float attrs[kAttrs];
     int quad_x = -1 << 30, quad_y = -1 << 30;
     float quad_lambda = 0;
@@ -512,7 +523,7 @@ struct Raster {
         if (E[0] + bias[0] < 0 || E[1] + bias[1] < 0 || E[2] + bias[2] < 0) continue;
         double l[3] = {E[0] * inv_area, E[1] * inv_area, E[2] * inv_area};
         float z = float(l[0] * zv[0] + l[1] * zv[1] + l[2] * zv[2]);
-        if (!depth_stage_t<Depth>(px, py, z)) continue;
+        if (!depth_stage_t<Depth>(px, py, z, dfunc, dmask)) continue;
         // Perspective-correct weights: l_i / w_i normalised.
         // In float (attributes are floats; the weights need no more precision than they have).
         float pw[3] = {float(l[0]) * iw[0], float(l[1]) * iw[1], float(l[2]) * iw[2]};
