@@ -601,7 +601,7 @@ struct Raster {
     if (len > 0) first = int(std::ceil(s0 - 0.5)), last = int(std::ceil(s1 - 0.5)) - 1;
     else first = int(std::floor(s1 - 0.5)) + 1, last = int(std::floor(s0 - 0.5));
     const int w = std::max(1, int(std::lround(s.line_width)));
-    float attrs[kAttrs];
+    float attrs[kAttrs] = {};
     // One column (x-major) or row (y-major) of w fragments at parameter t; `major`/`minor0` are
     // the pixel indices along the axes.
     auto column = [&](int major, int minor0, double t) {
@@ -609,7 +609,17 @@ struct Raster {
       double wa = (1 - t) * a.inv_w, wb = t * b.inv_w;
       double sum = wa + wb;
       wa /= sum, wb /= sum;
-      for (int k = 0; k < kAttrs; ++k) attrs[k] = float(wa * a.a[k] + wb * b.a[k]);
+      // Only the attributes this state reads (each one by the same expression).
+      auto interp = [&](int k0, int k1) {
+        for (int k = k0; k < k1; ++k) attrs[k] = float(wa * a.a[k] + wb * b.a[k]);
+      };
+      if (phong) {
+        interp(0, kAttrs);
+      } else {
+        if (!flat) interp(col, col + 4);
+        if (texturing) interp(kTex, kTex + 4);
+        if (fog) interp(kFog, kFog + 1);
+      }
       Vec4f cc;
       if (phong) {
         if (flat)
