@@ -72,7 +72,7 @@ struct Job {
 };
 constexpr int kBandRows = 32;
 
-Vec4f clamp01(const Vec4f& c) { return c.cwiseMax(0.0f).cwiseMin(1.0f); }
+[[gnu::always_inline]] inline Vec4f clamp01(const Vec4f& c) { return c.cwiseMax(0.0f).cwiseMin(1.0f); }
 
 // Per-draw lighting constants (float, as GL implementations light): the enabled lights with
 // their position divided by w or their unit direction, unit spot direction and cosine of the
