@@ -17,6 +17,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <memory>
 
 #if defined(__SSE2__)
 #include <emmintrin.h>
@@ -826,6 +827,19 @@ struct Raster {
   }
 };
 
+// One arena per calling thread and thread count, kept between batches: constructing an arena
+// for each stage of each batch (a 1M-triangle draw has hundreds of batches) cost more than
+// the second thread gained.
+tbb::task_arena& arena_for(int threads) {
+  static thread_local std::unique_ptr<tbb::task_arena> arena;
+  static thread_local int arena_threads = 0;
+  if (!arena || arena_threads != threads) {
+    arena = std::make_unique<tbb::task_arena>(threads);
+    arena_threads = threads;
+  }
+  return *arena;
+}
+
 }  // namespace
 
 void run_primitive(Context::State& s, int width, int height, std::uint8_t* color, float* depth, Primitive p,
@@ -881,7 +895,7 @@ void run_primitive(Context::State& s, int width, int height, std::uint8_t* color
   };
   if (s.threads > 1 && in.size() >= 1024) {
     // The vertex stage is independent per vertex.
-    tbb::task_arena arena(s.threads);
+    tbb::task_arena& arena = arena_for(s.threads);
     arena.execute([&] {
       tbb::parallel_for(tbb::blocked_range<std::size_t>(0, units, 256),
                         [&](const tbb::blocked_range<std::size_t>& br) { stage(br.begin(), br.end()); });
@@ -956,7 +970,7 @@ void run_primitive(Context::State& s, int width, int height, std::uint8_t* color
         std::vector<std::vector<Job>>& queues = tl_queues;
         if (queues.size() < chunks) queues.resize(chunks);
         for (std::size_t c = 0; c < chunks; ++c) queues[c].clear();
-        tbb::task_arena arena(s.threads);
+        tbb::task_arena& arena = arena_for(s.threads);
         arena.execute([&] {
           tbb::parallel_for(std::size_t(0), chunks, [&](std::size_t c) {
             Raster rc = r;
@@ -1006,7 +1020,7 @@ void run_primitive(Context::State& s, int width, int height, std::uint8_t* color
     for (int b = b0; b <= b1; ++b) bins[b].push_back(i);
   }
   r.sink = nullptr;
-  tbb::task_arena arena(s.threads);
+  tbb::task_arena& arena = arena_for(s.threads);
   arena.execute([&] {
     tbb::parallel_for(0, bands, [&](int b) {
       if (bins[b].empty()) return;
