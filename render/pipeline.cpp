@@ -906,6 +906,7 @@ void run_primitive(Context::State& s, int width, int height, std::uint8_t* color
   static thread_local std::vector<Job> tl_jobs;
   std::vector<Job>& jobs = tl_jobs;
   jobs.clear();
+  std::vector<std::pair<const Job*, std::size_t>> spans;  // queued primitives, in order
   // Bands pay for many primitives, or for few on a large framebuffer (a couple of big textured
   // triangles are all fragment work).
   const bool banded = s.threads > 1 && (in.size() >= 64 || std::int64_t(width) * height >= 512 * 512);
@@ -980,7 +981,8 @@ void run_primitive(Context::State& s, int width, int height, std::uint8_t* color
               if (!precull || !culled[t]) rc.draw_triangle(v[3 * t], v[3 * t + 1], v[3 * t + 2], v[3 * t + 2]);
           });
         });
-        for (std::size_t c = 0; c < chunks; ++c) jobs.insert(jobs.end(), queues[c].begin(), queues[c].end());
+        // Binned straight from the queues, in chunk order (no copy into one list).
+        for (std::size_t c = 0; c < chunks; ++c) spans.emplace_back(queues[c].data(), queues[c].size());
       } else {
         // Vertices leave the vertex stage with their edge flags set: no copies needed.
         for (std::size_t i = 0; i + 2 < n; i += 3)
@@ -1009,16 +1011,19 @@ void run_primitive(Context::State& s, int width, int height, std::uint8_t* color
       for (std::size_t i = 1; i + 1 < n; ++i) tri(0, i, i + 1, 0, i == 1, true, i + 2 == n);
       break;
   }
-  if (!banded || jobs.empty()) return;
+  if (!banded) return;
+  if (!jobs.empty()) spans.emplace_back(jobs.data(), jobs.size());
+  if (spans.empty()) return;
   // Bin the queued primitives by bands of rows, then rasterise the bands in parallel: each
   // band owns its pixels, and draws its primitives in submission order.
   const int bands = (height + kBandRows - 1) / kBandRows;
-  std::vector<std::vector<std::uint32_t>> bins(bands);
-  for (std::uint32_t i = 0; i < jobs.size(); ++i) {
-    const int b0 = std::max(0, jobs[i].row0 / kBandRows), b1 = std::min(bands - 1, std::max(0, jobs[i].row1) / kBandRows);
-    if (jobs[i].row1 < 0) continue;
-    for (int b = b0; b <= b1; ++b) bins[b].push_back(i);
-  }
+  std::vector<std::vector<const Job*>> bins(bands);
+  for (const auto& [first, count] : spans)
+    for (const Job* j = first; j != first + count; ++j) {
+      if (j->row1 < 0) continue;
+      const int b0 = std::max(0, j->row0 / kBandRows), b1 = std::min(bands - 1, j->row1 / kBandRows);
+      for (int b = b0; b <= b1; ++b) bins[b].push_back(j);
+    }
   r.sink = nullptr;
   tbb::task_arena& arena = arena_for(s.threads);
   arena.execute([&] {
@@ -1027,7 +1032,7 @@ void run_primitive(Context::State& s, int width, int height, std::uint8_t* color
       Raster band = r;
       band.y0 = std::max(r.y0, b * kBandRows);
       band.y1 = std::min(r.y1, (b + 1) * kBandRows);
-      for (std::uint32_t i : bins[b]) band.exec(jobs[i]);
+      for (const Job* j : bins[b]) band.exec(*j);
     });
   });
 }
