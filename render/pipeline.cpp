@@ -767,6 +767,20 @@ struct Raster {
     emit_line(to_window(a), to_window(b), 0, flat ? provoking.a : nullptr);
   }
 
+  // A filled triangle wholly inside the clip volume, in window coordinates: facing, culling,
+  // then the fill (polygon modes both Fill).
+  void draw_inside_triangle(const WinVert* w, const PVert& provoking) {
+    double area = 0;
+    for (int i = 0; i < 3; ++i) area += w[i].x * w[(i + 1) % 3].y - w[(i + 1) % 3].x * w[i].y;
+    const bool front = (area > 0) == (s.front_face == FrontFace::CCW);
+    if (s.on(Cap::CullFace)) {
+      if (s.cull_face == Face::FrontAndBack) return;
+      if ((s.cull_face == Face::Front) == front) return;
+    }
+    const int side = (!front && two_sided_lighting(s)) ? 1 : 0;
+    emit_triangle(w[0], w[1], w[2], side, s.shade == ShadeModel::Flat ? provoking.a : nullptr);
+  }
+
   // A polygon with its provoking vertex (for flat shading): clip, find its facing, cull, then
   // fill it as a triangle fan or draw its outline or vertices per the polygon mode.
   void draw_triangle(const PVert& a, const PVert& b, const PVert& c, const PVert& provoking) {
@@ -778,16 +792,7 @@ struct Raster {
         if (plane_dist(a, p) < 0 || plane_dist(b, p) < 0 || plane_dist(c, p) < 0) inside = false;
       if (inside) {
         const WinVert w[3] = {to_window(a), to_window(b), to_window(c)};
-        double area = 0;
-        for (int i = 0; i < 3; ++i) area += w[i].x * w[(i + 1) % 3].y - w[(i + 1) % 3].x * w[i].y;
-        const bool front = (area > 0) == (s.front_face == FrontFace::CCW);
-        if (s.on(Cap::CullFace)) {
-          if (s.cull_face == Face::FrontAndBack) return;
-          if ((s.cull_face == Face::Front) == front) return;
-        }
-        const int side = (!front && two_sided_lighting(s)) ? 1 : 0;
-        emit_triangle(w[0], w[1], w[2], side, s.shade == ShadeModel::Flat ? provoking.a : nullptr);
-        return;
+        return draw_inside_triangle(w, provoking);
       }
     }
     std::vector<PVert>& poly = poly_scratch;
@@ -864,6 +869,10 @@ void run_primitive(Context::State& s, int width, int height, std::uint8_t* color
   const bool precull = p == Primitive::Triangles && s.on(Cap::CullFace) && r.user_planes.empty();
   const std::size_t units = precull ? in.size() / 3 : in.size();
   if (precull) culled.assign(units, 0);
+  static thread_local std::vector<WinVert> tl_win;
+  std::vector<WinVert>& win = tl_win;
+  const bool fill = s.poly_front == PolygonMode::Fill && s.poly_back == PolygonMode::Fill;
+  if (precull && fill) win.resize(in.size());
   auto stage = [&](std::size_t lo, std::size_t hi) {
     for (std::size_t u = lo; u < hi; ++u) {
       if (!precull) {
@@ -888,6 +897,11 @@ void run_primitive(Context::State& s, int width, int height, std::uint8_t* color
         if (s.cull_face == Face::FrontAndBack || (s.cull_face == Face::Front) == front) {
           culled[u] = 1;
           continue;
+        }
+        // Visible and inside: its window coordinates are kept for draw_inside_triangle.
+        if (fill) {
+          for (int k = 0; k < 3; ++k) win[3 * u + k] = w[k], win[3 * u + k].a = v[3 * u + k].a;
+          culled[u] = 2;
         }
       }
       for (int k = 0; k < 3; ++k) v[3 * u + k] = process_vertex(s, lights, in[3 * u + k], eye[k], c[k].clip, nmat);
@@ -978,7 +992,10 @@ void run_primitive(Context::State& s, int width, int height, std::uint8_t* color
             rc.sink = &queues[c];
             queues[c].reserve(chunk + 16);
             for (std::size_t t = c * chunk; t < std::min(tris, (c + 1) * chunk); ++t)
-              if (!precull || !culled[t]) rc.draw_triangle(v[3 * t], v[3 * t + 1], v[3 * t + 2], v[3 * t + 2]);
+              if (!precull || culled[t] != 1) {
+                if (precull && culled[t] == 2) rc.draw_inside_triangle(&win[3 * t], v[3 * t + 2]);
+                else rc.draw_triangle(v[3 * t], v[3 * t + 1], v[3 * t + 2], v[3 * t + 2]);
+              }
           });
         });
         // Binned straight from the queues, in chunk order (no copy into one list).
@@ -986,7 +1003,10 @@ void run_primitive(Context::State& s, int width, int height, std::uint8_t* color
       } else {
         // Vertices leave the vertex stage with their edge flags set: no copies needed.
         for (std::size_t i = 0; i + 2 < n; i += 3)
-          if (!precull || !culled[i / 3]) r.draw_triangle(v[i], v[i + 1], v[i + 2], v[i + 2]);
+          if (!precull || culled[i / 3] != 1) {
+            if (precull && culled[i / 3] == 2) r.draw_inside_triangle(&win[i], v[i + 2]);
+            else r.draw_triangle(v[i], v[i + 1], v[i + 2], v[i + 2]);
+          }
       }
       break;
     case Primitive::TriangleStrip:
