@@ -300,9 +300,8 @@ void Context::draw_arrays(Primitive p, const VertexArrays& a, int first, int cou
   static thread_local std::vector<InVertex> v;  // reused: no page faults per frame
   for (int start = 0; start < count; start += batch) {
     const int n = std::min(batch, count - start);
-    v.clear();
-    v.reserve(n);
-    for (int i = 0; i < n; ++i) v.push_back(fetch(*s_, a, std::size_t(first + start + i)));
+    v.resize(n);
+    for (int i = 0; i < n; ++i) v[i] = fetch(*s_, a, std::size_t(first + start + i));
     run_primitive(*s_, width_, height_, color_.data(), depth_.data(), p, v);
   }
 }
@@ -316,9 +315,8 @@ void Context::draw_elements(Primitive p, const VertexArrays& a, const std::uint3
   static thread_local std::vector<InVertex> v;  // reused: no page faults per frame
   for (int start = 0; start < count; start += batch) {
     const int n = std::min(batch, count - start);
-    v.clear();
-    v.reserve(n);
-    for (int i = 0; i < n; ++i) v.push_back(fetch(*s_, a, indices[start + i]));
+    v.resize(n);
+    for (int i = 0; i < n; ++i) v[i] = fetch(*s_, a, indices[start + i]);
     run_primitive(*s_, width_, height_, color_.data(), depth_.data(), p, v);
   }
 }

@@ -17,6 +17,11 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <memory>
+
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -68,14 +73,57 @@ struct Job {
 };
 constexpr int kBandRows = 32;
 
-Vec4f clamp01(const Vec4f& c) { return c.cwiseMax(0.0f).cwiseMin(1.0f); }
+[[gnu::always_inline]] inline Vec4f clamp01(const Vec4f& c) { return c.cwiseMax(0.0f).cwiseMin(1.0f); }
 
-// The lighting equation of GL 1.x section 2.14.1 for one side. P is the eye-space position,
-// n the unit (or as given) eye-space normal; `vertex_color` feeds colour material.
-Vec4f light_vertex(const Context::State& s, const Vec4& P4, const Vec3& n, const Vec4f& vertex_color, int side) {
+// Per-draw lighting constants (float, as GL implementations light): the enabled lights with
+// their position divided by w or their unit direction, unit spot direction and cosine of the
+// cutoff, so that the per-vertex work is the equation itself.
+using Vec3f = Eigen::Vector3f;
+
+struct LightSetup {
+  struct L {
+    Vec3f pos;    // point light: position / w; directional: unit direction
+    bool local;   // w != 0
+    float kc, kl, kq;
+    bool spot;
+    Vec3f sdir;   // unit spot direction
+    float cos_cut, sexp;
+    Vec3f amb, dif, spec;
+  };
+  L l[8];
+  int n = 0;
+  Vec3f model_ambient;
+  bool local_viewer = false;
+  bool color_material[2] = {false, false};
+  explicit LightSetup(const Context::State& s) {
+    model_ambient = s.model_ambient.head<3>();
+    local_viewer = s.local_viewer;
+    for (int side = 0; side < 2; ++side)
+      color_material[side] = s.on(Cap::ColorMaterial) &&
+                             (s.cm_face == Face::FrontAndBack || (s.cm_face == Face::Front) == (side == 0));
+    for (int i = 0; i < 8; ++i) {
+      if (!s.on(light_cap(i))) continue;
+      const Light& src = s.lights[i];
+      L& d = l[n++];
+      d.local = src.position.w() != 0;
+      d.pos = d.local ? Vec3f(src.position.head<3>() / src.position.w()) : Vec3f(src.position.head<3>().normalized());
+      d.kc = src.constant_attenuation, d.kl = src.linear_attenuation, d.kq = src.quadratic_attenuation;
+      d.spot = src.spot_cutoff != 180;
+      d.sdir = src.spot_direction.normalized().cast<float>();
+      d.cos_cut = float(std::cos(radians(src.spot_cutoff)));
+      d.sexp = src.spot_exponent;
+      d.amb = src.ambient.head<3>(), d.dif = src.diffuse.head<3>(), d.spec = src.specular.head<3>();
+    }
+  }
+};
+
+// The lighting equation of GL 1.x section 2.14.1 for one side, in float. P is the eye-space
+// position, n the unit (or as given) eye-space normal; `vertex_color` feeds colour material.
+// pow only for a positive specular term with non-zero shininess, as GL defines 0^0 = 1.
+Vec4f light_vertex(const Context::State& s, const LightSetup& ls, const Vec4& P4, const Vec3& nd,
+                   const Vec4f& vertex_color, int side) {
   Material m = s.material[side];  // a copy: colour material may replace parts of it
-  if (s.on(Cap::ColorMaterial) &&
-      (s.cm_face == Face::FrontAndBack || (s.cm_face == Face::Front) == (side == 0))) {
+  if (ls.color_material[side]) {
     switch (s.cm_mode) {
       case ColorMaterialMode::Ambient: m.ambient = vertex_color; break;
       case ColorMaterialMode::Diffuse: m.diffuse = vertex_color; break;
@@ -84,57 +132,59 @@ Vec4f light_vertex(const Context::State& s, const Vec4& P4, const Vec3& n, const
       case ColorMaterialMode::AmbientAndDiffuse: m.ambient = m.diffuse = vertex_color; break;
     }
   }
-  const Vec3 P = P4.head<3>() / P4.w();
-  Eigen::Vector3d c = m.emission.head<3>().cast<double>() +
-                      m.ambient.head<3>().cast<double>().cwiseProduct(s.model_ambient.head<3>().cast<double>());
-  for (int i = 0; i < 8; ++i) {
-    if (!s.on(light_cap(i))) continue;
-    const Light& L = s.lights[i];
-    Vec3 VP;
-    double att = 1;
-    if (L.position.w() != 0) {
-      Vec3 lp = L.position.head<3>().cast<double>() / L.position.w();
-      VP = lp - P;
-      double d = VP.norm();
+  const Vec3f P = (P4.head<3>() / P4.w()).cast<float>();
+  const Vec3f n = nd.cast<float>();
+  const Vec3f ma = m.ambient.head<3>(), md = m.diffuse.head<3>(), ms = m.specular.head<3>();
+  Vec3f c = m.emission.head<3>() + ma.cwiseProduct(ls.model_ambient);
+  Vec3f eye_dir(0, 0, 1);
+  if (ls.local_viewer) eye_dir = -P.normalized();
+  for (int i = 0; i < ls.n; ++i) {
+    const LightSetup::L& L = ls.l[i];
+    Vec3f VP;
+    float att = 1;
+    if (L.local) {
+      VP = L.pos - P;
+      float d = VP.norm();
       VP /= d;
-      att = 1.0 / (L.constant_attenuation + L.linear_attenuation * d + L.quadratic_attenuation * d * d);
+      att = 1.0f / (L.kc + L.kl * d + L.kq * d * d);
     } else {
-      VP = L.position.head<3>().cast<double>().normalized();
+      VP = L.pos;
     }
-    double spot = 1;
-    if (L.spot_cutoff != 180) {
-      double cosang = (-VP).dot(L.spot_direction.normalized());
-      if (cosang < std::cos(radians(L.spot_cutoff))) spot = 0;
-      else spot = std::pow(std::max(cosang, 0.0), double(L.spot_exponent));
+    float spot = 1;
+    if (L.spot) {
+      float cosang = -VP.dot(L.sdir);
+      if (cosang < L.cos_cut) spot = 0;
+      else spot = L.sexp == 0 ? 1.0f : std::pow(std::max(cosang, 0.0f), L.sexp);
     }
     if (att * spot == 0) continue;
-    Vec3 term = m.ambient.head<3>().cast<double>().cwiseProduct(L.ambient.head<3>().cast<double>());
-    double ndl = n.dot(VP);
+    Vec3f term = ma.cwiseProduct(L.amb);
+    float ndl = n.dot(VP);
     if (ndl > 0) {
-      term += ndl * m.diffuse.head<3>().cast<double>().cwiseProduct(L.diffuse.head<3>().cast<double>());
-      Vec3 h = VP + (s.local_viewer ? Vec3(-P.normalized()) : Vec3(0, 0, 1));
-      double hn = h.norm();
+      term += ndl * md.cwiseProduct(L.dif);
+      Vec3f h = VP + eye_dir;
+      float hn = h.norm();
       if (hn > 0) {
-        double ndh = n.dot(h / hn);
+        float ndh = n.dot(h) / hn;
         if (ndh > 0) {
-          double f = m.shininess == 0 ? 1.0 : std::pow(ndh, double(m.shininess));
-          term += f * m.specular.head<3>().cast<double>().cwiseProduct(L.specular.head<3>().cast<double>());
+          float f = m.shininess == 0 ? 1.0f : std::pow(ndh, m.shininess);
+          term += f * ms.cwiseProduct(L.spec);
         }
       }
     }
-    c += att * spot * term;
+    c += (att * spot) * term;
   }
-  Vec4f out(float(c.x()), float(c.y()), float(c.z()), m.diffuse.w());
+  Vec4f out(c.x(), c.y(), c.z(), m.diffuse.w());
   return clamp01(out);
 }
 
 bool two_sided_lighting(const Context::State& s) { return s.on(Cap::Lighting) && s.two_side; }
 
 // Vertex stage: object coordinates to clip coordinates with all per-vertex attributes.
-PVert process_vertex(const Context::State& s, const InVertex& v, const Mat4& mv, const Mat3& nmat, const Mat4& proj) {
+// `eye` and `clip` are the vertex's mv * position and proj * eye, computed by the caller.
+PVert process_vertex(const Context::State& s, const LightSetup& ls, const InVertex& v, const Vec4& eye,
+                     const Vec4& clip, const Mat3& nmat) {
   PVert out;
-  Vec4 eye = mv * v.position;
-  out.clip = proj * eye;
+  out.clip = clip;
   Vec3 n = nmat * v.normal;
   if (s.on(Cap::Normalize) || s.shade == ShadeModel::Phong) {
     double len = n.norm();
@@ -142,8 +192,8 @@ PVert process_vertex(const Context::State& s, const InVertex& v, const Mat4& mv,
   }
   const bool phong = s.shade == ShadeModel::Phong && s.on(Cap::Lighting);
   if (s.on(Cap::Lighting) && !phong) {
-    Vec4f f = light_vertex(s, eye, n, v.color, 0);
-    Vec4f b = s.two_side ? light_vertex(s, eye, -n, v.color, 1) : f;
+    Vec4f f = light_vertex(s, ls, eye, n, v.color, 0);
+    Vec4f b = s.two_side ? light_vertex(s, ls, eye, -n, v.color, 1) : f;
     for (int k = 0; k < 4; ++k) out.a[kFront + k] = f[k], out.a[kBack + k] = b[k];
   } else {
     Vec4f c = clamp01(v.color);
@@ -188,12 +238,15 @@ struct Raster {
   // Clip planes: 6 frustum planes then the enabled user planes (as eye-space planes).
   std::vector<Vec4> user_planes;
   int x0, y0, x1, y1;  // pixel bounds (framebuffer ∩ scissor), half open
-  bool phong, lighting, texturing, fog, blend, depth_test;
+  bool phong, lighting, texturing, fog, blend, depth_test, all_mask;
   std::vector<Job>* sink = nullptr;  // when set, primitives are queued instead of drawn
   std::vector<PVert> poly_scratch, clip_scratch;
   std::vector<WinVert> win_scratch;
 
-  Raster(Context::State& st, int w, int h, std::uint8_t* c, float* d) : s(st), width(w), height(h), color(c), depth(d) {
+  LightSetup lights;
+
+  Raster(Context::State& st, int w, int h, std::uint8_t* c, float* d)
+      : s(st), width(w), height(h), color(c), depth(d), lights(st) {
     for (int i = 0; i < 6; ++i)
       if (s.on(clip_plane_cap(i))) user_planes.push_back(s.clip_planes[i]);
     x0 = 0, y0 = 0, x1 = w, y1 = h;
@@ -207,6 +260,7 @@ struct Raster {
     fog = s.on(Cap::Fog);
     blend = s.on(Cap::Blend);
     depth_test = s.on(Cap::DepthTest);
+    all_mask = s.color_mask[0] && s.color_mask[1] && s.color_mask[2] && s.color_mask[3];
   }
 
   // Signed distance of a vertex to clip plane i (>= 0 inside).
@@ -299,7 +353,16 @@ struct Raster {
 
   // Depth test for a fragment; returns false if it fails. Writes depth when it passes.
   [[gnu::always_inline]] bool depth_stage(int x, int y, float z) {
-    if (!depth_test) return true;
+    return depth_test ? depth_stage_t<true>(x, y, z) : true;
+  }
+  template <bool Depth>
+  [[gnu::always_inline]] bool depth_stage_t(int x, int y, float z) {
+    return depth_stage_t<Depth>(x, y, z, s.depth_func, s.depth_mask);
+  }
+  // The function and mask passed in (loop-invariant locals: colour stores may alias the state).
+  template <bool Depth>
+  [[gnu::always_inline]] bool depth_stage_t(int x, int y, float z, DepthFunc func, bool mask) {
+    if constexpr (!Depth) return true;
     float& d = depth[std::size_t(y) * width + x];
     // Depth buffers hold fixed-point values in GL; quantise to 24 bits as Mesa's default.
     // Round to nearest even as nearbyint does, without a libm call: adding and removing 2^52
@@ -307,15 +370,28 @@ struct Raster {
     constexpr double kRound = 0x1p52;  // not folded: no -ffast-math (no reassociation)
     double zr = double(std::clamp(z, 0.0f, 1.0f)) * 16777215.0;
     zr = (zr + kRound) - kRound;
-    float zq = float(zr / 16777215.0);
-    if (!depth_pass(s.depth_func, zq, d)) return false;
-    if (s.depth_mask) d = zq;
+    // Times the reciprocal, not a division: the double result is within 2 ulps (2^-52
+    // relative) of the quotient, while k / (2^24 - 1) lies at least about 2^-50 (relative) from
+    // any float rounding boundary, so the float is the same (checked for all 2^24 values).
+    constexpr double kInvMax = 1.0 / 16777215.0;
+    float zq = float(zr * kInvMax);
+    if (!depth_pass(func, zq, d)) return false;
+    if (mask) d = zq;
     return true;
   }
 
   // Texture environment, fog, blending, colour write (depth already tested).
   [[gnu::always_inline]] void shade_fragment(int x, int y, Vec4f c, const float* tex, float lambda, float fogz) {
-    if (texturing && tex) {
+    const bool t = texturing && tex;
+    if (t && fog) shade_fragment_t<true, true>(x, y, c, tex, lambda, fogz);
+    else if (t) shade_fragment_t<true, false>(x, y, c, tex, lambda, fogz);
+    else if (fog) shade_fragment_t<false, true>(x, y, c, tex, lambda, fogz);
+    else shade_fragment_t<false, false>(x, y, c, tex, lambda, fogz);
+  }
+  // The same, specialised on texturing and fog (chosen once per primitive, not per fragment).
+  template <bool Tex, bool Fog>
+  [[gnu::always_inline]] void shade_fragment_t(int x, int y, Vec4f c, const float* tex, float lambda, float fogz) {
+    if constexpr (Tex) {
       float q = tex[3] != 0 ? tex[3] : 1.0f;
       Vec4f t = s.texture->sample(tex[0] / q, tex[1] / q, lambda);
       const TexFormat fmt = s.texture->format;
@@ -338,7 +414,7 @@ struct Raster {
           break;
       }
     }
-    if (fog) {
+    if constexpr (Fog) {
       float f = 1;
       switch (s.fog_mode) {
         case FogMode::Linear: f = s.fog_end == s.fog_start ? 1.0f : (s.fog_end - fogz) / (s.fog_end - s.fog_start); break;
@@ -358,8 +434,21 @@ struct Raster {
       c = clamp01(r);
     }
     // c is clamped to [0, 1]: round to nearest without a library call.
-    for (int k = 0; k < 4; ++k)
-      if (s.color_mask[k]) p[k] = std::uint8_t(c[k] * 255.0f + 0.5f);
+    if (all_mask) {
+#if defined(__SSE2__)
+      // The same float multiply, add and truncation for the four channels at once (SSE2).
+      const __m128 f = _mm_add_ps(_mm_mul_ps(_mm_loadu_ps(c.data()), _mm_set1_ps(255.0f)), _mm_set1_ps(0.5f));
+      const __m128i i32 = _mm_cvttps_epi32(f);
+      const __m128i i16 = _mm_packs_epi32(i32, i32);
+      const int packed = _mm_cvtsi128_si32(_mm_packus_epi16(i16, i16));
+      std::memcpy(p, &packed, 4);
+#else
+      for (int k = 0; k < 4; ++k) p[k] = std::uint8_t(c[k] * 255.0f + 0.5f);
+#endif
+    } else {
+      for (int k = 0; k < 4; ++k)
+        if (s.color_mask[k]) p[k] = std::uint8_t(c[k] * 255.0f + 0.5f);
+    }
   }
 
   Vec4f phong_color(const float* a, int side) const {
@@ -368,11 +457,27 @@ struct Raster {
     double len = n.norm();
     if (len > 0) n /= len;
     Vec4f vc(a[kFront], a[kFront + 1], a[kFront + 2], a[kFront + 3]);
-    return light_vertex(s, eye, side ? Vec3(-n) : n, vc, side);
+    return light_vertex(s, lights, eye, side ? Vec3(-n) : n, vc, side);
   }
 
   // --- triangles ---
-  void triangle(const WinVert& v0, const WinVert& v1in, const WinVert& v2in, int side, const float* flat) {
+  // The fragment loop is specialised on the state that changes its work per fragment (Phong,
+  // smooth colour, texturing, fog, depth test), chosen once per triangle: no per-pixel branch
+  // on those, the same arithmetic in every specialisation.
+  void triangle(const WinVert& v0, const WinVert& v1, const WinVert& v2, int side, const float* flat) {
+    const int key = (phong ? 16 : 0) | (flat == nullptr ? 8 : 0) | (texturing ? 4 : 0) | (fog ? 2 : 0) | (depth_test ? 1 : 0);
+    switch (key) {
+#define WEDGE_TRI(k) \
+  case k: return triangle_t<(k & 16) != 0, (k & 8) != 0, (k & 4) != 0, (k & 2) != 0, (k & 1) != 0>(v0, v1, v2, side, flat);
+      WEDGE_TRI(0) WEDGE_TRI(1) WEDGE_TRI(2) WEDGE_TRI(3) WEDGE_TRI(4) WEDGE_TRI(5) WEDGE_TRI(6) WEDGE_TRI(7)
+      WEDGE_TRI(8) WEDGE_TRI(9) WEDGE_TRI(10) WEDGE_TRI(11) WEDGE_TRI(12) WEDGE_TRI(13) WEDGE_TRI(14) WEDGE_TRI(15)
+      WEDGE_TRI(16) WEDGE_TRI(17) WEDGE_TRI(18) WEDGE_TRI(19) WEDGE_TRI(20) WEDGE_TRI(21) WEDGE_TRI(22) WEDGE_TRI(23)
+      WEDGE_TRI(24) WEDGE_TRI(25) WEDGE_TRI(26) WEDGE_TRI(27) WEDGE_TRI(28) WEDGE_TRI(29) WEDGE_TRI(30) WEDGE_TRI(31)
+#undef WEDGE_TRI
+    }
+  }
+  template <bool Phong, bool Smooth, bool Tex, bool Fog, bool Depth>
+  void triangle_t(const WinVert& v0, const WinVert& v1in, const WinVert& v2in, int side, const float* flat) {
     constexpr double kSub = 256.0;
     const WinVert* v[3] = {&v0, &v1in, &v2in};
     std::int64_t X[3], Y[3];
@@ -409,8 +514,8 @@ struct Raster {
     };
     const double inv_area = 1.0 / double(area);
     // Per-vertex values pre-divided by w for perspective correction.
-    const bool need_tex = texturing;
-    const bool smooth = flat == nullptr;
+    constexpr bool need_tex = Tex;
+    constexpr bool smooth = Smooth;
     const int col = side ? kBack : kFront;
     float zv[3], iw[3];
     for (int i = 0; i < 3; ++i) zv[i] = float(v[i]->z), iw[i] = float(v[i]->inv_w);
@@ -419,6 +524,8 @@ struct Raster {
     const float tex_w = need_tex ? float(s.texture->levels[0].width) : 0;
     const float tex_h = need_tex ? float(s.texture->levels[0].height) : 0;
 
+    const DepthFunc dfunc = s.depth_func;
+    const bool dmask = s.depth_mask;
     float attrs[kAttrs];
     int quad_x = -1 << 30, quad_y = -1 << 30;
     float quad_lambda = 0;
@@ -430,26 +537,27 @@ struct Raster {
         if (E[0] + bias[0] < 0 || E[1] + bias[1] < 0 || E[2] + bias[2] < 0) continue;
         double l[3] = {E[0] * inv_area, E[1] * inv_area, E[2] * inv_area};
         float z = float(l[0] * zv[0] + l[1] * zv[1] + l[2] * zv[2]);
-        if (!depth_stage(px, py, z)) continue;
+        if (!depth_stage_t<Depth>(px, py, z, dfunc, dmask)) continue;
         // Perspective-correct weights: l_i / w_i normalised.
-        double pw[3] = {l[0] * iw[0], l[1] * iw[1], l[2] * iw[2]};
-        const double inv_sum = 1.0 / (pw[0] + pw[1] + pw[2]);  // one division, not three
-        for (double& w : pw) w *= inv_sum;
-        auto interp = [&](int k) { return float(pw[0] * v[0]->a[k] + pw[1] * v[1]->a[k] + pw[2] * v[2]->a[k]); };
+        // In float (attributes are floats; the weights need no more precision than they have).
+        float pw[3] = {float(l[0]) * iw[0], float(l[1]) * iw[1], float(l[2]) * iw[2]};
+        const float inv_sum = 1.0f / (pw[0] + pw[1] + pw[2]);  // one division, not three
+        for (float& w : pw) w *= inv_sum;
+        auto interp = [&](int k) { return pw[0] * v[0]->a[k] + pw[1] * v[1]->a[k] + pw[2] * v[2]->a[k]; };
         Vec4f c;
-        if (phong) {
+        if constexpr (Phong) {
           for (int k = 0; k < kAttrs; ++k) attrs[k] = interp(k);
           if (!smooth)
             for (int k = 0; k < 4; ++k) attrs[kFront + k] = flat[kFront + k];
           c = phong_color(attrs, side);
-        } else if (smooth) {
+        } else if constexpr (Smooth) {
           c = Vec4f(interp(col), interp(col + 1), interp(col + 2), interp(col + 3));
         } else {
           c = Vec4f(flat[col], flat[col + 1], flat[col + 2], flat[col + 3]);
         }
-        float tex[4];
+        float tex[4] = {0, 0, 0, 1};
         float lambda = 0;
-        if (need_tex) {
+        if constexpr (Tex) {
           for (int k = 0; k < 4; ++k) tex[k] = interp(kTex + k);
           // Level of detail from the screen-space derivatives of (u, v) = (s W, t H).
           auto uv_at = [&](double ox, double oy, float& u, float& vv) {
@@ -483,8 +591,9 @@ struct Raster {
           }
           lambda = quad_lambda;
         }
-        float fogz = fog ? interp(kFog) : 0;
-        shade_fragment(px, py, c, need_tex ? tex : nullptr, lambda, fogz);
+        float fogz = 0;
+        if constexpr (Fog) fogz = interp(kFog);
+        shade_fragment_t<Tex, Fog>(px, py, c, tex, lambda, fogz);
       }
     }
   }
@@ -506,7 +615,7 @@ struct Raster {
     if (len > 0) first = int(std::ceil(s0 - 0.5)), last = int(std::ceil(s1 - 0.5)) - 1;
     else first = int(std::floor(s1 - 0.5)) + 1, last = int(std::floor(s0 - 0.5));
     const int w = std::max(1, int(std::lround(s.line_width)));
-    float attrs[kAttrs];
+    float attrs[kAttrs] = {};
     // One column (x-major) or row (y-major) of w fragments at parameter t; `major`/`minor0` are
     // the pixel indices along the axes.
     auto column = [&](int major, int minor0, double t) {
@@ -514,7 +623,17 @@ struct Raster {
       double wa = (1 - t) * a.inv_w, wb = t * b.inv_w;
       double sum = wa + wb;
       wa /= sum, wb /= sum;
-      for (int k = 0; k < kAttrs; ++k) attrs[k] = float(wa * a.a[k] + wb * b.a[k]);
+      // Only the attributes this state reads (each one by the same expression).
+      auto interp = [&](int k0, int k1) {
+        for (int k = k0; k < k1; ++k) attrs[k] = float(wa * a.a[k] + wb * b.a[k]);
+      };
+      if (phong) {
+        interp(0, kAttrs);
+      } else {
+        if (!flat) interp(col, col + 4);
+        if (texturing) interp(kTex, kTex + 4);
+        if (fog) interp(kFog, kFog + 1);
+      }
       Vec4f cc;
       if (phong) {
         if (flat)
@@ -648,6 +767,20 @@ struct Raster {
     emit_line(to_window(a), to_window(b), 0, flat ? provoking.a : nullptr);
   }
 
+  // A filled triangle wholly inside the clip volume, in window coordinates: facing, culling,
+  // then the fill (polygon modes both Fill).
+  void draw_inside_triangle(const WinVert* w, const PVert& provoking) {
+    double area = 0;
+    for (int i = 0; i < 3; ++i) area += w[i].x * w[(i + 1) % 3].y - w[(i + 1) % 3].x * w[i].y;
+    const bool front = (area > 0) == (s.front_face == FrontFace::CCW);
+    if (s.on(Cap::CullFace)) {
+      if (s.cull_face == Face::FrontAndBack) return;
+      if ((s.cull_face == Face::Front) == front) return;
+    }
+    const int side = (!front && two_sided_lighting(s)) ? 1 : 0;
+    emit_triangle(w[0], w[1], w[2], side, s.shade == ShadeModel::Flat ? provoking.a : nullptr);
+  }
+
   // A polygon with its provoking vertex (for flat shading): clip, find its facing, cull, then
   // fill it as a triangle fan or draw its outline or vertices per the polygon mode.
   void draw_triangle(const PVert& a, const PVert& b, const PVert& c, const PVert& provoking) {
@@ -659,16 +792,7 @@ struct Raster {
         if (plane_dist(a, p) < 0 || plane_dist(b, p) < 0 || plane_dist(c, p) < 0) inside = false;
       if (inside) {
         const WinVert w[3] = {to_window(a), to_window(b), to_window(c)};
-        double area = 0;
-        for (int i = 0; i < 3; ++i) area += w[i].x * w[(i + 1) % 3].y - w[(i + 1) % 3].x * w[i].y;
-        const bool front = (area > 0) == (s.front_face == FrontFace::CCW);
-        if (s.on(Cap::CullFace)) {
-          if (s.cull_face == Face::FrontAndBack) return;
-          if ((s.cull_face == Face::Front) == front) return;
-        }
-        const int side = (!front && two_sided_lighting(s)) ? 1 : 0;
-        emit_triangle(w[0], w[1], w[2], side, s.shade == ShadeModel::Flat ? provoking.a : nullptr);
-        return;
+        return draw_inside_triangle(w, provoking);
       }
     }
     std::vector<PVert>& poly = poly_scratch;
@@ -708,6 +832,19 @@ struct Raster {
   }
 };
 
+// One arena per calling thread and thread count, kept between batches: constructing an arena
+// for each stage of each batch (a 1M-triangle draw has hundreds of batches) cost more than
+// the second thread gained.
+tbb::task_arena& arena_for(int threads) {
+  static thread_local std::unique_ptr<tbb::task_arena> arena;
+  static thread_local int arena_threads = 0;
+  if (!arena || arena_threads != threads) {
+    arena = std::make_unique<tbb::task_arena>(threads);
+    arena_threads = threads;
+  }
+  return *arena;
+}
+
 }  // namespace
 
 void run_primitive(Context::State& s, int width, int height, std::uint8_t* color, float* depth, Primitive p,
@@ -722,6 +859,7 @@ void run_primitive(Context::State& s, int width, int height, std::uint8_t* color
   std::vector<PVert>& v = tl_verts;
   v.resize(in.size());
   Raster r(s, width, height, color, depth);
+  const LightSetup& lights = r.lights;
   // Independent triangles with face culling: a triangle wholly inside the clip volume that the
   // cull test removes (decided exactly as draw_triangle would, on the same window coordinates)
   // is marked here and its vertices are never lit. Every vertex of a non-indexed batch belongs
@@ -731,16 +869,23 @@ void run_primitive(Context::State& s, int width, int height, std::uint8_t* color
   const bool precull = p == Primitive::Triangles && s.on(Cap::CullFace) && r.user_planes.empty();
   const std::size_t units = precull ? in.size() / 3 : in.size();
   if (precull) culled.assign(units, 0);
+  static thread_local std::vector<WinVert> tl_win;
+  std::vector<WinVert>& win = tl_win;
+  const bool fill = s.poly_front == PolygonMode::Fill && s.poly_back == PolygonMode::Fill;
+  if (precull && fill) win.resize(in.size());
   auto stage = [&](std::size_t lo, std::size_t hi) {
     for (std::size_t u = lo; u < hi; ++u) {
       if (!precull) {
-        v[u] = process_vertex(s, in[u], mv, nmat, proj);
+        const Vec4 eye = mv * in[u].position;
+        v[u] = process_vertex(s, lights, in[u], eye, proj * eye, nmat);
         continue;
       }
       PVert c[3];
+      Vec4 eye[3];
       bool inside = true;
       for (int k = 0; k < 3; ++k) {
-        c[k].clip = proj * (mv * in[3 * u + k].position);  // as process_vertex computes it
+        eye[k] = mv * in[3 * u + k].position;
+        c[k].clip = proj * eye[k];
         for (int pl = 0; pl < 6; ++pl)
           if (r.plane_dist(c[k], pl) < 0) inside = false;
       }
@@ -753,13 +898,18 @@ void run_primitive(Context::State& s, int width, int height, std::uint8_t* color
           culled[u] = 1;
           continue;
         }
+        // Visible and inside: its window coordinates are kept for draw_inside_triangle.
+        if (fill) {
+          for (int k = 0; k < 3; ++k) win[3 * u + k] = w[k], win[3 * u + k].a = v[3 * u + k].a;
+          culled[u] = 2;
+        }
       }
-      for (int k = 0; k < 3; ++k) v[3 * u + k] = process_vertex(s, in[3 * u + k], mv, nmat, proj);
+      for (int k = 0; k < 3; ++k) v[3 * u + k] = process_vertex(s, lights, in[3 * u + k], eye[k], c[k].clip, nmat);
     }
   };
   if (s.threads > 1 && in.size() >= 1024) {
     // The vertex stage is independent per vertex.
-    tbb::task_arena arena(s.threads);
+    tbb::task_arena& arena = arena_for(s.threads);
     arena.execute([&] {
       tbb::parallel_for(tbb::blocked_range<std::size_t>(0, units, 256),
                         [&](const tbb::blocked_range<std::size_t>& br) { stage(br.begin(), br.end()); });
@@ -770,6 +920,7 @@ void run_primitive(Context::State& s, int width, int height, std::uint8_t* color
   static thread_local std::vector<Job> tl_jobs;
   std::vector<Job>& jobs = tl_jobs;
   jobs.clear();
+  std::vector<std::pair<const Job*, std::size_t>> spans;  // queued primitives, in order
   // Bands pay for many primitives, or for few on a large framebuffer (a couple of big textured
   // triangles are all fragment work).
   const bool banded = s.threads > 1 && (in.size() >= 64 || std::int64_t(width) * height >= 512 * 512);
@@ -829,21 +980,33 @@ void run_primitive(Context::State& s, int width, int height, std::uint8_t* color
         // Clipping and setup in parallel over chunks of triangles, each into its own queue;
         // the queues are joined in chunk order, so submission order is kept.
         const std::size_t tris = n / 3, chunk = 256, chunks = (tris + chunk - 1) / chunk;
-        std::vector<std::vector<Job>> queues(chunks);
-        tbb::task_arena arena(s.threads);
+        // Kept between batches (per calling thread): fresh 100 kB queues cost page faults.
+        static thread_local std::vector<std::vector<Job>> tl_queues;
+        std::vector<std::vector<Job>>& queues = tl_queues;
+        if (queues.size() < chunks) queues.resize(chunks);
+        for (std::size_t c = 0; c < chunks; ++c) queues[c].clear();
+        tbb::task_arena& arena = arena_for(s.threads);
         arena.execute([&] {
           tbb::parallel_for(std::size_t(0), chunks, [&](std::size_t c) {
             Raster rc = r;
             rc.sink = &queues[c];
             queues[c].reserve(chunk + 16);
             for (std::size_t t = c * chunk; t < std::min(tris, (c + 1) * chunk); ++t)
-              if (!precull || !culled[t]) rc.draw_triangle(v[3 * t], v[3 * t + 1], v[3 * t + 2], v[3 * t + 2]);
+              if (!precull || culled[t] != 1) {
+                if (precull && culled[t] == 2) rc.draw_inside_triangle(&win[3 * t], v[3 * t + 2]);
+                else rc.draw_triangle(v[3 * t], v[3 * t + 1], v[3 * t + 2], v[3 * t + 2]);
+              }
           });
         });
-        for (auto& q : queues) jobs.insert(jobs.end(), q.begin(), q.end());
+        // Binned straight from the queues, in chunk order (no copy into one list).
+        for (std::size_t c = 0; c < chunks; ++c) spans.emplace_back(queues[c].data(), queues[c].size());
       } else {
+        // Vertices leave the vertex stage with their edge flags set: no copies needed.
         for (std::size_t i = 0; i + 2 < n; i += 3)
-          if (!precull || !culled[i / 3]) tri(i, i + 1, i + 2, i + 2);
+          if (!precull || culled[i / 3] != 1) {
+            if (precull && culled[i / 3] == 2) r.draw_inside_triangle(&win[i], v[i + 2]);
+            else r.draw_triangle(v[i], v[i + 1], v[i + 2], v[i + 2]);
+          }
       }
       break;
     case Primitive::TriangleStrip:
@@ -868,25 +1031,28 @@ void run_primitive(Context::State& s, int width, int height, std::uint8_t* color
       for (std::size_t i = 1; i + 1 < n; ++i) tri(0, i, i + 1, 0, i == 1, true, i + 2 == n);
       break;
   }
-  if (!banded || jobs.empty()) return;
+  if (!banded) return;
+  if (!jobs.empty()) spans.emplace_back(jobs.data(), jobs.size());
+  if (spans.empty()) return;
   // Bin the queued primitives by bands of rows, then rasterise the bands in parallel: each
   // band owns its pixels, and draws its primitives in submission order.
   const int bands = (height + kBandRows - 1) / kBandRows;
-  std::vector<std::vector<std::uint32_t>> bins(bands);
-  for (std::uint32_t i = 0; i < jobs.size(); ++i) {
-    const int b0 = std::max(0, jobs[i].row0 / kBandRows), b1 = std::min(bands - 1, std::max(0, jobs[i].row1) / kBandRows);
-    if (jobs[i].row1 < 0) continue;
-    for (int b = b0; b <= b1; ++b) bins[b].push_back(i);
-  }
+  std::vector<std::vector<const Job*>> bins(bands);
+  for (const auto& [first, count] : spans)
+    for (const Job* j = first; j != first + count; ++j) {
+      if (j->row1 < 0) continue;
+      const int b0 = std::max(0, j->row0 / kBandRows), b1 = std::min(bands - 1, j->row1 / kBandRows);
+      for (int b = b0; b <= b1; ++b) bins[b].push_back(j);
+    }
   r.sink = nullptr;
-  tbb::task_arena arena(s.threads);
+  tbb::task_arena& arena = arena_for(s.threads);
   arena.execute([&] {
     tbb::parallel_for(0, bands, [&](int b) {
       if (bins[b].empty()) return;
       Raster band = r;
       band.y0 = std::max(r.y0, b * kBandRows);
       band.y1 = std::min(r.y1, (b + 1) * kBandRows);
-      for (std::uint32_t i : bins[b]) band.exec(jobs[i]);
+      for (const Job* j : bins[b]) band.exec(*j);
     });
   });
 }
