@@ -64,10 +64,10 @@ struct JobVert {
   float a[kAttrs];
 };
 struct Job {
-  enum Kind : std::uint8_t { Tri, Line, Point } kind;
-  std::uint8_t side;
-  bool has_flat;
-  int row0, row1;  // rows the primitive may touch
+  enum Kind : std::uint8_t { Tri, Line, Point } kind = Tri;
+  std::uint8_t side = 0;
+  bool has_flat = false;  // initialised: a job is copied whole, flat colour or not
+  int row0 = 0, row1 = 0;  // rows the primitive may touch
   JobVert v[3];
   float flat[kAttrs];
 };
@@ -83,11 +83,11 @@ using Vec3f = Eigen::Vector3f;
 struct LightSetup {
   struct L {
     Vec3f pos;    // point light: position / w; directional: unit direction
-    bool local;   // w != 0
-    float kc, kl, kq;
-    bool spot;
-    Vec3f sdir;   // unit spot direction
-    float cos_cut, sexp;
+    bool local = false;  // w != 0
+    float kc = 1, kl = 0, kq = 0;
+    bool spot = false;   // (initialised: unused slots are copied with the setup)
+    Vec3f sdir;          // unit spot direction
+    float cos_cut = -1, sexp = 0;
     Vec3f amb, dif, spec;
   };
   L l[8];
