@@ -37,10 +37,69 @@ namespace {
 // mantissa in [1, 2), a piecewise-linear log2 exact at powers of two. Its blend fraction between
 // two mipmap levels follows this curve, not the true logarithm.
 float fast_log2(float x) {
+  std::uint32_t bits;
+  std::memcpy(&bits, &x, 4);
+  const int biased = int(bits >> 23);
+  if (biased > 0 && biased < 255) {
+    // A positive normal float without a library call: x = m1 2^e, m1 in [1, 2), the same value
+    // as frexp's m 2^(e + 1) below.
+    const std::uint32_t mb = (bits & 0x7fffffu) | 0x3f800000u;
+    float m1;
+    std::memcpy(&m1, &mb, 4);
+    return float(biased - 128) + m1;
+  }
   int e = 0;
   float m = std::frexp(x, &e);  // x = m 2^e, m in [0.5, 1)
   return float(e - 2) + 2 * m;
 }
+
+#if defined(__SSE2__)
+// Helpers of the 2x2-quad fragment loop (Raster::triangle_t).
+struct QPlane {
+  float c, dx, dy;  // value at the centre of the first quad's first pixel; steps per pixel in x, y
+};
+[[gnu::always_inline]] inline __m128 sel(__m128 m, __m128 a, __m128 b) {
+  return _mm_or_ps(_mm_and_ps(m, a), _mm_andnot_ps(m, b));
+}
+// All ones in the lanes whose bit is set in m.
+[[gnu::always_inline]] inline __m128 lane_mask(int m) {
+  const __m128i bits = _mm_set_epi32(8, 4, 2, 1);
+  return _mm_castsi128_ps(_mm_cmpeq_epi32(_mm_and_si128(_mm_set1_epi32(m), bits), bits));
+}
+// The depth test on four lanes: a bit per passing lane.
+[[gnu::always_inline]] inline int depth_cmp4(DepthFunc f, __m128 z, __m128 d) {
+  switch (f) {
+    case DepthFunc::Never: return 0;
+    case DepthFunc::Less: return _mm_movemask_ps(_mm_cmplt_ps(z, d));
+    case DepthFunc::Equal: return _mm_movemask_ps(_mm_cmpeq_ps(z, d));
+    case DepthFunc::LessEqual: return _mm_movemask_ps(_mm_cmple_ps(z, d));
+    case DepthFunc::Greater: return _mm_movemask_ps(_mm_cmpgt_ps(z, d));
+    case DepthFunc::NotEqual: return _mm_movemask_ps(_mm_cmpneq_ps(z, d));
+    case DepthFunc::GreaterEqual: return _mm_movemask_ps(_mm_cmpge_ps(z, d));
+    case DepthFunc::Always: return 15;
+  }
+  return 0;
+}
+// Window depth (lanes 0-1 in lo, 2-3 in hi, double) rounded to float, clamped to [0, 1] and
+// quantised to 24 bits as Raster::depth_stage_t does (round to nearest even by adding and
+// removing 2^52, times 1/(2^24 - 1)).
+[[gnu::always_inline]] inline __m128 quantise_depth4(__m128d lo, __m128d hi) {
+  __m128 z = _mm_movelh_ps(_mm_cvtpd_ps(lo), _mm_cvtpd_ps(hi));
+  z = _mm_min_ps(_mm_max_ps(z, _mm_setzero_ps()), _mm_set1_ps(1.0f));
+  const __m128d k = _mm_set1_pd(16777215.0), r = _mm_set1_pd(0x1p52), inv = _mm_set1_pd(1.0 / 16777215.0);
+  __m128d a = _mm_mul_pd(_mm_cvtps_pd(z), k), b = _mm_mul_pd(_mm_cvtps_pd(_mm_movehl_ps(z, z)), k);
+  a = _mm_sub_pd(_mm_add_pd(a, r), r), b = _mm_sub_pd(_mm_add_pd(b, r), r);
+  return _mm_movelh_ps(_mm_cvtpd_ps(_mm_mul_pd(a, inv)), _mm_cvtpd_ps(_mm_mul_pd(b, inv)));
+}
+// Four samples sharing one level of detail (Texture::sample4's contract; until the texture
+// module has it, four calls of sample()).
+inline void sample4(const Texture& t, const float* s, const float* tt, float lambda, float* out) {
+  for (int l = 0; l < 4; ++l) {
+    const Vec4f c = t.sample(s[l], tt[l], lambda);
+    std::memcpy(out + 4 * l, c.data(), 4 * sizeof(float));
+  }
+}
+#endif
 
 // Attribute layout of a pipeline vertex.
 enum : int { kFront = 0, kBack = 4, kTex = 8, kFog = 12, kEye = 13, kNormal = 17, kAttrs = 20 };
@@ -424,7 +483,11 @@ struct Raster {
       f = std::clamp(f, 0.0f, 1.0f);
       c.head<3>() = f * c.head<3>() + (1 - f) * s.fog_color.head<3>();
     }
-    c = clamp01(c);
+    write_color(x, y, clamp01(c));
+  }
+
+  // Blending and the colour mask, then the colour write of one fragment (c already clamped).
+  [[gnu::always_inline]] void write_color(int x, int y, Vec4f c) {
     std::uint8_t* p = &color[(std::size_t(y) * width + x) * 4];
     if (blend) {
       Vec4f d(p[0] / 255.0f, p[1] / 255.0f, p[2] / 255.0f, p[3] / 255.0f);
@@ -465,6 +528,14 @@ struct Raster {
   // smooth colour, texturing, fog, depth test), chosen once per triangle: no per-pixel branch
   // on those, the same arithmetic in every specialisation.
   void triangle(const WinVert& v0, const WinVert& v1, const WinVert& v2, int side, const float* flat) {
+    if (!phong && !flat) {
+      // The same colour at the three vertices (an unlit or uniformly lit surface): drawn as flat,
+      // no colour interpolation.
+      const int col = side ? kBack : kFront;
+      if (std::memcmp(v0.a + col, v1.a + col, 4 * sizeof(float)) == 0 &&
+          std::memcmp(v0.a + col, v2.a + col, 4 * sizeof(float)) == 0)
+        flat = v0.a;
+    }
     const int key = (phong ? 16 : 0) | (flat == nullptr ? 8 : 0) | (texturing ? 4 : 0) | (fog ? 2 : 0) | (depth_test ? 1 : 0);
     switch (key) {
 #define WEDGE_TRI(k) \
@@ -476,8 +547,11 @@ struct Raster {
 #undef WEDGE_TRI
     }
   }
+  // One pixel at a time with 64-bit edge functions and double barycentrics: triangles whose
+  // edge functions do not fit in 32 bits over their bounding box (larger than about 2000 x 2000
+  // pixels), and builds without SSE2.
   template <bool Phong, bool Smooth, bool Tex, bool Fog, bool Depth>
-  void triangle_t(const WinVert& v0, const WinVert& v1in, const WinVert& v2in, int side, const float* flat) {
+  void triangle_scalar(const WinVert& v0, const WinVert& v1in, const WinVert& v2in, int side, const float* flat) {
     constexpr double kSub = 256.0;
     const WinVert* v[3] = {&v0, &v1in, &v2in};
     std::int64_t X[3], Y[3];
@@ -597,6 +671,321 @@ struct Raster {
       }
     }
   }
+
+#if defined(__SSE2__)
+  // --- the 2x2-quad fragment loop (SSE2) ---
+  // Four fragments at once, a 2x2 quad at even (x, y) as GPUs (and llvmpipe) take them: lane 0
+  // is (x, y), 1 (x + 1, y), 2 (x, y + 1), 3 (x + 1, y + 1) (window y up). Coverage by exact
+  // 32-bit edge functions stepped per quad; depth by a plane in double; the perspective-divided
+  // attributes (a/w and 1/w) by planes in float; texture level of detail from the differences
+  // of the quad's (u, v) across its top row and left column.
+  template <bool Phong, bool Smooth, bool Tex, bool Fog, bool Depth>
+  void triangle_t(const WinVert& v0, const WinVert& v1in, const WinVert& v2in, int side, const float* flat) {
+    constexpr double kSub = 256.0;
+    const WinVert* v[3] = {&v0, &v1in, &v2in};
+    std::int64_t X[3], Y[3];
+    for (int i = 0; i < 3; ++i) X[i] = std::llround(v[i]->x * kSub), Y[i] = std::llround(v[i]->y * kSub);
+    std::int64_t area = (X[1] - X[0]) * (Y[2] - Y[0]) - (X[2] - X[0]) * (Y[1] - Y[0]);
+    if (area == 0) return;
+    if (area < 0) {
+      std::swap(v[1], v[2]), std::swap(X[1], X[2]), std::swap(Y[1], Y[2]);
+      area = -area;
+    }
+    // Pixels whose centre lies within the vertices' bounding box (as triangle_scalar).
+    const int bx0 = int(std::max<std::int64_t>(x0, (std::min({X[0], X[1], X[2]}) - 128 + 255) >> 8));
+    const int bx1 = int(std::min<std::int64_t>(x1 - 1, (std::max({X[0], X[1], X[2]}) - 128) >> 8));
+    const int by0 = int(std::max<std::int64_t>(y0, (std::min({Y[0], Y[1], Y[2]}) - 128 + 255) >> 8));
+    const int by1 = int(std::min<std::int64_t>(y1 - 1, (std::max({Y[0], Y[1], Y[2]}) - 128) >> 8));
+    if (bx0 > bx1 || by0 > by1) return;
+    const int ox = bx0 & ~1, oy = by0 & ~1;  // the first quad
+
+    // Edge i (opposite vertex i) at the centre (256 px + 128, 256 py + 128) of pixel (px, py) is
+    // E = 256 (A px + B py) + K, K holding the tie-rule bias (see triangle_scalar), and
+    // E >= 0  <=>  A px + B py + floor(K / 256) >= 0: the same test on integers 256 times
+    // smaller, e(px, py) = A (px - ox) + B (py - oy) + c, which fits in 32 bits unless the
+    // triangle is huge.
+    std::int64_t A[3], B[3], c[3];
+    bool fits = true;
+    for (int i = 0; i < 3; ++i) {
+      const int a = (i + 1) % 3, b = (i + 2) % 3;
+      const std::int64_t dx = X[b] - X[a], dy = Y[b] - Y[a];
+      A[i] = -dy, B[i] = dx;
+      const bool top_left = dy < 0 || (dy == 0 && dx < 0);
+      const std::int64_t K = A[i] * (128 - X[a]) + B[i] * (128 - Y[a]) + (top_left ? 0 : -1);
+      c[i] = A[i] * ox + B[i] * oy + (K >> 8);  // >> floors (C++20: arithmetic shift)
+      const std::int64_t w = bx1 + 3 - ox, h = by1 + 3 - oy, lim = std::int64_t(1) << 30;
+      for (std::int64_t e : {c[i], c[i] + A[i] * w, c[i] + B[i] * h, c[i] + A[i] * w + B[i] * h})
+        if (e < -lim || e > lim) fits = false;
+    }
+    if (!fits) return triangle_scalar<Phong, Smooth, Tex, Fog, Depth>(v0, v1in, v2in, side, flat);
+
+    // Barycentrics at the centre of pixel (ox, oy) and their steps per pixel.
+    const double inv_area = 1.0 / double(area);
+    double l0[3], glx[3], gly[3];
+    for (int i = 0; i < 3; ++i) {
+      const int a = (i + 1) % 3;
+      l0[i] = double(A[i] * (std::int64_t(ox) * 256 + 128 - X[a]) + B[i] * (std::int64_t(oy) * 256 + 128 - Y[a])) * inv_area;
+      glx[i] = double(A[i]) * kSub * inv_area, gly[i] = double(B[i]) * kSub * inv_area;
+    }
+    auto plane = [&](double f0, double f1, double f2) {
+      return QPlane{float(l0[0] * f0 + l0[1] * f1 + l0[2] * f2), float(glx[0] * f0 + glx[1] * f1 + glx[2] * f2),
+                    float(gly[0] * f0 + gly[1] * f1 + gly[2] * f2)};
+    };
+    // a/w for attribute k (divided by the 1/w plane per fragment: perspective-correct).
+    auto persp = [&](int k) {
+      return plane(double(v[0]->a[k]) * v[0]->inv_w, double(v[1]->a[k]) * v[1]->inv_w, double(v[2]->a[k]) * v[2]->inv_w);
+    };
+    const QPlane pw = plane(v[0]->inv_w, v[1]->inv_w, v[2]->inv_w);
+    const int col = side ? kBack : kFront;
+    QPlane pc[4] = {}, pt[3] = {}, pf{}, pa[Phong ? kAttrs : 1] = {};
+    bool tex_q = false;
+    if constexpr (Smooth && !Phong)
+      for (int k = 0; k < 4; ++k) pc[k] = persp(col + k);
+    if constexpr (Tex) {
+      pt[0] = persp(kTex), pt[1] = persp(kTex + 1);
+      // q = 1 at every vertex (no projective texturing): no per-fragment division by q.
+      tex_q = v[0]->a[kTex + 3] != 1 || v[1]->a[kTex + 3] != 1 || v[2]->a[kTex + 3] != 1;
+      if (tex_q) pt[2] = persp(kTex + 3);
+    }
+    if constexpr (Fog) pf = persp(kFog);
+    if constexpr (Phong)
+      for (int k = 0; k < kAttrs; ++k) pa[k] = persp(k);
+    double zc = 0, zdx = 0, zdy = 0;
+    if constexpr (Depth) {
+      for (int i = 0; i < 3; ++i) {
+        const double zi = float(v[i]->z);
+        zc += l0[i] * zi, zdx += glx[i] * zi, zdy += gly[i] * zi;
+      }
+    }
+    const Texture* texture = Tex ? s.texture.get() : nullptr;
+    const float tex_w = Tex ? float(texture->levels[0].width) : 0;
+    const float tex_h = Tex ? float(texture->levels[0].height) : 0;
+    const TexEnvMode env = s.env_mode;
+    const TexFormat fmt = Tex ? texture->format : TexFormat::RGBA;
+    const FogMode fog_mode = s.fog_mode;
+    const float fog_end = s.fog_end, fog_range = s.fog_end - s.fog_start, fog_density = s.fog_density;
+    const __m128 fog_r = _mm_set1_ps(s.fog_color[0]), fog_g = _mm_set1_ps(s.fog_color[1]),
+                 fog_b = _mm_set1_ps(s.fog_color[2]);
+    const __m128 env_r = _mm_set1_ps(s.env_color[0]), env_g = _mm_set1_ps(s.env_color[1]),
+                 env_b = _mm_set1_ps(s.env_color[2]);
+    const DepthFunc dfunc = s.depth_func;
+    const bool dmask = s.depth_mask;
+    const bool fast_write = !blend && all_mask;
+
+    const __m128 zero = _mm_setzero_ps(), one = _mm_set1_ps(1.0f);
+    const __m128 lane_dx = _mm_set_ps(1, 0, 1, 0), lane_dy = _mm_set_ps(1, 1, 0, 0);
+    __m128i estep[3], elane[3];
+    for (int i = 0; i < 3; ++i) {
+      estep[i] = _mm_set1_epi32(int(2 * A[i]));
+      elane[i] = _mm_set_epi32(int(A[i] + B[i]), int(B[i]), int(A[i]), 0);
+    }
+    // A plane's row part c + y dy for the quad row, then + x dx per quad.
+    auto row = [&](const QPlane& p, __m128 Y4) { return _mm_add_ps(_mm_set1_ps(p.c), _mm_mul_ps(Y4, _mm_set1_ps(p.dy))); };
+    auto at = [](__m128 r, const QPlane& p, __m128 X4) { return _mm_add_ps(r, _mm_mul_ps(X4, _mm_set1_ps(p.dx))); };
+
+    for (int qy = oy; qy <= by1; qy += 2) {
+      int rowm = 15;
+      if (qy < by0) rowm &= ~3;
+      if (qy + 1 > by1) rowm &= ~12;
+      __m128i e[3];
+      for (int i = 0; i < 3; ++i) e[i] = _mm_add_epi32(_mm_set1_epi32(int(c[i] + B[i] * (qy - oy))), elane[i]);
+      const float fy = float(qy - oy);
+      const __m128 Y4 = _mm_add_ps(_mm_set1_ps(fy), lane_dy);
+      const __m128 rw_row = row(pw, Y4);
+      __m128 c_row[4] = {zero, zero, zero, zero}, t_row[3] = {zero, zero, zero}, f_row = zero;
+      if constexpr (Smooth && !Phong)
+        for (int k = 0; k < 4; ++k) c_row[k] = row(pc[k], Y4);
+      if constexpr (Tex) {
+        t_row[0] = row(pt[0], Y4), t_row[1] = row(pt[1], Y4);
+        if (tex_q) t_row[2] = row(pt[2], Y4);
+      }
+      if constexpr (Fog) f_row = row(pf, Y4);
+      const double zrow_lo = zc + double(fy) * zdy, zrow_hi = zc + double(fy + 1) * zdy;
+      for (int qx = ox; qx <= bx1;
+           qx += 2, e[0] = _mm_add_epi32(e[0], estep[0]), e[1] = _mm_add_epi32(e[1], estep[1]),
+               e[2] = _mm_add_epi32(e[2], estep[2])) {
+        // A lane is covered when no edge function is negative (sign bits).
+        const __m128i out = _mm_or_si128(_mm_or_si128(e[0], e[1]), e[2]);
+        int m = ~_mm_movemask_ps(_mm_castsi128_ps(out)) & rowm;
+        if (qx < bx0) m &= ~5;
+        if (qx + 1 > bx1) m &= ~10;
+        if (!m) continue;
+        // Partial quads at the edge of the drawable bounds are read and written lane by lane.
+        const bool inb = qx >= x0 && qx + 1 < x1 && qy >= y0 && qy + 1 < y1;
+        const std::size_t i0 = std::size_t(qy) * width + qx, i1 = i0 + width;
+        auto index = [&](int l) { return (l & 2 ? i1 : i0) + (l & 1); };
+        const float fx = float(qx - ox);
+        const __m128 X4 = _mm_add_ps(_mm_set1_ps(fx), lane_dx);
+        if constexpr (Depth) {
+          const __m128d xs = _mm_mul_pd(_mm_add_pd(_mm_set1_pd(fx), _mm_set_pd(1, 0)), _mm_set1_pd(zdx));
+          const __m128 zq = quantise_depth4(_mm_add_pd(_mm_set1_pd(zrow_lo), xs), _mm_add_pd(_mm_set1_pd(zrow_hi), xs));
+          __m128 d;
+          if (m == 15 || inb) {
+            d = _mm_movelh_ps(_mm_loadl_pi(zero, reinterpret_cast<const __m64*>(depth + i0)),
+                              _mm_loadl_pi(zero, reinterpret_cast<const __m64*>(depth + i1)));
+          } else {
+            alignas(16) float t[4] = {0, 0, 0, 0};
+            for (int l = 0; l < 4; ++l)
+              if (m >> l & 1) t[l] = depth[index(l)];
+            d = _mm_load_ps(t);
+          }
+          m &= depth_cmp4(dfunc, zq, d);
+          if (!m) continue;
+          if (dmask) {
+            if (m == 15 || inb) {
+              const __m128 nd = sel(lane_mask(m), zq, d);
+              _mm_storel_pi(reinterpret_cast<__m64*>(depth + i0), nd);
+              _mm_storeh_pi(reinterpret_cast<__m64*>(depth + i1), nd);
+            } else {
+              alignas(16) float t[4];
+              _mm_store_ps(t, zq);
+              for (int l = 0; l < 4; ++l)
+                if (m >> l & 1) depth[index(l)] = t[l];
+            }
+          }
+        }
+        const __m128 rw = _mm_div_ps(one, at(rw_row, pw, X4));
+        __m128 cr, cg, cb, ca;
+        if constexpr (Phong) {
+          alignas(16) float pc4[4][4] = {};
+          alignas(16) float rw4[4];
+          _mm_store_ps(rw4, rw);
+          for (int l = 0; l < 4; ++l) {
+            if (!(m >> l & 1)) continue;
+            const float lx = fx + float(l & 1), ly = fy + float(l >> 1);
+            float attrs[kAttrs];
+            for (int k = 0; k < kAttrs; ++k) attrs[k] = (pa[k].c + ly * pa[k].dy + lx * pa[k].dx) * rw4[l];
+            if constexpr (!Smooth)
+              for (int k = 0; k < 4; ++k) attrs[kFront + k] = flat[kFront + k];
+            const Vec4f pcol = phong_color(attrs, side);
+            for (int k = 0; k < 4; ++k) pc4[k][l] = pcol[k];
+          }
+          cr = _mm_load_ps(pc4[0]), cg = _mm_load_ps(pc4[1]), cb = _mm_load_ps(pc4[2]), ca = _mm_load_ps(pc4[3]);
+        } else if constexpr (Smooth) {
+          cr = _mm_mul_ps(at(c_row[0], pc[0], X4), rw), cg = _mm_mul_ps(at(c_row[1], pc[1], X4), rw);
+          cb = _mm_mul_ps(at(c_row[2], pc[2], X4), rw), ca = _mm_mul_ps(at(c_row[3], pc[3], X4), rw);
+        } else {
+          cr = _mm_set1_ps(flat[col]), cg = _mm_set1_ps(flat[col + 1]);
+          cb = _mm_set1_ps(flat[col + 2]), ca = _mm_set1_ps(flat[col + 3]);
+        }
+        if constexpr (Tex) {
+          __m128 ts = _mm_mul_ps(at(t_row[0], pt[0], X4), rw), tt = _mm_mul_ps(at(t_row[1], pt[1], X4), rw);
+          if (tex_q) {
+            __m128 tq = _mm_mul_ps(at(t_row[2], pt[2], X4), rw);
+            tq = sel(_mm_cmpneq_ps(tq, zero), tq, one);
+            ts = _mm_div_ps(ts, tq), tt = _mm_div_ps(tt, tq);
+          }
+          // Level of detail from the quad's (u, v) = (s W, t H): x differences along its upper
+          // row, y differences down its left column (reference: the top-left pixel).
+          alignas(16) float S[4], T[4], U[4], V[4];
+          _mm_store_ps(U, _mm_mul_ps(ts, _mm_set1_ps(tex_w)));
+          _mm_store_ps(V, _mm_mul_ps(tt, _mm_set1_ps(tex_h)));
+          const float dux = U[3] - U[2], dvx = V[3] - V[2], duy = U[0] - U[2], dvy = V[0] - V[2];
+          const float rho2 = std::max(dux * dux + dvx * dvx, duy * duy + dvy * dvy);
+          float lambda = rho2 > 0 ? 0.5f * fast_log2(rho2) : -100.0f;
+          if (!(lambda <= 1000.0f)) lambda = 1000.0f;  // extrapolated helper lanes gone astray (inf, NaN)
+          _mm_store_ps(S, ts), _mm_store_ps(T, tt);
+          if (m != 15) {
+            // Lanes outside the triangle may hold extrapolated coordinates (even infinite):
+            // sample a covered lane's instead.
+            const int l0 = __builtin_ctz(unsigned(m));
+            for (int l = 0; l < 4; ++l)
+              if (!(m >> l & 1)) S[l] = S[l0], T[l] = T[l0];
+          }
+          alignas(16) float texel[16];
+          sample4(*texture, S, T, lambda, texel);
+          __m128 tr = _mm_load_ps(texel), tg = _mm_load_ps(texel + 4), tb = _mm_load_ps(texel + 8),
+                 ta = _mm_load_ps(texel + 12);
+          _MM_TRANSPOSE4_PS(tr, tg, tb, ta);
+          const bool rgba = fmt == TexFormat::RGBA;
+          switch (env) {
+            case TexEnvMode::Modulate:
+              cr = _mm_mul_ps(cr, tr), cg = _mm_mul_ps(cg, tg), cb = _mm_mul_ps(cb, tb);
+              if (rgba) ca = _mm_mul_ps(ca, ta);
+              break;
+            case TexEnvMode::Replace:
+              cr = tr, cg = tg, cb = tb;
+              if (rgba) ca = ta;
+              break;
+            case TexEnvMode::Decal:
+              if (rgba) {
+                const __m128 ia = _mm_sub_ps(one, ta);
+                cr = _mm_add_ps(_mm_mul_ps(cr, ia), _mm_mul_ps(tr, ta));
+                cg = _mm_add_ps(_mm_mul_ps(cg, ia), _mm_mul_ps(tg, ta));
+                cb = _mm_add_ps(_mm_mul_ps(cb, ia), _mm_mul_ps(tb, ta));
+              } else if (fmt == TexFormat::RGB) {
+                cr = tr, cg = tg, cb = tb;
+              }
+              break;
+            case TexEnvMode::Blend:
+              cr = _mm_add_ps(_mm_mul_ps(cr, _mm_sub_ps(one, tr)), _mm_mul_ps(env_r, tr));
+              cg = _mm_add_ps(_mm_mul_ps(cg, _mm_sub_ps(one, tg)), _mm_mul_ps(env_g, tg));
+              cb = _mm_add_ps(_mm_mul_ps(cb, _mm_sub_ps(one, tb)), _mm_mul_ps(env_b, tb));
+              if (rgba) ca = _mm_mul_ps(ca, ta);
+              break;
+          }
+        }
+        if constexpr (Fog) {
+          const __m128 fz = _mm_mul_ps(at(f_row, pf, X4), rw);
+          __m128 f = one;
+          if (fog_mode == FogMode::Linear) {
+            if (fog_range != 0) f = _mm_div_ps(_mm_sub_ps(_mm_set1_ps(fog_end), fz), _mm_set1_ps(fog_range));
+          } else {
+            alignas(16) float z4[4], f4[4];
+            _mm_store_ps(z4, fz);
+            for (int l = 0; l < 4; ++l) {
+              const float dz = fog_density * z4[l];
+              f4[l] = std::exp(fog_mode == FogMode::Exp ? -dz : -dz * dz);
+            }
+            f = _mm_load_ps(f4);
+          }
+          f = _mm_min_ps(_mm_max_ps(f, zero), one);
+          const __m128 g = _mm_sub_ps(one, f);
+          cr = _mm_add_ps(_mm_mul_ps(f, cr), _mm_mul_ps(g, fog_r));
+          cg = _mm_add_ps(_mm_mul_ps(f, cg), _mm_mul_ps(g, fog_g));
+          cb = _mm_add_ps(_mm_mul_ps(f, cb), _mm_mul_ps(g, fog_b));
+        }
+        cr = _mm_min_ps(_mm_max_ps(cr, zero), one), cg = _mm_min_ps(_mm_max_ps(cg, zero), one);
+        cb = _mm_min_ps(_mm_max_ps(cb, zero), one), ca = _mm_min_ps(_mm_max_ps(ca, zero), one);
+        if (fast_write) {
+          // The colour write's rounding (c 255 + 1/2, truncated) for the four lanes, packed RGBA8.
+          const __m128 k255 = _mm_set1_ps(255.0f), half = _mm_set1_ps(0.5f);
+          auto q8 = [&](__m128 x) { return _mm_cvttps_epi32(_mm_add_ps(_mm_mul_ps(x, k255), half)); };
+          const __m128i px = _mm_or_si128(_mm_or_si128(q8(cr), _mm_slli_epi32(q8(cg), 8)),
+                                          _mm_or_si128(_mm_slli_epi32(q8(cb), 16), _mm_slli_epi32(q8(ca), 24)));
+          std::uint8_t* p0 = color + i0 * 4;
+          std::uint8_t* p1 = color + i1 * 4;
+          if (m == 15) {
+            _mm_storel_epi64(reinterpret_cast<__m128i*>(p0), px);
+            _mm_storel_epi64(reinterpret_cast<__m128i*>(p1), _mm_srli_si128(px, 8));
+          } else if (inb) {
+            const __m128i old = _mm_unpacklo_epi64(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(p0)),
+                                                   _mm_loadl_epi64(reinterpret_cast<const __m128i*>(p1)));
+            const __m128i mk = _mm_castps_si128(lane_mask(m));
+            const __m128i nw = _mm_or_si128(_mm_and_si128(mk, px), _mm_andnot_si128(mk, old));
+            _mm_storel_epi64(reinterpret_cast<__m128i*>(p0), nw);
+            _mm_storel_epi64(reinterpret_cast<__m128i*>(p1), _mm_srli_si128(nw, 8));
+          } else {
+            alignas(16) std::uint32_t P[4];
+            _mm_store_si128(reinterpret_cast<__m128i*>(P), px);
+            for (int l = 0; l < 4; ++l)
+              if (m >> l & 1) std::memcpy(color + index(l) * 4, &P[l], 4);
+          }
+        } else {
+          alignas(16) float C[4][4];
+          _mm_store_ps(C[0], cr), _mm_store_ps(C[1], cg), _mm_store_ps(C[2], cb), _mm_store_ps(C[3], ca);
+          for (int l = 0; l < 4; ++l)
+            if (m >> l & 1) write_color(qx + (l & 1), qy + (l >> 1), Vec4f(C[0][l], C[1][l], C[2][l], C[3][l]));
+        }
+      }
+    }
+  }
+#else
+  template <bool Phong, bool Smooth, bool Tex, bool Fog, bool Depth>
+  void triangle_t(const WinVert& v0, const WinVert& v1, const WinVert& v2, int side, const float* flat) {
+    triangle_scalar<Phong, Smooth, Tex, Fog, Depth>(v0, v1, v2, side, flat);
+  }
+#endif
 
   // --- lines: a DDA that samples the line at the pixel centres of its major axis ---
   void line(const WinVert& a_in, const WinVert& b_in, int side, const float* flat) {
