@@ -277,4 +277,8 @@ Vec4f Texture::sample(float s, float t, float lambda) const {
   return c;
 }
 
+void Texture::sample4(const float* s, const float* t, float lambda, float* out) const {
+  for (int k = 0; k < 4; ++k) _mm_storeu_ps(out + 4 * k, sample_v(*this, s[k], t[k], lambda));
+}
+
 }  // namespace wedge::render
