@@ -36,7 +36,7 @@ namespace {
 // llvmpipe's level-of-detail log2 (gallivm's fast log2): the float's exponent minus one plus its
 // mantissa in [1, 2), a piecewise-linear log2 exact at powers of two. Its blend fraction between
 // two mipmap levels follows this curve, not the true logarithm.
-float fast_log2(float x) {
+[[gnu::always_inline]] inline float fast_log2(float x) {
   std::uint32_t bits;
   std::memcpy(&bits, &x, 4);
   const int biased = int(bits >> 23);
@@ -56,8 +56,15 @@ float fast_log2(float x) {
 #if defined(__SSE2__)
 // Helpers of the 2x2-quad fragment loop (Raster::triangle_t).
 struct QPlane {
-  float c, dx, dy;  // value at the centre of the first quad's first pixel; steps per pixel in x, y
+  __m128 c, dx, dy;  // value at the centre of the first quad's first pixel; steps per pixel in x, y
 };
+// llround (half away from zero) without a library call, for |x| < 2^52 (window coordinates
+// times 256); beyond that x is an integer and is returned as it is.
+[[gnu::always_inline]] inline std::int64_t round_half_away(double x) {
+  std::int64_t i = std::int64_t(x);
+  const double f = x - double(i);
+  return i + (f >= 0.5) - (f <= -0.5);
+}
 [[gnu::always_inline]] inline __m128 sel(__m128 m, __m128 a, __m128 b) {
   return _mm_or_ps(_mm_and_ps(m, a), _mm_andnot_ps(m, b));
 }
@@ -90,14 +97,6 @@ struct QPlane {
   __m128d a = _mm_mul_pd(_mm_cvtps_pd(z), k), b = _mm_mul_pd(_mm_cvtps_pd(_mm_movehl_ps(z, z)), k);
   a = _mm_sub_pd(_mm_add_pd(a, r), r), b = _mm_sub_pd(_mm_add_pd(b, r), r);
   return _mm_movelh_ps(_mm_cvtpd_ps(_mm_mul_pd(a, inv)), _mm_cvtpd_ps(_mm_mul_pd(b, inv)));
-}
-// Four samples sharing one level of detail (Texture::sample4's contract; until the texture
-// module has it, four calls of sample()).
-inline void sample4(const Texture& t, const float* s, const float* tt, float lambda, float* out) {
-  for (int l = 0; l < 4; ++l) {
-    const Vec4f c = t.sample(s[l], tt[l], lambda);
-    std::memcpy(out + 4 * l, c.data(), 4 * sizeof(float));
-  }
 }
 #endif
 
@@ -684,7 +683,7 @@ struct Raster {
     constexpr double kSub = 256.0;
     const WinVert* v[3] = {&v0, &v1in, &v2in};
     std::int64_t X[3], Y[3];
-    for (int i = 0; i < 3; ++i) X[i] = std::llround(v[i]->x * kSub), Y[i] = std::llround(v[i]->y * kSub);
+    for (int i = 0; i < 3; ++i) X[i] = round_half_away(v[i]->x * kSub), Y[i] = round_half_away(v[i]->y * kSub);
     std::int64_t area = (X[1] - X[0]) * (Y[2] - Y[0]) - (X[2] - X[0]) * (Y[1] - Y[0]);
     if (area == 0) return;
     if (area < 0) {
@@ -713,9 +712,9 @@ struct Raster {
       const bool top_left = dy < 0 || (dy == 0 && dx < 0);
       const std::int64_t K = A[i] * (128 - X[a]) + B[i] * (128 - Y[a]) + (top_left ? 0 : -1);
       c[i] = A[i] * ox + B[i] * oy + (K >> 8);  // >> floors (C++20: arithmetic shift)
-      const std::int64_t w = bx1 + 3 - ox, h = by1 + 3 - oy, lim = std::int64_t(1) << 30;
-      for (std::int64_t e : {c[i], c[i] + A[i] * w, c[i] + B[i] * h, c[i] + A[i] * w + B[i] * h})
-        if (e < -lim || e > lim) fits = false;
+      // Bound of |e| over the quads (one step past the last as well).
+      const std::int64_t w = bx1 + 3 - ox, h = by1 + 3 - oy;
+      if (std::abs(c[i]) + std::abs(A[i]) * w + std::abs(B[i]) * h > (std::int64_t(1) << 30)) fits = false;
     }
     if (!fits) return triangle_scalar<Phong, Smooth, Tex, Fog, Depth>(v0, v1in, v2in, side, flat);
 
@@ -728,8 +727,9 @@ struct Raster {
       glx[i] = double(A[i]) * kSub * inv_area, gly[i] = double(B[i]) * kSub * inv_area;
     }
     auto plane = [&](double f0, double f1, double f2) {
-      return QPlane{float(l0[0] * f0 + l0[1] * f1 + l0[2] * f2), float(glx[0] * f0 + glx[1] * f1 + glx[2] * f2),
-                    float(gly[0] * f0 + gly[1] * f1 + gly[2] * f2)};
+      return QPlane{_mm_set1_ps(float(l0[0] * f0 + l0[1] * f1 + l0[2] * f2)),
+                    _mm_set1_ps(float(glx[0] * f0 + glx[1] * f1 + glx[2] * f2)),
+                    _mm_set1_ps(float(gly[0] * f0 + gly[1] * f1 + gly[2] * f2))};
     };
     // a/w for attribute k (divided by the 1/w plane per fragment: perspective-correct).
     auto persp = [&](int k) {
@@ -737,7 +737,8 @@ struct Raster {
     };
     const QPlane pw = plane(v[0]->inv_w, v[1]->inv_w, v[2]->inv_w);
     const int col = side ? kBack : kFront;
-    QPlane pc[4] = {}, pt[3] = {}, pf{}, pa[Phong ? kAttrs : 1] = {};
+    const QPlane none{_mm_setzero_ps(), _mm_setzero_ps(), _mm_setzero_ps()};
+    QPlane pc[4] = {none, none, none, none}, pt[3] = {none, none, none}, pf = none, pa[Phong ? kAttrs : 1];
     bool tex_q = false;
     if constexpr (Smooth && !Phong)
       for (int k = 0; k < 4; ++k) pc[k] = persp(col + k);
@@ -774,25 +775,26 @@ struct Raster {
 
     const __m128 zero = _mm_setzero_ps(), one = _mm_set1_ps(1.0f);
     const __m128 lane_dx = _mm_set_ps(1, 0, 1, 0), lane_dy = _mm_set_ps(1, 1, 0, 0);
-    __m128i estep[3], elane[3];
+    __m128i estep[3], erow[3], estepy[3];
     for (int i = 0; i < 3; ++i) {
       estep[i] = _mm_set1_epi32(int(2 * A[i]));
-      elane[i] = _mm_set_epi32(int(A[i] + B[i]), int(B[i]), int(A[i]), 0);
+      estepy[i] = _mm_set1_epi32(int(2 * B[i]));
+      erow[i] = _mm_add_epi32(_mm_set1_epi32(int(c[i])), _mm_set_epi32(int(A[i] + B[i]), int(B[i]), int(A[i]), 0));
     }
     // A plane's row part c + y dy for the quad row, then + x dx per quad.
-    auto row = [&](const QPlane& p, __m128 Y4) { return _mm_add_ps(_mm_set1_ps(p.c), _mm_mul_ps(Y4, _mm_set1_ps(p.dy))); };
-    auto at = [](__m128 r, const QPlane& p, __m128 X4) { return _mm_add_ps(r, _mm_mul_ps(X4, _mm_set1_ps(p.dx))); };
+    auto row = [](const QPlane& p, __m128 Y4) { return _mm_add_ps(p.c, _mm_mul_ps(Y4, p.dy)); };
+    auto at = [](__m128 r, const QPlane& p, __m128 X4) { return _mm_add_ps(r, _mm_mul_ps(X4, p.dx)); };
+    __m128 c_row[4] = {zero, zero, zero, zero}, t_row[3] = {zero, zero, zero}, f_row = zero;
 
     for (int qy = oy; qy <= by1; qy += 2) {
       int rowm = 15;
       if (qy < by0) rowm &= ~3;
       if (qy + 1 > by1) rowm &= ~12;
-      __m128i e[3];
-      for (int i = 0; i < 3; ++i) e[i] = _mm_add_epi32(_mm_set1_epi32(int(c[i] + B[i] * (qy - oy))), elane[i]);
+      __m128i e[3] = {erow[0], erow[1], erow[2]};
+      for (int i = 0; i < 3; ++i) erow[i] = _mm_add_epi32(erow[i], estepy[i]);
       const float fy = float(qy - oy);
       const __m128 Y4 = _mm_add_ps(_mm_set1_ps(fy), lane_dy);
       const __m128 rw_row = row(pw, Y4);
-      __m128 c_row[4] = {zero, zero, zero, zero}, t_row[3] = {zero, zero, zero}, f_row = zero;
       if constexpr (Smooth && !Phong)
         for (int k = 0; k < 4; ++k) c_row[k] = row(pc[k], Y4);
       if constexpr (Tex) {
@@ -811,7 +813,7 @@ struct Raster {
         if (qx + 1 > bx1) m &= ~10;
         if (!m) continue;
         // Partial quads at the edge of the drawable bounds are read and written lane by lane.
-        const bool inb = qx >= x0 && qx + 1 < x1 && qy >= y0 && qy + 1 < y1;
+        auto inb = [&] { return qx >= x0 && qx + 1 < x1 && qy >= y0 && qy + 1 < y1; };
         const std::size_t i0 = std::size_t(qy) * width + qx, i1 = i0 + width;
         auto index = [&](int l) { return (l & 2 ? i1 : i0) + (l & 1); };
         const float fx = float(qx - ox);
@@ -820,7 +822,7 @@ struct Raster {
           const __m128d xs = _mm_mul_pd(_mm_add_pd(_mm_set1_pd(fx), _mm_set_pd(1, 0)), _mm_set1_pd(zdx));
           const __m128 zq = quantise_depth4(_mm_add_pd(_mm_set1_pd(zrow_lo), xs), _mm_add_pd(_mm_set1_pd(zrow_hi), xs));
           __m128 d;
-          if (m == 15 || inb) {
+          if (m == 15 || inb()) {
             d = _mm_movelh_ps(_mm_loadl_pi(zero, reinterpret_cast<const __m64*>(depth + i0)),
                               _mm_loadl_pi(zero, reinterpret_cast<const __m64*>(depth + i1)));
           } else {
@@ -832,7 +834,7 @@ struct Raster {
           m &= depth_cmp4(dfunc, zq, d);
           if (!m) continue;
           if (dmask) {
-            if (m == 15 || inb) {
+            if (m == 15 || inb()) {
               const __m128 nd = sel(lane_mask(m), zq, d);
               _mm_storel_pi(reinterpret_cast<__m64*>(depth + i0), nd);
               _mm_storeh_pi(reinterpret_cast<__m64*>(depth + i1), nd);
@@ -854,7 +856,8 @@ struct Raster {
             if (!(m >> l & 1)) continue;
             const float lx = fx + float(l & 1), ly = fy + float(l >> 1);
             float attrs[kAttrs];
-            for (int k = 0; k < kAttrs; ++k) attrs[k] = (pa[k].c + ly * pa[k].dy + lx * pa[k].dx) * rw4[l];
+            for (int k = 0; k < kAttrs; ++k)
+              attrs[k] = (_mm_cvtss_f32(pa[k].c) + ly * _mm_cvtss_f32(pa[k].dy) + lx * _mm_cvtss_f32(pa[k].dx)) * rw4[l];
             if constexpr (!Smooth)
               for (int k = 0; k < 4; ++k) attrs[kFront + k] = flat[kFront + k];
             const Vec4f pcol = phong_color(attrs, side);
@@ -893,7 +896,7 @@ struct Raster {
               if (!(m >> l & 1)) S[l] = S[l0], T[l] = T[l0];
           }
           alignas(16) float texel[16];
-          sample4(*texture, S, T, lambda, texel);
+          texture->sample4(S, T, lambda, texel);
           __m128 tr = _mm_load_ps(texel), tg = _mm_load_ps(texel + 4), tb = _mm_load_ps(texel + 8),
                  ta = _mm_load_ps(texel + 12);
           _MM_TRANSPOSE4_PS(tr, tg, tb, ta);
@@ -958,7 +961,7 @@ struct Raster {
           if (m == 15) {
             _mm_storel_epi64(reinterpret_cast<__m128i*>(p0), px);
             _mm_storel_epi64(reinterpret_cast<__m128i*>(p1), _mm_srli_si128(px, 8));
-          } else if (inb) {
+          } else if (inb()) {
             const __m128i old = _mm_unpacklo_epi64(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(p0)),
                                                    _mm_loadl_epi64(reinterpret_cast<const __m128i*>(p1)));
             const __m128i mk = _mm_castps_si128(lane_mask(m));
