@@ -16,6 +16,7 @@
 // interpolated eye-space normal and position.
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <memory>
 
@@ -297,6 +298,7 @@ struct Raster {
   std::vector<Vec4> user_planes;
   int x0, y0, x1, y1;  // pixel bounds (framebuffer ∩ scissor), half open
   bool phong, lighting, texturing, fog, blend, depth_test, all_mask;
+  bool avx2 = false;  // the fragment loop's AVX2 build (the CPU has it, and WEDGE_RENDER_SIMD is not "sse2")
   std::vector<Job>* sink = nullptr;  // when set, primitives are queued instead of drawn
   std::vector<PVert> poly_scratch, clip_scratch;
   std::vector<WinVert> win_scratch;
@@ -319,6 +321,11 @@ struct Raster {
     blend = s.on(Cap::Blend);
     depth_test = s.on(Cap::DepthTest);
     all_mask = s.color_mask[0] && s.color_mask[1] && s.color_mask[2] && s.color_mask[3];
+#if defined(__SSE2__)
+    static const bool cpu_avx2 = __builtin_cpu_supports("avx2");
+    const char* simd = std::getenv("WEDGE_RENDER_SIMD");  // read per draw: tests switch it
+    avx2 = cpu_avx2 && !(simd && std::strcmp(simd, "sse2") == 0);
+#endif
   }
 
   // Signed distance of a vertex to clip plane i (>= 0 inside).
@@ -537,8 +544,17 @@ struct Raster {
     }
     const int key = (phong ? 16 : 0) | (flat == nullptr ? 8 : 0) | (texturing ? 4 : 0) | (fog ? 2 : 0) | (depth_test ? 1 : 0);
     switch (key) {
+#if defined(__SSE2__)
+#define WEDGE_TRI(k)                                                                                                \
+  case k:                                                                                                         \
+    if (avx2)                                                                                                     \
+      return triangle_t_avx2<(k & 16) != 0, (k & 8) != 0, (k & 4) != 0, (k & 2) != 0, (k & 1) != 0>(v0, v1, v2, side, \
+                                                                                                     flat);       \
+    return triangle_t<(k & 16) != 0, (k & 8) != 0, (k & 4) != 0, (k & 2) != 0, (k & 1) != 0>(v0, v1, v2, side, flat);
+#else
 #define WEDGE_TRI(k) \
   case k: return triangle_t<(k & 16) != 0, (k & 8) != 0, (k & 4) != 0, (k & 2) != 0, (k & 1) != 0>(v0, v1, v2, side, flat);
+#endif
       WEDGE_TRI(0) WEDGE_TRI(1) WEDGE_TRI(2) WEDGE_TRI(3) WEDGE_TRI(4) WEDGE_TRI(5) WEDGE_TRI(6) WEDGE_TRI(7)
       WEDGE_TRI(8) WEDGE_TRI(9) WEDGE_TRI(10) WEDGE_TRI(11) WEDGE_TRI(12) WEDGE_TRI(13) WEDGE_TRI(14) WEDGE_TRI(15)
       WEDGE_TRI(16) WEDGE_TRI(17) WEDGE_TRI(18) WEDGE_TRI(19) WEDGE_TRI(20) WEDGE_TRI(21) WEDGE_TRI(22) WEDGE_TRI(23)
@@ -678,8 +694,21 @@ struct Raster {
   // 32-bit edge functions stepped per quad; depth by a plane in double; the perspective-divided
   // attributes (a/w and 1/w) by planes in float; texture level of detail from the differences
   // of the quad's (u, v) across its top row and left column.
+  // Compiled twice: for the base x86-64 (SSE2) and, chosen at run time, with AVX2 enabled (the
+  // same operations in three-operand VEX encoding; FMA left off so that no multiply-add is
+  // contracted: both builds give the same bits).
   template <bool Phong, bool Smooth, bool Tex, bool Fog, bool Depth>
-  void triangle_t(const WinVert& v0, const WinVert& v1in, const WinVert& v2in, int side, const float* flat) {
+  void triangle_t(const WinVert& v0, const WinVert& v1, const WinVert& v2, int side, const float* flat) {
+    triangle_q<Phong, Smooth, Tex, Fog, Depth>(v0, v1, v2, side, flat);
+  }
+  template <bool Phong, bool Smooth, bool Tex, bool Fog, bool Depth>
+  __attribute__((target("avx2"))) void triangle_t_avx2(const WinVert& v0, const WinVert& v1, const WinVert& v2,
+                                                           int side, const float* flat) {
+    triangle_q<Phong, Smooth, Tex, Fog, Depth>(v0, v1, v2, side, flat);
+  }
+  template <bool Phong, bool Smooth, bool Tex, bool Fog, bool Depth>
+  [[gnu::always_inline]] void triangle_q(const WinVert& v0, const WinVert& v1in, const WinVert& v2in, int side,
+                                         const float* flat) {
     constexpr double kSub = 256.0;
     const WinVert* v[3] = {&v0, &v1in, &v2in};
     std::int64_t X[3], Y[3];
