@@ -30,9 +30,6 @@ namespace {
 using V4 = __m128;
 using I4 = __m128i;
 
-// Loops over the channels of a colour, unrolled (the per-channel registers then stay registers).
-#define WEDGE_UNROLL _Pragma("GCC unroll 4")
-
 inline V4 splat(float x) { return _mm_set1_ps(x); }
 inline V4 load(const Vec4f& v) { return _mm_loadu_ps(v.data()); }
 
@@ -117,6 +114,7 @@ struct Plan {
   int l0 = 0, l1 = -1;  // l1 < 0: one level
   float f = 0;          // weight of level l1
   bool linear = false;  // bilinear within a level (else nearest)
+  int share0 = 16384, share1 = 0;  // fast path: the levels' weights in units of 2^-14, summing to 2^14
 };
 
 Plan make_plan(const Texture& t, float lambda) {
@@ -145,6 +143,8 @@ Plan make_plan(const Texture& t, float lambda) {
       } else {
         p.l0 = int(std::floor(lambda)), p.l1 = p.l0 + 1;
         p.f = lambda - p.l0;
+        p.share1 = _mm_cvtss_si32(_mm_set_ss(p.f * 16384.0f));
+        p.share0 = 16384 - p.share1;
       }
       break;
   }
@@ -160,8 +160,19 @@ V4 sample_general(const Texture& t, float s, float tt, const Plan& p) {
 }
 
 // ---------------------------------------------------------------------------------------------
-// Fast path: one fragment per lane. Channels are filtered as texel bytes (0..255) in float and
-// scaled by 1/255 at the end, so a nearest sample is exactly byte * (1/255).
+// Fast path. A sample is a weighted sum of at most eight texels (a 2x2 footprint, or one texel
+// for nearest, in one or two levels) computed in integers. The weights are in units of 2^-14: the
+// two levels share 2^14 as S0 = 2^14 - S1 and S1 = round(f 2^14) (one level: S0 = 2^14); within a
+// level of share S the bilinear weights (1-a)(1-b), a(1-b), (1-a)b are rounded products
+// round(w * S) and ab takes the rest, so the weights add up to 2^14 exactly and a constant texture
+// gives its colour exactly. Texel bytes times weights are summed exactly in 32-bit lanes (pmaddwd,
+// two texels per multiply-add) and the sum times 1/(255 * 2^14) is the colour. The float steps are
+// the same operations in every path and the integer steps are exact, so lane layout and summation
+// order do not change a bit. A lone texel of weight 1 comes out as byte * (1/255) exactly (scaling
+// by 2^14 is exact); otherwise the rounding moves a result by at most 3 * 2^-14 per level (0.05 of
+// a level of 255).
+
+constexpr float kOutScale = 1.0f / (255.0f * 16384.0f);
 
 // The fast path takes repeat and clamp-to-edge with levels whose indices fit 16 bits (the row
 // offset j * width is one _mm_madd_epi16).
@@ -215,31 +226,37 @@ bool fast_ok(const Texture& t, const Plan& p) {
   return _mm_unpacklo_epi64(_mm_unpacklo_epi32(ld(0), ld(1)), _mm_unpacklo_epi32(ld(2), ld(3)));
 }
 
-// The first C channels of four RGBA8 texels as floats 0..255, one register per channel.
-template <int C>
-[[gnu::always_inline]] inline void channels(I4 x, V4* c) {
-  const I4 m = _mm_set1_epi32(0xff);
-  c[0] = _mm_cvtepi32_ps(_mm_and_si128(x, m));
-  if (C > 1) c[1] = _mm_cvtepi32_ps(_mm_and_si128(_mm_srli_epi32(x, 8), m));
-  if (C > 2) c[2] = _mm_cvtepi32_ps(_mm_and_si128(_mm_srli_epi32(x, 16), m));
-  if (C > 3) c[3] = _mm_cvtepi32_ps(_mm_srli_epi32(x, 24));
-}
-
 // Texel index j * width + i; i, j, width below 2^15 (one multiply-add of 16-bit halves).
 [[gnu::always_inline]] inline I4 index(I4 i, I4 j, I4 width) { return _mm_add_epi32(_mm_madd_epi16(j, width), i); }
 
-// One level at the wrapped coordinates of four fragments: C channel sums in texel units.
-template <int C>
-[[gnu::always_inline]] inline void level4(const Texture& t, const Image& im, bool linear, V4 ws, V4 wt, V4* out) {
+// Adds texels x and y of four fragments, weighted by the low and high 16-bit halves of p's lanes,
+// to acc[0..3] (four int32 channel sums per fragment): bytes interleaved x, y per channel, widened
+// to 16 bits, one multiply-add per fragment.
+[[gnu::always_inline]] inline void add_pair(I4 x, I4 y, I4 p, I4* acc) {
+  const I4 zero = _mm_setzero_si128();
+  const I4 lo = _mm_unpacklo_epi8(x, y), hi = _mm_unpackhi_epi8(x, y);
+  acc[0] = _mm_add_epi32(acc[0], _mm_madd_epi16(_mm_unpacklo_epi8(lo, zero), _mm_shuffle_epi32(p, 0x00)));
+  acc[1] = _mm_add_epi32(acc[1], _mm_madd_epi16(_mm_unpackhi_epi8(lo, zero), _mm_shuffle_epi32(p, 0x55)));
+  acc[2] = _mm_add_epi32(acc[2], _mm_madd_epi16(_mm_unpacklo_epi8(hi, zero), _mm_shuffle_epi32(p, 0xaa)));
+  acc[3] = _mm_add_epi32(acc[3], _mm_madd_epi16(_mm_unpackhi_epi8(hi, zero), _mm_shuffle_epi32(p, 0xff)));
+}
+
+// Integer weights: round(w * share).
+[[gnu::always_inline]] inline I4 weight(V4 w, V4 share) { return _mm_cvtps_epi32(_mm_mul_ps(w, share)); }
+
+// One level's weighted texels for four fragments, added to acc[0..3].
+[[gnu::always_inline]] inline void level4(const Texture& t, const Image& im, bool linear, int share, V4 ws, V4 wt,
+                                          I4* acc) {
   const I4 wi = _mm_set1_epi32(im.width), hi = _mm_set1_epi32(im.height);
-  const V4 wf = _mm_cvtepi32_ps(wi), hf = _mm_cvtepi32_ps(hi);
+  const V4 u = _mm_mul_ps(ws, _mm_cvtepi32_ps(wi)), v = _mm_mul_ps(wt, _mm_cvtepi32_ps(hi));
   const std::uint8_t* base = im.rgba.data();
-  const V4 u = _mm_mul_ps(ws, wf), v = _mm_mul_ps(wt, hf);
+  const I4 si = _mm_set1_epi32(share);
   if (!linear) {
     // u, v in [0, size]: truncation is the floor; size itself is the last texel.
     I4 i = _mm_cvttps_epi32(u), j = _mm_cvttps_epi32(v);
     i = _mm_add_epi32(i, _mm_cmpeq_epi32(i, wi)), j = _mm_add_epi32(j, _mm_cmpeq_epi32(j, hi));
-    channels<C>(gather(base, index(i, j, wi)), out);
+    const I4 x = gather(base, index(i, j, wi));
+    add_pair(x, x, si, acc);  // weight in the low halves, 0 in the high ones
     return;
   }
   const V4 uf = _mm_sub_ps(u, splat(0.5f)), vf = _mm_sub_ps(v, splat(0.5f));
@@ -251,62 +268,40 @@ template <int C>
   wrap_pair(i0, i1, wi, t.wrap_s);
   wrap_pair(j0, j1, hi, t.wrap_t);
   const V4 na = _mm_sub_ps(splat(1.0f), a), nb = _mm_sub_ps(splat(1.0f), b);
-  const V4 w00 = _mm_mul_ps(na, nb), w10 = _mm_mul_ps(a, nb), w01 = _mm_mul_ps(na, b), w11 = _mm_mul_ps(a, b);
+  const V4 g = _mm_cvtepi32_ps(si);
+  const I4 w00 = weight(_mm_mul_ps(na, nb), g), w10 = weight(_mm_mul_ps(a, nb), g), w01 = weight(_mm_mul_ps(na, b), g);
+  const I4 w11 = _mm_sub_epi32(_mm_sub_epi32(_mm_sub_epi32(si, w00), w10), w01);  // the rest (may be -1)
   const I4 r0 = _mm_madd_epi16(j0, wi), r1 = _mm_madd_epi16(j1, wi);
-  V4 c[C];
-  channels<C>(gather(base, _mm_add_epi32(r0, i0)), c);
-  WEDGE_UNROLL for (int k = 0; k < C; ++k) out[k] = _mm_mul_ps(w00, c[k]);
-  channels<C>(gather(base, _mm_add_epi32(r0, i1)), c);
-  WEDGE_UNROLL for (int k = 0; k < C; ++k) out[k] = _mm_add_ps(out[k], _mm_mul_ps(w10, c[k]));
-  channels<C>(gather(base, _mm_add_epi32(r1, i0)), c);
-  WEDGE_UNROLL for (int k = 0; k < C; ++k) out[k] = _mm_add_ps(out[k], _mm_mul_ps(w01, c[k]));
-  channels<C>(gather(base, _mm_add_epi32(r1, i1)), c);
-  WEDGE_UNROLL for (int k = 0; k < C; ++k) out[k] = _mm_add_ps(out[k], _mm_mul_ps(w11, c[k]));
+  const I4 t00 = gather(base, _mm_add_epi32(r0, i0)), t10 = gather(base, _mm_add_epi32(r0, i1));
+  const I4 t01 = gather(base, _mm_add_epi32(r1, i0)), t11 = gather(base, _mm_add_epi32(r1, i1));
+  add_pair(t00, t10, _mm_or_si128(w00, _mm_slli_epi32(w10, 16)), acc);
+  add_pair(t01, t11, _mm_or_si128(w01, _mm_slli_epi32(w11, 16)), acc);
 }
 
-// Channel sums (C registers, texel units) to four RGBA colours: scale by 1/255, expand the format
-// (luminance to grey, alpha 1 unless RGBA), transpose to one colour per fragment.
-template <int C>
-[[gnu::always_inline]] inline void finish(V4* c, float* out) {
-  const V4 k = splat(1.0f / 255.0f);
-  V4 r = _mm_mul_ps(c[0], k), g = r, b = r, a = splat(1.0f);
-  if (C > 1) g = _mm_mul_ps(c[1], k), b = _mm_mul_ps(c[2], k);
-  if (C > 3) a = _mm_mul_ps(c[3], k);
-  const V4 rg0 = _mm_unpacklo_ps(r, g), ba0 = _mm_unpacklo_ps(b, a);
-  _mm_storeu_ps(out, _mm_movelh_ps(rg0, ba0));
-  _mm_storeu_ps(out + 4, _mm_movehl_ps(ba0, rg0));
-  const V4 rg1 = _mm_unpackhi_ps(r, g), ba1 = _mm_unpackhi_ps(b, a);
-  _mm_storeu_ps(out + 8, _mm_movelh_ps(rg1, ba1));
-  _mm_storeu_ps(out + 12, _mm_movehl_ps(ba1, rg1));
+// A fragment's integer channel sums to its RGBA colour: times 1/(255 * 2^14), then the format's
+// expansion (luminance to grey, alpha 1 unless RGBA).
+[[gnu::always_inline]] inline V4 to_colour(I4 sum, TexFormat fmt) {
+  V4 c = _mm_mul_ps(_mm_cvtepi32_ps(sum), splat(kOutScale));
+  if (fmt != TexFormat::RGBA) {
+    if (fmt == TexFormat::Luminance) c = _mm_shuffle_ps(c, c, 0);
+    const V4 rgb = _mm_castsi128_ps(_mm_set_epi32(0, -1, -1, -1));
+    c = _mm_or_ps(_mm_and_ps(c, rgb), _mm_andnot_ps(rgb, splat(1.0f)));
+  }
+  return c;
 }
 
-// The level blend (1 - f) c0 + f c1 of each channel.
-template <int C>
-[[gnu::always_inline]] inline void blend(V4* c0, const V4* c1, float f) {
-  const V4 nf = splat(1 - f), ff = splat(f);
-  WEDGE_UNROLL for (int k = 0; k < C; ++k) c0[k] = _mm_add_ps(_mm_mul_ps(nf, c0[k]), _mm_mul_ps(ff, c1[k]));
-}
-
-template <int C>
 void sample_sse(const Texture& t, const Plan& p, V4 s, V4 tt, float* out) {
   const V4 ws = wrap4(s, t.wrap_s), wt = wrap4(tt, t.wrap_t);
-  V4 c0[C];
-  level4<C>(t, t.levels[p.l0], p.linear, ws, wt, c0);
-  if (p.l1 >= 0) {
-    V4 c1[C];
-    level4<C>(t, t.levels[p.l1], p.linear, ws, wt, c1);
-    blend<C>(c0, c1, p.f);
-  }
-  finish<C>(c0, out);
+  I4 acc[4] = {_mm_setzero_si128(), _mm_setzero_si128(), _mm_setzero_si128(), _mm_setzero_si128()};
+  level4(t, t.levels[p.l0], p.linear, p.share0, ws, wt, acc);
+  if (p.l1 >= 0) level4(t, t.levels[p.l1], p.linear, p.share1, ws, wt, acc);
+  for (int k = 0; k < 4; ++k) _mm_storeu_ps(out + 4 * k, to_colour(acc[k], t.format));
 }
 
-int channel_count(TexFormat f) { return f == TexFormat::RGBA ? 4 : f == TexFormat::RGB ? 3 : 1; }
-
 // ---------------------------------------------------------------------------------------------
-// One fragment (sample()): the four channels of a colour in one register, both levels' texel
-// coordinates in one register (s W0, t H0, s W1, t H1). Every float operation is the one the
-// four-lane path applies to that fragment's lane, in the same order, so the results are the same
-// bits: IEEE single operations give the same result in any lane or register.
+// One fragment (sample()): the four channels in one register, both levels' texel coordinates in
+// one register (s W0, t H0, s W1, t H1); the float operations are those the four-lane path applies
+// to the fragment's lane (IEEE single operations give the same result in any lane or register).
 
 // wrap4 on one coordinate.
 [[gnu::always_inline]] inline float wrap1(float s, TexWrap w) {
@@ -318,7 +313,7 @@ int channel_count(TexFormat f) { return f == TexFormat::RGBA ? 4 : f == TexForma
     }
     s = s - fl;
   }
-  s = s < 1.0f ? s : 1.0f;  // MINPS: NaN -> 1
+  s = s < 1.0f ? s : 1.0f;  // as MINPS: NaN -> 1
   return s > 0.0f ? s : 0.0f;
 }
 
@@ -333,33 +328,21 @@ int channel_count(TexFormat f) { return f == TexFormat::RGBA ? 4 : f == TexForma
   }
 }
 
-// Texel (i, j) as four floats 0..255.
-[[gnu::always_inline]] inline V4 texel1(const std::uint8_t* base, int width, int i, int j) {
+[[gnu::always_inline]] inline I4 load_texel(const std::uint8_t* base, int width, int i, int j) {
   std::int32_t bits;
   std::memcpy(&bits, base + (std::size_t(j) * width + i) * 4, 4);
-  const I4 zero = _mm_setzero_si128();
-  return _mm_cvtepi32_ps(_mm_unpacklo_epi16(_mm_unpacklo_epi8(_mm_cvtsi32_si128(bits), zero), zero));
+  return _mm_cvtsi32_si128(bits);
 }
 
-// Texels (i0, j) and (i1, j): one 8-byte load when they are neighbours in memory.
-[[gnu::always_inline]] inline void texel_pair1(const std::uint8_t* base, int width, int i0, int i1, int j, V4& c0,
-                                               V4& c1) {
-  if (i1 != i0 + 1) {
-    c0 = texel1(base, width, i0, j), c1 = texel1(base, width, i1, j);
-    return;
-  }
-  std::int64_t bits;
-  std::memcpy(&bits, base + (std::size_t(j) * width + i0) * 4, 8);
-  const I4 zero = _mm_setzero_si128();
-  const I4 x = _mm_unpacklo_epi8(_mm_cvtsi64_si128(bits), zero);
-  c0 = _mm_cvtepi32_ps(_mm_unpacklo_epi16(x, zero));
-  c1 = _mm_cvtepi32_ps(_mm_unpackhi_epi16(x, zero));
+// Texels x and y weighted by the low and high halves of p's lane 0: four int32 channel sums.
+[[gnu::always_inline]] inline I4 pair1(I4 x, I4 y, I4 p) {
+  return _mm_madd_epi16(_mm_unpacklo_epi8(_mm_unpacklo_epi8(x, y), _mm_setzero_si128()), p);
 }
 
-// One level's filtered colour (texel units); uv, fl, ab: this level's two lanes of the shared
-// registers are lanes k, k + 1.
+// One level's weighted texels; the level's (a, b) are lanes K, K + 1 of ab, its (i0, j0) ij[K],
+// ij[K + 1].
 template <int K>
-[[gnu::always_inline]] inline V4 level1(const Texture& t, const Image& im, const std::int32_t* ij, V4 ab) {
+[[gnu::always_inline]] inline I4 level1(const Texture& t, const Image& im, const std::int32_t* ij, V4 ab, int share) {
   int i0 = ij[K], j0 = ij[K + 1], i1 = i0 + 1, j1 = j0 + 1;
   wrap_pair1(i0, i1, im.width, t.wrap_s);
   wrap_pair1(j0, j1, im.height, t.wrap_t);
@@ -367,35 +350,32 @@ template <int K>
   const V4 nab = _mm_sub_ps(splat(1.0f), ab);
   const V4 src = K == 0 ? _mm_unpacklo_ps(nab, ab) : _mm_unpackhi_ps(nab, ab);  // (1-a, a, 1-b, b)
   const V4 w = _mm_mul_ps(_mm_shuffle_ps(src, src, _MM_SHUFFLE(1, 0, 1, 0)), _mm_shuffle_ps(src, src, _MM_SHUFFLE(3, 3, 2, 2)));
+  alignas(16) std::int32_t wi[4];
+  _mm_store_si128(reinterpret_cast<I4*>(wi), weight(w, splat(float(share))));
+  wi[3] = share - wi[0] - wi[1] - wi[2];
+  const I4 p = _mm_packs_epi32(_mm_load_si128(reinterpret_cast<const I4*>(wi)), _mm_setzero_si128());  // lane 0: 00|10, 1: 01|11
   const std::uint8_t* base = im.rgba.data();
-  V4 c00, c10, c01, c11;
-  texel_pair1(base, im.width, i0, i1, j0, c00, c10);
-  texel_pair1(base, im.width, i0, i1, j1, c01, c11);
-  V4 r = _mm_mul_ps(_mm_shuffle_ps(w, w, 0x00), c00);
-  r = _mm_add_ps(r, _mm_mul_ps(_mm_shuffle_ps(w, w, 0x55), c10));
-  r = _mm_add_ps(r, _mm_mul_ps(_mm_shuffle_ps(w, w, 0xaa), c01));
-  return _mm_add_ps(r, _mm_mul_ps(_mm_shuffle_ps(w, w, 0xff), c11));
+  const I4 r0 = pair1(load_texel(base, im.width, i0, j0), load_texel(base, im.width, i1, j0), _mm_shuffle_epi32(p, 0x00));
+  const I4 r1 = pair1(load_texel(base, im.width, i0, j1), load_texel(base, im.width, i1, j1), _mm_shuffle_epi32(p, 0x55));
+  return _mm_add_epi32(r0, r1);
 }
 
-// A level's nearest texel (texel units).
-[[gnu::always_inline]] inline V4 nearest1(const Image& im, float ws, float wt) {
+// A level's nearest texel, weighted.
+[[gnu::always_inline]] inline I4 nearest1(const Image& im, float ws, float wt, int share) {
   int i = _mm_cvttss_si32(_mm_set_ss(ws * float(im.width))), j = _mm_cvttss_si32(_mm_set_ss(wt * float(im.height)));
   if (i == im.width) --i;
   if (j == im.height) --j;
-  return texel1(im.rgba.data(), im.width, i, j);
+  const I4 x = load_texel(im.rgba.data(), im.width, i, j);
+  return pair1(x, x, _mm_set1_epi32(share));  // weight in the low halves, 0 in the high ones
 }
 
-template <int C>
 V4 sample_one(const Texture& t, const Plan& p, float s, float tt) {
   const float ws = wrap1(s, t.wrap_s), wt = wrap1(tt, t.wrap_t);
   const Image& l0 = t.levels[p.l0];
-  V4 c;
+  I4 sum;
   if (!p.linear) {
-    c = nearest1(l0, ws, wt);
-    if (p.l1 >= 0) {
-      const V4 c1 = nearest1(t.levels[p.l1], ws, wt);
-      c = _mm_add_ps(_mm_mul_ps(splat(1 - p.f), c), _mm_mul_ps(splat(p.f), c1));
-    }
+    sum = nearest1(l0, ws, wt, p.share0);
+    if (p.l1 >= 0) sum = _mm_add_epi32(sum, nearest1(t.levels[p.l1], ws, wt, p.share1));
   } else {
     const Image& l1 = t.levels[p.l1 >= 0 ? p.l1 : p.l0];
     const V4 dims = _mm_cvtepi32_ps(_mm_set_epi32(l1.height, l1.width, l0.height, l0.width));
@@ -404,24 +384,15 @@ V4 sample_one(const Texture& t, const Plan& p, float s, float tt) {
     alignas(16) std::int32_t ij[4];
     _mm_store_si128(reinterpret_cast<I4*>(ij), _mm_cvttps_epi32(fl));
     const V4 ab = _mm_sub_ps(uvf, fl);  // (a0, b0, a1, b1)
-    c = level1<0>(t, l0, ij, ab);
-    if (p.l1 >= 0) {
-      const V4 c1 = level1<2>(t, l1, ij, ab);
-      c = _mm_add_ps(_mm_mul_ps(splat(1 - p.f), c), _mm_mul_ps(splat(p.f), c1));
-    }
+    sum = level1<0>(t, l0, ij, ab, p.share0);
+    if (p.l1 >= 0) sum = _mm_add_epi32(sum, level1<2>(t, l1, ij, ab, p.share1));
   }
-  c = _mm_mul_ps(c, splat(1.0f / 255.0f));
-  if (C == 1) c = _mm_shuffle_ps(c, c, 0);
-  if (C < 4) {
-    const V4 rgb = _mm_castsi128_ps(_mm_set_epi32(0, -1, -1, -1));
-    c = _mm_or_ps(_mm_and_ps(c, rgb), _mm_andnot_ps(rgb, splat(1.0f)));
-  }
-  return c;
+  return to_colour(sum, t.format);
 }
 
 // ---------------------------------------------------------------------------------------------
-// AVX2: the bilinear footprints of both levels of a trilinear quad in one 256-bit register (lanes
-// 0-3 level d, 4-7 level d + 1), the same operations per lane as level4 and blend above.
+// AVX2: both levels of a trilinear quad in one 256-bit register (lanes 0-3 level d, 4-7 level
+// d + 1), the same float operations lane for lane as level4 (no FMA), the same exact integer sums.
 
 using V8 = __m256;
 using I8 = __m256i;
@@ -446,22 +417,28 @@ WEDGE_AVX2 void wrap_pair8(I8& i0, I8& i1, I8 size, TexWrap w) {
   }
 }
 
-// Texels of lanes 0-3 from level image b0, of lanes 4-7 from b1; channels as in channels().
-template <int C>
-WEDGE_AVX2 void fetch8(const int* b0, const int* b1, I8 index, V8* c) {
+// Texels of lanes 0-3 from level image b0, of lanes 4-7 from b1.
+WEDGE_AVX2 I8 gather8(const int* b0, const int* b1, I8 index) {
   const I4 x0 = _mm_i32gather_epi32(b0, _mm256_castsi256_si128(index), 4);
   const I4 x1 = _mm_i32gather_epi32(b1, _mm256_extracti128_si256(index, 1), 4);
-  const I8 x = _mm256_set_m128i(x1, x0);
-  const I8 m = _mm256_set1_epi32(0xff);
-  c[0] = _mm256_cvtepi32_ps(_mm256_and_si256(x, m));
-  if (C > 1) c[1] = _mm256_cvtepi32_ps(_mm256_and_si256(_mm256_srli_epi32(x, 8), m));
-  if (C > 2) c[2] = _mm256_cvtepi32_ps(_mm256_and_si256(_mm256_srli_epi32(x, 16), m));
-  if (C > 3) c[3] = _mm256_cvtepi32_ps(_mm256_srli_epi32(x, 24));
+  return _mm256_set_m128i(x1, x0);
 }
 
-template <int C>
-__attribute__((target("avx2"))) void trilinear_avx2(const Texture& t, const Plan& p, const float* s,
-                                                     const float* tt, float* out) {
+// add_pair on both levels: acc[k] gets fragment k's level-d sums in its low half, level d + 1's
+// in its high half.
+WEDGE_AVX2 void add_pair8(I8 x, I8 y, I8 p, I8* acc) {
+  const I8 zero = _mm256_setzero_si256();
+  const I8 lo = _mm256_unpacklo_epi8(x, y), hi = _mm256_unpackhi_epi8(x, y);
+  acc[0] = _mm256_add_epi32(acc[0], _mm256_madd_epi16(_mm256_unpacklo_epi8(lo, zero), _mm256_shuffle_epi32(p, 0x00)));
+  acc[1] = _mm256_add_epi32(acc[1], _mm256_madd_epi16(_mm256_unpackhi_epi8(lo, zero), _mm256_shuffle_epi32(p, 0x55)));
+  acc[2] = _mm256_add_epi32(acc[2], _mm256_madd_epi16(_mm256_unpacklo_epi8(hi, zero), _mm256_shuffle_epi32(p, 0xaa)));
+  acc[3] = _mm256_add_epi32(acc[3], _mm256_madd_epi16(_mm256_unpackhi_epi8(hi, zero), _mm256_shuffle_epi32(p, 0xff)));
+}
+
+WEDGE_AVX2 I8 weight8(V8 w, V8 share) { return _mm256_cvtps_epi32(_mm256_mul_ps(w, share)); }
+
+__attribute__((target("avx2"))) void trilinear_avx2(const Texture& t, const Plan& p, const float* s, const float* tt,
+                                                    float* out) {
   const V4 ws4 = wrap4(_mm_loadu_ps(s), t.wrap_s), wt4 = wrap4(_mm_loadu_ps(tt), t.wrap_t);
   const V8 ws = _mm256_set_m128(ws4, ws4), wt = _mm256_set_m128(wt4, wt4);
   const Image& l0 = t.levels[p.l0];
@@ -479,28 +456,23 @@ __attribute__((target("avx2"))) void trilinear_avx2(const Texture& t, const Plan
   wrap_pair8(i0, i1, wi, t.wrap_s);
   wrap_pair8(j0, j1, hi, t.wrap_t);
   const V8 na = _mm256_sub_ps(one, a), nb = _mm256_sub_ps(one, b);
-  const V8 w00 = _mm256_mul_ps(na, nb), w10 = _mm256_mul_ps(a, nb), w01 = _mm256_mul_ps(na, b),
-           w11 = _mm256_mul_ps(a, b);
+  const I8 si = _mm256_set_m128i(_mm_set1_epi32(p.share1), _mm_set1_epi32(p.share0));
+  const V8 g = _mm256_cvtepi32_ps(si);
+  const I8 w00 = weight8(_mm256_mul_ps(na, nb), g), w10 = weight8(_mm256_mul_ps(a, nb), g),
+           w01 = weight8(_mm256_mul_ps(na, b), g);
+  const I8 w11 = _mm256_sub_epi32(_mm256_sub_epi32(_mm256_sub_epi32(si, w00), w10), w01);
   const I8 r0 = _mm256_madd_epi16(j0, wi), r1 = _mm256_madd_epi16(j1, wi);
   const int* b0 = reinterpret_cast<const int*>(l0.rgba.data());
   const int* b1 = reinterpret_cast<const int*>(l1.rgba.data());
-  V8 acc[C], c[C];
-  fetch8<C>(b0, b1, _mm256_add_epi32(r0, i0), c);
-  WEDGE_UNROLL for (int k = 0; k < C; ++k) acc[k] = _mm256_mul_ps(w00, c[k]);
-  fetch8<C>(b0, b1, _mm256_add_epi32(r0, i1), c);
-  WEDGE_UNROLL for (int k = 0; k < C; ++k) acc[k] = _mm256_add_ps(acc[k], _mm256_mul_ps(w10, c[k]));
-  fetch8<C>(b0, b1, _mm256_add_epi32(r1, i0), c);
-  WEDGE_UNROLL for (int k = 0; k < C; ++k) acc[k] = _mm256_add_ps(acc[k], _mm256_mul_ps(w01, c[k]));
-  fetch8<C>(b0, b1, _mm256_add_epi32(r1, i1), c);
-  WEDGE_UNROLL for (int k = 0; k < C; ++k) acc[k] = _mm256_add_ps(acc[k], _mm256_mul_ps(w11, c[k]));
-  // Level blend: lanes 0-3 times 1 - f plus lanes 4-7 times f (blend's products, in its order).
-  const V8 fw = _mm256_set_m128(splat(p.f), splat(1 - p.f));
-  V4 r[C];
-  WEDGE_UNROLL for (int k = 0; k < C; ++k) {
-    const V8 x = _mm256_mul_ps(fw, acc[k]);
-    r[k] = _mm_add_ps(_mm256_castps256_ps128(x), _mm256_extractf128_ps(x, 1));
+  const I8 t00 = gather8(b0, b1, _mm256_add_epi32(r0, i0)), t10 = gather8(b0, b1, _mm256_add_epi32(r0, i1));
+  const I8 t01 = gather8(b0, b1, _mm256_add_epi32(r1, i0)), t11 = gather8(b0, b1, _mm256_add_epi32(r1, i1));
+  I8 acc[4] = {_mm256_setzero_si256(), _mm256_setzero_si256(), _mm256_setzero_si256(), _mm256_setzero_si256()};
+  add_pair8(t00, t10, _mm256_or_si256(w00, _mm256_slli_epi32(w10, 16)), acc);
+  add_pair8(t01, t11, _mm256_or_si256(w01, _mm256_slli_epi32(w11, 16)), acc);
+  for (int k = 0; k < 4; ++k) {
+    const I4 sum = _mm_add_epi32(_mm256_castsi256_si128(acc[k]), _mm256_extracti128_si256(acc[k], 1));
+    _mm_storeu_ps(out + 4 * k, to_colour(sum, t.format));
   }
-  finish<C>(r, out);
 }
 
 bool cpu_has_avx2() {
@@ -575,12 +547,7 @@ std::shared_ptr<Texture> Texture::load_png(const std::string& path, TexFormat fo
 Vec4f Texture::sample(float s, float t, float lambda) const {
   Vec4f c;
   const Plan p = make_plan(*this, lambda);
-  V4 r;
-  if (!fast_ok(*this, p)) r = sample_general(*this, s, t, p);
-  else if (format == TexFormat::RGBA) r = sample_one<4>(*this, p, s, t);
-  else if (format == TexFormat::RGB) r = sample_one<3>(*this, p, s, t);
-  else r = sample_one<1>(*this, p, s, t);
-  _mm_storeu_ps(c.data(), r);
+  _mm_storeu_ps(c.data(), fast_ok(*this, p) ? sample_one(*this, p, s, t) : sample_general(*this, s, t, p));
   return c;
 }
 
@@ -590,19 +557,8 @@ void Texture::sample4(const float* s, const float* t, float lambda, float* out) 
     for (int k = 0; k < 4; ++k) _mm_storeu_ps(out + 4 * k, sample_general(*this, s[k], t[k], p));
     return;
   }
-  if (p.l1 >= 0 && p.linear && g_avx2.load(std::memory_order_relaxed)) {
-    switch (channel_count(format)) {
-      case 4: return trilinear_avx2<4>(*this, p, s, t, out);
-      case 3: return trilinear_avx2<3>(*this, p, s, t, out);
-      default: return trilinear_avx2<1>(*this, p, s, t, out);
-    }
-  }
-  const V4 s4 = _mm_loadu_ps(s), t4 = _mm_loadu_ps(t);
-  switch (channel_count(format)) {
-    case 4: return sample_sse<4>(*this, p, s4, t4, out);
-    case 3: return sample_sse<3>(*this, p, s4, t4, out);
-    default: return sample_sse<1>(*this, p, s4, t4, out);
-  }
+  if (p.l1 >= 0 && p.linear && g_avx2.load(std::memory_order_relaxed)) return trilinear_avx2(*this, p, s, t, out);
+  sample_sse(*this, p, _mm_loadu_ps(s), _mm_loadu_ps(t), out);
 }
 
 bool Texture::allow_avx2(bool allow) {
