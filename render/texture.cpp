@@ -117,7 +117,7 @@ struct Plan {
   int share0 = 16384, share1 = 0;  // fast path: the levels' weights in units of 2^-14, summing to 2^14
 };
 
-Plan make_plan(const Texture& t, float lambda) {
+[[gnu::always_inline]] inline Plan make_plan(const Texture& t, float lambda) {
   const TexFilter min_filter = t.min_filter;
   Plan p;
   if (!(lambda > 0) || t.levels.size() == 1) {  // magnification (also a NaN lambda)
@@ -295,7 +295,9 @@ void sample_sse(const Texture& t, const Plan& p, V4 s, V4 tt, float* out) {
   I4 acc[4] = {_mm_setzero_si128(), _mm_setzero_si128(), _mm_setzero_si128(), _mm_setzero_si128()};
   level4(t, t.levels[p.l0], p.linear, p.share0, ws, wt, acc);
   if (p.l1 >= 0) level4(t, t.levels[p.l1], p.linear, p.share1, ws, wt, acc);
-  for (int k = 0; k < 4; ++k) _mm_storeu_ps(out + 4 * k, to_colour(acc[k], t.format));
+  const TexFormat fmt = t.format;
+#pragma GCC unroll 4
+  for (int k = 0; k < 4; ++k) _mm_storeu_ps(out + 4 * k, to_colour(acc[k], fmt));
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -399,10 +401,12 @@ using I8 = __m256i;
 
 #define WEDGE_AVX2 __attribute__((target("avx2"), always_inline)) inline
 
-// floor as floor4: truncate, step down where truncation rounded up.
-WEDGE_AVX2 V8 floor8(V8 x) {
-  const V8 tr = _mm256_cvtepi32_ps(_mm256_cvttps_epi32(x));
-  return _mm256_sub_ps(tr, _mm256_and_ps(_mm256_cmp_ps(tr, x, _CMP_GT_OQ), _mm256_set1_ps(1.0f)));
+// wrap4 with SSE4.1's floor (the same value: floor4 is exact below 2^23 and the identity above,
+// a NaN or infinity becomes 1 either way, and floor(-0) = -0 against floor4's +0 only changes the
+// sign of a zero that MAXPS then replaces by +0).
+WEDGE_AVX2 V4 wrap4_avx2(V4 s, TexWrap w) {
+  if (w == TexWrap::Repeat) s = _mm_sub_ps(s, _mm_floor_ps(s));
+  return _mm_max_ps(_mm_min_ps(s, splat(1.0f)), _mm_setzero_ps());
 }
 
 // wrap_pair on eight lanes.
@@ -439,7 +443,7 @@ WEDGE_AVX2 I8 weight8(V8 w, V8 share) { return _mm256_cvtps_epi32(_mm256_mul_ps(
 
 __attribute__((target("avx2"))) void trilinear_avx2(const Texture& t, const Plan& p, const float* s, const float* tt,
                                                     float* out) {
-  const V4 ws4 = wrap4(_mm_loadu_ps(s), t.wrap_s), wt4 = wrap4(_mm_loadu_ps(tt), t.wrap_t);
+  const V4 ws4 = wrap4_avx2(_mm_loadu_ps(s), t.wrap_s), wt4 = wrap4_avx2(_mm_loadu_ps(tt), t.wrap_t);
   const V8 ws = _mm256_set_m128(ws4, ws4), wt = _mm256_set_m128(wt4, wt4);
   const Image& l0 = t.levels[p.l0];
   const Image& l1 = t.levels[p.l1];
@@ -448,7 +452,7 @@ __attribute__((target("avx2"))) void trilinear_avx2(const Texture& t, const Plan
   const V8 half = _mm256_set1_ps(0.5f), one = _mm256_set1_ps(1.0f);
   const V8 uf = _mm256_sub_ps(_mm256_mul_ps(ws, _mm256_cvtepi32_ps(wi)), half);
   const V8 vf = _mm256_sub_ps(_mm256_mul_ps(wt, _mm256_cvtepi32_ps(hi)), half);
-  const V8 fu = floor8(uf), fv = floor8(vf);
+  const V8 fu = _mm256_floor_ps(uf), fv = _mm256_floor_ps(vf);  // as floor4: exact, uf and vf > -1
   const V8 a = _mm256_sub_ps(uf, fu), b = _mm256_sub_ps(vf, fv);
   const I8 ione = _mm256_set1_epi32(1);
   I8 i0 = _mm256_cvttps_epi32(fu), j0 = _mm256_cvttps_epi32(fv);
@@ -469,9 +473,11 @@ __attribute__((target("avx2"))) void trilinear_avx2(const Texture& t, const Plan
   I8 acc[4] = {_mm256_setzero_si256(), _mm256_setzero_si256(), _mm256_setzero_si256(), _mm256_setzero_si256()};
   add_pair8(t00, t10, _mm256_or_si256(w00, _mm256_slli_epi32(w10, 16)), acc);
   add_pair8(t01, t11, _mm256_or_si256(w01, _mm256_slli_epi32(w11, 16)), acc);
+  const TexFormat fmt = t.format;
+#pragma GCC unroll 4
   for (int k = 0; k < 4; ++k) {
     const I4 sum = _mm_add_epi32(_mm256_castsi256_si128(acc[k]), _mm256_extracti128_si256(acc[k], 1));
-    _mm_storeu_ps(out + 4 * k, to_colour(sum, t.format));
+    _mm_storeu_ps(out + 4 * k, to_colour(sum, fmt));
   }
 }
 

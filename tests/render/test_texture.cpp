@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <random>
 
 #include "render/render.h"
@@ -28,7 +29,11 @@ std::shared_ptr<Texture> random_texture(std::mt19937& rng, int w, int h, TexForm
 // centre, sometimes far away.
 float random_coord(std::mt19937& rng, int size) {
   std::uniform_real_distribution<float> u(-3.0f, 4.0f);
-  switch (rng() % 8) {
+  const float special[] = {-0.0f, 0.0f, 1.0f, -1.0f, 8388607.5f, -8388607.5f, 8388608.0f, 3e9f, -3e9f, 1e30f,
+                           std::numeric_limits<float>::infinity(), -std::numeric_limits<float>::infinity(),
+                           std::numeric_limits<float>::quiet_NaN(), 0.99999994f, -1e-30f, 1e-30f};
+  switch (rng() % 9) {
+    case 8: return special[rng() % 16];
     case 0: return float(int(rng() % (4 * size)) - size) / size;                   // texel edge
     case 1: return (float(int(rng() % (4 * size)) - size) + 0.5f) / size;          // texel centre
     case 2: return std::uniform_real_distribution<float>(-300.0f, 300.0f)(rng);    // far
