@@ -7,14 +7,15 @@
 //
 // Sampling: sample4() runs four fragments at once, one fragment per SIMD lane (structure of
 // arrays): the wrapped coordinates, texel indices and bilinear weights of all four in one register
-// each, the texels fetched by index, each channel filtered in float on its own register. sample()
-// takes one fragment with the four channels in one register, and applies exactly the float
-// operations the four-lane path applies to that fragment's lane, in the same order, so the two
-// agree bit for bit (tests/render/test_texture.cpp checks it). The base path is SSE2 (part of
-// x86-64); trilinear quads take an AVX2 path when the CPU has it (chosen at run time), which puts
-// both mip levels in one 256-bit register with the same operations lane for lane (no FMA), so the
-// results do not depend on the CPU either. GL_CLAMP (border colour) and images of 32768 texels or
-// more a side take a per-fragment general path.
+// each, the texels fetched by index, then filtered in fixed point (integer weights, exact integer
+// sums; see "Fast path" below). sample() takes one fragment with its two levels' coordinates in
+// one register and applies exactly the float operations the four-lane path applies to that
+// fragment's lane, so the two agree bit for bit (tests/render/test_texture.cpp checks it). The
+// base path is SSE2 (part of x86-64); trilinear quads take an AVX2 path when the CPU has it
+// (chosen at run time), which puts both mip levels in one 256-bit register with the same
+// operations lane for lane (no FMA), so the results do not depend on the CPU either. GL_CLAMP
+// (border colour) and images of 32768 texels or more a side take a per-fragment general path in
+// float.
 #include <atomic>
 #include <cmath>
 #include <cstring>
@@ -141,7 +142,7 @@ struct Plan {
       if (lambda >= last) {
         p.l0 = last;
       } else {
-        p.l0 = int(std::floor(lambda)), p.l1 = p.l0 + 1;
+        p.l0 = int(lambda), p.l1 = p.l0 + 1;  // 0 < lambda < last: truncation is the floor
         p.f = lambda - p.l0;
         p.share1 = _mm_cvtss_si32(_mm_set_ss(p.f * 16384.0f));
         p.share0 = 16384 - p.share1;
@@ -159,6 +160,10 @@ V4 sample_general(const Texture& t, float s, float tt, const Plan& p) {
   return _mm_add_ps(_mm_mul_ps(splat(1 - p.f), c0), _mm_mul_ps(splat(p.f), c1));
 }
 
+[[gnu::noinline]] void sample4_general(const Texture& t, const Plan& p, const float* s, const float* tt, float* out) {
+  for (int k = 0; k < 4; ++k) _mm_storeu_ps(out + 4 * k, sample_general(t, s[k], tt[k], p));
+}
+
 // ---------------------------------------------------------------------------------------------
 // Fast path. A sample is a weighted sum of at most eight texels (a 2x2 footprint, or one texel
 // for nearest, in one or two levels) computed in integers. The weights are in units of 2^-14: the
@@ -169,8 +174,8 @@ V4 sample_general(const Texture& t, float s, float tt, const Plan& p) {
 // two texels per multiply-add) and the sum times 1/(255 * 2^14) is the colour. The float steps are
 // the same operations in every path and the integer steps are exact, so lane layout and summation
 // order do not change a bit. A lone texel of weight 1 comes out as byte * (1/255) exactly (scaling
-// by 2^14 is exact); otherwise the rounding moves a result by at most 3 * 2^-14 per level (0.05 of
-// a level of 255).
+// by 2^14 is exact); otherwise the weights' rounding (they still add up to 2^14) moves a result by
+// at most 1.5 * 2^-14 of full scale per level, under 0.05 of a level of 255 in all.
 
 constexpr float kOutScale = 1.0f / (255.0f * 16384.0f);
 
@@ -290,8 +295,8 @@ bool fast_ok(const Texture& t, const Plan& p) {
   return c;
 }
 
-void sample_sse(const Texture& t, const Plan& p, V4 s, V4 tt, float* out) {
-  const V4 ws = wrap4(s, t.wrap_s), wt = wrap4(tt, t.wrap_t);
+[[gnu::noinline]] void sample_sse(const Texture& t, const Plan& p, const float* s, const float* tt, float* out) {
+  const V4 ws = wrap4(_mm_loadu_ps(s), t.wrap_s), wt = wrap4(_mm_loadu_ps(tt), t.wrap_t);
   I4 acc[4] = {_mm_setzero_si128(), _mm_setzero_si128(), _mm_setzero_si128(), _mm_setzero_si128()};
   level4(t, t.levels[p.l0], p.linear, p.share0, ws, wt, acc);
   if (p.l1 >= 0) level4(t, t.levels[p.l1], p.linear, p.share1, ws, wt, acc);
@@ -395,6 +400,7 @@ V4 sample_one(const Texture& t, const Plan& p, float s, float tt) {
 // ---------------------------------------------------------------------------------------------
 // AVX2: both levels of a trilinear quad in one 256-bit register (lanes 0-3 level d, 4-7 level
 // d + 1), the same float operations lane for lane as level4 (no FMA), the same exact integer sums.
+// Quads of one bilinear level take the same code with an empty second level.
 
 using V8 = __m256;
 using I8 = __m256i;
@@ -421,9 +427,11 @@ WEDGE_AVX2 void wrap_pair8(I8& i0, I8& i1, I8 size, TexWrap w) {
   }
 }
 
-// Texels of lanes 0-3 from level image b0, of lanes 4-7 from b1.
+// Texels of lanes 0-3 from level image b0, of lanes 4-7 from b1 (Two) or zero (one level).
+template <bool Two>
 WEDGE_AVX2 I8 gather8(const int* b0, const int* b1, I8 index) {
   const I4 x0 = _mm_i32gather_epi32(b0, _mm256_castsi256_si128(index), 4);
+  if (!Two) return _mm256_zextsi128_si256(x0);
   const I4 x1 = _mm_i32gather_epi32(b1, _mm256_extracti128_si256(index, 1), 4);
   return _mm256_set_m128i(x1, x0);
 }
@@ -441,12 +449,15 @@ WEDGE_AVX2 void add_pair8(I8 x, I8 y, I8 p, I8* acc) {
 
 WEDGE_AVX2 I8 weight8(V8 w, V8 share) { return _mm256_cvtps_epi32(_mm256_mul_ps(w, share)); }
 
-__attribute__((target("avx2"))) void trilinear_avx2(const Texture& t, const Plan& p, const float* s, const float* tt,
-                                                    float* out) {
+// Two = false: one level with bilinear filtering, in lanes 0-3 (lanes 4-7 repeat the level with
+// share 0 and no texels, so they add nothing).
+template <bool Two>
+__attribute__((target("avx2"))) void bilinear_avx2(const Texture& t, const Plan& p, const float* s, const float* tt,
+                                                   float* out) {
   const V4 ws4 = wrap4_avx2(_mm_loadu_ps(s), t.wrap_s), wt4 = wrap4_avx2(_mm_loadu_ps(tt), t.wrap_t);
   const V8 ws = _mm256_set_m128(ws4, ws4), wt = _mm256_set_m128(wt4, wt4);
   const Image& l0 = t.levels[p.l0];
-  const Image& l1 = t.levels[p.l1];
+  const Image& l1 = t.levels[Two ? p.l1 : p.l0];
   const I8 wi = _mm256_set_m128i(_mm_set1_epi32(l1.width), _mm_set1_epi32(l0.width));
   const I8 hi = _mm256_set_m128i(_mm_set1_epi32(l1.height), _mm_set1_epi32(l0.height));
   const V8 half = _mm256_set1_ps(0.5f), one = _mm256_set1_ps(1.0f);
@@ -468,8 +479,8 @@ __attribute__((target("avx2"))) void trilinear_avx2(const Texture& t, const Plan
   const I8 r0 = _mm256_madd_epi16(j0, wi), r1 = _mm256_madd_epi16(j1, wi);
   const int* b0 = reinterpret_cast<const int*>(l0.rgba.data());
   const int* b1 = reinterpret_cast<const int*>(l1.rgba.data());
-  const I8 t00 = gather8(b0, b1, _mm256_add_epi32(r0, i0)), t10 = gather8(b0, b1, _mm256_add_epi32(r0, i1));
-  const I8 t01 = gather8(b0, b1, _mm256_add_epi32(r1, i0)), t11 = gather8(b0, b1, _mm256_add_epi32(r1, i1));
+  const I8 t00 = gather8<Two>(b0, b1, _mm256_add_epi32(r0, i0)), t10 = gather8<Two>(b0, b1, _mm256_add_epi32(r0, i1));
+  const I8 t01 = gather8<Two>(b0, b1, _mm256_add_epi32(r1, i0)), t11 = gather8<Two>(b0, b1, _mm256_add_epi32(r1, i1));
   I8 acc[4] = {_mm256_setzero_si256(), _mm256_setzero_si256(), _mm256_setzero_si256(), _mm256_setzero_si256()};
   add_pair8(t00, t10, _mm256_or_si256(w00, _mm256_slli_epi32(w10, 16)), acc);
   add_pair8(t01, t11, _mm256_or_si256(w01, _mm256_slli_epi32(w11, 16)), acc);
@@ -559,12 +570,10 @@ Vec4f Texture::sample(float s, float t, float lambda) const {
 
 void Texture::sample4(const float* s, const float* t, float lambda, float* out) const {
   const Plan p = make_plan(*this, lambda);
-  if (!fast_ok(*this, p)) {
-    for (int k = 0; k < 4; ++k) _mm_storeu_ps(out + 4 * k, sample_general(*this, s[k], t[k], p));
-    return;
-  }
-  if (p.l1 >= 0 && p.linear && g_avx2.load(std::memory_order_relaxed)) return trilinear_avx2(*this, p, s, t, out);
-  sample_sse(*this, p, _mm_loadu_ps(s), _mm_loadu_ps(t), out);
+  if (!fast_ok(*this, p)) return sample4_general(*this, p, s, t, out);
+  if (p.linear && g_avx2.load(std::memory_order_relaxed))
+    return p.l1 >= 0 ? bilinear_avx2<true>(*this, p, s, t, out) : bilinear_avx2<false>(*this, p, s, t, out);
+  sample_sse(*this, p, s, t, out);
 }
 
 bool Texture::allow_avx2(bool allow) {
