@@ -993,8 +993,12 @@ struct Raster {
     // E >= 0  <=>  A px + B py + floor(K / 256) >= 0: the same test on integers 256 times
     // smaller, e(px, py) = A (px - ox) + B (py - oy) + c, which fits in 32 bits unless the
     // triangle is huge.
-    std::int64_t A[3], B[3], c[3];
+    Quad8Setup qs;  // the setup, as the AVX2 two-quad loop takes it
+    std::int64_t* const A = qs.A;
+    std::int64_t* const B = qs.B;
+    std::int64_t* const c = qs.c;
     bool fits = true;
+#pragma GCC unroll 3
     for (int i = 0; i < 3; ++i) {
       const int a = (i + 1) % 3, b = (i + 2) % 3;
       const std::int64_t dx = X[b] - X[a], dy = Y[b] - Y[a];
@@ -1011,24 +1015,36 @@ struct Raster {
     // Barycentrics at the centre of pixel (ox, oy) and their steps per pixel.
     const double inv_area = 1.0 / double(area);
     double l0[3], glx[3], gly[3];
+#pragma GCC unroll 3
     for (int i = 0; i < 3; ++i) {
       const int a = (i + 1) % 3;
       l0[i] = double(A[i] * (std::int64_t(ox) * 256 + 128 - X[a]) + B[i] * (std::int64_t(oy) * 256 + 128 - Y[a])) * inv_area;
       glx[i] = double(A[i]) * kSub * inv_area, gly[i] = double(B[i]) * kSub * inv_area;
     }
+    // (value, x step) of a plane in one register pair, the y step apart: the same products and
+    // sums, in the same order, as three scalar dot products.
+    const __m128d lg[3] = {_mm_set_pd(glx[0], l0[0]), _mm_set_pd(glx[1], l0[1]), _mm_set_pd(glx[2], l0[2])};
     auto plane = [&](double f0, double f1, double f2) {
-      return QPlane{_mm_set1_ps(float(l0[0] * f0 + l0[1] * f1 + l0[2] * f2)),
-                    _mm_set1_ps(float(glx[0] * f0 + glx[1] * f1 + glx[2] * f2)),
+      const __m128d cd = _mm_add_pd(_mm_add_pd(_mm_mul_pd(lg[0], _mm_set1_pd(f0)), _mm_mul_pd(lg[1], _mm_set1_pd(f1))),
+                                    _mm_mul_pd(lg[2], _mm_set1_pd(f2)));
+      const __m128 cdf = _mm_cvtpd_ps(cd);
+      return QPlane{_mm_shuffle_ps(cdf, cdf, 0), _mm_shuffle_ps(cdf, cdf, 0x55),
                     _mm_set1_ps(float(gly[0] * f0 + gly[1] * f1 + gly[2] * f2))};
     };
     // a/w for attribute k (divided by the 1/w plane per fragment: perspective-correct).
     auto persp = [&](int k) {
       return plane(double(v[0]->a[k]) * v[0]->inv_w, double(v[1]->a[k]) * v[1]->inv_w, double(v[2]->a[k]) * v[2]->inv_w);
     };
-    const QPlane pw = plane(v[0]->inv_w, v[1]->inv_w, v[2]->inv_w);
+    const QPlane pw = qs.pw = plane(v[0]->inv_w, v[1]->inv_w, v[2]->inv_w);
     const int col = side ? kBack : kFront;
     const QPlane none{_mm_setzero_ps(), _mm_setzero_ps(), _mm_setzero_ps()};
-    QPlane pc[4] = {none, none, none, none}, pt[3] = {none, none, none}, pf = none, pa[Phong ? kAttrs : 1];
+    QPlane* const pc = qs.pc;
+    QPlane* const pt = qs.pt;
+    QPlane& pf = qs.pf;
+    for (int k = 0; k < 4; ++k) pc[k] = none;
+    for (int k = 0; k < 3; ++k) pt[k] = none;
+    pf = none;
+    QPlane pa[Phong ? kAttrs : 1];
     bool tex_q = false;
     if constexpr (Smooth && !Phong)
       for (int k = 0; k < 4; ++k) pc[k] = persp(col + k);
@@ -1064,12 +1080,8 @@ struct Raster {
     const bool fast_write = !blend && all_mask;
     if constexpr (Avx2 && !Phong) {
       if (fast_write && (!Fog || fog_mode == FogMode::Linear)) {
-        Quad8Setup q;
+        Quad8Setup& q = qs;
         q.ox = ox, q.oy = oy, q.bx0 = bx0, q.bx1 = bx1, q.by0 = by0, q.by1 = by1, q.col = col;
-        for (int i = 0; i < 3; ++i) q.c[i] = c[i], q.A[i] = A[i], q.B[i] = B[i];
-        q.pw = pw, q.pf = pf;
-        for (int k = 0; k < 4; ++k) q.pc[k] = pc[k];
-        for (int k = 0; k < 3; ++k) q.pt[k] = pt[k];
         q.tex_q = tex_q, q.dmask = dmask, q.zc = zc, q.zdx = zdx, q.zdy = zdy;
         q.texture = texture, q.tex_w = tex_w, q.tex_h = tex_h, q.fog_end = fog_end, q.fog_range = fog_range;
         q.env = env, q.fmt = fmt, q.flat = flat, q.dfunc = dfunc;
