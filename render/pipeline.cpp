@@ -298,8 +298,8 @@ struct Raster {
   // Clip planes: 6 frustum planes then the enabled user planes (as eye-space planes).
   std::vector<Vec4> user_planes;
   int x0, y0, x1, y1;  // pixel bounds (framebuffer ∩ scissor), half open
-  bool phong, lighting, texturing, fog, blend, depth_test, all_mask;
   bool avx2 = false;  // the fragment loop's AVX2 build (the CPU has it, and WEDGE_RENDER_SIMD is not "sse2")
+  bool phong, lighting, texturing, fog, blend, depth_test, all_mask;
   std::vector<Job>* sink = nullptr;  // when set, primitives are queued instead of drawn
   std::vector<PVert> poly_scratch, clip_scratch;
   std::vector<WinVert> win_scratch;
