@@ -767,12 +767,33 @@ struct Raster {
       erow[i] = _mm256_add_epi32(_mm256_set1_epi32(int(q.c[i])),
                                  _mm256_set_epi32(3 * a + b, 2 * a + b, 3 * a, 2 * a, a + b, b, a, 0));
     }
+    const bool wide = q.bx1 - q.ox >= 64;
     for (int qy = q.oy; qy <= q.by1; qy += 2) {
       int rowm = 0xff;
       if (qy < q.by0) rowm &= ~0x33;
       if (qy + 1 > q.by1) rowm &= ~0xcc;
       __m256i e[3] = {erow[0], erow[1], erow[2]};
       for (int i = 0; i < 3; ++i) erow[i] = _mm256_add_epi32(erow[i], estepy[i]);
+      // On wide triangles, the columns where this pair of rows can be covered: each edge's
+      // e(x) >= 0 solved for x on either row, widened by two pixels (the per-lane edge test
+      // still decides coverage; this only skips blocks that cannot pass it).
+      int qx_first = q.ox, qx_last = q.bx1;
+      if (wide) {
+        double lo = 0, hi = q.bx1 - q.ox;
+        bool empty = false;
+        for (int i = 0; i < 3; ++i) {
+          const double e0 = double(q.c[i] + q.B[i] * (qy - q.oy)), e1 = e0 + double(q.B[i]);
+          if (q.A[i] > 0) lo = std::max(lo, std::min(-e0, -e1) / double(q.A[i]));
+          else if (q.A[i] < 0) hi = std::min(hi, std::max(e0, e1) / double(-q.A[i]));
+          else if (e0 < 0 && e1 < 0) empty = true;
+        }
+        if (empty || lo > hi + 4) continue;
+        qx_first = q.ox + (std::max(0, int(lo) - 2) & ~1);
+        qx_last = std::min(q.bx1, q.ox + int(hi) + 2);
+        if (qx_first > q.ox)
+          for (int i = 0; i < 3; ++i)
+            e[i] = _mm256_add_epi32(e[i], _mm256_set1_epi32(int(q.A[i]) * (qx_first - q.ox)));
+      }
       const float fy = float(qy - q.oy);
       const __m256 Y8 = _mm256_add_ps(_mm256_set1_ps(fy), lane_dy);
       const __m256 rw_row = row(pw, Y8);
@@ -786,7 +807,7 @@ struct Raster {
       if constexpr (Fog) f_row = row(pf, Y8);
       const double zrow_lo = q.zc + double(fy) * q.zdy, zrow_hi = q.zc + double(fy + 1) * q.zdy;
       const __m256d zrow = _mm256_set_pd(zrow_hi, zrow_hi, zrow_lo, zrow_lo);
-      for (int qx = q.ox; qx <= q.bx1; qx += 4, e[0] = _mm256_add_epi32(e[0], estep[0]),
+      for (int qx = qx_first; qx <= qx_last; qx += 4, e[0] = _mm256_add_epi32(e[0], estep[0]),
                e[1] = _mm256_add_epi32(e[1], estep[1]), e[2] = _mm256_add_epi32(e[2], estep[2])) {
         const __m256i out = _mm256_or_si256(_mm256_or_si256(e[0], e[1]), e[2]);
         int m = ~_mm256_movemask_ps(_mm256_castsi256_ps(out)) & rowm;
