@@ -452,8 +452,7 @@ WEDGE_AVX2 I8 weight8(V8 w, V8 share) { return _mm256_cvtps_epi32(_mm256_mul_ps(
 // Two = false: one level with bilinear filtering, in lanes 0-3 (lanes 4-7 repeat the level with
 // share 0 and no texels, so they add nothing).
 template <bool Two>
-__attribute__((target("avx2"))) void bilinear_avx2(const Texture& t, const Plan& p, const float* s, const float* tt,
-                                                   float* out) {
+WEDGE_AVX2 void bilinear_avx2(const Texture& t, const Plan& p, const float* s, const float* tt, float* out) {
   const V4 ws4 = wrap4_avx2(_mm_loadu_ps(s), t.wrap_s), wt4 = wrap4_avx2(_mm_loadu_ps(tt), t.wrap_t);
   const V8 ws = _mm256_set_m128(ws4, ws4), wt = _mm256_set_m128(wt4, wt4);
   const Image& l0 = t.levels[p.l0];
@@ -490,6 +489,16 @@ __attribute__((target("avx2"))) void bilinear_avx2(const Texture& t, const Plan&
     const I4 sum = _mm_add_epi32(_mm256_castsi256_si128(acc[k]), _mm256_extracti128_si256(acc[k], 1));
     _mm_storeu_ps(out + 4 * k, to_colour(sum, fmt));
   }
+}
+
+// sample4 on a CPU with AVX2: the plan, then the AVX2 kernel inlined (nearest filters: SSE2).
+__attribute__((target("avx2"))) void sample4_avx2(const Texture& t, const float* s, const float* tt, float lambda,
+                                                  float* out) {
+  const Plan p = make_plan(t, lambda);
+  if (!fast_ok(t, p)) return sample4_general(t, p, s, tt, out);
+  if (!p.linear) return sample_sse(t, p, s, tt, out);
+  if (p.l1 >= 0) bilinear_avx2<true>(t, p, s, tt, out);
+  else bilinear_avx2<false>(t, p, s, tt, out);
 }
 
 bool cpu_has_avx2() {
@@ -569,10 +578,9 @@ Vec4f Texture::sample(float s, float t, float lambda) const {
 }
 
 void Texture::sample4(const float* s, const float* t, float lambda, float* out) const {
+  if (g_avx2.load(std::memory_order_relaxed)) return sample4_avx2(*this, s, t, lambda, out);
   const Plan p = make_plan(*this, lambda);
   if (!fast_ok(*this, p)) return sample4_general(*this, p, s, t, out);
-  if (p.linear && g_avx2.load(std::memory_order_relaxed))
-    return p.l1 >= 0 ? bilinear_avx2<true>(*this, p, s, t, out) : bilinear_avx2<false>(*this, p, s, t, out);
   sample_sse(*this, p, s, t, out);
 }
 
