@@ -66,9 +66,11 @@ int wrap_repeat(int i, int size) {
   return i < 0 ? i + size : i;
 }
 
+// A wrapped coordinate in [0, 1]; NaN (also repeat's inf - inf) becomes 1, as on the fast path.
 float wrap_coord(float s, TexWrap w) {
-  if (w == TexWrap::Repeat) return s - std::floor(s);
-  return std::clamp(s, 0.0f, 1.0f);
+  if (w == TexWrap::Repeat) s -= std::floor(s);
+  s = s < 1.0f ? s : 1.0f;
+  return s > 0.0f ? s : 0.0f;
 }
 
 // One level sampled at wrapped coordinates (ws, wt) in [0, 1] (wrap_coord already applied).
@@ -154,10 +156,9 @@ struct Plan {
 
 V4 sample_general(const Texture& t, float s, float tt, const Plan& p) {
   const float ws = wrap_coord(s, t.wrap_s), wt = wrap_coord(tt, t.wrap_t);
-  const V4 c0 = sample_level(t, p.l0, ws, wt, p.linear);
-  if (p.l1 < 0) return c0;
-  const V4 c1 = sample_level(t, p.l1, ws, wt, p.linear);
-  return _mm_add_ps(_mm_mul_ps(splat(1 - p.f), c0), _mm_mul_ps(splat(p.f), c1));
+  V4 c = sample_level(t, p.l0, ws, wt, p.linear);
+  if (p.l1 >= 0) c = _mm_add_ps(_mm_mul_ps(splat(1 - p.f), c), _mm_mul_ps(splat(p.f), sample_level(t, p.l1, ws, wt, p.linear)));
+  return _mm_min_ps(_mm_max_ps(c, _mm_setzero_ps()), splat(1.0f));  // weights summing to 1 + ulp
 }
 
 [[gnu::noinline]] void sample4_general(const Texture& t, const Plan& p, const float* s, const float* tt, float* out) {
@@ -283,10 +284,12 @@ bool fast_ok(const Texture& t, const Plan& p) {
   add_pair(t01, t11, _mm_or_si128(w01, _mm_slli_epi32(w11, 16)), acc);
 }
 
-// A fragment's integer channel sums to its RGBA colour: times 1/(255 * 2^14), then the format's
-// expansion (luminance to grey, alpha 1 unless RGBA).
+// A fragment's integer channel sums to its RGBA colour: times 1/(255 * 2^14), clamped to [0, 1]
+// (a weight of -1 can take a sum 255 units past either end), then the format's expansion
+// (luminance to grey, alpha 1 unless RGBA).
 [[gnu::always_inline]] inline V4 to_colour(I4 sum, TexFormat fmt) {
   V4 c = _mm_mul_ps(_mm_cvtepi32_ps(sum), splat(kOutScale));
+  c = _mm_min_ps(_mm_max_ps(c, _mm_setzero_ps()), splat(1.0f));
   if (fmt != TexFormat::RGBA) {
     if (fmt == TexFormat::Luminance) c = _mm_shuffle_ps(c, c, 0);
     const V4 rgb = _mm_castsi128_ps(_mm_set_epi32(0, -1, -1, -1));

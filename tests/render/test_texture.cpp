@@ -68,6 +68,8 @@ int mismatches(const Texture& t, std::mt19937& rng, int n) {
     const float lambda = random_lambda(rng);
     float out[16];
     t.sample4(s, tt, lambda, out);
+    for (int k = 0; k < 16; ++k)
+      if (!(out[k] >= 0.0f && out[k] <= 1.0f)) ++bad;  // in [0, 1] (the border colour is too)
     for (int k = 0; k < 4; ++k) {
       const Vec4f c = t.sample(s[k], tt[k], lambda);
       if (std::memcmp(c.data(), out + 4 * k, sizeof(float) * 4) != 0) {
