@@ -450,6 +450,12 @@ WEDGE_AVX2 void add_pair8(I8 x, I8 y, I8 p, I8* acc) {
   acc[3] = _mm256_add_epi32(acc[3], _mm256_madd_epi16(_mm256_unpackhi_epi8(hi, zero), _mm256_shuffle_epi32(p, 0xff)));
 }
 
+// to_colour for two RGBA fragments.
+WEDGE_AVX2 V8 to_colour8(I8 sum) {
+  const V8 c = _mm256_mul_ps(_mm256_cvtepi32_ps(sum), _mm256_set1_ps(kOutScale));
+  return _mm256_min_ps(_mm256_max_ps(c, _mm256_setzero_ps()), _mm256_set1_ps(1.0f));
+}
+
 WEDGE_AVX2 I8 weight8(V8 w, V8 share) { return _mm256_cvtps_epi32(_mm256_mul_ps(w, share)); }
 
 // Two = false: one level with bilinear filtering, in lanes 0-3 (lanes 4-7 repeat the level with
@@ -486,11 +492,17 @@ WEDGE_AVX2 void bilinear_avx2(const Texture& t, const Plan& p, const float* s, c
   I8 acc[4] = {_mm256_setzero_si256(), _mm256_setzero_si256(), _mm256_setzero_si256(), _mm256_setzero_si256()};
   add_pair8(t00, t10, _mm256_or_si256(w00, _mm256_slli_epi32(w10, 16)), acc);
   add_pair8(t01, t11, _mm256_or_si256(w01, _mm256_slli_epi32(w11, 16)), acc);
-  const TexFormat fmt = t.format;
-#pragma GCC unroll 4
-  for (int k = 0; k < 4; ++k) {
-    const I4 sum = _mm_add_epi32(_mm256_castsi256_si128(acc[k]), _mm256_extracti128_si256(acc[k], 1));
-    _mm_storeu_ps(out + 4 * k, to_colour(sum, fmt));
+  // Level sums added and two fragments' colours per register (to_colour's operations on 8 lanes).
+  const I8 s01 = _mm256_add_epi32(_mm256_permute2x128_si256(acc[0], acc[1], 0x20), _mm256_permute2x128_si256(acc[0], acc[1], 0x31));
+  const I8 s23 = _mm256_add_epi32(_mm256_permute2x128_si256(acc[2], acc[3], 0x20), _mm256_permute2x128_si256(acc[2], acc[3], 0x31));
+  if (t.format == TexFormat::RGBA) {
+    _mm256_storeu_ps(out, to_colour8(s01));
+    _mm256_storeu_ps(out + 8, to_colour8(s23));
+  } else {
+    _mm_storeu_ps(out, to_colour(_mm256_castsi256_si128(s01), t.format));
+    _mm_storeu_ps(out + 4, to_colour(_mm256_extracti128_si256(s01, 1), t.format));
+    _mm_storeu_ps(out + 8, to_colour(_mm256_castsi256_si128(s23), t.format));
+    _mm_storeu_ps(out + 12, to_colour(_mm256_extracti128_si256(s23, 1), t.format));
   }
 }
 
