@@ -593,6 +593,11 @@ void Model::jekv(EdgeId e2, VertexId v) {
   EdgeSide f1 = f0.mate();
   if (in.edge == e2 || !(side(f1).next == in.mate()))
     fail("jekv: vertex ", v.value, " does not have exactly two edges (precondition: v of degree 2)");
+  // Side s of an edge runs from v[s] to v[1 - s]. Joining two edges that connect the same pair
+  // of vertices would leave one edge from a vertex to itself.
+  if (edges_[in.edge].v[in.side] == edges_[e2].v[1 - f0.side])
+    fail("jekv: edges ", in.edge.value, " and ", e2.value, " join the same two vertices; joining them would make an edge "
+         "from a vertex to itself (precondition: the two edges at v lead to different vertices)");
   if (f0.side == 1) reverse_edge(e2);
   if (in.side == 1) reverse_edge(in.edge);
   EdgeId e = in.edge;

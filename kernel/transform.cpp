@@ -259,8 +259,9 @@ Mat3 reflect_2d(const Vec2& dir, const Point2& point) {
 
 Mat3 shear_x_2d(double theta) {
   require_finite(theta, "shear angle");
+  // sin(180 deg) in doubles is 1.2e-16, not 0: test the angle itself, not its sine.
+  if (std::fmod(theta, 180.0) == 0) fail("shear angle must not be a multiple of 180 degrees, got ", theta);
   double s = std::sin(radians(theta));
-  if (s == 0) fail("shear angle must not be a multiple of 180 degrees, got ", theta);
   Mat3 m = Mat3::Identity();
   m(0, 1) = std::cos(radians(theta)) / s;
   return m;

@@ -9,6 +9,7 @@ namespace wedge::lua {
 
 namespace {
 std::string format_number(double v) {
+  if (std::isnan(v)) return "nan";
   std::ostringstream out;
   out.precision(17);
   out << v;
@@ -17,6 +18,7 @@ std::string format_number(double v) {
 }  // namespace
 
 std::string number_text(double x) {
+  if (std::isnan(x)) return "nan";
   std::ostringstream out;
   out.precision(10);
   out << x;

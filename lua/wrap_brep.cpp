@@ -263,9 +263,17 @@ int tostring_m(lua_State* L) {
 
 // --- primitives ---------------------------------------------------------------------------------
 
-Vec3 positive_size(const Vec3& s, int arg) {
+// Sizes given as three positional arguments are blamed on their own argument number; a size
+// given in a table (or one number for all three) on that argument, naming the component.
+Vec3 positive_size(const Vec3& s, int arg, bool positional = false) {
+  static const char* axis[3] = {"x", "y", "z"};
   for (int i = 0; i < 3; ++i)
-    if (!(s[i] > 0)) throw ArgError{arg, "size must be positive, got " + std::to_string(s[i])};
+    if (!(s[i] > 0)) {
+      const std::string got = ", got " + number_text(s[i]);
+      if (positional) throw ArgError{arg + i, "size must be positive" + got};
+      if (s[0] == s[1] && s[1] == s[2]) throw ArgError{arg, "size must be positive" + got};
+      throw ArgError{arg, std::string("size ") + axis[i] + " must be positive" + got};
+    }
   return s;
 }
 
@@ -287,7 +295,7 @@ int box_fn(lua_State* L) {
       o.finish();
       size = positive_size(size, 1);
     } else {
-      size = positive_size(Vec3(check_number(L, 1), check_number(L, 2), check_number(L, 3)), 1);
+      size = positive_size(Vec3(check_number(L, 1), check_number(L, 2), check_number(L, 3)), 1, true);
     }
     push_solid(L, brep_solid(box(size, center ? Point3(-0.5 * size) : Point3::Zero())));
     return 1;
@@ -351,6 +359,25 @@ int polyhedron_fn(lua_State* L) {
   });
 }
 
+// worked_example() -> solid, rows: the seed's block with a protrusion, a sharp-cornered and a
+// round-cornered depression and a round through hole, built by Euler operators; rows lists each
+// feature's own counts ({name=, V=, E=, F=, R=, H=, S=}) in the order they were built.
+int worked_example_fn(lua_State* L) {
+  return guarded(L, [&] {
+    std::vector<FeatureRow> rows;
+    Model m = op(L, "worked_example", [&] { return worked_example(&rows); });
+    push_solid(L, brep_solid(std::move(m)));
+    lua_createtable(L, static_cast<int>(rows.size()), 0);
+    for (std::size_t i = 0; i < rows.size(); ++i) {
+      push_counts(L, rows[i].counts);
+      lua_pushstring(L, rows[i].name.c_str());
+      lua_setfield(L, -2, "name");
+      lua_rawseti(L, -2, static_cast<lua_Integer>(i + 1));
+    }
+    return 2;
+  });
+}
+
 const luaL_Reg kMethods[] = {
     {"mvfs", mvfs_m},   {"mev", mev_m},     {"mef", mef_m},     {"kemr", kemr_m},         {"mekr", mekr_m},
     {"kfmrh", kfmrh_m}, {"mfkrh", mfkrh_m}, {"kev", kev_m},     {"kef", kef_m},           {"kvfs", kvfs_m},
@@ -358,7 +385,8 @@ const luaL_Reg kMethods[] = {
     {"vertices", vertices_m}, {"solid", solid_m}, {nullptr, nullptr}};
 const luaL_Reg kMeta[] = {{"__tostring", tostring_m}, {nullptr, nullptr}};
 const luaL_Reg kFunctions[] = {
-    {"brep", brep_fn}, {"box", box_fn}, {"cube", cube_fn}, {"polyhedron", polyhedron_fn}, {nullptr, nullptr}};
+    {"brep", brep_fn}, {"box", box_fn}, {"cube", cube_fn}, {"polyhedron", polyhedron_fn},
+    {"worked_example", worked_example_fn}, {nullptr, nullptr}};
 
 }  // namespace
 

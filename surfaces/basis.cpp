@@ -4,15 +4,23 @@
 // by zero), A2.3 their derivatives from the same table. check_knots says in words what is wrong.
 #include <algorithm>
 #include <cmath>
+#include <string_view>
 
 #include "surfaces/surfaces.h"
 
 namespace wedge {
 
 void check_knots(const std::vector<double>& knots, int degree, std::size_t count, const char* what) {
-  if (degree < 1) fail("degree must be at least 1, got ", degree);
-  if (count < std::size_t(degree) + 1)
-    fail("a curve of degree ", degree, " needs at least ", degree + 1, " control points, got ", count);
+  // A surface names its direction ("uknots", "vknots"); a curve's messages keep their plain form.
+  const bool curve = std::string_view(what) == "knots";
+  if (degree < 1) {
+    if (curve) fail("degree must be at least 1, got ", degree);
+    fail(what, ": degree must be at least 1, got ", degree);
+  }
+  if (count < std::size_t(degree) + 1) {
+    if (curve) fail("a curve of degree ", degree, " needs at least ", degree + 1, " control points, got ", count);
+    fail(what, ": degree ", degree, " needs at least ", degree + 1, " control points in this direction, got ", count);
+  }
   std::size_t expected = count + std::size_t(degree) + 1;
   if (knots.size() != expected)
     fail(what, ": ", count, " control points of degree ", degree, " need ", expected,

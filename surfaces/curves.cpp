@@ -239,6 +239,7 @@ Point3 PolynomialInterpolant::eval(double t) const { return derivative(t, 0); }
 Vec3 PolynomialInterpolant::derivative(double t, int k) const {
   if (k < 0) fail("derivative order must be >= 0, got ", k);
   std::size_t n = points_.size();
+  if (std::size_t(k) >= n) return Vec3::Zero();  // beyond the degree n - 1
   // D[m][i]: m-th derivative of the polynomial through points i..i+L at level L.
   std::vector<std::vector<Vec3>> D(k + 1, std::vector<Vec3>(n, Vec3::Zero()));
   for (std::size_t i = 0; i < n; ++i) D[0][i] = points_[i];

@@ -96,6 +96,9 @@ std::vector<Vec3> NurbsCurve::derivatives(double t, int d) const {
 
 Vec3 NurbsCurve::derivative(double t, int k) const {
   if (k < 0) fail("derivative order must be >= 0, got ", k);
+  // Rational curves have non-zero derivatives of every order; the recurrence needs k + 1 terms.
+  // Orders far beyond any use are refused rather than allocated.
+  if (k > 64) fail("derivative order must be at most 64, got ", k);
   return derivatives(t, k)[k];
 }
 
@@ -325,6 +328,7 @@ NurbsCurve to_nurbs(const LineSegment& c) { return NurbsCurve(1, {c.a, c.b}, {0,
 NurbsCurve interpolate_nurbs(const std::vector<Point3>& Q, int degree) {
   std::size_t n = Q.size();
   if (degree < 1) fail("degree must be at least 1, got ", degree);
+  if (degree > kMaxDegree) fail("degree must be at most ", kMaxDegree, ", got ", degree);
   if (n < std::size_t(degree) + 1)
     fail("interpolation of degree ", degree, " needs at least ", degree + 1, " points, got ", n);
   require_points_finite(Q, "points");

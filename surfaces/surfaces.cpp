@@ -156,6 +156,37 @@ void Surface::refine_grid(double tolerance, std::vector<double>& us, std::vector
     if (next_u * next_v > max_vertices || round > 30)
       fail("tolerance ", tolerance, " would need more than ", max_vertices, " mesh vertices on this surface: use a larger tolerance");
   }
+  if (trims.empty()) return;
+  // A trimmed surface keeps the grid triangles whose centroid lies inside the trim region, so
+  // its boundary follows the trim loops to within one cell: refine until every cell edge is at
+  // most the tolerance long in model space (the mesh boundary is then within about 1.5 times
+  // the tolerance of the trim curve's image).
+  const std::size_t nu = us.size(), nv = vs.size();
+  std::vector<double> len_u(cu.size(), 0.0), len_v(cv.size(), 0.0);
+  for (std::size_t a = 0; a < nu; ++a)
+    for (std::size_t b = 0; b < nv; ++b) {
+      if (a + 1 < nu) len_u[uo[a]] = std::max(len_u[uo[a]], (grid[(a + 1) * nv + b] - grid[a * nv + b]).norm());
+      if (b + 1 < nv) len_v[vo[b]] = std::max(len_v[vo[b]], (grid[a * nv + b + 1] - grid[a * nv + b]).norm());
+    }
+  bool finer = false;
+  std::size_t next_u = 1, next_v = 1;
+  for (std::size_t i = 0; i < cu.size(); ++i) {
+    if (len_u[i] > tolerance) cu[i] = int(std::min(1e7, std::ceil(cu[i] * len_u[i] / tolerance))), finer = true;
+    next_u += std::size_t(cu[i]);
+  }
+  for (std::size_t i = 0; i < cv.size(); ++i) {
+    if (len_v[i] > tolerance) cv[i] = int(std::min(1e7, std::ceil(cv[i] * len_v[i] / tolerance))), finer = true;
+    next_v += std::size_t(cv[i]);
+  }
+  if (!finer) return;
+  if (next_u * next_v > max_vertices)
+    fail("tolerance ", tolerance, " would need more than ", max_vertices,
+         " mesh vertices to follow this surface's trim loops: use a larger tolerance");
+  us = params(ub, cu, uo);
+  vs = params(vb, cv, vo);
+  grid.resize(us.size() * vs.size());
+  for (std::size_t a = 0; a < us.size(); ++a)
+    for (std::size_t b = 0; b < vs.size(); ++b) grid[a * vs.size() + b] = eval(us[a], vs[b]);
 }
 
 Mesh Surface::mesh_grid(const std::vector<double>& us, const std::vector<double>& vs, int face_id,

@@ -133,6 +133,19 @@ TEST_CASE("semv and jekv are inverses", "[brep][euler]") {
   require_same(before, state(m));
 }
 
+TEST_CASE("jekv refuses to join the two edges of a two-edge loop", "[brep][euler]") {
+  // Two edges between the same two vertices (a lamina split by mef): joining them at v1 would
+  // leave an edge from v0 to itself.
+  Model m;
+  auto a = m.mvfs(Point3(0, 0, 0));
+  auto b = m.mev(a.f, a.v, Point3(1, 0, 0));
+  auto c = m.mef(a.f, a.v, b.v);
+  REQUIRE(m.validate(false).ok);
+  State before = state(m, false);
+  CHECK_THROWS_WITH(m.jekv(c.e, b.v), Catch::Contains("join the same two vertices"));
+  require_same(before, state(m, false));
+}
+
 TEST_CASE("an operator whose precondition fails says which and leaves the model as it was", "[brep][euler]") {
   Model m = box(Vec3(1, 1, 1));
   FaceId top = face_facing(m, Vec3::UnitZ());

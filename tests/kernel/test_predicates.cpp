@@ -122,3 +122,110 @@ TEST_CASE("segment and triangle intersection tests, including touching and degen
 TEST_CASE("predicates reject non-finite input with a clear error", "[predicates][errors]") {
   CHECK_THROWS_WITH(orient2d({0, 0}, {1, 0}, {std::nan(""), 1}), Catch::Contains("finite"));
 }
+
+namespace {
+// Integer points on the circle x^2 + y^2 = r^2 (r = 5^8 has many: 5 splits in the Gaussian
+// integers), found by brute force.
+std::vector<std::pair<std::int64_t, std::int64_t>> circle_points(std::int64_t r) {
+  std::vector<std::pair<std::int64_t, std::int64_t>> out;
+  for (std::int64_t x = -r; x <= r; ++x) {
+    std::int64_t y2 = r * r - x * x;
+    auto y = std::int64_t(std::llround(std::sqrt(double(y2))));
+    for (std::int64_t yy : {y - 1, y, y + 1})
+      if (yy >= 0 && yy * yy == y2) {
+        out.push_back({x, yy});
+        if (yy) out.push_back({x, -yy});
+      }
+  }
+  return out;
+}
+}  // namespace
+
+TEST_CASE("incircle and insphere are exact where the textbook determinants get the sign wrong", "[predicates]") {
+  // Points on one circle (or sphere) far from the origin, with integer coordinates, so the
+  // truth is decided by 128-bit integer arithmetic; half of the cases move the last point by
+  // one unit. The textbook determinants (Shewchuk's, without adaptivity) round their 2^80-sized
+  // products and usually miss the exact zero.
+  const std::int64_t r = 390625, ox = (std::int64_t(1) << 25) + 12345, oy = (std::int64_t(1) << 24) + 6789,
+                     oz = (std::int64_t(1) << 23) + 4321;
+  auto pts = circle_points(r);
+  REQUIRE(pts.size() > 50);
+  std::mt19937_64 rng(7);
+  std::uniform_int_distribution<std::size_t> pick(0, pts.size() - 1);
+  std::uniform_int_distribution<int> nudge(-1, 1);
+  int cases = 0, naive2 = 0, naive3 = 0, exact_zero = 0;
+  for (int i = 0; i < 1000; ++i) {
+    std::int64_t P[4][2];
+    for (auto& p : P) {
+      auto q = pts[pick(rng)];
+      p[0] = ox + q.first, p[1] = oy + q.second;
+    }
+    P[3][0] += nudge(rng);
+    __int128 d[3][2];
+    for (int k = 0; k < 3; ++k) d[k][0] = P[k][0] - P[3][0], d[k][1] = P[k][1] - P[3][1];
+    auto lift = [&](int k) { return d[k][0] * d[k][0] + d[k][1] * d[k][1]; };
+    auto cr = [&](int a, int b) { return d[a][0] * d[b][1] - d[b][0] * d[a][1]; };
+    __int128 det = lift(0) * cr(1, 2) + lift(1) * cr(2, 0) + lift(2) * cr(0, 1);
+    __int128 orient = (P[1][0] - P[0][0]) * __int128(P[2][1] - P[0][1]) - (P[1][1] - P[0][1]) * __int128(P[2][0] - P[0][0]);
+    if (orient == 0) continue;
+    ++cases;
+    int truth = (det > 0) - (det < 0);
+    exact_zero += truth == 0;
+    Point2 p[4];
+    for (int k = 0; k < 4; ++k) p[k] = Point2(double(P[k][0]), double(P[k][1]));
+    REQUIRE(incircle(p[0], p[1], p[2], p[3]) == truth);
+    double f[3][2];
+    for (int k = 0; k < 3; ++k) f[k][0] = p[k].x() - p[3].x(), f[k][1] = p[k].y() - p[3].y();
+    auto fl = [&](int k) { return f[k][0] * f[k][0] + f[k][1] * f[k][1]; };
+    auto fc = [&](int a, int b) { return f[a][0] * f[b][1] - f[b][0] * f[a][1]; };
+    if (sgn(fl(0) * fc(1, 2) + fl(1) * fc(2, 0) + fl(2) * fc(0, 1)) != truth) ++naive2;
+
+    // The same on a sphere: circle points placed in the three coordinate planes through the
+    // centre, which all lie on the sphere of radius r.
+    std::int64_t Q[5][3];
+    for (int k = 0; k < 5; ++k) {
+      auto q = pts[pick(rng)];
+      std::int64_t c[3] = {0, 0, 0};
+      c[k % 3] = q.first, c[(k + 1) % 3] = q.second;
+      Q[k][0] = ox + c[0], Q[k][1] = oy + c[1], Q[k][2] = oz + c[2];
+    }
+    Q[4][2] += nudge(rng);
+    // 4x4 determinant expanded along the lifted column; its sign convention is fixed by an easy
+    // case (the centre of a positive tetrahedron is inside: insphere = +1).
+    auto sphere_det = [](const std::int64_t (&R)[5][3]) {
+      __int128 e[4][3];
+      for (int k = 0; k < 4; ++k)
+        for (int j = 0; j < 3; ++j) e[k][j] = R[k][j] - R[4][j];
+      auto det3 = [&](int a, int b, int c) {
+        return e[a][0] * (e[b][1] * e[c][2] - e[b][2] * e[c][1]) - e[a][1] * (e[b][0] * e[c][2] - e[b][2] * e[c][0]) +
+               e[a][2] * (e[b][0] * e[c][1] - e[b][1] * e[c][0]);
+      };
+      auto lift3 = [&](int k) { return e[k][0] * e[k][0] + e[k][1] * e[k][1] + e[k][2] * e[k][2]; };
+      __int128 v = -lift3(0) * det3(1, 2, 3) + lift3(1) * det3(0, 2, 3) - lift3(2) * det3(0, 1, 3) + lift3(3) * det3(0, 1, 2);
+      return (v > 0) - (v < 0);
+    };
+    const std::int64_t easy[5][3] = {{0, 0, 0}, {4, 0, 0}, {0, 4, 0}, {0, 0, 4}, {1, 1, 1}};
+    const int convention = sphere_det(easy);  // +1 or -1: the formula's sign for "inside"
+    REQUIRE(convention != 0);
+    Point3 s[5];
+    for (int k = 0; k < 5; ++k) s[k] = Point3(double(Q[k][0]), double(Q[k][1]), double(Q[k][2]));
+    if (orient3d(s[0], s[1], s[2], s[3]) != 1) continue;  // insphere is stated for positive tetrahedra
+    const int truth3 = convention * sphere_det(Q);
+    const int got = insphere(s[0], s[1], s[2], s[3], s[4]);
+    REQUIRE(got == truth3);
+    double g[4][3];
+    for (int k = 0; k < 4; ++k)
+      for (int j = 0; j < 3; ++j) g[k][j] = s[k][j] - s[4][j];
+    auto gd = [&](int a, int b, int c) {
+      return g[a][0] * (g[b][1] * g[c][2] - g[b][2] * g[c][1]) - g[a][1] * (g[b][0] * g[c][2] - g[b][2] * g[c][0]) +
+             g[a][2] * (g[b][0] * g[c][1] - g[b][1] * g[c][0]);
+    };
+    auto gl = [&](int k) { return g[k][0] * g[k][0] + g[k][1] * g[k][1] + g[k][2] * g[k][2]; };
+    double naive_sph = -gl(0) * gd(1, 2, 3) + gl(1) * gd(0, 2, 3) - gl(2) * gd(0, 1, 3) + gl(3) * gd(0, 1, 2);
+    if (sgn(naive_sph) * convention != truth3) ++naive3;
+  }
+  INFO("cases " << cases << ", exact zeros " << exact_zero << ", naive incircle wrong " << naive2 << ", naive insphere wrong " << naive3);
+  CHECK(exact_zero > cases / 5);
+  CHECK(naive2 > cases / 20);
+  CHECK(naive3 > cases / 20);
+}

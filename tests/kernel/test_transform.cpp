@@ -112,6 +112,8 @@ TEST_CASE("the 2D shear x' = x + y cot(theta)", "[transform]") {
   Mat3 s60 = shear_x_2d(60);
   CHECK(apply_point_2d(s60, {0, 1}).x() == Approx(1 / std::sqrt(3.0)).margin(1e-15));
   CHECK_THROWS_WITH(shear_x_2d(0), Catch::Contains("multiple of 180"));
+  CHECK_THROWS_WITH(shear_x_2d(180), Catch::Contains("multiple of 180"));
+  CHECK_THROWS_WITH(shear_x_2d(-540), Catch::Contains("multiple of 180"));
 }
 
 TEST_CASE("2D rotation about a pivot and reflection", "[transform]") {

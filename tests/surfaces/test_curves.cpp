@@ -205,6 +205,9 @@ TEST_CASE("interpolating splines pass through their points", "[interpolation]") 
       for (std::size_t i = 0; i < Q.size(); ++i) CHECK((c.eval(t[i] / total) - Q[i]).norm() < 1e-12);
     }
     CHECK_THROWS_WITH(interpolate_nurbs({{0, 0, 0}, {1, 1, 1}}, 3), Catch::Contains("at least 4 points"));
+    std::vector<Point3> many;
+    for (int i = 0; i < 45; ++i) many.emplace_back(i, std::sin(0.3 * i), 0);
+    CHECK_THROWS_WITH(interpolate_nurbs(many, 40), Catch::Contains("degree must be at most 30, got 40"));
   }
   SECTION("natural cubic spline: through the points, C2, zero curvature at the ends") {
     HermiteSpline s = natural_spline(Q);

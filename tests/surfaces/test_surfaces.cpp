@@ -243,6 +243,20 @@ TEST_CASE("trimming loops remove the outside of the parameter domain", "[trim]")
   CHECK_FALSE(p.inside_trim(0.5, 0.5));
   Mesh m = p.mesh(0.01);
   CHECK(m.area() == Approx(0.75).epsilon(1e-12));
+  // A hole off any grid line: the mesh follows the loop to within about the tolerance, so the
+  // area converges to 1 - 0.4^2 as the tolerance falls (perimeter 1.6 x band of one cell).
+  Plane q(Point3(0, 0, 0), Vec3::UnitX(), Vec3::UnitY());
+  q.trims.push_back({{{0, 0}, {1, 0}, {1, 1}, {0, 1}}});
+  q.trims.push_back({{{0.3, 0.3}, {0.3, 0.7}, {0.7, 0.7}, {0.7, 0.3}}});
+  for (double tol : {0.02, 0.005}) {
+    Mesh mq = q.mesh(tol);
+    INFO("tolerance " << tol << ", area " << mq.area());
+    CHECK(std::abs(mq.area() - 0.84) <= 1.6 * tol);
+    for (const auto& t : mq.triangles) {  // no triangle lies in the hole
+      Point3 c = (mq.positions[t[0]] + mq.positions[t[1]] + mq.positions[t[2]]) / 3;
+      CHECK_FALSE((c.x() > 0.3 + tol && c.x() < 0.7 - tol && c.y() > 0.3 + tol && c.y() < 0.7 - tol));
+    }
+  }
 }
 
 TEST_CASE("Newell's teapot: 32 patches, outward, watertight where patches meet", "[teapot]") {
