@@ -360,10 +360,12 @@ template <int K>
   const V4 nab = _mm_sub_ps(splat(1.0f), ab);
   const V4 src = K == 0 ? _mm_unpacklo_ps(nab, ab) : _mm_unpackhi_ps(nab, ab);  // (1-a, a, 1-b, b)
   const V4 w = _mm_mul_ps(_mm_shuffle_ps(src, src, _MM_SHUFFLE(1, 0, 1, 0)), _mm_shuffle_ps(src, src, _MM_SHUFFLE(3, 3, 2, 2)));
-  alignas(16) std::int32_t wi[4];
-  _mm_store_si128(reinterpret_cast<I4*>(wi), weight(w, splat(float(share))));
-  wi[3] = share - wi[0] - wi[1] - wi[2];
-  const I4 p = _mm_packs_epi32(_mm_load_si128(reinterpret_cast<const I4*>(wi)), _mm_setzero_si128());  // lane 0: 00|10, 1: 01|11
+  // w11 = share - w00 - w10 - w01 into lane 3 (in registers: a store and reload would stall).
+  const I4 wr = weight(w, splat(float(share)));
+  const I4 sum3 = _mm_add_epi32(_mm_add_epi32(wr, _mm_srli_si128(wr, 4)), _mm_srli_si128(wr, 8));  // lane 0
+  const I4 w11 = _mm_slli_si128(_mm_sub_epi32(_mm_cvtsi32_si128(share), sum3), 12);
+  const I4 wi = _mm_or_si128(_mm_and_si128(wr, _mm_set_epi32(0, -1, -1, -1)), w11);
+  const I4 p = _mm_packs_epi32(wi, _mm_setzero_si128());  // 16-bit lane 0: 00|10, lane 1: 01|11
   const std::uint8_t* base = im.rgba.data();
   const I4 r0 = pair1(load_texel(base, im.width, i0, j0), load_texel(base, im.width, i1, j0), _mm_shuffle_epi32(p, 0x00));
   const I4 r1 = pair1(load_texel(base, im.width, i0, j1), load_texel(base, im.width, i1, j1), _mm_shuffle_epi32(p, 0x55));
