@@ -4,7 +4,9 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <set>
+#include <thread>
 
 #include "render/render.h"
 
@@ -444,4 +446,116 @@ TEST_CASE("the BSP tree with an orthographic camera sorts along the view directi
   INFO(diff << " of " << covered << " pixels differ");
   CHECK(covered > 500);
   CHECK(diff <= covered / 1000);
+}
+
+TEST_CASE("several contexts render at once on different threads, each exactly as it renders alone", "[render][threads]") {
+  // Four different scenes - lit smooth sphere, mipmapped texture with fog, blended vertex arrays
+  // on banded threads, render_scene with supersampling and the painter's sort - each in its own
+  // Context on its own std::thread, all at once and several rounds; every image must equal the
+  // same scene rendered serially, bit for bit. One texture is shared by two of them.
+  auto tex = Texture::checker(64, 8, Vec4f(1, 0.9f, 0.2f, 1), Vec4f(0.1f, 0.3f, 0.8f, 1), true);
+  tex->min_filter = TexFilter::LinearMipmapLinear;
+  std::shared_ptr<const Texture> shared = tex;
+  auto sphere = [](Context& c, int slices, int stacks) {
+    for (int i = 0; i < stacks; ++i) {
+      c.begin(Primitive::QuadStrip);
+      for (int j = 0; j <= slices; ++j)
+        for (int k : {i + 1, i}) {
+          double t = kPi * k / stacks - kPi / 2, p = 2 * kPi * j / slices;
+          double x = std::cos(t) * std::cos(p), y = std::cos(t) * std::sin(p), z = std::sin(t);
+          c.normal(x, y, z);
+          c.tex_coord(2.0 * j / slices, double(k) / stacks);
+          c.vertex(1.2 * x, 1.2 * y, 1.2 * z);
+        }
+      c.end();
+    }
+  };
+  auto camera = [](Context& c) {
+    c.matrix_mode(MatrixMode::Projection);
+    c.load_identity();
+    c.perspective(40, double(c.width()) / c.height(), 1, 20);
+    c.matrix_mode(MatrixMode::ModelView);
+    c.load_identity();
+    c.look_at(Point3(0.5, 1.5, 5), Point3(0, 0, 0), Vec3(0, 1, 0));
+  };
+  std::vector<double> pos;
+  std::vector<float> col;
+  for (int i = 0; i < 2000; ++i) {
+    double cx = std::sin(i * 1.3) * 0.8, cy = std::cos(i * 0.7) * 0.8, z = std::sin(i * 0.31);
+    for (int k = 0; k < 3; ++k) {
+      double a = i * 0.9 + k * 2.1;
+      pos.insert(pos.end(), {cx + 0.3 * std::cos(a), cy + 0.3 * std::sin(a), z + 0.1 * k});
+      col.insert(col.end(), {float(k == 0), float(k == 1), float(k == 2), 0.6f});
+    }
+  }
+  Mesh cube_mesh = cube();
+  std::vector<std::function<Image()>> scenes = {
+      [&] {
+        Context c(160, 120);
+        c.clear_color(0.1f, 0.1f, 0.15f, 1);
+        c.clear();
+        camera(c);
+        c.enable(Cap::DepthTest), c.enable(Cap::Lighting), c.enable(Cap::Light0);
+        c.light_position(0, Vec4f(2, 1, 2, 1));
+        c.light_attenuation(0, 0.5f, 0.2f, 0.05f);
+        c.material_specular(Face::FrontAndBack, Vec4f(0.6f, 0.6f, 0.6f, 1));
+        c.material_shininess(Face::FrontAndBack, 20);
+        sphere(c, 48, 32);
+        return c.image();
+      },
+      [&] {
+        Context c(128, 128);
+        c.threads(2);
+        c.clear_color(0.3f, 0.3f, 0.3f, 1);
+        c.clear();
+        camera(c);
+        c.enable(Cap::DepthTest), c.enable(Cap::Texture2D), c.enable(Cap::Fog);
+        c.bind_texture(shared);
+        c.tex_env_mode(TexEnvMode::Replace);
+        c.fog_mode(FogMode::Exp2), c.fog_density(0.2f), c.fog_color(Vec4f(0.7f, 0.7f, 0.8f, 1));
+        sphere(c, 32, 24);
+        return c.image();
+      },
+      [&] {
+        Context c(97, 83);
+        c.threads(2);
+        c.clear_color(0, 0, 0, 1);
+        c.clear();
+        c.enable(Cap::DepthTest);
+        c.depth_func(DepthFunc::LessEqual);
+        c.enable(Cap::Blend);
+        c.blend_func(BlendFactor::SrcAlpha, BlendFactor::OneMinusSrcAlpha);
+        VertexArrays a;
+        a.positions = pos.data();
+        a.colors = col.data();
+        c.draw_arrays(Primitive::Triangles, a, 0, 6000);
+        return c.image();
+      },
+      [&] {
+        std::vector<DrawItem> items(3);
+        for (int i = 0; i < 3; ++i) {
+          items[i].mesh = &cube_mesh;
+          items[i].transform = translate(Vec3(1.6 * i - 1.6, 0.3 * i, -0.4 * i)) * rotate(25.0 * i, Vec3(1, 1, 0));
+          items[i].material.diffuse = Vec4f(0.9f - 0.3f * i, 0.3f + 0.3f * i, 0.4f, 1);
+        }
+        items[1].texture = shared;
+        RenderOptions o = options();
+        o.width = 90, o.height = 70, o.antialias = 2, o.threads = 1;
+        o.cull = "none";
+        o.visibility = Visibility::Painter;
+        return render_scene(items, o);
+      }};
+  std::vector<Image> serial;
+  for (auto& s : scenes) serial.push_back(s());
+  for (int round = 0; round < 3; ++round) {
+    std::vector<Image> got(scenes.size());
+    std::vector<std::thread> workers;
+    for (std::size_t i = 0; i < scenes.size(); ++i) workers.emplace_back([&, i] { got[i] = scenes[i](); });
+    for (auto& w : workers) w.join();
+    for (std::size_t i = 0; i < scenes.size(); ++i) {
+      INFO("round " << round << ", scene " << i);
+      CHECK(got[i].width == serial[i].width);
+      CHECK(got[i].rgba == serial[i].rgba);
+    }
+  }
 }
