@@ -58,37 +58,60 @@ class BspTree {
     return w;
   }
 
+  // Built and walked with explicit stacks, not recursion: the tree of a convex mesh is a chain as
+  // deep as the mesh has triangles (every other triangle lies behind each one's plane), which
+  // overflowed the call stack for a 20k-triangle sphere. Triangles (and the pieces of split ones)
+  // live in one pool and are partitioned by index: the chain's quadratic number of partition
+  // steps moves 4-byte indices, not whole triangles.
   int build(std::vector<WorldTri> tris) {
-    const int id = int(nodes_.size());
-    nodes_.push_back({});
-    const WorldTri& s = tris.front();
-    Vec3 n = s.face_normal;
-    double d = -n.dot(s.p[0]);
-    double scale = 1e-9 * (1 + s.p[0].norm());
-    std::vector<WorldTri> front, back, on;
-    for (const auto& t : tris) {
-      double dist[3];
-      int pos = 0, neg = 0;
-      for (int j = 0; j < 3; ++j) {
-        dist[j] = n.dot(t.p[j]) + d;
-        if (std::abs(dist[j]) <= scale) dist[j] = 0;
-        pos += dist[j] > 0, neg += dist[j] < 0;
+    std::vector<WorldTri> pool = std::move(tris);
+    struct Work {
+      std::vector<std::uint32_t> tris;
+      int parent;
+      bool front;
+    };
+    std::vector<Work> todo(1);
+    todo[0].parent = -1, todo[0].front = false;
+    todo[0].tris.resize(pool.size());
+    for (std::size_t i = 0; i < pool.size(); ++i) todo[0].tris[i] = std::uint32_t(i);
+    int root = -1;
+    std::vector<WorldTri> front_pieces, back_pieces;
+    while (!todo.empty()) {
+      Work w = std::move(todo.back());
+      todo.pop_back();
+      const int id = int(nodes_.size());
+      nodes_.push_back({});
+      if (w.parent < 0) root = id;
+      else (w.front ? nodes_[w.parent].front : nodes_[w.parent].back) = id;
+      const WorldTri& s = pool[w.tris.front()];
+      const Vec3 n = s.face_normal;
+      const double d = -n.dot(s.p[0]);
+      const double scale = 1e-9 * (1 + s.p[0].norm());
+      std::vector<std::uint32_t> front, back;
+      std::vector<WorldTri> on;
+      for (const std::uint32_t ti : w.tris) {
+        double dist[3];
+        int pos = 0, neg = 0;
+        for (int j = 0; j < 3; ++j) {
+          dist[j] = n.dot(pool[ti].p[j]) + d;
+          if (std::abs(dist[j]) <= scale) dist[j] = 0;
+          pos += dist[j] > 0, neg += dist[j] < 0;
+        }
+        if (!pos && !neg) on.push_back(pool[ti]);
+        else if (!neg) front.push_back(ti);
+        else if (!pos) back.push_back(ti);
+        else {
+          front_pieces.clear(), back_pieces.clear();
+          split(pool[ti], dist, front_pieces, back_pieces);
+          for (auto& piece : front_pieces) front.push_back(std::uint32_t(pool.size())), pool.push_back(piece);
+          for (auto& piece : back_pieces) back.push_back(std::uint32_t(pool.size())), pool.push_back(piece);
+        }
       }
-      if (!pos && !neg) on.push_back(t);
-      else if (!neg) front.push_back(t);
-      else if (!pos) back.push_back(t);
-      else split(t, dist, front, back);
+      nodes_[id].n = n, nodes_[id].d = d, nodes_[id].on = std::move(on);
+      if (!front.empty()) todo.push_back({std::move(front), id, true});
+      if (!back.empty()) todo.push_back({std::move(back), id, false});
     }
-    nodes_[id].n = n, nodes_[id].d = d, nodes_[id].on = std::move(on);
-    if (!front.empty()) {
-      int f = build(std::move(front));
-      nodes_[id].front = f;
-    }
-    if (!back.empty()) {
-      int b = build(std::move(back));
-      nodes_[id].back = b;
-    }
-    return id;
+    return root;
   }
 
   // Cuts a straddling triangle: the vertex alone on its side gives one triangle there and a
@@ -120,13 +143,23 @@ class BspTree {
     }
   }
 
-  void walk(int id, const Point3& eye, const Vec3* view_dir, std::vector<WorldTri>& out) const {
-    const Node& nd = nodes_[id];
-    const bool eye_front = view_dir ? nd.n.dot(*view_dir) <= 0 : nd.n.dot(eye) + nd.d >= 0;
-    const int first = eye_front ? nd.back : nd.front, second = eye_front ? nd.front : nd.back;
-    if (first >= 0) walk(first, eye, view_dir, out);
-    out.insert(out.end(), nd.on.begin(), nd.on.end());
-    if (second >= 0) walk(second, eye, view_dir, out);
+  void walk(int root, const Point3& eye, const Vec3* view_dir, std::vector<WorldTri>& out) const {
+    // (node, false): visit its far side first; (node, true): draw its own triangles, then the near side.
+    std::vector<std::pair<int, bool>> todo{{root, false}};
+    while (!todo.empty()) {
+      auto [id, far_done] = todo.back();
+      todo.pop_back();
+      const Node& nd = nodes_[id];
+      const bool eye_front = view_dir ? nd.n.dot(*view_dir) <= 0 : nd.n.dot(eye) + nd.d >= 0;
+      const int first = eye_front ? nd.back : nd.front, second = eye_front ? nd.front : nd.back;
+      if (!far_done) {
+        todo.push_back({id, true});
+        if (first >= 0) todo.push_back({first, false});
+      } else {
+        out.insert(out.end(), nd.on.begin(), nd.on.end());
+        if (second >= 0) todo.push_back({second, false});
+      }
+    }
   }
 };
 

@@ -559,3 +559,35 @@ TEST_CASE("several contexts render at once on different threads, each exactly as
     }
   }
 }
+
+TEST_CASE("painter and BSP draw a closed 8k-triangle sphere with culling off as the z-buffer", "[render][visibility]") {
+  // Back faces everywhere behind front faces, thousands of overlapping depth ranges; the BSP tree
+  // of a convex mesh is a chain as deep as the mesh has triangles (once a stack overflow).
+  Mesh m;
+  const int S = 96, T = 44;
+  for (int i = 0; i <= T; ++i)
+    for (int j = 0; j <= S; ++j) {
+      double th = kPi * i / T - kPi / 2, ph = 2 * kPi * j / S;
+      m.add_vertex(Point3(std::cos(th) * std::cos(ph), std::cos(th) * std::sin(ph), std::sin(th)));
+    }
+  for (int i = 0; i < T; ++i)
+    for (int j = 0; j < S; ++j) {
+      const std::uint32_t a = i * (S + 1) + j, b = a + 1, c = a + S + 1, d = c + 1;
+      if (i > 0) m.add_triangle(a, b, d);  // no zero-area triangles at the poles
+      if (i < T - 1) m.add_triangle(a, d, c);
+    }
+  std::vector<DrawItem> items(1);
+  items[0].mesh = &m;
+  items[0].material.diffuse = Vec4f(0.3f, 0.7f, 0.9f, 1);
+  RenderOptions o = options();
+  o.width = 160, o.height = 120, o.cull = "none", o.two_side = true;
+  o.camera.eye = Point3(1.6, -2, 1.2);
+  Image z = render_scene(items, o);
+  for (auto v : {Visibility::Painter, Visibility::Bsp}) {
+    o.visibility = v;
+    auto [diff, covered] = differing(z, render_scene(items, o));
+    INFO("visibility " << int(v) << ": " << diff << " of " << covered << " pixels differ");
+    CHECK(covered > 5000);
+    CHECK(diff <= covered / 1000);
+  }
+}
