@@ -452,6 +452,19 @@ WEDGE_AVX2 void add_pair8(I8 x, I8 y, I8 p, I8* acc) {
   acc[3] = _mm256_add_epi32(acc[3], _mm256_madd_epi16(_mm256_unpackhi_epi8(hi, zero), _mm256_shuffle_epi32(p, 0xff)));
 }
 
+// One row of a level's footprints with adjacent columns: texel pairs by 8-byte gather, bytes
+// interleaved per channel (inter), fragments 0 and 2 widened into one register and weighted by
+// their pairs of p (lanes 4 level + k), 1 and 3 into the other.
+WEDGE_AVX2 void row8(const int* base, I4 index, I8 p, int level, I8 inter, I8& acc02, I8& acc13) {
+  const I8 zero = _mm256_setzero_si256();
+  const I8 x = _mm256_shuffle_epi8(_mm256_i32gather_epi64(reinterpret_cast<const long long*>(base), index, 4), inter);
+  const int k = 4 * level;
+  const I8 k02 = _mm256_setr_epi32(k, k, k, k, k + 2, k + 2, k + 2, k + 2);
+  const I8 k13 = _mm256_setr_epi32(k + 1, k + 1, k + 1, k + 1, k + 3, k + 3, k + 3, k + 3);
+  acc02 = _mm256_add_epi32(acc02, _mm256_madd_epi16(_mm256_unpacklo_epi8(x, zero), _mm256_permutevar8x32_epi32(p, k02)));
+  acc13 = _mm256_add_epi32(acc13, _mm256_madd_epi16(_mm256_unpackhi_epi8(x, zero), _mm256_permutevar8x32_epi32(p, k13)));
+}
+
 // to_colour for two RGBA fragments.
 WEDGE_AVX2 V8 to_colour8(I8 sum) {
   const V8 c = _mm256_mul_ps(_mm256_cvtepi32_ps(sum), _mm256_set1_ps(kOutScale));
@@ -489,14 +502,36 @@ WEDGE_AVX2 void bilinear_avx2(const Texture& t, const Plan& p, const float* s, c
   const I8 r0 = _mm256_madd_epi16(j0, wi), r1 = _mm256_madd_epi16(j1, wi);
   const int* b0 = reinterpret_cast<const int*>(l0.rgba.data());
   const int* b1 = reinterpret_cast<const int*>(l1.rgba.data());
-  const I8 t00 = gather8<Two>(b0, b1, _mm256_add_epi32(r0, i0)), t10 = gather8<Two>(b0, b1, _mm256_add_epi32(r0, i1));
-  const I8 t01 = gather8<Two>(b0, b1, _mm256_add_epi32(r1, i0)), t11 = gather8<Two>(b0, b1, _mm256_add_epi32(r1, i1));
-  I8 acc[4] = {_mm256_setzero_si256(), _mm256_setzero_si256(), _mm256_setzero_si256(), _mm256_setzero_si256()};
-  add_pair8(t00, t10, _mm256_or_si256(w00, _mm256_slli_epi32(w10, 16)), acc);
-  add_pair8(t01, t11, _mm256_or_si256(w01, _mm256_slli_epi32(w11, 16)), acc);
-  // Level sums added and two fragments' colours per register (to_colour's operations on 8 lanes).
-  const I8 s01 = _mm256_add_epi32(_mm256_permute2x128_si256(acc[0], acc[1], 0x20), _mm256_permute2x128_si256(acc[0], acc[1], 0x31));
-  const I8 s23 = _mm256_add_epi32(_mm256_permute2x128_si256(acc[2], acc[3], 0x20), _mm256_permute2x128_si256(acc[2], acc[3], 0x31));
+  const I8 p0 = _mm256_or_si256(w00, _mm256_slli_epi32(w10, 16)), p1 = _mm256_or_si256(w01, _mm256_slli_epi32(w11, 16));
+  I8 s01, s23;
+  const I8 adjacent = _mm256_cmpeq_epi32(i1, _mm256_add_epi32(i0, ione));
+  if ((_mm256_movemask_ps(_mm256_castsi256_ps(adjacent)) | (Two ? 0 : 0xf0)) == 0xff) {
+    // Columns i0 and i0 + 1 are neighbours in memory in every lane (no wrap or edge clamp): each
+    // row's two texels come in one 8-byte gather, channel bytes interleaved by one shuffle,
+    // widened; fragments 0 and 2 share one register, 1 and 3 another, with their weight pairs
+    // picked by vpermd (lane 4L + k is fragment k of level L).
+    const I8 inter = _mm256_setr_epi8(0, 4, 1, 5, 2, 6, 3, 7, 8, 12, 9, 13, 10, 14, 11, 15, 0, 4, 1, 5, 2, 6, 3, 7, 8,
+                                      12, 9, 13, 10, 14, 11, 15);
+    const I8 zero = _mm256_setzero_si256();
+    I8 acc02 = zero, acc13 = zero;
+    const I8 o0 = _mm256_add_epi32(r0, i0), o1 = _mm256_add_epi32(r1, i0);
+    row8(b0, _mm256_castsi256_si128(o0), p0, 0, inter, acc02, acc13);
+    row8(b0, _mm256_castsi256_si128(o1), p1, 0, inter, acc02, acc13);
+    if (Two) {
+      row8(b1, _mm256_extracti128_si256(o0, 1), p0, 1, inter, acc02, acc13);
+      row8(b1, _mm256_extracti128_si256(o1, 1), p1, 1, inter, acc02, acc13);
+    }
+    s01 = _mm256_permute2x128_si256(acc02, acc13, 0x20), s23 = _mm256_permute2x128_si256(acc02, acc13, 0x31);
+  } else {
+    const I8 t00 = gather8<Two>(b0, b1, _mm256_add_epi32(r0, i0)), t10 = gather8<Two>(b0, b1, _mm256_add_epi32(r0, i1));
+    const I8 t01 = gather8<Two>(b0, b1, _mm256_add_epi32(r1, i0)), t11 = gather8<Two>(b0, b1, _mm256_add_epi32(r1, i1));
+    I8 acc[4] = {_mm256_setzero_si256(), _mm256_setzero_si256(), _mm256_setzero_si256(), _mm256_setzero_si256()};
+    add_pair8(t00, t10, p0, acc);
+    add_pair8(t01, t11, p1, acc);
+    // Level sums added and two fragments' colours per register.
+    s01 = _mm256_add_epi32(_mm256_permute2x128_si256(acc[0], acc[1], 0x20), _mm256_permute2x128_si256(acc[0], acc[1], 0x31));
+    s23 = _mm256_add_epi32(_mm256_permute2x128_si256(acc[2], acc[3], 0x20), _mm256_permute2x128_si256(acc[2], acc[3], 0x31));
+  }
   if (t.format == TexFormat::RGBA) {
     _mm256_storeu_ps(out, to_colour8(s01));
     _mm256_storeu_ps(out + 8, to_colour8(s23));
