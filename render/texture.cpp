@@ -546,6 +546,18 @@ WEDGE_AVX2 void bilinear_avx2(const Texture& t, const Plan& p, const float* s, c
 // sample4 on a CPU with AVX2: the plan, then the AVX2 kernel inlined (nearest filters: SSE2).
 __attribute__((target("avx2"))) void sample4_avx2(const Texture& t, const float* s, const float* tt, float lambda,
                                                   float* out) {
+  // The common case first: trilinear between two levels (make_plan's result, fewer branches).
+  const int last = int(t.levels.size()) - 1;
+  if (t.min_filter == TexFilter::LinearMipmapLinear && lambda > 0 && lambda < float(last) &&
+      t.wrap_s != TexWrap::Clamp && t.wrap_t != TexWrap::Clamp && t.levels[0].width < 32768 &&
+      t.levels[0].height < 32768) {
+    Plan p;
+    p.l0 = int(lambda), p.l1 = p.l0 + 1, p.linear = true;
+    p.f = lambda - p.l0;
+    p.share1 = _mm_cvtss_si32(_mm_set_ss(p.f * 16384.0f));
+    p.share0 = 16384 - p.share1;
+    return bilinear_avx2<true>(t, p, s, tt, out);
+  }
   const Plan p = make_plan(t, lambda);
   if (!fast_ok(t, p)) return sample4_general(t, p, s, tt, out);
   if (!p.linear) return sample_sse(t, p, s, tt, out);
