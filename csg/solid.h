@@ -42,7 +42,10 @@ class SolidLeaf {
   virtual std::shared_ptr<const SolidLeaf> transformed(const Mat4& /*m*/) const { return nullptr; }
 };
 
-// A closed 2-manifold triangle mesh as a leaf (what import() returns).
+// A closed 2-manifold triangle mesh as a leaf (what import() returns). The mesh is kept as given,
+// attributes and all (a vertex split for its uvs or normals stays split, so it renders as the file
+// has it); closedness, 2-manifoldness and the Euler counts are those of its vertices welded by
+// exactly equal position.
 class MeshLeaf final : public SolidLeaf {
  public:
   // Throws wedge::Error if the mesh is not closed, not 2-manifold or inside out; `what` names the

@@ -261,10 +261,12 @@ struct Camera {
 Camera named_view(const std::string& name, const Box3& bounds);
 
 // How hidden surfaces are removed: the z-buffer, or drawing back to front without a depth test
-// (painter's algorithm: triangles sorted by their farthest eye-space depth; or a BSP tree built
+// (painter's algorithm: triangles sorted by their farthest eye-space depth, the order then
+// corrected by Newell, Newell & Sancha's overlap tests, no triangle split; or a BSP tree built
 // over the world-space triangles, splitting those that straddle a node's plane, traversed back
 // to front from the eye). The last two give the z-buffer's image on scenes without cyclic
-// overlap (for the BSP tree with flat shading: a split triangle's pieces share its face normal).
+// overlap or interpenetration, with or without culling (for the BSP tree with flat shading: a
+// split triangle's pieces share its face normal); only the BSP tree also handles cyclic overlap.
 enum class Visibility { ZBuffer, Painter, Bsp };
 
 struct RenderOptions {

@@ -1,8 +1,8 @@
 // render_scene: a mesh drawn through a Context with a camera, lights and materials, the way
 // Lua's render{} asks for it. Supersampling renders at antialias x the size and box-filters down.
 // Besides the z-buffer, two classic visibility modes draw back to front with the depth test off:
-// the painter's algorithm (Newell, Newell & Sancha 1972, here without the overlap tests: a sort
-// by farthest eye-space depth) and a BSP tree (Fuchs, Kedem & Naylor 1980), built once over the
+// the painter's algorithm (Newell, Newell & Sancha 1972: a depth sort refined by their overlap
+// tests, see depth_sort) and a BSP tree (Fuchs, Kedem & Naylor 1980), built once over the
 // world-space triangles and walked far side - node - near side from the eye.
 #include <cmath>
 #include <thread>
@@ -58,37 +58,60 @@ class BspTree {
     return w;
   }
 
+  // Built and walked with explicit stacks, not recursion: the tree of a convex mesh is a chain as
+  // deep as the mesh has triangles (every other triangle lies behind each one's plane), which
+  // overflowed the call stack for a 20k-triangle sphere. Triangles (and the pieces of split ones)
+  // live in one pool and are partitioned by index: the chain's quadratic number of partition
+  // steps moves 4-byte indices, not whole triangles.
   int build(std::vector<WorldTri> tris) {
-    const int id = int(nodes_.size());
-    nodes_.push_back({});
-    const WorldTri& s = tris.front();
-    Vec3 n = s.face_normal;
-    double d = -n.dot(s.p[0]);
-    double scale = 1e-9 * (1 + s.p[0].norm());
-    std::vector<WorldTri> front, back, on;
-    for (const auto& t : tris) {
-      double dist[3];
-      int pos = 0, neg = 0;
-      for (int j = 0; j < 3; ++j) {
-        dist[j] = n.dot(t.p[j]) + d;
-        if (std::abs(dist[j]) <= scale) dist[j] = 0;
-        pos += dist[j] > 0, neg += dist[j] < 0;
+    std::vector<WorldTri> pool = std::move(tris);
+    struct Work {
+      std::vector<std::uint32_t> tris;
+      int parent;
+      bool front;
+    };
+    std::vector<Work> todo(1);
+    todo[0].parent = -1, todo[0].front = false;
+    todo[0].tris.resize(pool.size());
+    for (std::size_t i = 0; i < pool.size(); ++i) todo[0].tris[i] = std::uint32_t(i);
+    int root = -1;
+    std::vector<WorldTri> front_pieces, back_pieces;
+    while (!todo.empty()) {
+      Work w = std::move(todo.back());
+      todo.pop_back();
+      const int id = int(nodes_.size());
+      nodes_.push_back({});
+      if (w.parent < 0) root = id;
+      else (w.front ? nodes_[w.parent].front : nodes_[w.parent].back) = id;
+      const WorldTri& s = pool[w.tris.front()];
+      const Vec3 n = s.face_normal;
+      const double d = -n.dot(s.p[0]);
+      const double scale = 1e-9 * (1 + s.p[0].norm());
+      std::vector<std::uint32_t> front, back;
+      std::vector<WorldTri> on;
+      for (const std::uint32_t ti : w.tris) {
+        double dist[3];
+        int pos = 0, neg = 0;
+        for (int j = 0; j < 3; ++j) {
+          dist[j] = n.dot(pool[ti].p[j]) + d;
+          if (std::abs(dist[j]) <= scale) dist[j] = 0;
+          pos += dist[j] > 0, neg += dist[j] < 0;
+        }
+        if (!pos && !neg) on.push_back(pool[ti]);
+        else if (!neg) front.push_back(ti);
+        else if (!pos) back.push_back(ti);
+        else {
+          front_pieces.clear(), back_pieces.clear();
+          split(pool[ti], dist, front_pieces, back_pieces);
+          for (auto& piece : front_pieces) front.push_back(std::uint32_t(pool.size())), pool.push_back(piece);
+          for (auto& piece : back_pieces) back.push_back(std::uint32_t(pool.size())), pool.push_back(piece);
+        }
       }
-      if (!pos && !neg) on.push_back(t);
-      else if (!neg) front.push_back(t);
-      else if (!pos) back.push_back(t);
-      else split(t, dist, front, back);
+      nodes_[id].n = n, nodes_[id].d = d, nodes_[id].on = std::move(on);
+      if (!front.empty()) todo.push_back({std::move(front), id, true});
+      if (!back.empty()) todo.push_back({std::move(back), id, false});
     }
-    nodes_[id].n = n, nodes_[id].d = d, nodes_[id].on = std::move(on);
-    if (!front.empty()) {
-      int f = build(std::move(front));
-      nodes_[id].front = f;
-    }
-    if (!back.empty()) {
-      int b = build(std::move(back));
-      nodes_[id].back = b;
-    }
-    return id;
+    return root;
   }
 
   // Cuts a straddling triangle: the vertex alone on its side gives one triangle there and a
@@ -120,15 +143,161 @@ class BspTree {
     }
   }
 
-  void walk(int id, const Point3& eye, const Vec3* view_dir, std::vector<WorldTri>& out) const {
-    const Node& nd = nodes_[id];
-    const bool eye_front = view_dir ? nd.n.dot(*view_dir) <= 0 : nd.n.dot(eye) + nd.d >= 0;
-    const int first = eye_front ? nd.back : nd.front, second = eye_front ? nd.front : nd.back;
-    if (first >= 0) walk(first, eye, view_dir, out);
-    out.insert(out.end(), nd.on.begin(), nd.on.end());
-    if (second >= 0) walk(second, eye, view_dir, out);
+  void walk(int root, const Point3& eye, const Vec3* view_dir, std::vector<WorldTri>& out) const {
+    // (node, false): visit its far side first; (node, true): draw its own triangles, then the near side.
+    std::vector<std::pair<int, bool>> todo{{root, false}};
+    while (!todo.empty()) {
+      auto [id, far_done] = todo.back();
+      todo.pop_back();
+      const Node& nd = nodes_[id];
+      const bool eye_front = view_dir ? nd.n.dot(*view_dir) <= 0 : nd.n.dot(eye) + nd.d >= 0;
+      const int first = eye_front ? nd.back : nd.front, second = eye_front ? nd.front : nd.back;
+      if (!far_done) {
+        todo.push_back({id, true});
+        if (first >= 0) todo.push_back({first, false});
+      } else {
+        out.insert(out.end(), nd.on.begin(), nd.on.end());
+        if (second >= 0) todo.push_back({second, false});
+      }
+    }
   }
 };
+
+// The painter's algorithm with Newell, Newell & Sancha's overlap tests (1972; Foley et al.
+// 15.5.1). Triangles are sorted by their farthest depth (d = -z in eye space); before the farthest
+// remaining triangle P is drawn, it is tested against every other remaining Q whose depth range
+// reaches behind P's nearest point. P may go first if any of these holds for that Q:
+//   1-2. their screen x or y extents are disjoint;
+//   3.   P lies wholly on the far side of Q's plane (seen from the eye);
+//   4.   Q lies wholly on the near side of P's plane;
+//   5.   their screen projections do not overlap (separating axis test).
+// If all fail, Q is tested the other way round (3' Q wholly behind P's plane, or 4' P wholly in
+// front of Q's plane); if Q may go first it is moved ahead of P, marked, and the tests restart
+// with Q. The order so found is exactly the z-buffer's wherever the scene has no cyclic overlap
+// (and no interpenetration). Cyclic overlap - a marked Q that would have to move again, or a pair
+// that neither test orders - is out of scope: no triangle is split, P is drawn where it stands
+// (so such a scene may differ from the z-buffer there); use the BSP tree, which splits.
+std::vector<WorldTri> depth_sort(const std::vector<WorldTri>& tris, const Mat4& view, bool orthographic) {
+  const std::size_t n = tris.size();
+  struct Tri {
+    Vec3 e[3];        // eye space
+    Vec2 s[3];        // screen: (x, y) orthographic, (x/d, y/d) perspective
+    double dmin, dmax;  // depth range, d = -z
+    double x0, x1, y0, y1;
+    Vec3 normal;      // unit plane normal in eye space (zero if degenerate)
+    double offset;    // plane: normal . x + offset = 0
+    double eye_side;  // the sign of the eye's side of the plane (0: edge-on)
+    bool screen_ok;   // false if a vertex is at or behind the eye (perspective)
+  };
+  std::vector<Tri> t(n);
+  double scale = 0;
+  for (std::size_t i = 0; i < n; ++i)
+    for (int j = 0; j < 3; ++j) {
+      Vec4 h = view * tris[i].p[j].homogeneous();
+      t[i].e[j] = h.head<3>();
+      scale = std::max(scale, t[i].e[j].cwiseAbs().maxCoeff());
+    }
+  const double eps = 1e-9 * std::max(scale, 1e-300);  // plane-distance tolerance (shared vertices)
+  for (auto& T : t) {
+    T.dmin = 1e300, T.dmax = -1e300;
+    T.screen_ok = true;
+    for (int j = 0; j < 3; ++j) {
+      const double d = -T.e[j].z();
+      T.dmin = std::min(T.dmin, d), T.dmax = std::max(T.dmax, d);
+      if (orthographic) T.s[j] = T.e[j].head<2>();
+      else if (d > eps) T.s[j] = T.e[j].head<2>() / d;
+      else T.screen_ok = false, T.s[j] = Vec2::Zero();
+    }
+    T.x0 = std::min({T.s[0].x(), T.s[1].x(), T.s[2].x()}), T.x1 = std::max({T.s[0].x(), T.s[1].x(), T.s[2].x()});
+    T.y0 = std::min({T.s[0].y(), T.s[1].y(), T.s[2].y()}), T.y1 = std::max({T.s[0].y(), T.s[1].y(), T.s[2].y()});
+    Vec3 nn = (T.e[1] - T.e[0]).cross(T.e[2] - T.e[0]);
+    const double len = nn.norm();
+    T.normal = len > 0 ? Vec3(nn / len) : Vec3::Zero();
+    T.offset = -T.normal.dot(T.e[0]);
+    // The eye: the origin (perspective) or the point at infinity along +z (orthographic).
+    const double at_eye = orthographic ? T.normal.z() * scale : T.offset;
+    T.eye_side = std::abs(at_eye) <= eps ? 0.0 : at_eye > 0 ? 1.0 : -1.0;
+  }
+  // All of A's vertices on the side of B's plane away from the eye (`far`) or towards it, within
+  // eps. An edge-on or degenerate B draws no area, so either side will do.
+  auto side = [&](const Tri& a, const Tri& b, bool far) {
+    if (b.eye_side == 0) return true;
+    for (const auto& p : a.e) {
+      const double dist = (b.normal.dot(p) + b.offset) * b.eye_side;  // > 0: the eye's side
+      if (far ? dist > eps : dist < -eps) return false;
+    }
+    return true;
+  };
+  // Separating axis test of the screen triangles: no axis separates -> the interiors overlap.
+  // Touching along an edge or at a vertex is not overlap.
+  auto screens_overlap = [&](const Tri& a, const Tri& b) {
+    if (!a.screen_ok || !b.screen_ok) return true;
+    const double sx = std::max({a.x1 - a.x0, a.y1 - a.y0, b.x1 - b.x0, b.y1 - b.y0, 1e-300});
+    const double tol = 1e-9 * sx * sx;
+    for (const Tri* tri : {&a, &b}) {
+      const Tri& o = tri == &a ? b : a;
+      double area = (tri->s[1] - tri->s[0]).x() * (tri->s[2] - tri->s[0]).y() -
+                    (tri->s[1] - tri->s[0]).y() * (tri->s[2] - tri->s[0]).x();
+      if (std::abs(area) <= tol) return false;  // no screen area: draws nothing to overlap
+      const double orient = area > 0 ? 1 : -1;
+      for (int k = 0; k < 3; ++k) {
+        const Vec2& p = tri->s[k];
+        const Vec2& q = tri->s[(k + 1) % 3];
+        bool separated = true;
+        for (const auto& r : o.s) {
+          // r inside (strictly) relative to edge p->q of tri?
+          const double cr = orient * ((q - p).x() * (r - p).y() - (q - p).y() * (r - p).x());
+          if (cr > tol) {
+            separated = false;
+            break;
+          }
+        }
+        if (separated) return false;
+      }
+    }
+    return true;
+  };
+  // P may be drawn before Q: P obscures no part of Q.
+  auto may_precede = [&](const Tri& P, const Tri& Q) {
+    if (P.screen_ok && Q.screen_ok && (P.x1 <= Q.x0 || Q.x1 <= P.x0 || P.y1 <= Q.y0 || Q.y1 <= P.y0)) return true;
+    if (side(P, Q, true) || side(Q, P, false)) return true;
+    return !screens_overlap(P, Q);
+  };
+
+  std::vector<std::size_t> order(n);
+  for (std::size_t i = 0; i < n; ++i) order[i] = i;
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return t[a].dmax > t[b].dmax; });
+  std::vector<char> done(n, 0), moved(n, 0), stacked(n, 0);
+  std::vector<std::size_t> stack;  // triangles moved ahead of the sorted rest, the last one first
+  std::vector<WorldTri> out;
+  out.reserve(n);
+  std::size_t head = 0;
+  for (;;) {
+    while (head < n && (done[order[head]] || stacked[order[head]])) ++head;
+    if (stack.empty() && head == n) break;
+    const std::size_t p = stack.empty() ? order[head] : stack.back();
+    const Tri& P = t[p];
+    std::size_t blocker = n;
+    for (auto it = stack.rbegin(); it != stack.rend() && blocker == n; ++it)
+      if (*it != p && t[*it].dmax > P.dmin && !may_precede(P, t[*it])) blocker = *it;
+    for (std::size_t i = head; i < n && blocker == n; ++i) {
+      const std::size_t q = order[i];
+      if (t[q].dmax <= P.dmin) break;  // sorted: this and the rest lie wholly nearer than P
+      if (q == p || done[q] || stacked[q]) continue;
+      if (!may_precede(P, t[q])) blocker = q;
+    }
+    if (blocker != n && !moved[blocker] && (side(t[blocker], P, true) || side(P, t[blocker], false))) {
+      moved[blocker] = stacked[blocker] = 1;  // Q goes first; test it in turn
+      stack.push_back(blocker);
+      continue;
+    }
+    // Drawn: no triangle it obscures remains, or a cyclic overlap (out of scope, see above).
+    out.push_back(tris[p]);
+    done[p] = 1;
+    if (!stack.empty() && stack.back() == p) stacked[p] = 0, stack.pop_back();
+  }
+  return out;
+}
 
 }  // namespace
 
@@ -307,18 +476,7 @@ Image render_scene(const std::vector<DrawItem>& items, const RenderOptions& o) {
     }
   }
   if (o.visibility == Visibility::Painter) {
-    // Farthest eye-space depth first.
-    auto far_z = [&](const WorldTri& t) {
-      double z = 1e300;
-      for (const auto& p : t.p) z = std::min(z, (view * p.homogeneous()).z());
-      return z;
-    };
-    std::vector<std::pair<double, std::size_t>> order;
-    for (std::size_t i = 0; i < tris.size(); ++i) order.push_back({far_z(tris[i]), i});
-    std::stable_sort(order.begin(), order.end());
-    std::vector<WorldTri> sorted;
-    for (auto& [z, i] : order) sorted.push_back(tris[i]);
-    tris.swap(sorted);
+    tris = depth_sort(tris, view, c.orthographic);
     g.disable(Cap::DepthTest);
   } else if (o.visibility == Visibility::Bsp) {
     BspTree bsp(tris);

@@ -66,9 +66,11 @@ int wrap_repeat(int i, int size) {
   return i < 0 ? i + size : i;
 }
 
+// A wrapped coordinate in [0, 1]; NaN (also repeat's inf - inf) becomes 1, as on the fast path.
 float wrap_coord(float s, TexWrap w) {
-  if (w == TexWrap::Repeat) return s - std::floor(s);
-  return std::clamp(s, 0.0f, 1.0f);
+  if (w == TexWrap::Repeat) s -= std::floor(s);
+  s = s < 1.0f ? s : 1.0f;
+  return s > 0.0f ? s : 0.0f;
 }
 
 // One level sampled at wrapped coordinates (ws, wt) in [0, 1] (wrap_coord already applied).
@@ -154,10 +156,9 @@ struct Plan {
 
 V4 sample_general(const Texture& t, float s, float tt, const Plan& p) {
   const float ws = wrap_coord(s, t.wrap_s), wt = wrap_coord(tt, t.wrap_t);
-  const V4 c0 = sample_level(t, p.l0, ws, wt, p.linear);
-  if (p.l1 < 0) return c0;
-  const V4 c1 = sample_level(t, p.l1, ws, wt, p.linear);
-  return _mm_add_ps(_mm_mul_ps(splat(1 - p.f), c0), _mm_mul_ps(splat(p.f), c1));
+  V4 c = sample_level(t, p.l0, ws, wt, p.linear);
+  if (p.l1 >= 0) c = _mm_add_ps(_mm_mul_ps(splat(1 - p.f), c), _mm_mul_ps(splat(p.f), sample_level(t, p.l1, ws, wt, p.linear)));
+  return _mm_min_ps(_mm_max_ps(c, _mm_setzero_ps()), splat(1.0f));  // weights summing to 1 + ulp
 }
 
 [[gnu::noinline]] void sample4_general(const Texture& t, const Plan& p, const float* s, const float* tt, float* out) {
@@ -283,10 +284,12 @@ bool fast_ok(const Texture& t, const Plan& p) {
   add_pair(t01, t11, _mm_or_si128(w01, _mm_slli_epi32(w11, 16)), acc);
 }
 
-// A fragment's integer channel sums to its RGBA colour: times 1/(255 * 2^14), then the format's
-// expansion (luminance to grey, alpha 1 unless RGBA).
+// A fragment's integer channel sums to its RGBA colour: times 1/(255 * 2^14), clamped to [0, 1]
+// (a weight of -1 can take a sum 255 units past either end), then the format's expansion
+// (luminance to grey, alpha 1 unless RGBA).
 [[gnu::always_inline]] inline V4 to_colour(I4 sum, TexFormat fmt) {
   V4 c = _mm_mul_ps(_mm_cvtepi32_ps(sum), splat(kOutScale));
+  c = _mm_min_ps(_mm_max_ps(c, _mm_setzero_ps()), splat(1.0f));
   if (fmt != TexFormat::RGBA) {
     if (fmt == TexFormat::Luminance) c = _mm_shuffle_ps(c, c, 0);
     const V4 rgb = _mm_castsi128_ps(_mm_set_epi32(0, -1, -1, -1));
@@ -357,10 +360,12 @@ template <int K>
   const V4 nab = _mm_sub_ps(splat(1.0f), ab);
   const V4 src = K == 0 ? _mm_unpacklo_ps(nab, ab) : _mm_unpackhi_ps(nab, ab);  // (1-a, a, 1-b, b)
   const V4 w = _mm_mul_ps(_mm_shuffle_ps(src, src, _MM_SHUFFLE(1, 0, 1, 0)), _mm_shuffle_ps(src, src, _MM_SHUFFLE(3, 3, 2, 2)));
-  alignas(16) std::int32_t wi[4];
-  _mm_store_si128(reinterpret_cast<I4*>(wi), weight(w, splat(float(share))));
-  wi[3] = share - wi[0] - wi[1] - wi[2];
-  const I4 p = _mm_packs_epi32(_mm_load_si128(reinterpret_cast<const I4*>(wi)), _mm_setzero_si128());  // lane 0: 00|10, 1: 01|11
+  // w11 = share - w00 - w10 - w01 into lane 3 (in registers: a store and reload would stall).
+  const I4 wr = weight(w, splat(float(share)));
+  const I4 sum3 = _mm_add_epi32(_mm_add_epi32(wr, _mm_srli_si128(wr, 4)), _mm_srli_si128(wr, 8));  // lane 0
+  const I4 w11 = _mm_slli_si128(_mm_sub_epi32(_mm_cvtsi32_si128(share), sum3), 12);
+  const I4 wi = _mm_or_si128(_mm_and_si128(wr, _mm_set_epi32(0, -1, -1, -1)), w11);
+  const I4 p = _mm_packs_epi32(wi, _mm_setzero_si128());  // 16-bit lane 0: 00|10, lane 1: 01|11
   const std::uint8_t* base = im.rgba.data();
   const I4 r0 = pair1(load_texel(base, im.width, i0, j0), load_texel(base, im.width, i1, j0), _mm_shuffle_epi32(p, 0x00));
   const I4 r1 = pair1(load_texel(base, im.width, i0, j1), load_texel(base, im.width, i1, j1), _mm_shuffle_epi32(p, 0x55));
@@ -447,13 +452,31 @@ WEDGE_AVX2 void add_pair8(I8 x, I8 y, I8 p, I8* acc) {
   acc[3] = _mm256_add_epi32(acc[3], _mm256_madd_epi16(_mm256_unpackhi_epi8(hi, zero), _mm256_shuffle_epi32(p, 0xff)));
 }
 
+// One row of a level's footprints with adjacent columns: texel pairs by 8-byte gather, bytes
+// interleaved per channel (inter), fragments 0 and 2 widened into one register and weighted by
+// their pairs of p (lanes 4 level + k), 1 and 3 into the other.
+WEDGE_AVX2 void row8(const int* base, I4 index, I8 p, int level, I8 inter, I8& acc02, I8& acc13) {
+  const I8 zero = _mm256_setzero_si256();
+  const I8 x = _mm256_shuffle_epi8(_mm256_i32gather_epi64(reinterpret_cast<const long long*>(base), index, 4), inter);
+  const int k = 4 * level;
+  const I8 k02 = _mm256_setr_epi32(k, k, k, k, k + 2, k + 2, k + 2, k + 2);
+  const I8 k13 = _mm256_setr_epi32(k + 1, k + 1, k + 1, k + 1, k + 3, k + 3, k + 3, k + 3);
+  acc02 = _mm256_add_epi32(acc02, _mm256_madd_epi16(_mm256_unpacklo_epi8(x, zero), _mm256_permutevar8x32_epi32(p, k02)));
+  acc13 = _mm256_add_epi32(acc13, _mm256_madd_epi16(_mm256_unpackhi_epi8(x, zero), _mm256_permutevar8x32_epi32(p, k13)));
+}
+
+// to_colour for two RGBA fragments.
+WEDGE_AVX2 V8 to_colour8(I8 sum) {
+  const V8 c = _mm256_mul_ps(_mm256_cvtepi32_ps(sum), _mm256_set1_ps(kOutScale));
+  return _mm256_min_ps(_mm256_max_ps(c, _mm256_setzero_ps()), _mm256_set1_ps(1.0f));
+}
+
 WEDGE_AVX2 I8 weight8(V8 w, V8 share) { return _mm256_cvtps_epi32(_mm256_mul_ps(w, share)); }
 
 // Two = false: one level with bilinear filtering, in lanes 0-3 (lanes 4-7 repeat the level with
 // share 0 and no texels, so they add nothing).
 template <bool Two>
-__attribute__((target("avx2"))) void bilinear_avx2(const Texture& t, const Plan& p, const float* s, const float* tt,
-                                                   float* out) {
+WEDGE_AVX2 void bilinear_avx2(const Texture& t, const Plan& p, const float* s, const float* tt, float* out) {
   const V4 ws4 = wrap4_avx2(_mm_loadu_ps(s), t.wrap_s), wt4 = wrap4_avx2(_mm_loadu_ps(tt), t.wrap_t);
   const V8 ws = _mm256_set_m128(ws4, ws4), wt = _mm256_set_m128(wt4, wt4);
   const Image& l0 = t.levels[p.l0];
@@ -479,17 +502,67 @@ __attribute__((target("avx2"))) void bilinear_avx2(const Texture& t, const Plan&
   const I8 r0 = _mm256_madd_epi16(j0, wi), r1 = _mm256_madd_epi16(j1, wi);
   const int* b0 = reinterpret_cast<const int*>(l0.rgba.data());
   const int* b1 = reinterpret_cast<const int*>(l1.rgba.data());
-  const I8 t00 = gather8<Two>(b0, b1, _mm256_add_epi32(r0, i0)), t10 = gather8<Two>(b0, b1, _mm256_add_epi32(r0, i1));
-  const I8 t01 = gather8<Two>(b0, b1, _mm256_add_epi32(r1, i0)), t11 = gather8<Two>(b0, b1, _mm256_add_epi32(r1, i1));
-  I8 acc[4] = {_mm256_setzero_si256(), _mm256_setzero_si256(), _mm256_setzero_si256(), _mm256_setzero_si256()};
-  add_pair8(t00, t10, _mm256_or_si256(w00, _mm256_slli_epi32(w10, 16)), acc);
-  add_pair8(t01, t11, _mm256_or_si256(w01, _mm256_slli_epi32(w11, 16)), acc);
-  const TexFormat fmt = t.format;
-#pragma GCC unroll 4
-  for (int k = 0; k < 4; ++k) {
-    const I4 sum = _mm_add_epi32(_mm256_castsi256_si128(acc[k]), _mm256_extracti128_si256(acc[k], 1));
-    _mm_storeu_ps(out + 4 * k, to_colour(sum, fmt));
+  const I8 p0 = _mm256_or_si256(w00, _mm256_slli_epi32(w10, 16)), p1 = _mm256_or_si256(w01, _mm256_slli_epi32(w11, 16));
+  I8 s01, s23;
+  const I8 adjacent = _mm256_cmpeq_epi32(i1, _mm256_add_epi32(i0, ione));
+  if ((_mm256_movemask_ps(_mm256_castsi256_ps(adjacent)) | (Two ? 0 : 0xf0)) == 0xff) {
+    // Columns i0 and i0 + 1 are neighbours in memory in every lane (no wrap or edge clamp): each
+    // row's two texels come in one 8-byte gather, channel bytes interleaved by one shuffle,
+    // widened; fragments 0 and 2 share one register, 1 and 3 another, with their weight pairs
+    // picked by vpermd (lane 4L + k is fragment k of level L).
+    const I8 inter = _mm256_setr_epi8(0, 4, 1, 5, 2, 6, 3, 7, 8, 12, 9, 13, 10, 14, 11, 15, 0, 4, 1, 5, 2, 6, 3, 7, 8,
+                                      12, 9, 13, 10, 14, 11, 15);
+    const I8 zero = _mm256_setzero_si256();
+    I8 acc02 = zero, acc13 = zero;
+    const I8 o0 = _mm256_add_epi32(r0, i0), o1 = _mm256_add_epi32(r1, i0);
+    row8(b0, _mm256_castsi256_si128(o0), p0, 0, inter, acc02, acc13);
+    row8(b0, _mm256_castsi256_si128(o1), p1, 0, inter, acc02, acc13);
+    if (Two) {
+      row8(b1, _mm256_extracti128_si256(o0, 1), p0, 1, inter, acc02, acc13);
+      row8(b1, _mm256_extracti128_si256(o1, 1), p1, 1, inter, acc02, acc13);
+    }
+    s01 = _mm256_permute2x128_si256(acc02, acc13, 0x20), s23 = _mm256_permute2x128_si256(acc02, acc13, 0x31);
+  } else {
+    const I8 t00 = gather8<Two>(b0, b1, _mm256_add_epi32(r0, i0)), t10 = gather8<Two>(b0, b1, _mm256_add_epi32(r0, i1));
+    const I8 t01 = gather8<Two>(b0, b1, _mm256_add_epi32(r1, i0)), t11 = gather8<Two>(b0, b1, _mm256_add_epi32(r1, i1));
+    I8 acc[4] = {_mm256_setzero_si256(), _mm256_setzero_si256(), _mm256_setzero_si256(), _mm256_setzero_si256()};
+    add_pair8(t00, t10, p0, acc);
+    add_pair8(t01, t11, p1, acc);
+    // Level sums added and two fragments' colours per register.
+    s01 = _mm256_add_epi32(_mm256_permute2x128_si256(acc[0], acc[1], 0x20), _mm256_permute2x128_si256(acc[0], acc[1], 0x31));
+    s23 = _mm256_add_epi32(_mm256_permute2x128_si256(acc[2], acc[3], 0x20), _mm256_permute2x128_si256(acc[2], acc[3], 0x31));
   }
+  if (t.format == TexFormat::RGBA) {
+    _mm256_storeu_ps(out, to_colour8(s01));
+    _mm256_storeu_ps(out + 8, to_colour8(s23));
+  } else {
+    _mm_storeu_ps(out, to_colour(_mm256_castsi256_si128(s01), t.format));
+    _mm_storeu_ps(out + 4, to_colour(_mm256_extracti128_si256(s01, 1), t.format));
+    _mm_storeu_ps(out + 8, to_colour(_mm256_castsi256_si128(s23), t.format));
+    _mm_storeu_ps(out + 12, to_colour(_mm256_extracti128_si256(s23, 1), t.format));
+  }
+}
+
+// sample4 on a CPU with AVX2: the plan, then the AVX2 kernel inlined (nearest filters: SSE2).
+__attribute__((target("avx2"))) void sample4_avx2(const Texture& t, const float* s, const float* tt, float lambda,
+                                                  float* out) {
+  // The common case first: trilinear between two levels (make_plan's result, fewer branches).
+  const int last = int(t.levels.size()) - 1;
+  if (t.min_filter == TexFilter::LinearMipmapLinear && lambda > 0 && lambda < float(last) &&
+      t.wrap_s != TexWrap::Clamp && t.wrap_t != TexWrap::Clamp && t.levels[0].width < 32768 &&
+      t.levels[0].height < 32768) {
+    Plan p;
+    p.l0 = int(lambda), p.l1 = p.l0 + 1, p.linear = true;
+    p.f = lambda - p.l0;
+    p.share1 = _mm_cvtss_si32(_mm_set_ss(p.f * 16384.0f));
+    p.share0 = 16384 - p.share1;
+    return bilinear_avx2<true>(t, p, s, tt, out);
+  }
+  const Plan p = make_plan(t, lambda);
+  if (!fast_ok(t, p)) return sample4_general(t, p, s, tt, out);
+  if (!p.linear) return sample_sse(t, p, s, tt, out);
+  if (p.l1 >= 0) bilinear_avx2<true>(t, p, s, tt, out);
+  else bilinear_avx2<false>(t, p, s, tt, out);
 }
 
 bool cpu_has_avx2() {
@@ -569,10 +642,9 @@ Vec4f Texture::sample(float s, float t, float lambda) const {
 }
 
 void Texture::sample4(const float* s, const float* t, float lambda, float* out) const {
+  if (g_avx2.load(std::memory_order_relaxed)) return sample4_avx2(*this, s, t, lambda, out);
   const Plan p = make_plan(*this, lambda);
   if (!fast_ok(*this, p)) return sample4_general(*this, p, s, t, out);
-  if (p.linear && g_avx2.load(std::memory_order_relaxed))
-    return p.l1 >= 0 ? bilinear_avx2<true>(*this, p, s, t, out) : bilinear_avx2<false>(*this, p, s, t, out);
   sample_sse(*this, p, s, t, out);
 }
 

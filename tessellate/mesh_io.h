@@ -16,9 +16,15 @@ struct MeshWriteOptions {
 // wedge::Error naming the extension and the supported ones otherwise.
 std::string mesh_format(const std::string& path);
 
-// Reads a triangle mesh. Polygons are fanned into triangles. For OBJ, the file's own normals and
-// texture coordinates are kept (a vertex used with different uv or normal in different corners is
-// split so each corner keeps its own). Throws wedge::Error naming the path and the reason.
+// Reads a triangle mesh. Polygons are fanned into triangles from their first corner. For OBJ,
+// the file's own triangles, normals and texture coordinates are kept: corners are keyed by
+// (position, uv, normal), so a vertex used with different uvs or normals in different corners is
+// split and each corner keeps its own (a faceted cube with one `vn` per face gives 24 vertices).
+// Corners without a normal in a file that has some, or whose vertex was split, get the
+// area-weighted average of the face normals around their file vertex; a file without normals or
+// splits gives a mesh without normals (the renderer computes the same area-weighted ones).
+// The mesh may so hold several vertices at one position: a Solid checks closedness on the
+// vertices welded by position (csg/solid.h). Throws wedge::Error naming the path and the reason.
 Mesh read_mesh(const std::string& path);
 
 // Writes a mesh (positions, and for OBJ/PLY/OFF the normals and uvs it has). Throws wedge::Error

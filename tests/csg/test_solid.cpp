@@ -98,3 +98,32 @@ TEST_CASE("transformed solids: queries follow the transform, mirrors keep outwar
   CHECK(Solid().empty());
   CHECK(Solid().mesh(tol).empty());
 }
+
+TEST_CASE("a mesh split at its uv seams and normal creases is still a closed solid", "[solid][euler]") {
+  // The box with every face's corners as vertices of their own (24 vertices, as a textured,
+  // faceted cube is rendered): welded by position it is the closed 8-vertex box.
+  Mesh welded = box_mesh(1, 2, 3), split;
+  for (const auto& t : welded.triangles) {
+    std::uint32_t v[3];
+    for (int k = 0; k < 3; ++k) {
+      v[k] = split.add_vertex(welded.positions[t[k]]);
+      split.normals.push_back(welded.triangle_normal(&t - welded.triangles.data()));
+      split.uvs.emplace_back(k == 1, k == 2);
+    }
+    split.add_triangle(v[0], v[1], v[2]);
+  }
+  CHECK_THROWS_WITH(euler_counts(split), Catch::Contains("not closed"));  // by index it is open
+  Solid s = Solid::from_mesh(split, "split box");
+  Tolerance tol;
+  CHECK(s.euler(tol) == EulerCounts{8, 18, 12, 0, 0, 1});
+  CHECK(s.mass_properties(tol).volume == Approx(6));
+  // The solid keeps the mesh as given: split vertices, their normals and uvs.
+  Mesh back = s.mesh(tol);
+  CHECK(back.vertex_count() == 36);
+  CHECK(back.normals.size() == 36);
+  CHECK(back.uvs.size() == 36);
+  // An open mesh is still refused, split or not.
+  Mesh open = split;
+  open.triangles.pop_back();
+  CHECK_THROWS_WITH(Solid::from_mesh(open, "open box"), Catch::Contains("not closed"));
+}

@@ -2,7 +2,9 @@
 #include <catch2/catch.hpp>
 
 #include <filesystem>
+#include <algorithm>
 #include <fstream>
+#include <map>
 #include <sstream>
 
 #include "lua/wedge_lua.h"
@@ -127,4 +129,75 @@ TEST_CASE("drawing{} writes a multi-view sheet of a box, the front view showing 
   CHECK(err.find("sideways") != std::string::npos);
   status = run("drawing{box(1, 1, 1)}", err);
   CHECK(err.find("out=") != std::string::npos);
+}
+
+TEST_CASE("import() of a seamed, faceted, textured cube OBJ gives a Solid that renders with the file's normals and uvs",
+          "[lua][render][io]") {
+  // One `vn` per face and the whole texture on each face: every position is split by its uv seams
+  // and normal creases, yet the surface is closed, so import() accepts it.
+  std::string dir = std::string(WEDGE_BINARY_DIR) + "/";
+  {
+    std::ofstream obj(dir + "seamed_cube.obj");
+    obj << "v -1 -1 -1\nv 1 -1 -1\nv -1 1 -1\nv 1 1 -1\nv -1 -1 1\nv 1 -1 1\nv -1 1 1\nv 1 1 1\n"
+           "vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n"
+           "vn 0 0 -1\nvn 0 0 1\nvn 0 -1 0\nvn 0 1 0\nvn -1 0 0\nvn 1 0 0\n"
+           "f 1/1/1 3/2/1 4/3/1 2/4/1\nf 5/1/2 6/2/2 8/3/2 7/4/2\nf 1/1/3 2/2/3 6/3/3 5/4/3\n"
+           "f 3/1/4 7/2/4 8/3/4 4/4/4\nf 1/1/5 5/2/5 7/3/5 3/4/5\nf 2/1/6 4/2/6 8/3/6 6/4/6\n";
+  }
+  std::string err;
+  int status = run("local s = import('" + dir + "seamed_cube.obj')\n" + R"(
+    assert(math.abs(s:volume() - 8) < 1e-12, 'volume ' .. s:volume())
+    assert(s:triangles() == 12)
+    local e = s:euler()
+    assert(e.V == 8 and e.E == 18 and e.F == 12, 'euler')
+    local lit = {{type='directional', direction={-1, 2, -3}}}
+    render{s:material{diffuse={0.8, 0.8, 0.8}}, out=')" + dir + R"(lua_seamed_gouraud.png', size={96, 72},
+           camera={view='iso'}, background={0, 0, 0}, lights=lit, shading='gouraud'}
+    render{s:material{diffuse={1, 1, 1}, texture=checker{n=2, colors={{1, 1, 0}, {0, 0, 1}}}},
+           out=')" + dir + R"(lua_seamed_tex.png', size={96, 72}, camera={view='iso'}, background={0, 0, 0},
+           lights=lit, shading='gouraud'})",
+                   err);
+  INFO(err);
+  REQUIRE(status == 0);
+  // Gouraud with the file's per-face normals and a directional light: each visible face is one
+  // colour (smeared normals would shade a gradient across every face).
+  render::Image g = render::read_png(dir + "lua_seamed_gouraud.png");
+  std::map<std::array<std::uint8_t, 4>, int> hist;
+  for (int y = 0; y < g.height; ++y)
+    for (int x = 0; x < g.width; ++x) ++hist[g.pixel(x, y)];
+  std::vector<std::pair<int, std::array<std::uint8_t, 4>>> by_count;
+  for (const auto& [c, n] : hist) by_count.push_back({n, c});
+  std::sort(by_count.rbegin(), by_count.rend());
+  REQUIRE(by_count.size() >= 4);
+  const int total = g.width * g.height, background = hist[{0, 0, 0, 255}];
+  std::vector<std::array<std::uint8_t, 4>> faces;  // the three most common non-background colours
+  for (const auto& [n, c] : by_count)
+    if (c != std::array<std::uint8_t, 4>{0, 0, 0, 255} && faces.size() < 3) faces.push_back(c);
+  int near_face = 0;
+  for (const auto& [c, n] : hist)
+    for (const auto& f : faces)
+      if (std::abs(c[0] - f[0]) <= 1 && std::abs(c[1] - f[1]) <= 1 && std::abs(c[2] - f[2]) <= 1) {
+        near_face += n;
+        break;
+      }
+  INFO(hist.size() << " colours; background " << background << ", near a face colour " << near_face << " of " << total);
+  CHECK(total - background > 2000);
+  CHECK(near_face >= (total - background) * 99 / 100);
+  // The three faces differ (three normals): 0.8 x the light's cosine on each.
+  CHECK(faces.size() == 3);
+  if (faces.size() == 3) CHECK((faces[0] != faces[1] && faces[1] != faces[2] && faces[0] != faces[2]));
+  // Textured through the file's uvs: each face carries the whole 2x2 checker, so both colours
+  // show in about equal measure (box mapping or lost uvs would not split every face in four).
+  render::Image t = render::read_png(dir + "lua_seamed_tex.png");
+  int yellowish = 0, blueish = 0;
+  for (int y = 0; y < t.height; ++y)
+    for (int x = 0; x < t.width; ++x) {
+      auto p = t.pixel(x, y);
+      yellowish += p[0] > 40 && p[2] < p[0] / 2;
+      blueish += p[2] > 40 && p[0] < p[2] / 2;
+    }
+  INFO("yellow " << yellowish << ", blue " << blueish);
+  CHECK(yellowish > 1000);
+  CHECK(blueish > 1000);
+  CHECK(std::abs(yellowish - blueish) < (yellowish + blueish) / 4);
 }

@@ -1,9 +1,12 @@
 // render_scene (the path of Lua's render{}), image output and supersampling.
 #include <catch2/catch.hpp>
 
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <set>
+#include <thread>
 
 #include "render/render.h"
 
@@ -174,15 +177,135 @@ TEST_CASE("painter's algorithm and the BSP tree give the z-buffer's image", "[re
     CHECK(covered > 1000);
     CHECK(diff <= covered / 1000);
   }
-  // Without culling the painter must still hide back faces behind front ones.
+  // Without culling both must still hide back faces behind front ones.
   o.cull = "none";
   o.visibility = Visibility::ZBuffer;
   Image z2 = render_scene(items, o);
-  o.visibility = Visibility::Bsp;
-  Image b2 = render_scene(items, o);
-  int diff = 0;
-  for (std::size_t i = 0; i < z2.rgba.size(); ++i) diff += std::abs(int(z2.rgba[i]) - int(b2.rgba[i])) > 2;
-  CHECK(diff <= 10);
+  for (auto v : {Visibility::Painter, Visibility::Bsp}) {
+    o.visibility = v;
+    Image b2 = render_scene(items, o);
+    int diff = 0;
+    for (std::size_t i = 0; i < z2.rgba.size(); ++i) diff += std::abs(int(z2.rgba[i]) - int(b2.rgba[i])) > 2;
+    INFO("visibility " << int(v));
+    CHECK(diff <= 10);
+  }
+}
+
+namespace {
+// Pixels whose colour differs by more than 2 levels in a channel, and pixels not background.
+std::pair<int, int> differing(const Image& z, const Image& im, std::array<std::uint8_t, 4> bg = {0, 0, 0, 255}) {
+  int covered = 0, diff = 0;
+  for (int y = 0; y < im.height; ++y)
+    for (int x = 0; x < im.width; ++x) {
+      auto a = z.pixel(x, y), b = im.pixel(x, y);
+      covered += a != bg;
+      int d = 0;
+      for (int k = 0; k < 3; ++k) d = std::max(d, std::abs(int(a[k]) - int(b[k])));
+      diff += d > 2;
+    }
+  return {diff, covered};
+}
+
+// With WEDGE_KEEP_IMAGES set, writes the image to the build directory for a look.
+void keep(const std::string& name, const Image& im) {
+  if (std::getenv("WEDGE_KEEP_IMAGES")) write_png(std::string(WEDGE_BINARY_DIR) + "/" + name + ".png", im);
+}
+
+Mesh triangle(const Point3& a, const Point3& b, const Point3& c) {
+  Mesh m;
+  m.add_vertex(a), m.add_vertex(b), m.add_vertex(c);
+  m.add_triangle(0, 1, 2);
+  return m;
+}
+}  // namespace
+
+TEST_CASE("the painter's overlap tests order what the farthest-depth sort gets wrong, culling off", "[render][visibility]") {
+  // A slanted triangle A reaching from depth 2 to depth 10 lies in front of a small triangle B at
+  // depth 6 over all of B's image: sorted by farthest depth A would be drawn first and B painted
+  // over it; the z-buffer shows no B at all. No cyclic overlap, no interpenetration.
+  Mesh a = triangle(Point3(-1, -1, 3), Point3(1, -1, 3), Point3(0, 3, -5));
+  Mesh b = triangle(Point3(-0.5, -0.5, -1), Point3(0.5, -0.5, -1), Point3(0, 0.5, -1));
+  std::vector<DrawItem> items(2);
+  items[0].mesh = &a, items[0].material.diffuse = Vec4f(0.9f, 0.2f, 0.2f, 1);
+  items[1].mesh = &b, items[1].material.diffuse = Vec4f(0.2f, 0.2f, 0.9f, 1);
+  for (bool ortho : {false, true}) {
+    for (bool b_first : {false, true}) {
+      INFO((ortho ? "orthographic" : "perspective") << (b_first ? ", B listed first" : ", A listed first"));
+      std::vector<DrawItem> list = items;
+      if (b_first) std::swap(list[0], list[1]);
+      RenderOptions o = options();
+      o.width = 96, o.height = 96;
+      o.cull = "none";
+      o.two_side = true;
+      o.lights[0].direction = Vec3(0.2, -0.3, -1);
+      o.shading = ShadeModel::Flat;
+      o.camera.eye = Point3(0, 0, 5), o.camera.center = Point3(0, 0, 0), o.camera.up = Vec3(0, 1, 0);
+      o.camera.orthographic = ortho;
+      o.camera.left = -2, o.camera.right = 2, o.camera.bottom = -2, o.camera.top = 2;
+      Image z = render_scene(list, o);
+      const std::string name = std::string("painter_ab_") + (ortho ? "ortho" : "persp") + (b_first ? "_b" : "_a");
+      keep(name + "_z", z);
+      int blue = 0, red = 0;
+      for (int y = 0; y < z.height; ++y)
+        for (int x = 0; x < z.width; ++x) {
+          auto p = z.pixel(x, y);
+          blue += p[2] > p[0] + 20, red += p[0] > p[2] + 20;
+        }
+      REQUIRE(blue == 0);  // the scene is as described: A hides B
+      REQUIRE(red > 500);
+      o.visibility = Visibility::Painter;
+      Image im = render_scene(list, o);
+      keep(name + "_painter", im);
+      auto [diff, covered] = differing(z, im);
+      INFO(diff << " of " << covered << " pixels differ");
+      CHECK(diff <= covered / 1000);
+    }
+  }
+}
+
+TEST_CASE("the painter's algorithm gives the z-buffer's image on overlapping parallel slats, culling off", "[render][visibility]") {
+  // Venetian blinds: eight slanted strips, each hiding part of the one above and behind it. Their
+  // depth ranges all overlap and the farthest-depth order is exactly backwards; the slats are
+  // parallel, so there is no cyclic overlap. Seen from the front (their lit side) and from behind.
+  Mesh slat;
+  slat.add_vertex(Point3(-2, 0, -1.5)), slat.add_vertex(Point3(2, 0, -1.5));
+  slat.add_vertex(Point3(2, 1, 0)), slat.add_vertex(Point3(-2, 1, 0));
+  slat.add_triangle(0, 1, 2), slat.add_triangle(0, 2, 3);
+  std::vector<DrawItem> items(8);
+  for (int i = 0; i < 8; ++i) {
+    items[i].mesh = &slat;
+    items[i].transform = translate(Vec3(0.1 * i, 0.3 * i, 0));
+    items[i].material.diffuse = Vec4f(0.2f + 0.1f * i, 0.9f - 0.1f * i, i % 2 ? 0.8f : 0.2f, 1);
+  }
+  for (bool ortho : {false, true})
+    for (double side : {1.0, -1.0}) {
+      INFO((ortho ? "orthographic" : "perspective") << (side > 0 ? ", from the front" : ", from behind"));
+      RenderOptions o = options();
+      o.width = 128, o.height = 96;
+      o.cull = "none";
+      o.two_side = true;
+      o.lights.push_back(o.lights[0]);
+      o.lights[1].direction = Vec3(0.2, 0.3, 1);  // lights the slats' backs
+      o.shading = ShadeModel::Smooth;
+      o.camera.eye = side > 0 ? Point3(0.5, 2, 6) : Point3(0.5, 1, -6);
+      o.camera.center = Point3(0.35, 1.5, -0.75), o.camera.up = Vec3(0, 1, 0);
+      o.camera.orthographic = ortho;
+      o.camera.left = -3, o.camera.right = 3, o.camera.bottom = -2.5, o.camera.top = 2.5;
+      Image z = render_scene(items, o);
+      const std::string name = std::string("slats_") + (ortho ? "ortho" : "persp") + (side > 0 ? "_front" : "_back");
+      keep(name + "_z", z);
+      REQUIRE(colours(z).size() >= 9);  // every slat shows
+      for (auto v : {Visibility::Painter, Visibility::Bsp}) {
+        o.visibility = v;
+        Image im = render_scene(items, o);
+        keep(name + "_" + std::to_string(int(v)), im);
+        auto [diff, covered] = differing(z, im);
+        INFO("visibility " << int(v) << ": " << diff << " of " << covered << " pixels differ");
+        CHECK(covered > 3000);
+        CHECK(diff <= covered / 1000);
+      }
+      o.visibility = Visibility::ZBuffer;
+    }
 }
 
 TEST_CASE("two-step cylinder, sphere and box mappings give the intermediate surface's (u, v)", "[render][texture]") {
@@ -323,4 +446,148 @@ TEST_CASE("the BSP tree with an orthographic camera sorts along the view directi
   INFO(diff << " of " << covered << " pixels differ");
   CHECK(covered > 500);
   CHECK(diff <= covered / 1000);
+}
+
+TEST_CASE("several contexts render at once on different threads, each exactly as it renders alone", "[render][threads]") {
+  // Four different scenes - lit smooth sphere, mipmapped texture with fog, blended vertex arrays
+  // on banded threads, render_scene with supersampling and the painter's sort - each in its own
+  // Context on its own std::thread, all at once and several rounds; every image must equal the
+  // same scene rendered serially, bit for bit. One texture is shared by two of them.
+  auto tex = Texture::checker(64, 8, Vec4f(1, 0.9f, 0.2f, 1), Vec4f(0.1f, 0.3f, 0.8f, 1), true);
+  tex->min_filter = TexFilter::LinearMipmapLinear;
+  std::shared_ptr<const Texture> shared = tex;
+  auto sphere = [](Context& c, int slices, int stacks) {
+    for (int i = 0; i < stacks; ++i) {
+      c.begin(Primitive::QuadStrip);
+      for (int j = 0; j <= slices; ++j)
+        for (int k : {i + 1, i}) {
+          double t = kPi * k / stacks - kPi / 2, p = 2 * kPi * j / slices;
+          double x = std::cos(t) * std::cos(p), y = std::cos(t) * std::sin(p), z = std::sin(t);
+          c.normal(x, y, z);
+          c.tex_coord(2.0 * j / slices, double(k) / stacks);
+          c.vertex(1.2 * x, 1.2 * y, 1.2 * z);
+        }
+      c.end();
+    }
+  };
+  auto camera = [](Context& c) {
+    c.matrix_mode(MatrixMode::Projection);
+    c.load_identity();
+    c.perspective(40, double(c.width()) / c.height(), 1, 20);
+    c.matrix_mode(MatrixMode::ModelView);
+    c.load_identity();
+    c.look_at(Point3(0.5, 1.5, 5), Point3(0, 0, 0), Vec3(0, 1, 0));
+  };
+  std::vector<double> pos;
+  std::vector<float> col;
+  for (int i = 0; i < 2000; ++i) {
+    double cx = std::sin(i * 1.3) * 0.8, cy = std::cos(i * 0.7) * 0.8, z = std::sin(i * 0.31);
+    for (int k = 0; k < 3; ++k) {
+      double a = i * 0.9 + k * 2.1;
+      pos.insert(pos.end(), {cx + 0.3 * std::cos(a), cy + 0.3 * std::sin(a), z + 0.1 * k});
+      col.insert(col.end(), {float(k == 0), float(k == 1), float(k == 2), 0.6f});
+    }
+  }
+  Mesh cube_mesh = cube();
+  std::vector<std::function<Image()>> scenes = {
+      [&] {
+        Context c(160, 120);
+        c.clear_color(0.1f, 0.1f, 0.15f, 1);
+        c.clear();
+        camera(c);
+        c.enable(Cap::DepthTest), c.enable(Cap::Lighting), c.enable(Cap::Light0);
+        c.light_position(0, Vec4f(2, 1, 2, 1));
+        c.light_attenuation(0, 0.5f, 0.2f, 0.05f);
+        c.material_specular(Face::FrontAndBack, Vec4f(0.6f, 0.6f, 0.6f, 1));
+        c.material_shininess(Face::FrontAndBack, 20);
+        sphere(c, 48, 32);
+        return c.image();
+      },
+      [&] {
+        Context c(128, 128);
+        c.threads(2);
+        c.clear_color(0.3f, 0.3f, 0.3f, 1);
+        c.clear();
+        camera(c);
+        c.enable(Cap::DepthTest), c.enable(Cap::Texture2D), c.enable(Cap::Fog);
+        c.bind_texture(shared);
+        c.tex_env_mode(TexEnvMode::Replace);
+        c.fog_mode(FogMode::Exp2), c.fog_density(0.2f), c.fog_color(Vec4f(0.7f, 0.7f, 0.8f, 1));
+        sphere(c, 32, 24);
+        return c.image();
+      },
+      [&] {
+        Context c(97, 83);
+        c.threads(2);
+        c.clear_color(0, 0, 0, 1);
+        c.clear();
+        c.enable(Cap::DepthTest);
+        c.depth_func(DepthFunc::LessEqual);
+        c.enable(Cap::Blend);
+        c.blend_func(BlendFactor::SrcAlpha, BlendFactor::OneMinusSrcAlpha);
+        VertexArrays a;
+        a.positions = pos.data();
+        a.colors = col.data();
+        c.draw_arrays(Primitive::Triangles, a, 0, 6000);
+        return c.image();
+      },
+      [&] {
+        std::vector<DrawItem> items(3);
+        for (int i = 0; i < 3; ++i) {
+          items[i].mesh = &cube_mesh;
+          items[i].transform = translate(Vec3(1.6 * i - 1.6, 0.3 * i, -0.4 * i)) * rotate(25.0 * i, Vec3(1, 1, 0));
+          items[i].material.diffuse = Vec4f(0.9f - 0.3f * i, 0.3f + 0.3f * i, 0.4f, 1);
+        }
+        items[1].texture = shared;
+        RenderOptions o = options();
+        o.width = 90, o.height = 70, o.antialias = 2, o.threads = 1;
+        o.cull = "none";
+        o.visibility = Visibility::Painter;
+        return render_scene(items, o);
+      }};
+  std::vector<Image> serial;
+  for (auto& s : scenes) serial.push_back(s());
+  for (int round = 0; round < 3; ++round) {
+    std::vector<Image> got(scenes.size());
+    std::vector<std::thread> workers;
+    for (std::size_t i = 0; i < scenes.size(); ++i) workers.emplace_back([&, i] { got[i] = scenes[i](); });
+    for (auto& w : workers) w.join();
+    for (std::size_t i = 0; i < scenes.size(); ++i) {
+      INFO("round " << round << ", scene " << i);
+      CHECK(got[i].width == serial[i].width);
+      CHECK(got[i].rgba == serial[i].rgba);
+    }
+  }
+}
+
+TEST_CASE("painter and BSP draw a closed 8k-triangle sphere with culling off as the z-buffer", "[render][visibility]") {
+  // Back faces everywhere behind front faces, thousands of overlapping depth ranges; the BSP tree
+  // of a convex mesh is a chain as deep as the mesh has triangles (once a stack overflow).
+  Mesh m;
+  const int S = 96, T = 44;
+  for (int i = 0; i <= T; ++i)
+    for (int j = 0; j <= S; ++j) {
+      double th = kPi * i / T - kPi / 2, ph = 2 * kPi * j / S;
+      m.add_vertex(Point3(std::cos(th) * std::cos(ph), std::cos(th) * std::sin(ph), std::sin(th)));
+    }
+  for (int i = 0; i < T; ++i)
+    for (int j = 0; j < S; ++j) {
+      const std::uint32_t a = i * (S + 1) + j, b = a + 1, c = a + S + 1, d = c + 1;
+      if (i > 0) m.add_triangle(a, b, d);  // no zero-area triangles at the poles
+      if (i < T - 1) m.add_triangle(a, d, c);
+    }
+  std::vector<DrawItem> items(1);
+  items[0].mesh = &m;
+  items[0].material.diffuse = Vec4f(0.3f, 0.7f, 0.9f, 1);
+  RenderOptions o = options();
+  o.width = 160, o.height = 120, o.cull = "none", o.two_side = true;
+  o.camera.eye = Point3(1.6, -2, 1.2);
+  Image z = render_scene(items, o);
+  for (auto v : {Visibility::Painter, Visibility::Bsp}) {
+    o.visibility = v;
+    auto [diff, covered] = differing(z, render_scene(items, o));
+    INFO("visibility " << int(v) << ": " << diff << " of " << covered << " pixels differ");
+    CHECK(covered > 5000);
+    CHECK(diff <= covered / 1000);
+  }
 }

@@ -1,5 +1,7 @@
-// Texture::sample4 (four fragments sharing one level of detail) against four calls of sample(),
-// bit for bit, over random coordinates and every format, wrap mode, filter and texture shape.
+// Texture sampling: sample4 (four fragments sharing one level of detail) against four calls of
+// sample(), bit for bit, over random coordinates and every format, wrap mode, filter and texture
+// shape, on the AVX2 path and with the SSE2 fallback forced; the two paths against each other;
+// every filter against the GL formulas in double precision; exact nearest and constant colours.
 #include <catch2/catch.hpp>
 
 #include <algorithm>
@@ -26,7 +28,8 @@ std::shared_ptr<Texture> random_texture(std::mt19937& rng, int w, int h, TexForm
 }
 
 // A coordinate: mostly within a few repeats of [0, 1], sometimes exactly on a texel edge or
-// centre, sometimes far away.
+// centre, sometimes far away, sometimes special (signed zeros, around 2^23 where floats stop
+// having fractions, beyond 2^31, infinities, NaN, tiny).
 float random_coord(std::mt19937& rng, int size) {
   std::uniform_real_distribution<float> u(-3.0f, 4.0f);
   const float special[] = {-0.0f, 0.0f, 1.0f, -1.0f, 8388607.5f, -8388607.5f, 8388608.0f, 3e9f, -3e9f, 1e30f,
@@ -47,6 +50,7 @@ float random_lambda(std::mt19937& rng) {
     case 0: return float(int(rng() % 12) - 2);                         // integer
     case 1: return float(int(rng() % 24) - 4) * 0.5f;                  // half-integer
     case 2: return -100.0f;                                            // no derivative
+    case 3: return rng() & 1 ? std::numeric_limits<float>::quiet_NaN() : 1e30f;
     default: return std::uniform_real_distribution<float>(-2.0f, 11.0f)(rng);
   }
 }
@@ -68,6 +72,8 @@ int mismatches(const Texture& t, std::mt19937& rng, int n) {
     const float lambda = random_lambda(rng);
     float out[16];
     t.sample4(s, tt, lambda, out);
+    for (int k = 0; k < 16; ++k)
+      if (!(out[k] >= 0.0f && out[k] <= 1.0f)) ++bad;  // in [0, 1] (the border colour is too)
     for (int k = 0; k < 4; ++k) {
       const Vec4f c = t.sample(s[k], tt[k], lambda);
       if (std::memcmp(c.data(), out + 4 * k, sizeof(float) * 4) != 0) {

@@ -2,6 +2,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <regex>
 #include <sstream>
 
 #include "csg/solid.h"
@@ -71,6 +72,100 @@ TEST_CASE("OBJ keeps its own normals and per-corner texture coordinates", "[mesh
   CHECK(m.uvs[m.triangles[0][0]] == Vec2(0, 0));
   REQUIRE(m.normals.size() == m.vertex_count());
   for (const auto& n : m.normals) CHECK(n == Vec3(0, 0, 1));
+}
+
+namespace {
+// A faceted, textured cube as modellers write it: 8 positions, each face a quad with its own
+// normal (one `vn` per face) and the whole texture (vt 1-4), so every position is used with three
+// normals and several uvs: the uv seams and normal creases split it into 24 render vertices.
+const char* kSeamedCube =
+    "# seamed, faceted, textured cube\n"
+    "o cube\n"
+    "v -1 -1 -1\nv 1 -1 -1\nv -1 1 -1\nv 1 1 -1\nv -1 -1 1\nv 1 -1 1\nv -1 1 1\nv 1 1 1\n"
+    "vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n"
+    "vn 0 0 -1\nvn 0 0 1\nvn 0 -1 0\nvn 0 1 0\nvn -1 0 0\nvn 1 0 0\n"
+    "s off\n"
+    "f 1/1/1 3/2/1 4/3/1 2/4/1\n"
+    "f 5/1/2 6/2/2 8/3/2 7/4/2\n"
+    "f 1/1/3 2/2/3 6/3/3 5/4/3\n"
+    "f 3/1/4 7/2/4 8/3/4 4/4/4\n"
+    "f 1/1/5 5/2/5 7/3/5 3/4/5\n"
+    "f 2/1/6 4/2/6 8/3/6 6/4/6\n";
+}  // namespace
+
+TEST_CASE("a seamed, faceted, textured cube OBJ keeps each corner's normal and uv, and is a closed solid", "[mesh_io]") {
+  TempDir dir;
+  std::ofstream(dir.file("cube.obj")) << kSeamedCube;
+  Mesh m = read_mesh(dir.file("cube.obj"));
+  REQUIRE(m.triangle_count() == 12);    // each quad fanned into two: the file's own triangles
+  CHECK(m.vertex_count() == 24);        // 6 faces x 4 corners, keyed by (position, uv, normal)
+  REQUIRE(m.normals.size() == 24);
+  REQUIRE(m.uvs.size() == 24);
+  const Vec3 face_n[6] = {{0, 0, -1}, {0, 0, 1}, {0, -1, 0}, {0, 1, 0}, {-1, 0, 0}, {1, 0, 0}};
+  const Vec2 quad_uv[4] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+  for (std::size_t t = 0; t < 12; ++t) {
+    INFO("triangle " << t);
+    const auto& tri = m.triangles[t];
+    const std::size_t f = t / 2;
+    for (int k = 0; k < 3; ++k) CHECK(m.normals[tri[k]] == face_n[f]);  // not smeared across faces
+    CHECK(m.triangle_normal(t).isApprox(face_n[f]));                     // counter-clockwise outside
+    // Fanned from the first corner: (0, 1, 2) and (0, 2, 3) of the quad, with their uvs.
+    const int corners[2][3] = {{0, 1, 2}, {0, 2, 3}};
+    for (int k = 0; k < 3; ++k) CHECK(m.uvs[tri[k]] == quad_uv[corners[t % 2][k]]);
+  }
+  // By index the split mesh is open; the Solid checks the vertices welded by position.
+  CHECK_THROWS_WITH(euler_counts(m), Catch::Contains("not closed"));
+  Solid s = Solid::from_mesh(m, "cube.obj");
+  Tolerance tol;
+  CHECK(s.euler(tol) == EulerCounts{8, 18, 12, 0, 0, 1});
+  CHECK(s.mass_properties(tol).volume == Approx(8));
+  CHECK(s.mesh(tol).vertex_count() == 24);  // and renders the mesh as read
+}
+
+TEST_CASE("OBJ corners without normals get area-weighted smooth ones around their file vertex", "[mesh_io]") {
+  TempDir dir;
+  // The seamed cube with its normals stripped: uv seams split the vertices, but the shading must
+  // not crease there: every copy of a file vertex gets the same area-weighted normal.
+  std::string stripped = std::regex_replace(std::regex_replace(kSeamedCube, std::regex("vn [^\n]*\n"), ""),
+                                            std::regex("(\\d+/\\d+)/\\d+"), "$1");  // "1/1/5" -> "1/1"
+  REQUIRE(stripped.find("1/1/") == std::string::npos);
+  std::ofstream(dir.file("smooth.obj")) << stripped;
+  Mesh m = read_mesh(dir.file("smooth.obj"));
+  REQUIRE(m.triangle_count() == 12);
+  REQUIRE(m.normals.size() == m.vertex_count());
+  for (std::size_t i = 0; i < m.vertex_count(); ++i) {
+    // The corner (+-1, +-1, +-1): the faces around it are fanned so that the area-weighted
+    // normal points out along the diagonal, within the fan's asymmetry.
+    Vec3 diag = m.positions[i].normalized();
+    CHECK(m.normals[i].norm() == Approx(1));
+    CHECK(m.normals[i].dot(diag) > 0.9);
+    for (std::size_t j = 0; j < m.vertex_count(); ++j)
+      if (m.positions[j] == m.positions[i]) CHECK(m.normals[j] == m.normals[i]);
+  }
+  // Without normals and without splits the file gives no normals: the renderer computes them.
+  std::ofstream(dir.file("plain.obj")) << "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 2 3 4\nf 1 4 3\n";
+  Mesh plain = read_mesh(dir.file("plain.obj"));
+  CHECK(plain.vertex_count() == 4);
+  CHECK(plain.normals.empty());
+  CHECK(plain.uvs.empty());
+}
+
+TEST_CASE("OBJ keeps every triangle it gives, resolves relative indices and names bad lines", "[mesh_io]") {
+  TempDir dir;
+  // Three triangles on one edge (non-manifold: a half-edge reader drops or duplicates one), a
+  // degenerate one, and relative (negative) indices.
+  std::ofstream(dir.file("fan.obj")) << "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 -1 0\nv 0 0 1\n"
+                                        "f 1 2 3\nf 2 1 4\nf -5 -4 -1\nf 1 1 2\n";
+  Mesh m = read_mesh(dir.file("fan.obj"));
+  REQUIRE(m.triangle_count() == 4);
+  CHECK(m.vertex_count() == 5);
+  CHECK(m.positions[m.triangles[2][2]] == Point3(0, 0, 1));
+  std::ofstream(dir.file("far.obj")) << "v 0 0 0\nv 1 0 0\nv 0 1 0\n\nf 1 2 7\n";
+  CHECK_THROWS_WITH(read_mesh(dir.file("far.obj")), Catch::Contains("far.obj': line 5: face refers to vertex 7 of 3"));
+  std::ofstream(dir.file("bad.obj")) << "v 0 0 zero\n";
+  CHECK_THROWS_WITH(read_mesh(dir.file("bad.obj")), Catch::Contains("line 1: 'zero' is not a number"));
+  std::ofstream(dir.file("none.obj")) << "# nothing\nv 0 0 0\n";
+  CHECK_THROWS_WITH(read_mesh(dir.file("none.obj")), Catch::Contains("holds no triangles"));
 }
 
 TEST_CASE("unreadable, empty, unknown and broken files are errors naming the path", "[mesh_io][errors]") {
