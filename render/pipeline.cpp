@@ -699,9 +699,10 @@ struct Raster {
       if (avx2) return triangle_t_avx2<Phong, Smooth, Tex, Fog, Depth>(v0, v1, v2, side, flat);
     triangle_t<Phong, Smooth, Tex, Fog, Depth>(v0, v1, v2, side, flat);
   }
-  // Compiled twice: for the base x86-64 (SSE2) and, chosen at run time, with AVX2 enabled (the
-  // same operations in three-operand VEX encoding; FMA left off so that no multiply-add is
-  // contracted: both builds give the same bits).
+  // Two builds of triangle_q: for the base x86-64 (SSE2: the 4-lane loop), and with AVX2 enabled,
+  // chosen at run time (the same setup, then the 8-lane quad_loop8, or the SSE2 build for the
+  // states quad_loop8 does not take). FMA is left off so that no multiply-add is contracted:
+  // both builds give the same bits.
   template <bool Phong, bool Smooth, bool Tex, bool Fog, bool Depth>
   void triangle_t(const WinVert& v0, const WinVert& v1, const WinVert& v2, int side, const float* flat) {
     triangle_q<Phong, Smooth, Tex, Fog, Depth, false>(v0, v1, v2, side, flat);
