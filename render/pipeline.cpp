@@ -16,11 +16,13 @@
 // interpolated eye-space normal and position.
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <memory>
 
 #if defined(__SSE2__)
 #include <emmintrin.h>
+#include <immintrin.h>  // AVX2 intrinsics, used only in functions built with target("avx2")
 #endif
 
 #include <tbb/blocked_range.h>
@@ -36,11 +38,69 @@ namespace {
 // llvmpipe's level-of-detail log2 (gallivm's fast log2): the float's exponent minus one plus its
 // mantissa in [1, 2), a piecewise-linear log2 exact at powers of two. Its blend fraction between
 // two mipmap levels follows this curve, not the true logarithm.
-float fast_log2(float x) {
+[[gnu::always_inline]] inline float fast_log2(float x) {
+  std::uint32_t bits;
+  std::memcpy(&bits, &x, 4);
+  const int biased = int(bits >> 23);
+  if (biased > 0 && biased < 255) {
+    // A positive normal float without a library call: x = m1 2^e, m1 in [1, 2), the same value
+    // as frexp's m 2^(e + 1) below.
+    const std::uint32_t mb = (bits & 0x7fffffu) | 0x3f800000u;
+    float m1;
+    std::memcpy(&m1, &mb, 4);
+    return float(biased - 128) + m1;
+  }
   int e = 0;
   float m = std::frexp(x, &e);  // x = m 2^e, m in [0.5, 1)
   return float(e - 2) + 2 * m;
 }
+
+#if defined(__SSE2__)
+// Helpers of the 2x2-quad fragment loop (Raster::triangle_t).
+struct QPlane {
+  __m128 c, dx, dy;  // value at the centre of the first quad's first pixel; steps per pixel in x, y
+};
+// llround (half away from zero) without a library call, for |x| < 2^52 (window coordinates
+// times 256); beyond that x is an integer and is returned as it is.
+[[gnu::always_inline]] inline std::int64_t round_half_away(double x) {
+  std::int64_t i = std::int64_t(x);
+  const double f = x - double(i);
+  return i + (f >= 0.5) - (f <= -0.5);
+}
+[[gnu::always_inline]] inline __m128 sel(__m128 m, __m128 a, __m128 b) {
+  return _mm_or_ps(_mm_and_ps(m, a), _mm_andnot_ps(m, b));
+}
+// All ones in the lanes whose bit is set in m.
+[[gnu::always_inline]] inline __m128 lane_mask(int m) {
+  const __m128i bits = _mm_set_epi32(8, 4, 2, 1);
+  return _mm_castsi128_ps(_mm_cmpeq_epi32(_mm_and_si128(_mm_set1_epi32(m), bits), bits));
+}
+// The depth test on four lanes: a bit per passing lane.
+[[gnu::always_inline]] inline int depth_cmp4(DepthFunc f, __m128 z, __m128 d) {
+  switch (f) {
+    case DepthFunc::Never: return 0;
+    case DepthFunc::Less: return _mm_movemask_ps(_mm_cmplt_ps(z, d));
+    case DepthFunc::Equal: return _mm_movemask_ps(_mm_cmpeq_ps(z, d));
+    case DepthFunc::LessEqual: return _mm_movemask_ps(_mm_cmple_ps(z, d));
+    case DepthFunc::Greater: return _mm_movemask_ps(_mm_cmpgt_ps(z, d));
+    case DepthFunc::NotEqual: return _mm_movemask_ps(_mm_cmpneq_ps(z, d));
+    case DepthFunc::GreaterEqual: return _mm_movemask_ps(_mm_cmpge_ps(z, d));
+    case DepthFunc::Always: return 15;
+  }
+  return 0;
+}
+// Window depth (lanes 0-1 in lo, 2-3 in hi, double) rounded to float, clamped to [0, 1] and
+// quantised to 24 bits as Raster::depth_stage_t does (round to nearest even by adding and
+// removing 2^52, times 1/(2^24 - 1)).
+[[gnu::always_inline]] inline __m128 quantise_depth4(__m128d lo, __m128d hi) {
+  __m128 z = _mm_movelh_ps(_mm_cvtpd_ps(lo), _mm_cvtpd_ps(hi));
+  z = _mm_min_ps(_mm_max_ps(z, _mm_setzero_ps()), _mm_set1_ps(1.0f));
+  const __m128d k = _mm_set1_pd(16777215.0), r = _mm_set1_pd(0x1p52), inv = _mm_set1_pd(1.0 / 16777215.0);
+  __m128d a = _mm_mul_pd(_mm_cvtps_pd(z), k), b = _mm_mul_pd(_mm_cvtps_pd(_mm_movehl_ps(z, z)), k);
+  a = _mm_sub_pd(_mm_add_pd(a, r), r), b = _mm_sub_pd(_mm_add_pd(b, r), r);
+  return _mm_movelh_ps(_mm_cvtpd_ps(_mm_mul_pd(a, inv)), _mm_cvtpd_ps(_mm_mul_pd(b, inv)));
+}
+#endif
 
 // Attribute layout of a pipeline vertex.
 enum : int { kFront = 0, kBack = 4, kTex = 8, kFog = 12, kEye = 13, kNormal = 17, kAttrs = 20 };
@@ -238,6 +298,7 @@ struct Raster {
   // Clip planes: 6 frustum planes then the enabled user planes (as eye-space planes).
   std::vector<Vec4> user_planes;
   int x0, y0, x1, y1;  // pixel bounds (framebuffer ∩ scissor), half open
+  bool avx2 = false;  // the fragment loop's AVX2 build (the CPU has it, and WEDGE_RENDER_SIMD is not "sse2")
   bool phong, lighting, texturing, fog, blend, depth_test, all_mask;
   std::vector<Job>* sink = nullptr;  // when set, primitives are queued instead of drawn
   std::vector<PVert> poly_scratch, clip_scratch;
@@ -261,6 +322,11 @@ struct Raster {
     blend = s.on(Cap::Blend);
     depth_test = s.on(Cap::DepthTest);
     all_mask = s.color_mask[0] && s.color_mask[1] && s.color_mask[2] && s.color_mask[3];
+#if defined(__SSE2__)
+    static const bool cpu_avx2 = __builtin_cpu_supports("avx2");
+    const char* simd = std::getenv("WEDGE_RENDER_SIMD");  // read per draw: tests switch it
+    avx2 = cpu_avx2 && !(simd && std::strcmp(simd, "sse2") == 0);
+#endif
   }
 
   // Signed distance of a vertex to clip plane i (>= 0 inside).
@@ -424,7 +490,11 @@ struct Raster {
       f = std::clamp(f, 0.0f, 1.0f);
       c.head<3>() = f * c.head<3>() + (1 - f) * s.fog_color.head<3>();
     }
-    c = clamp01(c);
+    write_color(x, y, clamp01(c));
+  }
+
+  // Blending and the colour mask, then the colour write of one fragment (c already clamped).
+  [[gnu::always_inline]] void write_color(int x, int y, Vec4f c) {
     std::uint8_t* p = &color[(std::size_t(y) * width + x) * 4];
     if (blend) {
       Vec4f d(p[0] / 255.0f, p[1] / 255.0f, p[2] / 255.0f, p[3] / 255.0f);
@@ -465,10 +535,23 @@ struct Raster {
   // smooth colour, texturing, fog, depth test), chosen once per triangle: no per-pixel branch
   // on those, the same arithmetic in every specialisation.
   void triangle(const WinVert& v0, const WinVert& v1, const WinVert& v2, int side, const float* flat) {
+    if (!phong && !flat) {
+      // The same colour at the three vertices (an unlit or uniformly lit surface): drawn as flat,
+      // no colour interpolation.
+      const int col = side ? kBack : kFront;
+      if (std::memcmp(v0.a + col, v1.a + col, 4 * sizeof(float)) == 0 &&
+          std::memcmp(v0.a + col, v2.a + col, 4 * sizeof(float)) == 0)
+        flat = v0.a;
+    }
     const int key = (phong ? 16 : 0) | (flat == nullptr ? 8 : 0) | (texturing ? 4 : 0) | (fog ? 2 : 0) | (depth_test ? 1 : 0);
     switch (key) {
+#if defined(__SSE2__)
+#define WEDGE_TRI(k) \
+  case k: return triangle_isa<(k & 16) != 0, (k & 8) != 0, (k & 4) != 0, (k & 2) != 0, (k & 1) != 0>(v0, v1, v2, side, flat);
+#else
 #define WEDGE_TRI(k) \
   case k: return triangle_t<(k & 16) != 0, (k & 8) != 0, (k & 4) != 0, (k & 2) != 0, (k & 1) != 0>(v0, v1, v2, side, flat);
+#endif
       WEDGE_TRI(0) WEDGE_TRI(1) WEDGE_TRI(2) WEDGE_TRI(3) WEDGE_TRI(4) WEDGE_TRI(5) WEDGE_TRI(6) WEDGE_TRI(7)
       WEDGE_TRI(8) WEDGE_TRI(9) WEDGE_TRI(10) WEDGE_TRI(11) WEDGE_TRI(12) WEDGE_TRI(13) WEDGE_TRI(14) WEDGE_TRI(15)
       WEDGE_TRI(16) WEDGE_TRI(17) WEDGE_TRI(18) WEDGE_TRI(19) WEDGE_TRI(20) WEDGE_TRI(21) WEDGE_TRI(22) WEDGE_TRI(23)
@@ -476,8 +559,11 @@ struct Raster {
 #undef WEDGE_TRI
     }
   }
+  // One pixel at a time with 64-bit edge functions and double barycentrics: triangles whose
+  // edge functions do not fit in 32 bits over their bounding box (larger than about 2000 x 2000
+  // pixels), and builds without SSE2.
   template <bool Phong, bool Smooth, bool Tex, bool Fog, bool Depth>
-  void triangle_t(const WinVert& v0, const WinVert& v1in, const WinVert& v2in, int side, const float* flat) {
+  void triangle_scalar(const WinVert& v0, const WinVert& v1in, const WinVert& v2in, int side, const float* flat) {
     constexpr double kSub = 256.0;
     const WinVert* v[3] = {&v0, &v1in, &v2in};
     std::int64_t X[3], Y[3];
@@ -597,6 +683,656 @@ struct Raster {
       }
     }
   }
+
+#if defined(__SSE2__)
+  // --- the 2x2-quad fragment loop (SSE2) ---
+  // Four fragments at once, a 2x2 quad at even (x, y) as GPUs (and llvmpipe) take them: lane 0
+  // is (x, y), 1 (x + 1, y), 2 (x, y + 1), 3 (x + 1, y + 1) (window y up). Coverage by exact
+  // 32-bit edge functions stepped per quad; depth by a plane in double; the perspective-divided
+  // attributes (a/w and 1/w) by planes in float; texture level of detail from the differences
+  // of the quad's (u, v) across its top row and left column.
+  // The AVX2 build where the CPU has it (Phong excepted: its per-fragment lighting is scalar, the
+  // AVX2 copy would only add compile time and code).
+  template <bool Phong, bool Smooth, bool Tex, bool Fog, bool Depth>
+  void triangle_isa(const WinVert& v0, const WinVert& v1, const WinVert& v2, int side, const float* flat) {
+    if constexpr (!Phong)
+      if (avx2) return triangle_t_avx2<Phong, Smooth, Tex, Fog, Depth>(v0, v1, v2, side, flat);
+    triangle_t<Phong, Smooth, Tex, Fog, Depth>(v0, v1, v2, side, flat);
+  }
+  // Compiled twice: for the base x86-64 (SSE2) and, chosen at run time, with AVX2 enabled (the
+  // same operations in three-operand VEX encoding; FMA left off so that no multiply-add is
+  // contracted: both builds give the same bits).
+  template <bool Phong, bool Smooth, bool Tex, bool Fog, bool Depth>
+  void triangle_t(const WinVert& v0, const WinVert& v1, const WinVert& v2, int side, const float* flat) {
+    triangle_q<Phong, Smooth, Tex, Fog, Depth, false>(v0, v1, v2, side, flat);
+  }
+  template <bool Phong, bool Smooth, bool Tex, bool Fog, bool Depth>
+  __attribute__((target("avx2"))) void triangle_t_avx2(const WinVert& v0, const WinVert& v1, const WinVert& v2,
+                                                           int side, const float* flat) {
+    triangle_q<Phong, Smooth, Tex, Fog, Depth, true>(v0, v1, v2, side, flat);
+  }
+  // --- two quads at once (AVX2) ---
+  // The common states (no Phong, no blending, all channels written, linear fog or none) of the
+  // quad loop, 8 lanes wide: the quad at x in lanes 0-3 and the one at x + 2 in lanes 4-7, each
+  // in the 4-lane order above, with the same operations per lane in the same order (the same
+  // bits as the 4-lane loop; tests/render/test_fragment_paths.cpp checks it).
+  struct Quad8Setup {
+    int ox, oy, bx0, bx1, by0, by1, col;
+    std::int64_t c[3], A[3], B[3];
+    QPlane pw, pc[4], pt[3], pf;
+    bool tex_q, dmask;
+    double zc, zdx, zdy;
+    const Texture* texture;
+    float tex_w, tex_h, fog_end, fog_range;
+    TexEnvMode env;
+    TexFormat fmt;
+    const float* flat;
+    DepthFunc dfunc;
+  };
+  // (Lambdas do not inherit the target: each one in quad_loop8 carries it.)
+// (-Wpsabi would note that their __m256 results pass differently without AVX: they are always
+// inlined, no call crosses that ABI.)
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wpsabi"
+#define WEDGE_AVX2_LAMBDA __attribute__((target("avx2"), always_inline))
+  template <bool Smooth, bool Tex, bool Fog, bool Depth>
+  __attribute__((target("avx2"))) void quad_loop8(const Quad8Setup& q) {
+    struct P8 {
+      __m256 c, dx, dy;
+    };
+    auto p8 = [](const QPlane& p) WEDGE_AVX2_LAMBDA {
+      return P8{_mm256_set_m128(p.c, p.c), _mm256_set_m128(p.dx, p.dx), _mm256_set_m128(p.dy, p.dy)};
+    };
+    auto row = [](const P8& p, __m256 Y) WEDGE_AVX2_LAMBDA { return _mm256_add_ps(p.c, _mm256_mul_ps(Y, p.dy)); };
+    auto at = [](__m256 r, const P8& p, __m256 X) WEDGE_AVX2_LAMBDA { return _mm256_add_ps(r, _mm256_mul_ps(X, p.dx)); };
+    auto clamp01v = [](__m256 x) WEDGE_AVX2_LAMBDA { return _mm256_min_ps(_mm256_max_ps(x, _mm256_setzero_ps()), _mm256_set1_ps(1.0f)); };
+    auto lanes8 = [](int m) WEDGE_AVX2_LAMBDA {
+      const __m256i bits = _mm256_set_epi32(128, 64, 32, 16, 8, 4, 2, 1);
+      return _mm256_cmpeq_epi32(_mm256_and_si256(_mm256_set1_epi32(m), bits), bits);
+    };
+    const __m256 zero = _mm256_setzero_ps(), one = _mm256_set1_ps(1.0f);
+    const __m256 lane_dx = _mm256_set_ps(3, 2, 3, 2, 1, 0, 1, 0), lane_dy = _mm256_set_ps(1, 1, 0, 0, 1, 1, 0, 0);
+    const P8 pw = p8(q.pw);
+    P8 pc[4], pt[3], pf = p8(q.pf);
+    for (int k = 0; k < 4; ++k) pc[k] = p8(q.pc[k]);
+    for (int k = 0; k < 3; ++k) pt[k] = p8(q.pt[k]);
+    __m256 flat_c[4] = {zero, zero, zero, zero};
+    if constexpr (!Smooth)
+      for (int k = 0; k < 4; ++k) flat_c[k] = _mm256_set1_ps(q.flat[q.col + k]);
+    const __m256 fog_c[3] = {_mm256_set1_ps(s.fog_color[0]), _mm256_set1_ps(s.fog_color[1]),
+                             _mm256_set1_ps(s.fog_color[2])};
+    const __m256 env_c[3] = {_mm256_set1_ps(s.env_color[0]), _mm256_set1_ps(s.env_color[1]),
+                             _mm256_set1_ps(s.env_color[2])};
+    __m256i estep[3], erow[3], estepy[3];
+    for (int i = 0; i < 3; ++i) {
+      const int a = int(q.A[i]), b = int(q.B[i]);
+      estep[i] = _mm256_set1_epi32(4 * a);
+      estepy[i] = _mm256_set1_epi32(2 * b);
+      erow[i] = _mm256_add_epi32(_mm256_set1_epi32(int(q.c[i])),
+                                 _mm256_set_epi32(3 * a + b, 2 * a + b, 3 * a, 2 * a, a + b, b, a, 0));
+    }
+    const bool wide = q.bx1 - q.ox >= 64;
+    for (int qy = q.oy; qy <= q.by1; qy += 2) {
+      int rowm = 0xff;
+      if (qy < q.by0) rowm &= ~0x33;
+      if (qy + 1 > q.by1) rowm &= ~0xcc;
+      __m256i e[3] = {erow[0], erow[1], erow[2]};
+      for (int i = 0; i < 3; ++i) erow[i] = _mm256_add_epi32(erow[i], estepy[i]);
+      // On wide triangles, the columns where this pair of rows can be covered: each edge's
+      // e(x) >= 0 solved for x on either row, widened by two pixels (the per-lane edge test
+      // still decides coverage; this only skips blocks that cannot pass it).
+      int qx_first = q.ox, qx_last = q.bx1;
+      if (wide) {
+        double lo = 0, hi = q.bx1 - q.ox;
+        bool empty = false;
+        for (int i = 0; i < 3; ++i) {
+          const double e0 = double(q.c[i] + q.B[i] * (qy - q.oy)), e1 = e0 + double(q.B[i]);
+          if (q.A[i] > 0) lo = std::max(lo, std::min(-e0, -e1) / double(q.A[i]));
+          else if (q.A[i] < 0) hi = std::min(hi, std::max(e0, e1) / double(-q.A[i]));
+          else if (e0 < 0 && e1 < 0) empty = true;
+        }
+        if (empty || lo > hi + 4) continue;
+        qx_first = q.ox + (std::max(0, int(lo) - 2) & ~1);
+        qx_last = std::min(q.bx1, q.ox + int(hi) + 2);
+        if (qx_first > q.ox)
+          for (int i = 0; i < 3; ++i)
+            e[i] = _mm256_add_epi32(e[i], _mm256_set1_epi32(int(q.A[i]) * (qx_first - q.ox)));
+      }
+      const float fy = float(qy - q.oy);
+      const __m256 Y8 = _mm256_add_ps(_mm256_set1_ps(fy), lane_dy);
+      const __m256 rw_row = row(pw, Y8);
+      __m256 c_row[4] = {zero, zero, zero, zero}, t_row[3] = {zero, zero, zero}, f_row = zero;
+      if constexpr (Smooth)
+        for (int k = 0; k < 4; ++k) c_row[k] = row(pc[k], Y8);
+      if constexpr (Tex) {
+        t_row[0] = row(pt[0], Y8), t_row[1] = row(pt[1], Y8);
+        if (q.tex_q) t_row[2] = row(pt[2], Y8);
+      }
+      if constexpr (Fog) f_row = row(pf, Y8);
+      const double zrow_lo = q.zc + double(fy) * q.zdy, zrow_hi = q.zc + double(fy + 1) * q.zdy;
+      const __m256d zrow = _mm256_set_pd(zrow_hi, zrow_hi, zrow_lo, zrow_lo);
+      for (int qx = qx_first; qx <= qx_last; qx += 4, e[0] = _mm256_add_epi32(e[0], estep[0]),
+               e[1] = _mm256_add_epi32(e[1], estep[1]), e[2] = _mm256_add_epi32(e[2], estep[2])) {
+        const __m256i out = _mm256_or_si256(_mm256_or_si256(e[0], e[1]), e[2]);
+        int m = ~_mm256_movemask_ps(_mm256_castsi256_ps(out)) & rowm;
+        if (qx < q.bx0 || qx + 3 > q.bx1) {
+          for (int l = 0; l < 8; ++l) {
+            const int x = qx + 2 * (l >> 2) + (l & 1);
+            if (x < q.bx0 || x > q.bx1) m &= ~(1 << l);
+          }
+        }
+        if (!m) continue;
+        const bool inb = qx >= x0 && qx + 3 < x1 && qy >= y0 && qy + 1 < y1;
+        const std::size_t i0 = std::size_t(qy) * width + qx, i1 = i0 + width;
+        auto index = [&](int l) { return (l & 2 ? i1 : i0) + 2 * (l >> 2) + (l & 1); };
+        const float fx = float(qx - q.ox);
+        const __m256 X8 = _mm256_add_ps(_mm256_set1_ps(fx), lane_dx);
+        if constexpr (Depth) {
+          const double dx = fx;
+          const __m256d zx = _mm256_set1_pd(q.zdx);
+          const __m256d za = _mm256_add_pd(zrow, _mm256_mul_pd(_mm256_set_pd(dx + 1, dx, dx + 1, dx), zx));
+          const __m256d zb = _mm256_add_pd(zrow, _mm256_mul_pd(_mm256_set_pd(dx + 3, dx + 2, dx + 3, dx + 2), zx));
+          __m256 z = _mm256_set_m128(_mm256_cvtpd_ps(zb), _mm256_cvtpd_ps(za));
+          z = _mm256_min_ps(_mm256_max_ps(z, zero), one);
+          const __m256d k = _mm256_set1_pd(16777215.0), r = _mm256_set1_pd(0x1p52), inv = _mm256_set1_pd(1.0 / 16777215.0);
+          __m256d a = _mm256_mul_pd(_mm256_cvtps_pd(_mm256_castps256_ps128(z)), k);
+          __m256d b = _mm256_mul_pd(_mm256_cvtps_pd(_mm256_extractf128_ps(z, 1)), k);
+          a = _mm256_sub_pd(_mm256_add_pd(a, r), r), b = _mm256_sub_pd(_mm256_add_pd(b, r), r);
+          const __m256 zq = _mm256_set_m128(_mm256_cvtpd_ps(_mm256_mul_pd(b, inv)), _mm256_cvtpd_ps(_mm256_mul_pd(a, inv)));
+          __m256 d;
+          if (m == 0xff || inb) {
+            const __m128 lo = _mm_loadu_ps(depth + i0), hi = _mm_loadu_ps(depth + i1);
+            d = _mm256_set_m128(_mm_movehl_ps(hi, lo), _mm_movelh_ps(lo, hi));
+          } else {
+            alignas(32) float t[8] = {0, 0, 0, 0, 0, 0, 0, 0};
+            for (int l = 0; l < 8; ++l)
+              if (m >> l & 1) t[l] = depth[index(l)];
+            d = _mm256_load_ps(t);
+          }
+          __m256 pass;
+          switch (q.dfunc) {
+            case DepthFunc::Never: pass = zero; break;
+            case DepthFunc::Less: pass = _mm256_cmp_ps(zq, d, _CMP_LT_OQ); break;
+            case DepthFunc::Equal: pass = _mm256_cmp_ps(zq, d, _CMP_EQ_OQ); break;
+            case DepthFunc::LessEqual: pass = _mm256_cmp_ps(zq, d, _CMP_LE_OQ); break;
+            case DepthFunc::Greater: pass = _mm256_cmp_ps(zq, d, _CMP_GT_OQ); break;
+            case DepthFunc::NotEqual: pass = _mm256_cmp_ps(zq, d, _CMP_NEQ_UQ); break;
+            case DepthFunc::GreaterEqual: pass = _mm256_cmp_ps(zq, d, _CMP_GE_OQ); break;
+            default: pass = _mm256_castsi256_ps(_mm256_set1_epi32(-1)); break;
+          }
+          m &= _mm256_movemask_ps(pass);
+          if (!m) continue;
+          if (q.dmask) {
+            if (m == 0xff || inb) {
+              const __m256 nd = _mm256_blendv_ps(d, zq, _mm256_castsi256_ps(lanes8(m)));
+              const __m128 q0 = _mm256_castps256_ps128(nd), q1 = _mm256_extractf128_ps(nd, 1);
+              _mm_storeu_ps(depth + i0, _mm_movelh_ps(q0, q1));
+              _mm_storeu_ps(depth + i1, _mm_movehl_ps(q1, q0));
+            } else {
+              alignas(32) float t[8];
+              _mm256_store_ps(t, zq);
+              for (int l = 0; l < 8; ++l)
+                if (m >> l & 1) depth[index(l)] = t[l];
+            }
+          }
+        }
+        const __m256 rw = _mm256_div_ps(one, at(rw_row, pw, X8));
+        __m256 cr, cg, cb, ca;
+        if constexpr (Smooth) {
+          cr = _mm256_mul_ps(at(c_row[0], pc[0], X8), rw), cg = _mm256_mul_ps(at(c_row[1], pc[1], X8), rw);
+          cb = _mm256_mul_ps(at(c_row[2], pc[2], X8), rw), ca = _mm256_mul_ps(at(c_row[3], pc[3], X8), rw);
+        } else {
+          cr = flat_c[0], cg = flat_c[1], cb = flat_c[2], ca = flat_c[3];
+        }
+        if constexpr (Tex) {
+          __m256 ts = _mm256_mul_ps(at(t_row[0], pt[0], X8), rw), tt = _mm256_mul_ps(at(t_row[1], pt[1], X8), rw);
+          if (q.tex_q) {
+            __m256 tq = _mm256_mul_ps(at(t_row[2], pt[2], X8), rw);
+            tq = _mm256_blendv_ps(one, tq, _mm256_cmp_ps(tq, zero, _CMP_NEQ_UQ));
+            ts = _mm256_div_ps(ts, tq), tt = _mm256_div_ps(tt, tq);
+          }
+          alignas(32) float S[8], T[8], U[8], V[8], texel[32];
+          _mm256_store_ps(U, _mm256_mul_ps(ts, _mm256_set1_ps(q.tex_w)));
+          _mm256_store_ps(V, _mm256_mul_ps(tt, _mm256_set1_ps(q.tex_h)));
+          _mm256_store_ps(S, ts), _mm256_store_ps(T, tt);
+          for (int h = 0; h < 2; ++h) {
+            const int mh = m >> (4 * h) & 15;
+            float* const Sh = S + 4 * h;
+            float* const Th = T + 4 * h;
+            const float* const Uh = U + 4 * h;
+            const float* const Vh = V + 4 * h;
+            if (!mh) {
+              std::memset(texel + 16 * h, 0, 16 * sizeof(float));
+              continue;
+            }
+            // Per quad, as the 4-lane loop: level of detail from its top row and left column.
+            const float dux = Uh[3] - Uh[2], dvx = Vh[3] - Vh[2], duy = Uh[0] - Uh[2], dvy = Vh[0] - Vh[2];
+            const float rho2 = std::max(dux * dux + dvx * dvx, duy * duy + dvy * dvy);
+            float lambda = rho2 > 0 ? 0.5f * fast_log2(rho2) : -100.0f;
+            if (!(lambda <= 1000.0f)) lambda = 1000.0f;
+            if (mh != 15) {
+              const int l0 = __builtin_ctz(unsigned(mh));
+              for (int l = 0; l < 4; ++l)
+                if (!(mh >> l & 1)) Sh[l] = Sh[l0], Th[l] = Th[l0];
+            }
+            q.texture->sample4(Sh, Th, lambda, texel + 16 * h);
+          }
+          __m128 a0 = _mm_load_ps(texel), a1 = _mm_load_ps(texel + 4), a2 = _mm_load_ps(texel + 8),
+                 a3 = _mm_load_ps(texel + 12);
+          __m128 b0 = _mm_load_ps(texel + 16), b1 = _mm_load_ps(texel + 20), b2 = _mm_load_ps(texel + 24),
+                 b3 = _mm_load_ps(texel + 28);
+          _MM_TRANSPOSE4_PS(a0, a1, a2, a3);
+          _MM_TRANSPOSE4_PS(b0, b1, b2, b3);
+          const __m256 tr = _mm256_set_m128(b0, a0), tg = _mm256_set_m128(b1, a1), tb = _mm256_set_m128(b2, a2),
+                       ta = _mm256_set_m128(b3, a3);
+          const bool rgba = q.fmt == TexFormat::RGBA;
+          switch (q.env) {
+            case TexEnvMode::Modulate:
+              cr = _mm256_mul_ps(cr, tr), cg = _mm256_mul_ps(cg, tg), cb = _mm256_mul_ps(cb, tb);
+              if (rgba) ca = _mm256_mul_ps(ca, ta);
+              break;
+            case TexEnvMode::Replace:
+              cr = tr, cg = tg, cb = tb;
+              if (rgba) ca = ta;
+              break;
+            case TexEnvMode::Decal:
+              if (rgba) {
+                const __m256 ia = _mm256_sub_ps(one, ta);
+                cr = _mm256_add_ps(_mm256_mul_ps(cr, ia), _mm256_mul_ps(tr, ta));
+                cg = _mm256_add_ps(_mm256_mul_ps(cg, ia), _mm256_mul_ps(tg, ta));
+                cb = _mm256_add_ps(_mm256_mul_ps(cb, ia), _mm256_mul_ps(tb, ta));
+              } else if (q.fmt == TexFormat::RGB) {
+                cr = tr, cg = tg, cb = tb;
+              }
+              break;
+            case TexEnvMode::Blend:
+              cr = _mm256_add_ps(_mm256_mul_ps(cr, _mm256_sub_ps(one, tr)), _mm256_mul_ps(env_c[0], tr));
+              cg = _mm256_add_ps(_mm256_mul_ps(cg, _mm256_sub_ps(one, tg)), _mm256_mul_ps(env_c[1], tg));
+              cb = _mm256_add_ps(_mm256_mul_ps(cb, _mm256_sub_ps(one, tb)), _mm256_mul_ps(env_c[2], tb));
+              if (rgba) ca = _mm256_mul_ps(ca, ta);
+              break;
+          }
+        }
+        if constexpr (Fog) {
+          const __m256 fz = _mm256_mul_ps(at(f_row, pf, X8), rw);
+          __m256 f = one;
+          if (q.fog_range != 0)
+            f = _mm256_div_ps(_mm256_sub_ps(_mm256_set1_ps(q.fog_end), fz), _mm256_set1_ps(q.fog_range));
+          f = clamp01v(f);
+          const __m256 g = _mm256_sub_ps(one, f);
+          cr = _mm256_add_ps(_mm256_mul_ps(f, cr), _mm256_mul_ps(g, fog_c[0]));
+          cg = _mm256_add_ps(_mm256_mul_ps(f, cg), _mm256_mul_ps(g, fog_c[1]));
+          cb = _mm256_add_ps(_mm256_mul_ps(f, cb), _mm256_mul_ps(g, fog_c[2]));
+        }
+        cr = clamp01v(cr), cg = clamp01v(cg), cb = clamp01v(cb), ca = clamp01v(ca);
+        const __m256 k255 = _mm256_set1_ps(255.0f), half = _mm256_set1_ps(0.5f);
+        auto q8 = [&](__m256 x) WEDGE_AVX2_LAMBDA { return _mm256_cvttps_epi32(_mm256_add_ps(_mm256_mul_ps(x, k255), half)); };
+        __m256i px = _mm256_or_si256(_mm256_or_si256(q8(cr), _mm256_slli_epi32(q8(cg), 8)),
+                                     _mm256_or_si256(_mm256_slli_epi32(q8(cb), 16), _mm256_slli_epi32(q8(ca), 24)));
+        std::uint8_t* p0 = color + i0 * 4;
+        std::uint8_t* p1 = color + i1 * 4;
+        if (m == 0xff || inb) {
+          if (m != 0xff) {
+            const __m128i oy = _mm_loadu_si128(reinterpret_cast<const __m128i*>(p0)),
+                          oy1 = _mm_loadu_si128(reinterpret_cast<const __m128i*>(p1));
+            const __m256i old = _mm256_set_m128i(_mm_unpackhi_epi64(oy, oy1), _mm_unpacklo_epi64(oy, oy1));
+            px = _mm256_blendv_epi8(old, px, lanes8(m));
+          }
+          const __m128i a = _mm256_castsi256_si128(px), b = _mm256_extracti128_si256(px, 1);
+          _mm_storeu_si128(reinterpret_cast<__m128i*>(p0), _mm_unpacklo_epi64(a, b));
+          _mm_storeu_si128(reinterpret_cast<__m128i*>(p1), _mm_unpackhi_epi64(a, b));
+        } else {
+          alignas(32) std::uint32_t P[8];
+          _mm256_store_si256(reinterpret_cast<__m256i*>(P), px);
+          for (int l = 0; l < 8; ++l)
+            if (m >> l & 1) std::memcpy(color + index(l) * 4, &P[l], 4);
+        }
+      }
+    }
+  }
+#undef WEDGE_AVX2_LAMBDA
+#pragma GCC diagnostic pop
+  template <bool Phong, bool Smooth, bool Tex, bool Fog, bool Depth, bool Avx2>
+  [[gnu::always_inline]] void triangle_q(const WinVert& v0, const WinVert& v1in, const WinVert& v2in, int side,
+                                         const float* flat) {
+    constexpr double kSub = 256.0;
+    const WinVert* v[3] = {&v0, &v1in, &v2in};
+    std::int64_t X[3], Y[3];
+    for (int i = 0; i < 3; ++i) X[i] = round_half_away(v[i]->x * kSub), Y[i] = round_half_away(v[i]->y * kSub);
+    std::int64_t area = (X[1] - X[0]) * (Y[2] - Y[0]) - (X[2] - X[0]) * (Y[1] - Y[0]);
+    if (area == 0) return;
+    if (area < 0) {
+      std::swap(v[1], v[2]), std::swap(X[1], X[2]), std::swap(Y[1], Y[2]);
+      area = -area;
+    }
+    // Pixels whose centre lies within the vertices' bounding box (as triangle_scalar).
+    const int bx0 = int(std::max<std::int64_t>(x0, (std::min({X[0], X[1], X[2]}) - 128 + 255) >> 8));
+    const int bx1 = int(std::min<std::int64_t>(x1 - 1, (std::max({X[0], X[1], X[2]}) - 128) >> 8));
+    const int by0 = int(std::max<std::int64_t>(y0, (std::min({Y[0], Y[1], Y[2]}) - 128 + 255) >> 8));
+    const int by1 = int(std::min<std::int64_t>(y1 - 1, (std::max({Y[0], Y[1], Y[2]}) - 128) >> 8));
+    if (bx0 > bx1 || by0 > by1) return;
+    const int ox = bx0 & ~1, oy = by0 & ~1;  // the first quad
+
+    // Edge i (opposite vertex i) at the centre (256 px + 128, 256 py + 128) of pixel (px, py) is
+    // E = 256 (A px + B py) + K, K holding the tie-rule bias (see triangle_scalar), and
+    // E >= 0  <=>  A px + B py + floor(K / 256) >= 0: the same test on integers 256 times
+    // smaller, e(px, py) = A (px - ox) + B (py - oy) + c, which fits in 32 bits unless the
+    // triangle is huge.
+    Quad8Setup qs;  // the setup, as the AVX2 two-quad loop takes it
+    std::int64_t* const A = qs.A;
+    std::int64_t* const B = qs.B;
+    std::int64_t* const c = qs.c;
+    bool fits = true;
+#pragma GCC unroll 3
+    for (int i = 0; i < 3; ++i) {
+      const int a = (i + 1) % 3, b = (i + 2) % 3;
+      const std::int64_t dx = X[b] - X[a], dy = Y[b] - Y[a];
+      A[i] = -dy, B[i] = dx;
+      const bool top_left = dy < 0 || (dy == 0 && dx < 0);
+      const std::int64_t K = A[i] * (128 - X[a]) + B[i] * (128 - Y[a]) + (top_left ? 0 : -1);
+      c[i] = A[i] * ox + B[i] * oy + (K >> 8);  // >> floors (C++20: arithmetic shift)
+      // Bound of |e| over the quads (one step past the last as well).
+      const std::int64_t w = bx1 + 3 - ox, h = by1 + 3 - oy;
+      if (std::abs(c[i]) + std::abs(A[i]) * w + std::abs(B[i]) * h > (std::int64_t(1) << 30)) fits = false;
+    }
+    if (!fits) return triangle_scalar<Phong, Smooth, Tex, Fog, Depth>(v0, v1in, v2in, side, flat);
+
+    // Barycentrics at the centre of pixel (ox, oy) and their steps per pixel.
+    const double inv_area = 1.0 / double(area);
+    double l0[3], glx[3], gly[3];
+#pragma GCC unroll 3
+    for (int i = 0; i < 3; ++i) {
+      const int a = (i + 1) % 3;
+      l0[i] = double(A[i] * (std::int64_t(ox) * 256 + 128 - X[a]) + B[i] * (std::int64_t(oy) * 256 + 128 - Y[a])) * inv_area;
+      glx[i] = double(A[i]) * kSub * inv_area, gly[i] = double(B[i]) * kSub * inv_area;
+    }
+    // (value, x step) of a plane in one register pair, the y step apart: the same products and
+    // sums, in the same order, as three scalar dot products.
+    const __m128d lg[3] = {_mm_set_pd(glx[0], l0[0]), _mm_set_pd(glx[1], l0[1]), _mm_set_pd(glx[2], l0[2])};
+    auto plane = [&](double f0, double f1, double f2) {
+      const __m128d cd = _mm_add_pd(_mm_add_pd(_mm_mul_pd(lg[0], _mm_set1_pd(f0)), _mm_mul_pd(lg[1], _mm_set1_pd(f1))),
+                                    _mm_mul_pd(lg[2], _mm_set1_pd(f2)));
+      const __m128 cdf = _mm_cvtpd_ps(cd);
+      return QPlane{_mm_shuffle_ps(cdf, cdf, 0), _mm_shuffle_ps(cdf, cdf, 0x55),
+                    _mm_set1_ps(float(gly[0] * f0 + gly[1] * f1 + gly[2] * f2))};
+    };
+    // a/w for attribute k (divided by the 1/w plane per fragment: perspective-correct).
+    auto persp = [&](int k) {
+      return plane(double(v[0]->a[k]) * v[0]->inv_w, double(v[1]->a[k]) * v[1]->inv_w, double(v[2]->a[k]) * v[2]->inv_w);
+    };
+    const QPlane pw = qs.pw = plane(v[0]->inv_w, v[1]->inv_w, v[2]->inv_w);
+    const int col = side ? kBack : kFront;
+    const QPlane none{_mm_setzero_ps(), _mm_setzero_ps(), _mm_setzero_ps()};
+    QPlane* const pc = qs.pc;
+    QPlane* const pt = qs.pt;
+    QPlane& pf = qs.pf;
+    for (int k = 0; k < 4; ++k) pc[k] = none;
+    for (int k = 0; k < 3; ++k) pt[k] = none;
+    pf = none;
+    QPlane pa[Phong ? kAttrs : 1];
+    bool tex_q = false;
+    if constexpr (Smooth && !Phong)
+      for (int k = 0; k < 4; ++k) pc[k] = persp(col + k);
+    if constexpr (Tex) {
+      pt[0] = persp(kTex), pt[1] = persp(kTex + 1);
+      // q = 1 at every vertex (no projective texturing): no per-fragment division by q.
+      tex_q = v[0]->a[kTex + 3] != 1 || v[1]->a[kTex + 3] != 1 || v[2]->a[kTex + 3] != 1;
+      if (tex_q) pt[2] = persp(kTex + 3);
+    }
+    if constexpr (Fog) pf = persp(kFog);
+    if constexpr (Phong)
+      for (int k = 0; k < kAttrs; ++k) pa[k] = persp(k);
+    double zc = 0, zdx = 0, zdy = 0;
+    if constexpr (Depth) {
+      for (int i = 0; i < 3; ++i) {
+        const double zi = float(v[i]->z);
+        zc += l0[i] * zi, zdx += glx[i] * zi, zdy += gly[i] * zi;
+      }
+    }
+    const Texture* texture = Tex ? s.texture.get() : nullptr;
+    const float tex_w = Tex ? float(texture->levels[0].width) : 0;
+    const float tex_h = Tex ? float(texture->levels[0].height) : 0;
+    const TexEnvMode env = s.env_mode;
+    const TexFormat fmt = Tex ? texture->format : TexFormat::RGBA;
+    const FogMode fog_mode = s.fog_mode;
+    const float fog_end = s.fog_end, fog_range = s.fog_end - s.fog_start, fog_density = s.fog_density;
+    const __m128 fog_r = _mm_set1_ps(s.fog_color[0]), fog_g = _mm_set1_ps(s.fog_color[1]),
+                 fog_b = _mm_set1_ps(s.fog_color[2]);
+    const __m128 env_r = _mm_set1_ps(s.env_color[0]), env_g = _mm_set1_ps(s.env_color[1]),
+                 env_b = _mm_set1_ps(s.env_color[2]);
+    const DepthFunc dfunc = s.depth_func;
+    const bool dmask = s.depth_mask;
+    const bool fast_write = !blend && all_mask;
+    if constexpr (Avx2) {
+      static_assert(!Phong, "the AVX2 build takes no Phong triangles (triangle_isa)");
+      // The states the two-quad loop takes; the rare others go to the SSE2 build of the 4-lane
+      // loop (no AVX2 copy of it: less code and compile time, the same bits).
+      if (!(fast_write && (!Fog || fog_mode == FogMode::Linear)))
+        return triangle_t<Phong, Smooth, Tex, Fog, Depth>(v0, v1in, v2in, side, flat);
+      Quad8Setup& q = qs;
+      q.ox = ox, q.oy = oy, q.bx0 = bx0, q.bx1 = bx1, q.by0 = by0, q.by1 = by1, q.col = col;
+      q.tex_q = tex_q, q.dmask = dmask, q.zc = zc, q.zdx = zdx, q.zdy = zdy;
+      q.texture = texture, q.tex_w = tex_w, q.tex_h = tex_h, q.fog_end = fog_end, q.fog_range = fog_range;
+      q.env = env, q.fmt = fmt, q.flat = flat, q.dfunc = dfunc;
+      return quad_loop8<Smooth, Tex, Fog, Depth>(q);
+    } else {
+      const __m128 zero = _mm_setzero_ps(), one = _mm_set1_ps(1.0f);
+      const __m128 lane_dx = _mm_set_ps(1, 0, 1, 0), lane_dy = _mm_set_ps(1, 1, 0, 0);
+      __m128i estep[3], erow[3], estepy[3];
+      for (int i = 0; i < 3; ++i) {
+        estep[i] = _mm_set1_epi32(int(2 * A[i]));
+        estepy[i] = _mm_set1_epi32(int(2 * B[i]));
+        erow[i] = _mm_add_epi32(_mm_set1_epi32(int(c[i])), _mm_set_epi32(int(A[i] + B[i]), int(B[i]), int(A[i]), 0));
+      }
+      // A plane's row part c + y dy for the quad row, then + x dx per quad.
+      auto row = [](const QPlane& p, __m128 Y4) { return _mm_add_ps(p.c, _mm_mul_ps(Y4, p.dy)); };
+      auto at = [](__m128 r, const QPlane& p, __m128 X4) { return _mm_add_ps(r, _mm_mul_ps(X4, p.dx)); };
+      __m128 c_row[4] = {zero, zero, zero, zero}, t_row[3] = {zero, zero, zero}, f_row = zero;
+
+      for (int qy = oy; qy <= by1; qy += 2) {
+        int rowm = 15;
+        if (qy < by0) rowm &= ~3;
+        if (qy + 1 > by1) rowm &= ~12;
+        __m128i e[3] = {erow[0], erow[1], erow[2]};
+        for (int i = 0; i < 3; ++i) erow[i] = _mm_add_epi32(erow[i], estepy[i]);
+        const float fy = float(qy - oy);
+        const __m128 Y4 = _mm_add_ps(_mm_set1_ps(fy), lane_dy);
+        const __m128 rw_row = row(pw, Y4);
+        if constexpr (Smooth && !Phong)
+          for (int k = 0; k < 4; ++k) c_row[k] = row(pc[k], Y4);
+        if constexpr (Tex) {
+          t_row[0] = row(pt[0], Y4), t_row[1] = row(pt[1], Y4);
+          if (tex_q) t_row[2] = row(pt[2], Y4);
+        }
+        if constexpr (Fog) f_row = row(pf, Y4);
+        const double zrow_lo = zc + double(fy) * zdy, zrow_hi = zc + double(fy + 1) * zdy;
+        for (int qx = ox; qx <= bx1;
+             qx += 2, e[0] = _mm_add_epi32(e[0], estep[0]), e[1] = _mm_add_epi32(e[1], estep[1]),
+                 e[2] = _mm_add_epi32(e[2], estep[2])) {
+          // A lane is covered when no edge function is negative (sign bits).
+          const __m128i out = _mm_or_si128(_mm_or_si128(e[0], e[1]), e[2]);
+          int m = ~_mm_movemask_ps(_mm_castsi128_ps(out)) & rowm;
+          if (qx < bx0) m &= ~5;
+          if (qx + 1 > bx1) m &= ~10;
+          if (!m) continue;
+          // Partial quads at the edge of the drawable bounds are read and written lane by lane.
+          auto inb = [&] { return qx >= x0 && qx + 1 < x1 && qy >= y0 && qy + 1 < y1; };
+          const std::size_t i0 = std::size_t(qy) * width + qx, i1 = i0 + width;
+          auto index = [&](int l) { return (l & 2 ? i1 : i0) + (l & 1); };
+          const float fx = float(qx - ox);
+          const __m128 X4 = _mm_add_ps(_mm_set1_ps(fx), lane_dx);
+          if constexpr (Depth) {
+            const __m128d xs = _mm_mul_pd(_mm_add_pd(_mm_set1_pd(fx), _mm_set_pd(1, 0)), _mm_set1_pd(zdx));
+            const __m128 zq = quantise_depth4(_mm_add_pd(_mm_set1_pd(zrow_lo), xs), _mm_add_pd(_mm_set1_pd(zrow_hi), xs));
+            __m128 d;
+            if (m == 15 || inb()) {
+              d = _mm_movelh_ps(_mm_loadl_pi(zero, reinterpret_cast<const __m64*>(depth + i0)),
+                                _mm_loadl_pi(zero, reinterpret_cast<const __m64*>(depth + i1)));
+            } else {
+              alignas(16) float t[4] = {0, 0, 0, 0};
+              for (int l = 0; l < 4; ++l)
+                if (m >> l & 1) t[l] = depth[index(l)];
+              d = _mm_load_ps(t);
+            }
+            m &= depth_cmp4(dfunc, zq, d);
+            if (!m) continue;
+            if (dmask) {
+              if (m == 15 || inb()) {
+                const __m128 nd = sel(lane_mask(m), zq, d);
+                _mm_storel_pi(reinterpret_cast<__m64*>(depth + i0), nd);
+                _mm_storeh_pi(reinterpret_cast<__m64*>(depth + i1), nd);
+              } else {
+                alignas(16) float t[4];
+                _mm_store_ps(t, zq);
+                for (int l = 0; l < 4; ++l)
+                  if (m >> l & 1) depth[index(l)] = t[l];
+              }
+            }
+          }
+          const __m128 rw = _mm_div_ps(one, at(rw_row, pw, X4));
+          __m128 cr, cg, cb, ca;
+          if constexpr (Phong) {
+            alignas(16) float pc4[4][4] = {};
+            alignas(16) float rw4[4];
+            _mm_store_ps(rw4, rw);
+            for (int l = 0; l < 4; ++l) {
+              if (!(m >> l & 1)) continue;
+              const float lx = fx + float(l & 1), ly = fy + float(l >> 1);
+              float attrs[kAttrs];
+              for (int k = 0; k < kAttrs; ++k)
+                attrs[k] = (_mm_cvtss_f32(pa[k].c) + ly * _mm_cvtss_f32(pa[k].dy) + lx * _mm_cvtss_f32(pa[k].dx)) * rw4[l];
+              if constexpr (!Smooth)
+                for (int k = 0; k < 4; ++k) attrs[kFront + k] = flat[kFront + k];
+              const Vec4f pcol = phong_color(attrs, side);
+              for (int k = 0; k < 4; ++k) pc4[k][l] = pcol[k];
+            }
+            cr = _mm_load_ps(pc4[0]), cg = _mm_load_ps(pc4[1]), cb = _mm_load_ps(pc4[2]), ca = _mm_load_ps(pc4[3]);
+          } else if constexpr (Smooth) {
+            cr = _mm_mul_ps(at(c_row[0], pc[0], X4), rw), cg = _mm_mul_ps(at(c_row[1], pc[1], X4), rw);
+            cb = _mm_mul_ps(at(c_row[2], pc[2], X4), rw), ca = _mm_mul_ps(at(c_row[3], pc[3], X4), rw);
+          } else {
+            cr = _mm_set1_ps(flat[col]), cg = _mm_set1_ps(flat[col + 1]);
+            cb = _mm_set1_ps(flat[col + 2]), ca = _mm_set1_ps(flat[col + 3]);
+          }
+          if constexpr (Tex) {
+            __m128 ts = _mm_mul_ps(at(t_row[0], pt[0], X4), rw), tt = _mm_mul_ps(at(t_row[1], pt[1], X4), rw);
+            if (tex_q) {
+              __m128 tq = _mm_mul_ps(at(t_row[2], pt[2], X4), rw);
+              tq = sel(_mm_cmpneq_ps(tq, zero), tq, one);
+              ts = _mm_div_ps(ts, tq), tt = _mm_div_ps(tt, tq);
+            }
+            // Level of detail from the quad's (u, v) = (s W, t H): x differences along its upper
+            // row, y differences down its left column (reference: the top-left pixel).
+            alignas(16) float S[4], T[4], U[4], V[4];
+            _mm_store_ps(U, _mm_mul_ps(ts, _mm_set1_ps(tex_w)));
+            _mm_store_ps(V, _mm_mul_ps(tt, _mm_set1_ps(tex_h)));
+            const float dux = U[3] - U[2], dvx = V[3] - V[2], duy = U[0] - U[2], dvy = V[0] - V[2];
+            const float rho2 = std::max(dux * dux + dvx * dvx, duy * duy + dvy * dvy);
+            float lambda = rho2 > 0 ? 0.5f * fast_log2(rho2) : -100.0f;
+            if (!(lambda <= 1000.0f)) lambda = 1000.0f;  // extrapolated helper lanes gone astray (inf, NaN)
+            _mm_store_ps(S, ts), _mm_store_ps(T, tt);
+            if (m != 15) {
+              // Lanes outside the triangle may hold extrapolated coordinates (even infinite):
+              // sample a covered lane's instead.
+              const int l0 = __builtin_ctz(unsigned(m));
+              for (int l = 0; l < 4; ++l)
+                if (!(m >> l & 1)) S[l] = S[l0], T[l] = T[l0];
+            }
+            alignas(16) float texel[16];
+            texture->sample4(S, T, lambda, texel);
+            __m128 tr = _mm_load_ps(texel), tg = _mm_load_ps(texel + 4), tb = _mm_load_ps(texel + 8),
+                   ta = _mm_load_ps(texel + 12);
+            _MM_TRANSPOSE4_PS(tr, tg, tb, ta);
+            const bool rgba = fmt == TexFormat::RGBA;
+            switch (env) {
+              case TexEnvMode::Modulate:
+                cr = _mm_mul_ps(cr, tr), cg = _mm_mul_ps(cg, tg), cb = _mm_mul_ps(cb, tb);
+                if (rgba) ca = _mm_mul_ps(ca, ta);
+                break;
+              case TexEnvMode::Replace:
+                cr = tr, cg = tg, cb = tb;
+                if (rgba) ca = ta;
+                break;
+              case TexEnvMode::Decal:
+                if (rgba) {
+                  const __m128 ia = _mm_sub_ps(one, ta);
+                  cr = _mm_add_ps(_mm_mul_ps(cr, ia), _mm_mul_ps(tr, ta));
+                  cg = _mm_add_ps(_mm_mul_ps(cg, ia), _mm_mul_ps(tg, ta));
+                  cb = _mm_add_ps(_mm_mul_ps(cb, ia), _mm_mul_ps(tb, ta));
+                } else if (fmt == TexFormat::RGB) {
+                  cr = tr, cg = tg, cb = tb;
+                }
+                break;
+              case TexEnvMode::Blend:
+                cr = _mm_add_ps(_mm_mul_ps(cr, _mm_sub_ps(one, tr)), _mm_mul_ps(env_r, tr));
+                cg = _mm_add_ps(_mm_mul_ps(cg, _mm_sub_ps(one, tg)), _mm_mul_ps(env_g, tg));
+                cb = _mm_add_ps(_mm_mul_ps(cb, _mm_sub_ps(one, tb)), _mm_mul_ps(env_b, tb));
+                if (rgba) ca = _mm_mul_ps(ca, ta);
+                break;
+            }
+          }
+          if constexpr (Fog) {
+            const __m128 fz = _mm_mul_ps(at(f_row, pf, X4), rw);
+            __m128 f = one;
+            if (fog_mode == FogMode::Linear) {
+              if (fog_range != 0) f = _mm_div_ps(_mm_sub_ps(_mm_set1_ps(fog_end), fz), _mm_set1_ps(fog_range));
+            } else {
+              alignas(16) float z4[4], f4[4];
+              _mm_store_ps(z4, fz);
+              for (int l = 0; l < 4; ++l) {
+                const float dz = fog_density * z4[l];
+                f4[l] = std::exp(fog_mode == FogMode::Exp ? -dz : -dz * dz);
+              }
+              f = _mm_load_ps(f4);
+            }
+            f = _mm_min_ps(_mm_max_ps(f, zero), one);
+            const __m128 g = _mm_sub_ps(one, f);
+            cr = _mm_add_ps(_mm_mul_ps(f, cr), _mm_mul_ps(g, fog_r));
+            cg = _mm_add_ps(_mm_mul_ps(f, cg), _mm_mul_ps(g, fog_g));
+            cb = _mm_add_ps(_mm_mul_ps(f, cb), _mm_mul_ps(g, fog_b));
+          }
+          cr = _mm_min_ps(_mm_max_ps(cr, zero), one), cg = _mm_min_ps(_mm_max_ps(cg, zero), one);
+          cb = _mm_min_ps(_mm_max_ps(cb, zero), one), ca = _mm_min_ps(_mm_max_ps(ca, zero), one);
+          if (fast_write) {
+            // The colour write's rounding (c 255 + 1/2, truncated) for the four lanes, packed RGBA8.
+            const __m128 k255 = _mm_set1_ps(255.0f), half = _mm_set1_ps(0.5f);
+            auto q8 = [&](__m128 x) { return _mm_cvttps_epi32(_mm_add_ps(_mm_mul_ps(x, k255), half)); };
+            const __m128i px = _mm_or_si128(_mm_or_si128(q8(cr), _mm_slli_epi32(q8(cg), 8)),
+                                            _mm_or_si128(_mm_slli_epi32(q8(cb), 16), _mm_slli_epi32(q8(ca), 24)));
+            std::uint8_t* p0 = color + i0 * 4;
+            std::uint8_t* p1 = color + i1 * 4;
+            if (m == 15) {
+              _mm_storel_epi64(reinterpret_cast<__m128i*>(p0), px);
+              _mm_storel_epi64(reinterpret_cast<__m128i*>(p1), _mm_srli_si128(px, 8));
+            } else if (inb()) {
+              const __m128i old = _mm_unpacklo_epi64(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(p0)),
+                                                     _mm_loadl_epi64(reinterpret_cast<const __m128i*>(p1)));
+              const __m128i mk = _mm_castps_si128(lane_mask(m));
+              const __m128i nw = _mm_or_si128(_mm_and_si128(mk, px), _mm_andnot_si128(mk, old));
+              _mm_storel_epi64(reinterpret_cast<__m128i*>(p0), nw);
+              _mm_storel_epi64(reinterpret_cast<__m128i*>(p1), _mm_srli_si128(nw, 8));
+            } else {
+              alignas(16) std::uint32_t P[4];
+              _mm_store_si128(reinterpret_cast<__m128i*>(P), px);
+              for (int l = 0; l < 4; ++l)
+                if (m >> l & 1) std::memcpy(color + index(l) * 4, &P[l], 4);
+            }
+          } else {
+            alignas(16) float C[4][4];
+            _mm_store_ps(C[0], cr), _mm_store_ps(C[1], cg), _mm_store_ps(C[2], cb), _mm_store_ps(C[3], ca);
+            for (int l = 0; l < 4; ++l)
+              if (m >> l & 1) write_color(qx + (l & 1), qy + (l >> 1), Vec4f(C[0][l], C[1][l], C[2][l], C[3][l]));
+          }
+        }
+      }
+    }
+  }
+#else
+  template <bool Phong, bool Smooth, bool Tex, bool Fog, bool Depth>
+  void triangle_t(const WinVert& v0, const WinVert& v1, const WinVert& v2, int side, const float* flat) {
+    triangle_scalar<Phong, Smooth, Tex, Fog, Depth>(v0, v1, v2, side, flat);
+  }
+#endif
 
   // --- lines: a DDA that samples the line at the pixel centres of its major axis ---
   void line(const WinVert& a_in, const WinVert& b_in, int side, const float* flat) {

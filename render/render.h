@@ -77,6 +77,12 @@ struct Texture {
   void build_mipmaps();
   // Filtered colour at (s, t) for level-of-detail lambda (log2 of the texel-per-pixel scale).
   Vec4f sample(float s, float t, float lambda) const;
+  // Four fragments sharing one level of detail (a 2x2 quad, as GPUs take derivatives). s, t: 4 each
+  // (already divided by q); out: 4 RGBA colours, 16 floats, bit-identical to four calls of sample().
+  void sample4(const float* s, const float* t, float lambda, float* out) const;
+  // Whether sample4 may take its AVX2 path when the CPU has AVX2 (the default) or keeps to SSE2;
+  // both give the same bits. Returns whether the AVX2 path is now in use. For tests and benchmarks.
+  static bool allow_avx2(bool allow);
 };
 
 struct Light {
