@@ -69,5 +69,10 @@ struct Context::State {
 // Runs a batch of vertices as one primitive through the pipeline (pipeline.cpp).
 void run_primitive(Context::State& s, int width, int height, std::uint8_t* color, float* depth, Primitive p,
                    const std::vector<InVertex>& verts);
+// Independent triangles (count vertices) straight from client arrays: element first + i, or
+// indices[first + i] when indices is not null. Returns false, drawing nothing, when the state
+// needs the general path (then the caller fetches InVertex batches for run_primitive).
+bool run_triangle_arrays(Context::State& s, int width, int height, std::uint8_t* color, float* depth,
+                         const VertexArrays& a, const std::uint32_t* indices, int first, int count);
 
 }  // namespace wedge::render
