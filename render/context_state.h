@@ -1,6 +1,7 @@
 // The state of a render::Context: OpenGL 1.x's state vector, with GL's initial values.
 // Private to render/ (not installed).
 #pragma once
+#include <atomic>
 #include <bitset>
 
 #include "render/render.h"
@@ -65,6 +66,10 @@ struct Context::State {
   bool on(Cap c) const { return enabled[static_cast<int>(c)]; }
   const Mat4& top(MatrixMode m) const { return stacks[static_cast<int>(m)].back(); }
 };
+
+// For tests: when set, code paths chosen at run time for the CPU (AVX2) give way to the
+// default build's (SSE2 on x86-64), which must draw the same images.
+extern std::atomic<bool> simd_fallback;
 
 // Runs a batch of vertices as one primitive through the pipeline (pipeline.cpp).
 void run_primitive(Context::State& s, int width, int height, std::uint8_t* color, float* depth, Primitive p,

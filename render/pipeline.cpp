@@ -15,6 +15,7 @@
 // Per-pixel Phong (beyond GL 1.x) evaluates the same lighting equation per fragment on the
 // interpolated eye-space normal and position.
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstring>
 #include <memory>
@@ -254,24 +255,69 @@ typedef int I4 __attribute__((vector_size(16)));
   return 1.0f < c ? bcast(1.0f) : c;
 }
 
-void light4(const Context::State& s, const LightSetup& ls, const F4* P, const F4* n, const F4* vc, int side, F4* out) {
-  const Material& mat = s.material[side];
-  F4 me[4], ma[4], md[4], ms[4];
-  for (int k = 0; k < 4; ++k)
-    me[k] = bcast(mat.emission[k]), ma[k] = bcast(mat.ambient[k]), md[k] = bcast(mat.diffuse[k]), ms[k] = bcast(mat.specular[k]);
-  if (ls.color_material[side]) {
-    for (int k = 0; k < 4; ++k) {
-      switch (s.cm_mode) {
-        case ColorMaterialMode::Ambient: ma[k] = vc[k]; break;
-        case ColorMaterialMode::Diffuse: md[k] = vc[k]; break;
-        case ColorMaterialMode::Specular: ms[k] = vc[k]; break;
-        case ColorMaterialMode::Emission: me[k] = vc[k]; break;
-        case ColorMaterialMode::AmbientAndDiffuse: ma[k] = md[k] = vc[k]; break;
+// light_vertex's per-draw constants broadcast to four lanes, with the products of material and
+// light colours it forms per vertex (the same float products) made once. Colour material
+// replaces material colours by the vertex colours: those products are then formed per block.
+struct LightConsts {
+  struct Side {
+    F4 me[4], ma[4], md[4], ms[4];
+    F4 base[3];                    // emission + ambient * model ambient
+    F4 amb[8][3], dif[8][3], spec[8][3];  // material * light colours
+    float shin = 0;
+    bool cm = false;
+  };
+  struct L {
+    F4 pos[3], sdir[3], lamb[3], ldif[3], lspec[3];
+  };
+  Side side[2];
+  L l[8];
+  F4 model_ambient[3];
+  LightConsts(const Context::State& s, const LightSetup& ls) {
+    for (int k = 0; k < 3; ++k) model_ambient[k] = bcast(ls.model_ambient[k]);
+    for (int i = 0; i < ls.n; ++i)
+      for (int k = 0; k < 3; ++k) {
+        const LightSetup::L& L = ls.l[i];
+        l[i].pos[k] = bcast(L.pos[k]), l[i].sdir[k] = bcast(L.sdir[k]);
+        l[i].lamb[k] = bcast(L.amb[k]), l[i].ldif[k] = bcast(L.dif[k]), l[i].lspec[k] = bcast(L.spec[k]);
       }
+    for (int sd = 0; sd < 2; ++sd) {
+      const Material& m = s.material[sd];
+      Side& d = side[sd];
+      d.cm = ls.color_material[sd];
+      d.shin = m.shininess;
+      for (int k = 0; k < 4; ++k)
+        d.me[k] = bcast(m.emission[k]), d.ma[k] = bcast(m.ambient[k]), d.md[k] = bcast(m.diffuse[k]), d.ms[k] = bcast(m.specular[k]);
+      for (int k = 0; k < 3; ++k) d.base[k] = d.me[k] + d.ma[k] * model_ambient[k];
+      for (int i = 0; i < ls.n; ++i)
+        for (int k = 0; k < 3; ++k)
+          d.amb[i][k] = d.ma[k] * l[i].lamb[k], d.dif[i][k] = d.md[k] * l[i].ldif[k], d.spec[i][k] = d.ms[k] * l[i].lspec[k];
     }
   }
+};
+
+// Four vertices lit at once: light_vertex's float operations in the same order, lane by lane
+// (SoA, GCC vector extensions: SSE2 on x86-64), so the colours are the same bits. P: eye
+// positions (divided by w); n: normals, negated for the back side; vc: vertex colours.
+template <bool CM>
+void light4_t(const Context::State& s, const LightSetup& ls, const LightConsts::Side& m, const LightConsts& lc,
+              const F4* P, const F4* n, const F4* vc, F4* out) {
+  const F4 *me = m.me, *ma = m.ma, *md = m.md, *ms = m.ms;
+  F4 cme[4], cma[4], cmd[4], cms[4];
+  if constexpr (CM) {
+    for (int k = 0; k < 4; ++k) cme[k] = m.me[k], cma[k] = m.ma[k], cmd[k] = m.md[k], cms[k] = m.ms[k];
+    for (int k = 0; k < 4; ++k) {
+      switch (s.cm_mode) {
+        case ColorMaterialMode::Ambient: cma[k] = vc[k]; break;
+        case ColorMaterialMode::Diffuse: cmd[k] = vc[k]; break;
+        case ColorMaterialMode::Specular: cms[k] = vc[k]; break;
+        case ColorMaterialMode::Emission: cme[k] = vc[k]; break;
+        case ColorMaterialMode::AmbientAndDiffuse: cma[k] = cmd[k] = vc[k]; break;
+      }
+    }
+    me = cme, ma = cma, md = cmd, ms = cms;
+  }
   F4 c[3];
-  for (int k = 0; k < 3; ++k) c[k] = me[k] + ma[k] * ls.model_ambient[k];
+  for (int k = 0; k < 3; ++k) c[k] = CM ? me[k] + ma[k] * lc.model_ambient[k] : m.base[k];
   F4 ed[3] = {bcast(0), bcast(0), bcast(1)};
   if (ls.local_viewer) {
     const F4 z = dot3(P, P);
@@ -279,38 +325,46 @@ void light4(const Context::State& s, const LightSetup& ls, const F4* P, const F4
     const F4 r = vsqrt(z);
     for (int k = 0; k < 3; ++k) ed[k] = pos ? -(P[k] / r) : -P[k];
   }
-  const float shin = mat.shininess;
+  const float shin = m.shin;
   for (int i = 0; i < ls.n; ++i) {
     const LightSetup::L& L = ls.l[i];
+    const LightConsts::L& C = lc.l[i];
     F4 VP[3];
     F4 att = bcast(1);
     if (L.local) {
-      for (int k = 0; k < 3; ++k) VP[k] = L.pos[k] - P[k];
+      for (int k = 0; k < 3; ++k) VP[k] = C.pos[k] - P[k];
       const F4 d = vsqrt(dot3(VP, VP));
       for (int k = 0; k < 3; ++k) VP[k] = VP[k] / d;
       att = 1.0f / ((L.kc + L.kl * d) + (L.kq * d) * d);
     } else {
-      for (int k = 0; k < 3; ++k) VP[k] = bcast(L.pos[k]);
+      for (int k = 0; k < 3; ++k) VP[k] = C.pos[k];
     }
     F4 spot = bcast(1);
     if (L.spot) {
-      const F4 sd[3] = {bcast(L.sdir[0]), bcast(L.sdir[1]), bcast(L.sdir[2])};
-      const F4 cosang = -dot3(VP, sd);
+      const F4 cosang = -dot3(VP, C.sdir);
       const I4 in = ~(cosang < L.cos_cut);
       if (L.sexp == 0) {
         spot = in ? bcast(1) : bcast(0);
       } else {
-        for (int l = 0; l < 4; ++l) spot[l] = in[l] ? std::pow(std::max(cosang[l], 0.0f), L.sexp) : 0.0f;
+        alignas(16) float ca[4], sp[4];
+        std::memcpy(ca, &cosang, 16);
+        for (int l = 0; l < 4; ++l) sp[l] = in[l] ? std::pow(std::max(ca[l], 0.0f), L.sexp) : 0.0f;
+        std::memcpy(&spot, sp, 16);
       }
     }
     const F4 k = att * spot;
     const I4 use = ~(k == 0.0f);
     if (!any(use)) continue;
+    F4 amb[3], dif[3], spec[3];
+    for (int q = 0; q < 3; ++q) {
+      amb[q] = CM ? ma[q] * C.lamb[q] : m.amb[i][q];
+      dif[q] = CM ? md[q] * C.ldif[q] : m.dif[i][q];
+      spec[q] = CM ? ms[q] * C.lspec[q] : m.spec[i][q];
+    }
     F4 term[3];
-    for (int q = 0; q < 3; ++q) term[q] = ma[q] * L.amb[q];
     const F4 ndl = dot3(n, VP);
     const I4 dmask = ndl > 0.0f;
-    for (int q = 0; q < 3; ++q) term[q] = dmask ? term[q] + ndl * (md[q] * L.dif[q]) : term[q];
+    for (int q = 0; q < 3; ++q) term[q] = dmask ? amb[q] + ndl * dif[q] : amb[q];
     F4 h[3];
     for (int q = 0; q < 3; ++q) h[q] = VP[q] + ed[q];
     const F4 hn = vsqrt(dot3(h, h));
@@ -318,15 +372,26 @@ void light4(const Context::State& s, const LightSetup& ls, const F4* P, const F4
     const I4 smask = dmask & (hn > 0.0f) & (ndh > 0.0f);
     if (any(smask)) {
       F4 f = bcast(1);
-      if (shin != 0)
-        for (int l = 0; l < 4; ++l)
-          if (smask[l]) f[l] = std::pow(ndh[l], shin);
-      for (int q = 0; q < 3; ++q) term[q] = smask ? term[q] + f * (ms[q] * L.spec[q]) : term[q];
+      if (shin != 0) {
+        alignas(16) float nh[4], fl[4];
+        alignas(16) int sm[4];
+        std::memcpy(nh, &ndh, 16), std::memcpy(sm, &smask, 16);
+        for (int l = 0; l < 4; ++l) fl[l] = sm[l] ? std::pow(nh[l], shin) : 1.0f;
+        std::memcpy(&f, fl, 16);
+      }
+      for (int q = 0; q < 3; ++q) term[q] = smask ? term[q] + f * spec[q] : term[q];
     }
     for (int q = 0; q < 3; ++q) c[q] = use ? c[q] + k * term[q] : c[q];
   }
   for (int q = 0; q < 3; ++q) out[q] = vclamp01(c[q]);
   out[3] = vclamp01(md[3]);
+}
+
+void light4(const Context::State& s, const LightSetup& ls, const LightConsts& lc, const F4* P, const F4* n,
+            const F4* vc, int side, F4* out) {
+  const LightConsts::Side& m = lc.side[side];
+  if (m.cm) light4_t<true>(s, ls, m, lc, P, n, vc, out);
+  else light4_t<false>(s, ls, m, lc, P, n, vc, out);
 }
 
 bool two_sided_lighting(const Context::State& s) { return s.on(Cap::Lighting) && s.two_side; }
@@ -1086,6 +1151,8 @@ struct InSource {
     x = p.x(), y = p.y(), z = p.z(), w = p.w();
   }
   const InVertex& vertex(std::size_t i) const { return v[i]; }
+  const Vec3& normal(std::size_t i) const { return v[i].normal; }
+  const Vec4f& color(std::size_t i) const { return v[i].color; }
 };
 
 // A batch's vertices straight from client arrays (element first + i, or indices[first + i]):
@@ -1106,6 +1173,16 @@ struct ArraySource {
   void position(std::size_t i, double& x, double& y, double& z, double& w) const {
     const double* p = a.positions + at(i) * a.position_size;
     x = p[0], y = p[1], z = a.position_size > 2 ? p[2] : 0.0, w = a.position_size > 3 ? p[3] : 1.0;
+  }
+  Vec3 normal(std::size_t i) const {
+    if (!a.normals) return s.cur_normal;
+    const double* n = a.normals + at(i) * 3;
+    return Vec3(n[0], n[1], n[2]);
+  }
+  Vec4f color(std::size_t i) const {
+    if (!a.colors) return s.cur_color;
+    const float* c = a.colors + at(i) * a.color_size;
+    return Vec4f(c[0], c[1], c[2], a.color_size == 4 ? c[3] : 1.0f);
   }
   InVertex vertex(std::size_t i) const {
     const std::size_t e = at(i);
@@ -1128,37 +1205,23 @@ constexpr std::size_t kChunk = 256;  // triangles
 // One chunk's buffers, kept between batches. Queued triangles point into `win`/`attrs`.
 struct TriChunk {
   enum : std::uint8_t { kSkip, kDraw, kClip };
-  std::vector<Vec4> eye, clip;   // per vertex
-  std::vector<WinVert> win;      // per vertex of a triangle inside the clip volume
+  // Per vertex, by rows (SoA): object position x y z w, eye x y z w, clip x y z w, window
+  // x y z and 1 / w_clip; rows of `stride` (the vertex count rounded up to 4).
+  enum Row { kPx, kPy, kPz, kPw, kEx, kEy, kEz, kEw, kCx, kCy, kCz, kCw, kWx, kWy, kWz, kIw, kRows };
+  std::vector<double> soa;
+  std::size_t stride = 0;
+  double* row(int r) { return soa.data() + r * stride; }
+  std::vector<std::uint8_t> vout;  // per vertex: outside the clip volume
   std::vector<float> attrs;      // per vertex, kAttrs each (only for vertices in `need`)
   std::vector<std::uint8_t> status, side;  // per triangle
   std::vector<std::uint32_t> need;         // vertices whose attributes are needed
   Queue queue;
 };
 
-typedef double D2 __attribute__((vector_size(16)));
-typedef long long L2 __attribute__((vector_size(16)));
-
-// A 4x4 matrix by columns, each as two pairs (rows 0-1, rows 2-3).
-struct Cols {
-  D2 c[4][2];
-  explicit Cols(const Mat4& m) {
-    for (int j = 0; j < 4; ++j) c[j][0] = D2{m(0, j), m(1, j)}, c[j][1] = D2{m(2, j), m(3, j)};
-  }
-  // m * (x, y, z, w) in Eigen's order: ((c0 x + c1 y) + c2 z) + c3 w.
-  [[gnu::always_inline]] void apply(double x, double y, double z, double w, D2& lo, D2& hi) const {
-    lo = ((c[0][0] * x + c[1][0] * y) + c[2][0] * z) + c[3][0] * w;
-    hi = ((c[0][1] * x + c[1][1] * y) + c[2][1] * z) + c[3][1] * w;
-  }
-};
-
-// Window-space pixel-centre test on the bounding box alone: false when no pixel centre of the
-// bounds lies within the box grown by 1/256 pixel (any snapping the fill may apply), i.e.
-// the triangle cannot cover a pixel. Cheap; catches most sub-pixel slivers of dense meshes.
-[[gnu::always_inline]] inline bool box_has_centre(const WinVert* w, int x0, int y0, int x1, int y1) {
+[[gnu::always_inline]] inline bool box_has_centre(const double* x, const double* y, int x0, int y0, int x1, int y1) {
   constexpr double d = 1.0 / 256;
-  const double xmin = std::min({w[0].x, w[1].x, w[2].x}), xmax = std::max({w[0].x, w[1].x, w[2].x});
-  const double ymin = std::min({w[0].y, w[1].y, w[2].y}), ymax = std::max({w[0].y, w[1].y, w[2].y});
+  const double xmin = std::min({x[0], x[1], x[2]}), xmax = std::max({x[0], x[1], x[2]});
+  const double ymin = std::min({y[0], y[1], y[2]}), ymax = std::max({y[0], y[1], y[2]});
   // Centre columns c with c + 1/2 in [xmin - d, xmax + d] and x0 <= c < x1: the largest one
   // is min(floor(xmax - 1/2 + d), x1 - 1); it must be at least xmin - 1/2 - d and x0.
   const double hx = std::min(std::floor(xmax - 0.5 + d), double(x1 - 1));
@@ -1166,89 +1229,174 @@ struct Cols {
   return hx >= xmin - 0.5 - d && hx >= x0 && hy >= ymin - 0.5 - d && hy >= y0;  // (false for NaN)
 }
 
+// The position stage of a chunk, four vertices at a time by rows: eye = mv p, clip = proj eye
+// (Eigen's operation order per element: ((c0 x + c1 y) + c2 z) + c3 w), the clip-volume test, and window
+// coordinates (to_window's arithmetic) for every vertex. Compiled twice: for AVX2 (4 doubles
+// per instruction, chosen at run time) and for the default target (SSE2: pairs).
+typedef double D2 __attribute__((vector_size(16)));
+typedef double D4 __attribute__((vector_size(32)));
+
+struct PositionStage {
+  double mv[16], proj[16];  // column-major
+  double vpx, vpy, vpw, vph, dn, dr;
+  PositionStage(const Context::State& s) {
+    const Mat4& m = s.top(MatrixMode::ModelView);
+    const Mat4& p = s.top(MatrixMode::Projection);
+    for (int k = 0; k < 16; ++k) mv[k] = m(k % 4, k / 4), proj[k] = p(k % 4, k / 4);
+    vpx = s.vp_x, vpy = s.vp_y, vpw = s.vp_w, vph = s.vp_h;
+    dn = s.depth_near, dr = s.depth_far - s.depth_near;
+  }
+};
+
+// V: a vector of doubles (D2 for the default target, D4 for AVX2); L its comparison mask.
+template <class V>
+[[gnu::always_inline]] inline void position_rows(const PositionStage& ps, TriChunk& ck) {
+  typedef decltype(V{} < V{}) L;
+  constexpr int kW = sizeof(V) / sizeof(double);
+  const std::size_t n = ck.stride;
+  double* const b = ck.soa.data();
+  std::uint8_t* const vout = ck.vout.data();
+  const double* m = ps.mv;
+  const double* p = ps.proj;
+  for (std::size_t i = 0; i < n; i += kW) {
+    double* const q = b + i;
+    V X, Y, Z, W;
+    std::memcpy(&X, q, sizeof(V)), std::memcpy(&Y, q + n, sizeof(V));
+    std::memcpy(&Z, q + 2 * n, sizeof(V)), std::memcpy(&W, q + 3 * n, sizeof(V));
+    const V ex = ((m[0] * X + m[4] * Y) + m[8] * Z) + m[12] * W;
+    const V ey = ((m[1] * X + m[5] * Y) + m[9] * Z) + m[13] * W;
+    const V ez = ((m[2] * X + m[6] * Y) + m[10] * Z) + m[14] * W;
+    const V ew = ((m[3] * X + m[7] * Y) + m[11] * Z) + m[15] * W;
+    const V cx = ((p[0] * ex + p[4] * ey) + p[8] * ez) + p[12] * ew;
+    const V cy = ((p[1] * ex + p[5] * ey) + p[9] * ez) + p[13] * ew;
+    const V cz = ((p[2] * ex + p[6] * ey) + p[10] * ez) + p[14] * ew;
+    const V cw = ((p[3] * ex + p[7] * ey) + p[11] * ez) + p[15] * ew;
+    const L out = ((cw + cx) < 0.0) | ((cw - cx) < 0.0) | ((cw + cy) < 0.0) | ((cw - cy) < 0.0) | ((cw + cz) < 0.0) |
+                  ((cw - cz) < 0.0);
+    const V iw = 1.0 / cw;
+    const V nx = cx * iw, ny = cy * iw, nz = cz * iw;
+    const V wx = ps.vpx + (nx + 1.0) * 0.5 * ps.vpw, wy = ps.vpy + (ny + 1.0) * 0.5 * ps.vph;
+    const V wz = ps.dn + (nz + 1.0) * 0.5 * ps.dr;
+    std::memcpy(q + TriChunk::kEx * n, &ex, sizeof(V)), std::memcpy(q + TriChunk::kEy * n, &ey, sizeof(V));
+    std::memcpy(q + TriChunk::kEz * n, &ez, sizeof(V)), std::memcpy(q + TriChunk::kEw * n, &ew, sizeof(V));
+    std::memcpy(q + TriChunk::kCx * n, &cx, sizeof(V)), std::memcpy(q + TriChunk::kCy * n, &cy, sizeof(V));
+    std::memcpy(q + TriChunk::kCz * n, &cz, sizeof(V)), std::memcpy(q + TriChunk::kCw * n, &cw, sizeof(V));
+    std::memcpy(q + TriChunk::kWx * n, &wx, sizeof(V)), std::memcpy(q + TriChunk::kWy * n, &wy, sizeof(V));
+    std::memcpy(q + TriChunk::kWz * n, &wz, sizeof(V)), std::memcpy(q + TriChunk::kIw * n, &iw, sizeof(V));
+    alignas(32) long long o[kW];
+    std::memcpy(o, &out, sizeof o);
+    for (int l = 0; l < kW; ++l) vout[i + l] = o[l] != 0;
+  }
+}
+
+#if defined(__x86_64__) && defined(__GNUC__)
+__attribute__((target("avx2"))) void position_rows_avx2(const PositionStage& ps, TriChunk& ck) { position_rows<D4>(ps, ck); }
+#endif
+void position_rows_default(const PositionStage& ps, TriChunk& ck) { position_rows<D2>(ps, ck); }
+
+bool use_avx2() {
+#if defined(__x86_64__) && defined(__GNUC__)
+  static const bool has = __builtin_cpu_supports("avx2");
+  return has && !simd_fallback.load(std::memory_order_relaxed);
+#else
+  return false;
+#endif
+}
+
 template <class Src>
 void run_chunk(Raster& rc, const Src& src, const Mat3& nmat, TriChunk& ck, std::size_t t0, std::size_t t1) {
   const Context::State& s = rc.s;
-  const Cols mv(s.top(MatrixMode::ModelView)), proj(s.top(MatrixMode::Projection));
   const std::size_t nt = t1 - t0, nv = 3 * nt, v0 = 3 * t0;
-  ck.eye.resize(nv), ck.clip.resize(nv), ck.win.resize(nv), ck.attrs.resize(nv * kAttrs);
+  ck.stride = (nv + 3) & ~std::size_t(3);
+  ck.soa.resize(TriChunk::kRows * ck.stride), ck.vout.resize(ck.stride), ck.attrs.resize(nv * kAttrs);
   ck.status.resize(nt), ck.side.resize(nt);
+  {
+    double* p[4] = {ck.row(TriChunk::kPx), ck.row(TriChunk::kPy), ck.row(TriChunk::kPz), ck.row(TriChunk::kPw)};
+    for (std::size_t i = 0; i < nv; ++i) src.position(v0 + i, p[0][i], p[1][i], p[2][i], p[3][i]);
+    for (std::size_t i = nv; i < ck.stride; ++i) p[0][i] = p[1][i] = p[2][i] = 0, p[3][i] = 1;
+    const PositionStage ps(s);
+#if defined(__x86_64__) && defined(__GNUC__)
+    if (use_avx2()) position_rows_avx2(ps, ck);
+    else position_rows_default(ps, ck);
+#else
+    position_rows_default(ps, ck);
+#endif
+  }
+  const double* wx = ck.row(TriChunk::kWx);
+  const double* wy = ck.row(TriChunk::kWy);
   const bool cull = s.on(Cap::CullFace);
   const bool two = two_sided_lighting(s);
   const bool ccw = s.front_face == FrontFace::CCW;
-  const D2 vp_xy{double(s.vp_x), double(s.vp_y)}, vp_wh{double(s.vp_w), double(s.vp_h)};
-  const double dn = s.depth_near, dr = s.depth_far - s.depth_near;
   ck.need.clear();
   for (std::size_t j = 0; j < nt; ++j) {
-    // Positions: eye = mv p, clip = proj eye (double, Eigen's order), and the clip-volume test.
-    L2 out{0, 0};
-    bool out_z = false;
-    for (int k = 0; k < 3; ++k) {
-      const std::size_t i = 3 * j + k;
-      double x, y, z, w;
-      src.position(v0 + i, x, y, z, w);
-      D2 e0, e1, c0, c1;
-      mv.apply(x, y, z, w, e0, e1);
-      proj.apply(e0[0], e0[1], e1[0], e1[1], c0, c1);
-      std::memcpy(ck.eye[i].data(), &e0, 16), std::memcpy(ck.eye[i].data() + 2, &e1, 16);
-      std::memcpy(ck.clip[i].data(), &c0, 16), std::memcpy(ck.clip[i].data() + 2, &c1, 16);
-      const D2 cw{c1[1], c1[1]};
-      out |= ((cw + c0) < 0.0) | ((cw - c0) < 0.0);
-      out_z |= (c1[1] + c1[0] < 0) | (c1[1] - c1[0] < 0);
-    }
+    const std::size_t i = 3 * j;
     std::uint8_t st = TriChunk::kClip;
-    if (!(out[0] | out[1]) && !out_z) {
-      // As draw_inside_triangle: window coordinates (to_window's arithmetic), signed area,
-      // facing, culling; then the pixel-centre test.
-      WinVert* w = &ck.win[3 * j];
-      for (int k = 0; k < 3; ++k) {
-        const Vec4& c = ck.clip[3 * j + k];
-        const double iw = 1.0 / c.w();
-        const D2 nxy = D2{c.x(), c.y()} * iw;
-        const D2 wxy = vp_xy + (nxy + 1.0) * 0.5 * vp_wh;
-        const double nz = c.z() * iw;
-        w[k] = WinVert{wxy[0], wxy[1], dn + (nz + 1) * 0.5 * dr, iw, &ck.attrs[(3 * j + k) * kAttrs]};
-      }
-      double area = 0;
-      for (int i = 0; i < 3; ++i) area += w[i].x * w[(i + 1) % 3].y - w[(i + 1) % 3].x * w[i].y;
+    if (!(ck.vout[i] | ck.vout[i + 1] | ck.vout[i + 2])) {
+      // As draw_inside_triangle: signed area ((0 + t0) + t1) + t2 (0 + t0 only differs from
+      // t0 in the sign of a zero, which `area > 0` does not see), facing, culling; then the
+      // pixel-centre test.
+      const double x[3] = {wx[i], wx[i + 1], wx[i + 2]}, y[3] = {wy[i], wy[i + 1], wy[i + 2]};
+      const double area = ((x[0] * y[1] - x[1] * y[0]) + (x[1] * y[2] - x[2] * y[1])) + (x[2] * y[0] - x[0] * y[2]);
       const bool front = (area > 0) == ccw;
       if (cull && (s.cull_face == Face::FrontAndBack || (s.cull_face == Face::Front) == front)) st = TriChunk::kSkip;
-      else if (!box_has_centre(w, rc.x0, rc.y0, rc.x1, rc.y1)) st = TriChunk::kSkip;
+      else if (!box_has_centre(x, y, rc.x0, rc.y0, rc.x1, rc.y1)) st = TriChunk::kSkip;
       else st = TriChunk::kDraw, ck.side[j] = (!front && two) ? 1 : 0;
     }
     ck.status[j] = st;
     if (st != TriChunk::kSkip)
-      for (int k = 0; k < 3; ++k) ck.need.push_back(std::uint32_t(3 * j + k));
+      for (int k = 0; k < 3; ++k) ck.need.push_back(std::uint32_t(i + k));
   }
+  const double* ex = ck.row(TriChunk::kEx);
+  const double* ey = ck.row(TriChunk::kEy);
+  const double* ez = ck.row(TriChunk::kEz);
+  const double* ew = ck.row(TriChunk::kEw);
 
   // Attributes of the needed vertices, four at a time: lighting takes them as four lanes.
   const bool lit = vertex_lighting(s);
   const AttrNeeds needs(s);
+  // Lit, nothing else read: the normal and colour alone (no InVertex, no texture stage).
+  const bool lean = lit && !needs.tex && !needs.fog && !needs.eye_normal;
+  const bool normalize = s.on(Cap::Normalize);
+  const LightConsts lc(s, rc.lights);
   const std::size_t nn = ck.need.size();
   for (std::size_t q = 0; q < nn; q += 4) {
     const std::size_t lanes = std::min<std::size_t>(4, nn - q);
     alignas(16) float in[10][4] = {};
     for (std::size_t l = 0; l < lanes; ++l) {
       const std::size_t i = ck.need[q + l];
-      auto&& v = src.vertex(v0 + i);
-      const Vec4& e = ck.eye[i];
-      const Vec3 n = vertex_attrs(s, v, e, nmat, &ck.attrs[i * kAttrs], needs);
+      const Vec4 e(ex[i], ey[i], ez[i], ew[i]);
+      Vec3 n;
+      Vec4f color;
+      if (lean) {
+        // vertex_attrs' normal, and zeros for the attributes not read.
+        n = nmat * src.normal(v0 + i);
+        if (normalize) {
+          double len = n.norm();
+          if (len > 0) n /= len;
+        }
+        color = src.color(v0 + i);
+        std::memset(&ck.attrs[i * kAttrs + kTex], 0, sizeof(float) * (kAttrs - kTex));
+      } else {
+        auto&& v = src.vertex(v0 + i);
+        n = vertex_attrs(s, v, e, nmat, &ck.attrs[i * kAttrs], needs);
+        color = v.color;
+      }
       if (lit) {
         // As light_vertex: P = (eye / w) in double, then float.
         const double iw = e.w();
         in[0][l] = float(e.x() / iw), in[1][l] = float(e.y() / iw), in[2][l] = float(e.z() / iw);
         in[3][l] = float(n.x()), in[4][l] = float(n.y()), in[5][l] = float(n.z());
-        for (int k = 0; k < 4; ++k) in[6 + k][l] = v.color[k];
+        for (int k = 0; k < 4; ++k) in[6 + k][l] = color[k];
       }
     }
     if (!lit) continue;
     F4 vin[10];
     std::memcpy(vin, in, sizeof(vin));
     F4 front[4], back[4];
-    light4(s, rc.lights, vin, vin + 3, vin + 6, 0, front);
+    light4(s, rc.lights, lc, vin, vin + 3, vin + 6, 0, front);
     if (s.two_side) {
       const F4 nb[3] = {-vin[3], -vin[4], -vin[5]};
-      light4(s, rc.lights, vin, nb, vin + 6, 1, back);
+      light4(s, rc.lights, lc, vin, nb, vin + 6, 1, back);
     }
     const F4* b = s.two_side ? back : front;
     alignas(16) float fr[4][4], bk[4][4];
@@ -1261,16 +1409,25 @@ void run_chunk(Raster& rc, const Src& src, const Mat3& nmat, TriChunk& ck, std::
 
   // Draw (or queue) in submission order.
   const bool flat = s.shade == ShadeModel::Flat;
+  const double* wz = ck.row(TriChunk::kWz);
+  const double* iw = ck.row(TriChunk::kIw);
+  const double *cx = ck.row(TriChunk::kCx), *cy = ck.row(TriChunk::kCy), *cz = ck.row(TriChunk::kCz),
+               *cw = ck.row(TriChunk::kCw);
   for (std::size_t j = 0; j < nt; ++j) {
     if (ck.status[j] == TriChunk::kSkip) continue;
     if (ck.status[j] == TriChunk::kDraw) {
-      const WinVert* w = &ck.win[3 * j];
+      WinVert w[3];
+      for (int k = 0; k < 3; ++k) {
+        const std::size_t i = 3 * j + k;
+        w[k] = WinVert{wx[i], wy[i], wz[i], iw[i], &ck.attrs[i * kAttrs]};
+      }
       rc.emit_triangle_direct(w[0], w[1], w[2], ck.side[j], flat ? w[2].a : nullptr);
       continue;
     }
     PVert pv[3];
     for (int k = 0; k < 3; ++k) {
-      pv[k].clip = ck.clip[3 * j + k];
+      const std::size_t i = 3 * j + k;
+      pv[k].clip = Vec4(cx[i], cy[i], cz[i], cw[i]);
       std::memcpy(pv[k].a, &ck.attrs[(3 * j + k) * kAttrs], sizeof(pv[k].a));
     }
     rc.draw_triangle(pv[0], pv[1], pv[2], pv[2]);
@@ -1315,6 +1472,8 @@ void draw_triangles(Raster& r, const Src& src, std::size_t tris) {
 }
 
 }  // namespace
+
+std::atomic<bool> simd_fallback{false};
 
 bool run_triangle_arrays(Context::State& s, int width, int height, std::uint8_t* color, float* depth,
                          const VertexArrays& a, const std::uint32_t* indices, int first, int count) {

@@ -5,6 +5,7 @@
 #include <fstream>
 #include <set>
 
+#include "render/context_state.h"  // simd_fallback
 #include "render/render.h"
 
 using namespace wedge;
@@ -411,4 +412,41 @@ TEST_CASE("vertex arrays, indexed arrays and begin/end draw independent triangle
         CHECK(draw(how, threads, cull).rgba == ref.rgba);
       }
   }
+}
+
+TEST_CASE("the default build's vertex code draws what the run-time-selected (AVX2) code draws", "[render][threads]") {
+  // A lit sphere (independent triangles through vertex arrays), some of it beyond the near plane.
+  std::vector<double> pos;
+  const int st = 40, sl = 60;
+  auto vert = [&](int i, int j) {
+    const double t = kPi * i / st - kPi / 2, p = 2 * kPi * j / sl;
+    pos.insert(pos.end(), {std::cos(t) * std::cos(p), std::cos(t) * std::sin(p), std::sin(t)});
+  };
+  for (int i = 0; i < st; ++i)
+    for (int j = 0; j < sl; ++j) vert(i, j), vert(i, j + 1), vert(i + 1, j + 1), vert(i, j), vert(i + 1, j + 1), vert(i + 1, j);
+  VertexArrays va;
+  va.positions = pos.data(), va.normals = pos.data();
+  auto draw = [&](bool fallback, int threads) {
+    render::simd_fallback = fallback;
+    Context c(120, 90);
+    c.threads(threads);
+    c.clear();
+    c.matrix_mode(MatrixMode::Projection);
+    c.perspective(45, 120.0 / 90, 1.1, 10);
+    c.matrix_mode(MatrixMode::ModelView);
+    c.look_at(Point3(0.3, 0.5, 2.0), Point3(0, 0, 0), Vec3(0, 1, 0));
+    c.enable(Cap::DepthTest);
+    c.enable(Cap::CullFace);
+    c.enable(Cap::Lighting);
+    c.enable(Cap::Light0);
+    c.light_position(0, Vec4f(2, 2, 3, 1));
+    c.material_specular(Face::FrontAndBack, Vec4f(0.5f, 0.5f, 0.5f, 1));
+    c.material_shininess(Face::FrontAndBack, 30);
+    c.draw_arrays(Primitive::Triangles, va, 0, int(pos.size() / 3));
+    render::simd_fallback = false;
+    return c.image();
+  };
+  const Image ref = draw(false, 1);
+  CHECK(draw(true, 1).rgba == ref.rgba);
+  CHECK(draw(true, 2).rgba == ref.rgba);
 }
