@@ -1212,11 +1212,23 @@ struct TriChunk {
   std::size_t stride = 0;
   double* row(int r) { return soa.data() + r * stride; }
   std::vector<std::uint8_t> vout;  // per vertex: outside the clip volume
-  std::vector<float> attrs;      // per vertex, kAttrs each (only for vertices in `need`)
   std::vector<std::uint8_t> status, side;  // per triangle
-  std::vector<std::uint32_t> need;         // vertices whose attributes are needed
+  std::vector<std::uint32_t> need;         // vertices whose attributes are needed, in order
+};
+
+// What a chunk hands to the bands: the attribute sets of its needed vertices (in `need`
+// order) and its queue, whose jobs point into them.
+struct ChunkOut {
+  std::vector<float> attrs;
   Queue queue;
 };
+
+// The calling or worker thread's chunk scratch (the position rows are not needed once the
+// chunk's triangles are set up).
+TriChunk& chunk_scratch() {
+  static thread_local TriChunk scratch;
+  return scratch;
+}
 
 [[gnu::always_inline]] inline bool box_has_centre(const double* x, const double* y, int x0, int y0, int x1, int y1) {
   constexpr double d = 1.0 / 256;
@@ -1304,11 +1316,12 @@ bool use_avx2() {
 }
 
 template <class Src>
-void run_chunk(Raster& rc, const Src& src, const Mat3& nmat, TriChunk& ck, std::size_t t0, std::size_t t1) {
+void run_chunk(Raster& rc, const Src& src, const Mat3& nmat, TriChunk& ck, ChunkOut& co, std::size_t t0,
+               std::size_t t1) {
   const Context::State& s = rc.s;
   const std::size_t nt = t1 - t0, nv = 3 * nt, v0 = 3 * t0;
   ck.stride = (nv + 3) & ~std::size_t(3);
-  ck.soa.resize(TriChunk::kRows * ck.stride), ck.vout.resize(ck.stride), ck.attrs.resize(nv * kAttrs);
+  ck.soa.resize(TriChunk::kRows * ck.stride), ck.vout.resize(ck.stride);
   ck.status.resize(nt), ck.side.resize(nt);
   {
     double* p[4] = {ck.row(TriChunk::kPx), ck.row(TriChunk::kPy), ck.row(TriChunk::kPz), ck.row(TriChunk::kPw)};
@@ -1346,6 +1359,8 @@ void run_chunk(Raster& rc, const Src& src, const Mat3& nmat, TriChunk& ck, std::
     if (st != TriChunk::kSkip)
       for (int k = 0; k < 3; ++k) ck.need.push_back(std::uint32_t(i + k));
   }
+  co.attrs.resize(ck.need.size() * kAttrs);
+  float* const attrs = co.attrs.data();
   const double* ex = ck.row(TriChunk::kEx);
   const double* ey = ck.row(TriChunk::kEy);
   const double* ez = ck.row(TriChunk::kEz);
@@ -1375,10 +1390,10 @@ void run_chunk(Raster& rc, const Src& src, const Mat3& nmat, TriChunk& ck, std::
           if (len > 0) n /= len;
         }
         color = src.color(v0 + i);
-        std::memset(&ck.attrs[i * kAttrs + kTex], 0, sizeof(float) * (kAttrs - kTex));
+        std::memset(attrs + (q + l) * kAttrs + kTex, 0, sizeof(float) * (kAttrs - kTex));
       } else {
         auto&& v = src.vertex(v0 + i);
-        n = vertex_attrs(s, v, e, nmat, &ck.attrs[i * kAttrs], needs);
+        n = vertex_attrs(s, v, e, nmat, attrs + (q + l) * kAttrs, needs);
         color = v.color;
       }
       if (lit) {
@@ -1402,24 +1417,27 @@ void run_chunk(Raster& rc, const Src& src, const Mat3& nmat, TriChunk& ck, std::
     alignas(16) float fr[4][4], bk[4][4];
     std::memcpy(fr, front, sizeof(fr)), std::memcpy(bk, b, sizeof(bk));
     for (std::size_t l = 0; l < lanes; ++l) {
-      float* a = &ck.attrs[ck.need[q + l] * kAttrs];
+      float* a = attrs + (q + l) * kAttrs;
       for (int k = 0; k < 4; ++k) a[kFront + k] = fr[k][l], a[kBack + k] = bk[k][l];
     }
   }
 
-  // Draw (or queue) in submission order.
+  // Draw (or queue) in submission order; a drawn triangle's vertices have consecutive slots.
   const bool flat = s.shade == ShadeModel::Flat;
+  std::size_t slot = 0;
   const double* wz = ck.row(TriChunk::kWz);
   const double* iw = ck.row(TriChunk::kIw);
   const double *cx = ck.row(TriChunk::kCx), *cy = ck.row(TriChunk::kCy), *cz = ck.row(TriChunk::kCz),
                *cw = ck.row(TriChunk::kCw);
   for (std::size_t j = 0; j < nt; ++j) {
     if (ck.status[j] == TriChunk::kSkip) continue;
+    const float* a = attrs + slot * kAttrs;
+    slot += 3;
     if (ck.status[j] == TriChunk::kDraw) {
       WinVert w[3];
       for (int k = 0; k < 3; ++k) {
         const std::size_t i = 3 * j + k;
-        w[k] = WinVert{wx[i], wy[i], wz[i], iw[i], &ck.attrs[i * kAttrs]};
+        w[k] = WinVert{wx[i], wy[i], wz[i], iw[i], a + k * kAttrs};
       }
       rc.emit_triangle_direct(w[0], w[1], w[2], ck.side[j], flat ? w[2].a : nullptr);
       continue;
@@ -1428,7 +1446,7 @@ void run_chunk(Raster& rc, const Src& src, const Mat3& nmat, TriChunk& ck, std::
     for (int k = 0; k < 3; ++k) {
       const std::size_t i = 3 * j + k;
       pv[k].clip = Vec4(cx[i], cy[i], cz[i], cw[i]);
-      std::memcpy(pv[k].a, &ck.attrs[(3 * j + k) * kAttrs], sizeof(pv[k].a));
+      std::memcpy(pv[k].a, a + k * kAttrs, sizeof(pv[k].a));
     }
     rc.draw_triangle(pv[0], pv[1], pv[2], pv[2]);
   }
@@ -1442,14 +1460,15 @@ void draw_triangles(Raster& r, const Src& src, std::size_t tris) {
   const Mat3 nmat = s.top(MatrixMode::ModelView).topLeftCorner<3, 3>().inverse().transpose();
   const std::size_t chunks = (tris + kChunk - 1) / kChunk;
   // Kept between batches (per calling thread): fresh buffers would cost page faults.
-  static thread_local std::vector<std::unique_ptr<TriChunk>> tl_chunks;
-  std::vector<std::unique_ptr<TriChunk>>& ck = tl_chunks;
+  static thread_local std::vector<std::unique_ptr<ChunkOut>> tl_chunks;
+  std::vector<std::unique_ptr<ChunkOut>>& ck = tl_chunks;
   const bool banded = s.threads > 1 && (3 * tris >= 64 || std::int64_t(r.width) * r.height >= 512 * 512);
   const std::size_t need = banded ? chunks : 1;
-  while (ck.size() < need) ck.push_back(std::make_unique<TriChunk>());
+  while (ck.size() < need) ck.push_back(std::make_unique<ChunkOut>());
   if (!banded) {
     r.sink = nullptr;
-    for (std::size_t c = 0; c < chunks; ++c) run_chunk(r, src, nmat, *ck[0], c * kChunk, std::min(tris, (c + 1) * kChunk));
+    for (std::size_t c = 0; c < chunks; ++c)
+      run_chunk(r, src, nmat, chunk_scratch(), *ck[0], c * kChunk, std::min(tris, (c + 1) * kChunk));
     return;
   }
   const int bands = (r.height + kBandRows - 1) / kBandRows;
@@ -1457,10 +1476,10 @@ void draw_triangles(Raster& r, const Src& src, std::size_t tris) {
   arena.execute([&] {
     tbb::parallel_for(std::size_t(0), chunks, [&](std::size_t c) {
       Raster rc = r;
-      TriChunk& k = *ck[c];
+      ChunkOut& k = *ck[c];
       k.queue.clear();
       rc.sink = &k.queue;
-      run_chunk(rc, src, nmat, k, c * kChunk, std::min(tris, (c + 1) * kChunk));
+      run_chunk(rc, src, nmat, chunk_scratch(), k, c * kChunk, std::min(tris, (c + 1) * kChunk));
       k.queue.bin(bands);
     });
   });
@@ -1480,7 +1499,7 @@ bool run_triangle_arrays(Context::State& s, int width, int height, std::uint8_t*
   if (!fast_triangles_ok(s)) return false;
   Raster r(s, width, height, color, depth);
   // Batches bound the queued primitives' memory.
-  constexpr std::size_t kBatch = 4096;  // triangles
+  constexpr std::size_t kBatch = 16384;  // triangles
   const std::size_t tris = std::size_t(count) / 3;
   for (std::size_t t = 0; t < tris; t += kBatch)
     draw_triangles(r, ArraySource{s, a, indices, std::size_t(first) + 3 * t}, std::min(kBatch, tris - t));
