@@ -1150,6 +1150,9 @@ struct InSource {
     const Vec4& p = v[i].position;
     x = p.x(), y = p.y(), z = p.z(), w = p.w();
   }
+  void positions(std::size_t i0, std::size_t n, double* x, double* y, double* z, double* w) const {
+    for (std::size_t i = 0; i < n; ++i) position(i0 + i, x[i], y[i], z[i], w[i]);
+  }
   const InVertex& vertex(std::size_t i) const { return v[i]; }
   const Vec3& normal(std::size_t i) const { return v[i].normal; }
   const Vec4f& color(std::size_t i) const { return v[i].color; }
@@ -1173,6 +1176,15 @@ struct ArraySource {
   void position(std::size_t i, double& x, double& y, double& z, double& w) const {
     const double* p = a.positions + at(i) * a.position_size;
     x = p[0], y = p[1], z = a.position_size > 2 ? p[2] : 0.0, w = a.position_size > 3 ? p[3] : 1.0;
+  }
+  // Positions i0 .. i0 + n - 1 into rows.
+  void positions(std::size_t i0, std::size_t n, double* x, double* y, double* z, double* w) const {
+    if (!indices && a.position_size == 3) {
+      const double* p = a.positions + (first + i0) * 3;
+      for (std::size_t i = 0; i < n; ++i, p += 3) x[i] = p[0], y[i] = p[1], z[i] = p[2], w[i] = 1;
+      return;
+    }
+    for (std::size_t i = 0; i < n; ++i) position(i0 + i, x[i], y[i], z[i], w[i]);
   }
   Vec3 normal(std::size_t i) const {
     if (!a.normals) return s.cur_normal;
@@ -1325,7 +1337,7 @@ void run_chunk(Raster& rc, const Src& src, const Mat3& nmat, TriChunk& ck, Chunk
   ck.status.resize(nt), ck.side.resize(nt);
   {
     double* p[4] = {ck.row(TriChunk::kPx), ck.row(TriChunk::kPy), ck.row(TriChunk::kPz), ck.row(TriChunk::kPw)};
-    for (std::size_t i = 0; i < nv; ++i) src.position(v0 + i, p[0][i], p[1][i], p[2][i], p[3][i]);
+    src.positions(v0, nv, p[0], p[1], p[2], p[3]);
     for (std::size_t i = nv; i < ck.stride; ++i) p[0][i] = p[1][i] = p[2][i] = 0, p[3][i] = 1;
     const PositionStage ps(s);
 #if defined(__x86_64__) && defined(__GNUC__)
@@ -1414,11 +1426,22 @@ void run_chunk(Raster& rc, const Src& src, const Mat3& nmat, TriChunk& ck, Chunk
       light4(s, rc.lights, lc, vin, nb, vin + 6, 1, back);
     }
     const F4* b = s.two_side ? back : front;
+    // Lanes to vertices: a 4x4 transpose, then one RGBA store per vertex and side.
     alignas(16) float fr[4][4], bk[4][4];
-    std::memcpy(fr, front, sizeof(fr)), std::memcpy(bk, b, sizeof(bk));
+#if defined(__SSE2__)
+    __m128 f0 = front[0], f1 = front[1], f2 = front[2], f3 = front[3];
+    _MM_TRANSPOSE4_PS(f0, f1, f2, f3);
+    _mm_store_ps(fr[0], f0), _mm_store_ps(fr[1], f1), _mm_store_ps(fr[2], f2), _mm_store_ps(fr[3], f3);
+    __m128 b0 = b[0], b1 = b[1], b2 = b[2], b3 = b[3];
+    _MM_TRANSPOSE4_PS(b0, b1, b2, b3);
+    _mm_store_ps(bk[0], b0), _mm_store_ps(bk[1], b1), _mm_store_ps(bk[2], b2), _mm_store_ps(bk[3], b3);
+#else
+    for (int k = 0; k < 4; ++k)
+      for (int l = 0; l < 4; ++l) fr[l][k] = front[k][l], bk[l][k] = b[k][l];
+#endif
     for (std::size_t l = 0; l < lanes; ++l) {
       float* a = attrs + (q + l) * kAttrs;
-      for (int k = 0; k < 4; ++k) a[kFront + k] = fr[k][l], a[kBack + k] = bk[k][l];
+      std::memcpy(a + kFront, fr[l], 4 * sizeof(float)), std::memcpy(a + kBack, bk[l], 4 * sizeof(float));
     }
   }
 
