@@ -293,6 +293,9 @@ static void check_arrays(const VertexArrays& a) {
 void Context::draw_arrays(Primitive p, const VertexArrays& a, int first, int count) {
   check_arrays(a);
   if (first < 0 || count < 0) fail("draw_arrays: negative first or count");
+  if (p == Primitive::Triangles &&
+      run_triangle_arrays(*s_, width_, height_, color_.data(), depth_.data(), a, nullptr, first, count))
+    return;
   // Independent primitives go through the pipeline in batches, so memory stays bounded.
   const int group = p == Primitive::Triangles ? 3 : p == Primitive::Lines ? 2 : p == Primitive::Points ? 1
                   : p == Primitive::Quads ? 4 : 0;
@@ -309,6 +312,9 @@ void Context::draw_arrays(Primitive p, const VertexArrays& a, int first, int cou
 void Context::draw_elements(Primitive p, const VertexArrays& a, const std::uint32_t* indices, int count) {
   check_arrays(a);
   if (count < 0) fail("draw_elements: negative count");
+  if (p == Primitive::Triangles &&
+      run_triangle_arrays(*s_, width_, height_, color_.data(), depth_.data(), a, indices, 0, count))
+    return;
   const int group = p == Primitive::Triangles ? 3 : p == Primitive::Lines ? 2 : p == Primitive::Points ? 1
                   : p == Primitive::Quads ? 4 : 0;
   const int batch = group ? group * 4096 : count;
