@@ -117,6 +117,25 @@ struct WinVert {
   const float* a;
 };
 
+// Barycentric planes l_i(x, y) = fa[i] x + fb[i] y + fc[i] from the unsnapped window positions.
+// Coverage is decided on the 1/256-pixel grid, but depth and attributes are interpolated from
+// the exact positions, as llvmpipe's setup does: weights from snapped vertices put texture
+// coordinates up to a few 1/256 texel off on steep, distant triangles. False when the unsnapped
+// area is not positive (a sliver that snapping turned over): the caller keeps snapped weights.
+inline bool float_barycentrics(const WinVert* const v[3], double fa[3], double fb[3], double fc[3]) {
+  const double area = (v[1]->x - v[0]->x) * (v[2]->y - v[0]->y) - (v[2]->x - v[0]->x) * (v[1]->y - v[0]->y);
+  if (!(area > 0) || !std::isfinite(area)) return false;
+  const double inv = 1.0 / area;
+  for (int i = 0; i < 3; ++i) {
+    const WinVert& a = *v[(i + 1) % 3];
+    const WinVert& b = *v[(i + 2) % 3];
+    fa[i] = (a.y - b.y) * inv;
+    fb[i] = (b.x - a.x) * inv;
+    fc[i] = -(fa[i] * a.x + fb[i] * a.y);
+  }
+  return true;
+}
+
 // A set-up primitive waiting for rasterisation (binned to bands of rows, then drawn by bands in
 // parallel; within a band the primitives keep their submission order, so the image is the same
 // as drawing them one by one). Compact: window coordinates and pointers to the attribute sets
@@ -859,8 +878,12 @@ struct Raster {
     const int col = side ? kBack : kFront;
     float zv[3], iw[3];
     for (int i = 0; i < 3; ++i) zv[i] = float(v[i]->z), iw[i] = float(v[i]->inv_w);
-    const double dl_dx[3] = {A[0] * kSub * inv_area, A[1] * kSub * inv_area, A[2] * kSub * inv_area};
-    const double dl_dy[3] = {B[0] * kSub * inv_area, B[1] * kSub * inv_area, B[2] * kSub * inv_area};
+    double dl_dx[3] = {A[0] * kSub * inv_area, A[1] * kSub * inv_area, A[2] * kSub * inv_area};
+    double dl_dy[3] = {B[0] * kSub * inv_area, B[1] * kSub * inv_area, B[2] * kSub * inv_area};
+    double fc[3] = {0, 0, 0};
+    const bool exact_weights = float_barycentrics(v, dl_dx, dl_dy, fc);
+    if (!exact_weights)
+      for (int i = 0; i < 3; ++i) dl_dx[i] = A[i] * kSub * inv_area, dl_dy[i] = B[i] * kSub * inv_area;
     const float tex_w = need_tex ? float(s.texture->levels[0].width) : 0;
     const float tex_h = need_tex ? float(s.texture->levels[0].height) : 0;
 
@@ -876,6 +899,8 @@ struct Raster {
       for (int px = bx0; px <= bx1; ++px, E[0] += A[0] * 256, E[1] += A[1] * 256, E[2] += A[2] * 256) {
         if (E[0] + bias[0] < 0 || E[1] + bias[1] < 0 || E[2] + bias[2] < 0) continue;
         double l[3] = {E[0] * inv_area, E[1] * inv_area, E[2] * inv_area};
+        if (exact_weights)
+          for (int i = 0; i < 3; ++i) l[i] = dl_dx[i] * (px + 0.5) + dl_dy[i] * (py + 0.5) + fc[i];
         float z = float(l[0] * zv[0] + l[1] * zv[1] + l[2] * zv[2]);
         if (!depth_stage_t<Depth>(px, py, z, dfunc, dmask)) continue;
         // Perspective-correct weights: l_i / w_i normalised.
@@ -1299,6 +1324,11 @@ struct Raster {
       const int a = (i + 1) % 3;
       l0[i] = double(A[i] * (std::int64_t(ox) * 256 + 128 - X[a]) + B[i] * (std::int64_t(oy) * 256 + 128 - Y[a])) * inv_area;
       glx[i] = double(A[i]) * kSub * inv_area, gly[i] = double(B[i]) * kSub * inv_area;
+    }
+    {
+      double fa[3], fb[3], fc[3];
+      if (float_barycentrics(v, fa, fb, fc))
+        for (int i = 0; i < 3; ++i) l0[i] = fa[i] * (ox + 0.5) + fb[i] * (oy + 0.5) + fc[i], glx[i] = fa[i], gly[i] = fb[i];
     }
     // (value, x step) of a plane in one register pair, the y step apart: the same products and
     // sums, in the same order, as three scalar dot products.
