@@ -38,8 +38,14 @@ void Context::clear(bool color, bool depth) {
     x0 = std::max(x0, s_->sc_x), y0 = std::max(y0, s_->sc_y);
     x1 = std::min(x1, s_->sc_x + s_->sc_w), y1 = std::min(y1, s_->sc_y + s_->sc_h);
   }
+  // Float to 8-bit unorm as Mesa converts a clear colour: the clamped value times 255 in float,
+  // rounded to nearest with ties to even (0.3 -> 76.5 -> 76, where lround gives 77). Checked
+  // against OSMesa/llvmpipe for 100k values in [0, 1] and the tie points (k + 0.5) / 255.
   std::array<std::uint8_t, 4> c;
-  for (int k = 0; k < 4; ++k) c[k] = std::uint8_t(std::lround(std::clamp(s_->clear_color[k], 0.0f, 1.0f) * 255.0f));
+  for (int k = 0; k < 4; ++k) {
+    const float v = s_->clear_color[k];
+    c[k] = !(v > 0.0f) ? 0 : v >= 1.0f ? 255 : std::uint8_t(std::lrint(v * 255.0f));
+  }
   const auto& m = s_->color_mask;
   const bool all = m[0] && m[1] && m[2] && m[3];
   if (x1 <= x0 || y1 <= y0) return;
@@ -293,6 +299,9 @@ static void check_arrays(const VertexArrays& a) {
 void Context::draw_arrays(Primitive p, const VertexArrays& a, int first, int count) {
   check_arrays(a);
   if (first < 0 || count < 0) fail("draw_arrays: negative first or count");
+  if (p == Primitive::Triangles &&
+      run_triangle_arrays(*s_, width_, height_, color_.data(), depth_.data(), a, nullptr, first, count))
+    return;
   // Independent primitives go through the pipeline in batches, so memory stays bounded.
   const int group = p == Primitive::Triangles ? 3 : p == Primitive::Lines ? 2 : p == Primitive::Points ? 1
                   : p == Primitive::Quads ? 4 : 0;
@@ -309,6 +318,9 @@ void Context::draw_arrays(Primitive p, const VertexArrays& a, int first, int cou
 void Context::draw_elements(Primitive p, const VertexArrays& a, const std::uint32_t* indices, int count) {
   check_arrays(a);
   if (count < 0) fail("draw_elements: negative count");
+  if (p == Primitive::Triangles &&
+      run_triangle_arrays(*s_, width_, height_, color_.data(), depth_.data(), a, indices, 0, count))
+    return;
   const int group = p == Primitive::Triangles ? 3 : p == Primitive::Lines ? 2 : p == Primitive::Points ? 1
                   : p == Primitive::Quads ? 4 : 0;
   const int batch = group ? group * 4096 : count;

@@ -1,6 +1,7 @@
 // The state of a render::Context: OpenGL 1.x's state vector, with GL's initial values.
 // Private to render/ (not installed).
 #pragma once
+#include <atomic>
 #include <bitset>
 
 #include "render/render.h"
@@ -66,8 +67,17 @@ struct Context::State {
   const Mat4& top(MatrixMode m) const { return stacks[static_cast<int>(m)].back(); }
 };
 
+// For tests: when set, code paths chosen at run time for the CPU (AVX2) give way to the
+// default build's (SSE2 on x86-64), which must draw the same images.
+extern std::atomic<bool> simd_fallback;
+
 // Runs a batch of vertices as one primitive through the pipeline (pipeline.cpp).
 void run_primitive(Context::State& s, int width, int height, std::uint8_t* color, float* depth, Primitive p,
                    const std::vector<InVertex>& verts);
+// Independent triangles (count vertices) straight from client arrays: element first + i, or
+// indices[first + i] when indices is not null. Returns false, drawing nothing, when the state
+// needs the general path (then the caller fetches InVertex batches for run_primitive).
+bool run_triangle_arrays(Context::State& s, int width, int height, std::uint8_t* color, float* depth,
+                         const VertexArrays& a, const std::uint32_t* indices, int first, int count);
 
 }  // namespace wedge::render

@@ -120,7 +120,8 @@ Image render_drawing(const std::vector<DrawItem>& items, const DrawingOptions& o
          " views: too small");
 
   const Vec4f& bg = o.render.background;
-  auto to8 = [](float v) { return std::uint8_t(std::lround(std::clamp(v, 0.0f, 1.0f) * 255)); };
+  // As Context::clear converts the cells' background (ties to even), so sheet and cells agree.
+  auto to8 = [](float v) { return !(v > 0.0f) ? std::uint8_t(0) : v >= 1.0f ? std::uint8_t(255) : std::uint8_t(std::lrint(v * 255.0f)); };
   Image sheet;
   sheet.width = o.width, sheet.height = o.height;
   sheet.rgba.resize(std::size_t(o.width) * o.height * 4);

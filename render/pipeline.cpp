@@ -15,6 +15,7 @@
 // Per-pixel Phong (beyond GL 1.x) evaluates the same lighting equation per fragment on the
 // interpolated eye-space normal and position.
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
@@ -116,22 +117,89 @@ struct WinVert {
   const float* a;
 };
 
+// Barycentric planes l_i(x, y) = fa[i] x + fb[i] y + fc[i] from the unsnapped window positions.
+// Coverage is decided on the 1/256-pixel grid, but depth and attributes are interpolated from
+// the exact positions, as llvmpipe's setup does: weights from snapped vertices put texture
+// coordinates up to a few 1/256 texel off on steep, distant triangles. False when the unsnapped
+// area is not positive (a sliver that snapping turned over): the caller keeps snapped weights.
+inline bool float_barycentrics(const WinVert* const v[3], double fa[3], double fb[3], double fc[3]) {
+  const double area = (v[1]->x - v[0]->x) * (v[2]->y - v[0]->y) - (v[2]->x - v[0]->x) * (v[1]->y - v[0]->y);
+  if (!(area > 0) || !std::isfinite(area)) return false;
+  const double inv = 1.0 / area;
+  for (int i = 0; i < 3; ++i) {
+    const WinVert& a = *v[(i + 1) % 3];
+    const WinVert& b = *v[(i + 2) % 3];
+    fa[i] = (a.y - b.y) * inv;
+    fb[i] = (b.x - a.x) * inv;
+    fc[i] = -(fa[i] * a.x + fb[i] * a.y);
+  }
+  return true;
+}
+
 // A set-up primitive waiting for rasterisation (binned to bands of rows, then drawn by bands in
 // parallel; within a band the primitives keep their submission order, so the image is the same
-// as drawing them one by one).
-struct JobVert {
-  double x, y, z, inv_w;
-  float a[kAttrs];
-};
+// as drawing them one by one). Compact: window coordinates and pointers to the attribute sets
+// (owned by the queue or by the batch's vertex buffer, alive until the bands are drawn).
 struct Job {
   enum Kind : std::uint8_t { Tri, Line, Point } kind = Tri;
   std::uint8_t side = 0;
-  bool has_flat = false;  // initialised: a job is copied whole, flat colour or not
   int row0 = 0, row1 = 0;  // rows the primitive may touch
-  JobVert v[3];
-  float flat[kAttrs];
+  WinVert v[3];
+  const float* flat = nullptr;  // the provoking vertex's attributes for flat shading
 };
 constexpr int kBandRows = 32;
+
+// Attribute sets copied for queued primitives, in blocks that never move (pointers stay valid
+// while the store grows); clear() keeps the blocks for the next batch.
+class AttrStore {
+ public:
+  float* add(const float* src) {
+    const std::size_t b = used_ / kBlock, o = used_ % kBlock;
+    if (b == blocks_.size()) blocks_.push_back(std::make_unique<float[]>(kBlock * kAttrs));
+    float* d = blocks_[b].get() + o * kAttrs;
+    std::memcpy(d, src, sizeof(float) * kAttrs);
+    ++used_;
+    return d;
+  }
+  void clear() { used_ = 0; }
+
+ private:
+  static constexpr std::size_t kBlock = 256;
+  std::vector<std::unique_ptr<float[]>> blocks_;
+  std::size_t used_ = 0;
+};
+
+// Queued primitives of one stretch of a batch, in submission order, with their own binning by
+// band (a counting sort), so that queues are filled and binned in parallel and the bands read
+// them in queue order without a serial merge.
+struct Queue {
+  std::vector<Job> jobs;
+  AttrStore store;
+  std::vector<std::uint32_t> band_start, band_jobs;  // jobs of band b: band_jobs[band_start[b] .. band_start[b + 1])
+  void clear() { jobs.clear(), store.clear(); }
+  void bin(int bands) {
+    band_start.assign(std::size_t(bands) + 1, 0);
+    auto range = [bands](const Job& j, int& b0, int& b1) {
+      if (j.row1 < 0) return false;
+      b0 = std::max(0, j.row0 / kBandRows), b1 = std::min(bands - 1, j.row1 / kBandRows);
+      return b0 <= b1;
+    };
+    int b0 = 0, b1 = 0;
+    for (const Job& j : jobs)
+      if (range(j, b0, b1))
+        for (int b = b0; b <= b1; ++b) ++band_start[b + 1];
+    for (int b = 0; b < bands; ++b) band_start[b + 1] += band_start[b];
+    band_jobs.resize(band_start[bands]);
+    std::vector<std::uint32_t>& cursor = cursor_;
+    cursor.assign(band_start.begin(), band_start.end() - 1);
+    for (std::size_t i = 0; i < jobs.size(); ++i)
+      if (range(jobs[i], b0, b1))
+        for (int b = b0; b <= b1; ++b) band_jobs[cursor[b]++] = std::uint32_t(i);
+  }
+
+ private:
+  std::vector<std::uint32_t> cursor_;
+};
 
 [[gnu::always_inline]] inline Vec4f clamp01(const Vec4f& c) { return c.cwiseMax(0.0f).cwiseMin(1.0f); }
 
@@ -237,7 +305,235 @@ Vec4f light_vertex(const Context::State& s, const LightSetup& ls, const Vec4& P4
   return clamp01(out);
 }
 
+// Four vertices lit at once: light_vertex's float operations in the same order, lane by lane
+// (SoA, GCC vector extensions: SSE2 on x86-64), so the colours are the same bits. P: eye
+// positions (divided by w); n: normals, negated for the back side; vc: vertex colours.
+typedef float F4 __attribute__((vector_size(16)));
+typedef int I4 __attribute__((vector_size(16)));
+
+[[gnu::always_inline]] inline F4 bcast(float x) { return F4{x, x, x, x}; }
+[[gnu::always_inline]] inline F4 vsqrt(F4 x) {
+#if defined(__SSE2__)
+  return _mm_sqrt_ps(x);
+#else
+  return F4{std::sqrt(x[0]), std::sqrt(x[1]), std::sqrt(x[2]), std::sqrt(x[3])};
+#endif
+}
+[[gnu::always_inline]] inline bool any(I4 m) {
+#if defined(__SSE2__)
+  return _mm_movemask_ps(__m128(m)) != 0;
+#else
+  return (m[0] | m[1] | m[2] | m[3]) != 0;
+#endif
+}
+// Eigen's order for a 3-vector's dot product and squared norm: a0 b0 + (a1 b1 + a2 b2).
+[[gnu::always_inline]] inline F4 dot3(const F4* a, const F4* b) { return a[0] * b[0] + (a[1] * b[1] + a[2] * b[2]); }
+// Eigen's cwiseMax(0) then cwiseMin(1) (std::max / std::min: NaN stays NaN).
+[[gnu::always_inline]] inline F4 vclamp01(F4 c) {
+  c = c < 0.0f ? bcast(0.0f) : c;
+  return 1.0f < c ? bcast(1.0f) : c;
+}
+
+// light_vertex's per-draw constants broadcast to four lanes, with the products of material and
+// light colours it forms per vertex (the same float products) made once. Colour material
+// replaces material colours by the vertex colours: those products are then formed per block.
+struct LightConsts {
+  struct Side {
+    F4 me[4], ma[4], md[4], ms[4];
+    F4 base[3];                    // emission + ambient * model ambient
+    F4 amb[8][3], dif[8][3], spec[8][3];  // material * light colours
+    float shin = 0;
+    bool cm = false;
+  };
+  struct L {
+    F4 pos[3], sdir[3], lamb[3], ldif[3], lspec[3];
+  };
+  Side side[2];
+  L l[8];
+  F4 model_ambient[3];
+  LightConsts(const Context::State& s, const LightSetup& ls) {
+    for (int k = 0; k < 3; ++k) model_ambient[k] = bcast(ls.model_ambient[k]);
+    for (int i = 0; i < ls.n; ++i)
+      for (int k = 0; k < 3; ++k) {
+        const LightSetup::L& L = ls.l[i];
+        l[i].pos[k] = bcast(L.pos[k]), l[i].sdir[k] = bcast(L.sdir[k]);
+        l[i].lamb[k] = bcast(L.amb[k]), l[i].ldif[k] = bcast(L.dif[k]), l[i].lspec[k] = bcast(L.spec[k]);
+      }
+    for (int sd = 0; sd < 2; ++sd) {
+      const Material& m = s.material[sd];
+      Side& d = side[sd];
+      d.cm = ls.color_material[sd];
+      d.shin = m.shininess;
+      for (int k = 0; k < 4; ++k)
+        d.me[k] = bcast(m.emission[k]), d.ma[k] = bcast(m.ambient[k]), d.md[k] = bcast(m.diffuse[k]), d.ms[k] = bcast(m.specular[k]);
+      for (int k = 0; k < 3; ++k) d.base[k] = d.me[k] + d.ma[k] * model_ambient[k];
+      for (int i = 0; i < ls.n; ++i)
+        for (int k = 0; k < 3; ++k)
+          d.amb[i][k] = d.ma[k] * l[i].lamb[k], d.dif[i][k] = d.md[k] * l[i].ldif[k], d.spec[i][k] = d.ms[k] * l[i].lspec[k];
+    }
+  }
+};
+
+// Four vertices lit at once: light_vertex's float operations in the same order, lane by lane
+// (SoA, GCC vector extensions: SSE2 on x86-64), so the colours are the same bits. P: eye
+// positions (divided by w); n: normals, negated for the back side; vc: vertex colours.
+template <bool CM>
+void light4_t(const Context::State& s, const LightSetup& ls, const LightConsts::Side& m, const LightConsts& lc,
+              const F4* P, const F4* n, const F4* vc, F4* out) {
+  const F4 *me = m.me, *ma = m.ma, *md = m.md, *ms = m.ms;
+  F4 cme[4], cma[4], cmd[4], cms[4];
+  if constexpr (CM) {
+    for (int k = 0; k < 4; ++k) cme[k] = m.me[k], cma[k] = m.ma[k], cmd[k] = m.md[k], cms[k] = m.ms[k];
+    for (int k = 0; k < 4; ++k) {
+      switch (s.cm_mode) {
+        case ColorMaterialMode::Ambient: cma[k] = vc[k]; break;
+        case ColorMaterialMode::Diffuse: cmd[k] = vc[k]; break;
+        case ColorMaterialMode::Specular: cms[k] = vc[k]; break;
+        case ColorMaterialMode::Emission: cme[k] = vc[k]; break;
+        case ColorMaterialMode::AmbientAndDiffuse: cma[k] = cmd[k] = vc[k]; break;
+      }
+    }
+    me = cme, ma = cma, md = cmd, ms = cms;
+  }
+  F4 c[3];
+  for (int k = 0; k < 3; ++k) c[k] = CM ? me[k] + ma[k] * lc.model_ambient[k] : m.base[k];
+  F4 ed[3] = {bcast(0), bcast(0), bcast(1)};
+  if (ls.local_viewer) {
+    const F4 z = dot3(P, P);
+    const I4 pos = z > 0.0f;
+    const F4 r = vsqrt(z);
+    for (int k = 0; k < 3; ++k) ed[k] = pos ? -(P[k] / r) : -P[k];
+  }
+  const float shin = m.shin;
+  for (int i = 0; i < ls.n; ++i) {
+    const LightSetup::L& L = ls.l[i];
+    const LightConsts::L& C = lc.l[i];
+    F4 VP[3];
+    F4 att = bcast(1);
+    if (L.local) {
+      for (int k = 0; k < 3; ++k) VP[k] = C.pos[k] - P[k];
+      const F4 d = vsqrt(dot3(VP, VP));
+      for (int k = 0; k < 3; ++k) VP[k] = VP[k] / d;
+      att = 1.0f / ((L.kc + L.kl * d) + (L.kq * d) * d);
+    } else {
+      for (int k = 0; k < 3; ++k) VP[k] = C.pos[k];
+    }
+    F4 spot = bcast(1);
+    if (L.spot) {
+      const F4 cosang = -dot3(VP, C.sdir);
+      const I4 in = ~(cosang < L.cos_cut);
+      if (L.sexp == 0) {
+        spot = in ? bcast(1) : bcast(0);
+      } else {
+        alignas(16) float ca[4], sp[4];
+        std::memcpy(ca, &cosang, 16);
+        for (int l = 0; l < 4; ++l) sp[l] = in[l] ? std::pow(std::max(ca[l], 0.0f), L.sexp) : 0.0f;
+        std::memcpy(&spot, sp, 16);
+      }
+    }
+    const F4 k = att * spot;
+    const I4 use = ~(k == 0.0f);
+    if (!any(use)) continue;
+    F4 amb[3], dif[3], spec[3];
+    for (int q = 0; q < 3; ++q) {
+      amb[q] = CM ? ma[q] * C.lamb[q] : m.amb[i][q];
+      dif[q] = CM ? md[q] * C.ldif[q] : m.dif[i][q];
+      spec[q] = CM ? ms[q] * C.lspec[q] : m.spec[i][q];
+    }
+    F4 term[3];
+    const F4 ndl = dot3(n, VP);
+    const I4 dmask = ndl > 0.0f;
+    for (int q = 0; q < 3; ++q) term[q] = dmask ? amb[q] + ndl * dif[q] : amb[q];
+    F4 h[3];
+    for (int q = 0; q < 3; ++q) h[q] = VP[q] + ed[q];
+    const F4 hn = vsqrt(dot3(h, h));
+    const F4 ndh = dot3(n, h) / hn;
+    const I4 smask = dmask & (hn > 0.0f) & (ndh > 0.0f);
+    if (any(smask)) {
+      F4 f = bcast(1);
+      if (shin != 0) {
+        alignas(16) float nh[4], fl[4];
+        alignas(16) int sm[4];
+        std::memcpy(nh, &ndh, 16), std::memcpy(sm, &smask, 16);
+        for (int l = 0; l < 4; ++l) fl[l] = sm[l] ? std::pow(nh[l], shin) : 1.0f;
+        std::memcpy(&f, fl, 16);
+      }
+      for (int q = 0; q < 3; ++q) term[q] = smask ? term[q] + f * spec[q] : term[q];
+    }
+    for (int q = 0; q < 3; ++q) c[q] = use ? c[q] + k * term[q] : c[q];
+  }
+  for (int q = 0; q < 3; ++q) out[q] = vclamp01(c[q]);
+  out[3] = vclamp01(md[3]);
+}
+
+void light4(const Context::State& s, const LightSetup& ls, const LightConsts& lc, const F4* P, const F4* n,
+            const F4* vc, int side, F4* out) {
+  const LightConsts::Side& m = lc.side[side];
+  if (m.cm) light4_t<true>(s, ls, m, lc, P, n, vc, out);
+  else light4_t<false>(s, ls, m, lc, P, n, vc, out);
+}
+
 bool two_sided_lighting(const Context::State& s) { return s.on(Cap::Lighting) && s.two_side; }
+
+// Whether the vertex stage lights the vertex colours (Phong lights per fragment instead).
+bool vertex_lighting(const Context::State& s) { return s.on(Cap::Lighting) && s.shade != ShadeModel::Phong; }
+
+// Which attributes the rasteriser will read (the others are left zero): texture coordinates
+// when texturing, the fog distance with fog, the eye position and normal for Phong.
+struct AttrNeeds {
+  bool tex = true, fog = true, eye_normal = true;
+  AttrNeeds() = default;
+  explicit AttrNeeds(const Context::State& s)
+      : tex(s.on(Cap::Texture2D) && s.texture && !s.texture->levels.empty()),
+        fog(s.on(Cap::Fog)),
+        eye_normal(s.on(Cap::Lighting) && s.shade == ShadeModel::Phong) {}
+};
+
+// The vertex stage but the lit colours: eye-space normal, unlit colours (when not lit),
+// texture coordinates (texgen, texture matrix), fog distance, eye position and normal into
+// `a` (those in `need`). Returns the eye-space normal (unit if normalised) for lighting.
+Vec3 vertex_attrs(const Context::State& s, const InVertex& v, const Vec4& eye, const Mat3& nmat, float* a,
+                  const AttrNeeds& need = AttrNeeds()) {
+  Vec3 n = nmat * v.normal;
+  if (s.on(Cap::Normalize) || s.shade == ShadeModel::Phong) {
+    double len = n.norm();
+    if (len > 0) n /= len;
+  }
+  if (!vertex_lighting(s)) {
+    Vec4f c = clamp01(v.color);
+    for (int k = 0; k < 4; ++k) a[kFront + k] = a[kBack + k] = c[k];
+  }
+  if (need.tex) {
+    Vec4 tex = v.tex;
+    for (int k = 0; k < 2; ++k) {
+      if (!s.on(k == 0 ? Cap::TextureGenS : Cap::TextureGenT)) continue;
+      switch (s.gen_mode[k]) {
+        case TexGenMode::ObjectLinear: tex[k] = s.obj_plane[k].dot(v.position); break;
+        case TexGenMode::EyeLinear: tex[k] = s.eye_plane[k].dot(eye); break;
+        case TexGenMode::SphereMap: {
+          Vec3 u = (eye.head<3>() / eye.w()).normalized();
+          Vec3 nn = n.normalized();
+          Vec3 r = u - 2 * nn.dot(u) * nn;
+          double m = 2 * std::sqrt(r.x() * r.x() + r.y() * r.y() + (r.z() + 1) * (r.z() + 1));
+          tex[k] = (k == 0 ? r.x() : r.y()) / m + 0.5;
+          break;
+        }
+      }
+    }
+    if (s.on(Cap::Texture2D)) tex = s.top(MatrixMode::Texture) * tex;
+    for (int k = 0; k < 4; ++k) a[kTex + k] = float(tex[k]);
+  } else {
+    for (int k = 0; k < 4; ++k) a[kTex + k] = 0;
+  }
+  a[kFog] = need.fog ? float(std::abs(eye.z())) : 0.0f;
+  if (need.eye_normal) {
+    for (int k = 0; k < 4; ++k) a[kEye + k] = float(eye[k]);
+    for (int k = 0; k < 3; ++k) a[kNormal + k] = float(n[k]);
+  } else {
+    for (int k = kEye; k < kAttrs; ++k) a[k] = 0;
+  }
+  return n;
+}
 
 // Vertex stage: object coordinates to clip coordinates with all per-vertex attributes.
 // `eye` and `clip` are the vertex's mv * position and proj * eye, computed by the caller.
@@ -245,42 +541,18 @@ PVert process_vertex(const Context::State& s, const LightSetup& ls, const InVert
                      const Vec4& clip, const Mat3& nmat) {
   PVert out;
   out.clip = clip;
-  Vec3 n = nmat * v.normal;
-  if (s.on(Cap::Normalize) || s.shade == ShadeModel::Phong) {
-    double len = n.norm();
-    if (len > 0) n /= len;
-  }
-  const bool phong = s.shade == ShadeModel::Phong && s.on(Cap::Lighting);
-  if (s.on(Cap::Lighting) && !phong) {
+  const Vec3 n = vertex_attrs(s, v, eye, nmat, out.a);
+  if (vertex_lighting(s)) {
     Vec4f f = light_vertex(s, ls, eye, n, v.color, 0);
     Vec4f b = s.two_side ? light_vertex(s, ls, eye, -n, v.color, 1) : f;
     for (int k = 0; k < 4; ++k) out.a[kFront + k] = f[k], out.a[kBack + k] = b[k];
-  } else {
-    Vec4f c = clamp01(v.color);
-    for (int k = 0; k < 4; ++k) out.a[kFront + k] = out.a[kBack + k] = c[k];
   }
-  Vec4 tex = v.tex;
-  for (int k = 0; k < 2; ++k) {
-    if (!s.on(k == 0 ? Cap::TextureGenS : Cap::TextureGenT)) continue;
-    switch (s.gen_mode[k]) {
-      case TexGenMode::ObjectLinear: tex[k] = s.obj_plane[k].dot(v.position); break;
-      case TexGenMode::EyeLinear: tex[k] = s.eye_plane[k].dot(eye); break;
-      case TexGenMode::SphereMap: {
-        Vec3 u = (eye.head<3>() / eye.w()).normalized();
-        Vec3 nn = n.normalized();
-        Vec3 r = u - 2 * nn.dot(u) * nn;
-        double m = 2 * std::sqrt(r.x() * r.x() + r.y() * r.y() + (r.z() + 1) * (r.z() + 1));
-        tex[k] = (k == 0 ? r.x() : r.y()) / m + 0.5;
-        break;
-      }
-    }
-  }
-  if (s.on(Cap::Texture2D)) tex = s.top(MatrixMode::Texture) * tex;
-  for (int k = 0; k < 4; ++k) out.a[kTex + k] = float(tex[k]);
-  out.a[kFog] = float(std::abs(eye.z()));
-  for (int k = 0; k < 4; ++k) out.a[kEye + k] = float(eye[k]);
-  for (int k = 0; k < 3; ++k) out.a[kNormal + k] = float(n[k]);
   return out;
+}
+
+// m * p in Eigen's order (((c0 x + c1 y) + c2 z) + c3 w), inline.
+[[gnu::always_inline]] inline Vec4 xform(const Mat4& m, const Vec4& p) {
+  return m.col(0) * p.x() + m.col(1) * p.y() + m.col(2) * p.z() + m.col(3) * p.w();
 }
 
 PVert lerp(const PVert& a, const PVert& b, double t) {
@@ -300,7 +572,7 @@ struct Raster {
   int x0, y0, x1, y1;  // pixel bounds (framebuffer ∩ scissor), half open
   bool avx2 = false;  // the fragment loop's AVX2 build (the CPU has it, and WEDGE_RENDER_SIMD is not "sse2")
   bool phong, lighting, texturing, fog, blend, depth_test, all_mask;
-  std::vector<Job>* sink = nullptr;  // when set, primitives are queued instead of drawn
+  Queue* sink = nullptr;  // when set, primitives are queued instead of drawn
   std::vector<PVert> poly_scratch, clip_scratch;
   std::vector<WinVert> win_scratch;
 
@@ -375,15 +647,16 @@ struct Raster {
     }
   }
 
-  WinVert to_window(const PVert& v) const {
-    double iw = 1.0 / v.clip.w();
-    double nx = v.clip.x() * iw, ny = v.clip.y() * iw, nz = v.clip.z() * iw;
+  WinVert to_window(const PVert& v) const { return to_window(v.clip, v.a); }
+  WinVert to_window(const Vec4& clip, const float* a) const {
+    double iw = 1.0 / clip.w();
+    double nx = clip.x() * iw, ny = clip.y() * iw, nz = clip.z() * iw;
     WinVert w;
     w.x = s.vp_x + (nx + 1) * 0.5 * s.vp_w;
     w.y = s.vp_y + (ny + 1) * 0.5 * s.vp_h;
     w.z = s.depth_near + (nz + 1) * 0.5 * (s.depth_far - s.depth_near);
     w.inv_w = iw;
-    w.a = v.a;
+    w.a = a;
     return w;
   }
 
@@ -605,8 +878,12 @@ struct Raster {
     const int col = side ? kBack : kFront;
     float zv[3], iw[3];
     for (int i = 0; i < 3; ++i) zv[i] = float(v[i]->z), iw[i] = float(v[i]->inv_w);
-    const double dl_dx[3] = {A[0] * kSub * inv_area, A[1] * kSub * inv_area, A[2] * kSub * inv_area};
-    const double dl_dy[3] = {B[0] * kSub * inv_area, B[1] * kSub * inv_area, B[2] * kSub * inv_area};
+    double dl_dx[3] = {A[0] * kSub * inv_area, A[1] * kSub * inv_area, A[2] * kSub * inv_area};
+    double dl_dy[3] = {B[0] * kSub * inv_area, B[1] * kSub * inv_area, B[2] * kSub * inv_area};
+    double fc[3] = {0, 0, 0};
+    const bool exact_weights = float_barycentrics(v, dl_dx, dl_dy, fc);
+    if (!exact_weights)
+      for (int i = 0; i < 3; ++i) dl_dx[i] = A[i] * kSub * inv_area, dl_dy[i] = B[i] * kSub * inv_area;
     const float tex_w = need_tex ? float(s.texture->levels[0].width) : 0;
     const float tex_h = need_tex ? float(s.texture->levels[0].height) : 0;
 
@@ -622,6 +899,8 @@ struct Raster {
       for (int px = bx0; px <= bx1; ++px, E[0] += A[0] * 256, E[1] += A[1] * 256, E[2] += A[2] * 256) {
         if (E[0] + bias[0] < 0 || E[1] + bias[1] < 0 || E[2] + bias[2] < 0) continue;
         double l[3] = {E[0] * inv_area, E[1] * inv_area, E[2] * inv_area};
+        if (exact_weights)
+          for (int i = 0; i < 3; ++i) l[i] = dl_dx[i] * (px + 0.5) + dl_dy[i] * (py + 0.5) + fc[i];
         float z = float(l[0] * zv[0] + l[1] * zv[1] + l[2] * zv[2]);
         if (!depth_stage_t<Depth>(px, py, z, dfunc, dmask)) continue;
         // Perspective-correct weights: l_i / w_i normalised.
@@ -1047,6 +1326,11 @@ struct Raster {
       l0[i] = double(A[i] * (std::int64_t(ox) * 256 + 128 - X[a]) + B[i] * (std::int64_t(oy) * 256 + 128 - Y[a])) * inv_area;
       glx[i] = double(A[i]) * kSub * inv_area, gly[i] = double(B[i]) * kSub * inv_area;
     }
+    {
+      double fa[3], fb[3], fc[3];
+      if (float_barycentrics(v, fa, fb, fc))
+        for (int i = 0; i < 3; ++i) l0[i] = fa[i] * (ox + 0.5) + fb[i] * (oy + 0.5) + fc[i], glx[i] = fa[i], gly[i] = fb[i];
+    }
     // (value, x step) of a plane in one register pair, the y step apart: the same products and
     // sums, in the same order, as three scalar dot products.
     const __m128d lg[3] = {_mm_set_pd(glx[0], l0[0]), _mm_set_pd(glx[1], l0[1]), _mm_set_pd(glx[2], l0[2])};
@@ -1436,22 +1720,34 @@ struct Raster {
   }
 
   // --- queueing for banded rasterisation ---
-  static void copy_vert(JobVert& d, const WinVert& w) {
-    d.x = w.x, d.y = w.y, d.z = w.z, d.inv_w = w.inv_w;
-    std::memcpy(d.a, w.a, sizeof(d.a));
+  // The general path's attributes may live in scratch vectors: the job points at copies.
+  void copy_vert(WinVert& d, const WinVert& w) {
+    d = w;
+    d.a = sink->store.add(w.a);
   }
   Job& new_job(Job::Kind k, int side, const float* flat) {
-    Job& j = sink->emplace_back();
+    Job& j = sink->jobs.emplace_back();
     j.kind = k;
     j.side = std::uint8_t(side);
-    j.has_flat = flat != nullptr;
-    if (flat) std::memcpy(j.flat, flat, sizeof(j.flat));
+    j.flat = flat ? sink->store.add(flat) : nullptr;
     return j;
   }
   void emit_triangle(const WinVert& a, const WinVert& b, const WinVert& c, int side, const float* flat) {
     if (!sink) return triangle(a, b, c, side, flat);
     Job& j = new_job(Job::Tri, side, flat);
     copy_vert(j.v[0], a), copy_vert(j.v[1], b), copy_vert(j.v[2], c);
+    j.row0 = int(std::floor(std::min({a.y, b.y, c.y}))) - 1;
+    j.row1 = int(std::floor(std::max({a.y, b.y, c.y}))) + 1;
+  }
+  // A triangle whose attribute sets outlive the queue (the triangle path's chunk buffers): the
+  // job points at them, no copies.
+  void emit_triangle_direct(const WinVert& a, const WinVert& b, const WinVert& c, int side, const float* flat) {
+    if (!sink) return triangle(a, b, c, side, flat);
+    Job& j = sink->jobs.emplace_back();
+    j.kind = Job::Tri;
+    j.side = std::uint8_t(side);
+    j.flat = flat;
+    j.v[0] = a, j.v[1] = b, j.v[2] = c;
     j.row0 = int(std::floor(std::min({a.y, b.y, c.y}))) - 1;
     j.row1 = int(std::floor(std::max({a.y, b.y, c.y}))) + 1;
   }
@@ -1472,13 +1768,9 @@ struct Raster {
     j.row1 = int(std::floor(p.y)) + pad;
   }
   void exec(const Job& j) {
-    WinVert w[3];
-    const int n = j.kind == Job::Tri ? 3 : j.kind == Job::Line ? 2 : 1;
-    for (int i = 0; i < n; ++i) w[i] = WinVert{j.v[i].x, j.v[i].y, j.v[i].z, j.v[i].inv_w, j.v[i].a};
-    const float* flat = j.has_flat ? j.flat : nullptr;
-    if (j.kind == Job::Tri) triangle(w[0], w[1], w[2], j.side, flat);
-    else if (j.kind == Job::Line) line(w[0], w[1], j.side, flat);
-    else point(w[0], j.side);
+    if (j.kind == Job::Tri) triangle(j.v[0], j.v[1], j.v[2], j.side, j.flat);
+    else if (j.kind == Job::Line) line(j.v[0], j.v[1], j.side, j.flat);
+    else point(j.v[0], j.side);
   }
 
   // --- primitive-level drivers (after assembly) ---
@@ -1582,11 +1874,435 @@ tbb::task_arena& arena_for(int threads) {
   return *arena;
 }
 
+// Draws queued primitives by bands of rows in parallel: each band owns its pixels and draws its
+// primitives queue by queue, each in submission order (queues already binned).
+void draw_bands(const Raster& r, Queue* const* queues, std::size_t nq) {
+  const int bands = (r.height + kBandRows - 1) / kBandRows;
+  tbb::task_arena& arena = arena_for(r.s.threads);
+  arena.execute([&] {
+    tbb::parallel_for(0, bands, [&](int b) {
+      bool any = false;
+      for (std::size_t q = 0; q < nq && !any; ++q) any = queues[q]->band_start[b + 1] > queues[q]->band_start[b];
+      if (!any) return;
+      Raster band = r;
+      band.sink = nullptr;
+      band.y0 = std::max(r.y0, b * kBandRows);
+      band.y1 = std::min(r.y1, (b + 1) * kBandRows);
+      for (std::size_t q = 0; q < nq; ++q) {
+        const Queue& qu = *queues[q];
+        for (std::uint32_t k = qu.band_start[b]; k < qu.band_start[b + 1]; ++k) band.exec(qu.jobs[qu.band_jobs[k]]);
+      }
+    });
+  });
+}
+
+// --- independent filled triangles ---
+// GL_TRIANGLES with both polygon modes Fill and no user clip planes (the common case) go by
+// chunks of triangles: positions transformed; a triangle wholly inside the clip volume gets its
+// window coordinates, facing and cull test, and is dropped when it covers no pixel centre;
+// only the vertices of the remaining triangles get their attributes (lit four at a time); then
+// the triangles are drawn, or queued for the bands. A triangle crossing the clip volume takes
+// the general path (draw_triangle). The same decisions and arithmetic as that general path.
+bool fast_triangles_ok(const Context::State& s) {
+  if (s.poly_front != PolygonMode::Fill || s.poly_back != PolygonMode::Fill) return false;
+  for (int i = 0; i < 6; ++i)
+    if (s.on(clip_plane_cap(i))) return false;
+  return true;
+}
+
+// A batch's vertices from a begin/end or an InVertex vector.
+struct InSource {
+  const InVertex* v;
+  void position(std::size_t i, double& x, double& y, double& z, double& w) const {
+    const Vec4& p = v[i].position;
+    x = p.x(), y = p.y(), z = p.z(), w = p.w();
+  }
+  void positions(std::size_t i0, std::size_t n, double* x, double* y, double* z, double* w) const {
+    for (std::size_t i = 0; i < n; ++i) position(i0 + i, x[i], y[i], z[i], w[i]);
+  }
+  const InVertex& vertex(std::size_t i) const { return v[i]; }
+  const Vec3& normal(std::size_t i) const { return v[i].normal; }
+  const Vec4f& color(std::size_t i) const { return v[i].color; }
+};
+
+// A batch's vertices straight from client arrays (element first + i, or indices[first + i]):
+// no InVertex for vertices that are never needed. As Context's fetch: missing components
+// (0, 0, 0, 1), disabled arrays the current values.
+struct ArraySource {
+  const Context::State& s;
+  const VertexArrays& a;
+  const std::uint32_t* indices;
+  std::size_t first;
+  std::size_t at(std::size_t i) const { return indices ? indices[first + i] : first + i; }
+  Vec4 position(std::size_t i) const {
+    const double* p = a.positions + at(i) * a.position_size;
+    Vec4 r(0, 0, 0, 1);
+    for (int k = 0; k < a.position_size; ++k) r[k] = p[k];
+    return r;
+  }
+  void position(std::size_t i, double& x, double& y, double& z, double& w) const {
+    const double* p = a.positions + at(i) * a.position_size;
+    x = p[0], y = p[1], z = a.position_size > 2 ? p[2] : 0.0, w = a.position_size > 3 ? p[3] : 1.0;
+  }
+  // Positions i0 .. i0 + n - 1 into rows.
+  void positions(std::size_t i0, std::size_t n, double* x, double* y, double* z, double* w) const {
+    if (!indices && a.position_size == 3) {
+      const double* p = a.positions + (first + i0) * 3;
+      for (std::size_t i = 0; i < n; ++i, p += 3) x[i] = p[0], y[i] = p[1], z[i] = p[2], w[i] = 1;
+      return;
+    }
+    for (std::size_t i = 0; i < n; ++i) position(i0 + i, x[i], y[i], z[i], w[i]);
+  }
+  Vec3 normal(std::size_t i) const {
+    if (!a.normals) return s.cur_normal;
+    const double* n = a.normals + at(i) * 3;
+    return Vec3(n[0], n[1], n[2]);
+  }
+  Vec4f color(std::size_t i) const {
+    if (!a.colors) return s.cur_color;
+    const float* c = a.colors + at(i) * a.color_size;
+    return Vec4f(c[0], c[1], c[2], a.color_size == 4 ? c[3] : 1.0f);
+  }
+  InVertex vertex(std::size_t i) const {
+    const std::size_t e = at(i);
+    InVertex v{position(i), s.cur_normal, s.cur_color, s.cur_tex};
+    if (a.normals) v.normal = Vec3(a.normals[e * 3], a.normals[e * 3 + 1], a.normals[e * 3 + 2]);
+    if (a.colors) {
+      v.color = Vec4f(0, 0, 0, 1);
+      for (int k = 0; k < a.color_size; ++k) v.color[k] = a.colors[e * a.color_size + k];
+    }
+    if (a.texcoords) {
+      v.tex = Vec4(0, 0, 0, 1);
+      for (int k = 0; k < a.texcoord_size; ++k) v.tex[k] = a.texcoords[e * a.texcoord_size + k];
+    }
+    return v;
+  }
+};
+
+constexpr std::size_t kChunk = 256;  // triangles
+
+// One chunk's buffers, kept between batches. Queued triangles point into `win`/`attrs`.
+struct TriChunk {
+  enum : std::uint8_t { kSkip, kDraw, kClip };
+  // Per vertex, by rows (SoA): object position x y z w, eye x y z w, clip x y z w, window
+  // x y z and 1 / w_clip; rows of `stride` (the vertex count rounded up to 4).
+  enum Row { kPx, kPy, kPz, kPw, kEx, kEy, kEz, kEw, kCx, kCy, kCz, kCw, kWx, kWy, kWz, kIw, kRows };
+  std::vector<double> soa;
+  std::size_t stride = 0;
+  double* row(int r) { return soa.data() + r * stride; }
+  std::vector<std::uint8_t> vout;  // per vertex: outside the clip volume
+  std::vector<std::uint8_t> status, side;  // per triangle
+  std::vector<std::uint32_t> need;         // vertices whose attributes are needed, in order
+};
+
+// What a chunk hands to the bands: the attribute sets of its needed vertices (in `need`
+// order) and its queue, whose jobs point into them.
+struct ChunkOut {
+  std::vector<float> attrs;
+  Queue queue;
+};
+
+// The calling or worker thread's chunk scratch (the position rows are not needed once the
+// chunk's triangles are set up).
+TriChunk& chunk_scratch() {
+  static thread_local TriChunk scratch;
+  return scratch;
+}
+
+[[gnu::always_inline]] inline bool box_has_centre(const double* x, const double* y, int x0, int y0, int x1, int y1) {
+  constexpr double d = 1.0 / 256;
+  const double xmin = std::min({x[0], x[1], x[2]}), xmax = std::max({x[0], x[1], x[2]});
+  const double ymin = std::min({y[0], y[1], y[2]}), ymax = std::max({y[0], y[1], y[2]});
+  // Centre columns c with c + 1/2 in [xmin - d, xmax + d] and x0 <= c < x1: the largest one
+  // is min(floor(xmax - 1/2 + d), x1 - 1); it must be at least xmin - 1/2 - d and x0.
+  const double hx = std::min(std::floor(xmax - 0.5 + d), double(x1 - 1));
+  const double hy = std::min(std::floor(ymax - 0.5 + d), double(y1 - 1));
+  return hx >= xmin - 0.5 - d && hx >= x0 && hy >= ymin - 0.5 - d && hy >= y0;  // (false for NaN)
+}
+
+// The position stage of a chunk, four vertices at a time by rows: eye = mv p, clip = proj eye
+// (Eigen's operation order per element: ((c0 x + c1 y) + c2 z) + c3 w), the clip-volume test, and window
+// coordinates (to_window's arithmetic) for every vertex. Compiled twice: for AVX2 (4 doubles
+// per instruction, chosen at run time) and for the default target (SSE2: pairs).
+typedef double D2 __attribute__((vector_size(16)));
+typedef double D4 __attribute__((vector_size(32)));
+
+struct PositionStage {
+  double mv[16], proj[16];  // column-major
+  double vpx, vpy, vpw, vph, dn, dr;
+  PositionStage(const Context::State& s) {
+    const Mat4& m = s.top(MatrixMode::ModelView);
+    const Mat4& p = s.top(MatrixMode::Projection);
+    for (int k = 0; k < 16; ++k) mv[k] = m(k % 4, k / 4), proj[k] = p(k % 4, k / 4);
+    vpx = s.vp_x, vpy = s.vp_y, vpw = s.vp_w, vph = s.vp_h;
+    dn = s.depth_near, dr = s.depth_far - s.depth_near;
+  }
+};
+
+// V: a vector of doubles (D2 for the default target, D4 for AVX2); L its comparison mask.
+template <class V>
+[[gnu::always_inline]] inline void position_rows(const PositionStage& ps, TriChunk& ck) {
+  typedef decltype(V{} < V{}) L;
+  constexpr int kW = sizeof(V) / sizeof(double);
+  const std::size_t n = ck.stride;
+  double* const b = ck.soa.data();
+  std::uint8_t* const vout = ck.vout.data();
+  const double* m = ps.mv;
+  const double* p = ps.proj;
+  for (std::size_t i = 0; i < n; i += kW) {
+    double* const q = b + i;
+    V X, Y, Z, W;
+    std::memcpy(&X, q, sizeof(V)), std::memcpy(&Y, q + n, sizeof(V));
+    std::memcpy(&Z, q + 2 * n, sizeof(V)), std::memcpy(&W, q + 3 * n, sizeof(V));
+    const V ex = ((m[0] * X + m[4] * Y) + m[8] * Z) + m[12] * W;
+    const V ey = ((m[1] * X + m[5] * Y) + m[9] * Z) + m[13] * W;
+    const V ez = ((m[2] * X + m[6] * Y) + m[10] * Z) + m[14] * W;
+    const V ew = ((m[3] * X + m[7] * Y) + m[11] * Z) + m[15] * W;
+    const V cx = ((p[0] * ex + p[4] * ey) + p[8] * ez) + p[12] * ew;
+    const V cy = ((p[1] * ex + p[5] * ey) + p[9] * ez) + p[13] * ew;
+    const V cz = ((p[2] * ex + p[6] * ey) + p[10] * ez) + p[14] * ew;
+    const V cw = ((p[3] * ex + p[7] * ey) + p[11] * ez) + p[15] * ew;
+    const L out = ((cw + cx) < 0.0) | ((cw - cx) < 0.0) | ((cw + cy) < 0.0) | ((cw - cy) < 0.0) | ((cw + cz) < 0.0) |
+                  ((cw - cz) < 0.0);
+    const V iw = 1.0 / cw;
+    const V nx = cx * iw, ny = cy * iw, nz = cz * iw;
+    const V wx = ps.vpx + (nx + 1.0) * 0.5 * ps.vpw, wy = ps.vpy + (ny + 1.0) * 0.5 * ps.vph;
+    const V wz = ps.dn + (nz + 1.0) * 0.5 * ps.dr;
+    std::memcpy(q + TriChunk::kEx * n, &ex, sizeof(V)), std::memcpy(q + TriChunk::kEy * n, &ey, sizeof(V));
+    std::memcpy(q + TriChunk::kEz * n, &ez, sizeof(V)), std::memcpy(q + TriChunk::kEw * n, &ew, sizeof(V));
+    std::memcpy(q + TriChunk::kCx * n, &cx, sizeof(V)), std::memcpy(q + TriChunk::kCy * n, &cy, sizeof(V));
+    std::memcpy(q + TriChunk::kCz * n, &cz, sizeof(V)), std::memcpy(q + TriChunk::kCw * n, &cw, sizeof(V));
+    std::memcpy(q + TriChunk::kWx * n, &wx, sizeof(V)), std::memcpy(q + TriChunk::kWy * n, &wy, sizeof(V));
+    std::memcpy(q + TriChunk::kWz * n, &wz, sizeof(V)), std::memcpy(q + TriChunk::kIw * n, &iw, sizeof(V));
+    alignas(32) long long o[kW];
+    std::memcpy(o, &out, sizeof o);
+    for (int l = 0; l < kW; ++l) vout[i + l] = o[l] != 0;
+  }
+}
+
+#if defined(__x86_64__) && defined(__GNUC__)
+__attribute__((target("avx2"))) void position_rows_avx2(const PositionStage& ps, TriChunk& ck) { position_rows<D4>(ps, ck); }
+#endif
+void position_rows_default(const PositionStage& ps, TriChunk& ck) { position_rows<D2>(ps, ck); }
+
+bool use_avx2() {
+#if defined(__x86_64__) && defined(__GNUC__)
+  static const bool has = __builtin_cpu_supports("avx2");
+  return has && !simd_fallback.load(std::memory_order_relaxed);
+#else
+  return false;
+#endif
+}
+
+template <class Src>
+void run_chunk(Raster& rc, const Src& src, const Mat3& nmat, TriChunk& ck, ChunkOut& co, std::size_t t0,
+               std::size_t t1) {
+  const Context::State& s = rc.s;
+  const std::size_t nt = t1 - t0, nv = 3 * nt, v0 = 3 * t0;
+  ck.stride = (nv + 3) & ~std::size_t(3);
+  ck.soa.resize(TriChunk::kRows * ck.stride), ck.vout.resize(ck.stride);
+  ck.status.resize(nt), ck.side.resize(nt);
+  {
+    double* p[4] = {ck.row(TriChunk::kPx), ck.row(TriChunk::kPy), ck.row(TriChunk::kPz), ck.row(TriChunk::kPw)};
+    src.positions(v0, nv, p[0], p[1], p[2], p[3]);
+    for (std::size_t i = nv; i < ck.stride; ++i) p[0][i] = p[1][i] = p[2][i] = 0, p[3][i] = 1;
+    const PositionStage ps(s);
+#if defined(__x86_64__) && defined(__GNUC__)
+    if (use_avx2()) position_rows_avx2(ps, ck);
+    else position_rows_default(ps, ck);
+#else
+    position_rows_default(ps, ck);
+#endif
+  }
+  const double* wx = ck.row(TriChunk::kWx);
+  const double* wy = ck.row(TriChunk::kWy);
+  const bool cull = s.on(Cap::CullFace);
+  const bool two = two_sided_lighting(s);
+  const bool ccw = s.front_face == FrontFace::CCW;
+  ck.need.clear();
+  for (std::size_t j = 0; j < nt; ++j) {
+    const std::size_t i = 3 * j;
+    std::uint8_t st = TriChunk::kClip;
+    if (!(ck.vout[i] | ck.vout[i + 1] | ck.vout[i + 2])) {
+      // As draw_inside_triangle: signed area ((0 + t0) + t1) + t2 (0 + t0 only differs from
+      // t0 in the sign of a zero, which `area > 0` does not see), facing, culling; then the
+      // pixel-centre test.
+      const double x[3] = {wx[i], wx[i + 1], wx[i + 2]}, y[3] = {wy[i], wy[i + 1], wy[i + 2]};
+      const double area = ((x[0] * y[1] - x[1] * y[0]) + (x[1] * y[2] - x[2] * y[1])) + (x[2] * y[0] - x[0] * y[2]);
+      const bool front = (area > 0) == ccw;
+      if (cull && (s.cull_face == Face::FrontAndBack || (s.cull_face == Face::Front) == front)) st = TriChunk::kSkip;
+      else if (!box_has_centre(x, y, rc.x0, rc.y0, rc.x1, rc.y1)) st = TriChunk::kSkip;
+      else st = TriChunk::kDraw, ck.side[j] = (!front && two) ? 1 : 0;
+    }
+    ck.status[j] = st;
+    if (st != TriChunk::kSkip)
+      for (int k = 0; k < 3; ++k) ck.need.push_back(std::uint32_t(i + k));
+  }
+  co.attrs.resize(ck.need.size() * kAttrs);
+  float* const attrs = co.attrs.data();
+  const double* ex = ck.row(TriChunk::kEx);
+  const double* ey = ck.row(TriChunk::kEy);
+  const double* ez = ck.row(TriChunk::kEz);
+  const double* ew = ck.row(TriChunk::kEw);
+
+  // Attributes of the needed vertices, four at a time: lighting takes them as four lanes.
+  const bool lit = vertex_lighting(s);
+  const AttrNeeds needs(s);
+  // Lit, nothing else read: the normal and colour alone (no InVertex, no texture stage).
+  const bool lean = lit && !needs.tex && !needs.fog && !needs.eye_normal;
+  const bool normalize = s.on(Cap::Normalize);
+  const LightConsts lc(s, rc.lights);
+  const std::size_t nn = ck.need.size();
+  for (std::size_t q = 0; q < nn; q += 4) {
+    const std::size_t lanes = std::min<std::size_t>(4, nn - q);
+    alignas(16) float in[10][4] = {};
+    for (std::size_t l = 0; l < lanes; ++l) {
+      const std::size_t i = ck.need[q + l];
+      const Vec4 e(ex[i], ey[i], ez[i], ew[i]);
+      Vec3 n;
+      Vec4f color;
+      if (lean) {
+        // vertex_attrs' normal, and zeros for the attributes not read.
+        n = nmat * src.normal(v0 + i);
+        if (normalize) {
+          double len = n.norm();
+          if (len > 0) n /= len;
+        }
+        color = src.color(v0 + i);
+        std::memset(attrs + (q + l) * kAttrs + kTex, 0, sizeof(float) * (kAttrs - kTex));
+      } else {
+        auto&& v = src.vertex(v0 + i);
+        n = vertex_attrs(s, v, e, nmat, attrs + (q + l) * kAttrs, needs);
+        color = v.color;
+      }
+      if (lit) {
+        // As light_vertex: P = (eye / w) in double, then float.
+        const double iw = e.w();
+        in[0][l] = float(e.x() / iw), in[1][l] = float(e.y() / iw), in[2][l] = float(e.z() / iw);
+        in[3][l] = float(n.x()), in[4][l] = float(n.y()), in[5][l] = float(n.z());
+        for (int k = 0; k < 4; ++k) in[6 + k][l] = color[k];
+      }
+    }
+    if (!lit) continue;
+    F4 vin[10];
+    std::memcpy(vin, in, sizeof(vin));
+    F4 front[4], back[4];
+    light4(s, rc.lights, lc, vin, vin + 3, vin + 6, 0, front);
+    if (s.two_side) {
+      const F4 nb[3] = {-vin[3], -vin[4], -vin[5]};
+      light4(s, rc.lights, lc, vin, nb, vin + 6, 1, back);
+    }
+    const F4* b = s.two_side ? back : front;
+    // Lanes to vertices: a 4x4 transpose, then one RGBA store per vertex and side.
+    alignas(16) float fr[4][4], bk[4][4];
+#if defined(__SSE2__)
+    __m128 f0 = front[0], f1 = front[1], f2 = front[2], f3 = front[3];
+    _MM_TRANSPOSE4_PS(f0, f1, f2, f3);
+    _mm_store_ps(fr[0], f0), _mm_store_ps(fr[1], f1), _mm_store_ps(fr[2], f2), _mm_store_ps(fr[3], f3);
+    __m128 b0 = b[0], b1 = b[1], b2 = b[2], b3 = b[3];
+    _MM_TRANSPOSE4_PS(b0, b1, b2, b3);
+    _mm_store_ps(bk[0], b0), _mm_store_ps(bk[1], b1), _mm_store_ps(bk[2], b2), _mm_store_ps(bk[3], b3);
+#else
+    for (int k = 0; k < 4; ++k)
+      for (int l = 0; l < 4; ++l) fr[l][k] = front[k][l], bk[l][k] = b[k][l];
+#endif
+    for (std::size_t l = 0; l < lanes; ++l) {
+      float* a = attrs + (q + l) * kAttrs;
+      std::memcpy(a + kFront, fr[l], 4 * sizeof(float)), std::memcpy(a + kBack, bk[l], 4 * sizeof(float));
+    }
+  }
+
+  // Draw (or queue) in submission order; a drawn triangle's vertices have consecutive slots.
+  const bool flat = s.shade == ShadeModel::Flat;
+  std::size_t slot = 0;
+  const double* wz = ck.row(TriChunk::kWz);
+  const double* iw = ck.row(TriChunk::kIw);
+  const double *cx = ck.row(TriChunk::kCx), *cy = ck.row(TriChunk::kCy), *cz = ck.row(TriChunk::kCz),
+               *cw = ck.row(TriChunk::kCw);
+  for (std::size_t j = 0; j < nt; ++j) {
+    if (ck.status[j] == TriChunk::kSkip) continue;
+    const float* a = attrs + slot * kAttrs;
+    slot += 3;
+    if (ck.status[j] == TriChunk::kDraw) {
+      WinVert w[3];
+      for (int k = 0; k < 3; ++k) {
+        const std::size_t i = 3 * j + k;
+        w[k] = WinVert{wx[i], wy[i], wz[i], iw[i], a + k * kAttrs};
+      }
+      rc.emit_triangle_direct(w[0], w[1], w[2], ck.side[j], flat ? w[2].a : nullptr);
+      continue;
+    }
+    PVert pv[3];
+    for (int k = 0; k < 3; ++k) {
+      const std::size_t i = 3 * j + k;
+      pv[k].clip = Vec4(cx[i], cy[i], cz[i], cw[i]);
+      std::memcpy(pv[k].a, a + k * kAttrs, sizeof(pv[k].a));
+    }
+    rc.draw_triangle(pv[0], pv[1], pv[2], pv[2]);
+  }
+}
+
+// A batch of `tris` independent triangles from `src`, drawn through `r`.
+template <class Src>
+void draw_triangles(Raster& r, const Src& src, std::size_t tris) {
+  if (tris == 0) return;
+  const Context::State& s = r.s;
+  const Mat3 nmat = s.top(MatrixMode::ModelView).topLeftCorner<3, 3>().inverse().transpose();
+  const std::size_t chunks = (tris + kChunk - 1) / kChunk;
+  // Kept between batches (per calling thread): fresh buffers would cost page faults.
+  static thread_local std::vector<std::unique_ptr<ChunkOut>> tl_chunks;
+  std::vector<std::unique_ptr<ChunkOut>>& ck = tl_chunks;
+  const bool banded = s.threads > 1 && (3 * tris >= 64 || std::int64_t(r.width) * r.height >= 512 * 512);
+  const std::size_t need = banded ? chunks : 1;
+  while (ck.size() < need) ck.push_back(std::make_unique<ChunkOut>());
+  if (!banded) {
+    r.sink = nullptr;
+    for (std::size_t c = 0; c < chunks; ++c)
+      run_chunk(r, src, nmat, chunk_scratch(), *ck[0], c * kChunk, std::min(tris, (c + 1) * kChunk));
+    return;
+  }
+  const int bands = (r.height + kBandRows - 1) / kBandRows;
+  tbb::task_arena& arena = arena_for(s.threads);
+  arena.execute([&] {
+    tbb::parallel_for(std::size_t(0), chunks, [&](std::size_t c) {
+      Raster rc = r;
+      ChunkOut& k = *ck[c];
+      k.queue.clear();
+      rc.sink = &k.queue;
+      run_chunk(rc, src, nmat, chunk_scratch(), k, c * kChunk, std::min(tris, (c + 1) * kChunk));
+      k.queue.bin(bands);
+    });
+  });
+  static thread_local std::vector<Queue*> tl_queues;
+  std::vector<Queue*>& queues = tl_queues;
+  queues.clear();
+  for (std::size_t c = 0; c < chunks; ++c) queues.push_back(&ck[c]->queue);
+  draw_bands(r, queues.data(), queues.size());
+}
+
 }  // namespace
+
+std::atomic<bool> simd_fallback{false};
+
+bool run_triangle_arrays(Context::State& s, int width, int height, std::uint8_t* color, float* depth,
+                         const VertexArrays& a, const std::uint32_t* indices, int first, int count) {
+  if (!fast_triangles_ok(s)) return false;
+  Raster r(s, width, height, color, depth);
+  // Batches bound the queued primitives' memory.
+  constexpr std::size_t kBatch = 16384;  // triangles
+  const std::size_t tris = std::size_t(count) / 3;
+  for (std::size_t t = 0; t < tris; t += kBatch)
+    draw_triangles(r, ArraySource{s, a, indices, std::size_t(first) + 3 * t}, std::min(kBatch, tris - t));
+  return true;
+}
 
 void run_primitive(Context::State& s, int width, int height, std::uint8_t* color, float* depth, Primitive p,
                    const std::vector<InVertex>& in) {
   if (in.empty()) return;
+  if (p == Primitive::Triangles && fast_triangles_ok(s)) {
+    Raster r(s, width, height, color, depth);
+    return draw_triangles(r, InSource{in.data()}, in.size() / 3);
+  }
   const Mat4& mv = s.top(MatrixMode::ModelView);
   const Mat3 nmat = mv.topLeftCorner<3, 3>().inverse().transpose();
   const Mat4& proj = s.top(MatrixMode::Projection);
@@ -1654,17 +2370,14 @@ void run_primitive(Context::State& s, int width, int height, std::uint8_t* color
   } else {
     stage(0, units);
   }
-  static thread_local std::vector<Job> tl_jobs;
-  std::vector<Job>& jobs = tl_jobs;
+  static thread_local Queue tl_queue;
+  Queue& jobs = tl_queue;
   jobs.clear();
-  std::vector<std::pair<const Job*, std::size_t>> spans;  // queued primitives, in order
+  std::vector<Queue*> queues;  // queued primitives, in order
   // Bands pay for many primitives, or for few on a large framebuffer (a couple of big textured
   // triangles are all fragment work).
   const bool banded = s.threads > 1 && (in.size() >= 64 || std::int64_t(width) * height >= 512 * 512);
-  if (banded) {
-    jobs.reserve(in.size());
-    r.sink = &jobs;
-  }
+  if (banded) r.sink = &jobs;
   const std::size_t n = v.size();
   // Every polygon is split into triangles before clipping, as Mesa does (quads as (0,1,2),
   // (0,2,3) keeping the last vertex as provoking; polygons as a fan from vertex 0); the edge
@@ -1718,25 +2431,26 @@ void run_primitive(Context::State& s, int width, int height, std::uint8_t* color
         // the queues are joined in chunk order, so submission order is kept.
         const std::size_t tris = n / 3, chunk = 256, chunks = (tris + chunk - 1) / chunk;
         // Kept between batches (per calling thread): fresh 100 kB queues cost page faults.
-        static thread_local std::vector<std::vector<Job>> tl_queues;
-        std::vector<std::vector<Job>>& queues = tl_queues;
-        if (queues.size() < chunks) queues.resize(chunks);
-        for (std::size_t c = 0; c < chunks; ++c) queues[c].clear();
+        static thread_local std::vector<std::unique_ptr<Queue>> tl_queues;
+        std::vector<std::unique_ptr<Queue>>& cq = tl_queues;
+        while (cq.size() < chunks) cq.push_back(std::make_unique<Queue>());
+        const int bands = (height + kBandRows - 1) / kBandRows;
         tbb::task_arena& arena = arena_for(s.threads);
         arena.execute([&] {
           tbb::parallel_for(std::size_t(0), chunks, [&](std::size_t c) {
             Raster rc = r;
-            rc.sink = &queues[c];
-            queues[c].reserve(chunk + 16);
+            cq[c]->clear();
+            rc.sink = cq[c].get();
             for (std::size_t t = c * chunk; t < std::min(tris, (c + 1) * chunk); ++t)
               if (!precull || culled[t] != 1) {
                 if (precull && culled[t] == 2) rc.draw_inside_triangle(&win[3 * t], v[3 * t + 2]);
                 else rc.draw_triangle(v[3 * t], v[3 * t + 1], v[3 * t + 2], v[3 * t + 2]);
               }
+            cq[c]->bin(bands);
           });
         });
-        // Binned straight from the queues, in chunk order (no copy into one list).
-        for (std::size_t c = 0; c < chunks; ++c) spans.emplace_back(queues[c].data(), queues[c].size());
+        // Drawn straight from the queues, in chunk order (no copy into one list).
+        for (std::size_t c = 0; c < chunks; ++c) queues.push_back(cq[c].get());
       } else {
         // Vertices leave the vertex stage with their edge flags set: no copies needed.
         for (std::size_t i = 0; i + 2 < n; i += 3)
@@ -1769,29 +2483,12 @@ void run_primitive(Context::State& s, int width, int height, std::uint8_t* color
       break;
   }
   if (!banded) return;
-  if (!jobs.empty()) spans.emplace_back(jobs.data(), jobs.size());
-  if (spans.empty()) return;
-  // Bin the queued primitives by bands of rows, then rasterise the bands in parallel: each
-  // band owns its pixels, and draws its primitives in submission order.
-  const int bands = (height + kBandRows - 1) / kBandRows;
-  std::vector<std::vector<const Job*>> bins(bands);
-  for (const auto& [first, count] : spans)
-    for (const Job* j = first; j != first + count; ++j) {
-      if (j->row1 < 0) continue;
-      const int b0 = std::max(0, j->row0 / kBandRows), b1 = std::min(bands - 1, j->row1 / kBandRows);
-      for (int b = b0; b <= b1; ++b) bins[b].push_back(j);
-    }
+  if (!jobs.jobs.empty()) {
+    jobs.bin((height + kBandRows - 1) / kBandRows);
+    queues.push_back(&jobs);
+  }
   r.sink = nullptr;
-  tbb::task_arena& arena = arena_for(s.threads);
-  arena.execute([&] {
-    tbb::parallel_for(0, bands, [&](int b) {
-      if (bins[b].empty()) return;
-      Raster band = r;
-      band.y0 = std::max(r.y0, b * kBandRows);
-      band.y1 = std::min(r.y1, (b + 1) * kBandRows);
-      for (const Job* j : bins[b]) band.exec(*j);
-    });
-  });
+  if (!queues.empty()) draw_bands(r, queues.data(), queues.size());
 }
 
 }  // namespace wedge::render

@@ -278,10 +278,30 @@ bool fast_ok(const Texture& t, const Plan& p) {
   const I4 w00 = weight(_mm_mul_ps(na, nb), g), w10 = weight(_mm_mul_ps(a, nb), g), w01 = weight(_mm_mul_ps(na, b), g);
   const I4 w11 = _mm_sub_epi32(_mm_sub_epi32(_mm_sub_epi32(si, w00), w10), w01);  // the rest (may be -1)
   const I4 r0 = _mm_madd_epi16(j0, wi), r1 = _mm_madd_epi16(j1, wi);
+  const I4 p0 = _mm_or_si128(w00, _mm_slli_epi32(w10, 16)), p1 = _mm_or_si128(w01, _mm_slli_epi32(w11, 16));
+  if (_mm_movemask_ps(_mm_castsi128_ps(_mm_cmpeq_epi32(i1, _mm_add_epi32(i0, one)))) == 0xf) {
+    // Columns i0 and i0 + 1 neighbours in memory in every lane: one 8-byte load per fragment and
+    // row (it stays inside the row), channel bytes interleaved with the second texel, widened.
+    alignas(16) std::int32_t o[8];
+    _mm_store_si128(reinterpret_cast<I4*>(o), _mm_add_epi32(r0, i0));
+    _mm_store_si128(reinterpret_cast<I4*>(o + 4), _mm_add_epi32(r1, i0));
+    const I4 zero = _mm_setzero_si128();
+    const I4 pk[2][4] = {{_mm_shuffle_epi32(p0, 0x00), _mm_shuffle_epi32(p0, 0x55), _mm_shuffle_epi32(p0, 0xaa),
+                          _mm_shuffle_epi32(p0, 0xff)},
+                         {_mm_shuffle_epi32(p1, 0x00), _mm_shuffle_epi32(p1, 0x55), _mm_shuffle_epi32(p1, 0xaa),
+                          _mm_shuffle_epi32(p1, 0xff)}};
+#pragma GCC unroll 8
+    for (int n = 0; n < 8; ++n) {
+      const I4 q = _mm_loadl_epi64(reinterpret_cast<const I4*>(base + std::size_t(o[n]) * 4));
+      const I4 x = _mm_unpacklo_epi8(_mm_unpacklo_epi8(q, _mm_srli_si128(q, 4)), zero);
+      acc[n & 3] = _mm_add_epi32(acc[n & 3], _mm_madd_epi16(x, pk[n >> 2][n & 3]));
+    }
+    return;
+  }
   const I4 t00 = gather(base, _mm_add_epi32(r0, i0)), t10 = gather(base, _mm_add_epi32(r0, i1));
   const I4 t01 = gather(base, _mm_add_epi32(r1, i0)), t11 = gather(base, _mm_add_epi32(r1, i1));
-  add_pair(t00, t10, _mm_or_si128(w00, _mm_slli_epi32(w10, 16)), acc);
-  add_pair(t01, t11, _mm_or_si128(w01, _mm_slli_epi32(w11, 16)), acc);
+  add_pair(t00, t10, p0, acc);
+  add_pair(t01, t11, p1, acc);
 }
 
 // A fragment's integer channel sums to its RGBA colour: times 1/(255 * 2^14), clamped to [0, 1]

@@ -10,7 +10,12 @@ Diff compare(const Image& a, const Image& b, int tolerance) {
     d.outliers = -1;
     return d;
   }
-  const std::uint8_t* bg = a.rgba.data();  // the corner pixel is background in every scene
+  // Covered: pixels where either image differs from its own background (its corner pixel, the
+  // clear colour in every scene), so the outlier budget is a share of the pixels the geometry
+  // really covers. A background that differs between the two images shows up as outliers.
+  const std::uint8_t* bga = a.rgba.data();
+  const std::uint8_t* bgb = b.rgba.data();
+  for (int k = 0; k < 4; ++k) d.background_diff = std::max(d.background_diff, std::abs(int(bga[k]) - int(bgb[k])));
   const std::size_t n = std::size_t(a.width) * a.height;
   for (std::size_t i = 0; i < n; ++i) {
     const std::uint8_t* p = &a.rgba[i * 4];
@@ -18,7 +23,7 @@ Diff compare(const Image& a, const Image& b, int tolerance) {
     bool cov = false;
     int m = 0;
     for (int k = 0; k < 3; ++k) {
-      cov = cov || p[k] != bg[k] || q[k] != bg[k];
+      cov = cov || p[k] != bga[k] || q[k] != bgb[k];
       m = std::max(m, std::abs(int(p[k]) - int(q[k])));
     }
     if (cov) ++d.covered;

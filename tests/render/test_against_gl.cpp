@@ -13,6 +13,7 @@ using namespace wedge::render::test;
     INFO("covered " << (d).covered << ", outliers " << (d).outliers << ", max diff " << (d).max_diff); \
     CHECK((d).covered > 100);                                                                 \
     CHECK((d).outliers <= (d).covered / 1000);                                                \
+    CHECK((d).background_diff == 0);                                                          \
   } while (0)
 
 namespace {
@@ -454,3 +455,30 @@ TEST_CASE("points of size 1 and 3 and 1-pixel lines match OpenGL", "[render][gl]
 
 // The joints of a wide line loop test the diamond-exit rule at each end of a wide line.
 TEST_CASE("3-pixel-wide lines match OpenGL", "[render][gl][primitives]") { check_points_lines(3, 4); }
+
+TEST_CASE("clear colours convert to 8 bits exactly as OpenGL (ties to even)", "[render][gl][framebuffer]") {
+  // Every 1/2000 step of [0, 1], the tie points (k + 0.5) / 255 and their float neighbours, the
+  // clamped ends; each clear compared bit for bit (0.3 -> 76, not lround's 77).
+  std::vector<float> values;
+  for (int i = 0; i <= 2000; ++i) values.push_back(float(i) / 2000);
+  for (int k = 0; k < 255; ++k) {
+    float tie = (k + 0.5f) / 255.0f;
+    values.insert(values.end(), {tie, std::nextafter(tie, 0.0f), std::nextafter(tie, 1.0f)});
+  }
+  values.insert(values.end(), {0.3f, 0.7f, -0.25f, 1.5f});
+  Context c(2, 2);
+  oracle::GlContext g(2, 2);
+  int mismatches = 0;
+  for (std::size_t i = 0; i + 3 < values.size(); i += 4) {
+    const float r = values[i], gr = values[i + 1], b = values[i + 2], a = values[i + 3];
+    c.clear_color(r, gr, b, a);
+    c.clear();
+    g.clear_color(r, gr, b, a);
+    g.clear();
+    auto p = c.image().pixel(0, 0), q = g.image().pixel(0, 0);
+    if (p != q) {
+      if (++mismatches <= 5) FAIL_CHECK("clear (" << r << ", " << gr << ", " << b << ", " << a << "): wedge " << int(p[0]) << " " << int(p[1]) << " " << int(p[2]) << " " << int(p[3]) << ", GL " << int(q[0]) << " " << int(q[1]) << " " << int(q[2]) << " " << int(q[3]));
+    }
+  }
+  CHECK(mismatches == 0);
+}
