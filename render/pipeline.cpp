@@ -1317,19 +1317,20 @@ struct Raster {
     }
     if (!fits) return triangle_scalar<Phong, Smooth, Tex, Fog, Depth>(v0, v1in, v2in, side, flat);
 
-    // Barycentrics at the centre of pixel (ox, oy) and their steps per pixel.
-    const double inv_area = 1.0 / double(area);
+    // Barycentrics at the centre of pixel (ox, oy) and their steps per pixel: from the unsnapped
+    // positions, or from the snapped ones for a sliver that snapping turned over.
     double l0[3], glx[3], gly[3];
+    double fa[3], fb[3], fc[3];
+    if (float_barycentrics(v, fa, fb, fc)) {
+      for (int i = 0; i < 3; ++i) l0[i] = fa[i] * (ox + 0.5) + fb[i] * (oy + 0.5) + fc[i], glx[i] = fa[i], gly[i] = fb[i];
+    } else {
+      const double inv_area = 1.0 / double(area);
 #pragma GCC unroll 3
-    for (int i = 0; i < 3; ++i) {
-      const int a = (i + 1) % 3;
-      l0[i] = double(A[i] * (std::int64_t(ox) * 256 + 128 - X[a]) + B[i] * (std::int64_t(oy) * 256 + 128 - Y[a])) * inv_area;
-      glx[i] = double(A[i]) * kSub * inv_area, gly[i] = double(B[i]) * kSub * inv_area;
-    }
-    {
-      double fa[3], fb[3], fc[3];
-      if (float_barycentrics(v, fa, fb, fc))
-        for (int i = 0; i < 3; ++i) l0[i] = fa[i] * (ox + 0.5) + fb[i] * (oy + 0.5) + fc[i], glx[i] = fa[i], gly[i] = fb[i];
+      for (int i = 0; i < 3; ++i) {
+        const int a = (i + 1) % 3;
+        l0[i] = double(A[i] * (std::int64_t(ox) * 256 + 128 - X[a]) + B[i] * (std::int64_t(oy) * 256 + 128 - Y[a])) * inv_area;
+        glx[i] = double(A[i]) * kSub * inv_area, gly[i] = double(B[i]) * kSub * inv_area;
+      }
     }
     // (value, x step) of a plane in one register pair, the y step apart: the same products and
     // sums, in the same order, as three scalar dot products.
