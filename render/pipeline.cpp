@@ -978,9 +978,10 @@ struct Raster {
       if (avx2) return triangle_t_avx2<Phong, Smooth, Tex, Fog, Depth>(v0, v1, v2, side, flat);
     triangle_t<Phong, Smooth, Tex, Fog, Depth>(v0, v1, v2, side, flat);
   }
-  // Compiled twice: for the base x86-64 (SSE2) and, chosen at run time, with AVX2 enabled (the
-  // same operations in three-operand VEX encoding; FMA left off so that no multiply-add is
-  // contracted: both builds give the same bits).
+  // Two builds of triangle_q: for the base x86-64 (SSE2: the 4-lane loop), and with AVX2 enabled,
+  // chosen at run time (the same setup, then the 8-lane quad_loop8, or the SSE2 build for the
+  // states quad_loop8 does not take). FMA is left off so that no multiply-add is contracted:
+  // both builds give the same bits.
   template <bool Phong, bool Smooth, bool Tex, bool Fog, bool Depth>
   void triangle_t(const WinVert& v0, const WinVert& v1, const WinVert& v2, int side, const float* flat) {
     triangle_q<Phong, Smooth, Tex, Fog, Depth, false>(v0, v1, v2, side, flat);
@@ -1316,19 +1317,20 @@ struct Raster {
     }
     if (!fits) return triangle_scalar<Phong, Smooth, Tex, Fog, Depth>(v0, v1in, v2in, side, flat);
 
-    // Barycentrics at the centre of pixel (ox, oy) and their steps per pixel.
-    const double inv_area = 1.0 / double(area);
+    // Barycentrics at the centre of pixel (ox, oy) and their steps per pixel: from the unsnapped
+    // positions, or from the snapped ones for a sliver that snapping turned over.
     double l0[3], glx[3], gly[3];
+    double fa[3], fb[3], fc[3];
+    if (float_barycentrics(v, fa, fb, fc)) {
+      for (int i = 0; i < 3; ++i) l0[i] = fa[i] * (ox + 0.5) + fb[i] * (oy + 0.5) + fc[i], glx[i] = fa[i], gly[i] = fb[i];
+    } else {
+      const double inv_area = 1.0 / double(area);
 #pragma GCC unroll 3
-    for (int i = 0; i < 3; ++i) {
-      const int a = (i + 1) % 3;
-      l0[i] = double(A[i] * (std::int64_t(ox) * 256 + 128 - X[a]) + B[i] * (std::int64_t(oy) * 256 + 128 - Y[a])) * inv_area;
-      glx[i] = double(A[i]) * kSub * inv_area, gly[i] = double(B[i]) * kSub * inv_area;
-    }
-    {
-      double fa[3], fb[3], fc[3];
-      if (float_barycentrics(v, fa, fb, fc))
-        for (int i = 0; i < 3; ++i) l0[i] = fa[i] * (ox + 0.5) + fb[i] * (oy + 0.5) + fc[i], glx[i] = fa[i], gly[i] = fb[i];
+      for (int i = 0; i < 3; ++i) {
+        const int a = (i + 1) % 3;
+        l0[i] = double(A[i] * (std::int64_t(ox) * 256 + 128 - X[a]) + B[i] * (std::int64_t(oy) * 256 + 128 - Y[a])) * inv_area;
+        glx[i] = double(A[i]) * kSub * inv_area, gly[i] = double(B[i]) * kSub * inv_area;
+      }
     }
     // (value, x step) of a plane in one register pair, the y step apart: the same products and
     // sums, in the same order, as three scalar dot products.
