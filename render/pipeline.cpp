@@ -1380,7 +1380,8 @@ void run_chunk(Raster& rc, const Src& src, const Mat3& nmat, TriChunk& ck, Chunk
   const bool lean = lit && !needs.tex && !needs.fog && !needs.eye_normal;
   static_assert(kFront == 0 && kBack == 4, "lean attribute sets hold the colours first");
   const std::size_t astride = !lean ? kAttrs : s.two_side ? 8 : 4;
-  co.attrs.resize(ck.need.size() * astride);
+  // (Plus one full set of slack: a reader taking kAttrs floats from the last set stays inside.)
+  co.attrs.resize(ck.need.size() * astride + kAttrs);
   float* const attrs = co.attrs.data();
   const double* ex = ck.row(TriChunk::kEx);
   const double* ey = ck.row(TriChunk::kEy);
