@@ -2139,18 +2139,22 @@ void run_chunk(Raster& rc, const Src& src, const Mat3& nmat, TriChunk& ck, Chunk
     if (st != TriChunk::kSkip)
       for (int k = 0; k < 3; ++k) ck.need.push_back(std::uint32_t(i + k));
   }
-  co.attrs.resize(ck.need.size() * kAttrs);
+  // Attributes of the needed vertices, four at a time: lighting takes them as four lanes.
+  const bool lit = vertex_lighting(s);
+  const AttrNeeds needs(s);
+  // Lit, nothing else read: the normal and colour alone (no InVertex, no texture stage), and
+  // attribute sets cut to the colours the fill reads (a[kFront..] and, two-sided, a[kBack..]:
+  // kFront = 0, kBack = 4), so queued triangles carry 16 or 32 bytes per vertex, not 80.
+  const bool lean = lit && !needs.tex && !needs.fog && !needs.eye_normal;
+  static_assert(kFront == 0 && kBack == 4, "lean attribute sets hold the colours first");
+  const std::size_t astride = !lean ? kAttrs : s.two_side ? 8 : 4;
+  // (Plus one full set of slack: a reader taking kAttrs floats from the last set stays inside.)
+  co.attrs.resize(ck.need.size() * astride + kAttrs);
   float* const attrs = co.attrs.data();
   const double* ex = ck.row(TriChunk::kEx);
   const double* ey = ck.row(TriChunk::kEy);
   const double* ez = ck.row(TriChunk::kEz);
   const double* ew = ck.row(TriChunk::kEw);
-
-  // Attributes of the needed vertices, four at a time: lighting takes them as four lanes.
-  const bool lit = vertex_lighting(s);
-  const AttrNeeds needs(s);
-  // Lit, nothing else read: the normal and colour alone (no InVertex, no texture stage).
-  const bool lean = lit && !needs.tex && !needs.fog && !needs.eye_normal;
   const bool normalize = s.on(Cap::Normalize);
   const LightConsts lc(s, rc.lights);
   const std::size_t nn = ck.need.size();
@@ -2163,17 +2167,16 @@ void run_chunk(Raster& rc, const Src& src, const Mat3& nmat, TriChunk& ck, Chunk
       Vec3 n;
       Vec4f color;
       if (lean) {
-        // vertex_attrs' normal, and zeros for the attributes not read.
+        // vertex_attrs' normal; the set holds only the colours.
         n = nmat * src.normal(v0 + i);
         if (normalize) {
           double len = n.norm();
           if (len > 0) n /= len;
         }
         color = src.color(v0 + i);
-        std::memset(attrs + (q + l) * kAttrs + kTex, 0, sizeof(float) * (kAttrs - kTex));
       } else {
         auto&& v = src.vertex(v0 + i);
-        n = vertex_attrs(s, v, e, nmat, attrs + (q + l) * kAttrs, needs);
+        n = vertex_attrs(s, v, e, nmat, attrs + (q + l) * astride, needs);
         color = v.color;
       }
       if (lit) {
@@ -2208,8 +2211,9 @@ void run_chunk(Raster& rc, const Src& src, const Mat3& nmat, TriChunk& ck, Chunk
       for (int l = 0; l < 4; ++l) fr[l][k] = front[k][l], bk[l][k] = b[k][l];
 #endif
     for (std::size_t l = 0; l < lanes; ++l) {
-      float* a = attrs + (q + l) * kAttrs;
-      std::memcpy(a + kFront, fr[l], 4 * sizeof(float)), std::memcpy(a + kBack, bk[l], 4 * sizeof(float));
+      float* a = attrs + (q + l) * astride;
+      std::memcpy(a + kFront, fr[l], 4 * sizeof(float));
+      if (astride > 4) std::memcpy(a + kBack, bk[l], 4 * sizeof(float));
     }
   }
 
@@ -2222,13 +2226,13 @@ void run_chunk(Raster& rc, const Src& src, const Mat3& nmat, TriChunk& ck, Chunk
                *cw = ck.row(TriChunk::kCw);
   for (std::size_t j = 0; j < nt; ++j) {
     if (ck.status[j] == TriChunk::kSkip) continue;
-    const float* a = attrs + slot * kAttrs;
+    const float* a = attrs + slot * astride;
     slot += 3;
     if (ck.status[j] == TriChunk::kDraw) {
       WinVert w[3];
       for (int k = 0; k < 3; ++k) {
         const std::size_t i = 3 * j + k;
-        w[k] = WinVert{wx[i], wy[i], wz[i], iw[i], a + k * kAttrs};
+        w[k] = WinVert{wx[i], wy[i], wz[i], iw[i], a + k * astride};
       }
       rc.emit_triangle_direct(w[0], w[1], w[2], ck.side[j], flat ? w[2].a : nullptr);
       continue;
@@ -2237,7 +2241,10 @@ void run_chunk(Raster& rc, const Src& src, const Mat3& nmat, TriChunk& ck, Chunk
     for (int k = 0; k < 3; ++k) {
       const std::size_t i = 3 * j + k;
       pv[k].clip = Vec4(cx[i], cy[i], cz[i], cw[i]);
-      std::memcpy(pv[k].a, a + k * kAttrs, sizeof(pv[k].a));
+      // (A lean set's missing attributes are zero, as vertex_attrs leaves unread ones.)
+      std::fill(std::begin(pv[k].a), std::end(pv[k].a), 0.0f);
+      std::memcpy(pv[k].a, a + k * astride, sizeof(float) * astride);
+      if (astride == 4) std::memcpy(pv[k].a + kBack, a + k * astride, 4 * sizeof(float));
     }
     rc.draw_triangle(pv[0], pv[1], pv[2], pv[2]);
   }
