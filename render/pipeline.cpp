@@ -1292,6 +1292,13 @@ struct Raster {
     const int by1 = int(std::min<std::int64_t>(y1 - 1, (std::max({Y[0], Y[1], Y[2]}) - 128) >> 8));
     if (bx0 > bx1 || by0 > by1) return;
     const int ox = bx0 & ~1, oy = by0 & ~1;  // the first quad
+    // The framebuffer lines the triangle touches are usually not cached (a mesh's triangles come
+    // in no screen order): start fetching them now, to overlap the setup below.
+    for (int py : {by0, by1}) {
+      const std::size_t i = std::size_t(py) * width + bx0;
+      _mm_prefetch(reinterpret_cast<const char*>(depth + i), _MM_HINT_T0);
+      _mm_prefetch(reinterpret_cast<const char*>(color + i * 4), _MM_HINT_T0);
+    }
 
     // Edge i (opposite vertex i) at the centre (256 px + 128, 256 py + 128) of pixel (px, py) is
     // E = 256 (A px + B py) + K, K holding the tie-rule bias (see triangle_scalar), and
