@@ -2242,8 +2242,10 @@ void run_chunk(Raster& rc, const Src& src, const Mat3& nmat, TriChunk& ck, Chunk
       }
       if (lit) {
         // As light_vertex: P = (eye / w) in double, then float.
+        // (w = 1, the usual affine modelview: x / 1 = x exactly, three divisions saved.)
         const double iw = e.w();
-        in[0][l] = float(e.x() / iw), in[1][l] = float(e.y() / iw), in[2][l] = float(e.z() / iw);
+        if (iw == 1.0) in[0][l] = float(e.x()), in[1][l] = float(e.y()), in[2][l] = float(e.z());
+        else in[0][l] = float(e.x() / iw), in[1][l] = float(e.y() / iw), in[2][l] = float(e.z() / iw);
         in[3][l] = float(n.x()), in[4][l] = float(n.y()), in[5][l] = float(n.z());
         for (int k = 0; k < 4; ++k) in[6 + k][l] = color[k];
       }
