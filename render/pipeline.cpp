@@ -1292,6 +1292,13 @@ struct Raster {
     const int by1 = int(std::min<std::int64_t>(y1 - 1, (std::max({Y[0], Y[1], Y[2]}) - 128) >> 8));
     if (bx0 > bx1 || by0 > by1) return;
     const int ox = bx0 & ~1, oy = by0 & ~1;  // the first quad
+    // The framebuffer lines the triangle touches are usually not cached (a mesh's triangles come
+    // in no screen order): start fetching them now, to overlap the setup below.
+    for (int py : {by0, by1}) {
+      const std::size_t i = std::size_t(py) * width + bx0;
+      _mm_prefetch(reinterpret_cast<const char*>(depth + i), _MM_HINT_T0);
+      _mm_prefetch(reinterpret_cast<const char*>(color + i * 4), _MM_HINT_T0);
+    }
 
     // Edge i (opposite vertex i) at the centre (256 px + 128, 256 py + 128) of pixel (px, py) is
     // E = 256 (A px + B py) + K, K holding the tie-rule bias (see triangle_scalar), and
@@ -1316,6 +1323,25 @@ struct Raster {
       if (std::abs(c[i]) + std::abs(A[i]) * w + std::abs(B[i]) * h > (std::int64_t(1) << 30)) fits = false;
     }
     if (!fits) return triangle_scalar<Phong, Smooth, Tex, Fog, Depth>(v0, v1in, v2in, side, flat);
+    // Tiny triangles (most of a dense mesh's, a pixel or two each): try the few pixel centres of
+    // the bounding box first, by the loops' own integer test, and skip the plane setup when none
+    // is covered (many cover no centre at all).
+    // The covered centres are kept (cov_x, cov_y): the per-pixel path below draws them.
+    const bool tiny = bx1 - bx0 < 4 && by1 - by0 < 4;
+    int cov_n = 0;
+    std::uint8_t cov_x[16], cov_y[16];  // offsets from (ox, oy)
+    if (tiny) {
+      for (int py = by0; py <= by1; ++py) {
+        const std::int64_t dy = py - oy;
+        const std::int64_t r0 = c[0] + B[0] * dy, r1 = c[1] + B[1] * dy, r2 = c[2] + B[2] * dy;
+        for (int px = bx0; px <= bx1; ++px) {
+          const std::int64_t dx = px - ox;
+          if (((r0 + A[0] * dx) | (r1 + A[1] * dx) | (r2 + A[2] * dx)) >= 0)
+            cov_x[cov_n] = std::uint8_t(dx), cov_y[cov_n] = std::uint8_t(dy), ++cov_n;
+        }
+      }
+      if (!cov_n) return;
+    }
 
     // Barycentrics at the centre of pixel (ox, oy) and their steps per pixel: from the unsnapped
     // positions, or from the snapped ones for a sliver that snapping turned over.
@@ -1389,6 +1415,41 @@ struct Raster {
     const DepthFunc dfunc = s.depth_func;
     const bool dmask = s.depth_mask;
     const bool fast_write = !blend && all_mask;
+    if constexpr (!Phong && !Tex && !Fog) {
+      // Tiny triangles in the common state: the covered pixels one by one, with the quad loops'
+      // operations per lane in the same order (the same bits), without their setup and blocks.
+      if (tiny && fast_write) {
+        const __m128 zero = _mm_setzero_ps(), one = _mm_set1_ps(1.0f);
+        auto clamp01 = [&](float x) { return _mm_cvtss_f32(_mm_min_ss(_mm_max_ss(_mm_set_ss(x), zero), one)); };
+        auto at = [](const QPlane& p, float X, float Y) {
+          return (_mm_cvtss_f32(p.c) + Y * _mm_cvtss_f32(p.dy)) + X * _mm_cvtss_f32(p.dx);
+        };
+        for (int n = 0; n < cov_n; ++n) {
+          const int px = ox + cov_x[n], py = oy + cov_y[n];
+          const float X = float(cov_x[n]), Y = float(cov_y[n]);
+          const std::size_t idx = std::size_t(py) * width + px;
+          if constexpr (Depth) {
+            const float zf = clamp01(float((zc + double(Y) * zdy) + double(X) * zdx));
+            const double zr = (double(zf) * 16777215.0 + 0x1p52) - 0x1p52;
+            const float zq = float(zr * (1.0 / 16777215.0));
+            const float d = depth[idx];
+            if (!depth_pass(dfunc, zq, d)) continue;
+            if (dmask) depth[idx] = zq;
+          }
+          float cr, cg, cb, ca;
+          if constexpr (Smooth) {
+            const float rw = 1.0f / at(pw, X, Y);
+            cr = at(pc[0], X, Y) * rw, cg = at(pc[1], X, Y) * rw, cb = at(pc[2], X, Y) * rw, ca = at(pc[3], X, Y) * rw;
+          } else {
+            cr = flat[col], cg = flat[col + 1], cb = flat[col + 2], ca = flat[col + 3];
+          }
+          auto q8 = [&](float x) { return std::uint32_t(int(clamp01(x) * 255.0f + 0.5f)); };
+          const std::uint32_t pix = q8(cr) | q8(cg) << 8 | q8(cb) << 16 | q8(ca) << 24;
+          std::memcpy(color + idx * 4, &pix, 4);
+        }
+        return;
+      }
+    }
     if constexpr (Avx2) {
       static_assert(!Phong, "the AVX2 build takes no Phong triangles (triangle_isa)");
       // The states the two-quad loop takes; the rare others go to the SSE2 build of the 4-lane
@@ -2181,8 +2242,10 @@ void run_chunk(Raster& rc, const Src& src, const Mat3& nmat, TriChunk& ck, Chunk
       }
       if (lit) {
         // As light_vertex: P = (eye / w) in double, then float.
+        // (w = 1, the usual affine modelview: x / 1 = x exactly, three divisions saved.)
         const double iw = e.w();
-        in[0][l] = float(e.x() / iw), in[1][l] = float(e.y() / iw), in[2][l] = float(e.z() / iw);
+        if (iw == 1.0) in[0][l] = float(e.x()), in[1][l] = float(e.y()), in[2][l] = float(e.z());
+        else in[0][l] = float(e.x() / iw), in[1][l] = float(e.y() / iw), in[2][l] = float(e.z() / iw);
         in[3][l] = float(n.x()), in[4][l] = float(n.y()), in[5][l] = float(n.z());
         for (int k = 0; k < 4; ++k) in[6 + k][l] = color[k];
       }

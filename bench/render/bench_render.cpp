@@ -153,6 +153,11 @@ void run(const char* name, int w, int h, int frames, Scene scene) {
     Context c(w, h);
     c.threads(g_threads);
     ours = best_ms(frames, [&] { scene(c); });
+    // WEDGE_BENCH_DUMP=dir: wedge's last frame as dir/<first word of the scene>.png (to compare
+    // images across changes).
+    if (const char* dir = std::getenv("WEDGE_BENCH_DUMP"))
+      write_png(std::string(dir) + "/" + std::string(name, std::strcspn(name, " ,")) + "_" +
+                    std::to_string(w) + ".png", c.image());
   }
   {
     oracle::GlContext g(w, h);
