@@ -274,21 +274,6 @@ void Context::color(float r, float g, float b, float a) { s_->cur_color = Vec4f(
 void Context::tex_coord(double s, double t, double r, double q) { s_->cur_tex = Vec4(s, t, r, q); }
 
 // --- vertex arrays ---
-static InVertex fetch(const Context::State& s, const VertexArrays& a, std::size_t i) {
-  InVertex v{Vec4(0, 0, 0, 1), s.cur_normal, s.cur_color, s.cur_tex};
-  for (int k = 0; k < a.position_size; ++k) v.position[k] = a.positions[i * a.position_size + k];
-  if (a.normals) v.normal = Vec3(a.normals[i * 3], a.normals[i * 3 + 1], a.normals[i * 3 + 2]);
-  if (a.colors) {
-    v.color = Vec4f(0, 0, 0, 1);
-    for (int k = 0; k < a.color_size; ++k) v.color[k] = a.colors[i * a.color_size + k];
-  }
-  if (a.texcoords) {
-    v.tex = Vec4(0, 0, 0, 1);
-    for (int k = 0; k < a.texcoord_size; ++k) v.tex[k] = a.texcoords[i * a.texcoord_size + k];
-  }
-  return v;
-}
-
 static void check_arrays(const VertexArrays& a) {
   if (!a.positions) fail("draw: the position array is required");
   if (a.position_size < 2 || a.position_size > 4) fail("draw: position size ", a.position_size, " must be 2, 3 or 4");
@@ -310,7 +295,7 @@ void Context::draw_arrays(Primitive p, const VertexArrays& a, int first, int cou
   for (int start = 0; start < count; start += batch) {
     const int n = std::min(batch, count - start);
     v.resize(n);
-    for (int i = 0; i < n; ++i) v[i] = fetch(*s_, a, std::size_t(first + start + i));
+    for (int i = 0; i < n; ++i) v[i] = fetch_vertex(*s_, a, std::size_t(first + start + i));
     run_primitive(*s_, width_, height_, color_.data(), depth_.data(), p, v);
   }
 }
@@ -328,7 +313,7 @@ void Context::draw_elements(Primitive p, const VertexArrays& a, const std::uint3
   for (int start = 0; start < count; start += batch) {
     const int n = std::min(batch, count - start);
     v.resize(n);
-    for (int i = 0; i < n; ++i) v[i] = fetch(*s_, a, indices[start + i]);
+    for (int i = 0; i < n; ++i) v[i] = fetch_vertex(*s_, a, indices[start + i]);
     run_primitive(*s_, width_, height_, color_.data(), depth_.data(), p, v);
   }
 }

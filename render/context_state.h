@@ -67,6 +67,23 @@ struct Context::State {
   const Mat4& top(MatrixMode m) const { return stacks[static_cast<int>(m)].back(); }
 };
 
+// Element i of client vertex arrays as a pipeline vertex: what the arrays lack comes from the
+// current normal, colour and texture coordinate, missing components from (0, 0, 0, 1).
+inline InVertex fetch_vertex(const Context::State& s, const VertexArrays& a, std::size_t i) {
+  InVertex v{Vec4(0, 0, 0, 1), s.cur_normal, s.cur_color, s.cur_tex};
+  for (int k = 0; k < a.position_size; ++k) v.position[k] = a.positions[i * a.position_size + k];
+  if (a.normals) v.normal = Vec3(a.normals[i * 3], a.normals[i * 3 + 1], a.normals[i * 3 + 2]);
+  if (a.colors) {
+    v.color = Vec4f(0, 0, 0, 1);
+    for (int k = 0; k < a.color_size; ++k) v.color[k] = a.colors[i * a.color_size + k];
+  }
+  if (a.texcoords) {
+    v.tex = Vec4(0, 0, 0, 1);
+    for (int k = 0; k < a.texcoord_size; ++k) v.tex[k] = a.texcoords[i * a.texcoord_size + k];
+  }
+  return v;
+}
+
 // For tests: when set, code paths chosen at run time for the CPU (AVX2) give way to the
 // default build's (SSE2 on x86-64), which must draw the same images.
 extern std::atomic<bool> simd_fallback;

@@ -878,9 +878,9 @@ struct Raster {
     const int col = side ? kBack : kFront;
     float zv[3], iw[3];
     for (int i = 0; i < 3; ++i) zv[i] = float(v[i]->z), iw[i] = float(v[i]->inv_w);
-    double dl_dx[3] = {A[0] * kSub * inv_area, A[1] * kSub * inv_area, A[2] * kSub * inv_area};
-    double dl_dy[3] = {B[0] * kSub * inv_area, B[1] * kSub * inv_area, B[2] * kSub * inv_area};
-    double fc[3] = {0, 0, 0};
+    // Barycentric planes from the unsnapped positions, or the snapped ones for a sliver that
+    // snapping turned over (then l = E / area per pixel, exactly).
+    double dl_dx[3], dl_dy[3], fc[3];
     const bool exact_weights = float_barycentrics(v, dl_dx, dl_dy, fc);
     if (!exact_weights)
       for (int i = 0; i < 3; ++i) dl_dx[i] = A[i] * kSub * inv_area, dl_dy[i] = B[i] * kSub * inv_area;
@@ -898,9 +898,11 @@ struct Raster {
       for (int i = 0; i < 3; ++i) E[i] = edge_at(i, Px, Py);
       for (int px = bx0; px <= bx1; ++px, E[0] += A[0] * 256, E[1] += A[1] * 256, E[2] += A[2] * 256) {
         if (E[0] + bias[0] < 0 || E[1] + bias[1] < 0 || E[2] + bias[2] < 0) continue;
-        double l[3] = {E[0] * inv_area, E[1] * inv_area, E[2] * inv_area};
+        double l[3];
         if (exact_weights)
           for (int i = 0; i < 3; ++i) l[i] = dl_dx[i] * (px + 0.5) + dl_dy[i] * (py + 0.5) + fc[i];
+        else
+          for (int i = 0; i < 3; ++i) l[i] = E[i] * inv_area;
         float z = float(l[0] * zv[0] + l[1] * zv[1] + l[2] * zv[2]);
         if (!depth_stage_t<Depth>(px, py, z, dfunc, dmask)) continue;
         // Perspective-correct weights: l_i / w_i normalised.
@@ -2025,20 +2027,7 @@ struct ArraySource {
     const float* c = a.colors + at(i) * a.color_size;
     return Vec4f(c[0], c[1], c[2], a.color_size == 4 ? c[3] : 1.0f);
   }
-  InVertex vertex(std::size_t i) const {
-    const std::size_t e = at(i);
-    InVertex v{position(i), s.cur_normal, s.cur_color, s.cur_tex};
-    if (a.normals) v.normal = Vec3(a.normals[e * 3], a.normals[e * 3 + 1], a.normals[e * 3 + 2]);
-    if (a.colors) {
-      v.color = Vec4f(0, 0, 0, 1);
-      for (int k = 0; k < a.color_size; ++k) v.color[k] = a.colors[e * a.color_size + k];
-    }
-    if (a.texcoords) {
-      v.tex = Vec4(0, 0, 0, 1);
-      for (int k = 0; k < a.texcoord_size; ++k) v.tex[k] = a.texcoords[e * a.texcoord_size + k];
-    }
-    return v;
-  }
+  InVertex vertex(std::size_t i) const { return fetch_vertex(s, a, at(i)); }
 };
 
 constexpr std::size_t kChunk = 256;  // triangles
