@@ -4,7 +4,6 @@
 #include <cmath>
 #include <map>
 #include <numeric>
-#include <tuple>
 
 namespace wedge {
 
@@ -77,32 +76,14 @@ EulerCounts euler_counts(const Mesh& mesh) {
 
 // --- MeshLeaf ---
 
-namespace {
-// The mesh's topology: vertices at exactly the same position merged into one, attributes
-// dropped. A render mesh splits a vertex wherever its corners differ in uv or normal (a textured
-// cube's seams, a faceted cube's per-face normals); the surface it describes is still closed, and
-// it is the welded copy that the closed / 2-manifold / Euler checks must see.
-Mesh topology(const Mesh& m) {
-  std::map<std::tuple<double, double, double>, std::uint32_t> index;
-  std::vector<std::uint32_t> remap(m.positions.size());
-  Mesh w;
-  for (std::size_t i = 0; i < m.positions.size(); ++i) {
-    const auto& p = m.positions[i];
-    auto [it, inserted] = index.emplace(std::make_tuple(p.x(), p.y(), p.z()), static_cast<std::uint32_t>(w.positions.size()));
-    if (inserted) w.positions.push_back(p);
-    remap[i] = it->second;
-  }
-  w.triangles.reserve(m.triangles.size());
-  for (const auto& t : m.triangles) w.triangles.push_back({remap[t[0]], remap[t[1]], remap[t[2]]});
-  return w;
-}
-}  // namespace
-
 MeshLeaf::MeshLeaf(Mesh mesh, const std::string& what) : mesh_(std::move(mesh)) {
   mesh_.check();
   if (mesh_.triangles.empty()) fail(what, " has no triangles");
   try {
-    counts_ = euler_counts(topology(mesh_));
+    // A render mesh splits a vertex wherever its corners differ in uv or normal (a textured
+    // cube's seams, a faceted cube's per-face normals); the surface it describes is still
+    // closed, and it is the welded copy the closed / 2-manifold / Euler checks must see.
+    counts_ = euler_counts(mesh_.welded());
   } catch (const Error& e) {
     fail(what, ": ", e.what());
   }

@@ -1,5 +1,7 @@
 #include "kernel/mesh.h"
 
+#include <map>
+#include <tuple>
 #include <unordered_map>
 
 #include "kernel/error.h"
@@ -19,6 +21,22 @@ std::uint32_t Mesh::add_triangle(std::uint32_t a, std::uint32_t b, std::uint32_t
   }
   triangles.push_back({a, b, c});
   return static_cast<std::uint32_t>(triangles.size() - 1);
+}
+
+Mesh Mesh::welded() const {
+  std::map<std::tuple<double, double, double>, std::uint32_t> index;
+  std::vector<std::uint32_t> remap(positions.size());
+  Mesh w;
+  for (std::size_t i = 0; i < positions.size(); ++i) {
+    const Point3& p = positions[i];
+    auto [it, inserted] = index.emplace(std::make_tuple(p.x(), p.y(), p.z()), static_cast<std::uint32_t>(w.positions.size()));
+    if (inserted) w.positions.push_back(p);
+    remap[i] = it->second;
+  }
+  w.triangles.reserve(triangles.size());
+  for (const Triangle& t : triangles) w.triangles.push_back({remap[t[0]], remap[t[1]], remap[t[2]]});
+  w.face_ids = face_ids;
+  return w;
 }
 
 void Mesh::append(const Mesh& other) {

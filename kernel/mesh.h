@@ -28,6 +28,11 @@ struct Mesh {
   std::uint32_t add_vertex(const Point3& p);
   std::uint32_t add_triangle(std::uint32_t a, std::uint32_t b, std::uint32_t c, std::int32_t face_id = -1);
 
+  // The same triangles (and face ids) on vertices at exactly equal positions merged into one;
+  // normals and uvs dropped. Rebuilds the shared vertices of an STL file, and gives the surface
+  // topology of a render mesh that splits vertices at uv seams or creases.
+  Mesh welded() const;
+
   // Appends `other`, offsetting its indices. Attributes present in only one of the two are
   // dropped (normals, uvs) or filled with -1 (face ids).
   void append(const Mesh& other);

@@ -50,25 +50,6 @@ void quiet_openmesh() {
   (void)done;
 }
 
-// STL stores each triangle's corners separately; corners written from the same vertex have
-// identical coordinates, so merging exactly equal positions rebuilds the shared vertices.
-void weld_identical_vertices(Mesh& m) {
-  std::map<std::tuple<double, double, double>, std::uint32_t> index;
-  std::vector<std::uint32_t> remap(m.positions.size());
-  std::vector<Point3> positions;
-  for (std::size_t i = 0; i < m.positions.size(); ++i) {
-    const auto& p = m.positions[i];
-    auto [it, inserted] = index.emplace(std::make_tuple(p.x(), p.y(), p.z()), static_cast<std::uint32_t>(positions.size()));
-    if (inserted) positions.push_back(p);
-    remap[i] = it->second;
-  }
-  m.positions = std::move(positions);
-  m.normals.clear();
-  m.uvs.clear();
-  for (auto& t : m.triangles)
-    for (auto& v : t) v = remap[v];
-}
-
 // --- OBJ ---
 // OBJ is read here rather than through OpenMesh: OpenMesh's importer keeps one normal per vertex
 // (its halfedge normals are keyed by vertex and set only when a face is added whole, which a
@@ -318,7 +299,9 @@ Mesh read_mesh(const std::string& path) {
     // over the whole mesh where the file gives none.
     if (k == 3) m.add_triangle(tri[0], tri[1], tri[2]);
   }
-  if (format == "stl") weld_identical_vertices(m);
+  // STL stores each triangle's corners separately; corners written from the same vertex have
+  // identical coordinates, so merging exactly equal positions rebuilds the shared vertices.
+  if (format == "stl") m = m.welded();
   if (has_normals) {
     bool all_zero = std::all_of(m.normals.begin(), m.normals.end(), [](const Vec3& n) { return n.squaredNorm() == 0; });
     if (all_zero) m.normals.clear();
