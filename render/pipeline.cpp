@@ -136,6 +136,220 @@ inline bool float_barycentrics(const WinVert* const v[3], double fa[3], double f
   return true;
 }
 
+constexpr int kRunMax = 64;  // triangles per run of Raster::triangle_run
+
+// Vectors of doubles (GCC vector extensions): SSE2 pairs, AVX2 quadruples.
+typedef double D2 __attribute__((vector_size(16)));
+typedef double D4 __attribute__((vector_size(32)));
+
+// --- runs of small triangles: the setup of several triangles at once ---
+// Most triangles of a dense mesh cover a pixel or two. Raster::triangle_run sets up the
+// triangles of a run a few at a time, one per double lane (four with AVX2, two with SSE2):
+// snapping to the 1/256-pixel grid, bounding box, edge functions, the coverage of the pixel
+// centres of a bounding box up to 4 x 4, and the barycentric, depth, 1/w and colour planes.
+// These are Raster::triangle_q's operations lane by lane in its order (its 64-bit integer
+// arithmetic done in doubles, exactly: every value stays below 2^53), so the same bits; no
+// branch depends on a triangle's shape, where triangle_q branches per triangle.
+
+struct RunSetup {
+  static constexpr int kMax = kRunMax;
+  enum : std::uint8_t { kNone, kTiny, kOther };  // draws nothing; small, covered; triangle() draws it
+  // In: window x, y, depth (as float, then double), 1/w and the side's colour of each vertex.
+  alignas(32) double x[3][kMax], y[3][kMax], z[3][kMax], iw[3][kMax], col[3][4][kMax];
+  // Out: what to do, covered centres (bit 4 j + k: pixel (bx0 + k, by0 + j)), the first pixel and
+  // quad, depth plane, and the float planes of 1/w and the colours (c, dx, dy each).
+  std::uint8_t status[kMax];
+  std::uint32_t mask[kMax];
+  alignas(32) long long flip[kMax];  // (between the two passes: v1 and v2 swapped; first quad)
+  alignas(32) double oxd[kMax], oyd[kMax];
+  int bx0[kMax], by0[kMax], ox[kMax], oy[kMax];
+  double zc[kMax], zdx[kMax], zdy[kMax];
+  float pl[5][3][kMax];
+};
+
+#if defined(__SSE2__)
+// (Always inlined into the AVX2 and the default builds of run_setup: -Wpsabi would note that
+// the AVX vectors pass differently without AVX, but no call crosses that ABI. GCC instantiates
+// templates at the end of the file and warns there: this holds to the end of the file.)
+#pragma GCC diagnostic ignored "-Wpsabi"
+template <class V, class L>
+[[gnu::always_inline]] inline V vsel(L m, V a, V b) { return m ? a : b; }
+template <class V>
+[[gnu::always_inline]] inline V vmin(V a, V b) { return b < a ? b : a; }  // std::min's choice (equal: a)
+template <class V>
+[[gnu::always_inline]] inline V vmax(V a, V b) { return a < b ? b : a; }
+template <class V>
+[[gnu::always_inline]] inline V vabs(V a) { return a < 0.0 ? -a : a; }
+// Nearest integer, ties to even, for |a| < 2^51; floor from it.
+template <class V>
+[[gnu::always_inline]] inline V vnearest(V a) {
+  const V m = V{} + 0x1.8p52;
+  return (a + m) - m;
+}
+template <class V>
+[[gnu::always_inline]] inline V vfloor(V a) {
+  const V t = vnearest(a);
+  return vsel(a < t, t - 1.0, t);
+}
+// round_half_away (llround) for |a| < 2^51: nearest, then ties moved away from zero.
+template <class V>
+[[gnu::always_inline]] inline V vhalf_away(V a) {
+  const V t = vnearest(a), d = a - t, one = V{} + 1.0;
+  return t + vsel((d == 0.5) & (a > 0.0), one, V{}) - vsel((d == -0.5) & (a < 0.0), one, V{});
+}
+template <class V>
+[[gnu::always_inline]] inline V vload(const double* p) {
+  V v;
+  std::memcpy(&v, p, sizeof v);
+  return v;
+}
+
+template <class V>
+[[gnu::always_inline]] inline void run_setup(RunSetup& r, int n, int x0, int y0, int x1, int y1) {
+  typedef decltype(V{} < V{}) L;
+  constexpr int kW = sizeof(V) / sizeof(double);
+  // First the coverage (few values live: the mask stays in a register), then the planes.
+  for (int t = 0; t < n; t += kW) {
+    V x[3], y[3];
+    for (int i = 0; i < 3; ++i) x[i] = vload<V>(r.x[i] + t), y[i] = vload<V>(r.y[i] + t);
+    // Snapped coordinates; lanes beyond 2^25 (1/256 pixels) or not finite go to triangle().
+    V X[3], Y[3];
+    L ok = x[0] == x[0];
+    for (int i = 0; i < 3; ++i) {
+      const V sx = x[i] * 256.0, sy = y[i] * 256.0;
+      ok &= (vabs(sx) < 0x1p25) & (vabs(sy) < 0x1p25);
+      X[i] = vhalf_away(vsel(ok, sx, V{})), Y[i] = vhalf_away(vsel(ok, sy, V{}));
+    }
+    V area = (X[1] - X[0]) * (Y[2] - Y[0]) - (X[2] - X[0]) * (Y[1] - Y[0]);
+    const L none = area == 0.0;
+    const L flip = area < 0.0;
+    auto swap12 = [&](V* a) {
+      const V a1 = a[1];
+      a[1] = vsel(flip, a[2], a[1]), a[2] = vsel(flip, a1, a[2]);
+    };
+    swap12(X), swap12(Y);
+    std::memcpy(r.flip + t, &flip, sizeof flip);
+    const V bx0 = vmax(V{} + double(x0), vfloor((vmin(vmin(X[0], X[1]), X[2]) + 127.0) * (1.0 / 256)));
+    const V bx1 = vmin(V{} + double(x1 - 1), vfloor((vmax(vmax(X[0], X[1]), X[2]) - 128.0) * (1.0 / 256)));
+    const V by0 = vmax(V{} + double(y0), vfloor((vmin(vmin(Y[0], Y[1]), Y[2]) + 127.0) * (1.0 / 256)));
+    const V by1 = vmin(V{} + double(y1 - 1), vfloor((vmax(vmax(Y[0], Y[1]), Y[2]) - 128.0) * (1.0 / 256)));
+    const L empty = (bx0 > bx1) | (by0 > by1);
+    const V ox = vfloor(bx0 * 0.5) * 2.0, oy = vfloor(by0 * 0.5) * 2.0;
+    V A[3], B[3], e[3];
+    L fits = ok;
+    for (int i = 0; i < 3; ++i) {
+      const int a = (i + 1) % 3, b = (i + 2) % 3;
+      const V dx = X[b] - X[a], dy = Y[b] - Y[a];
+      A[i] = -dy, B[i] = dx;
+      const L top_left = (dy < 0.0) | ((dy == 0.0) & (dx < 0.0));
+      const V K = A[i] * (128.0 - X[a]) + B[i] * (128.0 - Y[a]) + vsel(top_left, V{}, V{} - 1.0);
+      const V ci = A[i] * ox + B[i] * oy + vfloor(K * (1.0 / 256));
+      fits &= vabs(ci) + vabs(A[i]) * (bx1 + 3.0 - ox) + vabs(B[i]) * (by1 + 3.0 - oy) <= 0x1p30;
+      e[i] = ci + B[i] * (by0 - oy) + A[i] * (bx0 - ox);  // at pixel (bx0, by0)
+    }
+    const L tiny = (bx1 - bx0 < 4.0) & (by1 - by0 < 4.0);
+    // Centres (bx0 + k, by0 + j), k, j < 4 (those beyond bx1 or by1 are masked off per triangle
+    // below) into bit 4 j + k: covered when no edge function is negative. A step in k adds A, a
+    // step in j adds B (exact); the edge functions start at +0 (e + 0: no -0 arises from sums of
+    // integers then), so "not negative" is a clear sign bit, and the sign bits of the three
+    // ORed are shifted in, from (3, 3) down to (0, 0).
+    typedef unsigned long long UL __attribute__((vector_size(sizeof(V))));
+    UL mask{};
+    V r0 = ((e[0] + 0.0) + B[0] * 3.0) + A[0] * 3.0, r1 = ((e[1] + 0.0) + B[1] * 3.0) + A[1] * 3.0,
+      r2 = ((e[2] + 0.0) + B[2] * 3.0) + A[2] * 3.0;
+#pragma GCC unroll 4
+    for (int j = 3; j >= 0; --j) {
+      V t0 = r0, t1 = r1, t2 = r2;
+#pragma GCC unroll 4
+      for (int k = 3; k >= 0; --k) {
+        UL b0, b1, b2;
+        std::memcpy(&b0, &t0, sizeof b0), std::memcpy(&b1, &t1, sizeof b1), std::memcpy(&b2, &t2, sizeof b2);
+        mask = (mask + mask) | (~(b0 | b1 | b2) >> 63);
+        t0 -= A[0], t1 -= A[1], t2 -= A[2];
+      }
+      r0 -= B[0], r1 -= B[1], r2 -= B[2];
+    }
+    // As triangle_q decides: nothing when the snapped area is zero or no centre is in the box;
+    // triangle() when not small, beyond 32-bit edge functions or a sliver; else the covered
+    // centres inside the box (none: nothing).
+    alignas(32) unsigned long long mk[kW];
+    alignas(32) long long st_none[kW], st_small[kW];
+    const L drawn_none = ok & (none | empty);
+    const L small = ok & fits & tiny;  // (and a triangle that snapping left the right way round: below)
+    std::memcpy(mk, &mask, sizeof mk), std::memcpy(st_none, &drawn_none, sizeof mk), std::memcpy(st_small, &small, sizeof mk);
+    alignas(32) double b6[6][kW];
+    std::memcpy(r.oxd + t, &ox, sizeof(V)), std::memcpy(r.oyd + t, &oy, sizeof(V));
+    std::memcpy(b6[0], &bx0, sizeof(V)), std::memcpy(b6[1], &by0, sizeof(V)), std::memcpy(b6[2], &ox, sizeof(V)),
+        std::memcpy(b6[3], &oy, sizeof(V)), std::memcpy(b6[4], &bx1, sizeof(V)), std::memcpy(b6[5], &by1, sizeof(V));
+    for (int l = 0; l < kW; ++l) {
+      std::uint8_t st = RunSetup::kOther;
+      std::uint32_t m = 0;
+      if (st_none[l]) {
+        st = RunSetup::kNone;
+      } else if (st_small[l]) {
+        const int w = int(b6[4][l] - b6[0][l]), h = int(b6[5][l] - b6[1][l]);  // 0 .. 3
+        m = std::uint32_t(mk[l]) & (0x1111u * ((2u << w) - 1)) & ((2u << (4 * h + 3)) - 1);
+        st = m ? RunSetup::kTiny : RunSetup::kNone;
+      }
+      r.status[t + l] = st;
+      r.mask[t + l] = m;
+      r.bx0[t + l] = int(b6[0][l]), r.by0[t + l] = int(b6[1][l]), r.ox[t + l] = int(b6[2][l]), r.oy[t + l] = int(b6[3][l]);
+    }
+  }
+  for (int t = 0; t < n; t += kW) {
+    V x[3], y[3], z[3], iw[3], c[3][4];
+    for (int i = 0; i < 3; ++i) {
+      x[i] = vload<V>(r.x[i] + t), y[i] = vload<V>(r.y[i] + t), z[i] = vload<V>(r.z[i] + t), iw[i] = vload<V>(r.iw[i] + t);
+      for (int k = 0; k < 4; ++k) c[i][k] = vload<V>(r.col[i][k] + t);
+    }
+    L flip;
+    std::memcpy(&flip, r.flip + t, sizeof flip);
+    auto swap12 = [&](V* a) {
+      const V a1 = a[1];
+      a[1] = vsel(flip, a[2], a[1]), a[2] = vsel(flip, a1, a[2]);
+    };
+    swap12(x), swap12(y), swap12(z), swap12(iw);
+    for (int k = 0; k < 4; ++k) {
+      const V c1 = c[1][k];
+      c[1][k] = vsel(flip, c[2][k], c[1][k]), c[2][k] = vsel(flip, c1, c[2][k]);
+    }
+    const V ox = vload<V>(r.oxd + t), oy = vload<V>(r.oyd + t);
+    // Barycentric planes from the unsnapped positions (float_barycentrics); a sliver that
+    // snapping turned over goes to triangle().
+    const V area2 = (x[1] - x[0]) * (y[2] - y[0]) - (x[2] - x[0]) * (y[1] - y[0]);
+    const L bary = (area2 > 0.0) & (area2 < __builtin_inf());
+    const V inv = 1.0 / vsel(bary, area2, V{} + 1.0);
+    V l0[3], gx[3], gy[3];
+    for (int i = 0; i < 3; ++i) {
+      const int a = (i + 1) % 3, b = (i + 2) % 3;
+      const V fa = (y[a] - y[b]) * inv, fb = (x[b] - x[a]) * inv, fc = -(fa * x[a] + fb * y[a]);
+      l0[i] = fa * (ox + 0.5) + fb * (oy + 0.5) + fc, gx[i] = fa, gy[i] = fb;
+    }
+    typedef float FV __attribute__((vector_size(sizeof(V) / 2)));
+    auto plane = [&](float (*p)[RunSetup::kMax], V f0, V f1, V f2) {
+      const FV pc = __builtin_convertvector((l0[0] * f0 + l0[1] * f1) + l0[2] * f2, FV);
+      const FV px = __builtin_convertvector((gx[0] * f0 + gx[1] * f1) + gx[2] * f2, FV);
+      const FV py = __builtin_convertvector((gy[0] * f0 + gy[1] * f1) + gy[2] * f2, FV);
+      std::memcpy(p[0] + t, &pc, sizeof(FV)), std::memcpy(p[1] + t, &px, sizeof(FV)), std::memcpy(p[2] + t, &py, sizeof(FV));
+    };
+    plane(r.pl[0], iw[0], iw[1], iw[2]);
+    for (int k = 0; k < 4; ++k) plane(r.pl[1 + k], c[0][k] * iw[0], c[1][k] * iw[1], c[2][k] * iw[2]);
+    V zc = V{}, zdx = V{}, zdy = V{};
+    for (int i = 0; i < 3; ++i) zc += l0[i] * z[i], zdx += gx[i] * z[i], zdy += gy[i] * z[i];
+    std::memcpy(r.zc + t, &zc, sizeof(V)), std::memcpy(r.zdx + t, &zdx, sizeof(V)), std::memcpy(r.zdy + t, &zdy, sizeof(V));
+    alignas(32) long long bok[kW];
+    std::memcpy(bok, &bary, sizeof bok);
+    for (int l = 0; l < kW; ++l)
+      if (!bok[l] && r.status[t + l] == RunSetup::kTiny) r.status[t + l] = RunSetup::kOther;
+  }
+}
+
+__attribute__((target("avx2"))) void run_setup_avx2(RunSetup& r, int n, int x0, int y0, int x1, int y1) {
+  run_setup<D4>(r, n, x0, y0, x1, y1);
+}
+void run_setup_default(RunSetup& r, int n, int x0, int y0, int x1, int y1) { run_setup<D2>(r, n, x0, y0, x1, y1); }
+#endif
+
 // A set-up primitive waiting for rasterisation (binned to bands of rows, then drawn by bands in
 // parallel; within a band the primitives keep their submission order, so the image is the same
 // as drawing them one by one). Compact: window coordinates and pointers to the attribute sets
@@ -993,6 +1207,116 @@ struct Raster {
                                                            int side, const float* flat) {
     triangle_q<Phong, Smooth, Tex, Fog, Depth, true>(v0, v1, v2, side, flat);
   }
+  // One covered pixel of a small triangle in the common state (triangle_q's tiny path and
+  // triangle_run): depth from its double plane, colour from the float planes pl (c, dx, dy of 1/w
+  // and of r/w, g/w, b/w, a/w) at (X, Y) from the first quad's first pixel, or the flat colour.
+  // The quad loops' operations per lane, in the same order (the same bits).
+  template <bool Smooth, bool Depth>
+  [[gnu::always_inline]] void tiny_pixel(int px, int py, float X, float Y, double zc, double zdx, double zdy,
+                                         const float (*pl)[3], const float* flat_rgba, DepthFunc dfunc, bool dmask) {
+    const __m128 zero = _mm_setzero_ps(), one = _mm_set1_ps(1.0f);
+    auto clamp01 = [&](float x) { return _mm_cvtss_f32(_mm_min_ss(_mm_max_ss(_mm_set_ss(x), zero), one)); };
+    auto at = [&](int k) { return (pl[k][0] + Y * pl[k][2]) + X * pl[k][1]; };
+    const std::size_t idx = std::size_t(py) * width + px;
+    if constexpr (Depth) {
+      const float zf = clamp01(float((zc + double(Y) * zdy) + double(X) * zdx));
+      const double zr = (double(zf) * 16777215.0 + 0x1p52) - 0x1p52;
+      const float zq = float(zr * (1.0 / 16777215.0));
+      const float d = depth[idx];
+      if (!depth_pass(dfunc, zq, d)) return;
+      if (dmask) depth[idx] = zq;
+    }
+    float cr, cg, cb, ca;
+    if constexpr (Smooth) {
+      const float rw = 1.0f / at(0);
+      cr = at(1) * rw, cg = at(2) * rw, cb = at(3) * rw, ca = at(4) * rw;
+    } else {
+      cr = flat_rgba[0], cg = flat_rgba[1], cb = flat_rgba[2], ca = flat_rgba[3];
+    }
+    auto q8 = [&](float x) { return std::uint32_t(int(clamp01(x) * 255.0f + 0.5f)); };
+    const std::uint32_t pix = q8(cr) | q8(cg) << 8 | q8(cb) << 16 | q8(ca) << 24;
+    std::memcpy(color + idx * 4, &pix, 4);
+  }
+
+  // A run of independent filled triangles (v: three window vertices each), drawn in order as
+  // triangle() draws them one by one: in the common state (no Phong, texture or fog; no blending,
+  // all channels written) the run is set up a few triangles at a time (run_setup), the small
+  // covered ones are drawn here pixel by pixel, the others by triangle().
+  struct RunTri {
+    const WinVert* v;
+    int side;
+    const float* flat;
+  };
+  void triangle_run(const RunTri* tri, std::size_t n, RunSetup& rs) {
+    if (phong || texturing || fog || blend || !all_mask) {
+      for (std::size_t k = 0; k < n; ++k) triangle(tri[k].v[0], tri[k].v[1], tri[k].v[2], tri[k].side, tri[k].flat);
+      return;
+    }
+    for (std::size_t k0 = 0; k0 < n; k0 += RunSetup::kMax) {
+      const int m = int(std::min<std::size_t>(RunSetup::kMax, n - k0));
+      const int m4 = (m + 3) & ~3;
+      for (int t = 0; t < m4; ++t) {
+        const RunTri& rt = tri[k0 + std::min(t, m - 1)];  // (the padding lanes repeat the last)
+        const int col = rt.side ? kBack : kFront;
+        for (int i = 0; i < 3; ++i) {
+          const WinVert& w = rt.v[i];
+          rs.x[i][t] = w.x, rs.y[i][t] = w.y, rs.z[i][t] = float(w.z), rs.iw[i][t] = w.inv_w;
+          for (int c = 0; c < 4; ++c) rs.col[i][c][t] = w.a[col + c];
+        }
+      }
+#if defined(__x86_64__) && defined(__GNUC__)
+      if (avx2) run_setup_avx2(rs, m4, x0, y0, x1, y1);
+      else run_setup_default(rs, m4, x0, y0, x1, y1);
+#else
+      run_setup_default(rs, m4, x0, y0, x1, y1);
+#endif
+      const DepthFunc dfunc = s.depth_func;
+      const bool dmask = s.depth_mask;
+      // The framebuffer lines of the first and last covered centre of a triangle a few ahead are
+      // fetched while this one is drawn (a mesh's triangles come in no screen order: they miss).
+      constexpr int kAhead = 8;
+      for (int t = -kAhead; t < m; ++t) {
+        const int f = t + kAhead;
+        if (f < m && rs.status[f] == RunSetup::kTiny) {
+          const std::uint32_t mk = rs.mask[f];
+          const int b0 = __builtin_ctz(mk), b1 = 31 - __builtin_clz(mk);
+          const std::size_t i0 = std::size_t(rs.by0[f] + (b0 >> 2)) * width + std::size_t(rs.bx0[f] + (b0 & 3));
+          const std::size_t i1 = std::size_t(rs.by0[f] + (b1 >> 2)) * width + std::size_t(rs.bx0[f] + (b1 & 3));
+          __builtin_prefetch(depth + i0, 1), __builtin_prefetch(color + 4 * i0, 1);
+          __builtin_prefetch(depth + i1, 1), __builtin_prefetch(color + 4 * i1, 1);
+        }
+        if (t < 0) continue;
+        const RunTri& rt = tri[k0 + t];
+        if (rs.status[t] == RunSetup::kNone) continue;
+        if (rs.status[t] == RunSetup::kOther) {
+          triangle(rt.v[0], rt.v[1], rt.v[2], rt.side, rt.flat);
+          continue;
+        }
+        // As triangle(): the same colour at the three vertices is drawn flat.
+        const int col = rt.side ? kBack : kFront;
+        const float* flat = rt.flat;
+        if (!flat && std::memcmp(rt.v[0].a + col, rt.v[1].a + col, 4 * sizeof(float)) == 0 &&
+            std::memcmp(rt.v[0].a + col, rt.v[2].a + col, 4 * sizeof(float)) == 0)
+          flat = rt.v[0].a;
+        float pl[5][3];
+        for (int k = 0; k < 5; ++k)
+          for (int q = 0; q < 3; ++q) pl[k][q] = rs.pl[k][q][t];
+        const int bx0 = rs.bx0[t], by0 = rs.by0[t], ox = rs.ox[t], oy = rs.oy[t];
+        const double zc = rs.zc[t], zdx = rs.zdx[t], zdy = rs.zdy[t];
+        for (std::uint32_t mk = rs.mask[t]; mk; mk &= mk - 1) {
+          const int b = __builtin_ctz(mk), px = bx0 + (b & 3), py = by0 + (b >> 2);
+          const float X = float(px - ox), Y = float(py - oy);
+          if (flat) {
+            if (depth_test) tiny_pixel<false, true>(px, py, X, Y, zc, zdx, zdy, pl, flat + col, dfunc, dmask);
+            else tiny_pixel<false, false>(px, py, X, Y, zc, zdx, zdy, pl, flat + col, dfunc, dmask);
+          } else {
+            if (depth_test) tiny_pixel<true, true>(px, py, X, Y, zc, zdx, zdy, pl, nullptr, dfunc, dmask);
+            else tiny_pixel<true, false>(px, py, X, Y, zc, zdx, zdy, pl, nullptr, dfunc, dmask);
+          }
+        }
+      }
+    }
+  }
   // --- two quads at once (AVX2) ---
   // The common states (no Phong, no blending, all channels written, linear fog or none) of the
   // quad loop, 8 lanes wide: the quad at x in lanes 0-3 and the one at x + 2 in lanes 4-7, each
@@ -1421,34 +1745,13 @@ struct Raster {
       // Tiny triangles in the common state: the covered pixels one by one, with the quad loops'
       // operations per lane in the same order (the same bits), without their setup and blocks.
       if (tiny && fast_write) {
-        const __m128 zero = _mm_setzero_ps(), one = _mm_set1_ps(1.0f);
-        auto clamp01 = [&](float x) { return _mm_cvtss_f32(_mm_min_ss(_mm_max_ss(_mm_set_ss(x), zero), one)); };
-        auto at = [](const QPlane& p, float X, float Y) {
-          return (_mm_cvtss_f32(p.c) + Y * _mm_cvtss_f32(p.dy)) + X * _mm_cvtss_f32(p.dx);
-        };
-        for (int n = 0; n < cov_n; ++n) {
-          const int px = ox + cov_x[n], py = oy + cov_y[n];
-          const float X = float(cov_x[n]), Y = float(cov_y[n]);
-          const std::size_t idx = std::size_t(py) * width + px;
-          if constexpr (Depth) {
-            const float zf = clamp01(float((zc + double(Y) * zdy) + double(X) * zdx));
-            const double zr = (double(zf) * 16777215.0 + 0x1p52) - 0x1p52;
-            const float zq = float(zr * (1.0 / 16777215.0));
-            const float d = depth[idx];
-            if (!depth_pass(dfunc, zq, d)) continue;
-            if (dmask) depth[idx] = zq;
-          }
-          float cr, cg, cb, ca;
-          if constexpr (Smooth) {
-            const float rw = 1.0f / at(pw, X, Y);
-            cr = at(pc[0], X, Y) * rw, cg = at(pc[1], X, Y) * rw, cb = at(pc[2], X, Y) * rw, ca = at(pc[3], X, Y) * rw;
-          } else {
-            cr = flat[col], cg = flat[col + 1], cb = flat[col + 2], ca = flat[col + 3];
-          }
-          auto q8 = [&](float x) { return std::uint32_t(int(clamp01(x) * 255.0f + 0.5f)); };
-          const std::uint32_t pix = q8(cr) | q8(cg) << 8 | q8(cb) << 16 | q8(ca) << 24;
-          std::memcpy(color + idx * 4, &pix, 4);
-        }
+        float pl[5][3];
+        const QPlane* src[5] = {&pw, &pc[0], &pc[1], &pc[2], &pc[3]};
+        for (int k = 0; k < 5; ++k)
+          pl[k][0] = _mm_cvtss_f32(src[k]->c), pl[k][1] = _mm_cvtss_f32(src[k]->dx), pl[k][2] = _mm_cvtss_f32(src[k]->dy);
+        for (int n = 0; n < cov_n; ++n)
+          tiny_pixel<Smooth, Depth>(ox + cov_x[n], oy + cov_y[n], float(cov_x[n]), float(cov_y[n]), zc, zdx, zdy, pl,
+                                    Smooth ? nullptr : flat + col, dfunc, dmask);
         return;
       }
     }
@@ -1680,6 +1983,14 @@ struct Raster {
   template <bool Phong, bool Smooth, bool Tex, bool Fog, bool Depth>
   void triangle_t(const WinVert& v0, const WinVert& v1, const WinVert& v2, int side, const float* flat) {
     triangle_scalar<Phong, Smooth, Tex, Fog, Depth>(v0, v1, v2, side, flat);
+  }
+  struct RunTri {
+    const WinVert* v;
+    int side;
+    const float* flat;
+  };
+  void triangle_run(const RunTri* tri, std::size_t n, RunSetup&) {
+    for (std::size_t k = 0; k < n; ++k) triangle(tri[k].v[0], tri[k].v[1], tri[k].v[2], tri[k].side, tri[k].flat);
   }
 #endif
 
@@ -1952,10 +2263,25 @@ void draw_bands(const Raster& r, Queue* const* queues, std::size_t nq) {
       band.sink = nullptr;
       band.y0 = std::max(r.y0, b * kBandRows);
       band.y1 = std::min(r.y1, (b + 1) * kBandRows);
+      // Consecutive triangles by runs (Raster::triangle_run), lines and points one by one.
+      Raster::RunTri run[kRunMax];
+      std::size_t n = 0;
+      static thread_local RunSetup band_rs;
+      RunSetup& rs = band_rs;
       for (std::size_t q = 0; q < nq; ++q) {
         const Queue& qu = *queues[q];
-        for (std::uint32_t k = qu.band_start[b]; k < qu.band_start[b + 1]; ++k) band.exec(qu.jobs[qu.band_jobs[k]]);
+        for (std::uint32_t k = qu.band_start[b]; k < qu.band_start[b + 1]; ++k) {
+          const Job& j = qu.jobs[qu.band_jobs[k]];
+          if (j.kind == Job::Tri) {
+            run[n++] = Raster::RunTri{j.v, j.side, j.flat};
+            if (n < kRunMax) continue;
+          }
+          band.triangle_run(run, n, rs);
+          n = 0;
+          if (j.kind != Job::Tri) band.exec(j);
+        }
       }
+      band.triangle_run(run, n, rs);
     });
   });
 }
@@ -2044,6 +2370,9 @@ struct TriChunk {
   std::vector<std::uint8_t> vout;  // per vertex: outside the clip volume
   std::vector<std::uint8_t> status, side;  // per triangle
   std::vector<std::uint32_t> need;         // vertices whose attributes are needed, in order
+  std::vector<WinVert> run_v;              // window vertices of the triangles drawn by runs
+  std::vector<Raster::RunTri> run;
+  RunSetup rs;
 };
 
 // What a chunk hands to the bands: the attribute sets of its needed vertices (in `need`
@@ -2075,9 +2404,6 @@ TriChunk& chunk_scratch() {
 // (Eigen's operation order per element: ((c0 x + c1 y) + c2 z) + c3 w), the clip-volume test, and window
 // coordinates (to_window's arithmetic) for every vertex. Compiled twice: for AVX2 (4 doubles
 // per instruction, chosen at run time) and for the default target (SSE2: pairs).
-typedef double D2 __attribute__((vector_size(16)));
-typedef double D4 __attribute__((vector_size(32)));
-
 struct PositionStage {
   double mv[16], proj[16];  // column-major
   double vpx, vpy, vpw, vph, dn, dr;
@@ -2276,19 +2602,29 @@ void run_chunk(Raster& rc, const Src& src, const Mat3& nmat, TriChunk& ck, Chunk
   const double* iw = ck.row(TriChunk::kIw);
   const double *cx = ck.row(TriChunk::kCx), *cy = ck.row(TriChunk::kCy), *cz = ck.row(TriChunk::kCz),
                *cw = ck.row(TriChunk::kCw);
+  // Drawn now (no bands): by runs (Raster::triangle_run), cut at each clipped triangle.
+  std::vector<WinVert>& run_v = ck.run_v;
+  std::vector<Raster::RunTri>& run = ck.run;
+  run_v.resize(3 * nt), run.clear();
+  auto flush = [&] {
+    rc.triangle_run(run.data(), run.size(), ck.rs);
+    run.clear();
+  };
   for (std::size_t j = 0; j < nt; ++j) {
     if (ck.status[j] == TriChunk::kSkip) continue;
     const float* a = attrs + slot * astride;
     slot += 3;
     if (ck.status[j] == TriChunk::kDraw) {
-      WinVert w[3];
+      WinVert* w = run_v.data() + 3 * j;
       for (int k = 0; k < 3; ++k) {
         const std::size_t i = 3 * j + k;
         w[k] = WinVert{wx[i], wy[i], wz[i], iw[i], a + k * astride};
       }
-      rc.emit_triangle_direct(w[0], w[1], w[2], ck.side[j], flat ? w[2].a : nullptr);
+      if (rc.sink) rc.emit_triangle_direct(w[0], w[1], w[2], ck.side[j], flat ? w[2].a : nullptr);
+      else run.push_back(Raster::RunTri{w, ck.side[j], flat ? w[2].a : nullptr});
       continue;
     }
+    flush();
     PVert pv[3];
     for (int k = 0; k < 3; ++k) {
       const std::size_t i = 3 * j + k;
@@ -2300,6 +2636,7 @@ void run_chunk(Raster& rc, const Src& src, const Mat3& nmat, TriChunk& ck, Chunk
     }
     rc.draw_triangle(pv[0], pv[1], pv[2], pv[2]);
   }
+  flush();
 }
 
 // A batch of `tris` independent triangles from `src`, drawn through `r`.
