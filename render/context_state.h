@@ -88,6 +88,13 @@ inline InVertex fetch_vertex(const Context::State& s, const VertexArrays& a, std
 // default build's (SSE2 on x86-64), which must draw the same images.
 extern std::atomic<bool> simd_fallback;
 
+// For tests: the lighting equation's x^y (x >= 0, y > 0) on n values, by the vector code the
+// lighting runs (8 lanes when `avx2` and the CPU has AVX2, else 4) and the scalar one (gl_pow).
+void lighting_pow(const float* x, std::size_t n, float y, float* out, bool avx2);
+float lighting_pow(float x, float y);
+// For tests: the vertex lighting's eye normals (3 doubles each), as vertex_attrs computes them.
+void lighting_normals(const Mat3& nmat, const double* n, std::size_t count, bool normalize, double* out);
+
 // Runs a batch of vertices as one primitive through the pipeline (pipeline.cpp).
 void run_primitive(Context::State& s, int width, int height, std::uint8_t* color, float* depth, Primitive p,
                    const std::vector<InVertex>& verts);

@@ -459,6 +459,190 @@ struct LightSetup {
   }
 };
 
+// Lighting four or eight vertices at once (SoA, GCC vector extensions): F4 (SSE2, the default
+// x86-64 build) or F8 (AVX2, compiled with target("avx2") and chosen at run time). Both are
+// written once, as templates on the vector type, with the same operations lane by lane as the
+// scalar light_vertex, and no FMA (the AVX2 target does not include it), so every lane gives
+// light_vertex's bits.
+#pragma GCC diagnostic push
+// (-Wpsabi notes that F8 and DF4 values would be passed differently with and without AVX: the
+// functions taking them are always inlined, into the AVX2 build only, so none crosses a call.)
+#pragma GCC diagnostic ignored "-Wpsabi"
+typedef float F4 __attribute__((vector_size(16)));
+typedef int I4 __attribute__((vector_size(16)));
+typedef unsigned U4 __attribute__((vector_size(16)));
+typedef double DF2 __attribute__((vector_size(16)));
+typedef float F8 __attribute__((vector_size(32)));
+typedef int I8 __attribute__((vector_size(32)));
+typedef unsigned U8 __attribute__((vector_size(32)));
+typedef double DF4 __attribute__((vector_size(32)));
+
+// The integer (mask) vector of a float vector's lanes, and the register-wide double vector that
+// holds half of them (a float vector's doubles are two of these: wider vectors than the target's
+// registers compile poorly, selects lane by lane).
+template <class V> struct Lanes;
+template <> struct Lanes<F4> {
+  typedef I4 I;
+  typedef U4 U;
+  typedef DF2 D;
+  enum { W = 4 };
+};
+template <> struct Lanes<F8> {
+  typedef I8 I;
+  typedef U8 U;
+  typedef DF4 D;
+  enum { W = 8 };
+};
+
+// x in every lane (an element-wise copy: x - 0 or x + 0 would turn a -0 into +0).
+template <class V>
+[[gnu::always_inline]] inline V splat(float x) {
+  V r;
+  for (int l = 0; l < Lanes<V>::W; ++l) r[l] = x;
+  return r;
+}
+[[gnu::always_inline]] inline F4 bcast(float x) { return splat<F4>(x); }
+
+// Halves of an eight-lane vector.
+[[gnu::always_inline]] inline F4 lo(F8 x) { return __builtin_shufflevector(x, x, 0, 1, 2, 3); }
+[[gnu::always_inline]] inline F4 hi(F8 x) { return __builtin_shufflevector(x, x, 4, 5, 6, 7); }
+[[gnu::always_inline]] inline I4 lo(I8 x) { return __builtin_shufflevector(x, x, 0, 1, 2, 3); }
+[[gnu::always_inline]] inline I4 hi(I8 x) { return __builtin_shufflevector(x, x, 4, 5, 6, 7); }
+
+[[gnu::always_inline]] inline F4 vsqrt(F4 x) {
+#if defined(__SSE2__)
+  return _mm_sqrt_ps(x);
+#else
+  return F4{std::sqrt(x[0]), std::sqrt(x[1]), std::sqrt(x[2]), std::sqrt(x[3])};
+#endif
+}
+// (Two 128-bit square roots: the same IEEE results as one 256-bit one, without an AVX intrinsic
+// in code that is also compiled for the default target.)
+[[gnu::always_inline]] inline F8 vsqrt(F8 x) {
+  const F4 a = vsqrt(lo(x)), b = vsqrt(hi(x));
+  return __builtin_shufflevector(a, b, 0, 1, 2, 3, 4, 5, 6, 7);
+}
+[[gnu::always_inline]] inline DF2 vsqrt(DF2 x) {
+#if defined(__SSE2__)
+  return _mm_sqrt_pd(x);
+#else
+  return DF2{std::sqrt(x[0]), std::sqrt(x[1])};
+#endif
+}
+[[gnu::always_inline]] inline DF4 vsqrt(DF4 x) {
+  const DF2 a = vsqrt(DF2{x[0], x[1]}), b = vsqrt(DF2{x[2], x[3]});
+  return __builtin_shufflevector(a, b, 0, 1, 2, 3);
+}
+// Float (or int) lanes to doubles, in two halves, and back (exact widening; the narrowing
+// rounds to nearest, or truncates to int).
+[[gnu::always_inline]] inline void widen(F4 x, DF2* d) {
+  d[0] = __builtin_convertvector(__builtin_shufflevector(x, x, 0, 1), DF2);
+  d[1] = __builtin_convertvector(__builtin_shufflevector(x, x, 2, 3), DF2);
+}
+[[gnu::always_inline]] inline void widen(I4 x, DF2* d) {
+  d[0] = __builtin_convertvector(__builtin_shufflevector(x, x, 0, 1), DF2);
+  d[1] = __builtin_convertvector(__builtin_shufflevector(x, x, 2, 3), DF2);
+}
+[[gnu::always_inline]] inline void widen(F8 x, DF4* d) {
+  d[0] = __builtin_convertvector(lo(x), DF4), d[1] = __builtin_convertvector(hi(x), DF4);
+}
+[[gnu::always_inline]] inline void widen(I8 x, DF4* d) {
+  d[0] = __builtin_convertvector(lo(x), DF4), d[1] = __builtin_convertvector(hi(x), DF4);
+}
+[[gnu::always_inline]] inline F4 narrow(const DF2* d) {
+#if defined(__SSE2__)
+  return _mm_movelh_ps(_mm_cvtpd_ps(d[0]), _mm_cvtpd_ps(d[1]));
+#else
+  return F4{float(d[0][0]), float(d[0][1]), float(d[1][0]), float(d[1][1])};
+#endif
+}
+[[gnu::always_inline]] inline I4 narrow_int(const DF2* d) {
+#if defined(__SSE2__)
+  return I4(_mm_unpacklo_epi64(_mm_cvttpd_epi32(d[0]), _mm_cvttpd_epi32(d[1])));
+#else
+  return I4{int(d[0][0]), int(d[0][1]), int(d[1][0]), int(d[1][1])};
+#endif
+}
+[[gnu::always_inline]] inline F8 narrow(const DF4* d) {
+  const F4 a = __builtin_convertvector(d[0], F4), b = __builtin_convertvector(d[1], F4);
+  return __builtin_shufflevector(a, b, 0, 1, 2, 3, 4, 5, 6, 7);
+}
+[[gnu::always_inline]] inline I8 narrow_int(const DF4* d) {
+  const I4 a = __builtin_convertvector(d[0], I4), b = __builtin_convertvector(d[1], I4);
+  return __builtin_shufflevector(a, b, 0, 1, 2, 3, 4, 5, 6, 7);
+}
+[[gnu::always_inline]] inline bool any(I4 m) {
+#if defined(__SSE2__)
+  return _mm_movemask_ps(__m128(m)) != 0;
+#else
+  return (m[0] | m[1] | m[2] | m[3]) != 0;
+#endif
+}
+[[gnu::always_inline]] inline bool any(I8 m) { return any(I4(lo(m) | hi(m))); }
+// Eigen's order for a 3-vector's dot product and squared norm: a0 b0 + (a1 b1 + a2 b2).
+template <class V>
+[[gnu::always_inline]] inline V dot3(const V* a, const V* b) {
+  return a[0] * b[0] + (a[1] * b[1] + a[2] * b[2]);
+}
+// Eigen's cwiseMax(0) then cwiseMin(1) (std::max / std::min: NaN stays NaN).
+template <class V>
+[[gnu::always_inline]] inline V vclamp01(V c) {
+  c = c < 0.0f ? splat<V>(0.0f) : c;
+  return 1.0f < c ? splat<V>(1.0f) : c;
+}
+
+// x^y for x >= 0 and y > 0 (the callers treat y = 0 as GL's 0^0 = 1), lane by lane: 2^(y log2 x)
+// with log2 in double (so that y up to 128 does not magnify its rounding), 2^f in float.
+// Relative error below 1e-6 where the result is a normal float (tests/render/test_lighting.cpp);
+// 0^y = 0, inf^y = inf, NaN stays NaN; overflow gives inf, underflow 0 or a subnormal.
+template <class V>
+[[gnu::always_inline]] inline V vpow(V x, float y) {
+  typedef typename Lanes<V>::I I;
+  typedef typename Lanes<V>::U U;
+  typedef typename Lanes<V>::D D;
+  // x = m 2^e with m in [sqrt(1/2), sqrt(2)): the bits less those of sqrt(1/2), shifted, give e
+  // (subnormal x scaled by 2^24 first). (Unsigned arithmetic: no overflow for other inputs.)
+  const I tiny = x < 0x1p-126f;
+  const U b = U(tiny ? x * 0x1p24f : x);
+  const I e = I(b - 0x3f3504f3u) >> 23;
+  const V m = V(b - (U(e) << 23));
+  // log2 m = 2 atanh(s) / ln 2, s = (m - 1) / (m + 1), |s| <= 0.1716: the odd series to s^11
+  // (truncation below 2e-11). Then t = y log2 x, and 2^t = 2^i 2^f, i = t rounded to nearest,
+  // |f| <= 1/2 (|t| < 2^20 for any float x).
+  constexpr double k = 2 / 0.693147180559945309417232121458;
+  D md[2], ed[2], rd[2], fd[2];
+  widen(m, md), widen(I(e - (tiny & 24)), ed);
+  for (int h = 0; h < 2; ++h) {
+    const D s = (md[h] - 1.0) / (md[h] + 1.0);
+    const D s2 = s * s;
+    const D l = s * (k + s2 * (k / 3 + s2 * (k / 5 + s2 * (k / 7 + s2 * (k / 9 + s2 * (k / 11))))));
+    const D t = double(y) * (ed[h] + l);
+    rd[h] = (t + 0x1.8p52) - 0x1.8p52;
+    fd[h] = t - rd[h];
+  }
+  const V f = narrow(fd);
+  I i = narrow_int(rd);
+  i = i < -160 ? I{} - 160 : i;  // |i| > 160 over- or underflows anyway
+  i = i > 160 ? I{} + 160 : i;
+  // 2^f: Taylor to f^7 (remainder below 1e-8).
+  constexpr float c1 = 0.693147180559945309f, c2 = 0.240226506959100712f, c3 = 0.0555041086648215800f,
+                  c4 = 0.00961812910762847716f, c5 = 0.00133335581464284434f, c6 = 0.000154035303933816099f,
+                  c7 = 0.0000152527338040598403f;
+  const V p = 1.0f + f * (c1 + f * (c2 + f * (c3 + f * (c4 + f * (c5 + f * (c6 + f * c7))))));
+  // Times 2^i in two normal factors, so a subnormal result is rounded once.
+  const I i1 = i >> 1, i2 = i - i1;
+  V res = (p * V((i1 + 127) << 23)) * V((i2 + 127) << 23);
+  res = x == 0.0f ? splat<V>(0.0f) : res;
+  res = x == __builtin_huge_valf() ? x : res;
+  return x != x ? x : res;
+}
+
+// The scalar pow of the lighting equation: vpow's lane 0, so light_vertex and the vector
+// lighting give the same bits.
+[[gnu::always_inline]] inline float gl_pow(float x, float y) { return vpow(bcast(x), y)[0]; }
+
+#pragma GCC diagnostic pop
+
 // The lighting equation of GL 1.x section 2.14.1 for one side, in float. P is the eye-space
 // position, n the unit (or as given) eye-space normal; `vertex_color` feeds colour material.
 // pow only for a positive specular term with non-zero shininess, as GL defines 0^0 = 1.
@@ -496,7 +680,7 @@ Vec4f light_vertex(const Context::State& s, const LightSetup& ls, const Vec4& P4
     if (L.spot) {
       float cosang = -VP.dot(L.sdir);
       if (cosang < L.cos_cut) spot = 0;
-      else spot = L.sexp == 0 ? 1.0f : std::pow(std::max(cosang, 0.0f), L.sexp);
+      else spot = L.sexp == 0 ? 1.0f : gl_pow(std::max(cosang, 0.0f), L.sexp);
     }
     if (att * spot == 0) continue;
     Vec3f term = ma.cwiseProduct(L.amb);
@@ -508,7 +692,7 @@ Vec4f light_vertex(const Context::State& s, const LightSetup& ls, const Vec4& P4
       if (hn > 0) {
         float ndh = n.dot(h) / hn;
         if (ndh > 0) {
-          float f = m.shininess == 0 ? 1.0f : std::pow(ndh, m.shininess);
+          float f = m.shininess == 0 ? 1.0f : gl_pow(ndh, m.shininess);
           term += f * ms.cwiseProduct(L.spec);
         }
       }
@@ -519,59 +703,33 @@ Vec4f light_vertex(const Context::State& s, const LightSetup& ls, const Vec4& P4
   return clamp01(out);
 }
 
-// Four vertices lit at once: light_vertex's float operations in the same order, lane by lane
-// (SoA, GCC vector extensions: SSE2 on x86-64), so the colours are the same bits. P: eye
-// positions (divided by w); n: normals, negated for the back side; vc: vertex colours.
-typedef float F4 __attribute__((vector_size(16)));
-typedef int I4 __attribute__((vector_size(16)));
-
-[[gnu::always_inline]] inline F4 bcast(float x) { return F4{x, x, x, x}; }
-[[gnu::always_inline]] inline F4 vsqrt(F4 x) {
-#if defined(__SSE2__)
-  return _mm_sqrt_ps(x);
-#else
-  return F4{std::sqrt(x[0]), std::sqrt(x[1]), std::sqrt(x[2]), std::sqrt(x[3])};
-#endif
-}
-[[gnu::always_inline]] inline bool any(I4 m) {
-#if defined(__SSE2__)
-  return _mm_movemask_ps(__m128(m)) != 0;
-#else
-  return (m[0] | m[1] | m[2] | m[3]) != 0;
-#endif
-}
-// Eigen's order for a 3-vector's dot product and squared norm: a0 b0 + (a1 b1 + a2 b2).
-[[gnu::always_inline]] inline F4 dot3(const F4* a, const F4* b) { return a[0] * b[0] + (a[1] * b[1] + a[2] * b[2]); }
-// Eigen's cwiseMax(0) then cwiseMin(1) (std::max / std::min: NaN stays NaN).
-[[gnu::always_inline]] inline F4 vclamp01(F4 c) {
-  c = c < 0.0f ? bcast(0.0f) : c;
-  return 1.0f < c ? bcast(1.0f) : c;
-}
-
-// light_vertex's per-draw constants broadcast to four lanes, with the products of material and
-// light colours it forms per vertex (the same float products) made once. Colour material
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wpsabi"
+// light_vertex's per-draw constants broadcast to the lanes of V, with the products of material
+// and light colours it forms per vertex (the same float products) made once. Colour material
 // replaces material colours by the vertex colours: those products are then formed per block.
+template <class V>
 struct LightConsts {
   struct Side {
-    F4 me[4], ma[4], md[4], ms[4];
-    F4 base[3];                    // emission + ambient * model ambient
-    F4 amb[8][3], dif[8][3], spec[8][3];  // material * light colours
+    V me[4], ma[4], md[4], ms[4];
+    V base[3];                          // emission + ambient * model ambient
+    V amb[8][3], dif[8][3], spec[8][3];  // material * light colours
     float shin = 0;
     bool cm = false;
   };
   struct L {
-    F4 pos[3], sdir[3], lamb[3], ldif[3], lspec[3];
+    V pos[3], sdir[3], lamb[3], ldif[3], lspec[3];
   };
   Side side[2];
   L l[8];
-  F4 model_ambient[3];
+  V model_ambient[3];
   LightConsts(const Context::State& s, const LightSetup& ls) {
-    for (int k = 0; k < 3; ++k) model_ambient[k] = bcast(ls.model_ambient[k]);
+    for (int k = 0; k < 3; ++k) model_ambient[k] = splat<V>(ls.model_ambient[k]);
     for (int i = 0; i < ls.n; ++i)
       for (int k = 0; k < 3; ++k) {
         const LightSetup::L& L = ls.l[i];
-        l[i].pos[k] = bcast(L.pos[k]), l[i].sdir[k] = bcast(L.sdir[k]);
-        l[i].lamb[k] = bcast(L.amb[k]), l[i].ldif[k] = bcast(L.dif[k]), l[i].lspec[k] = bcast(L.spec[k]);
+        l[i].pos[k] = splat<V>(L.pos[k]), l[i].sdir[k] = splat<V>(L.sdir[k]);
+        l[i].lamb[k] = splat<V>(L.amb[k]), l[i].ldif[k] = splat<V>(L.dif[k]), l[i].lspec[k] = splat<V>(L.spec[k]);
       }
     for (int sd = 0; sd < 2; ++sd) {
       const Material& m = s.material[sd];
@@ -579,7 +737,8 @@ struct LightConsts {
       d.cm = ls.color_material[sd];
       d.shin = m.shininess;
       for (int k = 0; k < 4; ++k)
-        d.me[k] = bcast(m.emission[k]), d.ma[k] = bcast(m.ambient[k]), d.md[k] = bcast(m.diffuse[k]), d.ms[k] = bcast(m.specular[k]);
+        d.me[k] = splat<V>(m.emission[k]), d.ma[k] = splat<V>(m.ambient[k]), d.md[k] = splat<V>(m.diffuse[k]),
+        d.ms[k] = splat<V>(m.specular[k]);
       for (int k = 0; k < 3; ++k) d.base[k] = d.me[k] + d.ma[k] * model_ambient[k];
       for (int i = 0; i < ls.n; ++i)
         for (int k = 0; k < 3; ++k)
@@ -588,14 +747,16 @@ struct LightConsts {
   }
 };
 
-// Four vertices lit at once: light_vertex's float operations in the same order, lane by lane
-// (SoA, GCC vector extensions: SSE2 on x86-64), so the colours are the same bits. P: eye
-// positions (divided by w); n: normals, negated for the back side; vc: vertex colours.
-template <bool CM>
-void light4_t(const Context::State& s, const LightSetup& ls, const LightConsts::Side& m, const LightConsts& lc,
-              const F4* P, const F4* n, const F4* vc, F4* out) {
-  const F4 *me = m.me, *ma = m.ma, *md = m.md, *ms = m.ms;
-  F4 cme[4], cma[4], cmd[4], cms[4];
+// Four (F4) or eight (F8) vertices lit at once: light_vertex's float operations in the same
+// order, lane by lane, so the colours are the same bits. P: eye positions (divided by w);
+// n: normals, negated for the back side; vc: vertex colours (read with colour material only).
+template <class V, bool CM>
+[[gnu::always_inline]] inline void light_t(const Context::State& s, const LightSetup& ls,
+                                           const typename LightConsts<V>::Side& m, const LightConsts<V>& lc,
+                                           const V* P, const V* n, const V* vc, V* out) {
+  typedef typename Lanes<V>::I I;
+  const V *me = m.me, *ma = m.ma, *md = m.md, *ms = m.ms;
+  V cme[4], cma[4], cmd[4], cms[4];
   if constexpr (CM) {
     for (int k = 0; k < 4; ++k) cme[k] = m.me[k], cma[k] = m.ma[k], cmd[k] = m.md[k], cms[k] = m.ms[k];
     for (int k = 0; k < 4; ++k) {
@@ -609,69 +770,57 @@ void light4_t(const Context::State& s, const LightSetup& ls, const LightConsts::
     }
     me = cme, ma = cma, md = cmd, ms = cms;
   }
-  F4 c[3];
+  V c[3];
   for (int k = 0; k < 3; ++k) c[k] = CM ? me[k] + ma[k] * lc.model_ambient[k] : m.base[k];
-  F4 ed[3] = {bcast(0), bcast(0), bcast(1)};
+  V ed[3] = {splat<V>(0), splat<V>(0), splat<V>(1)};
   if (ls.local_viewer) {
-    const F4 z = dot3(P, P);
-    const I4 pos = z > 0.0f;
-    const F4 r = vsqrt(z);
+    const V z = dot3(P, P);
+    const I pos = z > 0.0f;
+    const V r = vsqrt(z);
     for (int k = 0; k < 3; ++k) ed[k] = pos ? -(P[k] / r) : -P[k];
   }
   const float shin = m.shin;
   for (int i = 0; i < ls.n; ++i) {
     const LightSetup::L& L = ls.l[i];
-    const LightConsts::L& C = lc.l[i];
-    F4 VP[3];
-    F4 att = bcast(1);
+    const typename LightConsts<V>::L& C = lc.l[i];
+    V VP[3];
+    V att = splat<V>(1);
     if (L.local) {
       for (int k = 0; k < 3; ++k) VP[k] = C.pos[k] - P[k];
-      const F4 d = vsqrt(dot3(VP, VP));
+      const V d = vsqrt(dot3(VP, VP));
       for (int k = 0; k < 3; ++k) VP[k] = VP[k] / d;
       att = 1.0f / ((L.kc + L.kl * d) + (L.kq * d) * d);
     } else {
       for (int k = 0; k < 3; ++k) VP[k] = C.pos[k];
     }
-    F4 spot = bcast(1);
+    V spot = splat<V>(1);
     if (L.spot) {
-      const F4 cosang = -dot3(VP, C.sdir);
-      const I4 in = ~(cosang < L.cos_cut);
-      if (L.sexp == 0) {
-        spot = in ? bcast(1) : bcast(0);
-      } else {
-        alignas(16) float ca[4], sp[4];
-        std::memcpy(ca, &cosang, 16);
-        for (int l = 0; l < 4; ++l) sp[l] = in[l] ? std::pow(std::max(ca[l], 0.0f), L.sexp) : 0.0f;
-        std::memcpy(&spot, sp, 16);
-      }
+      const V cosang = -dot3(VP, C.sdir);
+      const I in = ~(cosang < L.cos_cut);
+      if (L.sexp == 0) spot = in ? splat<V>(1) : splat<V>(0);
+      else spot = in ? vpow(cosang < 0.0f ? splat<V>(0.0f) : cosang, L.sexp) : splat<V>(0);  // (std::max)
     }
-    const F4 k = att * spot;
-    const I4 use = ~(k == 0.0f);
+    const V k = att * spot;
+    const I use = ~(k == 0.0f);
     if (!any(use)) continue;
-    F4 amb[3], dif[3], spec[3];
+    V amb[3], dif[3], spec[3];
     for (int q = 0; q < 3; ++q) {
       amb[q] = CM ? ma[q] * C.lamb[q] : m.amb[i][q];
       dif[q] = CM ? md[q] * C.ldif[q] : m.dif[i][q];
       spec[q] = CM ? ms[q] * C.lspec[q] : m.spec[i][q];
     }
-    F4 term[3];
-    const F4 ndl = dot3(n, VP);
-    const I4 dmask = ndl > 0.0f;
+    V term[3];
+    const V ndl = dot3(n, VP);
+    const I dmask = ndl > 0.0f;
     for (int q = 0; q < 3; ++q) term[q] = dmask ? amb[q] + ndl * dif[q] : amb[q];
-    F4 h[3];
+    V h[3];
     for (int q = 0; q < 3; ++q) h[q] = VP[q] + ed[q];
-    const F4 hn = vsqrt(dot3(h, h));
-    const F4 ndh = dot3(n, h) / hn;
-    const I4 smask = dmask & (hn > 0.0f) & (ndh > 0.0f);
+    const V hn = vsqrt(dot3(h, h));
+    const V ndh = dot3(n, h) / hn;
+    const I smask = dmask & (hn > 0.0f) & (ndh > 0.0f);
     if (any(smask)) {
-      F4 f = bcast(1);
-      if (shin != 0) {
-        alignas(16) float nh[4], fl[4];
-        alignas(16) int sm[4];
-        std::memcpy(nh, &ndh, 16), std::memcpy(sm, &smask, 16);
-        for (int l = 0; l < 4; ++l) fl[l] = sm[l] ? std::pow(nh[l], shin) : 1.0f;
-        std::memcpy(&f, fl, 16);
-      }
+      // (The lanes outside smask compute a pow that is not used.)
+      const V f = shin != 0 ? vpow(ndh, shin) : splat<V>(1);
       for (int q = 0; q < 3; ++q) term[q] = smask ? term[q] + f * spec[q] : term[q];
     }
     for (int q = 0; q < 3; ++q) c[q] = use ? c[q] + k * term[q] : c[q];
@@ -680,12 +829,33 @@ void light4_t(const Context::State& s, const LightSetup& ls, const LightConsts::
   out[3] = vclamp01(md[3]);
 }
 
-void light4(const Context::State& s, const LightSetup& ls, const LightConsts& lc, const F4* P, const F4* n,
-            const F4* vc, int side, F4* out) {
-  const LightConsts::Side& m = lc.side[side];
-  if (m.cm) light4_t<true>(s, ls, m, lc, P, n, vc, out);
-  else light4_t<false>(s, ls, m, lc, P, n, vc, out);
+template <class V>
+[[gnu::always_inline]] inline void light(const Context::State& s, const LightSetup& ls, const LightConsts<V>& lc,
+                                         const V* P, const V* n, const V* vc, int side, V* out) {
+  const typename LightConsts<V>::Side& m = lc.side[side];
+  if (m.cm) light_t<V, true>(s, ls, m, lc, P, n, vc, out);
+  else light_t<V, false>(s, ls, m, lc, P, n, vc, out);
 }
+
+// The two builds, out of line (the equation is inlined once per build and colour-material case).
+void light_lanes(const Context::State& s, const LightSetup& ls, const LightConsts<F4>& lc, const F4* P, const F4* n,
+                 const F4* vc, int side, F4* out) {
+  light<F4>(s, ls, lc, P, n, vc, side, out);
+}
+#if defined(__x86_64__) && defined(__GNUC__)
+__attribute__((target("avx2"))) void light_lanes_avx2(const Context::State& s, const LightSetup& ls,
+                                                      const LightConsts<F8>& lc, const F8* P, const F8* n,
+                                                      const F8* vc, int side, F8* out) {
+  light<F8>(s, ls, lc, P, n, vc, side, out);
+}
+[[gnu::always_inline]] inline void light_lanes(const Context::State& s, const LightSetup& ls,
+                                               const LightConsts<F8>& lc, const F8* P, const F8* n, const F8* vc,
+                                               int side, F8* out) {
+  light_lanes_avx2(s, ls, lc, P, n, vc, side, out);
+}
+#endif
+
+#pragma GCC diagnostic pop
 
 bool two_sided_lighting(const Context::State& s) { return s.on(Cap::Lighting) && s.two_side; }
 
@@ -763,6 +933,169 @@ PVert process_vertex(const Context::State& s, const LightSetup& ls, const InVert
   }
   return out;
 }
+
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wpsabi"
+// Lanes to vertices: the RGBA of lane l (c: R, G, B, A rows) to a + l * stride, for l < lanes.
+[[gnu::always_inline]] inline void store_rgba(const F4* c, float* a, std::size_t stride, std::size_t lanes) {
+  const F4 t0 = __builtin_shufflevector(c[0], c[1], 0, 4, 1, 5), t1 = __builtin_shufflevector(c[0], c[1], 2, 6, 3, 7);
+  const F4 t2 = __builtin_shufflevector(c[2], c[3], 0, 4, 1, 5), t3 = __builtin_shufflevector(c[2], c[3], 2, 6, 3, 7);
+  const F4 v[4] = {__builtin_shufflevector(t0, t2, 0, 1, 4, 5), __builtin_shufflevector(t0, t2, 2, 3, 6, 7),
+                   __builtin_shufflevector(t1, t3, 0, 1, 4, 5), __builtin_shufflevector(t1, t3, 2, 3, 6, 7)};
+  for (std::size_t l = 0; l < lanes; ++l) std::memcpy(a + l * stride, &v[l], sizeof(F4));
+}
+[[gnu::always_inline]] inline void store_rgba(const F8* c, float* a, std::size_t stride, std::size_t lanes) {
+  // Within each 128-bit half as the four-lane transpose: u[l] holds vertex l, then vertex l + 4.
+  const F8 t0 = __builtin_shufflevector(c[0], c[1], 0, 8, 1, 9, 4, 12, 5, 13);
+  const F8 t1 = __builtin_shufflevector(c[0], c[1], 2, 10, 3, 11, 6, 14, 7, 15);
+  const F8 t2 = __builtin_shufflevector(c[2], c[3], 0, 8, 1, 9, 4, 12, 5, 13);
+  const F8 t3 = __builtin_shufflevector(c[2], c[3], 2, 10, 3, 11, 6, 14, 7, 15);
+  const F8 u[4] = {__builtin_shufflevector(t0, t2, 0, 1, 8, 9, 4, 5, 12, 13),
+                   __builtin_shufflevector(t0, t2, 2, 3, 10, 11, 6, 7, 14, 15),
+                   __builtin_shufflevector(t1, t3, 0, 1, 8, 9, 4, 5, 12, 13),
+                   __builtin_shufflevector(t1, t3, 2, 3, 10, 11, 6, 7, 14, 15)};
+  if (lanes == 8) {
+    for (int l = 0; l < 4; ++l) {
+      const F4 a0 = lo(u[l]), a1 = hi(u[l]);
+      std::memcpy(a + l * stride, &a0, sizeof(F4)), std::memcpy(a + (l + 4) * stride, &a1, sizeof(F4));
+    }
+    return;
+  }
+  for (std::size_t l = 0; l < lanes; ++l) {
+    const F4 v = l < 4 ? lo(u[l]) : hi(u[l - 4]);
+    std::memcpy(a + l * stride, &v, sizeof(F4));
+  }
+}
+
+// vertex_attrs' eye normal on all lanes (double, m = nmat column-major): nmat * n in Eigen's order for a
+// Matrix3d times a Vector3d (rows 0 and 1 as (m0 n0 + m1 n1) + m2 n2, row 2 as m0 n0 + (m1 n1 +
+// m2 n2)), divided by its norm sqrt((x x + y y) + z z) when normalising and the norm is positive.
+template <class D>
+[[gnu::always_inline]] inline void eye_normals(const double* m, D* n, bool normalize) {
+  const D r0 = (m[0] * n[0] + m[3] * n[1]) + m[6] * n[2];
+  const D r1 = (m[1] * n[0] + m[4] * n[1]) + m[7] * n[2];
+  const D r2 = m[2] * n[0] + (m[5] * n[1] + m[8] * n[2]);
+  n[0] = r0, n[1] = r1, n[2] = r2;
+  if (normalize) {
+    const D len = vsqrt((r0 * r0 + r1 * r1) + r2 * r2);
+    for (int k = 0; k < 3; ++k) n[k] = len > 0.0 ? n[k] / len : n[k];
+  }
+}
+
+// A chunk's needed vertices as light_needed reads them: indices into the chunk, the eye
+// position rows (x, y, z, w), and the chunk's first vertex in the source.
+struct NeededVerts {
+  const std::uint32_t* need;
+  std::size_t n;
+  const double* eye[4];
+  std::size_t v0;
+};
+
+// The lit colours (and, unless `lean`, vertex_attrs' other attributes) of the needed vertices,
+// W = 4 or 8 at a time, into attrs (sets of `astride` floats): gathered by rows (SoA; a run of
+// consecutive vertices is read straight from the eye rows), the eye position divided by w and the
+// normal transformed and normalised in double on all lanes at once with vertex_attrs' operations
+// (eye_normals), then lit.
+template <class V, class Src>
+[[gnu::always_inline]] inline void light_needed(const Context::State& s, const LightSetup& ls, const Src& src,
+                                                const Mat3& nmat, const NeededVerts& nv, bool lean,
+                                                const AttrNeeds& needs, float* attrs, std::size_t astride) {
+  constexpr int W = Lanes<V>::W;
+  typedef typename Lanes<V>::D D;
+  const LightConsts<V> lc(s, ls);
+  const bool normalize = s.on(Cap::Normalize);
+  const bool two = s.two_side;
+  const bool want_color = !lean || lc.side[0].cm || (two && lc.side[1].cm);
+  double m[9];
+  for (int k = 0; k < 9; ++k) m[k] = nmat(k % 3, k / 3);
+  for (std::size_t q = 0; q < nv.n; q += W) {
+    const std::size_t lanes = std::min<std::size_t>(W, nv.n - q);
+    const std::uint32_t* nd = nv.need + q;
+    alignas(64) double pe[4][W], pn[3][W];
+    alignas(32) float pc[4][W];
+    const double* ep[4] = {pe[0], pe[1], pe[2], pe[3]};
+    if (lanes == W && nd[W - 1] - nd[0] == W - 1) {
+      for (int k = 0; k < 4; ++k) ep[k] = nv.eye[k] + nd[0];
+    } else {
+      for (std::size_t l = 0; l < lanes; ++l)
+        for (int k = 0; k < 4; ++k) pe[k][l] = nv.eye[k][nd[l]];
+    }
+    for (std::size_t l = 0; l < lanes; ++l) {
+      const std::size_t i = nd[l];
+      if (lean) {
+        const Vec3 n = src.normal(nv.v0 + i);
+        for (int k = 0; k < 3; ++k) pn[k][l] = n[k];
+        if (want_color) {
+          const Vec4f c = src.color(nv.v0 + i);
+          for (int k = 0; k < 4; ++k) pc[k][l] = c[k];
+        }
+      } else {
+        // vertex_attrs: every other attribute, and the eye normal (transformed here already).
+        auto&& v = src.vertex(nv.v0 + i);
+        const Vec4 e(nv.eye[0][i], nv.eye[1][i], nv.eye[2][i], nv.eye[3][i]);
+        const Vec3 n = vertex_attrs(s, v, e, nmat, attrs + (q + l) * astride, needs);
+        for (int k = 0; k < 3; ++k) pn[k][l] = n[k];
+        for (int k = 0; k < 4; ++k) pc[k][l] = v.color[k];
+      }
+    }
+    if (lanes < W) {  // the last group: its unused lanes copy lane 0 (computed, not stored)
+      for (std::size_t l = lanes; l < W; ++l) {
+        if (ep[0] == pe[0])
+          for (int k = 0; k < 4; ++k) pe[k][l] = pe[k][0];
+        for (int k = 0; k < 3; ++k) pn[k][l] = pn[k][0];
+        for (int k = 0; k < 4; ++k) pc[k][l] = pc[k][0];
+      }
+    }
+    // As light_vertex: P = (eye / w) in double, then float (w = 1 in every lane, the usual affine
+    // modelview: x / 1 = x exactly, the divisions are skipped).
+    // (Doubles in two halves of W / 2 lanes, each a register wide.)
+    D e[4][2], n[3][2];
+    for (int k = 0; k < 4; ++k)
+      for (int h = 0; h < 2; ++h) std::memcpy(&e[k][h], ep[k] + h * (W / 2), sizeof(D));
+    if (any(typename Lanes<V>::I((e[3][0] != 1.0) | (e[3][1] != 1.0))))
+      for (int k = 0; k < 3; ++k)
+        for (int h = 0; h < 2; ++h) e[k][h] = e[k][h] / e[3][h];
+    V P[3], N[3], C[4];
+    for (int k = 0; k < 3; ++k) P[k] = narrow(e[k]);
+    for (int k = 0; k < 3; ++k)
+      for (int h = 0; h < 2; ++h) std::memcpy(&n[k][h], pn[k] + h * (W / 2), sizeof(D));
+    if (lean)
+      for (int h = 0; h < 2; ++h) {
+        D nh[3] = {n[0][h], n[1][h], n[2][h]};
+        eye_normals(m, nh, normalize);
+        for (int k = 0; k < 3; ++k) n[k][h] = nh[k];
+      }
+    for (int k = 0; k < 3; ++k) N[k] = narrow(n[k]);
+    for (int k = 0; k < 4; ++k)
+      if (want_color) std::memcpy(&C[k], pc[k], sizeof(V));
+      else C[k] = splat<V>(0);  // (not read)
+    V front[4], back[4];
+    light_lanes(s, ls, lc, P, N, C, 0, front);
+    float* const a = attrs + q * astride;
+    store_rgba(front, a + kFront, astride, lanes);
+    if (two) {
+      const V nb[3] = {-N[0], -N[1], -N[2]};
+      light_lanes(s, ls, lc, P, nb, C, 1, back);
+    }
+    if (astride > 4) store_rgba(two ? back : front, a + kBack, astride, lanes);
+  }
+}
+
+template <class Src>
+void light_needed_sse2(const Context::State& s, const LightSetup& ls, const Src& src, const Mat3& nmat,
+                       const NeededVerts& nv, bool lean, const AttrNeeds& needs, float* attrs, std::size_t astride) {
+  light_needed<F4>(s, ls, src, nmat, nv, lean, needs, attrs, astride);
+}
+#if defined(__x86_64__) && defined(__GNUC__)
+template <class Src>
+__attribute__((target("avx2"))) void light_needed_avx2(const Context::State& s, const LightSetup& ls, const Src& src,
+                                                       const Mat3& nmat, const NeededVerts& nv, bool lean,
+                                                       const AttrNeeds& needs, float* attrs, std::size_t astride) {
+  light_needed<F8>(s, ls, src, nmat, nv, lean, needs, attrs, astride);
+}
+#endif
+
+#pragma GCC diagnostic pop
 
 // m * p in Eigen's order (((c0 x + c1 y) + c2 z) + c3 w), inline.
 [[gnu::always_inline]] inline Vec4 xform(const Mat4& m, const Vec4& p) {
@@ -2515,7 +2848,7 @@ void run_chunk(Raster& rc, const Src& src, const Mat3& nmat, TriChunk& ck, Chunk
     if (st != TriChunk::kSkip)
       for (int k = 0; k < 3; ++k) ck.need.push_back(std::uint32_t(i + k));
   }
-  // Attributes of the needed vertices, four at a time: lighting takes them as four lanes.
+  // Attributes of the needed vertices; lit ones W = 4 or 8 at a time (light_needed).
   const bool lit = vertex_lighting(s);
   const AttrNeeds needs(s);
   // Lit, nothing else read: the normal and colour alone (no InVertex, no texture stage), and
@@ -2531,68 +2864,20 @@ void run_chunk(Raster& rc, const Src& src, const Mat3& nmat, TriChunk& ck, Chunk
   const double* ey = ck.row(TriChunk::kEy);
   const double* ez = ck.row(TriChunk::kEz);
   const double* ew = ck.row(TriChunk::kEw);
-  const bool normalize = s.on(Cap::Normalize);
-  const LightConsts lc(s, rc.lights);
   const std::size_t nn = ck.need.size();
-  for (std::size_t q = 0; q < nn; q += 4) {
-    const std::size_t lanes = std::min<std::size_t>(4, nn - q);
-    alignas(16) float in[10][4] = {};
-    for (std::size_t l = 0; l < lanes; ++l) {
-      const std::size_t i = ck.need[q + l];
-      const Vec4 e(ex[i], ey[i], ez[i], ew[i]);
-      Vec3 n;
-      Vec4f color;
-      if (lean) {
-        // vertex_attrs' normal; the set holds only the colours.
-        n = nmat * src.normal(v0 + i);
-        if (normalize) {
-          double len = n.norm();
-          if (len > 0) n /= len;
-        }
-        color = src.color(v0 + i);
-      } else {
-        auto&& v = src.vertex(v0 + i);
-        n = vertex_attrs(s, v, e, nmat, attrs + (q + l) * astride, needs);
-        color = v.color;
-      }
-      if (lit) {
-        // As light_vertex: P = (eye / w) in double, then float.
-        // (w = 1, the usual affine modelview: x / 1 = x exactly, three divisions saved.)
-        const double iw = e.w();
-        if (iw == 1.0) in[0][l] = float(e.x()), in[1][l] = float(e.y()), in[2][l] = float(e.z());
-        else in[0][l] = float(e.x() / iw), in[1][l] = float(e.y() / iw), in[2][l] = float(e.z() / iw);
-        in[3][l] = float(n.x()), in[4][l] = float(n.y()), in[5][l] = float(n.z());
-        for (int k = 0; k < 4; ++k) in[6 + k][l] = color[k];
-      }
+  if (!lit) {
+    for (std::size_t q = 0; q < nn; ++q) {
+      const std::size_t i = ck.need[q];
+      vertex_attrs(s, src.vertex(v0 + i), Vec4(ex[i], ey[i], ez[i], ew[i]), nmat, attrs + q * astride, needs);
     }
-    if (!lit) continue;
-    F4 vin[10];
-    std::memcpy(vin, in, sizeof(vin));
-    F4 front[4], back[4];
-    light4(s, rc.lights, lc, vin, vin + 3, vin + 6, 0, front);
-    if (s.two_side) {
-      const F4 nb[3] = {-vin[3], -vin[4], -vin[5]};
-      light4(s, rc.lights, lc, vin, nb, vin + 6, 1, back);
-    }
-    const F4* b = s.two_side ? back : front;
-    // Lanes to vertices: a 4x4 transpose, then one RGBA store per vertex and side.
-    alignas(16) float fr[4][4], bk[4][4];
-#if defined(__SSE2__)
-    __m128 f0 = front[0], f1 = front[1], f2 = front[2], f3 = front[3];
-    _MM_TRANSPOSE4_PS(f0, f1, f2, f3);
-    _mm_store_ps(fr[0], f0), _mm_store_ps(fr[1], f1), _mm_store_ps(fr[2], f2), _mm_store_ps(fr[3], f3);
-    __m128 b0 = b[0], b1 = b[1], b2 = b[2], b3 = b[3];
-    _MM_TRANSPOSE4_PS(b0, b1, b2, b3);
-    _mm_store_ps(bk[0], b0), _mm_store_ps(bk[1], b1), _mm_store_ps(bk[2], b2), _mm_store_ps(bk[3], b3);
+  } else {
+    const NeededVerts nv{ck.need.data(), nn, {ex, ey, ez, ew}, v0};
+#if defined(__x86_64__) && defined(__GNUC__)
+    if (rc.avx2 && use_avx2()) light_needed_avx2(s, rc.lights, src, nmat, nv, lean, needs, attrs, astride);
+    else light_needed_sse2(s, rc.lights, src, nmat, nv, lean, needs, attrs, astride);
 #else
-    for (int k = 0; k < 4; ++k)
-      for (int l = 0; l < 4; ++l) fr[l][k] = front[k][l], bk[l][k] = b[k][l];
+    light_needed_sse2(s, rc.lights, src, nmat, nv, lean, needs, attrs, astride);
 #endif
-    for (std::size_t l = 0; l < lanes; ++l) {
-      float* a = attrs + (q + l) * astride;
-      std::memcpy(a + kFront, fr[l], 4 * sizeof(float));
-      if (astride > 4) std::memcpy(a + kBack, bk[l], 4 * sizeof(float));
-    }
   }
 
   // Draw (or queue) in submission order; a drawn triangle's vertices have consecutive slots.
@@ -2680,6 +2965,49 @@ void draw_triangles(Raster& r, const Src& src, std::size_t tris) {
 }  // namespace
 
 std::atomic<bool> simd_fallback{false};
+
+namespace {
+void pow_lanes4(const float* x, std::size_t n, float y, float* out) {
+  for (std::size_t i = 0; i < n; i += 4) {
+    F4 v = bcast(1), r;
+    std::memcpy(&v, x + i, sizeof(float) * std::min<std::size_t>(4, n - i));
+    r = vpow(v, y);
+    std::memcpy(out + i, &r, sizeof(float) * std::min<std::size_t>(4, n - i));
+  }
+}
+#if defined(__x86_64__) && defined(__GNUC__)
+__attribute__((target("avx2"))) void pow_lanes8(const float* x, std::size_t n, float y, float* out) {
+  for (std::size_t i = 0; i < n; i += 8) {
+    F8 v = splat<F8>(1), r;
+    std::memcpy(&v, x + i, sizeof(float) * std::min<std::size_t>(8, n - i));
+    r = vpow(v, y);
+    std::memcpy(out + i, &r, sizeof(float) * std::min<std::size_t>(8, n - i));
+  }
+}
+#endif
+}  // namespace
+
+void lighting_pow(const float* x, std::size_t n, float y, float* out, bool avx2) {
+#if defined(__x86_64__) && defined(__GNUC__)
+  if (avx2 && __builtin_cpu_supports("avx2")) return pow_lanes8(x, n, y, out);
+#endif
+  (void)avx2;
+  pow_lanes4(x, n, y, out);
+}
+float lighting_pow(float x, float y) { return gl_pow(x, y); }
+
+void lighting_normals(const Mat3& nmat, const double* n, std::size_t count, bool normalize, double* out) {
+  double m[9];
+  for (int k = 0; k < 9; ++k) m[k] = nmat(k % 3, k / 3);
+  for (std::size_t i = 0; i < count; i += 2) {
+    Lanes<F4>::D v[3];  // the SSE2 build's (the AVX2 one's: the same operations on four lanes)
+    for (int k = 0; k < 3; ++k)
+      for (int l = 0; l < 2; ++l) v[k][l] = i + l < count ? n[3 * (i + l) + k] : 1.0;
+    eye_normals(m, v, normalize);
+    for (std::size_t l = 0; l < 2 && i + l < count; ++l)
+      for (int k = 0; k < 3; ++k) out[3 * (i + l) + k] = v[k][l];
+  }
+}
 
 bool run_triangle_arrays(Context::State& s, int width, int height, std::uint8_t* color, float* depth,
                          const VertexArrays& a, const std::uint32_t* indices, int first, int count) {
@@ -2888,4 +3216,7 @@ void run_primitive(Context::State& s, int width, int height, std::uint8_t* color
   if (!queues.empty()) draw_bands(r, queues.data(), queues.size());
 }
 
+// The templates of the vector lighting (F8, DF4 values) are instantiated at the end of the file,
+// where their -Wpsabi notes would be reported: see the note at F4's definition.
+#pragma GCC diagnostic ignored "-Wpsabi"
 }  // namespace wedge::render
