@@ -1585,67 +1585,85 @@ struct Raster {
       for (std::size_t k = 0; k < n; ++k) triangle(tri[k].v[0], tri[k].v[1], tri[k].v[2], tri[k].side, tri[k].flat);
       return;
     }
-    for (std::size_t k0 = 0; k0 < n; k0 += RunSetup::kMax) {
-      const int m = int(std::min<std::size_t>(RunSetup::kMax, n - k0));
-      const int m4 = (m + 3) & ~3;
-      for (int t = 0; t < m4; ++t) {
-        const RunTri& rt = tri[k0 + std::min(t, m - 1)];  // (the padding lanes repeat the last)
-        const int col = rt.side ? kBack : kFront;
-        for (int i = 0; i < 3; ++i) {
-          const WinVert& w = rt.v[i];
-          rs.x[i][t] = w.x, rs.y[i][t] = w.y, rs.z[i][t] = float(w.z), rs.iw[i][t] = w.inv_w;
-          for (int c = 0; c < 4; ++c) rs.col[i][c][t] = w.a[col + c];
-        }
+    // Stretches of triangles that may be small (vertices within 5 pixels each way: no more than
+    // 4 x 4 centres) go to small_run; larger ones straight to triangle(), in order.
+    auto may_be_small = [](const RunTri& t) {
+      const WinVert* v = t.v;
+      return std::max({v[0].x, v[1].x, v[2].x}) - std::min({v[0].x, v[1].x, v[2].x}) < 5.0 &&
+             std::max({v[0].y, v[1].y, v[2].y}) - std::min({v[0].y, v[1].y, v[2].y}) < 5.0;
+    };
+    for (std::size_t k = 0; k < n;) {
+      std::size_t e = k;
+      while (e < n && e - k < std::size_t(RunSetup::kMax) && may_be_small(tri[e])) ++e;
+      if (e > k) {
+        small_run(tri + k, int(e - k), rs);
+        k = e;
+      } else {
+        triangle(tri[k].v[0], tri[k].v[1], tri[k].v[2], tri[k].side, tri[k].flat);
+        ++k;
       }
+    }
+  }
+  // Up to RunSetup::kMax triangles of triangle_run, set up together.
+  void small_run(const RunTri* tri, int m, RunSetup& rs) {
+    const int m4 = (m + 3) & ~3;
+    for (int t = 0; t < m4; ++t) {
+      const RunTri& rt = tri[std::min(t, m - 1)];  // (the padding lanes repeat the last)
+      const int col = rt.side ? kBack : kFront;
+      for (int i = 0; i < 3; ++i) {
+        const WinVert& w = rt.v[i];
+        rs.x[i][t] = w.x, rs.y[i][t] = w.y, rs.z[i][t] = float(w.z), rs.iw[i][t] = w.inv_w;
+        for (int c = 0; c < 4; ++c) rs.col[i][c][t] = w.a[col + c];
+      }
+    }
 #if defined(__x86_64__) && defined(__GNUC__)
-      if (avx2) run_setup_avx2(rs, m4, x0, y0, x1, y1);
-      else run_setup_default(rs, m4, x0, y0, x1, y1);
+    if (avx2) run_setup_avx2(rs, m4, x0, y0, x1, y1);
+    else run_setup_default(rs, m4, x0, y0, x1, y1);
 #else
-      run_setup_default(rs, m4, x0, y0, x1, y1);
+    run_setup_default(rs, m4, x0, y0, x1, y1);
 #endif
-      const DepthFunc dfunc = s.depth_func;
-      const bool dmask = s.depth_mask;
-      // The framebuffer lines of the first and last covered centre of a triangle a few ahead are
-      // fetched while this one is drawn (a mesh's triangles come in no screen order: they miss).
-      constexpr int kAhead = 8;
-      for (int t = -kAhead; t < m; ++t) {
-        const int f = t + kAhead;
-        if (f < m && rs.status[f] == RunSetup::kTiny) {
-          const std::uint32_t mk = rs.mask[f];
-          const int b0 = __builtin_ctz(mk), b1 = 31 - __builtin_clz(mk);
-          const std::size_t i0 = std::size_t(rs.by0[f] + (b0 >> 2)) * width + std::size_t(rs.bx0[f] + (b0 & 3));
-          const std::size_t i1 = std::size_t(rs.by0[f] + (b1 >> 2)) * width + std::size_t(rs.bx0[f] + (b1 & 3));
-          __builtin_prefetch(depth + i0, 1), __builtin_prefetch(color + 4 * i0, 1);
-          __builtin_prefetch(depth + i1, 1), __builtin_prefetch(color + 4 * i1, 1);
-        }
-        if (t < 0) continue;
-        const RunTri& rt = tri[k0 + t];
-        if (rs.status[t] == RunSetup::kNone) continue;
-        if (rs.status[t] == RunSetup::kOther) {
-          triangle(rt.v[0], rt.v[1], rt.v[2], rt.side, rt.flat);
-          continue;
-        }
-        // As triangle(): the same colour at the three vertices is drawn flat.
-        const int col = rt.side ? kBack : kFront;
-        const float* flat = rt.flat;
-        if (!flat && std::memcmp(rt.v[0].a + col, rt.v[1].a + col, 4 * sizeof(float)) == 0 &&
-            std::memcmp(rt.v[0].a + col, rt.v[2].a + col, 4 * sizeof(float)) == 0)
-          flat = rt.v[0].a;
-        float pl[5][3];
-        for (int k = 0; k < 5; ++k)
-          for (int q = 0; q < 3; ++q) pl[k][q] = rs.pl[k][q][t];
-        const int bx0 = rs.bx0[t], by0 = rs.by0[t], ox = rs.ox[t], oy = rs.oy[t];
-        const double zc = rs.zc[t], zdx = rs.zdx[t], zdy = rs.zdy[t];
-        for (std::uint32_t mk = rs.mask[t]; mk; mk &= mk - 1) {
-          const int b = __builtin_ctz(mk), px = bx0 + (b & 3), py = by0 + (b >> 2);
-          const float X = float(px - ox), Y = float(py - oy);
-          if (flat) {
-            if (depth_test) tiny_pixel<false, true>(px, py, X, Y, zc, zdx, zdy, pl, flat + col, dfunc, dmask);
-            else tiny_pixel<false, false>(px, py, X, Y, zc, zdx, zdy, pl, flat + col, dfunc, dmask);
-          } else {
-            if (depth_test) tiny_pixel<true, true>(px, py, X, Y, zc, zdx, zdy, pl, nullptr, dfunc, dmask);
-            else tiny_pixel<true, false>(px, py, X, Y, zc, zdx, zdy, pl, nullptr, dfunc, dmask);
-          }
+    const DepthFunc dfunc = s.depth_func;
+    const bool dmask = s.depth_mask;
+    // The framebuffer lines of the first and last covered centre of a triangle a few ahead are
+    // fetched while this one is drawn (a mesh's triangles come in no screen order: they miss).
+    constexpr int kAhead = 8;
+    for (int t = -kAhead; t < m; ++t) {
+      const int f = t + kAhead;
+      if (f < m && rs.status[f] == RunSetup::kTiny) {
+        const std::uint32_t mk = rs.mask[f];
+        const int b0 = __builtin_ctz(mk), b1 = 31 - __builtin_clz(mk);
+        const std::size_t i0 = std::size_t(rs.by0[f] + (b0 >> 2)) * width + std::size_t(rs.bx0[f] + (b0 & 3));
+        const std::size_t i1 = std::size_t(rs.by0[f] + (b1 >> 2)) * width + std::size_t(rs.bx0[f] + (b1 & 3));
+        __builtin_prefetch(depth + i0, 1), __builtin_prefetch(color + 4 * i0, 1);
+        __builtin_prefetch(depth + i1, 1), __builtin_prefetch(color + 4 * i1, 1);
+      }
+      if (t < 0) continue;
+      const RunTri& rt = tri[t];
+      if (rs.status[t] == RunSetup::kNone) continue;
+      if (rs.status[t] == RunSetup::kOther) {
+        triangle(rt.v[0], rt.v[1], rt.v[2], rt.side, rt.flat);
+        continue;
+      }
+      // As triangle(): the same colour at the three vertices is drawn flat.
+      const int col = rt.side ? kBack : kFront;
+      const float* flat = rt.flat;
+      if (!flat && std::memcmp(rt.v[0].a + col, rt.v[1].a + col, 4 * sizeof(float)) == 0 &&
+          std::memcmp(rt.v[0].a + col, rt.v[2].a + col, 4 * sizeof(float)) == 0)
+        flat = rt.v[0].a;
+      float pl[5][3];
+      for (int k = 0; k < 5; ++k)
+        for (int q = 0; q < 3; ++q) pl[k][q] = rs.pl[k][q][t];
+      const int bx0 = rs.bx0[t], by0 = rs.by0[t], ox = rs.ox[t], oy = rs.oy[t];
+      const double zc = rs.zc[t], zdx = rs.zdx[t], zdy = rs.zdy[t];
+      for (std::uint32_t mk = rs.mask[t]; mk; mk &= mk - 1) {
+        const int b = __builtin_ctz(mk), px = bx0 + (b & 3), py = by0 + (b >> 2);
+        const float X = float(px - ox), Y = float(py - oy);
+        if (flat) {
+          if (depth_test) tiny_pixel<false, true>(px, py, X, Y, zc, zdx, zdy, pl, flat + col, dfunc, dmask);
+          else tiny_pixel<false, false>(px, py, X, Y, zc, zdx, zdy, pl, flat + col, dfunc, dmask);
+        } else {
+          if (depth_test) tiny_pixel<true, true>(px, py, X, Y, zc, zdx, zdy, pl, nullptr, dfunc, dmask);
+          else tiny_pixel<true, false>(px, py, X, Y, zc, zdx, zdy, pl, nullptr, dfunc, dmask);
         }
       }
     }
