@@ -2661,6 +2661,7 @@ struct InSource {
   void positions(std::size_t i0, std::size_t n, double* x, double* y, double* z, double* w) const {
     for (std::size_t i = 0; i < n; ++i) position(i0 + i, x[i], y[i], z[i], w[i]);
   }
+  const double* packed_xyz(std::size_t) const { return nullptr; }
   const InVertex& vertex(std::size_t i) const { return v[i]; }
   const Vec3& normal(std::size_t i) const { return v[i].normal; }
   const Vec4f& color(std::size_t i) const { return v[i].color; }
@@ -2684,6 +2685,11 @@ struct ArraySource {
   void position(std::size_t i, double& x, double& y, double& z, double& w) const {
     const double* p = a.positions + at(i) * a.position_size;
     x = p[0], y = p[1], z = a.position_size > 2 ? p[2] : 0.0, w = a.position_size > 3 ? p[3] : 1.0;
+  }
+  // The x y z of vertex i0 onward, when they lie packed in the client array (no indices, three
+  // components): the position stage reads them there. Else null.
+  const double* packed_xyz(std::size_t i0) const {
+    return !indices && a.position_size == 3 ? a.positions + (first + i0) * 3 : nullptr;
   }
   // Positions i0 .. i0 + n - 1 into rows.
   void positions(std::size_t i0, std::size_t n, double* x, double* y, double* z, double* w) const {
@@ -2768,8 +2774,11 @@ struct PositionStage {
 };
 
 // V: a vector of doubles (D2 for the default target, D4 for AVX2); L its comparison mask.
+// xyz: the chunk's positions packed x y z (w = 1) in the client array, its `count` vertices read
+// there (the padding to the stride from zeros); else null, and the object rows hold them.
 template <class V>
-[[gnu::always_inline]] inline void position_rows(const PositionStage& ps, TriChunk& ck) {
+[[gnu::always_inline]] inline void position_rows(const PositionStage& ps, TriChunk& ck, const double* xyz,
+                                                 std::size_t count) {
   typedef decltype(V{} < V{}) L;
   constexpr int kW = sizeof(V) / sizeof(double);
   const std::size_t n = ck.stride;
@@ -2780,8 +2789,33 @@ template <class V>
   for (std::size_t i = 0; i < n; i += kW) {
     double* const q = b + i;
     V X, Y, Z, W;
-    std::memcpy(&X, q, sizeof(V)), std::memcpy(&Y, q + n, sizeof(V));
-    std::memcpy(&Z, q + 2 * n, sizeof(V)), std::memcpy(&W, q + 3 * n, sizeof(V));
+    if (xyz) {
+      // kW vertices' x y z (3 kW doubles) as three vectors, then by lanes.
+      alignas(32) double pad[3 * kW];
+      const double* src = xyz + 3 * i;
+      if (i + kW > count) {
+        std::fill(std::begin(pad), std::end(pad), 0.0);
+        std::memcpy(pad, src, 3 * (count - i) * sizeof(double));
+        src = pad;
+      }
+      V a, bb, c;
+      std::memcpy(&a, src, sizeof(V)), std::memcpy(&bb, src + kW, sizeof(V)), std::memcpy(&c, src + 2 * kW, sizeof(V));
+      typedef decltype(V{} < V{}) M;
+      if constexpr (kW == 2) {
+        // a = x0 y0, bb = z0 x1, c = y1 z1
+        X = __builtin_shuffle(a, bb, M{0, 3}), Y = __builtin_shuffle(a, c, M{1, 2}), Z = __builtin_shuffle(bb, c, M{0, 3});
+      } else {
+        // a = x0 y0 z0 x1, bb = y1 z1 x2 y2, c = z2 x3 y3 z3
+        const V xa = __builtin_shuffle(a, bb, M{0, 3, 6, 6}), ya = __builtin_shuffle(a, bb, M{1, 4, 7, 7}),
+                za = __builtin_shuffle(a, bb, M{2, 5, 5, 5});
+        X = __builtin_shuffle(xa, c, M{0, 1, 2, 5}), Y = __builtin_shuffle(ya, c, M{0, 1, 2, 6});
+        Z = __builtin_shuffle(za, c, M{0, 1, 4, 7});
+      }
+      W = V{} + 1.0;
+    } else {
+      std::memcpy(&X, q, sizeof(V)), std::memcpy(&Y, q + n, sizeof(V));
+      std::memcpy(&Z, q + 2 * n, sizeof(V)), std::memcpy(&W, q + 3 * n, sizeof(V));
+    }
     const V ex = ((m[0] * X + m[4] * Y) + m[8] * Z) + m[12] * W;
     const V ey = ((m[1] * X + m[5] * Y) + m[9] * Z) + m[13] * W;
     const V ez = ((m[2] * X + m[6] * Y) + m[10] * Z) + m[14] * W;
@@ -2802,16 +2836,21 @@ template <class V>
     std::memcpy(q + TriChunk::kCz * n, &cz, sizeof(V)), std::memcpy(q + TriChunk::kCw * n, &cw, sizeof(V));
     std::memcpy(q + TriChunk::kWx * n, &wx, sizeof(V)), std::memcpy(q + TriChunk::kWy * n, &wy, sizeof(V));
     std::memcpy(q + TriChunk::kWz * n, &wz, sizeof(V)), std::memcpy(q + TriChunk::kIw * n, &iw, sizeof(V));
-    alignas(32) long long o[kW];
-    std::memcpy(o, &out, sizeof o);
-    for (int l = 0; l < kW; ++l) vout[i + l] = o[l] != 0;
+    // (One byte per lane, taken from the register: reading the mask's lanes back from memory
+    // stalls on store forwarding.)
+    for (int l = 0; l < kW; ++l) vout[i + l] = std::uint8_t(out[l] & 1);
   }
 }
 
 #if defined(__x86_64__) && defined(__GNUC__)
-__attribute__((target("avx2"))) void position_rows_avx2(const PositionStage& ps, TriChunk& ck) { position_rows<D4>(ps, ck); }
+__attribute__((target("avx2"))) void position_rows_avx2(const PositionStage& ps, TriChunk& ck, const double* xyz,
+                                                         std::size_t count) {
+  position_rows<D4>(ps, ck, xyz, count);
+}
 #endif
-void position_rows_default(const PositionStage& ps, TriChunk& ck) { position_rows<D2>(ps, ck); }
+void position_rows_default(const PositionStage& ps, TriChunk& ck, const double* xyz, std::size_t count) {
+  position_rows<D2>(ps, ck, xyz, count);
+}
 
 bool use_avx2() {
 #if defined(__x86_64__) && defined(__GNUC__)
@@ -2831,15 +2870,18 @@ void run_chunk(Raster& rc, const Src& src, const Mat3& nmat, TriChunk& ck, Chunk
   ck.soa.resize(TriChunk::kRows * ck.stride), ck.vout.resize(ck.stride);
   ck.status.resize(nt), ck.side.resize(nt);
   {
-    double* p[4] = {ck.row(TriChunk::kPx), ck.row(TriChunk::kPy), ck.row(TriChunk::kPz), ck.row(TriChunk::kPw)};
-    src.positions(v0, nv, p[0], p[1], p[2], p[3]);
-    for (std::size_t i = nv; i < ck.stride; ++i) p[0][i] = p[1][i] = p[2][i] = 0, p[3][i] = 1;
+    const double* xyz = src.packed_xyz(v0);
+    if (!xyz) {
+      double* p[4] = {ck.row(TriChunk::kPx), ck.row(TriChunk::kPy), ck.row(TriChunk::kPz), ck.row(TriChunk::kPw)};
+      src.positions(v0, nv, p[0], p[1], p[2], p[3]);
+      for (std::size_t i = nv; i < ck.stride; ++i) p[0][i] = p[1][i] = p[2][i] = 0, p[3][i] = 1;
+    }
     const PositionStage ps(s);
 #if defined(__x86_64__) && defined(__GNUC__)
-    if (use_avx2()) position_rows_avx2(ps, ck);
-    else position_rows_default(ps, ck);
+    if (use_avx2()) position_rows_avx2(ps, ck, xyz, nv);
+    else position_rows_default(ps, ck, xyz, nv);
 #else
-    position_rows_default(ps, ck);
+    position_rows_default(ps, ck, xyz, nv);
 #endif
   }
   const double* wx = ck.row(TriChunk::kWx);
