@@ -167,7 +167,6 @@ struct RunSetup {
   float pl[5][3][kMax];
 };
 
-#if defined(__SSE2__)
 // (Always inlined into the AVX2 and the default builds of run_setup: -Wpsabi would note that
 // the AVX vectors pass differently without AVX, but no call crosses that ABI. GCC instantiates
 // templates at the end of the file and warns there: this holds to the end of the file.)
@@ -204,6 +203,7 @@ template <class V>
   return v;
 }
 
+#if defined(__SSE2__)
 template <class V>
 [[gnu::always_inline]] inline void run_setup(RunSetup& r, int n, int x0, int y0, int x1, int y1) {
   typedef decltype(V{} < V{}) L;
@@ -2725,7 +2725,7 @@ struct TriChunk {
   std::size_t stride = 0;
   double* row(int r) { return soa.data() + r * stride; }
   std::vector<std::uint8_t> vout;  // per vertex: outside the clip volume
-  std::vector<std::uint8_t> status, side;  // per triangle
+  std::vector<std::uint8_t> status, side, flags;  // per triangle (flags: cull_rows')
   std::vector<std::uint32_t> need;         // vertices whose attributes are needed, in order
   std::vector<WinVert> run_v;              // window vertices of the triangles drawn by runs
   std::vector<Raster::RunTri> run;
@@ -2744,17 +2744,6 @@ struct ChunkOut {
 TriChunk& chunk_scratch() {
   static thread_local TriChunk scratch;
   return scratch;
-}
-
-[[gnu::always_inline]] inline bool box_has_centre(const double* x, const double* y, int x0, int y0, int x1, int y1) {
-  constexpr double d = 1.0 / 256;
-  const double xmin = std::min({x[0], x[1], x[2]}), xmax = std::max({x[0], x[1], x[2]});
-  const double ymin = std::min({y[0], y[1], y[2]}), ymax = std::max({y[0], y[1], y[2]});
-  // Centre columns c with c + 1/2 in [xmin - d, xmax + d] and x0 <= c < x1: the largest one
-  // is min(floor(xmax - 1/2 + d), x1 - 1); it must be at least xmin - 1/2 - d and x0.
-  const double hx = std::min(std::floor(xmax - 0.5 + d), double(x1 - 1));
-  const double hy = std::min(std::floor(ymax - 0.5 + d), double(y1 - 1));
-  return hx >= xmin - 0.5 - d && hx >= x0 && hy >= ymin - 0.5 - d && hy >= y0;  // (false for NaN)
 }
 
 // The position stage of a chunk, four vertices at a time by rows: eye = mv p, clip = proj eye
@@ -2852,6 +2841,59 @@ void position_rows_default(const PositionStage& ps, TriChunk& ck, const double* 
   position_rows<D2>(ps, ck, xyz, count);
 }
 
+// kW consecutive triangles' three vertices from a row (3 kW doubles) into v[0..2], by lanes.
+template <class V>
+[[gnu::always_inline]] inline void triangle_lanes(const double* r, V* v) {
+  constexpr int kW = sizeof(V) / sizeof(double);
+  typedef decltype(V{} < V{}) M;
+  V a, b, c;
+  std::memcpy(&a, r, sizeof(V)), std::memcpy(&b, r + kW, sizeof(V)), std::memcpy(&c, r + 2 * kW, sizeof(V));
+  if constexpr (kW == 2) {
+    v[0] = __builtin_shuffle(a, b, M{0, 3}), v[1] = __builtin_shuffle(a, c, M{1, 2}), v[2] = __builtin_shuffle(b, c, M{0, 3});
+  } else {
+    v[0] = __builtin_shuffle(__builtin_shuffle(a, b, M{0, 3, 6, 6}), c, M{0, 1, 2, 5});
+    v[1] = __builtin_shuffle(__builtin_shuffle(a, b, M{1, 4, 7, 7}), c, M{0, 1, 2, 6});
+    v[2] = __builtin_shuffle(__builtin_shuffle(a, b, M{2, 5, 5, 5}), c, M{0, 1, 4, 7});
+  }
+}
+
+// The facing and pixel-centre tests of a chunk's triangles, kW at a time (run_chunk's loop
+// takes the bits): bit 0 front facing (draw_inside_triangle's area, lane by lane), bit 1 some
+// pixel centre in the vertices' box, 1/256 pixel of slack: the centre columns c with c + 1/2 in
+// [xmin - d, xmax + d] and x0 <= c < x1 end at min(floor(xmax - 1/2 + d), x1 - 1), which must
+// be at least xmin - 1/2 - d and x0 (rows alike; false for NaN). (Lanes past the chunk's last
+// triangle read the rows that follow: their bits are not used.)
+struct CullBox {
+  bool ccw;
+  int x0, y0, x1, y1;
+};
+template <class V>
+[[gnu::always_inline]] inline void cull_rows(const CullBox& cb, TriChunk& ck, std::size_t nt) {
+  constexpr int kW = sizeof(V) / sizeof(double);
+  const double* wx = ck.row(TriChunk::kWx);
+  const double* wy = ck.row(TriChunk::kWy);
+  constexpr double d = 1.0 / 256;
+  for (std::size_t j = 0; j < nt; j += kW) {
+    V x[3], y[3];
+    triangle_lanes(wx + 3 * j, x), triangle_lanes(wy + 3 * j, y);
+    const V area = ((x[0] * y[1] - x[1] * y[0]) + (x[1] * y[2] - x[2] * y[1])) + (x[2] * y[0] - x[0] * y[2]);
+    const auto pos = area > 0.0;
+    const auto front = cb.ccw ? pos : ~pos;
+    const V xmin = vmin(vmin(x[0], x[1]), x[2]), xmax = vmax(vmax(x[0], x[1]), x[2]);
+    const V ymin = vmin(vmin(y[0], y[1]), y[2]), ymax = vmax(vmax(y[0], y[1]), y[2]);
+    const V hx = vmin(vfloor(xmax - 0.5 + d), V{} + double(cb.x1 - 1));
+    const V hy = vmin(vfloor(ymax - 0.5 + d), V{} + double(cb.y1 - 1));
+    const auto box = (hx >= xmin - 0.5 - d) & (hx >= double(cb.x0)) & (hy >= ymin - 0.5 - d) & (hy >= double(cb.y0));
+    for (int l = 0; l < kW; ++l) ck.flags[j + l] = std::uint8_t((front[l] & 1) | (box[l] & 2));
+  }
+}
+#if defined(__x86_64__) && defined(__GNUC__)
+__attribute__((target("avx2"))) void cull_rows_avx2(const CullBox& cb, TriChunk& ck, std::size_t nt) {
+  cull_rows<D4>(cb, ck, nt);
+}
+#endif
+void cull_rows_default(const CullBox& cb, TriChunk& ck, std::size_t nt) { cull_rows<D2>(cb, ck, nt); }
+
 bool use_avx2() {
 #if defined(__x86_64__) && defined(__GNUC__)
   static const bool has = __builtin_cpu_supports("avx2");
@@ -2868,7 +2910,7 @@ void run_chunk(Raster& rc, const Src& src, const Mat3& nmat, TriChunk& ck, Chunk
   const std::size_t nt = t1 - t0, nv = 3 * nt, v0 = 3 * t0;
   ck.stride = (nv + 3) & ~std::size_t(3);
   ck.soa.resize(TriChunk::kRows * ck.stride), ck.vout.resize(ck.stride);
-  ck.status.resize(nt), ck.side.resize(nt);
+  ck.status.resize(nt), ck.side.resize(nt), ck.flags.resize(nt + 4);
   {
     const double* xyz = src.packed_xyz(v0);
     if (!xyz) {
@@ -2884,24 +2926,28 @@ void run_chunk(Raster& rc, const Src& src, const Mat3& nmat, TriChunk& ck, Chunk
     position_rows_default(ps, ck, xyz, nv);
 #endif
   }
-  const double* wx = ck.row(TriChunk::kWx);
-  const double* wy = ck.row(TriChunk::kWy);
   const bool cull = s.on(Cap::CullFace);
   const bool two = two_sided_lighting(s);
-  const bool ccw = s.front_face == FrontFace::CCW;
+  {
+    // As draw_inside_triangle: signed area ((0 + t0) + t1) + t2 (0 + t0 only differs from t0
+    // in the sign of a zero, which `area > 0` does not see), facing; and the centres in the box.
+    const CullBox cb{s.front_face == FrontFace::CCW, rc.x0, rc.y0, rc.x1, rc.y1};
+#if defined(__x86_64__) && defined(__GNUC__)
+    if (use_avx2()) cull_rows_avx2(cb, ck, nt);
+    else cull_rows_default(cb, ck, nt);
+#else
+    cull_rows_default(cb, ck, nt);
+#endif
+  }
   ck.need.clear();
   for (std::size_t j = 0; j < nt; ++j) {
     const std::size_t i = 3 * j;
     std::uint8_t st = TriChunk::kClip;
     if (!(ck.vout[i] | ck.vout[i + 1] | ck.vout[i + 2])) {
-      // As draw_inside_triangle: signed area ((0 + t0) + t1) + t2 (0 + t0 only differs from
-      // t0 in the sign of a zero, which `area > 0` does not see), facing, culling; then the
-      // pixel-centre test.
-      const double x[3] = {wx[i], wx[i + 1], wx[i + 2]}, y[3] = {wy[i], wy[i + 1], wy[i + 2]};
-      const double area = ((x[0] * y[1] - x[1] * y[0]) + (x[1] * y[2] - x[2] * y[1])) + (x[2] * y[0] - x[0] * y[2]);
-      const bool front = (area > 0) == ccw;
+      // Facing, culling, then the pixel-centre test.
+      const bool front = ck.flags[j] & 1;
       if (cull && (s.cull_face == Face::FrontAndBack || (s.cull_face == Face::Front) == front)) st = TriChunk::kSkip;
-      else if (!box_has_centre(x, y, rc.x0, rc.y0, rc.x1, rc.y1)) st = TriChunk::kSkip;
+      else if (!(ck.flags[j] & 2)) st = TriChunk::kSkip;
       else st = TriChunk::kDraw, ck.side[j] = (!front && two) ? 1 : 0;
     }
     ck.status[j] = st;
@@ -2943,6 +2989,8 @@ void run_chunk(Raster& rc, const Src& src, const Mat3& nmat, TriChunk& ck, Chunk
   // Draw (or queue) in submission order; a drawn triangle's vertices have consecutive slots.
   const bool flat = s.shade == ShadeModel::Flat;
   std::size_t slot = 0;
+  const double* wx = ck.row(TriChunk::kWx);
+  const double* wy = ck.row(TriChunk::kWy);
   const double* wz = ck.row(TriChunk::kWz);
   const double* iw = ck.row(TriChunk::kIw);
   const double *cx = ck.row(TriChunk::kCx), *cy = ck.row(TriChunk::kCy), *cz = ck.row(TriChunk::kCz),
