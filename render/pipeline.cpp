@@ -2753,19 +2753,29 @@ TriChunk& chunk_scratch() {
 struct PositionStage {
   double mv[16], proj[16];  // column-major
   double vpx, vpy, vpw, vph, dn, dr;
+  // The usual case, taken with fewer operations: an affine modelview (last row 0 0 0 1) and a
+  // projection shaped as glFrustum's and gluPerspective's (zeros where theirs are), with w = 1.
+  bool frustum = false;
   PositionStage(const Context::State& s) {
     const Mat4& m = s.top(MatrixMode::ModelView);
     const Mat4& p = s.top(MatrixMode::Projection);
     for (int k = 0; k < 16; ++k) mv[k] = m(k % 4, k / 4), proj[k] = p(k % 4, k / 4);
     vpx = s.vp_x, vpy = s.vp_y, vpw = s.vp_w, vph = s.vp_h;
     dn = s.depth_near, dr = s.depth_far - s.depth_near;
+    const bool affine = mv[3] == 0 && mv[7] == 0 && mv[11] == 0 && mv[15] == 1;
+    bool shape = true;
+    for (int k : {1, 2, 3, 4, 6, 7, 12, 13, 15}) shape = shape && proj[k] == 0;
+    frustum = affine && shape;
   }
 };
 
 // V: a vector of doubles (D2 for the default target, D4 for AVX2); L its comparison mask.
 // xyz: the chunk's positions packed x y z (w = 1) in the client array, its `count` vertices read
 // there (the padding to the stride from zeros); else null, and the object rows hold them.
-template <class V>
+// Frustum (ps.frustum, xyz given): the terms whose matrix entries are zero (and w = 1) are left
+// out; the others keep their order, so the results differ from the full products at most in
+// the sign of a zero (and for infinite input, which the full products turn into NaN).
+template <class V, bool Frustum>
 [[gnu::always_inline]] inline void position_rows(const PositionStage& ps, TriChunk& ck, const double* xyz,
                                                  std::size_t count) {
   typedef decltype(V{} < V{}) L;
@@ -2805,14 +2815,26 @@ template <class V>
       std::memcpy(&X, q, sizeof(V)), std::memcpy(&Y, q + n, sizeof(V));
       std::memcpy(&Z, q + 2 * n, sizeof(V)), std::memcpy(&W, q + 3 * n, sizeof(V));
     }
-    const V ex = ((m[0] * X + m[4] * Y) + m[8] * Z) + m[12] * W;
-    const V ey = ((m[1] * X + m[5] * Y) + m[9] * Z) + m[13] * W;
-    const V ez = ((m[2] * X + m[6] * Y) + m[10] * Z) + m[14] * W;
-    const V ew = ((m[3] * X + m[7] * Y) + m[11] * Z) + m[15] * W;
-    const V cx = ((p[0] * ex + p[4] * ey) + p[8] * ez) + p[12] * ew;
-    const V cy = ((p[1] * ex + p[5] * ey) + p[9] * ez) + p[13] * ew;
-    const V cz = ((p[2] * ex + p[6] * ey) + p[10] * ez) + p[14] * ew;
-    const V cw = ((p[3] * ex + p[7] * ey) + p[11] * ez) + p[15] * ew;
+    V ex, ey, ez, ew, cx, cy, cz, cw;
+    if constexpr (Frustum) {
+      ex = ((m[0] * X + m[4] * Y) + m[8] * Z) + m[12];
+      ey = ((m[1] * X + m[5] * Y) + m[9] * Z) + m[13];
+      ez = ((m[2] * X + m[6] * Y) + m[10] * Z) + m[14];
+      ew = V{} + 1.0;
+      cx = p[0] * ex + p[8] * ez;
+      cy = p[5] * ey + p[9] * ez;
+      cz = p[10] * ez + p[14];
+      cw = p[11] * ez;
+    } else {
+      ex = ((m[0] * X + m[4] * Y) + m[8] * Z) + m[12] * W;
+      ey = ((m[1] * X + m[5] * Y) + m[9] * Z) + m[13] * W;
+      ez = ((m[2] * X + m[6] * Y) + m[10] * Z) + m[14] * W;
+      ew = ((m[3] * X + m[7] * Y) + m[11] * Z) + m[15] * W;
+      cx = ((p[0] * ex + p[4] * ey) + p[8] * ez) + p[12] * ew;
+      cy = ((p[1] * ex + p[5] * ey) + p[9] * ez) + p[13] * ew;
+      cz = ((p[2] * ex + p[6] * ey) + p[10] * ez) + p[14] * ew;
+      cw = ((p[3] * ex + p[7] * ey) + p[11] * ez) + p[15] * ew;
+    }
     const L out = ((cw + cx) < 0.0) | ((cw - cx) < 0.0) | ((cw + cy) < 0.0) | ((cw - cy) < 0.0) | ((cw + cz) < 0.0) |
                   ((cw - cz) < 0.0);
     const V iw = 1.0 / cw;
@@ -2834,11 +2856,13 @@ template <class V>
 #if defined(__x86_64__) && defined(__GNUC__)
 __attribute__((target("avx2"))) void position_rows_avx2(const PositionStage& ps, TriChunk& ck, const double* xyz,
                                                          std::size_t count) {
-  position_rows<D4>(ps, ck, xyz, count);
+  if (xyz && ps.frustum) position_rows<D4, true>(ps, ck, xyz, count);
+  else position_rows<D4, false>(ps, ck, xyz, count);
 }
 #endif
 void position_rows_default(const PositionStage& ps, TriChunk& ck, const double* xyz, std::size_t count) {
-  position_rows<D2>(ps, ck, xyz, count);
+  if (xyz && ps.frustum) position_rows<D2, true>(ps, ck, xyz, count);
+  else position_rows<D2, false>(ps, ck, xyz, count);
 }
 
 // kW consecutive triangles' three vertices from a row (3 kW doubles) into v[0..2], by lanes.
