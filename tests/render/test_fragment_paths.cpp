@@ -148,3 +148,133 @@ TEST_CASE("triangles too large for 32-bit edge functions match OpenGL", "[render
   CHECK(d.covered > 100);
   CHECK(d.outliers <= d.covered / 1000);
 }
+
+// Independent triangles from client arrays are drawn by runs: the small ones set up several at
+// a time (run_setup, in double lanes) and filled pixel by pixel, the others one by one. A user
+// clip plane that clips nothing takes the same triangles off that path, to triangle() one at a
+// time: the images and depth buffers must be the same bits, for a dense mesh of one- and
+// two-pixel triangles (some covering no centre, slivers, zero areas) in every state the runs
+// take, with a scissor at odd bounds, at 1 and 2 threads (bands), in both SIMD builds.
+TEST_CASE("runs of small triangles draw what triangle() draws one by one", "[render][simd][threads]") {
+  std::vector<double> pos;
+  std::vector<float> col;
+  const int st = 90, sl = 140;
+  auto vert = [&](int i, int j) {
+    const double t = kPi * i / st - kPi / 2, p = 2 * kPi * j / sl;
+    pos.insert(pos.end(), {std::cos(t) * std::cos(p), std::cos(t) * std::sin(p), std::sin(t)});
+    col.insert(col.end(), {float(0.5 + 0.5 * std::cos(3 * p)), float(i % 7) / 7.0f, float(j % 5) / 5.0f, 1});
+  };
+  for (int i = 0; i < st; ++i)
+    for (int j = 0; j < sl; ++j) vert(i, j), vert(i, j + 1), vert(i + 1, j + 1), vert(i, j), vert(i + 1, j + 1), vert(i + 1, j);
+  // A few degenerate ones among them: a repeated vertex, a sliver.
+  for (int k = 0; k < 6; ++k) pos.push_back(pos[k % 3]), col.push_back(1);
+  pos.insert(pos.end(), {0, 0, 1.2, 0.001, 0.3, 1.2, 0.0005, 0.0, 1.2});
+  col.insert(col.end(), 12, 0.5f);
+  VertexArrays va;
+  va.positions = pos.data(), va.normals = pos.data(), va.colors = col.data();
+  const int count = int(pos.size() / 3);
+  struct State {
+    const char* what;
+    void (*set)(Context&);
+  };
+  const State states[] = {
+      {"smooth, colours", [](Context&) {}},
+      {"lit, two-sided, no culling", [](Context& c) {
+         c.enable(Cap::Lighting), c.enable(Cap::Light0), c.light_model_two_side(true);
+         c.material_specular(Face::FrontAndBack, Vec4f(0.5f, 0.5f, 0.5f, 1));
+         c.material_shininess(Face::FrontAndBack, 25);
+       }},
+      {"flat, back faces culled", [](Context& c) {
+         c.shade_model(ShadeModel::Flat);
+         c.enable(Cap::CullFace);
+       }},
+      {"depth GreaterEqual from a cleared 0, no depth writes", [](Context& c) {
+         c.clear_depth(0);
+         c.clear();
+         c.depth_func(DepthFunc::GreaterEqual);
+         c.depth_mask(false);
+       }},
+      {"no depth test", [](Context& c) { c.disable(Cap::DepthTest); }},
+  };
+  // A grid of 2 x 2-pixel cells split along a diagonal, its vertices on pixel centres, in
+  // window coordinates: many centres lie on shared edges, where the tie rule decides, and the
+  // scissor cuts the grid (clamped boxes).
+  std::vector<double> gpos;
+  std::vector<float> gcol;
+  for (int j = 0; j < H / 2; ++j)
+    for (int i = 0; i < W / 2; ++i) {
+      const double x0 = 2 * i + 0.5, y0 = 2 * j + 0.5, x1 = x0 + 2, y1 = y0 + 2;
+      const bool flip = (i + j) % 2;
+      const double tri[2][6] = {{x0, y0, x1, y0, flip ? x0 : x1, y1}, {flip ? x1 : x0, y0, x1, y1, x0, y1}};
+      for (const auto& t : tri)
+        for (int k = 0; k < 3; ++k) {
+          gpos.insert(gpos.end(), {t[2 * k], t[2 * k + 1], -0.5 + 0.01 * ((i * 7 + j * 3 + k) % 11)});
+          gcol.insert(gcol.end(), {float(i % 9) / 9, float(j % 4) / 4, float(k) / 2, 1});
+        }
+    }
+  VertexArrays grid;
+  grid.positions = gpos.data(), grid.colors = gcol.data();
+  for (bool sse2 : {false, true})
+    for (int threads : {1, 2}) {
+      auto draw = [&](bool general) {
+        if (sse2) setenv("WEDGE_RENDER_SIMD", "sse2", 1);
+        Context c(W, H);
+        c.threads(threads);
+        c.clear();
+        c.matrix_mode(MatrixMode::Projection);
+        c.ortho(0, W, 0, H, -1, 1);
+        c.matrix_mode(MatrixMode::ModelView);
+        c.enable(Cap::DepthTest);
+        c.depth_func(DepthFunc::LessEqual);
+        c.enable(Cap::ScissorTest);
+        c.scissor(5, 4, W - 13, H - 10);
+        if (general) {
+          c.clip_plane(0, Vec4(0, 0, 1, 100));
+          c.enable(Cap::ClipPlane0);
+        }
+        c.draw_arrays(Primitive::Triangles, grid, 0, int(gpos.size() / 3));
+        if (sse2) unsetenv("WEDGE_RENDER_SIMD");
+        return Frame{c.image(), c.depth_buffer()};
+      };
+      const Frame runs = draw(false), one = draw(true);
+      INFO("pixel-aligned grid" << (sse2 ? ", SSE2" : "") << ", " << threads << " thread(s)");
+      CHECK(runs.image.rgba == one.image.rgba);
+      CHECK(std::memcmp(runs.depth.data(), one.depth.data(), runs.depth.size() * sizeof(float)) == 0);
+      std::size_t drawn = 0;
+      for (float d : runs.depth) drawn += d != 1.0f;
+      CHECK(drawn == std::size_t(W - 13) * (H - 10));  // every pixel of the scissor box, once
+    }
+  for (const State& st : states)
+    for (bool sse2 : {false, true})
+      for (int threads : {1, 2}) {
+        auto draw = [&](bool general) {
+          if (sse2) setenv("WEDGE_RENDER_SIMD", "sse2", 1);
+          Context c(W, H);
+          c.threads(threads);
+          c.clear_color(0.1f, 0.1f, 0.15f, 1);
+          c.clear();
+          camera(c, W, H);
+          c.enable(Cap::DepthTest);
+          c.enable(Cap::ScissorTest);
+          c.scissor(3, 2, W - 8, H - 5);
+          if (general) {
+            c.clip_plane(0, Vec4(0, 0, 1, 100));
+            c.enable(Cap::ClipPlane0);
+          }
+          st.set(c);
+          c.draw_arrays(Primitive::Triangles, va, 0, count);
+          if (sse2) unsetenv("WEDGE_RENDER_SIMD");
+          return Frame{c.image(), c.depth_buffer()};
+        };
+        const Frame runs = draw(false), one = draw(true);
+        INFO(st.what << (sse2 ? ", SSE2" : ", AVX2 where there is") << ", " << threads << " thread(s)");
+        CHECK(runs.image.rgba == one.image.rgba);
+        CHECK(std::memcmp(runs.depth.data(), one.depth.data(), runs.depth.size() * sizeof(float)) == 0);
+        // Not a blank image: most of the sphere's pixels were drawn.
+        std::size_t drawn = 0;
+        for (float d : runs.depth) drawn += d != 1.0f && d != 0.0f;
+        if (std::string(st.what).find("no depth") == std::string::npos &&
+            std::string(st.what).find("GreaterEqual") == std::string::npos)
+          CHECK(drawn > std::size_t(W * H / 8));
+      }
+}
