@@ -2792,9 +2792,9 @@ template <class V, bool Frustum>
       // kW vertices' x y z (3 kW doubles) as three vectors, then by lanes.
       alignas(32) double pad[3 * kW];
       const double* src = xyz + 3 * i;
-      if (i + kW > count) {
+      if (i + kW > count) {  // (the stride is a multiple of 4: a 2-lane group may lie wholly past the end)
         std::fill(std::begin(pad), std::end(pad), 0.0);
-        std::memcpy(pad, src, 3 * (count - i) * sizeof(double));
+        if (i < count) std::memcpy(pad, src, 3 * (count - i) * sizeof(double));
         src = pad;
       }
       V a, bb, c;
