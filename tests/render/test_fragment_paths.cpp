@@ -149,6 +149,48 @@ TEST_CASE("triangles too large for 32-bit edge functions match OpenGL", "[render
   CHECK(d.outliers <= d.covered / 1000);
 }
 
+namespace {
+
+// `count` independent triangles from `va` after `setup`: by the triangle path's runs, or
+// (general) with a user clip plane that clips nothing, which sends each triangle to
+// triangle() alone. Both must give the same bits, at 1 and 2 threads, in both SIMD builds;
+// returns the runs' frames for further checks.
+template <class Setup>
+std::vector<Frame> check_runs(const char* what, const VertexArrays& va, int count, const Setup& setup) {
+  std::vector<Frame> frames;
+  for (bool sse2 : {false, true})
+    for (int threads : {1, 2}) {
+      auto draw = [&](bool general) {
+        if (sse2) setenv("WEDGE_RENDER_SIMD", "sse2", 1);
+        Context c(W, H);
+        c.threads(threads);
+        setup(c);
+        if (general) {
+          c.clip_plane(0, Vec4(0, 0, 1, 100));
+          c.enable(Cap::ClipPlane0);
+        }
+        c.draw_arrays(Primitive::Triangles, va, 0, count);
+        if (sse2) unsetenv("WEDGE_RENDER_SIMD");
+        return Frame{c.image(), c.depth_buffer()};
+      };
+      Frame runs = draw(false);
+      const Frame one = draw(true);
+      INFO(what << (sse2 ? ", SSE2" : ", AVX2 where there is") << ", " << threads << " thread(s)");
+      CHECK(runs.image.rgba == one.image.rgba);
+      CHECK(std::memcmp(runs.depth.data(), one.depth.data(), runs.depth.size() * sizeof(float)) == 0);
+      frames.push_back(std::move(runs));
+    }
+  return frames;
+}
+
+std::size_t drawn_pixels(const Frame& f, float clear_depth) {
+  std::size_t n = 0;
+  for (float d : f.depth) n += d != clear_depth;
+  return n;
+}
+
+}  // namespace
+
 // Independent triangles from client arrays are drawn by runs: the small ones set up several at
 // a time (run_setup, in double lanes) and filled pixel by pixel, the others one by one. A user
 // clip plane that clips nothing takes the same triangles off that path, to triangle() one at a
@@ -158,14 +200,14 @@ TEST_CASE("triangles too large for 32-bit edge functions match OpenGL", "[render
 TEST_CASE("runs of small triangles draw what triangle() draws one by one", "[render][simd][threads]") {
   std::vector<double> pos;
   std::vector<float> col;
-  const int st = 90, sl = 140;
+  const int stacks = 90, slices = 140;
   auto vert = [&](int i, int j) {
-    const double t = kPi * i / st - kPi / 2, p = 2 * kPi * j / sl;
+    const double t = kPi * i / stacks - kPi / 2, p = 2 * kPi * j / slices;
     pos.insert(pos.end(), {std::cos(t) * std::cos(p), std::cos(t) * std::sin(p), std::sin(t)});
     col.insert(col.end(), {float(0.5 + 0.5 * std::cos(3 * p)), float(i % 7) / 7.0f, float(j % 5) / 5.0f, 1});
   };
-  for (int i = 0; i < st; ++i)
-    for (int j = 0; j < sl; ++j) vert(i, j), vert(i, j + 1), vert(i + 1, j + 1), vert(i, j), vert(i + 1, j + 1), vert(i + 1, j);
+  for (int i = 0; i < stacks; ++i)
+    for (int j = 0; j < slices; ++j) vert(i, j), vert(i, j + 1), vert(i + 1, j + 1), vert(i, j), vert(i + 1, j + 1), vert(i + 1, j);
   // A few degenerate ones among them: a repeated vertex, a sliver.
   for (int k = 0; k < 6; ++k) pos.push_back(pos[k % 3]), col.push_back(1);
   pos.insert(pos.end(), {0, 0, 1.2, 0.001, 0.3, 1.2, 0.0005, 0.0, 1.2});
@@ -176,6 +218,7 @@ TEST_CASE("runs of small triangles draw what triangle() draws one by one", "[ren
   struct State {
     const char* what;
     void (*set)(Context&);
+    bool depth_shows = true;
   };
   const State states[] = {
       {"smooth, colours", [](Context&) {}},
@@ -193,8 +236,9 @@ TEST_CASE("runs of small triangles draw what triangle() draws one by one", "[ren
          c.clear();
          c.depth_func(DepthFunc::GreaterEqual);
          c.depth_mask(false);
-       }},
-      {"no depth test", [](Context& c) { c.disable(Cap::DepthTest); }},
+       },
+       false},
+      {"no depth test", [](Context& c) { c.disable(Cap::DepthTest); }, false},
   };
   // A grid of 2 x 2-pixel cells split along a diagonal, its vertices on pixel centres, in
   // window coordinates: many centres lie on shared edges, where the tie rule decides, and the
@@ -214,67 +258,29 @@ TEST_CASE("runs of small triangles draw what triangle() draws one by one", "[ren
     }
   VertexArrays grid;
   grid.positions = gpos.data(), grid.colors = gcol.data();
-  for (bool sse2 : {false, true})
-    for (int threads : {1, 2}) {
-      auto draw = [&](bool general) {
-        if (sse2) setenv("WEDGE_RENDER_SIMD", "sse2", 1);
-        Context c(W, H);
-        c.threads(threads);
-        c.clear();
-        c.matrix_mode(MatrixMode::Projection);
-        c.ortho(0, W, 0, H, -1, 1);
-        c.matrix_mode(MatrixMode::ModelView);
-        c.enable(Cap::DepthTest);
-        c.depth_func(DepthFunc::LessEqual);
-        c.enable(Cap::ScissorTest);
-        c.scissor(5, 4, W - 13, H - 10);
-        if (general) {
-          c.clip_plane(0, Vec4(0, 0, 1, 100));
-          c.enable(Cap::ClipPlane0);
-        }
-        c.draw_arrays(Primitive::Triangles, grid, 0, int(gpos.size() / 3));
-        if (sse2) unsetenv("WEDGE_RENDER_SIMD");
-        return Frame{c.image(), c.depth_buffer()};
-      };
-      const Frame runs = draw(false), one = draw(true);
-      INFO("pixel-aligned grid" << (sse2 ? ", SSE2" : "") << ", " << threads << " thread(s)");
-      CHECK(runs.image.rgba == one.image.rgba);
-      CHECK(std::memcmp(runs.depth.data(), one.depth.data(), runs.depth.size() * sizeof(float)) == 0);
-      std::size_t drawn = 0;
-      for (float d : runs.depth) drawn += d != 1.0f;
-      CHECK(drawn == std::size_t(W - 13) * (H - 10));  // every pixel of the scissor box, once
-    }
-  for (const State& st : states)
-    for (bool sse2 : {false, true})
-      for (int threads : {1, 2}) {
-        auto draw = [&](bool general) {
-          if (sse2) setenv("WEDGE_RENDER_SIMD", "sse2", 1);
-          Context c(W, H);
-          c.threads(threads);
-          c.clear_color(0.1f, 0.1f, 0.15f, 1);
-          c.clear();
-          camera(c, W, H);
-          c.enable(Cap::DepthTest);
-          c.enable(Cap::ScissorTest);
-          c.scissor(3, 2, W - 8, H - 5);
-          if (general) {
-            c.clip_plane(0, Vec4(0, 0, 1, 100));
-            c.enable(Cap::ClipPlane0);
-          }
-          st.set(c);
-          c.draw_arrays(Primitive::Triangles, va, 0, count);
-          if (sse2) unsetenv("WEDGE_RENDER_SIMD");
-          return Frame{c.image(), c.depth_buffer()};
-        };
-        const Frame runs = draw(false), one = draw(true);
-        INFO(st.what << (sse2 ? ", SSE2" : ", AVX2 where there is") << ", " << threads << " thread(s)");
-        CHECK(runs.image.rgba == one.image.rgba);
-        CHECK(std::memcmp(runs.depth.data(), one.depth.data(), runs.depth.size() * sizeof(float)) == 0);
-        // Not a blank image: most of the sphere's pixels were drawn.
-        std::size_t drawn = 0;
-        for (float d : runs.depth) drawn += d != 1.0f && d != 0.0f;
-        if (std::string(st.what).find("no depth") == std::string::npos &&
-            std::string(st.what).find("GreaterEqual") == std::string::npos)
-          CHECK(drawn > std::size_t(W * H / 8));
-      }
+  for (const Frame& f : check_runs("pixel-aligned grid", grid, int(gpos.size() / 3), [](Context& c) {
+         c.clear();
+         c.matrix_mode(MatrixMode::Projection);
+         c.ortho(0, W, 0, H, -1, 1);
+         c.matrix_mode(MatrixMode::ModelView);
+         c.enable(Cap::DepthTest);
+         c.depth_func(DepthFunc::LessEqual);
+         c.enable(Cap::ScissorTest);
+         c.scissor(5, 4, W - 13, H - 10);
+       }))
+    CHECK(drawn_pixels(f, 1.0f) == std::size_t(W - 13) * (H - 10));  // every pixel of the scissor box, once
+  for (const State& st : states) {
+    const std::vector<Frame> frames = check_runs(st.what, va, count, [&](Context& c) {
+      c.clear_color(0.1f, 0.1f, 0.15f, 1);
+      c.clear();
+      camera(c, W, H);
+      c.enable(Cap::DepthTest);
+      c.enable(Cap::ScissorTest);
+      c.scissor(3, 2, W - 8, H - 5);
+      st.set(c);
+    });
+    // Not a blank image: much of the sphere was drawn (where the depth buffer shows it).
+    if (st.depth_shows)
+      for (const Frame& f : frames) CHECK(drawn_pixels(f, 1.0f) > std::size_t(W * H / 8));
+  }
 }
