@@ -991,16 +991,55 @@ struct NeededVerts {
   std::size_t v0;
 };
 
+// Lanes from memory, in registers (no stack array written by lanes and read back whole: that
+// stalls on store forwarding). A row's elements i[0], i[1], ... into the lanes of D:
+[[gnu::always_inline]] inline void gather(const double* r, const std::uint32_t* i, DF2& v) { v = DF2{r[i[0]], r[i[1]]}; }
+[[gnu::always_inline]] inline void gather(const double* r, const std::uint32_t* i, DF4& v) {
+  v = DF4{r[i[0]], r[i[1]], r[i[2]], r[i[3]]};
+}
+template <class D>
+[[gnu::always_inline]] inline D load(const double* p) {
+  D v;
+  std::memcpy(&v, p, sizeof v);
+  return v;
+}
+// Packed x y z triples: those at p + 3 i[0], p + 3 i[1], ... by lanes into v[0..2],
+[[gnu::always_inline]] inline void gather_xyz(const double* p, const std::uint32_t* i, DF2* v) {
+  const DF2 a = load<DF2>(p + 3 * i[0]), b = load<DF2>(p + 3 * i[1]);
+  v[0] = __builtin_shufflevector(a, b, 0, 2), v[1] = __builtin_shufflevector(a, b, 1, 3);
+  v[2] = DF2{p[3 * i[0] + 2], p[3 * i[1] + 2]};
+}
+[[gnu::always_inline]] inline void gather_xyz(const double* p, const std::uint32_t* i, DF4* v) {
+  DF2 lo[3], hi[3];
+  gather_xyz(p, i, lo), gather_xyz(p, i + 2, hi);
+  for (int k = 0; k < 3; ++k) v[k] = __builtin_shufflevector(lo[k], hi[k], 0, 1, 2, 3);
+}
+// and those of consecutive vertices from p on (3 lanes' worth of doubles read as three vectors).
+[[gnu::always_inline]] inline void rows_xyz(const double* p, DF2* v) {
+  const DF2 a = load<DF2>(p), b = load<DF2>(p + 2), c = load<DF2>(p + 4);  // x0 y0, z0 x1, y1 z1
+  v[0] = __builtin_shufflevector(a, b, 0, 3), v[1] = __builtin_shufflevector(a, c, 1, 2);
+  v[2] = __builtin_shufflevector(b, c, 0, 3);
+}
+[[gnu::always_inline]] inline void rows_xyz(const double* p, DF4* v) {
+  // a = x0 y0 z0 x1, b = y1 z1 x2 y2, c = z2 x3 y3 z3
+  const DF4 a = load<DF4>(p), b = load<DF4>(p + 4), c = load<DF4>(p + 8);
+  const DF4 x = __builtin_shufflevector(a, b, 0, 3, 6, 6), y = __builtin_shufflevector(a, b, 1, 4, 7, 7),
+            z = __builtin_shufflevector(a, b, 2, 5, 5, 5);
+  v[0] = __builtin_shufflevector(x, c, 0, 1, 2, 5), v[1] = __builtin_shufflevector(y, c, 0, 1, 2, 6);
+  v[2] = __builtin_shufflevector(z, c, 0, 1, 4, 7);
+}
+
 // The lit colours (and, unless `lean`, vertex_attrs' other attributes) of the needed vertices,
-// W = 4 or 8 at a time, into attrs (sets of `astride` floats): gathered by rows (SoA; a run of
-// consecutive vertices is read straight from the eye rows), the eye position divided by w and the
-// normal transformed and normalised in double on all lanes at once with vertex_attrs' operations
+// W = 4 or 8 at a time, into attrs (sets of `astride` floats): gathered by rows (SoA, in
+// registers; a run of consecutive vertices is read straight from the eye rows, and, from packed
+// client normals, as three vectors per half), the eye position divided by w and the normal
+// transformed and normalised in double on all lanes at once with vertex_attrs' operations
 // (eye_normals), then lit.
 template <class V, class Src>
 [[gnu::always_inline]] inline void light_needed(const Context::State& s, const LightSetup& ls, const Src& src,
                                                 const Mat3& nmat, const NeededVerts& nv, bool lean,
                                                 const AttrNeeds& needs, float* attrs, std::size_t astride) {
-  constexpr int W = Lanes<V>::W;
+  constexpr int W = Lanes<V>::W, H = W / 2;
   typedef typename Lanes<V>::D D;
   const LightConsts<V> lc(s, ls);
   const bool normalize = s.on(Cap::Normalize);
@@ -1008,57 +1047,71 @@ template <class V, class Src>
   const bool want_color = !lean || lc.side[0].cm || (two && lc.side[1].cm);
   double m[9];
   for (int k = 0; k < 9; ++k) m[k] = nmat(k % 3, k / 3);
+  // The client's normals packed x y z, vertex by vertex from the chunk's first (no indices): read
+  // there by vectors. Else null (normals come through src.normal).
+  const double* nrm = nullptr;
+  if constexpr (requires { src.indices, src.a.normals, src.first; })
+    if (lean && !src.indices && src.a.normals) nrm = src.a.normals + (src.first + nv.v0) * 3;
   for (std::size_t q = 0; q < nv.n; q += W) {
     const std::size_t lanes = std::min<std::size_t>(W, nv.n - q);
     const std::uint32_t* nd = nv.need + q;
-    alignas(64) double pe[4][W], pn[3][W];
+    // The lanes' vertices (the last group's unused lanes repeat lane 0's: computed, not stored).
+    std::uint32_t idx[W];
+    for (int l = 0; l < W; ++l) idx[l] = nd[std::size_t(l) < lanes ? l : 0];
+    const bool run = lanes == W && nd[W - 1] - nd[0] == W - 1;
+    // (Doubles in two halves of H lanes, each a register wide.)
+    D e[4][2], n[3][2];
+    for (int k = 0; k < 4; ++k)
+      for (int h = 0; h < 2; ++h)
+        if (run) e[k][h] = load<D>(nv.eye[k] + nd[0] + h * H);
+        else gather(nv.eye[k], idx + h * H, e[k][h]);
     alignas(32) float pc[4][W];
-    const double* ep[4] = {pe[0], pe[1], pe[2], pe[3]};
-    if (lanes == W && nd[W - 1] - nd[0] == W - 1) {
-      for (int k = 0; k < 4; ++k) ep[k] = nv.eye[k] + nd[0];
-    } else {
-      for (std::size_t l = 0; l < lanes; ++l)
-        for (int k = 0; k < 4; ++k) pe[k][l] = nv.eye[k][nd[l]];
-    }
-    for (std::size_t l = 0; l < lanes; ++l) {
-      const std::size_t i = nd[l];
-      if (lean) {
-        const Vec3 n = src.normal(nv.v0 + i);
-        for (int k = 0; k < 3; ++k) pn[k][l] = n[k];
-        if (want_color) {
-          const Vec4f c = src.color(nv.v0 + i);
+    if (nrm) {
+      for (int h = 0; h < 2; ++h) {
+        D v[3];
+        if (run) rows_xyz(nrm + 3 * (nd[0] + h * H), v);
+        else gather_xyz(nrm, idx + h * H, v);
+        for (int k = 0; k < 3; ++k) n[k][h] = v[k];
+      }
+      if (want_color)
+        for (int l = 0; l < W; ++l) {
+          const Vec4f c = src.color(nv.v0 + idx[l]);
           for (int k = 0; k < 4; ++k) pc[k][l] = c[k];
         }
-      } else {
-        // vertex_attrs: every other attribute, and the eye normal (transformed here already).
-        auto&& v = src.vertex(nv.v0 + i);
-        const Vec4 e(nv.eye[0][i], nv.eye[1][i], nv.eye[2][i], nv.eye[3][i]);
-        const Vec3 n = vertex_attrs(s, v, e, nmat, attrs + (q + l) * astride, needs);
-        for (int k = 0; k < 3; ++k) pn[k][l] = n[k];
-        for (int k = 0; k < 4; ++k) pc[k][l] = v.color[k];
+    } else {
+      alignas(32) double pn[3][W];
+      for (std::size_t l = 0; l < lanes; ++l) {
+        const std::size_t i = nd[l];
+        if (lean) {
+          const Vec3 nl = src.normal(nv.v0 + i);
+          for (int k = 0; k < 3; ++k) pn[k][l] = nl[k];
+          if (want_color) {
+            const Vec4f c = src.color(nv.v0 + i);
+            for (int k = 0; k < 4; ++k) pc[k][l] = c[k];
+          }
+        } else {
+          // vertex_attrs: every other attribute, and the eye normal (transformed here already).
+          auto&& v = src.vertex(nv.v0 + i);
+          const Vec4 ev(nv.eye[0][i], nv.eye[1][i], nv.eye[2][i], nv.eye[3][i]);
+          const Vec3 nl = vertex_attrs(s, v, ev, nmat, attrs + (q + l) * astride, needs);
+          for (int k = 0; k < 3; ++k) pn[k][l] = nl[k];
+          for (int k = 0; k < 4; ++k) pc[k][l] = v.color[k];
+        }
       }
-    }
-    if (lanes < W) {  // the last group: its unused lanes copy lane 0 (computed, not stored)
-      for (std::size_t l = lanes; l < W; ++l) {
-        if (ep[0] == pe[0])
-          for (int k = 0; k < 4; ++k) pe[k][l] = pe[k][0];
+      for (std::size_t l = lanes; l < W; ++l) {  // the last group's unused lanes copy lane 0
         for (int k = 0; k < 3; ++k) pn[k][l] = pn[k][0];
         for (int k = 0; k < 4; ++k) pc[k][l] = pc[k][0];
       }
+      for (int k = 0; k < 3; ++k)
+        for (int h = 0; h < 2; ++h) n[k][h] = load<D>(pn[k] + h * H);
     }
     // As light_vertex: P = (eye / w) in double, then float (w = 1 in every lane, the usual affine
     // modelview: x / 1 = x exactly, the divisions are skipped).
-    // (Doubles in two halves of W / 2 lanes, each a register wide.)
-    D e[4][2], n[3][2];
-    for (int k = 0; k < 4; ++k)
-      for (int h = 0; h < 2; ++h) std::memcpy(&e[k][h], ep[k] + h * (W / 2), sizeof(D));
     if (any(typename Lanes<V>::I((e[3][0] != 1.0) | (e[3][1] != 1.0))))
       for (int k = 0; k < 3; ++k)
         for (int h = 0; h < 2; ++h) e[k][h] = e[k][h] / e[3][h];
     V P[3], N[3], C[4];
     for (int k = 0; k < 3; ++k) P[k] = narrow(e[k]);
-    for (int k = 0; k < 3; ++k)
-      for (int h = 0; h < 2; ++h) std::memcpy(&n[k][h], pn[k] + h * (W / 2), sizeof(D));
     if (lean)
       for (int h = 0; h < 2; ++h) {
         D nh[3] = {n[0][h], n[1][h], n[2][h]};
