@@ -533,8 +533,8 @@ template <class V>
   const DF2 a = vsqrt(DF2{x[0], x[1]}), b = vsqrt(DF2{x[2], x[3]});
   return __builtin_shufflevector(a, b, 0, 1, 2, 3);
 }
-// Float (or int) lanes to doubles, in two halves, and back (exact widening; the narrowing
-// rounds to nearest, or truncates to int).
+// Float (or int) lanes to doubles, in two halves (exact), and doubles back to floats (rounded to
+// nearest).
 [[gnu::always_inline]] inline void widen(F4 x, DF2* d) {
   d[0] = __builtin_convertvector(__builtin_shufflevector(x, x, 0, 1), DF2);
   d[1] = __builtin_convertvector(__builtin_shufflevector(x, x, 2, 3), DF2);
@@ -556,19 +556,8 @@ template <class V>
   return F4{float(d[0][0]), float(d[0][1]), float(d[1][0]), float(d[1][1])};
 #endif
 }
-[[gnu::always_inline]] inline I4 narrow_int(const DF2* d) {
-#if defined(__SSE2__)
-  return I4(_mm_unpacklo_epi64(_mm_cvttpd_epi32(d[0]), _mm_cvttpd_epi32(d[1])));
-#else
-  return I4{int(d[0][0]), int(d[0][1]), int(d[1][0]), int(d[1][1])};
-#endif
-}
 [[gnu::always_inline]] inline F8 narrow(const DF4* d) {
   const F4 a = __builtin_convertvector(d[0], F4), b = __builtin_convertvector(d[1], F4);
-  return __builtin_shufflevector(a, b, 0, 1, 2, 3, 4, 5, 6, 7);
-}
-[[gnu::always_inline]] inline I8 narrow_int(const DF4* d) {
-  const I4 a = __builtin_convertvector(d[0], I4), b = __builtin_convertvector(d[1], I4);
   return __builtin_shufflevector(a, b, 0, 1, 2, 3, 4, 5, 6, 7);
 }
 [[gnu::always_inline]] inline bool any(I4 m) {
@@ -592,14 +581,16 @@ template <class V>
 }
 
 // x^y for x >= 0 and y > 0 (the callers treat y = 0 as GL's 0^0 = 1), lane by lane: 2^(y log2 x)
-// with log2 in double (so that y up to 128 does not magnify its rounding), 2^f in float.
-// Relative error below 1e-6 where the result is a normal float (tests/render/test_lighting.cpp);
-// 0^y = 0, inf^y = inf, NaN stays NaN; overflow gives inf, underflow 0 or a subnormal.
+// in double (so that y up to 128 does not magnify a rounding), rounded to float once at the end.
+// Relative error below 1e-7 where the result is a normal float, within the last (subnormal) place
+// below that (tests/render/test_lighting.cpp); 0^y = 0, inf^y = inf, NaN stays NaN; overflow gives
+// inf.
 template <class V>
 [[gnu::always_inline]] inline V vpow(V x, float y) {
   typedef typename Lanes<V>::I I;
   typedef typename Lanes<V>::U U;
   typedef typename Lanes<V>::D D;
+  typedef decltype(D{} < D{}) Q;  // 64-bit integer lanes
   // x = m 2^e with m in [sqrt(1/2), sqrt(2)): the bits less those of sqrt(1/2), shifted, give e
   // (subnormal x scaled by 2^24 first). (Unsigned arithmetic: no overflow for other inputs.)
   const I tiny = x < 0x1p-126f;
@@ -607,31 +598,32 @@ template <class V>
   const I e = I(b - 0x3f3504f3u) >> 23;
   const V m = V(b - (U(e) << 23));
   // log2 m = 2 atanh(s) / ln 2, s = (m - 1) / (m + 1), |s| <= 0.1716: the odd series to s^11
-  // (truncation below 2e-11). Then t = y log2 x, and 2^t = 2^i 2^f, i = t rounded to nearest,
-  // |f| <= 1/2 (|t| < 2^20 for any float x).
+  // (truncation below 2e-11). Then t = y log2 x (held to [-160, 160]: beyond, the float result
+  // over- or underflows anyway), and 2^t = 2^i 2^f, i = t rounded to nearest, |f| <= 1/2: 2^f by
+  // its Taylor series to f^7 (remainder below 6e-9), times 2^i (exact), then rounded to float.
+  // Both polynomials by Estrin's scheme (pairs, then powers of the square), not Horner's: chains of
+  // 7 and 6 operations, not 12 and 14 (the lighting's longest dependency chain runs through here).
   constexpr double k = 2 / 0.693147180559945309417232121458;
-  D md[2], ed[2], rd[2], fd[2];
+  constexpr double c1 = 0.6931471805599453, c2 = 0.2402265069591007, c3 = 0.055504108664821576,
+                   c4 = 0.009618129107628477, c5 = 0.0013333558146428441, c6 = 0.00015403530393381606,
+                   c7 = 1.5252733804059838e-05;
+  D md[2], ed[2], rd[2];
   widen(m, md), widen(I(e - (tiny & 24)), ed);
   for (int h = 0; h < 2; ++h) {
     const D s = (md[h] - 1.0) / (md[h] + 1.0);
-    const D s2 = s * s;
-    const D l = s * (k + s2 * (k / 3 + s2 * (k / 5 + s2 * (k / 7 + s2 * (k / 9 + s2 * (k / 11))))));
-    const D t = double(y) * (ed[h] + l);
-    rd[h] = (t + 0x1.8p52) - 0x1.8p52;
-    fd[h] = t - rd[h];
+    const D s2 = s * s, s4 = s2 * s2, s8 = s4 * s4;
+    const D l = s * (((k + s2 * (k / 3)) + s4 * (k / 5 + s2 * (k / 7))) + s8 * (k / 9 + s2 * (k / 11)));
+    D t = double(y) * (ed[h] + l);
+    t = t < -160.0 ? D{} - 160.0 : t;
+    t = t > 160.0 ? D{} + 160.0 : t;
+    // r = 1.5 2^52 + i: its low bits hold i.
+    const D r = t + 0x1.8p52;
+    const D f = t - (r - 0x1.8p52);
+    const D f2 = f * f, f4 = f2 * f2;
+    const D p = ((1.0 + f * c1) + f2 * (c2 + f * c3)) + f4 * ((c4 + f * c5) + f2 * (c6 + f * c7));
+    rd[h] = p * D((Q(r) + 1023) << 52);
   }
-  const V f = narrow(fd);
-  I i = narrow_int(rd);
-  i = i < -160 ? I{} - 160 : i;  // |i| > 160 over- or underflows anyway
-  i = i > 160 ? I{} + 160 : i;
-  // 2^f: Taylor to f^7 (remainder below 1e-8).
-  constexpr float c1 = 0.693147180559945309f, c2 = 0.240226506959100712f, c3 = 0.0555041086648215800f,
-                  c4 = 0.00961812910762847716f, c5 = 0.00133335581464284434f, c6 = 0.000154035303933816099f,
-                  c7 = 0.0000152527338040598403f;
-  const V p = 1.0f + f * (c1 + f * (c2 + f * (c3 + f * (c4 + f * (c5 + f * (c6 + f * c7))))));
-  // Times 2^i in two normal factors, so a subnormal result is rounded once.
-  const I i1 = i >> 1, i2 = i - i1;
-  V res = (p * V((i1 + 127) << 23)) * V((i2 + 127) << 23);
+  V res = narrow(rd);
   res = x == 0.0f ? splat<V>(0.0f) : res;
   res = x == __builtin_huge_valf() ? x : res;
   return x != x ? x : res;
