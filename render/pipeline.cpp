@@ -516,11 +516,13 @@ template <class V>
   return F4{std::sqrt(x[0]), std::sqrt(x[1]), std::sqrt(x[2]), std::sqrt(x[3])};
 #endif
 }
-// (Two 128-bit square roots: the same IEEE results as one 256-bit one, without an AVX intrinsic
-// in code that is also compiled for the default target.)
+// The eight-lane and four-double ones, used only inside the AVX2 build, as one 256-bit instruction
+// (not two halves: a shorter dependency chain), written as inline assembly since an AVX intrinsic
+// cannot be called from the lighting templates, which are also compiled for the default target.
 [[gnu::always_inline]] inline F8 vsqrt(F8 x) {
-  const F4 a = vsqrt(lo(x)), b = vsqrt(hi(x));
-  return __builtin_shufflevector(a, b, 0, 1, 2, 3, 4, 5, 6, 7);
+  F8 r;
+  asm("vsqrtps %1, %0" : "=x"(r) : "x"(x));
+  return r;
 }
 [[gnu::always_inline]] inline DF2 vsqrt(DF2 x) {
 #if defined(__SSE2__)
@@ -530,8 +532,9 @@ template <class V>
 #endif
 }
 [[gnu::always_inline]] inline DF4 vsqrt(DF4 x) {
-  const DF2 a = vsqrt(DF2{x[0], x[1]}), b = vsqrt(DF2{x[2], x[3]});
-  return __builtin_shufflevector(a, b, 0, 1, 2, 3);
+  DF4 r;
+  asm("vsqrtpd %1, %0" : "=x"(r) : "x"(x));
+  return r;
 }
 // Float (or int) lanes to doubles, in two halves (exact), and doubles back to floats (rounded to
 // nearest).
@@ -609,6 +612,7 @@ template <class V>
                    c7 = 1.5252733804059838e-05;
   D md[2], ed[2], rd[2];
   widen(m, md), widen(I(e - (tiny & 24)), ed);
+#pragma GCC unroll 4
   for (int h = 0; h < 2; ++h) {
     const D s = (md[h] - 1.0) / (md[h] + 1.0);
     const D s2 = s * s, s4 = s2 * s2, s8 = s4 * s4;
@@ -742,6 +746,8 @@ struct LightConsts {
 // Four (F4) or eight (F8) vertices lit at once: light_vertex's float operations in the same
 // order, lane by lane, so the colours are the same bits. P: eye positions (divided by w);
 // n: normals, negated for the back side; vc: vertex colours (read with colour material only).
+// (The loops over components are unrolled by pragmas here, in vpow and in light_needed: left as
+// loops, -O2 keeps those small arrays of vectors on the stack, each step a store and a reload.)
 template <class V, bool CM>
 [[gnu::always_inline]] inline void light_t(const Context::State& s, const LightSetup& ls,
                                            const typename LightConsts<V>::Side& m, const LightConsts<V>& lc,
@@ -750,7 +756,9 @@ template <class V, bool CM>
   const V *me = m.me, *ma = m.ma, *md = m.md, *ms = m.ms;
   V cme[4], cma[4], cmd[4], cms[4];
   if constexpr (CM) {
+#pragma GCC unroll 4
     for (int k = 0; k < 4; ++k) cme[k] = m.me[k], cma[k] = m.ma[k], cmd[k] = m.md[k], cms[k] = m.ms[k];
+#pragma GCC unroll 4
     for (int k = 0; k < 4; ++k) {
       switch (s.cm_mode) {
         case ColorMaterialMode::Ambient: cma[k] = vc[k]; break;
@@ -763,12 +771,14 @@ template <class V, bool CM>
     me = cme, ma = cma, md = cmd, ms = cms;
   }
   V c[3];
+#pragma GCC unroll 4
   for (int k = 0; k < 3; ++k) c[k] = CM ? me[k] + ma[k] * lc.model_ambient[k] : m.base[k];
   V ed[3] = {splat<V>(0), splat<V>(0), splat<V>(1)};
   if (ls.local_viewer) {
     const V z = dot3(P, P);
     const I pos = z > 0.0f;
     const V r = vsqrt(z);
+#pragma GCC unroll 4
     for (int k = 0; k < 3; ++k) ed[k] = pos ? -(P[k] / r) : -P[k];
   }
   const float shin = m.shin;
@@ -778,11 +788,14 @@ template <class V, bool CM>
     V VP[3];
     V att = splat<V>(1);
     if (L.local) {
+#pragma GCC unroll 4
       for (int k = 0; k < 3; ++k) VP[k] = C.pos[k] - P[k];
       const V d = vsqrt(dot3(VP, VP));
+#pragma GCC unroll 4
       for (int k = 0; k < 3; ++k) VP[k] = VP[k] / d;
       att = 1.0f / ((L.kc + L.kl * d) + (L.kq * d) * d);
     } else {
+#pragma GCC unroll 4
       for (int k = 0; k < 3; ++k) VP[k] = C.pos[k];
     }
     V spot = splat<V>(1);
@@ -796,6 +809,7 @@ template <class V, bool CM>
     const I use = ~(k == 0.0f);
     if (!any(use)) continue;
     V amb[3], dif[3], spec[3];
+#pragma GCC unroll 4
     for (int q = 0; q < 3; ++q) {
       amb[q] = CM ? ma[q] * C.lamb[q] : m.amb[i][q];
       dif[q] = CM ? md[q] * C.ldif[q] : m.dif[i][q];
@@ -804,8 +818,10 @@ template <class V, bool CM>
     V term[3];
     const V ndl = dot3(n, VP);
     const I dmask = ndl > 0.0f;
+#pragma GCC unroll 4
     for (int q = 0; q < 3; ++q) term[q] = dmask ? amb[q] + ndl * dif[q] : amb[q];
     V h[3];
+#pragma GCC unroll 4
     for (int q = 0; q < 3; ++q) h[q] = VP[q] + ed[q];
     const V hn = vsqrt(dot3(h, h));
     const V ndh = dot3(n, h) / hn;
@@ -813,10 +829,13 @@ template <class V, bool CM>
     if (any(smask)) {
       // (The lanes outside smask compute a pow that is not used.)
       const V f = shin != 0 ? vpow(ndh, shin) : splat<V>(1);
+#pragma GCC unroll 4
       for (int q = 0; q < 3; ++q) term[q] = smask ? term[q] + f * spec[q] : term[q];
     }
+#pragma GCC unroll 4
     for (int q = 0; q < 3; ++q) c[q] = use ? c[q] + k * term[q] : c[q];
   }
+#pragma GCC unroll 4
   for (int q = 0; q < 3; ++q) out[q] = vclamp01(c[q]);
   out[3] = vclamp01(md[3]);
 }
@@ -985,9 +1004,10 @@ struct NeededVerts {
 
 // Lanes from memory, in registers (no stack array written by lanes and read back whole: that
 // stalls on store forwarding). A row's elements i[0], i[1], ... into the lanes of D:
-[[gnu::always_inline]] inline void gather(const double* r, const std::uint32_t* i, DF2& v) { v = DF2{r[i[0]], r[i[1]]}; }
-[[gnu::always_inline]] inline void gather(const double* r, const std::uint32_t* i, DF4& v) {
-  v = DF4{r[i[0]], r[i[1]], r[i[2]], r[i[3]]};
+template <class D>
+[[gnu::always_inline]] inline D gather(const double* r, const std::uint32_t* i) {
+  if constexpr (sizeof(D) == sizeof(DF2)) return D{r[i[0]], r[i[1]]};
+  else return D{r[i[0]], r[i[1]], r[i[2]], r[i[3]]};
 }
 template <class D>
 [[gnu::always_inline]] inline D load(const double* p) {
@@ -1053,16 +1073,19 @@ template <class V, class Src>
     const bool run = lanes == W && nd[W - 1] - nd[0] == W - 1;
     // (Doubles in two halves of H lanes, each a register wide.)
     D e[4][2], n[3][2];
+#pragma GCC unroll 4
     for (int k = 0; k < 4; ++k)
+#pragma GCC unroll 4
       for (int h = 0; h < 2; ++h)
-        if (run) e[k][h] = load<D>(nv.eye[k] + nd[0] + h * H);
-        else gather(nv.eye[k], idx + h * H, e[k][h]);
+        e[k][h] = run ? load<D>(nv.eye[k] + nd[0] + h * H) : gather<D>(nv.eye[k], idx + h * H);
     alignas(32) float pc[4][W];
     if (nrm) {
+#pragma GCC unroll 4
       for (int h = 0; h < 2; ++h) {
         D v[3];
         if (run) rows_xyz(nrm + 3 * (nd[0] + h * H), v);
         else gather_xyz(nrm, idx + h * H, v);
+#pragma GCC unroll 4
         for (int k = 0; k < 3; ++k) n[k][h] = v[k];
       }
       if (want_color)
@@ -1100,17 +1123,24 @@ template <class V, class Src>
     // As light_vertex: P = (eye / w) in double, then float (w = 1 in every lane, the usual affine
     // modelview: x / 1 = x exactly, the divisions are skipped).
     if (any(typename Lanes<V>::I((e[3][0] != 1.0) | (e[3][1] != 1.0))))
+#pragma GCC unroll 4
       for (int k = 0; k < 3; ++k)
+#pragma GCC unroll 4
         for (int h = 0; h < 2; ++h) e[k][h] = e[k][h] / e[3][h];
     V P[3], N[3], C[4];
+#pragma GCC unroll 4
     for (int k = 0; k < 3; ++k) P[k] = narrow(e[k]);
     if (lean)
+#pragma GCC unroll 4
       for (int h = 0; h < 2; ++h) {
         D nh[3] = {n[0][h], n[1][h], n[2][h]};
         eye_normals(m, nh, normalize);
+#pragma GCC unroll 4
         for (int k = 0; k < 3; ++k) n[k][h] = nh[k];
       }
+#pragma GCC unroll 4
     for (int k = 0; k < 3; ++k) N[k] = narrow(n[k]);
+#pragma GCC unroll 4
     for (int k = 0; k < 4; ++k)
       if (want_color) std::memcpy(&C[k], pc[k], sizeof(V));
       else C[k] = splat<V>(0);  // (not read)
