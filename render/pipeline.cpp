@@ -20,6 +20,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <memory>
+#include <type_traits>
 
 #if defined(__SSE2__)
 #include <emmintrin.h>
@@ -459,11 +460,11 @@ struct LightSetup {
   }
 };
 
-// Lighting four or eight vertices at once (SoA, GCC vector extensions): F4 (SSE2, the default
-// x86-64 build) or F8 (AVX2, compiled with target("avx2") and chosen at run time). Both are
-// written once, as templates on the vector type, with the same operations lane by lane as the
-// scalar light_vertex, and no FMA (the AVX2 target does not include it), so every lane gives
-// light_vertex's bits.
+// Lighting four or sixteen vertices at once (SoA, GCC vector extensions): F4 (SSE2, the default
+// x86-64 build) or F16, two F8 side by side (AVX2, compiled with target("avx2") and chosen at run
+// time). Both are written once, as templates on the vector type, with the same operations lane by
+// lane as the scalar light_vertex, and no FMA (the AVX2 target does not include it), so every lane
+// gives light_vertex's bits.
 #pragma GCC diagnostic push
 // (-Wpsabi notes that F8 and DF4 values would be passed differently with and without AVX: the
 // functions taking them are always inlined, into the AVX2 build only, so none crosses a call.)
@@ -494,12 +495,79 @@ template <> struct Lanes<F8> {
   enum { W = 8 };
 };
 
+// Two vectors as one: the AVX2 lighting's 16 lanes, two independent groups of 8 whose operations
+// alternate, so that the lighting's long dependency chains (square root, divide, the pow's divide
+// and polynomials) overlap. Operators apply to both halves; vector selects are written sel(m, x, y)
+// (the same as m ? x : y on plain vectors, which cannot be overloaded).
+template <class T>
+struct X2 {
+  T a, b;
+  X2() = default;
+  constexpr X2(T a_, T b_) : a(a_), b(b_) {}
+  template <class S>
+  explicit X2(const X2<S>& o) : a(T(o.a)), b(T(o.b)) {}  // bits reinterpreted, as T(S) does
+};
+template <class T> struct IsX2 : std::false_type {};
+template <class T> struct IsX2<X2<T>> : std::true_type {};
+#define WEDGE_X2_OP(op)                                                                                   \
+  template <class T>                                                                                      \
+  [[gnu::always_inline]] inline auto operator op(const X2<T>& x, const X2<T>& y) {                        \
+    return X2<decltype(x.a op y.a)>{x.a op y.a, x.b op y.b};                                              \
+  }                                                                                                       \
+  template <class T, class S>                                                                             \
+    requires std::is_arithmetic_v<S>                                                                      \
+  [[gnu::always_inline]] inline auto operator op(const X2<T>& x, S y) {                                   \
+    return X2<decltype(x.a op y)>{x.a op y, x.b op y};                                                    \
+  }                                                                                                       \
+  template <class T, class S>                                                                             \
+    requires std::is_arithmetic_v<S>                                                                      \
+  [[gnu::always_inline]] inline auto operator op(S x, const X2<T>& y) {                                   \
+    return X2<decltype(x op y.a)>{x op y.a, x op y.b};                                                    \
+  }
+WEDGE_X2_OP(+)
+WEDGE_X2_OP(-)
+WEDGE_X2_OP(*)
+WEDGE_X2_OP(/)
+WEDGE_X2_OP(&)
+WEDGE_X2_OP(|)
+WEDGE_X2_OP(<<)
+WEDGE_X2_OP(>>)
+WEDGE_X2_OP(<)
+WEDGE_X2_OP(>)
+WEDGE_X2_OP(==)
+WEDGE_X2_OP(!=)
+#undef WEDGE_X2_OP
+template <class T>
+[[gnu::always_inline]] inline X2<T> operator-(const X2<T>& x) {
+  return {-x.a, -x.b};
+}
+template <class T>
+[[gnu::always_inline]] inline X2<T> operator~(const X2<T>& x) {
+  return {~x.a, ~x.b};
+}
+template <> struct Lanes<X2<F8>> {
+  typedef X2<I8> I;
+  typedef X2<U8> U;
+  typedef X2<DF4> D;
+  enum { W = 16 };
+};
+// m ? x : y, lane by lane (m: a comparison's mask).
+template <class M, class T>
+[[gnu::always_inline]] inline T sel(const M& m, const T& x, const T& y) {
+  if constexpr (IsX2<T>::value) return T{sel(m.a, x.a, y.a), sel(m.b, x.b, y.b)};
+  else return m ? x : y;
+}
+
 // x in every lane (an element-wise copy: x - 0 or x + 0 would turn a -0 into +0).
 template <class V>
 [[gnu::always_inline]] inline V splat(float x) {
-  V r;
-  for (int l = 0; l < Lanes<V>::W; ++l) r[l] = x;
-  return r;
+  if constexpr (IsX2<V>::value) {
+    return V{splat<decltype(V::a)>(x), splat<decltype(V::a)>(x)};
+  } else {
+    V r;
+    for (int l = 0; l < Lanes<V>::W; ++l) r[l] = x;
+    return r;
+  }
 }
 [[gnu::always_inline]] inline F4 bcast(float x) { return splat<F4>(x); }
 
@@ -516,11 +584,13 @@ template <class V>
   return F4{std::sqrt(x[0]), std::sqrt(x[1]), std::sqrt(x[2]), std::sqrt(x[3])};
 #endif
 }
-// (Two 128-bit square roots: the same IEEE results as one 256-bit one, without an AVX intrinsic
-// in code that is also compiled for the default target.)
+// The eight-lane and four-double ones, used only inside the AVX2 build, as one 256-bit instruction
+// (not two halves: a shorter dependency chain), written as inline assembly since an AVX intrinsic
+// cannot be called from the lighting templates, which are also compiled for the default target.
 [[gnu::always_inline]] inline F8 vsqrt(F8 x) {
-  const F4 a = vsqrt(lo(x)), b = vsqrt(hi(x));
-  return __builtin_shufflevector(a, b, 0, 1, 2, 3, 4, 5, 6, 7);
+  F8 r;
+  asm("vsqrtps %1, %0" : "=x"(r) : "x"(x));
+  return r;
 }
 [[gnu::always_inline]] inline DF2 vsqrt(DF2 x) {
 #if defined(__SSE2__)
@@ -530,11 +600,16 @@ template <class V>
 #endif
 }
 [[gnu::always_inline]] inline DF4 vsqrt(DF4 x) {
-  const DF2 a = vsqrt(DF2{x[0], x[1]}), b = vsqrt(DF2{x[2], x[3]});
-  return __builtin_shufflevector(a, b, 0, 1, 2, 3);
+  DF4 r;
+  asm("vsqrtpd %1, %0" : "=x"(r) : "x"(x));
+  return r;
 }
-// Float (or int) lanes to doubles, in two halves, and back (exact widening; the narrowing
-// rounds to nearest, or truncates to int).
+template <class T>
+[[gnu::always_inline]] inline X2<T> vsqrt(const X2<T>& x) {
+  return {vsqrt(x.a), vsqrt(x.b)};
+}
+// Float (or int) lanes to doubles, in two halves (exact), and doubles back to floats (rounded to
+// nearest).
 [[gnu::always_inline]] inline void widen(F4 x, DF2* d) {
   d[0] = __builtin_convertvector(__builtin_shufflevector(x, x, 0, 1), DF2);
   d[1] = __builtin_convertvector(__builtin_shufflevector(x, x, 2, 3), DF2);
@@ -556,19 +631,8 @@ template <class V>
   return F4{float(d[0][0]), float(d[0][1]), float(d[1][0]), float(d[1][1])};
 #endif
 }
-[[gnu::always_inline]] inline I4 narrow_int(const DF2* d) {
-#if defined(__SSE2__)
-  return I4(_mm_unpacklo_epi64(_mm_cvttpd_epi32(d[0]), _mm_cvttpd_epi32(d[1])));
-#else
-  return I4{int(d[0][0]), int(d[0][1]), int(d[1][0]), int(d[1][1])};
-#endif
-}
 [[gnu::always_inline]] inline F8 narrow(const DF4* d) {
   const F4 a = __builtin_convertvector(d[0], F4), b = __builtin_convertvector(d[1], F4);
-  return __builtin_shufflevector(a, b, 0, 1, 2, 3, 4, 5, 6, 7);
-}
-[[gnu::always_inline]] inline I8 narrow_int(const DF4* d) {
-  const I4 a = __builtin_convertvector(d[0], I4), b = __builtin_convertvector(d[1], I4);
   return __builtin_shufflevector(a, b, 0, 1, 2, 3, 4, 5, 6, 7);
 }
 [[gnu::always_inline]] inline bool any(I4 m) {
@@ -579,6 +643,23 @@ template <class V>
 #endif
 }
 [[gnu::always_inline]] inline bool any(I8 m) { return any(I4(lo(m) | hi(m))); }
+// The same for two vectors as one: d[0] holds x.a's lanes, d[1] x.b's (in lane order, as the
+// halves of a plain vector).
+template <class T, class D>
+[[gnu::always_inline]] inline void widen(const X2<T>& x, X2<D>* d) {
+  D a[2], b[2];
+  widen(x.a, a), widen(x.b, b);
+  d[0] = {a[0], a[1]}, d[1] = {b[0], b[1]};
+}
+template <class D>
+[[gnu::always_inline]] inline auto narrow(const X2<D>* d) {
+  const D a[2] = {d[0].a, d[0].b}, b[2] = {d[1].a, d[1].b};
+  return X2<decltype(narrow(a))>{narrow(a), narrow(b)};
+}
+template <class T>
+[[gnu::always_inline]] inline bool any(const X2<T>& m) {
+  return any(T(m.a | m.b));
+}
 // Eigen's order for a 3-vector's dot product and squared norm: a0 b0 + (a1 b1 + a2 b2).
 template <class V>
 [[gnu::always_inline]] inline V dot3(const V* a, const V* b) {
@@ -587,54 +668,58 @@ template <class V>
 // Eigen's cwiseMax(0) then cwiseMin(1) (std::max / std::min: NaN stays NaN).
 template <class V>
 [[gnu::always_inline]] inline V vclamp01(V c) {
-  c = c < 0.0f ? splat<V>(0.0f) : c;
-  return 1.0f < c ? splat<V>(1.0f) : c;
+  c = sel(c < 0.0f, splat<V>(0.0f), c);
+  return sel(1.0f < c, splat<V>(1.0f), c);
 }
 
 // x^y for x >= 0 and y > 0 (the callers treat y = 0 as GL's 0^0 = 1), lane by lane: 2^(y log2 x)
-// with log2 in double (so that y up to 128 does not magnify its rounding), 2^f in float.
-// Relative error below 1e-6 where the result is a normal float (tests/render/test_lighting.cpp);
-// 0^y = 0, inf^y = inf, NaN stays NaN; overflow gives inf, underflow 0 or a subnormal.
+// in double (so that y up to 128 does not magnify a rounding), rounded to float once at the end.
+// Relative error below 1e-7 where the result is a normal float, within the last (subnormal) place
+// below that (tests/render/test_lighting.cpp); 0^y = 0, inf^y = inf, NaN stays NaN; overflow gives
+// inf.
 template <class V>
 [[gnu::always_inline]] inline V vpow(V x, float y) {
   typedef typename Lanes<V>::I I;
   typedef typename Lanes<V>::U U;
   typedef typename Lanes<V>::D D;
+  typedef decltype(D{} < D{}) Q;  // 64-bit integer lanes
   // x = m 2^e with m in [sqrt(1/2), sqrt(2)): the bits less those of sqrt(1/2), shifted, give e
   // (subnormal x scaled by 2^24 first). (Unsigned arithmetic: no overflow for other inputs.)
   const I tiny = x < 0x1p-126f;
-  const U b = U(tiny ? x * 0x1p24f : x);
+  const U b = U(sel(tiny, x * 0x1p24f, x));
   const I e = I(b - 0x3f3504f3u) >> 23;
   const V m = V(b - (U(e) << 23));
   // log2 m = 2 atanh(s) / ln 2, s = (m - 1) / (m + 1), |s| <= 0.1716: the odd series to s^11
-  // (truncation below 2e-11). Then t = y log2 x, and 2^t = 2^i 2^f, i = t rounded to nearest,
-  // |f| <= 1/2 (|t| < 2^20 for any float x).
+  // (truncation below 2e-11). Then t = y log2 x (held to [-160, 160]: beyond, the float result
+  // over- or underflows anyway), and 2^t = 2^i 2^f, i = t rounded to nearest, |f| <= 1/2: 2^f by
+  // its Taylor series to f^7 (remainder below 6e-9), times 2^i (exact), then rounded to float.
+  // Both polynomials by Estrin's scheme (pairs, then powers of the square), not Horner's: chains of
+  // 7 and 6 operations, not 12 and 14 (the lighting's longest dependency chain runs through here).
   constexpr double k = 2 / 0.693147180559945309417232121458;
-  D md[2], ed[2], rd[2], fd[2];
+  constexpr double c1 = 0.6931471805599453, c2 = 0.2402265069591007, c3 = 0.055504108664821576,
+                   c4 = 0.009618129107628477, c5 = 0.0013333558146428441, c6 = 0.00015403530393381606,
+                   c7 = 1.5252733804059838e-05;
+  D md[2], ed[2], rd[2];
   widen(m, md), widen(I(e - (tiny & 24)), ed);
+#pragma GCC unroll 4
   for (int h = 0; h < 2; ++h) {
     const D s = (md[h] - 1.0) / (md[h] + 1.0);
-    const D s2 = s * s;
-    const D l = s * (k + s2 * (k / 3 + s2 * (k / 5 + s2 * (k / 7 + s2 * (k / 9 + s2 * (k / 11))))));
-    const D t = double(y) * (ed[h] + l);
-    rd[h] = (t + 0x1.8p52) - 0x1.8p52;
-    fd[h] = t - rd[h];
+    const D s2 = s * s, s4 = s2 * s2, s8 = s4 * s4;
+    const D l = s * (((k + s2 * (k / 3)) + s4 * (k / 5 + s2 * (k / 7))) + s8 * (k / 9 + s2 * (k / 11)));
+    D t = double(y) * (ed[h] + l);
+    t = sel(t < -160.0, D{} - 160.0, t);
+    t = sel(t > 160.0, D{} + 160.0, t);
+    // r = 1.5 2^52 + i: its low bits hold i.
+    const D r = t + 0x1.8p52;
+    const D f = t - (r - 0x1.8p52);
+    const D f2 = f * f, f4 = f2 * f2;
+    const D p = ((1.0 + f * c1) + f2 * (c2 + f * c3)) + f4 * ((c4 + f * c5) + f2 * (c6 + f * c7));
+    rd[h] = p * D((Q(r) + 1023) << 52);
   }
-  const V f = narrow(fd);
-  I i = narrow_int(rd);
-  i = i < -160 ? I{} - 160 : i;  // |i| > 160 over- or underflows anyway
-  i = i > 160 ? I{} + 160 : i;
-  // 2^f: Taylor to f^7 (remainder below 1e-8).
-  constexpr float c1 = 0.693147180559945309f, c2 = 0.240226506959100712f, c3 = 0.0555041086648215800f,
-                  c4 = 0.00961812910762847716f, c5 = 0.00133335581464284434f, c6 = 0.000154035303933816099f,
-                  c7 = 0.0000152527338040598403f;
-  const V p = 1.0f + f * (c1 + f * (c2 + f * (c3 + f * (c4 + f * (c5 + f * (c6 + f * c7))))));
-  // Times 2^i in two normal factors, so a subnormal result is rounded once.
-  const I i1 = i >> 1, i2 = i - i1;
-  V res = (p * V((i1 + 127) << 23)) * V((i2 + 127) << 23);
-  res = x == 0.0f ? splat<V>(0.0f) : res;
-  res = x == __builtin_huge_valf() ? x : res;
-  return x != x ? x : res;
+  V res = narrow(rd);
+  res = sel(x == 0.0f, splat<V>(0.0f), res);
+  res = sel(x == __builtin_huge_valf(), x, res);
+  return sel(x != x, x, res);
 }
 
 // The scalar pow of the lighting equation: vpow's lane 0, so light_vertex and the vector
@@ -731,7 +816,7 @@ struct LightConsts {
         l[i].pos[k] = splat<V>(L.pos[k]), l[i].sdir[k] = splat<V>(L.sdir[k]);
         l[i].lamb[k] = splat<V>(L.amb[k]), l[i].ldif[k] = splat<V>(L.dif[k]), l[i].lspec[k] = splat<V>(L.spec[k]);
       }
-    for (int sd = 0; sd < 2; ++sd) {
+    for (int sd = 0; sd < (s.two_side ? 2 : 1); ++sd) {  // (the back side is lit only two-sided)
       const Material& m = s.material[sd];
       Side& d = side[sd];
       d.cm = ls.color_material[sd];
@@ -747,9 +832,11 @@ struct LightConsts {
   }
 };
 
-// Four (F4) or eight (F8) vertices lit at once: light_vertex's float operations in the same
+// Four (F4) or sixteen (F16) vertices lit at once: light_vertex's float operations in the same
 // order, lane by lane, so the colours are the same bits. P: eye positions (divided by w);
 // n: normals, negated for the back side; vc: vertex colours (read with colour material only).
+// (The loops over components are unrolled by pragmas here, in vpow and in light_needed: left as
+// loops, -O2 keeps those small arrays of vectors on the stack, each step a store and a reload.)
 template <class V, bool CM>
 [[gnu::always_inline]] inline void light_t(const Context::State& s, const LightSetup& ls,
                                            const typename LightConsts<V>::Side& m, const LightConsts<V>& lc,
@@ -758,7 +845,9 @@ template <class V, bool CM>
   const V *me = m.me, *ma = m.ma, *md = m.md, *ms = m.ms;
   V cme[4], cma[4], cmd[4], cms[4];
   if constexpr (CM) {
+#pragma GCC unroll 4
     for (int k = 0; k < 4; ++k) cme[k] = m.me[k], cma[k] = m.ma[k], cmd[k] = m.md[k], cms[k] = m.ms[k];
+#pragma GCC unroll 4
     for (int k = 0; k < 4; ++k) {
       switch (s.cm_mode) {
         case ColorMaterialMode::Ambient: cma[k] = vc[k]; break;
@@ -771,13 +860,15 @@ template <class V, bool CM>
     me = cme, ma = cma, md = cmd, ms = cms;
   }
   V c[3];
+#pragma GCC unroll 4
   for (int k = 0; k < 3; ++k) c[k] = CM ? me[k] + ma[k] * lc.model_ambient[k] : m.base[k];
   V ed[3] = {splat<V>(0), splat<V>(0), splat<V>(1)};
   if (ls.local_viewer) {
     const V z = dot3(P, P);
     const I pos = z > 0.0f;
     const V r = vsqrt(z);
-    for (int k = 0; k < 3; ++k) ed[k] = pos ? -(P[k] / r) : -P[k];
+#pragma GCC unroll 4
+    for (int k = 0; k < 3; ++k) ed[k] = sel(pos, -(P[k] / r), -P[k]);
   }
   const float shin = m.shin;
   for (int i = 0; i < ls.n; ++i) {
@@ -786,24 +877,28 @@ template <class V, bool CM>
     V VP[3];
     V att = splat<V>(1);
     if (L.local) {
+#pragma GCC unroll 4
       for (int k = 0; k < 3; ++k) VP[k] = C.pos[k] - P[k];
       const V d = vsqrt(dot3(VP, VP));
+#pragma GCC unroll 4
       for (int k = 0; k < 3; ++k) VP[k] = VP[k] / d;
       att = 1.0f / ((L.kc + L.kl * d) + (L.kq * d) * d);
     } else {
+#pragma GCC unroll 4
       for (int k = 0; k < 3; ++k) VP[k] = C.pos[k];
     }
     V spot = splat<V>(1);
     if (L.spot) {
       const V cosang = -dot3(VP, C.sdir);
       const I in = ~(cosang < L.cos_cut);
-      if (L.sexp == 0) spot = in ? splat<V>(1) : splat<V>(0);
-      else spot = in ? vpow(cosang < 0.0f ? splat<V>(0.0f) : cosang, L.sexp) : splat<V>(0);  // (std::max)
+      if (L.sexp == 0) spot = sel(in, splat<V>(1), splat<V>(0));
+      else spot = sel(in, vpow(sel(cosang < 0.0f, splat<V>(0.0f), cosang), L.sexp), splat<V>(0));  // (std::max)
     }
     const V k = att * spot;
     const I use = ~(k == 0.0f);
     if (!any(use)) continue;
     V amb[3], dif[3], spec[3];
+#pragma GCC unroll 4
     for (int q = 0; q < 3; ++q) {
       amb[q] = CM ? ma[q] * C.lamb[q] : m.amb[i][q];
       dif[q] = CM ? md[q] * C.ldif[q] : m.dif[i][q];
@@ -812,8 +907,10 @@ template <class V, bool CM>
     V term[3];
     const V ndl = dot3(n, VP);
     const I dmask = ndl > 0.0f;
-    for (int q = 0; q < 3; ++q) term[q] = dmask ? amb[q] + ndl * dif[q] : amb[q];
+#pragma GCC unroll 4
+    for (int q = 0; q < 3; ++q) term[q] = sel(dmask, amb[q] + ndl * dif[q], amb[q]);
     V h[3];
+#pragma GCC unroll 4
     for (int q = 0; q < 3; ++q) h[q] = VP[q] + ed[q];
     const V hn = vsqrt(dot3(h, h));
     const V ndh = dot3(n, h) / hn;
@@ -821,10 +918,13 @@ template <class V, bool CM>
     if (any(smask)) {
       // (The lanes outside smask compute a pow that is not used.)
       const V f = shin != 0 ? vpow(ndh, shin) : splat<V>(1);
-      for (int q = 0; q < 3; ++q) term[q] = smask ? term[q] + f * spec[q] : term[q];
+#pragma GCC unroll 4
+      for (int q = 0; q < 3; ++q) term[q] = sel(smask, term[q] + f * spec[q], term[q]);
     }
-    for (int q = 0; q < 3; ++q) c[q] = use ? c[q] + k * term[q] : c[q];
+#pragma GCC unroll 4
+    for (int q = 0; q < 3; ++q) c[q] = sel(use, c[q] + k * term[q], c[q]);
   }
+#pragma GCC unroll 4
   for (int q = 0; q < 3; ++q) out[q] = vclamp01(c[q]);
   out[3] = vclamp01(md[3]);
 }
@@ -843,14 +943,15 @@ void light_lanes(const Context::State& s, const LightSetup& ls, const LightConst
   light<F4>(s, ls, lc, P, n, vc, side, out);
 }
 #if defined(__x86_64__) && defined(__GNUC__)
+typedef X2<F8> F16;  // the AVX2 build's lanes: two groups of eight
 __attribute__((target("avx2"))) void light_lanes_avx2(const Context::State& s, const LightSetup& ls,
-                                                      const LightConsts<F8>& lc, const F8* P, const F8* n,
-                                                      const F8* vc, int side, F8* out) {
-  light<F8>(s, ls, lc, P, n, vc, side, out);
+                                                      const LightConsts<F16>& lc, const F16* P, const F16* n,
+                                                      const F16* vc, int side, F16* out) {
+  light<F16>(s, ls, lc, P, n, vc, side, out);
 }
 [[gnu::always_inline]] inline void light_lanes(const Context::State& s, const LightSetup& ls,
-                                               const LightConsts<F8>& lc, const F8* P, const F8* n, const F8* vc,
-                                               int side, F8* out) {
+                                               const LightConsts<F16>& lc, const F16* P, const F16* n,
+                                               const F16* vc, int side, F16* out) {
   light_lanes_avx2(s, ls, lc, P, n, vc, side, out);
 }
 #endif
@@ -967,6 +1068,12 @@ PVert process_vertex(const Context::State& s, const LightSetup& ls, const InVert
   }
 }
 
+[[gnu::always_inline]] inline void store_rgba(const X2<F8>* c, float* a, std::size_t stride, std::size_t lanes) {
+  const F8 ca[4] = {c[0].a, c[1].a, c[2].a, c[3].a}, cb[4] = {c[0].b, c[1].b, c[2].b, c[3].b};
+  store_rgba(ca, a, stride, std::min<std::size_t>(lanes, 8));
+  if (lanes > 8) store_rgba(cb, a + 8 * stride, stride, lanes - 8);
+}
+
 // vertex_attrs' eye normal on all lanes (double, m = nmat column-major): nmat * n in Eigen's order for a
 // Matrix3d times a Vector3d (rows 0 and 1 as (m0 n0 + m1 n1) + m2 n2, row 2 as m0 n0 + (m1 n1 +
 // m2 n2)), divided by its norm sqrt((x x + y y) + z z) when normalising and the norm is positive.
@@ -978,7 +1085,7 @@ template <class D>
   n[0] = r0, n[1] = r1, n[2] = r2;
   if (normalize) {
     const D len = vsqrt((r0 * r0 + r1 * r1) + r2 * r2);
-    for (int k = 0; k < 3; ++k) n[k] = len > 0.0 ? n[k] / len : n[k];
+    for (int k = 0; k < 3; ++k) n[k] = sel(len > 0.0, n[k] / len, n[k]);
   }
 }
 
@@ -991,40 +1098,94 @@ struct NeededVerts {
   std::size_t v0;
 };
 
-// The lit colours (and, unless `lean`, vertex_attrs' other attributes) of the needed vertices,
-// W = 4 or 8 at a time, into attrs (sets of `astride` floats): gathered by rows (SoA; a run of
-// consecutive vertices is read straight from the eye rows), the eye position divided by w and the
-// normal transformed and normalised in double on all lanes at once with vertex_attrs' operations
-// (eye_normals), then lit.
+// Lanes from memory, in registers (no stack array written by lanes and read back whole: that
+// stalls on store forwarding). A row's elements i[0], i[1], ... into the lanes of D:
+template <class D>
+[[gnu::always_inline]] inline D gather(const double* r, const std::uint32_t* i) {
+  if constexpr (sizeof(D) == sizeof(DF2)) return D{r[i[0]], r[i[1]]};
+  else return D{r[i[0]], r[i[1]], r[i[2]], r[i[3]]};
+}
+template <class D>
+[[gnu::always_inline]] inline D load(const double* p) {
+  D v;
+  std::memcpy(&v, p, sizeof v);
+  return v;
+}
+// Packed x y z triples: those at p + 3 i[0], p + 3 i[1], ... by lanes into v[0..2],
+[[gnu::always_inline]] inline void gather_xyz(const double* p, const std::uint32_t* i, DF2* v) {
+  const DF2 a = load<DF2>(p + 3 * i[0]), b = load<DF2>(p + 3 * i[1]);
+  v[0] = __builtin_shufflevector(a, b, 0, 2), v[1] = __builtin_shufflevector(a, b, 1, 3);
+  v[2] = DF2{p[3 * i[0] + 2], p[3 * i[1] + 2]};
+}
+[[gnu::always_inline]] inline void gather_xyz(const double* p, const std::uint32_t* i, DF4* v) {
+  DF2 lo[3], hi[3];
+  gather_xyz(p, i, lo), gather_xyz(p, i + 2, hi);
+  for (int k = 0; k < 3; ++k) v[k] = __builtin_shufflevector(lo[k], hi[k], 0, 1, 2, 3);
+}
+// and those of consecutive vertices from p on (3 lanes' worth of doubles read as three vectors).
+[[gnu::always_inline]] inline void rows_xyz(const double* p, DF2* v) {
+  const DF2 a = load<DF2>(p), b = load<DF2>(p + 2), c = load<DF2>(p + 4);  // x0 y0, z0 x1, y1 z1
+  v[0] = __builtin_shufflevector(a, b, 0, 3), v[1] = __builtin_shufflevector(a, c, 1, 2);
+  v[2] = __builtin_shufflevector(b, c, 0, 3);
+}
+[[gnu::always_inline]] inline void rows_xyz(const double* p, DF4* v) {
+  // a = x0 y0 z0 x1, b = y1 z1 x2 y2, c = z2 x3 y3 z3
+  const DF4 a = load<DF4>(p), b = load<DF4>(p + 4), c = load<DF4>(p + 8);
+  const DF4 x = __builtin_shufflevector(a, b, 0, 3, 6, 6), y = __builtin_shufflevector(a, b, 1, 4, 7, 7),
+            z = __builtin_shufflevector(a, b, 2, 5, 5, 5);
+  v[0] = __builtin_shufflevector(x, c, 0, 1, 2, 5), v[1] = __builtin_shufflevector(y, c, 0, 1, 2, 6);
+  v[2] = __builtin_shufflevector(z, c, 0, 1, 4, 7);
+}
+
+
+// The lighting's inputs for needed vertices q .. q + lanes - 1 (lanes <= W), gathered by rows (SoA,
+// in registers; a run of consecutive vertices is read straight from the eye rows, and, from packed
+// client normals `nrm`, as three vectors per half), the eye position divided by w and the normal
+// transformed and normalised in double on all lanes at once with vertex_attrs' operations
+// (eye_normals). Unless `lean`, vertex_attrs' other attributes go to attrs.
 template <class V, class Src>
-[[gnu::always_inline]] inline void light_needed(const Context::State& s, const LightSetup& ls, const Src& src,
-                                                const Mat3& nmat, const NeededVerts& nv, bool lean,
-                                                const AttrNeeds& needs, float* attrs, std::size_t astride) {
-  constexpr int W = Lanes<V>::W;
+[[gnu::always_inline]] inline void light_inputs(const Context::State& s, const Src& src, const Mat3& nmat,
+                                                const double* m, const double* nrm, const NeededVerts& nv,
+                                                std::size_t q, std::size_t lanes, bool lean, bool want_color,
+                                                const AttrNeeds& needs, float* attrs, std::size_t astride, V* P,
+                                                V* N, V* C) {
+  constexpr int W = Lanes<V>::W, H = W / 2;
   typedef typename Lanes<V>::D D;
-  const LightConsts<V> lc(s, ls);
   const bool normalize = s.on(Cap::Normalize);
-  const bool two = s.two_side;
-  const bool want_color = !lean || lc.side[0].cm || (two && lc.side[1].cm);
-  double m[9];
-  for (int k = 0; k < 9; ++k) m[k] = nmat(k % 3, k / 3);
-  for (std::size_t q = 0; q < nv.n; q += W) {
-    const std::size_t lanes = std::min<std::size_t>(W, nv.n - q);
-    const std::uint32_t* nd = nv.need + q;
-    alignas(64) double pe[4][W], pn[3][W];
-    alignas(32) float pc[4][W];
-    const double* ep[4] = {pe[0], pe[1], pe[2], pe[3]};
-    if (lanes == W && nd[W - 1] - nd[0] == W - 1) {
-      for (int k = 0; k < 4; ++k) ep[k] = nv.eye[k] + nd[0];
-    } else {
-      for (std::size_t l = 0; l < lanes; ++l)
-        for (int k = 0; k < 4; ++k) pe[k][l] = nv.eye[k][nd[l]];
+  const std::uint32_t* nd = nv.need + q;
+  // The lanes' vertices (the last group's unused lanes repeat lane 0's: computed, not stored).
+  std::uint32_t idx[W];
+  for (int l = 0; l < W; ++l) idx[l] = nd[std::size_t(l) < lanes ? l : 0];
+  const bool run = lanes == W && nd[W - 1] - nd[0] == W - 1;
+  // (Doubles in two halves of H lanes, each a register wide.)
+  D e[4][2], n[3][2];
+#pragma GCC unroll 4
+  for (int k = 0; k < 4; ++k)
+#pragma GCC unroll 4
+    for (int h = 0; h < 2; ++h)
+      e[k][h] = run ? load<D>(nv.eye[k] + nd[0] + h * H) : gather<D>(nv.eye[k], idx + h * H);
+  alignas(32) float pc[4][W];
+  if (nrm) {
+#pragma GCC unroll 4
+    for (int h = 0; h < 2; ++h) {
+      D v[3];
+      if (run) rows_xyz(nrm + 3 * (nd[0] + h * H), v);
+      else gather_xyz(nrm, idx + h * H, v);
+#pragma GCC unroll 4
+      for (int k = 0; k < 3; ++k) n[k][h] = v[k];
     }
+    if (want_color)
+      for (int l = 0; l < W; ++l) {
+        const Vec4f c = src.color(nv.v0 + idx[l]);
+        for (int k = 0; k < 4; ++k) pc[k][l] = c[k];
+      }
+  } else {
+    alignas(32) double pn[3][W];
     for (std::size_t l = 0; l < lanes; ++l) {
       const std::size_t i = nd[l];
       if (lean) {
-        const Vec3 n = src.normal(nv.v0 + i);
-        for (int k = 0; k < 3; ++k) pn[k][l] = n[k];
+        const Vec3 nl = src.normal(nv.v0 + i);
+        for (int k = 0; k < 3; ++k) pn[k][l] = nl[k];
         if (want_color) {
           const Vec4f c = src.color(nv.v0 + i);
           for (int k = 0; k < 4; ++k) pc[k][l] = c[k];
@@ -1032,43 +1193,85 @@ template <class V, class Src>
       } else {
         // vertex_attrs: every other attribute, and the eye normal (transformed here already).
         auto&& v = src.vertex(nv.v0 + i);
-        const Vec4 e(nv.eye[0][i], nv.eye[1][i], nv.eye[2][i], nv.eye[3][i]);
-        const Vec3 n = vertex_attrs(s, v, e, nmat, attrs + (q + l) * astride, needs);
-        for (int k = 0; k < 3; ++k) pn[k][l] = n[k];
+        const Vec4 ev(nv.eye[0][i], nv.eye[1][i], nv.eye[2][i], nv.eye[3][i]);
+        const Vec3 nl = vertex_attrs(s, v, ev, nmat, attrs + (q + l) * astride, needs);
+        for (int k = 0; k < 3; ++k) pn[k][l] = nl[k];
         for (int k = 0; k < 4; ++k) pc[k][l] = v.color[k];
       }
     }
-    if (lanes < W) {  // the last group: its unused lanes copy lane 0 (computed, not stored)
-      for (std::size_t l = lanes; l < W; ++l) {
-        if (ep[0] == pe[0])
-          for (int k = 0; k < 4; ++k) pe[k][l] = pe[k][0];
-        for (int k = 0; k < 3; ++k) pn[k][l] = pn[k][0];
-        for (int k = 0; k < 4; ++k) pc[k][l] = pc[k][0];
-      }
+    for (std::size_t l = lanes; l < W; ++l) {  // the last group's unused lanes copy lane 0
+      for (int k = 0; k < 3; ++k) pn[k][l] = pn[k][0];
+      for (int k = 0; k < 4; ++k) pc[k][l] = pc[k][0];
     }
-    // As light_vertex: P = (eye / w) in double, then float (w = 1 in every lane, the usual affine
-    // modelview: x / 1 = x exactly, the divisions are skipped).
-    // (Doubles in two halves of W / 2 lanes, each a register wide.)
-    D e[4][2], n[3][2];
-    for (int k = 0; k < 4; ++k)
-      for (int h = 0; h < 2; ++h) std::memcpy(&e[k][h], ep[k] + h * (W / 2), sizeof(D));
-    if (any(typename Lanes<V>::I((e[3][0] != 1.0) | (e[3][1] != 1.0))))
-      for (int k = 0; k < 3; ++k)
-        for (int h = 0; h < 2; ++h) e[k][h] = e[k][h] / e[3][h];
-    V P[3], N[3], C[4];
-    for (int k = 0; k < 3; ++k) P[k] = narrow(e[k]);
     for (int k = 0; k < 3; ++k)
-      for (int h = 0; h < 2; ++h) std::memcpy(&n[k][h], pn[k] + h * (W / 2), sizeof(D));
-    if (lean)
-      for (int h = 0; h < 2; ++h) {
-        D nh[3] = {n[0][h], n[1][h], n[2][h]};
-        eye_normals(m, nh, normalize);
-        for (int k = 0; k < 3; ++k) n[k][h] = nh[k];
-      }
-    for (int k = 0; k < 3; ++k) N[k] = narrow(n[k]);
-    for (int k = 0; k < 4; ++k)
-      if (want_color) std::memcpy(&C[k], pc[k], sizeof(V));
-      else C[k] = splat<V>(0);  // (not read)
+      for (int h = 0; h < 2; ++h) n[k][h] = load<D>(pn[k] + h * H);
+  }
+  // As light_vertex: P = (eye / w) in double, then float (w = 1 in every lane, the usual affine
+  // modelview: x / 1 = x exactly, the divisions are skipped).
+  if (any(typename Lanes<V>::I((e[3][0] != 1.0) | (e[3][1] != 1.0))))
+#pragma GCC unroll 4
+    for (int k = 0; k < 3; ++k)
+#pragma GCC unroll 4
+      for (int h = 0; h < 2; ++h) e[k][h] = e[k][h] / e[3][h];
+#pragma GCC unroll 4
+  for (int k = 0; k < 3; ++k) P[k] = narrow(e[k]);
+  if (lean)
+#pragma GCC unroll 4
+    for (int h = 0; h < 2; ++h) {
+      D nh[3] = {n[0][h], n[1][h], n[2][h]};
+      eye_normals(m, nh, normalize);
+#pragma GCC unroll 4
+      for (int k = 0; k < 3; ++k) n[k][h] = nh[k];
+    }
+#pragma GCC unroll 4
+  for (int k = 0; k < 3; ++k) N[k] = narrow(n[k]);
+#pragma GCC unroll 4
+  for (int k = 0; k < 4; ++k)
+    if (want_color) std::memcpy(&C[k], pc[k], sizeof(V));
+    else C[k] = splat<V>(0);  // (not read)
+}
+
+// The lit colours (and, unless `lean`, vertex_attrs' other attributes) of the needed vertices,
+// W = 4 or 16 (two groups of 8) at a time, into attrs (sets of `astride` floats): light_inputs,
+// then the lighting.
+template <class V, class Src>
+[[gnu::always_inline]] inline void light_needed(const Context::State& s, const LightSetup& ls, const Src& src,
+                                                const Mat3& nmat, const NeededVerts& nv, bool lean,
+                                                const AttrNeeds& needs, float* attrs, std::size_t astride) {
+  constexpr int W = Lanes<V>::W;
+  const LightConsts<V> lc(s, ls);
+  const bool two = s.two_side;
+  const bool want_color = !lean || lc.side[0].cm || (two && lc.side[1].cm);
+  double m[9];
+  for (int k = 0; k < 9; ++k) m[k] = nmat(k % 3, k / 3);
+  // The client's normals packed x y z, vertex by vertex from the chunk's first (no indices): read
+  // there by vectors. Else null (normals come through src.normal).
+  const double* nrm = nullptr;
+  if constexpr (requires { src.indices, src.a.normals, src.first; })
+    if (lean && !src.indices && src.a.normals) nrm = src.a.normals + (src.first + nv.v0) * 3;
+  for (std::size_t q = 0; q < nv.n; q += W) {
+    const std::size_t lanes = std::min<std::size_t>(W, nv.n - q);
+    V P[3], N[3], C[4];
+    if constexpr (IsX2<V>::value) {
+      // Each group of eight on its own (in registers), then side by side.
+      typedef decltype(V::a) T;
+      constexpr std::size_t W1 = Lanes<T>::W;
+      T p[2][3], n[2][3], c[2][4];
+      light_inputs<T>(s, src, nmat, m, nrm, nv, q, std::min(lanes, W1), lean, want_color, needs, attrs, astride,
+                      p[0], n[0], c[0]);
+      if (lanes > W1)
+        light_inputs<T>(s, src, nmat, m, nrm, nv, q + W1, lanes - W1, lean, want_color, needs, attrs, astride, p[1],
+                        n[1], c[1]);
+      else  // (the last group's second eight: copies, computed, not stored)
+        for (int k = 0; k < 4; ++k) {
+          if (k < 3) p[1][k] = p[0][k], n[1][k] = n[0][k];
+          c[1][k] = c[0][k];
+        }
+      for (int k = 0; k < 3; ++k) P[k] = {p[0][k], p[1][k]}, N[k] = {n[0][k], n[1][k]};
+      for (int k = 0; k < 4; ++k) C[k] = {c[0][k], c[1][k]};
+    } else {
+      light_inputs<V>(s, src, nmat, m, nrm, nv, q, lanes, lean, want_color, needs, attrs, astride, P, N, C);
+    }
     V front[4], back[4];
     light_lanes(s, ls, lc, P, N, C, 0, front);
     float* const a = attrs + q * astride;
@@ -1091,7 +1294,7 @@ template <class Src>
 __attribute__((target("avx2"))) void light_needed_avx2(const Context::State& s, const LightSetup& ls, const Src& src,
                                                        const Mat3& nmat, const NeededVerts& nv, bool lean,
                                                        const AttrNeeds& needs, float* attrs, std::size_t astride) {
-  light_needed<F8>(s, ls, src, nmat, nv, lean, needs, attrs, astride);
+  light_needed<F16>(s, ls, src, nmat, nv, lean, needs, attrs, astride);
 }
 #endif
 

@@ -21,7 +21,7 @@ bool same_bits(float a, float b) { return std::memcmp(&a, &b, sizeof a) == 0; }
 
 }  // namespace
 
-TEST_CASE("the lighting's pow is within 1e-6 of std::pow, and its 4- and 8-lane builds agree bit for bit",
+TEST_CASE("the lighting's pow is within 1e-7 of std::pow, and its 4- and 8-lane builds agree bit for bit",
           "[render][lighting][simd]") {
   // x: a dense grid of [0, 1] (the lighting's range), every 1024th float of [2^-40, 1], and values
   // beyond 1 up to 2^40; y: GL's shininess and spot exponent range [0, 128] (y = 0 is GL's 1,
@@ -50,7 +50,7 @@ TEST_CASE("the lighting's pow is within 1e-6 of std::pow, and its 4- and 8-lane 
       } else if (want >= FLT_MIN) {
         const double rel = std::abs(got - want) / want;
         worst = std::max(worst, rel);
-        bad += !(rel < 1e-6);
+        bad += !(rel < 1e-7);  // (rounded once to float: half a unit in the last place is 6e-8)
       } else {
         bad += !(std::abs(got - want) <= 0x1p-149);  // subnormal or zero: within the last place
       }
@@ -67,7 +67,7 @@ TEST_CASE("the lighting's pow is within 1e-6 of std::pow, and its 4- and 8-lane 
     CHECK(lighting_pow(INFINITY, y) == INFINITY);
     CHECK(std::isnan(lighting_pow(NAN, y)));
     const double want = std::pow(double(1e-40f), double(y));
-    if (want >= FLT_MIN) CHECK(std::abs(lighting_pow(1e-40f, y) - want) / want < 1e-6);
+    if (want >= FLT_MIN) CHECK(std::abs(lighting_pow(1e-40f, y) - want) / want < 1e-7);
   }
 }
 
