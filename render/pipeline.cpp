@@ -326,15 +326,18 @@ template <class V>
       const V fa = (y[a] - y[b]) * inv, fb = (x[b] - x[a]) * inv, fc = -(fa * x[a] + fb * y[a]);
       l0[i] = fa * (ox + 0.5) + fb * (oy + 0.5) + fc, gx[i] = fa, gy[i] = fb;
     }
-    typedef float FV __attribute__((vector_size(sizeof(V) / 2)));
-    auto plane = [&](float (*p)[RunSetup::kMax], V f0, V f1, V f2) {
+    // (A loop, not a lambda taking vectors: lambdas do not take the AVX2 target, and an
+    // unoptimised build calls them with the vectors where the base target does not look.)
+    for (int k = 0; k < 5; ++k) {
+      const V f0 = k ? c[0][k - 1] * iw[0] : iw[0], f1 = k ? c[1][k - 1] * iw[1] : iw[1],
+              f2 = k ? c[2][k - 1] * iw[2] : iw[2];
+      typedef float FV __attribute__((vector_size(sizeof(V) / 2)));
       const FV pc = __builtin_convertvector((l0[0] * f0 + l0[1] * f1) + l0[2] * f2, FV);
       const FV px = __builtin_convertvector((gx[0] * f0 + gx[1] * f1) + gx[2] * f2, FV);
       const FV py = __builtin_convertvector((gy[0] * f0 + gy[1] * f1) + gy[2] * f2, FV);
-      std::memcpy(p[0] + t, &pc, sizeof(FV)), std::memcpy(p[1] + t, &px, sizeof(FV)), std::memcpy(p[2] + t, &py, sizeof(FV));
-    };
-    plane(r.pl[0], iw[0], iw[1], iw[2]);
-    for (int k = 0; k < 4; ++k) plane(r.pl[1 + k], c[0][k] * iw[0], c[1][k] * iw[1], c[2][k] * iw[2]);
+      std::memcpy(r.pl[k][0] + t, &pc, sizeof(FV)), std::memcpy(r.pl[k][1] + t, &px, sizeof(FV));
+      std::memcpy(r.pl[k][2] + t, &py, sizeof(FV));
+    }
     V zc = V{}, zdx = V{}, zdy = V{};
     for (int i = 0; i < 3; ++i) zc += l0[i] * z[i], zdx += gx[i] * z[i], zdy += gy[i] * z[i];
     std::memcpy(r.zc + t, &zc, sizeof(V)), std::memcpy(r.zdx + t, &zdx, sizeof(V)), std::memcpy(r.zdy + t, &zdy, sizeof(V));
@@ -502,10 +505,14 @@ template <> struct Lanes<F8> {
 template <class T>
 struct X2 {
   T a, b;
+  // (Always inlined, as every function here that takes or returns a vector by value: one that
+  // is not is compiled for the base target, and an AVX2 caller passing 32-byte vectors in
+  // registers would disagree with it on where they are -- the -Wpsabi note, which shows only in
+  // unoptimised builds, where such calls remain.)
   X2() = default;
-  constexpr X2(T a_, T b_) : a(a_), b(b_) {}
+  [[gnu::always_inline]] constexpr X2(T a_, T b_) : a(a_), b(b_) {}
   template <class S>
-  explicit X2(const X2<S>& o) : a(T(o.a)), b(T(o.b)) {}  // bits reinterpreted, as T(S) does
+  [[gnu::always_inline]] explicit X2(const X2<S>& o) : a(T(o.a)), b(T(o.b)) {}  // bits reinterpreted, as T(S) does
 };
 template <class T> struct IsX2 : std::false_type {};
 template <class T> struct IsX2<X2<T>> : std::true_type {};
