@@ -2851,9 +2851,11 @@ void draw_bands(const Raster& r, Queue* const* queues, std::size_t nq) {
 // GL_TRIANGLES with both polygon modes Fill and no user clip planes (the common case) go by
 // chunks of triangles: positions transformed; a triangle wholly inside the clip volume gets its
 // window coordinates, facing and cull test, and is dropped when it covers no pixel centre;
-// only the vertices of the remaining triangles get their attributes (lit four at a time); then
-// the triangles are drawn, or queued for the bands. A triangle crossing the clip volume takes
-// the general path (draw_triangle). The same decisions and arithmetic as that general path.
+// only the vertices of the remaining triangles get their attributes (lit 16 at a time with
+// AVX2, 4 with SSE2); then the triangles are drawn by runs (Raster::triangle_run), or queued for
+// the bands. A triangle crossing the clip volume takes the general path (draw_triangle). The
+// same decisions and arithmetic as that general path, but for the zero terms the position stage
+// leaves out of the usual matrices (at most the sign of a zero differs).
 bool fast_triangles_ok(const Context::State& s) {
   if (s.poly_front != PolygonMode::Fill || s.poly_back != PolygonMode::Fill) return false;
   for (int i = 0; i < 6; ++i)
