@@ -2575,7 +2575,7 @@ struct Raster {
     float attrs[kAttrs] = {};
     // One column (x-major) or row (y-major) of w fragments at parameter t; `major`/`minor0` are
     // the pixel indices along the axes.
-    auto column = [&](int major, int minor0, double t) {
+    auto column = [&](int major, int minor0, double t) __attribute__((always_inline)) {
       double z = a.z + t * (b.z - a.z);
       double wa = (1 - t) * a.inv_w, wb = t * b.inv_w;
       double sum = wa + wb;
