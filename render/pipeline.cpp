@@ -33,6 +33,13 @@
 
 #include "render/context_state.h"
 
+// -Wpsabi notes that 32-byte vectors (__m256, F8, D4) passed by value travel differently with
+// and without AVX. Every function here that takes or returns one by value is always inlined (so
+// no call crosses that difference: one left out of line would be compiled for the base target
+// and misread its AVX2 caller's registers, as happened in the unoptimised build); GCC reports the
+// notes where it instantiates templates, at the end of the file, so this holds for all of it.
+#pragma GCC diagnostic ignored "-Wpsabi"
+
 namespace wedge::render {
 
 namespace {
@@ -168,10 +175,14 @@ struct RunSetup {
   float pl[5][3][kMax];
 };
 
-// (Always inlined into the AVX2 and the default builds of run_setup: -Wpsabi would note that
-// the AVX vectors pass differently without AVX, but no call crosses that ABI. GCC instantiates
-// templates at the end of the file and warns there: this holds to the end of the file.)
-#pragma GCC diagnostic ignored "-Wpsabi"
+// The calling or worker thread's run setup (the one-thread chunk path and the bands use it in
+// turn, never at once on one thread).
+RunSetup& run_scratch() {
+  static thread_local RunSetup scratch;
+  return scratch;
+}
+
+// (Always inlined into the AVX2 and the default builds of run_setup.)
 template <class V, class L>
 [[gnu::always_inline]] inline V vsel(L m, V a, V b) { return m ? a : b; }
 template <class V>
@@ -468,18 +479,12 @@ struct LightSetup {
 // time). Both are written once, as templates on the vector type, with the same operations lane by
 // lane as the scalar light_vertex, and no FMA (the AVX2 target does not include it), so every lane
 // gives light_vertex's bits.
-#pragma GCC diagnostic push
-// (-Wpsabi notes that F8 and DF4 values would be passed differently with and without AVX: the
-// functions taking them are always inlined, into the AVX2 build only, so none crosses a call.)
-#pragma GCC diagnostic ignored "-Wpsabi"
 typedef float F4 __attribute__((vector_size(16)));
 typedef int I4 __attribute__((vector_size(16)));
 typedef unsigned U4 __attribute__((vector_size(16)));
-typedef double DF2 __attribute__((vector_size(16)));
 typedef float F8 __attribute__((vector_size(32)));
 typedef int I8 __attribute__((vector_size(32)));
 typedef unsigned U8 __attribute__((vector_size(32)));
-typedef double DF4 __attribute__((vector_size(32)));
 
 // The integer (mask) vector of a float vector's lanes, and the register-wide double vector that
 // holds half of them (a float vector's doubles are two of these: wider vectors than the target's
@@ -488,13 +493,13 @@ template <class V> struct Lanes;
 template <> struct Lanes<F4> {
   typedef I4 I;
   typedef U4 U;
-  typedef DF2 D;
+  typedef D2 D;
   enum { W = 4 };
 };
 template <> struct Lanes<F8> {
   typedef I8 I;
   typedef U8 U;
-  typedef DF4 D;
+  typedef D4 D;
   enum { W = 8 };
 };
 
@@ -505,10 +510,7 @@ template <> struct Lanes<F8> {
 template <class T>
 struct X2 {
   T a, b;
-  // (Always inlined, as every function here that takes or returns a vector by value: one that
-  // is not is compiled for the base target, and an AVX2 caller passing 32-byte vectors in
-  // registers would disagree with it on where they are -- the -Wpsabi note, which shows only in
-  // unoptimised builds, where such calls remain.)
+  // (Always inlined: see the note at the -Wpsabi pragma.)
   X2() = default;
   [[gnu::always_inline]] constexpr X2(T a_, T b_) : a(a_), b(b_) {}
   template <class S>
@@ -555,7 +557,7 @@ template <class T>
 template <> struct Lanes<X2<F8>> {
   typedef X2<I8> I;
   typedef X2<U8> U;
-  typedef X2<DF4> D;
+  typedef X2<D4> D;
   enum { W = 16 };
 };
 // m ? x : y, lane by lane (m: a comparison's mask).
@@ -599,15 +601,15 @@ template <class V>
   asm("vsqrtps %1, %0" : "=x"(r) : "x"(x));
   return r;
 }
-[[gnu::always_inline]] inline DF2 vsqrt(DF2 x) {
+[[gnu::always_inline]] inline D2 vsqrt(D2 x) {
 #if defined(__SSE2__)
   return _mm_sqrt_pd(x);
 #else
-  return DF2{std::sqrt(x[0]), std::sqrt(x[1])};
+  return D2{std::sqrt(x[0]), std::sqrt(x[1])};
 #endif
 }
-[[gnu::always_inline]] inline DF4 vsqrt(DF4 x) {
-  DF4 r;
+[[gnu::always_inline]] inline D4 vsqrt(D4 x) {
+  D4 r;
   asm("vsqrtpd %1, %0" : "=x"(r) : "x"(x));
   return r;
 }
@@ -617,28 +619,28 @@ template <class T>
 }
 // Float (or int) lanes to doubles, in two halves (exact), and doubles back to floats (rounded to
 // nearest).
-[[gnu::always_inline]] inline void widen(F4 x, DF2* d) {
-  d[0] = __builtin_convertvector(__builtin_shufflevector(x, x, 0, 1), DF2);
-  d[1] = __builtin_convertvector(__builtin_shufflevector(x, x, 2, 3), DF2);
+[[gnu::always_inline]] inline void widen(F4 x, D2* d) {
+  d[0] = __builtin_convertvector(__builtin_shufflevector(x, x, 0, 1), D2);
+  d[1] = __builtin_convertvector(__builtin_shufflevector(x, x, 2, 3), D2);
 }
-[[gnu::always_inline]] inline void widen(I4 x, DF2* d) {
-  d[0] = __builtin_convertvector(__builtin_shufflevector(x, x, 0, 1), DF2);
-  d[1] = __builtin_convertvector(__builtin_shufflevector(x, x, 2, 3), DF2);
+[[gnu::always_inline]] inline void widen(I4 x, D2* d) {
+  d[0] = __builtin_convertvector(__builtin_shufflevector(x, x, 0, 1), D2);
+  d[1] = __builtin_convertvector(__builtin_shufflevector(x, x, 2, 3), D2);
 }
-[[gnu::always_inline]] inline void widen(F8 x, DF4* d) {
-  d[0] = __builtin_convertvector(lo(x), DF4), d[1] = __builtin_convertvector(hi(x), DF4);
+[[gnu::always_inline]] inline void widen(F8 x, D4* d) {
+  d[0] = __builtin_convertvector(lo(x), D4), d[1] = __builtin_convertvector(hi(x), D4);
 }
-[[gnu::always_inline]] inline void widen(I8 x, DF4* d) {
-  d[0] = __builtin_convertvector(lo(x), DF4), d[1] = __builtin_convertvector(hi(x), DF4);
+[[gnu::always_inline]] inline void widen(I8 x, D4* d) {
+  d[0] = __builtin_convertvector(lo(x), D4), d[1] = __builtin_convertvector(hi(x), D4);
 }
-[[gnu::always_inline]] inline F4 narrow(const DF2* d) {
+[[gnu::always_inline]] inline F4 narrow(const D2* d) {
 #if defined(__SSE2__)
   return _mm_movelh_ps(_mm_cvtpd_ps(d[0]), _mm_cvtpd_ps(d[1]));
 #else
   return F4{float(d[0][0]), float(d[0][1]), float(d[1][0]), float(d[1][1])};
 #endif
 }
-[[gnu::always_inline]] inline F8 narrow(const DF4* d) {
+[[gnu::always_inline]] inline F8 narrow(const D4* d) {
   const F4 a = __builtin_convertvector(d[0], F4), b = __builtin_convertvector(d[1], F4);
   return __builtin_shufflevector(a, b, 0, 1, 2, 3, 4, 5, 6, 7);
 }
@@ -733,7 +735,6 @@ template <class V>
 // lighting give the same bits.
 [[gnu::always_inline]] inline float gl_pow(float x, float y) { return vpow(bcast(x), y)[0]; }
 
-#pragma GCC diagnostic pop
 
 // The lighting equation of GL 1.x section 2.14.1 for one side, in float. P is the eye-space
 // position, n the unit (or as given) eye-space normal; `vertex_color` feeds colour material.
@@ -795,8 +796,6 @@ Vec4f light_vertex(const Context::State& s, const LightSetup& ls, const Vec4& P4
   return clamp01(out);
 }
 
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wpsabi"
 // light_vertex's per-draw constants broadcast to the lanes of V, with the products of material
 // and light colours it forms per vertex (the same float products) made once. Colour material
 // replaces material colours by the vertex colours: those products are then formed per block.
@@ -963,7 +962,6 @@ __attribute__((target("avx2"))) void light_lanes_avx2(const Context::State& s, c
 }
 #endif
 
-#pragma GCC diagnostic pop
 
 bool two_sided_lighting(const Context::State& s) { return s.on(Cap::Lighting) && s.two_side; }
 
@@ -1042,8 +1040,6 @@ PVert process_vertex(const Context::State& s, const LightSetup& ls, const InVert
   return out;
 }
 
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wpsabi"
 // Lanes to vertices: the RGBA of lane l (c: R, G, B, A rows) to a + l * stride, for l < lanes.
 [[gnu::always_inline]] inline void store_rgba(const F4* c, float* a, std::size_t stride, std::size_t lanes) {
   const F4 t0 = __builtin_shufflevector(c[0], c[1], 0, 4, 1, 5), t1 = __builtin_shufflevector(c[0], c[1], 2, 6, 3, 7);
@@ -1109,7 +1105,7 @@ struct NeededVerts {
 // stalls on store forwarding). A row's elements i[0], i[1], ... into the lanes of D:
 template <class D>
 [[gnu::always_inline]] inline D gather(const double* r, const std::uint32_t* i) {
-  if constexpr (sizeof(D) == sizeof(DF2)) return D{r[i[0]], r[i[1]]};
+  if constexpr (sizeof(D) == sizeof(D2)) return D{r[i[0]], r[i[1]]};
   else return D{r[i[0]], r[i[1]], r[i[2]], r[i[3]]};
 }
 template <class D>
@@ -1119,26 +1115,27 @@ template <class D>
   return v;
 }
 // Packed x y z triples: those at p + 3 i[0], p + 3 i[1], ... by lanes into v[0..2],
-[[gnu::always_inline]] inline void gather_xyz(const double* p, const std::uint32_t* i, DF2* v) {
-  const DF2 a = load<DF2>(p + 3 * i[0]), b = load<DF2>(p + 3 * i[1]);
+[[gnu::always_inline]] inline void gather_xyz(const double* p, const std::uint32_t* i, D2* v) {
+  const D2 a = load<D2>(p + 3 * i[0]), b = load<D2>(p + 3 * i[1]);
   v[0] = __builtin_shufflevector(a, b, 0, 2), v[1] = __builtin_shufflevector(a, b, 1, 3);
-  v[2] = DF2{p[3 * i[0] + 2], p[3 * i[1] + 2]};
+  v[2] = D2{p[3 * i[0] + 2], p[3 * i[1] + 2]};
 }
-[[gnu::always_inline]] inline void gather_xyz(const double* p, const std::uint32_t* i, DF4* v) {
-  DF2 lo[3], hi[3];
+[[gnu::always_inline]] inline void gather_xyz(const double* p, const std::uint32_t* i, D4* v) {
+  D2 lo[3], hi[3];
   gather_xyz(p, i, lo), gather_xyz(p, i + 2, hi);
   for (int k = 0; k < 3; ++k) v[k] = __builtin_shufflevector(lo[k], hi[k], 0, 1, 2, 3);
 }
-// and those of consecutive vertices from p on (3 lanes' worth of doubles read as three vectors).
-[[gnu::always_inline]] inline void rows_xyz(const double* p, DF2* v) {
-  const DF2 a = load<DF2>(p), b = load<DF2>(p + 2), c = load<DF2>(p + 4);  // x0 y0, z0 x1, y1 z1
+// and those of consecutive vertices from p on (3 lanes' worth of doubles read as three vectors;
+// also the position stage's packed positions and the facing test's window rows).
+[[gnu::always_inline]] inline void rows_xyz(const double* p, D2* v) {
+  const D2 a = load<D2>(p), b = load<D2>(p + 2), c = load<D2>(p + 4);  // x0 y0, z0 x1, y1 z1
   v[0] = __builtin_shufflevector(a, b, 0, 3), v[1] = __builtin_shufflevector(a, c, 1, 2);
   v[2] = __builtin_shufflevector(b, c, 0, 3);
 }
-[[gnu::always_inline]] inline void rows_xyz(const double* p, DF4* v) {
+[[gnu::always_inline]] inline void rows_xyz(const double* p, D4* v) {
   // a = x0 y0 z0 x1, b = y1 z1 x2 y2, c = z2 x3 y3 z3
-  const DF4 a = load<DF4>(p), b = load<DF4>(p + 4), c = load<DF4>(p + 8);
-  const DF4 x = __builtin_shufflevector(a, b, 0, 3, 6, 6), y = __builtin_shufflevector(a, b, 1, 4, 7, 7),
+  const D4 a = load<D4>(p), b = load<D4>(p + 4), c = load<D4>(p + 8);
+  const D4 x = __builtin_shufflevector(a, b, 0, 3, 6, 6), y = __builtin_shufflevector(a, b, 1, 4, 7, 7),
             z = __builtin_shufflevector(a, b, 2, 5, 5, 5);
   v[0] = __builtin_shufflevector(x, c, 0, 1, 2, 5), v[1] = __builtin_shufflevector(y, c, 0, 1, 2, 6);
   v[2] = __builtin_shufflevector(z, c, 0, 1, 4, 7);
@@ -1305,7 +1302,6 @@ __attribute__((target("avx2"))) void light_needed_avx2(const Context::State& s, 
 }
 #endif
 
-#pragma GCC diagnostic pop
 
 // m * p in Eigen's order (((c0 x + c1 y) + c2 z) + c3 w), inline.
 [[gnu::always_inline]] inline Vec4 xform(const Mat4& m, const Vec4& p) {
@@ -1897,10 +1893,6 @@ struct Raster {
     DepthFunc dfunc;
   };
   // (Lambdas do not inherit the target: each one in quad_loop8 carries it.)
-// (-Wpsabi would note that their __m256 results pass differently without AVX: they are always
-// inlined, no call crosses that ABI.)
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wpsabi"
 #define WEDGE_AVX2_LAMBDA __attribute__((target("avx2"), always_inline))
   template <bool Smooth, bool Tex, bool Fog, bool Depth>
   __attribute__((target("avx2"))) void quad_loop8(const Quad8Setup& q) {
@@ -2158,7 +2150,6 @@ struct Raster {
     }
   }
 #undef WEDGE_AVX2_LAMBDA
-#pragma GCC diagnostic pop
   template <bool Phong, bool Smooth, bool Tex, bool Fog, bool Depth, bool Avx2>
   [[gnu::always_inline]] void triangle_q(const WinVert& v0, const WinVert& v1in, const WinVert& v2in, int side,
                                          const float* flat) {
@@ -2827,8 +2818,7 @@ void draw_bands(const Raster& r, Queue* const* queues, std::size_t nq) {
       // Consecutive triangles by runs (Raster::triangle_run), lines and points one by one.
       Raster::RunTri run[kRunMax];
       std::size_t n = 0;
-      static thread_local RunSetup band_rs;
-      RunSetup& rs = band_rs;
+      RunSetup& rs = run_scratch();
       for (std::size_t q = 0; q < nq; ++q) {
         const Queue& qu = *queues[q];
         for (std::uint32_t k = qu.band_start[b]; k < qu.band_start[b + 1]; ++k) {
@@ -2941,7 +2931,6 @@ struct TriChunk {
   std::vector<std::uint32_t> need;         // vertices whose attributes are needed, in order
   std::vector<WinVert> run_v;              // window vertices of the triangles drawn by runs
   std::vector<Raster::RunTri> run;
-  RunSetup rs;
 };
 
 // What a chunk hands to the bands: the attribute sets of its needed vertices (in `need`
@@ -3009,19 +2998,9 @@ template <class V, bool Frustum>
         if (i < count) std::memcpy(pad, src, 3 * (count - i) * sizeof(double));
         src = pad;
       }
-      V a, bb, c;
-      std::memcpy(&a, src, sizeof(V)), std::memcpy(&bb, src + kW, sizeof(V)), std::memcpy(&c, src + 2 * kW, sizeof(V));
-      typedef decltype(V{} < V{}) M;
-      if constexpr (kW == 2) {
-        // a = x0 y0, bb = z0 x1, c = y1 z1
-        X = __builtin_shuffle(a, bb, M{0, 3}), Y = __builtin_shuffle(a, c, M{1, 2}), Z = __builtin_shuffle(bb, c, M{0, 3});
-      } else {
-        // a = x0 y0 z0 x1, bb = y1 z1 x2 y2, c = z2 x3 y3 z3
-        const V xa = __builtin_shuffle(a, bb, M{0, 3, 6, 6}), ya = __builtin_shuffle(a, bb, M{1, 4, 7, 7}),
-                za = __builtin_shuffle(a, bb, M{2, 5, 5, 5});
-        X = __builtin_shuffle(xa, c, M{0, 1, 2, 5}), Y = __builtin_shuffle(ya, c, M{0, 1, 2, 6});
-        Z = __builtin_shuffle(za, c, M{0, 1, 4, 7});
-      }
+      V v[3];
+      rows_xyz(src, v);
+      X = v[0], Y = v[1], Z = v[2];
       W = V{} + 1.0;
     } else {
       std::memcpy(&X, q, sizeof(V)), std::memcpy(&Y, q + n, sizeof(V));
@@ -3077,22 +3056,6 @@ void position_rows_default(const PositionStage& ps, TriChunk& ck, const double* 
   else position_rows<D2, false>(ps, ck, xyz, count);
 }
 
-// kW consecutive triangles' three vertices from a row (3 kW doubles) into v[0..2], by lanes.
-template <class V>
-[[gnu::always_inline]] inline void triangle_lanes(const double* r, V* v) {
-  constexpr int kW = sizeof(V) / sizeof(double);
-  typedef decltype(V{} < V{}) M;
-  V a, b, c;
-  std::memcpy(&a, r, sizeof(V)), std::memcpy(&b, r + kW, sizeof(V)), std::memcpy(&c, r + 2 * kW, sizeof(V));
-  if constexpr (kW == 2) {
-    v[0] = __builtin_shuffle(a, b, M{0, 3}), v[1] = __builtin_shuffle(a, c, M{1, 2}), v[2] = __builtin_shuffle(b, c, M{0, 3});
-  } else {
-    v[0] = __builtin_shuffle(__builtin_shuffle(a, b, M{0, 3, 6, 6}), c, M{0, 1, 2, 5});
-    v[1] = __builtin_shuffle(__builtin_shuffle(a, b, M{1, 4, 7, 7}), c, M{0, 1, 2, 6});
-    v[2] = __builtin_shuffle(__builtin_shuffle(a, b, M{2, 5, 5, 5}), c, M{0, 1, 4, 7});
-  }
-}
-
 // The facing and pixel-centre tests of a chunk's triangles, kW at a time (run_chunk's loop
 // takes the bits): bit 0 front facing (draw_inside_triangle's area, lane by lane), bit 1 some
 // pixel centre in the vertices' box, 1/256 pixel of slack: the centre columns c with c + 1/2 in
@@ -3111,7 +3074,7 @@ template <class V>
   constexpr double d = 1.0 / 256;
   for (std::size_t j = 0; j < nt; j += kW) {
     V x[3], y[3];
-    triangle_lanes(wx + 3 * j, x), triangle_lanes(wy + 3 * j, y);
+    rows_xyz(wx + 3 * j, x), rows_xyz(wy + 3 * j, y);  // (three vertices per triangle, by lanes)
     const V area = ((x[0] * y[1] - x[1] * y[0]) + (x[1] * y[2] - x[2] * y[1])) + (x[2] * y[0] - x[0] * y[2]);
     const auto pos = area > 0.0;
     const auto front = cb.ccw ? pos : ~pos;
@@ -3235,8 +3198,9 @@ void run_chunk(Raster& rc, const Src& src, const Mat3& nmat, TriChunk& ck, Chunk
   std::vector<WinVert>& run_v = ck.run_v;
   std::vector<Raster::RunTri>& run = ck.run;
   run_v.resize(3 * nt), run.clear();
+  RunSetup& rs = run_scratch();
   auto flush = [&] {
-    rc.triangle_run(run.data(), run.size(), ck.rs);
+    rc.triangle_run(run.data(), run.size(), rs);
     run.clear();
   };
   for (std::size_t j = 0; j < nt; ++j) {
@@ -3560,7 +3524,4 @@ void run_primitive(Context::State& s, int width, int height, std::uint8_t* color
   if (!queues.empty()) draw_bands(r, queues.data(), queues.size());
 }
 
-// The templates of the vector lighting (F8, DF4 values) are instantiated at the end of the file,
-// where their -Wpsabi notes would be reported: see the note at F4's definition.
-#pragma GCC diagnostic ignored "-Wpsabi"
 }  // namespace wedge::render
