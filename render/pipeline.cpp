@@ -84,6 +84,36 @@ struct QPlane {
   const __m128i bits = _mm_set_epi32(8, 4, 2, 1);
   return _mm_castsi128_ps(_mm_cmpeq_epi32(_mm_and_si128(_mm_set1_epi32(m), bits), bits));
 }
+// The texture environment (GL 1.x, table 3.22) on lanes: the fragment colours c (r, g, b, a) by
+// the texels t (r, g, b, a) of a texture of format fmt, env the environment colour (r, g, b).
+// For __m128 and __m256 alike through GCC's vector operators: the same multiplies and adds in the
+// same order in the SSE2 and AVX2 loops (no FMA in either build: the same bits).
+template <class V>
+[[gnu::always_inline]] inline void tex_env(TexEnvMode mode, TexFormat fmt, const V* t, const V* env, V one, V* c) {
+  const bool rgba = fmt == TexFormat::RGBA;
+  switch (mode) {
+    case TexEnvMode::Modulate:
+      for (int k = 0; k < 3; ++k) c[k] = c[k] * t[k];
+      if (rgba) c[3] = c[3] * t[3];
+      break;
+    case TexEnvMode::Replace:
+      for (int k = 0; k < 3; ++k) c[k] = t[k];
+      if (rgba) c[3] = t[3];
+      break;
+    case TexEnvMode::Decal:
+      if (rgba) {
+        const V ia = one - t[3];
+        for (int k = 0; k < 3; ++k) c[k] = c[k] * ia + t[k] * t[3];
+      } else if (fmt == TexFormat::RGB) {
+        for (int k = 0; k < 3; ++k) c[k] = t[k];
+      }
+      break;
+    case TexEnvMode::Blend:
+      for (int k = 0; k < 3; ++k) c[k] = c[k] * (one - t[k]) + env[k] * t[k];
+      if (rgba) c[3] = c[3] * t[3];
+      break;
+  }
+}
 // The depth test on four lanes: a bit per passing lane.
 [[gnu::always_inline]] inline int depth_cmp4(DepthFunc f, __m128 z, __m128 d) {
   switch (f) {
@@ -2084,33 +2114,10 @@ struct Raster {
           _MM_TRANSPOSE4_PS(b0, b1, b2, b3);
           const __m256 tr = _mm256_set_m128(b0, a0), tg = _mm256_set_m128(b1, a1), tb = _mm256_set_m128(b2, a2),
                        ta = _mm256_set_m128(b3, a3);
-          const bool rgba = q.fmt == TexFormat::RGBA;
-          switch (q.env) {
-            case TexEnvMode::Modulate:
-              cr = _mm256_mul_ps(cr, tr), cg = _mm256_mul_ps(cg, tg), cb = _mm256_mul_ps(cb, tb);
-              if (rgba) ca = _mm256_mul_ps(ca, ta);
-              break;
-            case TexEnvMode::Replace:
-              cr = tr, cg = tg, cb = tb;
-              if (rgba) ca = ta;
-              break;
-            case TexEnvMode::Decal:
-              if (rgba) {
-                const __m256 ia = _mm256_sub_ps(one, ta);
-                cr = _mm256_add_ps(_mm256_mul_ps(cr, ia), _mm256_mul_ps(tr, ta));
-                cg = _mm256_add_ps(_mm256_mul_ps(cg, ia), _mm256_mul_ps(tg, ta));
-                cb = _mm256_add_ps(_mm256_mul_ps(cb, ia), _mm256_mul_ps(tb, ta));
-              } else if (q.fmt == TexFormat::RGB) {
-                cr = tr, cg = tg, cb = tb;
-              }
-              break;
-            case TexEnvMode::Blend:
-              cr = _mm256_add_ps(_mm256_mul_ps(cr, _mm256_sub_ps(one, tr)), _mm256_mul_ps(env_c[0], tr));
-              cg = _mm256_add_ps(_mm256_mul_ps(cg, _mm256_sub_ps(one, tg)), _mm256_mul_ps(env_c[1], tg));
-              cb = _mm256_add_ps(_mm256_mul_ps(cb, _mm256_sub_ps(one, tb)), _mm256_mul_ps(env_c[2], tb));
-              if (rgba) ca = _mm256_mul_ps(ca, ta);
-              break;
-          }
+          const __m256 t[4] = {tr, tg, tb, ta};
+          __m256 c[4] = {cr, cg, cb, ca};
+          tex_env(q.env, q.fmt, t, env_c, one, c);
+          cr = c[0], cg = c[1], cb = c[2], ca = c[3];
         }
         if constexpr (Fog) {
           const __m256 fz = _mm256_mul_ps(at(f_row, pf, X8), rw);
@@ -2447,33 +2454,10 @@ struct Raster {
             __m128 tr = _mm_load_ps(texel), tg = _mm_load_ps(texel + 4), tb = _mm_load_ps(texel + 8),
                    ta = _mm_load_ps(texel + 12);
             _MM_TRANSPOSE4_PS(tr, tg, tb, ta);
-            const bool rgba = fmt == TexFormat::RGBA;
-            switch (env) {
-              case TexEnvMode::Modulate:
-                cr = _mm_mul_ps(cr, tr), cg = _mm_mul_ps(cg, tg), cb = _mm_mul_ps(cb, tb);
-                if (rgba) ca = _mm_mul_ps(ca, ta);
-                break;
-              case TexEnvMode::Replace:
-                cr = tr, cg = tg, cb = tb;
-                if (rgba) ca = ta;
-                break;
-              case TexEnvMode::Decal:
-                if (rgba) {
-                  const __m128 ia = _mm_sub_ps(one, ta);
-                  cr = _mm_add_ps(_mm_mul_ps(cr, ia), _mm_mul_ps(tr, ta));
-                  cg = _mm_add_ps(_mm_mul_ps(cg, ia), _mm_mul_ps(tg, ta));
-                  cb = _mm_add_ps(_mm_mul_ps(cb, ia), _mm_mul_ps(tb, ta));
-                } else if (fmt == TexFormat::RGB) {
-                  cr = tr, cg = tg, cb = tb;
-                }
-                break;
-              case TexEnvMode::Blend:
-                cr = _mm_add_ps(_mm_mul_ps(cr, _mm_sub_ps(one, tr)), _mm_mul_ps(env_r, tr));
-                cg = _mm_add_ps(_mm_mul_ps(cg, _mm_sub_ps(one, tg)), _mm_mul_ps(env_g, tg));
-                cb = _mm_add_ps(_mm_mul_ps(cb, _mm_sub_ps(one, tb)), _mm_mul_ps(env_b, tb));
-                if (rgba) ca = _mm_mul_ps(ca, ta);
-                break;
-            }
+            const __m128 t[4] = {tr, tg, tb, ta}, env_c[3] = {env_r, env_g, env_b};
+            __m128 c[4] = {cr, cg, cb, ca};
+            tex_env(env, fmt, t, env_c, one, c);
+            cr = c[0], cg = c[1], cb = c[2], ca = c[3];
           }
           if constexpr (Fog) {
             const __m128 fz = _mm_mul_ps(at(f_row, pf, X4), rw);
