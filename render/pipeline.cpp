@@ -1269,11 +1269,10 @@ template <class V, class Src>
 // W = 4 or 16 (two groups of 8) at a time, into attrs (sets of `astride` floats): light_inputs,
 // then the lighting.
 template <class V, class Src>
-[[gnu::always_inline]] inline void light_needed(const Context::State& s, const LightSetup& ls, const Src& src,
-                                                const Mat3& nmat, const NeededVerts& nv, bool lean,
+[[gnu::always_inline]] inline void light_needed(const Context::State& s, const LightSetup& ls, const LightConsts<V>& lc,
+                                                const Src& src, const Mat3& nmat, const NeededVerts& nv, bool lean,
                                                 const AttrNeeds& needs, float* attrs, std::size_t astride) {
   constexpr int W = Lanes<V>::W;
-  const LightConsts<V> lc(s, ls);
   const bool two = s.two_side;
   const bool want_color = !lean || lc.side[0].cm || (two && lc.side[1].cm);
   double m[9];
@@ -1319,18 +1318,28 @@ template <class V, class Src>
 }
 
 template <class Src>
-void light_needed_sse2(const Context::State& s, const LightSetup& ls, const Src& src, const Mat3& nmat,
-                       const NeededVerts& nv, bool lean, const AttrNeeds& needs, float* attrs, std::size_t astride) {
-  light_needed<F4>(s, ls, src, nmat, nv, lean, needs, attrs, astride);
+void light_needed_sse2(const Context::State& s, const LightSetup& ls, const LightConsts<F4>& lc, const Src& src,
+                       const Mat3& nmat, const NeededVerts& nv, bool lean, const AttrNeeds& needs, float* attrs,
+                       std::size_t astride) {
+  light_needed<F4>(s, ls, lc, src, nmat, nv, lean, needs, attrs, astride);
 }
 #if defined(__x86_64__) && defined(__GNUC__)
 template <class Src>
-__attribute__((target("avx2"))) void light_needed_avx2(const Context::State& s, const LightSetup& ls, const Src& src,
-                                                       const Mat3& nmat, const NeededVerts& nv, bool lean,
-                                                       const AttrNeeds& needs, float* attrs, std::size_t astride) {
-  light_needed<F16>(s, ls, src, nmat, nv, lean, needs, attrs, astride);
+__attribute__((target("avx2"))) void light_needed_avx2(const Context::State& s, const LightSetup& ls,
+                                                       const LightConsts<F16>& lc, const Src& src, const Mat3& nmat,
+                                                       const NeededVerts& nv, bool lean, const AttrNeeds& needs,
+                                                       float* attrs, std::size_t astride) {
+  light_needed<F16>(s, ls, lc, src, nmat, nv, lean, needs, attrs, astride);
 }
 #endif
+
+// A draw's lighting constants for the lanes of the build that lights it (made once per batch of
+// the triangle path, not per chunk: the AVX2 set is about 10 KB of broadcasts).
+struct DrawLights {
+  std::unique_ptr<LightConsts<F4>> narrow;
+  std::unique_ptr<LightConsts<F16>> wide;
+  bool use_wide = false;
+};
 
 
 // m * p in Eigen's order (((c0 x + c1 y) + c2 z) + c3 w), inline.
@@ -3087,8 +3096,8 @@ bool use_avx2() {
 }
 
 template <class Src>
-void run_chunk(Raster& rc, const Src& src, const Mat3& nmat, TriChunk& ck, ChunkOut& co, std::size_t t0,
-               std::size_t t1) {
+void run_chunk(Raster& rc, const Src& src, const Mat3& nmat, const DrawLights& dl, TriChunk& ck, ChunkOut& co,
+               std::size_t t0, std::size_t t1) {
   const Context::State& s = rc.s;
   const std::size_t nt = t1 - t0, nv = 3 * nt, v0 = 3 * t0;
   ck.stride = (nv + 3) & ~std::size_t(3);
@@ -3162,10 +3171,10 @@ void run_chunk(Raster& rc, const Src& src, const Mat3& nmat, TriChunk& ck, Chunk
   } else {
     const NeededVerts nv{ck.need.data(), nn, {ex, ey, ez, ew}, v0};
 #if defined(__x86_64__) && defined(__GNUC__)
-    if (rc.avx2 && use_avx2()) light_needed_avx2(s, rc.lights, src, nmat, nv, lean, needs, attrs, astride);
-    else light_needed_sse2(s, rc.lights, src, nmat, nv, lean, needs, attrs, astride);
+    if (dl.use_wide) light_needed_avx2(s, rc.lights, *dl.wide, src, nmat, nv, lean, needs, attrs, astride);
+    else light_needed_sse2(s, rc.lights, *dl.narrow, src, nmat, nv, lean, needs, attrs, astride);
 #else
-    light_needed_sse2(s, rc.lights, src, nmat, nv, lean, needs, attrs, astride);
+    light_needed_sse2(s, rc.lights, *dl.narrow, src, nmat, nv, lean, needs, attrs, astride);
 #endif
   }
 
@@ -3222,6 +3231,14 @@ void draw_triangles(Raster& r, const Src& src, std::size_t tris) {
   if (tris == 0) return;
   const Context::State& s = r.s;
   const Mat3 nmat = s.top(MatrixMode::ModelView).topLeftCorner<3, 3>().inverse().transpose();
+  DrawLights dl;
+  if (vertex_lighting(s)) {
+#if defined(__x86_64__) && defined(__GNUC__)
+    dl.use_wide = r.avx2 && use_avx2();
+#endif
+    if (dl.use_wide) dl.wide = std::make_unique<LightConsts<F16>>(s, r.lights);
+    else dl.narrow = std::make_unique<LightConsts<F4>>(s, r.lights);
+  }
   const std::size_t chunks = (tris + kChunk - 1) / kChunk;
   // Kept between batches (per calling thread): fresh buffers would cost page faults.
   static thread_local std::vector<std::unique_ptr<ChunkOut>> tl_chunks;
@@ -3232,7 +3249,7 @@ void draw_triangles(Raster& r, const Src& src, std::size_t tris) {
   if (!banded) {
     r.sink = nullptr;
     for (std::size_t c = 0; c < chunks; ++c)
-      run_chunk(r, src, nmat, chunk_scratch(), *ck[0], c * kChunk, std::min(tris, (c + 1) * kChunk));
+      run_chunk(r, src, nmat, dl, chunk_scratch(), *ck[0], c * kChunk, std::min(tris, (c + 1) * kChunk));
     return;
   }
   const int bands = (r.height + kBandRows - 1) / kBandRows;
@@ -3243,7 +3260,7 @@ void draw_triangles(Raster& r, const Src& src, std::size_t tris) {
       ChunkOut& k = *ck[c];
       k.queue.clear();
       rc.sink = &k.queue;
-      run_chunk(rc, src, nmat, chunk_scratch(), k, c * kChunk, std::min(tris, (c + 1) * kChunk));
+      run_chunk(rc, src, nmat, dl, chunk_scratch(), k, c * kChunk, std::min(tris, (c + 1) * kChunk));
       k.queue.bin(bands);
     });
   });
