@@ -1596,18 +1596,23 @@ struct Raster {
   }
 
   // --- triangles ---
+  // The attributes whose colour a triangle is filled with: the provoking vertex's (flat, when
+  // given), else v0's when the three vertices have the same colour (an unlit or uniformly lit
+  // surface: no colour interpolation), else none (smooth).
+  static const float* flat_colour(const WinVert& v0, const WinVert& v1, const WinVert& v2, int side, const float* flat) {
+    if (flat) return flat;
+    const int col = side ? kBack : kFront;
+    if (std::memcmp(v0.a + col, v1.a + col, 4 * sizeof(float)) == 0 &&
+        std::memcmp(v0.a + col, v2.a + col, 4 * sizeof(float)) == 0)
+      return v0.a;
+    return nullptr;
+  }
+
   // The fragment loop is specialised on the state that changes its work per fragment (Phong,
   // smooth colour, texturing, fog, depth test), chosen once per triangle: no per-pixel branch
   // on those, the same arithmetic in every specialisation.
   void triangle(const WinVert& v0, const WinVert& v1, const WinVert& v2, int side, const float* flat) {
-    if (!phong && !flat) {
-      // The same colour at the three vertices (an unlit or uniformly lit surface): drawn as flat,
-      // no colour interpolation.
-      const int col = side ? kBack : kFront;
-      if (std::memcmp(v0.a + col, v1.a + col, 4 * sizeof(float)) == 0 &&
-          std::memcmp(v0.a + col, v2.a + col, 4 * sizeof(float)) == 0)
-        flat = v0.a;
-    }
+    if (!phong) flat = flat_colour(v0, v1, v2, side, flat);
     const int key = (phong ? 16 : 0) | (flat == nullptr ? 8 : 0) | (texturing ? 4 : 0) | (fog ? 2 : 0) | (depth_test ? 1 : 0);
     switch (key) {
 #if defined(__SSE2__)
@@ -1889,12 +1894,8 @@ struct Raster {
         triangle(rt.v[0], rt.v[1], rt.v[2], rt.side, rt.flat);
         continue;
       }
-      // As triangle(): the same colour at the three vertices is drawn flat.
       const int col = rt.side ? kBack : kFront;
-      const float* flat = rt.flat;
-      if (!flat && std::memcmp(rt.v[0].a + col, rt.v[1].a + col, 4 * sizeof(float)) == 0 &&
-          std::memcmp(rt.v[0].a + col, rt.v[2].a + col, 4 * sizeof(float)) == 0)
-        flat = rt.v[0].a;
+      const float* flat = flat_colour(rt.v[0], rt.v[1], rt.v[2], rt.side, rt.flat);
       float pl[5][3];
       for (int k = 0; k < 5; ++k)
         for (int q = 0; q < 3; ++q) pl[k][q] = rs.pl[k][q][t];
@@ -2871,12 +2872,6 @@ struct ArraySource {
   const std::uint32_t* indices;
   std::size_t first;
   std::size_t at(std::size_t i) const { return indices ? indices[first + i] : first + i; }
-  Vec4 position(std::size_t i) const {
-    const double* p = a.positions + at(i) * a.position_size;
-    Vec4 r(0, 0, 0, 1);
-    for (int k = 0; k < a.position_size; ++k) r[k] = p[k];
-    return r;
-  }
   void position(std::size_t i, double& x, double& y, double& z, double& w) const {
     const double* p = a.positions + at(i) * a.position_size;
     x = p[0], y = p[1], z = a.position_size > 2 ? p[2] : 0.0, w = a.position_size > 3 ? p[3] : 1.0;
@@ -2886,13 +2881,8 @@ struct ArraySource {
   const double* packed_xyz(std::size_t i0) const {
     return !indices && a.position_size == 3 ? a.positions + (first + i0) * 3 : nullptr;
   }
-  // Positions i0 .. i0 + n - 1 into rows.
+  // Positions i0 .. i0 + n - 1 into rows (those not packed_xyz).
   void positions(std::size_t i0, std::size_t n, double* x, double* y, double* z, double* w) const {
-    if (!indices && a.position_size == 3) {
-      const double* p = a.positions + (first + i0) * 3;
-      for (std::size_t i = 0; i < n; ++i, p += 3) x[i] = p[0], y[i] = p[1], z[i] = p[2], w[i] = 1;
-      return;
-    }
     for (std::size_t i = 0; i < n; ++i) position(i0 + i, x[i], y[i], z[i], w[i]);
   }
   Vec3 normal(std::size_t i) const {
