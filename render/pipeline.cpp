@@ -1362,7 +1362,9 @@ struct Raster {
   // Clip planes: 6 frustum planes then the enabled user planes (as eye-space planes).
   std::vector<Vec4> user_planes;
   int x0, y0, x1, y1;  // pixel bounds (framebuffer ∩ scissor), half open
-  bool avx2 = false;  // the fragment loop's AVX2 build (the CPU has it, and WEDGE_RENDER_SIMD is not "sse2")
+  // The AVX2 builds (vertex stage, run setup, fragment loops) for this draw: the CPU has AVX2,
+  // WEDGE_RENDER_SIMD is not "sse2" and simd_fallback is not set (one choice for all of them).
+  bool avx2 = false;
   bool phong, lighting, texturing, fog, blend, depth_test, all_mask;
   Queue* sink = nullptr;  // when set, primitives are queued instead of drawn
   std::vector<PVert> poly_scratch, clip_scratch;
@@ -1389,7 +1391,7 @@ struct Raster {
 #if defined(__SSE2__)
     static const bool cpu_avx2 = __builtin_cpu_supports("avx2");
     const char* simd = std::getenv("WEDGE_RENDER_SIMD");  // read per draw: tests switch it
-    avx2 = cpu_avx2 && !(simd && std::strcmp(simd, "sse2") == 0);
+    avx2 = cpu_avx2 && !(simd && std::strcmp(simd, "sse2") == 0) && !simd_fallback.load(std::memory_order_relaxed);
 #endif
   }
 
@@ -3076,14 +3078,6 @@ __attribute__((target("avx2"))) void cull_rows_avx2(const CullBox& cb, TriChunk&
 #endif
 void cull_rows_default(const CullBox& cb, TriChunk& ck, std::size_t nt) { cull_rows<D2>(cb, ck, nt); }
 
-bool use_avx2() {
-#if defined(__x86_64__) && defined(__GNUC__)
-  static const bool has = __builtin_cpu_supports("avx2");
-  return has && !simd_fallback.load(std::memory_order_relaxed);
-#else
-  return false;
-#endif
-}
 
 template <class Src>
 void run_chunk(Raster& rc, const Src& src, const Mat3& nmat, const DrawLights& dl, TriChunk& ck, ChunkOut& co,
@@ -3102,7 +3096,7 @@ void run_chunk(Raster& rc, const Src& src, const Mat3& nmat, const DrawLights& d
     }
     const PositionStage ps(s);
 #if defined(__x86_64__) && defined(__GNUC__)
-    if (use_avx2()) position_rows_avx2(ps, ck, xyz, nv);
+    if (rc.avx2) position_rows_avx2(ps, ck, xyz, nv);
     else position_rows_default(ps, ck, xyz, nv);
 #else
     position_rows_default(ps, ck, xyz, nv);
@@ -3115,7 +3109,7 @@ void run_chunk(Raster& rc, const Src& src, const Mat3& nmat, const DrawLights& d
     // in the sign of a zero, which `area > 0` does not see), facing; and the centres in the box.
     const CullBox cb{s.front_face == FrontFace::CCW, rc.x0, rc.y0, rc.x1, rc.y1};
 #if defined(__x86_64__) && defined(__GNUC__)
-    if (use_avx2()) cull_rows_avx2(cb, ck, nt);
+    if (rc.avx2) cull_rows_avx2(cb, ck, nt);
     else cull_rows_default(cb, ck, nt);
 #else
     cull_rows_default(cb, ck, nt);
@@ -3224,7 +3218,7 @@ void draw_triangles(Raster& r, const Src& src, std::size_t tris) {
   DrawLights dl;
   if (vertex_lighting(s)) {
 #if defined(__x86_64__) && defined(__GNUC__)
-    dl.use_wide = r.avx2 && use_avx2();
+    dl.use_wide = r.avx2;
 #endif
     if (dl.use_wide) dl.wide = std::make_unique<LightConsts<F16>>(s, r.lights);
     else dl.narrow = std::make_unique<LightConsts<F4>>(s, r.lights);
