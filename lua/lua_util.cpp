@@ -1,6 +1,7 @@
 #include "lua/lua_util.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstring>
 #include <sstream>
@@ -25,13 +26,154 @@ std::string number_text(double x) {
   return out.str();
 }
 
+namespace {
+
+constexpr const char* kNamesKey = "wedge.function_names";
+constexpr const char* kStatsKey = "wedge.run_stats";
+
+// The table of API names in the registry (created on first use), pushed.
+void push_names(lua_State* L) {
+  if (lua_getfield(L, LUA_REGISTRYINDEX, kNamesKey) != LUA_TTABLE) {
+    lua_pop(L, 1);
+    lua_newtable(L);
+    lua_pushvalue(L, -1);
+    lua_setfield(L, LUA_REGISTRYINDEX, kNamesKey);
+  }
+}
+
+struct FunctionName {
+  std::string name;
+  bool method = false;  // a method named by the API: the object is argument #0
+};
+
+// luaL_argerror's rule, with the API's own name where the call site has none.
+FunctionName function_name(lua_State* L) {
+  lua_Debug ar;
+  if (!lua_getstack(L, 0, &ar) || !lua_getinfo(L, "nf", &ar)) return {};
+  // Stack: ..., function
+  std::string what = ar.namewhat ? ar.namewhat : "";
+  FunctionName out;
+  if (what == "metamethod" && ar.name && (std::strcmp(ar.name, "index") == 0 || std::strcmp(ar.name, "newindex") == 0)) {
+    // g.field / g.field = v: the message names the field; "index" would only puzzle.
+  } else if (ar.name && (what == "global" || what == "field" || what == "method" || what == "metamethod")) {
+    out.name = ar.name;
+    out.method = what == "method";
+  } else {
+    push_names(L);
+    lua_pushvalue(L, -2);
+    if (lua_rawget(L, -2) == LUA_TSTRING) {
+      out.name = lua_tostring(L, -1);
+      out.method = out.name.find(':') != std::string::npos;
+    } else if (ar.name) {
+      out.name = ar.name;
+    }
+    lua_pop(L, 2);
+  }
+  lua_pop(L, 1);
+  return out;
+}
+
+}  // namespace
+
+std::string running_function_name(lua_State* L) { return function_name(L).name; }
+
 int raise_pending(lua_State* L, int arg) {
   const char* message = lua_tostring(L, -1);  // stays valid: the string stays on the stack
-  if (arg) return luaL_argerror(L, arg, message);
+  FunctionName f = function_name(L);
+  if (arg) {
+    if (f.name.empty()) return luaL_error(L, "bad argument #%d (%s)", arg, message);
+    if (f.method && --arg == 0) return luaL_error(L, "calling '%s' on bad self (%s)", f.name.c_str(), message);
+    return luaL_error(L, "bad argument #%d to '%s' (%s)", arg, f.name.c_str(), message);
+  }
   // Name the running function, as luaL_argerror does, so the message says where it came from.
-  lua_Debug ar;
-  if (lua_getstack(L, 0, &ar) && lua_getinfo(L, "n", &ar) && ar.name) return luaL_error(L, "%s: %s", ar.name, message);
+  if (!f.name.empty()) return luaL_error(L, "%s: %s", f.name.c_str(), message);
   return luaL_error(L, "%s", message);
+}
+
+namespace {
+// names[function at the top] = name, unless it already has an API name that sorts first (one
+// function under two names, as nurbs and bspline, gets the same name in every run).
+void set_name(lua_State* L, int names, const std::string& name) {
+  lua_pushvalue(L, -1);
+  if (lua_rawget(L, names) == LUA_TSTRING) {
+    std::string old = lua_tostring(L, -1);
+    if (old.find(':') == std::string::npos && old <= name) {
+      lua_pop(L, 1);
+      return;
+    }
+  }
+  lua_pop(L, 1);
+  lua_pushvalue(L, -1);
+  lua_pushlstring(L, name.data(), name.size());
+  lua_rawset(L, names);
+}
+}  // namespace
+
+void name_functions(lua_State* L, int api_idx) {
+  api_idx = lua_absindex(L, api_idx);
+  push_names(L);
+  const int names = lua_gettop(L);
+  lua_pushnil(L);
+  while (lua_next(L, api_idx)) {
+    if (lua_type(L, -2) == LUA_TSTRING) {
+      std::string key = lua_tostring(L, -2);
+      if (lua_iscfunction(L, -1)) {
+        set_name(L, names, key);
+      } else if (lua_istable(L, -1)) {
+        const int sub = lua_gettop(L);
+        lua_pushnil(L);
+        while (lua_next(L, sub)) {
+          if (lua_type(L, -2) == LUA_TSTRING && lua_iscfunction(L, -1)) {
+            set_name(L, names, key + "." + lua_tostring(L, -2));
+          }
+          lua_pop(L, 1);
+        }
+      }
+    }
+    lua_pop(L, 1);
+  }
+  lua_pop(L, 1);
+}
+
+// --- run statistics ---
+
+double RunStats::now() {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+void RunStats::add(const std::string& name, double seconds) {
+  for (auto& e : entries)
+    if (e.name == name) {
+      e.seconds += seconds, ++e.calls;
+      return;
+    }
+  entries.push_back({name, seconds, 1});
+}
+
+void install_stats(lua_State* L, RunStats* stats) {
+  if (stats) lua_pushlightuserdata(L, stats);
+  else lua_pushnil(L);
+  lua_setfield(L, LUA_REGISTRYINDEX, kStatsKey);
+}
+
+Stage::Stage(lua_State* L, const char* name) : stats_(nullptr), name_(name) {
+  lua_getfield(L, LUA_REGISTRYINDEX, kStatsKey);
+  stats_ = static_cast<RunStats*>(lua_touserdata(L, -1));
+  lua_pop(L, 1);
+  if (!stats_) return;
+  depth_ = stats_->open.size();
+  stats_->open.push_back({RunStats::now(), 0.0});
+}
+
+Stage::~Stage() {
+  if (!stats_) return;
+  // A stage skipped by a Lua error (a longjmp past its destructor) is closed here with this one.
+  if (stats_->open.size() <= depth_) return;
+  const double elapsed = RunStats::now() - stats_->open[depth_].start;
+  const double own = elapsed - stats_->open[depth_].inner;
+  stats_->open.resize(depth_);
+  if (!stats_->open.empty()) stats_->open.back().inner += elapsed;
+  stats_->add(name_, own);
 }
 
 std::string type_name(lua_State* L, int idx) {
@@ -145,6 +287,13 @@ Options::Options(lua_State* L, int arg) : L_(L), arg_(arg), idx_(lua_absindex(L,
   if (lua_type(L, idx_) != LUA_TTABLE) throw ArgError{arg, "table of options expected, got " + type_name(L, idx_)};
 }
 
+Options::Options(lua_State* L, int idx, int arg, std::string name)
+    : L_(L), arg_(arg), idx_(lua_absindex(L, idx)), prefix_(std::move(name)) {
+  if (lua_type(L, idx_) != LUA_TTABLE) throw ArgError{arg, "field '" + prefix_ + "' must be a table, got " + type_name(L, idx_)};
+}
+
+std::string Options::field(const std::string& key) const { return prefix_.empty() ? key : prefix_ + "." + key; }
+
 void Options::mark(const char* key) {
   if (std::find(known_.begin(), known_.end(), key) == known_.end()) known_.emplace_back(key);
 }
@@ -170,9 +319,9 @@ std::optional<double> Options::number(const char* key) {
     push(key);
     std::string got = type_name(L_, -1);
     lua_pop(L_, 1);
-    throw ArgError{arg_, std::string("field '") + key + "' must be a number, got " + got};
+    throw ArgError{arg_, "field '" + field(key) + "' must be a number, got " + got};
   }
-  if (!std::isfinite(v)) throw ArgError{arg_, std::string("field '") + key + "' must be finite, got " + format_number(v)};
+  if (!std::isfinite(v)) throw ArgError{arg_, "field '" + field(key) + "' must be finite, got " + format_number(v)};
   return v;
 }
 
@@ -180,7 +329,7 @@ double Options::number(const char* key, double fallback) { return number(key).va
 
 double Options::positive(const char* key, double fallback) {
   double v = number(key, fallback);
-  if (!(v > 0)) throw ArgError{arg_, std::string("field '") + key + "' must be positive, got " + format_number(v)};
+  if (!(v > 0)) throw ArgError{arg_, "field '" + field(key) + "' must be positive, got " + format_number(v)};
   return v;
 }
 
@@ -188,7 +337,7 @@ int Options::integer(const char* key, int fallback) {
   auto v = number(key);
   if (!v) return fallback;
   if (*v != std::floor(*v) || std::fabs(*v) > 2e9)
-    throw ArgError{arg_, std::string("field '") + key + "' must be an integer, got " + format_number(*v)};
+    throw ArgError{arg_, "field '" + field(key) + "' must be an integer, got " + format_number(*v)};
   return static_cast<int>(*v);
 }
 
@@ -198,7 +347,7 @@ bool Options::boolean(const char* key, bool fallback) {
   std::string got = t == LUA_TNIL || t == LUA_TBOOLEAN ? "" : type_name(L_, -1);
   lua_pop(L_, 1);
   if (t == LUA_TNIL) return fallback;
-  if (t != LUA_TBOOLEAN) throw ArgError{arg_, std::string("field '") + key + "' must be a boolean, got " + got};
+  if (t != LUA_TBOOLEAN) throw ArgError{arg_, "field '" + field(key) + "' must be a boolean, got " + got};
   return v;
 }
 
@@ -208,7 +357,7 @@ std::string Options::string(const char* key, const std::string& fallback) {
   std::string got = t == LUA_TNIL || t == LUA_TSTRING ? "" : type_name(L_, -1);
   lua_pop(L_, 1);
   if (t == LUA_TNIL) return fallback;
-  if (t != LUA_TSTRING) throw ArgError{arg_, std::string("field '") + key + "' must be a string, got " + got};
+  if (t != LUA_TSTRING) throw ArgError{arg_, "field '" + field(key) + "' must be a string, got " + got};
   return v;
 }
 
@@ -234,7 +383,7 @@ std::optional<Vec3> Options::vec3(const char* key, bool allow_2d) {
     lua_pop(L_, 1);
     return std::nullopt;
   }
-  return read_and_pop<Vec3>(L_, [&] { return to_vec3(L_, -1, arg_, std::string("field '") + key + "'", allow_2d); });
+  return read_and_pop<Vec3>(L_, [&] { return to_vec3(L_, -1, arg_, "field '" + field(key) + "'", allow_2d); });
 }
 
 Vec3 Options::vec3(const char* key, const Vec3& fallback, bool allow_2d) { return vec3(key, allow_2d).value_or(fallback); }
@@ -244,7 +393,7 @@ Vec2 Options::vec2(const char* key, const Vec2& fallback) {
     lua_pop(L_, 1);
     return fallback;
   }
-  return read_and_pop<Vec2>(L_, [&] { return to_vec2(L_, -1, arg_, std::string("field '") + key + "'"); });
+  return read_and_pop<Vec2>(L_, [&] { return to_vec2(L_, -1, arg_, "field '" + field(key) + "'"); });
 }
 
 void Options::finish() {
@@ -257,12 +406,12 @@ void Options::finish() {
         lua_pop(L_, 1);
         std::string names;
         for (const auto& k : known_) names += (names.empty() ? "" : ", ") + k;
-        throw ArgError{arg_, "unknown field '" + key + "'" + (names.empty() ? "" : " (known: " + names + ")")};
+        throw ArgError{arg_, "unknown field '" + field(key) + "'" + (names.empty() ? "" : " (known: " + names + ")")};
       }
     } else if (!(positional_ && lua_type(L_, -1) == LUA_TNUMBER)) {
       std::string what = describe(L_, -1);
       lua_pop(L_, 1);
-      throw ArgError{arg_, "unexpected key " + what + " in options table"};
+      throw ArgError{arg_, "unexpected key " + what + " in " + (prefix_.empty() ? std::string("options table") : "field '" + prefix_ + "'")};
     }
   }
 }
@@ -271,6 +420,20 @@ void Options::finish() {
 
 void register_class(lua_State* L, const char* registry_key, const char* display_name, const luaL_Reg* methods,
                     const luaL_Reg* metamethods, lua_CFunction gc) {
+  // Methods are named "Class:method" where the call site gives no name (see raise_pending).
+  if (methods) {
+    push_names(L);
+    for (const luaL_Reg* m = methods; m->name; ++m) {
+      lua_pushcfunction(L, m->func);
+      if (lua_rawget(L, -2) == LUA_TNIL) {
+        lua_pushcfunction(L, m->func);
+        lua_pushfstring(L, "%s:%s", display_name, m->name);
+        lua_rawset(L, -4);
+      }
+      lua_pop(L, 1);
+    }
+    lua_pop(L, 1);
+  }
   luaL_newmetatable(L, registry_key);
   lua_pushstring(L, display_name);
   lua_setfield(L, -2, "__name");

@@ -23,7 +23,49 @@ struct ArgError {
 
 // Raises the error whose message is on top of the Lua stack: as an argument error when arg > 0.
 // Never returns. It runs after every C++ object of the failed call has been destroyed.
+// The function is named as Lua names it at the call site (`box(...)`, `matrix.rotate(...)`,
+// `s:translate(...)`); where the call site gives no name (called as a value: `pcall(matrix.rotate,
+// "x")`, or through a local or upvalue) the API's own name is used ("matrix.rotate",
+// "Solid:translate"; for a method the object counts as argument #0, as in a method call).
 int raise_pending(lua_State* L, int arg);
+
+// The name raise_pending would give the running C function ("" if it has none).
+std::string running_function_name(lua_State* L);
+// Records the API's name of every function in the table at api_idx (and one level of sub-tables:
+// "matrix.rotate") for raise_pending. Names recorded by register_class stay unless the API table
+// holds the same function.
+void name_functions(lua_State* L, int api_idx);
+
+// Time per stage for `wedge run --stats`. A binding opens a Stage around its work; nothing is
+// recorded unless the runner has installed a RunStats in this state. Stages nest; each stage is
+// charged its own time, not that of the stages inside it.
+struct RunStats {
+  struct Entry {
+    std::string name;
+    double seconds = 0;
+    long calls = 0;
+  };
+  std::vector<Entry> entries;  // in order of first use
+  struct Open {
+    double start, inner;
+  };
+  std::vector<Open> open;
+  void add(const std::string& name, double seconds);
+  static double now();
+};
+void install_stats(lua_State* L, RunStats* stats);  // nullptr removes it
+class Stage {
+ public:
+  Stage(lua_State* L, const char* name);
+  ~Stage();
+  Stage(const Stage&) = delete;
+  Stage& operator=(const Stage&) = delete;
+
+ private:
+  RunStats* stats_;
+  const char* name_;
+  std::size_t depth_ = 0;
+};
 
 template <class F>
 int guarded(lua_State* L, F&& body) {
@@ -87,6 +129,9 @@ void push_vec2(lua_State* L, const Vec2& v);
 class Options {
  public:
   Options(lua_State* L, int arg);
+  // A table nested in argument `arg` (at stack index idx), named `field` in messages:
+  // "field 'camera.near' must be a number".
+  Options(lua_State* L, int idx, int arg, std::string name);
   bool has(const char* key);
   double number(const char* key, double fallback);
   std::optional<double> number(const char* key);
@@ -102,6 +147,8 @@ class Options {
   // Also accept the array part (t[1], t[2], ...) without complaint.
   void allow_positional() { positional_ = true; }
   void finish();
+  // The key as messages name it: "near", or "camera.near" in a nested table.
+  std::string field(const std::string& key) const;
   int arg() const { return arg_; }
   lua_State* state() const { return L_; }
 
@@ -110,6 +157,7 @@ class Options {
   lua_State* L_;
   int arg_;
   int idx_;
+  std::string prefix_;
   bool positional_ = false;
   std::vector<std::string> known_;
 };

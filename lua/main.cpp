@@ -1,6 +1,6 @@
-// The `wedge` command: `wedge run script.lua [args...]`, `wedge --version`, `wedge --help`.
-// CLI11 parses the command line (a Debian package; it gives subcommands, help text and error
-// messages that we would otherwise write and test by hand).
+// The `wedge` command: `wedge run [--quiet] [--stats] [--sandbox] script.lua [args...]`,
+// `wedge --version`, `wedge --help`. CLI11 parses the command line (a Debian package; it gives
+// subcommands, help text and error messages that we would otherwise write and test by hand).
 #include <CLI/CLI.hpp>
 
 #include <iostream>
@@ -14,16 +14,39 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
 
   std::string script;
-  auto* run = app.add_subcommand("run", "run a Lua script with the wedge API as globals");
+  wedge::lua::RunOptions options;
+  auto* run = app.add_subcommand("run", "run a Lua script with the wedge API as globals; key=value arguments "
+                                        "also become params.key");
+  run->add_flag("--quiet", options.quiet, "the script's print() writes nothing; only errors are reported");
+  run->add_flag("--stats", options.stats, "report the time spent per stage on stderr");
+  run->add_flag("--sandbox", options.sandbox, "run a stranger's script confined (see README)");
   run->add_option("script", script, "the Lua script to run")->required();
-  // Everything after the script name belongs to the script, even words that look like options.
+  // Everything after the script name belongs to the script, even words that look like options,
+  // except the runner's own three flags (so that `wedge run model.lua --sandbox` is never run
+  // unconfined); after "--" every word is the script's.
   run->prefix_command();
 
-  CLI11_PARSE(app, argc, argv);
+  // CLI11 sees the words before the first "--"; the words after it are the script's, verbatim.
+  int cli_argc = argc;
+  std::vector<std::string> verbatim;
+  for (int i = 1; i < argc; ++i)
+    if (std::string(argv[i]) == "--") {
+      cli_argc = i;
+      verbatim.assign(argv + i + 1, argv + argc);
+      break;
+    }
+  CLI11_PARSE(app, cli_argc, argv);
 
   if (*run) {
-    std::vector<std::string> args = run->remaining();
-    return wedge::lua::run_file(script, args, std::cerr);
+    std::vector<std::string> args;
+    for (const std::string& a : run->remaining()) {
+      if (a == "--quiet") options.quiet = true;
+      else if (a == "--stats") options.stats = true;
+      else if (a == "--sandbox") options.sandbox = true;
+      else args.push_back(a);
+    }
+    args.insert(args.end(), verbatim.begin(), verbatim.end());
+    return wedge::lua::run_file(script, args, std::cerr, options);
   }
   return 0;
 }

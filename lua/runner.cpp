@@ -1,6 +1,7 @@
 // The script runner, modelled on lua.c: load, pcall with a traceback handler, report
 // "file:line: message" and a non-zero exit on error.
 #include <cerrno>
+#include <cstdio>
 #include <cstring>
 #include <fstream>
 #include <memory>
@@ -55,9 +56,25 @@ int call_chunk(lua_State* L, int nargs, std::ostream& err) {
   return 0;
 }
 
+int print_nothing(lua_State*) { return 0; }
+
+void report_stats(const RunStats& stats, double total, const std::string& path, std::ostream& err) {
+  char line[160];
+  err << "wedge: time per stage for " << path << " (each stage's own share of the wall time)\n";
+  for (const auto& e : stats.entries) {
+    std::snprintf(line, sizeof line, "  %-10s %10.1f ms", e.name.c_str(), e.seconds * 1e3);
+    err << line;
+    if (e.name != "load" && e.name != "lua") err << "  (" << e.calls << (e.calls == 1 ? " call)" : " calls)");
+    err << "\n";
+  }
+  std::snprintf(line, sizeof line, "  %-10s %10.1f ms\n", "total", total * 1e3);
+  err << line;
+}
+
 }  // namespace
 
-int run_file(const std::string& path, const std::vector<std::string>& args, std::ostream& err) {
+int run_file(const std::string& path, const std::vector<std::string>& args, std::ostream& err,
+             const RunOptions& options) {
   {
     std::ifstream probe(path);
     if (!probe) {
@@ -78,15 +95,46 @@ int run_file(const std::string& path, const std::vector<std::string>& args, std:
     lua_rawseti(L, -2, static_cast<lua_Integer>(i + 1));
   }
   lua_setglobal(L, "arg");
+  // params.key for each key=value argument.
+  lua_getglobal(L, "params");
+  fill_params(L, -1, args);
+  lua_pop(L, 1);
 
-  std::string chunkname = "@" + path;
-  if (luaL_loadfilex(L, path.c_str(), "t") != LUA_OK) {
-    const char* msg = lua_tostring(L, -1);
-    err << (msg ? msg : "cannot load script") << "\n";
-    return 1;
+  if (options.quiet) {
+    lua_pushcfunction(L, print_nothing);
+    lua_setglobal(L, "print");
   }
-  for (const auto& a : args) lua_pushlstring(L, a.data(), a.size());
-  return call_chunk(L, static_cast<int>(args.size()), err);
+  if (options.sandbox) {
+    try {
+      apply_sandbox(L, path);
+    } catch (const std::exception& e) {
+      err << "wedge: " << e.what() << "\n";
+      return 1;
+    }
+  }
+
+  RunStats stats;
+  if (options.stats) install_stats(L, &stats);
+  const double start = RunStats::now();
+  int status = 0;
+  {
+    Stage load(L, "load");
+    if (luaL_loadfilex(L, path.c_str(), "t") != LUA_OK) {
+      const char* msg = lua_tostring(L, -1);
+      err << (msg ? msg : "cannot load script") << "\n";
+      status = 1;
+    }
+  }
+  if (status == 0) {
+    for (const auto& a : args) lua_pushlstring(L, a.data(), a.size());
+    Stage run(L, "lua");
+    status = call_chunk(L, static_cast<int>(args.size()), err);
+  }
+  if (options.stats) {
+    install_stats(L, nullptr);
+    report_stats(stats, RunStats::now() - start, path, err);
+  }
+  return status;
 }
 
 int run_string(const std::string& code, const std::string& chunkname, std::ostream& err) {

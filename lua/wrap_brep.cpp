@@ -40,16 +40,15 @@ void push_id(lua_State* L, IdT id) {
 }
 
 // Runs an operator. When Lua knows the running function's name, the Lua error puts it in front
-// of the message (lua_util's raise_pending), so the message's own "op: " prefix is dropped; under
-// pcall(b.kemr, b, e) Lua has no name and the prefix stays.
+// of the message (lua_util's raise_pending; under pcall(b.kemr, b, e) the API's name
+// "Brep:kemr"), so the message's own "op: " prefix is dropped.
 template <class F>
 auto op(lua_State* L, const char* name, F&& f) {
   try {
     return f();
   } catch (const Error& e) {
     std::string m = e.what(), prefix = std::string(name) + ": ";
-    lua_Debug ar;
-    bool named = lua_getstack(L, 0, &ar) && lua_getinfo(L, "n", &ar) && ar.name;
+    bool named = !running_function_name(L).empty();
     if (named && m.rfind(prefix, 0) == 0) m = m.substr(prefix.size());
     throw Error(m);
   }

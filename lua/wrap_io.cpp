@@ -1,7 +1,10 @@
 // Lua bindings of mesh files: export(value, path [, {ascii=, tolerance=}]) and import(path).
+#include <cctype>
+
 #include "lua/lua_util.h"
 #include "lua/wedge_lua.h"
 #include "lua/wrap_curve.h"
+#include "lua/wrap_scene.h"
 #include "lua/wrap_solid.h"
 #include "tessellate/mesh_io.h"
 
@@ -9,23 +12,61 @@ namespace wedge::lua {
 
 namespace {
 
+// export(scene, "dir/name.ext", {split=true}): one file per leaf, "dir/name-K-symbol.ext" (K from 1
+// in traversal order, the symbol's characters outside [A-Za-z0-9_-] as "_"); returns the list of
+// paths written.
+int export_split(lua_State* L, const std::string& path, const Tolerance& tol, const MeshWriteOptions& options) {
+  const SceneNode* scene = test_scene(L, 1);
+  if (!scene) throw ArgError{3, "field 'split' needs a scene group to split, got " + type_name(L, 1)};
+  const std::size_t dot = path.find_last_of('.');  // mesh_format() has checked the extension
+  const std::string stem = path.substr(0, dot), ext = path.substr(dot);
+  std::vector<std::pair<std::string, Mesh>> files;
+  {
+    Stage stage(L, "mesh");
+    const auto occs = flatten(*scene);
+    for (std::size_t k = 0; k < occs.size(); ++k) {
+      std::string symbol = occs[k].symbol;
+      for (char& c : symbol)
+        if (!std::isalnum(static_cast<unsigned char>(c)) && c != '_' && c != '-') c = '_';
+      files.emplace_back(stem + "-" + std::to_string(k + 1) + "-" + symbol + ext,
+                         leaf_mesh(*occs[k].leaf, tol, false).transformed(occs[k].world));
+    }
+  }
+  Stage stage(L, "write");
+  lua_createtable(L, int(files.size()), 0);
+  for (std::size_t k = 0; k < files.size(); ++k) {
+    write_mesh(files[k].second, files[k].first, options);
+    lua_pushstring(L, files[k].first.c_str());
+    lua_rawseti(L, -2, lua_Integer(k + 1));
+  }
+  return 1;
+}
+
 int export_fn(lua_State* L) {
   return guarded(L, [&] {
     std::string path = check_string(L, 2);
     Tolerance tol = current_tolerance(L);
     MeshWriteOptions options;
+    bool split = false;
     if (!lua_isnoneornil(L, 3)) {
       Options o(L, 3);
       options.ascii = o.boolean("ascii", false);
       tol.chordal = o.positive("tolerance", tol.chordal);
+      split = o.boolean("split", false);
       o.finish();
     }
     mesh_format(path);  // an unknown extension is an error before any tessellation work
+    if (split) return export_split(L, path, tol, options);
     // A single surface is exported welded (closed seams merged, poles collapsed), so a closed
     // surface such as a sphere or torus makes a closed file; several patches are exported as
     // they are (patches are not welded to each other).
     const LuaSurface* surface = test_surface(L, 1);
-    Mesh mesh = surface && surface->patches.size() == 1 ? surface_mesh(*surface, tol.chordal, true) : to_mesh(L, 1, 1, tol);
+    Mesh mesh;
+    {
+      Stage stage(L, "mesh");
+      mesh = surface && surface->patches.size() == 1 ? surface_mesh(*surface, tol.chordal, true) : to_mesh(L, 1, 1, tol);
+    }
+    Stage stage(L, "write");
     write_mesh(mesh, path, options);
     lua_pushinteger(L, static_cast<lua_Integer>(mesh.triangle_count()));
     return 1;
@@ -35,6 +76,7 @@ int export_fn(lua_State* L) {
 int import_fn(lua_State* L) {
   return guarded(L, [&] {
     std::string path = check_string(L, 1);
+    Stage stage(L, "read");
     push_solid(L, Solid::from_mesh(read_mesh(path), path));
     return 1;
   });

@@ -1,9 +1,11 @@
 // Lua bindings of kernel/transform.h: the `matrix` table and the Matrix userdata.
+#include <cmath>
 #include <sstream>
 
 #include "lua/lua_util.h"
 #include "lua/wedge_lua.h"
 #include "lua/wrap_matrix.h"
+#include "render/render.h"
 
 namespace wedge::lua {
 
@@ -139,6 +141,40 @@ int six_fn(lua_State* L) {
   return guarded(L, [&] {
     push_matrix(L, F(check_number(L, 1), check_number(L, 2), check_number(L, 3), check_number(L, 4),
                      check_number(L, 5), check_number(L, 6)));
+    return 1;
+  });
+}
+
+// Reads (a, b) positionally or {ka=, kb=} from a table at argument 1, with defaults.
+std::pair<double, double> two_numbers(lua_State* L, const char* ka, double da, const char* kb, double db) {
+  if (lua_type(L, 1) == LUA_TTABLE) {
+    Options o(L, 1);
+    double a = o.number(ka, da), b = o.number(kb, db);
+    o.finish();
+    return {a, b};
+  }
+  if (!lua_isnoneornil(L, 1) && lua_type(L, 1) != LUA_TNUMBER)
+    throw ArgError{1, std::string("table {") + ka + "=, " + kb + "=} or numbers expected, got " + type_name(L, 1)};
+  return {opt_number(L, 1, da), opt_number(L, 2, db)};
+}
+
+// matrix.oblique{angle=45, ratio=0.5} or matrix.oblique(angle, ratio): the oblique parallel
+// projection's shear in the view frame (render/camera.cpp): ratio 1 cavalier, 1/2 cabinet.
+int oblique_fn(lua_State* L) {
+  return guarded(L, [&] {
+    auto [angle, ratio] = two_numbers(L, "angle", 45, "ratio", 0.5);
+    if (!(ratio > 0)) throw ArgError{1, "ratio must be positive, got " + number_text(ratio)};
+    push_matrix(L, render::oblique(angle, ratio));
+    return 1;
+  });
+}
+
+// matrix.axonometric{rx=, ry=} or matrix.axonometric(rx, ry): Rx(rx) * Ry(ry); by default the
+// isometric rx = asin(tan 30) = 35.264..., ry = -45.
+int axonometric_fn(lua_State* L) {
+  return guarded(L, [&] {
+    auto [rx, ry] = two_numbers(L, "rx", std::asin(std::tan(M_PI / 6)) * 180 / M_PI, "ry", -45);
+    push_matrix(L, render::axonometric(rx, ry));
     return 1;
   });
 }
@@ -306,6 +342,8 @@ const luaL_Reg kMatrixFunctions[] = {
     {"frustum", six_fn<frustum>},
     {"ortho", six_fn<ortho>},
     {"from", from_fn},
+    {"oblique", oblique_fn},
+    {"axonometric", axonometric_fn},
     {nullptr, nullptr}};
 
 const luaL_Reg kMethods[] = {

@@ -4,9 +4,18 @@
 // anything else to_mesh() accepts, or a plain mesh table
 // { vertices = {{x,y,z}, ...}, triangles = {{i,j,k}, ...} (1-based), material = {...} }.
 // checker{n=, size=, colors=} makes a procedural texture for a material's texture= field.
-// drawing{s, out=, views=, ...} is the multi-view orthographic sheet (render::render_drawing).
+// drawing{s, out=, views=, ...} is the multi-view sheet (render::render_drawing). view= takes the
+// course's named views (render/camera.cpp), by name or as {name, options...}.
+#include <algorithm>
+#include <cmath>
+#include <deque>
+#include <tuple>
+#include <optional>
+
 #include "lua/lua_util.h"
 #include "lua/wedge_lua.h"
+#include "lua/wrap_render.h"
+#include "lua/wrap_scene.h"
 #include "lua/wrap_solid.h"
 #include "render/render.h"
 
@@ -41,7 +50,7 @@ Vec4f opt_color(Options& o, const char* key, const Vec4f& fallback) {
   Vec4f c = fallback;
   if (t != LUA_TNIL) {
     try {
-      c = to_color(L, lua_gettop(L), o.arg(), std::string("field '") + key + "'");
+      c = to_color(L, lua_gettop(L), o.arg(), "field '" + o.field(key) + "'");
     } catch (...) {
       lua_pop(L, 1);
       throw;
@@ -51,9 +60,10 @@ Vec4f opt_color(Options& o, const char* key, const Vec4f& fallback) {
   return c;
 }
 
+}  // namespace
+
 render::Material read_material(lua_State* L, int idx, int arg, std::shared_ptr<const render::Texture>& texture) {
-  Options o(L, idx);
-  (void)arg;
+  Options o(L, idx, arg, "material");
   render::Material m;
   m.ambient = opt_color(o, "ambient", m.ambient);
   m.diffuse = opt_color(o, "diffuse", m.diffuse);
@@ -81,6 +91,8 @@ render::Material read_material(lua_State* L, int idx, int arg, std::shared_ptr<c
   o.finish();
   return m;
 }
+
+namespace {
 
 // A mesh table { vertices=, triangles=, material= }.
 Mesh read_mesh(lua_State* L, int idx, render::Material& material, std::shared_ptr<const render::Texture>& texture) {
@@ -126,11 +138,59 @@ Mesh read_mesh(lua_State* L, int idx, render::Material& material, std::shared_pt
   return m;
 }
 
+// A view: a name ("cabinet"), or a table with the name first and the view's options
+// ({"cabinet", angle=30}, {name="trimetric", rx=25, ry=-40}); `field` names it in messages.
+struct ViewChoice {
+  std::string name;
+  render::ViewParams params;
+};
+
+ViewChoice read_view(lua_State* L, int idx, const std::string& field) {
+  idx = lua_absindex(L, idx);
+  ViewChoice v;
+  if (lua_type(L, idx) == LUA_TSTRING) {
+    v.name = lua_tostring(L, idx);
+  } else if (lua_type(L, idx) == LUA_TTABLE) {
+    Options o(L, idx, 1, field);
+    o.allow_positional();
+    if (lua_rawgeti(L, idx, 1) == LUA_TSTRING) v.name = lua_tostring(L, -1);
+    lua_pop(L, 1);
+    if (lua_rawlen(L, idx) > 1) throw ArgError{1, "field '" + field + "' must hold one view name, then named options"};
+    std::string named = o.string("name", "");
+    if (!named.empty() && !v.name.empty()) throw ArgError{1, "field '" + field + "' names its view twice"};
+    if (v.name.empty()) v.name = named;
+    if (v.name.empty()) throw ArgError{1, "field '" + field + "' needs a view name, as {\"cabinet\", angle=30}"};
+    v.params.rx = o.number("rx").value_or(NAN);
+    v.params.ry = o.number("ry").value_or(NAN);
+    v.params.angle = o.number("angle").value_or(NAN);
+    v.params.ratio = o.number("ratio").value_or(NAN);
+    v.params.distance = o.number("distance").value_or(NAN);
+    o.finish();
+  } else {
+    throw ArgError{1, "field '" + field + "' must be a view name or {name, options...}, got " + type_name(L, idx)};
+  }
+  const auto& names = render::view_names();
+  if (std::find(names.begin(), names.end(), v.name) == names.end()) {
+    std::string list;
+    for (const auto& n : names) list += (list.empty() ? "" : ", ") + n;
+    throw ArgError{1, "field '" + field + "': unknown view '" + v.name + "' (expected " + list + ")"};
+  }
+  return v;
+}
+
+render::Camera view_camera(const ViewChoice& v, const Box3& bounds) {
+  return as_arg(1, [&] { return render::named_view(v.name, bounds, v.params); });
+}
+
 render::Camera read_camera(lua_State* L, int idx, const Box3& bounds) {
-  Options o(L, idx);
-  std::string view = o.string("view", "");
-  render::Camera c = view.empty() ? render::named_view("iso", bounds) : render::named_view(view, bounds);
-  if (view.empty()) {
+  Options o(L, idx, 1, "camera");
+  render::Camera c = render::named_view("iso", bounds);
+  if (o.push("view") != LUA_TNIL) {
+    c = view_camera(read_view(L, lua_gettop(L), "camera.view"), bounds);
+    lua_pop(L, 1);
+  } else {
+    lua_pop(L, 1);
+    c.fit_window = false;
     std::string proj = o.string("projection", "perspective");
     if (proj == "perspective") {
       c.orthographic = false;
@@ -153,11 +213,11 @@ render::Camera read_camera(lua_State* L, int idx, const Box3& bounds) {
       c.near = o.number("near", c.near), c.far = o.number("far", c.far);
       c.fit = !explicit_range;
     } else {
-      throw ArgError{idx, "camera projection must be \"perspective\" or \"ortho\", got '" + proj + "'"};
+      throw ArgError{1, "field 'camera.projection' must be \"perspective\" or \"ortho\", got '" + proj + "'"};
     }
   }
   o.finish();
-  if (c.fovy >= 180) throw ArgError{idx, "camera fovy must be below 180"};
+  if (c.fovy >= 180) throw ArgError{1, "field 'camera.fovy' must be below 180"};
   return c;
 }
 
@@ -184,16 +244,66 @@ render::LightSpec read_light(lua_State* L, int idx) {
 
 // The thing to draw, t[1] of the options table at index 1: a Solid (with its material), a
 // plain mesh table, or anything else to_mesh() accepts. Fills `mesh` and the item's material.
-void read_drawn(lua_State* L, const char* fn, Mesh& mesh, render::DrawItem& item) {
+// The things drawn: t[1] of the options table at index 1. A Solid (with its material), a plain
+// mesh table, or anything else to_mesh() accepts makes one item; a scene group makes one item per
+// leaf, placed by its world matrix (each leaf's mesh made once, however many instances it has).
+// The meshes live in `meshes` (a deque: items point into it).
+struct Drawn {
+  std::deque<Mesh> meshes;
+  std::vector<render::DrawItem> items;
+  Box3 bounds() const {
+    Box3 b;
+    for (const auto& it : items)
+      for (const auto& p : it.mesh->positions) b.extend(apply_point(it.transform, p));
+    return b;
+  }
+};
+
+// A texture on a mesh without texture coordinates: the two-step box mapping.
+Mesh with_uvs_if_textured(Mesh mesh, bool textured) {
+  if (textured && mesh.uvs.empty()) return render::with_uv_mapping(mesh, render::UvMapping::Box);
+  return mesh;
+}
+
+void read_drawn(lua_State* L, const char* fn, Drawn& drawn) {
   lua_geti(L, 1, 1);
   const int obj = lua_gettop(L);
   if (lua_isnil(L, obj)) throw ArgError{1, std::string(fn) + "{} needs the thing to draw as its first element"};
+  if (const SceneNode* scene = test_scene(L, obj)) {
+    Stage stage(L, "mesh");
+    const Tolerance tol = current_tolerance(L);
+    std::vector<std::tuple<const SceneLeaf*, bool, const Mesh*>> made;
+    for (const SceneOccurrence& occ : flatten(*scene)) {
+      const bool textured = occ.texture != nullptr;
+      const Mesh* mesh = nullptr;
+      for (const auto& [leaf, tex, m] : made)
+        if (leaf == occ.leaf && tex == textured) mesh = m;
+      if (!mesh) {
+        drawn.meshes.push_back(with_uvs_if_textured(leaf_mesh(*occ.leaf, tol, true), textured));
+        mesh = &drawn.meshes.back();
+        made.emplace_back(occ.leaf, textured, mesh);
+      }
+      render::DrawItem item;
+      item.mesh = mesh;
+      item.material = occ.material;
+      item.texture = occ.texture;
+      item.transform = occ.world;
+      drawn.items.push_back(std::move(item));
+    }
+    lua_pop(L, 1);
+    return;
+  }
+  render::DrawItem item;
+  Mesh mesh;
   if (lua_istable(L, obj) && lua_getfield(L, obj, "vertices") != LUA_TNIL) {
     lua_pop(L, 1);
     mesh = read_mesh(L, obj, item.material, item.texture);
   } else {
     if (lua_istable(L, obj)) lua_pop(L, 1);
-    mesh = to_mesh(L, obj, 1, current_tolerance(L));
+    {
+      Stage stage(L, "mesh");
+      mesh = to_mesh(L, obj, 1, current_tolerance(L));
+    }
     // A solid shades flat across its faces' edges and smooth within a curved face.
     if (test_solid(L, obj)) mesh = mesh.with_face_normals();
     if (test_solid(L, obj) && push_material(L, obj) == LUA_TTABLE) item.material = read_material(L, lua_gettop(L), 1, item.texture);
@@ -201,9 +311,9 @@ void read_drawn(lua_State* L, const char* fn, Mesh& mesh, render::DrawItem& item
     lua_settop(L, obj);
   }
   lua_pop(L, 1);
-  // A texture on a mesh without texture coordinates: the two-step box mapping.
-  if (item.texture && mesh.uvs.empty()) mesh = render::with_uv_mapping(mesh, render::UvMapping::Box);
-  item.mesh = &mesh;
+  drawn.meshes.push_back(with_uvs_if_textured(std::move(mesh), item.texture != nullptr));
+  item.mesh = &drawn.meshes.back();
+  drawn.items.push_back(std::move(item));
 }
 
 int render_fn(lua_State* L) {
@@ -211,10 +321,9 @@ int render_fn(lua_State* L) {
     check_table(L, 1);
     Options o(L, 1);
     o.allow_positional();
-    render::DrawItem item;
-    Mesh mesh;
-    read_drawn(L, "render", mesh, item);
-    Box3 bounds = mesh.bounds();
+    Drawn drawn;
+    read_drawn(L, "render", drawn);
+    const Box3 bounds = drawn.bounds();
 
     render::RenderOptions ro;
     std::string out = o.string("out", "");
@@ -224,19 +333,20 @@ int render_fn(lua_State* L) {
         size.y() != std::floor(size.y()))
       throw ArgError{1, "size must be two whole numbers within 1..8192"};
     ro.width = int(size.x()), ro.height = int(size.y());
-    // camera={...}, or a named view: view="front" (or camera="front").
-    std::string view = o.string("view", "");
+    // camera={...}, or a named view: view="front" or view={"cabinet", angle=30} (or camera="front").
+    std::optional<ViewChoice> view;
+    if (o.push("view") != LUA_TNIL) view = read_view(L, lua_gettop(L), "view");
+    lua_pop(L, 1);
     int camera_type = o.push("camera");
+    if (camera_type != LUA_TNIL && view) throw ArgError{1, "give either camera={...} or view=, not both"};
     if (camera_type == LUA_TTABLE) {
-      if (!view.empty()) throw ArgError{1, "give either camera={...} or view=, not both"};
-      int top = lua_gettop(L);
-      ro.camera = read_camera(L, top, bounds);
+      ro.camera = read_camera(L, lua_gettop(L), bounds);
     } else if (camera_type == LUA_TSTRING) {
-      ro.camera = render::named_view(lua_tostring(L, -1), bounds);
+      ro.camera = view_camera(read_view(L, lua_gettop(L), "camera"), bounds);
     } else if (camera_type != LUA_TNIL) {
       throw ArgError{1, "field 'camera' must be a table or a view name, got " + type_name(L, -1)};
     } else {
-      ro.camera = render::named_view(view.empty() ? "iso" : view, bounds);
+      ro.camera = view ? view_camera(*view, bounds) : render::named_view("iso", bounds);
     }
     lua_pop(L, 1);
     if (o.push("lights") == LUA_TTABLE) {
@@ -285,22 +395,29 @@ int render_fn(lua_State* L) {
     if (ro.antialias < 1 || ro.antialias > 4) throw ArgError{1, "antialias must be 1, 2, 3 or 4"};
     ro.background = opt_color(o, "background", ro.background);
     o.finish();
-    render::Image im = render::render_scene({item}, ro);
+    render::Image im;
+    {
+      Stage stage(L, "render");
+      im = render::render_scene(drawn.items, ro);
+    }
+    Stage stage(L, "write");
     render::write_png(out, im);
     return 0;
   });
 }
 
 // drawing{s, out=, views={"front","top","side","iso"}, size={800, 600}, columns=, border=true,
-// labels=true, background=, shading=, antialias=}: a multi-view orthographic sheet.
+// labels=true, titles=, edges=true, hidden="removed"|"dashed", background=, shading=, antialias=}:
+// a sheet of views (any named view, or {name, options}), each titled, with the solid's edges drawn
+// over its shaded faces and the hidden ones left out or dashed.
 int drawing_fn(lua_State* L) {
   return guarded(L, [&] {
     check_table(L, 1);
     Options o(L, 1);
     o.allow_positional();
-    render::DrawItem item;
-    Mesh mesh;
-    read_drawn(L, "drawing", mesh, item);
+    Drawn drawn;
+    read_drawn(L, "drawing", drawn);
+    const Box3 bounds = drawn.bounds();
     render::DrawingOptions d;
     std::string out = o.string("out", "");
     if (out.empty()) throw ArgError{1, "drawing{} needs out=\"file.png\""};
@@ -308,16 +425,14 @@ int drawing_fn(lua_State* L) {
     if (views_type == LUA_TTABLE) {
       int top = lua_gettop(L);
       d.views.clear();
+      d.view_params.clear();
       for (lua_Integer i = 1, n = static_cast<lua_Integer>(lua_rawlen(L, top)); i <= n; ++i) {
         lua_geti(L, top, i);
-        if (lua_type(L, -1) != LUA_TSTRING)
-          throw ArgError{1, "views[" + std::to_string(i) + "] must be a view name, got " + type_name(L, -1)};
-        std::string v = lua_tostring(L, -1);
+        ViewChoice v = read_view(L, lua_gettop(L), "views[" + std::to_string(i) + "]");
         lua_pop(L, 1);
-        if (v != "iso" && v != "dimetric" && v != "front" && v != "top" && v != "side" && v != "oblique")
-          throw ArgError{1, "views[" + std::to_string(i) + "] '" + v +
-                                "' is not a view (expected iso, dimetric, front, top, side or oblique)"};
-        d.views.push_back(v);
+        view_camera(v, bounds);  // its options are checked here, before any rendering
+        d.views.push_back(v.name);
+        d.view_params.push_back(v.params);
       }
       if (d.views.empty() || d.views.size() > 16) throw ArgError{1, "views must list 1 to 16 view names"};
     } else if (views_type != LUA_TNIL) {
@@ -334,6 +449,23 @@ int drawing_fn(lua_State* L) {
       throw ArgError{1, "columns must be within 0.." + std::to_string(d.views.size()) + " (0: automatic)"};
     d.border = o.boolean("border", true);
     d.labels = o.boolean("labels", true);
+    d.edges = o.boolean("edges", true);
+    const std::string hidden = o.string("hidden", "removed");
+    if (hidden != "removed" && hidden != "dashed") throw ArgError{1, "field 'hidden' must be \"removed\" or \"dashed\", got '" + hidden + "'"};
+    d.hidden_dashed = hidden == "dashed";
+    if (o.push("titles") != LUA_TNIL) {
+      const int top = lua_gettop(L);
+      if (!lua_istable(L, top)) throw ArgError{1, "field 'titles' must be a list of strings, got " + type_name(L, top)};
+      const lua_Integer n = static_cast<lua_Integer>(lua_rawlen(L, top));
+      if (std::size_t(n) != d.views.size())
+        throw ArgError{1, "field 'titles' has " + std::to_string(n) + " titles for " + std::to_string(d.views.size()) + " views"};
+      for (lua_Integer i = 1; i <= n; ++i) {
+        if (lua_rawgeti(L, top, i) != LUA_TSTRING) throw ArgError{1, "titles[" + std::to_string(i) + "] must be a string, got " + type_name(L, -1)};
+        d.titles.emplace_back(lua_tostring(L, -1));
+        lua_pop(L, 1);
+      }
+    }
+    lua_pop(L, 1);
     d.render.background = opt_color(o, "background", d.render.background);
     std::string shading = o.string("shading", "gouraud");
     if (shading == "flat") d.render.shading = render::ShadeModel::Flat;
@@ -343,7 +475,12 @@ int drawing_fn(lua_State* L) {
     d.render.antialias = o.integer("antialias", 1);
     if (d.render.antialias < 1 || d.render.antialias > 4) throw ArgError{1, "antialias must be 1, 2, 3 or 4"};
     o.finish();
-    render::Image im = render::render_drawing({item}, d);
+    render::Image im;
+    {
+      Stage stage(L, "render");
+      im = render::render_drawing(drawn.items, d);
+    }
+    Stage stage(L, "write");
     render::write_png(out, im);
     return 0;
   });

@@ -1,7 +1,7 @@
 // Multi-view orthographic sheets (drawing{} in API.md): the views of a set of items rendered
 // side by side on a grid, as the first-angle/third-angle sheets of technical drawing show them.
-// Each view is an orthographic camera from named_view() whose box is fitted to the items'
-// bounding box projected onto the view plane (the eight corners in eye space), plus a margin;
+// Each view is a camera from named_view(), its window fitted to the items' bounding box as the view
+// sees it (the eight corners in eye space), plus a margin;
 // cells are optionally framed by a one-pixel border and labelled with the view's name in a
 // small 5x7 bitmap font defined here (capital letters, digits and a few signs; other characters
 // are drawn blank).
@@ -56,26 +56,130 @@ void put(Image& im, int x, int y, const std::array<std::uint8_t, 4>& c) {
   std::copy(c.begin(), c.end(), &im.rgba[(std::size_t(y) * im.width + x) * 4]);
 }
 
-// The orthographic camera of view `name`, its box fitted to `bounds` seen along the view.
-Camera fitted_view(const std::string& name, const Box3& bounds) {
-  Camera c = named_view(name, bounds);
-  const Mat4 view = look_at(c.eye, c.center, c.up);
-  double x0 = 1e300, x1 = -1e300, y0 = 1e300, y1 = -1e300;
-  for (int i = 0; i < 8; ++i) {
-    Point3 corner((i & 1) ? bounds.max.x() : bounds.min.x(), (i & 2) ? bounds.max.y() : bounds.min.y(),
-                  (i & 4) ? bounds.max.z() : bounds.min.z());
-    Vec4 e = view * corner.homogeneous();
-    x0 = std::min(x0, e.x()), x1 = std::max(x1, e.x()), y0 = std::min(y0, e.y()), y1 = std::max(y1, e.y());
+// An item's edges in world space: feature edges, always drawn, and the edges inside a smooth
+// face, drawn in a view where they are on the silhouette (one of their triangles faces the viewer
+// and the other does not).
+struct Edges {
+  std::vector<std::array<Point3, 2>> features;
+  struct Smooth {
+    Point3 a, b;
+    Vec3 n1, n2;
+  };
+  std::vector<Smooth> smooth;
+};
+
+Edges item_edges(const DrawItem& it, double crease_deg) {
+  Edges out;
+  if (!it.mesh || it.mesh->triangles.empty()) return out;
+  const Mesh w = it.mesh->welded();  // shared edges by position, across normal and uv splits
+  std::vector<Point3> p(w.positions.size());
+  for (std::size_t i = 0; i < p.size(); ++i) p[i] = apply_point(it.transform, w.positions[i]);
+  std::vector<Vec3> normal(w.triangles.size());
+  for (std::size_t t = 0; t < w.triangles.size(); ++t) {
+    const auto& tri = w.triangles[t];
+    Vec3 n = (p[tri[1]] - p[tri[0]]).cross(p[tri[2]] - p[tri[0]]);
+    normal[t] = n.norm() > 0 ? Vec3(n.normalized()) : Vec3::Zero();
   }
-  // A margin of 6% of the larger extent on every side (and some size for a flat or point-like
-  // object seen edge-on).
-  const double m = std::max({0.06 * std::max(x1 - x0, y1 - y0), 1e-6 * bounds.diagonal(), 1e-9});
-  c.left = x0 - m, c.right = x1 + m, c.bottom = y0 - m, c.top = y1 + m;
-  c.fit = true;
-  return c;
+  struct Use {
+    std::uint32_t a, b;
+    std::uint32_t t;
+  };
+  std::vector<Use> uses;
+  uses.reserve(w.triangles.size() * 3);
+  for (std::size_t t = 0; t < w.triangles.size(); ++t)
+    for (int k = 0; k < 3; ++k) {
+      std::uint32_t a = w.triangles[t][k], b = w.triangles[t][(k + 1) % 3];
+      if (a > b) std::swap(a, b);
+      uses.push_back({a, b, std::uint32_t(t)});
+    }
+  std::sort(uses.begin(), uses.end(), [](const Use& x, const Use& y) { return x.a != y.a ? x.a < y.a : x.b < y.b; });
+  const double cos_crease = std::cos(crease_deg * 3.14159265358979323846 / 180);
+  for (std::size_t i = 0; i < uses.size();) {
+    std::size_t j = i;
+    while (j < uses.size() && uses[j].a == uses[i].a && uses[j].b == uses[i].b) ++j;
+    const Point3 a = p[uses[i].a], b = p[uses[i].b];
+    if (j - i != 2) {
+      out.features.push_back({a, b});  // a boundary (or a non-manifold edge)
+    } else {
+      const std::uint32_t t1 = uses[i].t, t2 = uses[i + 1].t;
+      const bool ids = !w.face_ids.empty() && w.face_ids[t1] >= 0 && w.face_ids[t2] >= 0;
+      const bool feature = ids ? w.face_ids[t1] != w.face_ids[t2] : normal[t1].dot(normal[t2]) < cos_crease;
+      if (feature) out.features.push_back({a, b});
+      else out.smooth.push_back({a, b, normal[t1], normal[t2]});
+    }
+    i = j;
+  }
+  return out;
+}
+
+// Draws the edges of one view over its cell. `depth` is the view's depth buffer (bottom row first,
+// (rw * aa) x (rh * aa)); an edge point is visible where it is no deeper than the nearest surface
+// around its pixel, give or take a little (its own faces are at its depth).
+void draw_edges(Image& sheet, int ox, int oy, int rw, int rh, int aa, const std::vector<float>& depth,
+                const std::vector<Edges>& edges, const Camera& camera, const Box3& bounds, bool dashed) {
+  const CameraMatrices cm = camera_matrices(camera, bounds, double(rw) / rh);
+  const Mat4 pv = cm.projection * cm.view;
+  const int W = rw * aa, H = rh * aa;
+  // The farthest depth within a pixel's 3x3 neighbourhood (of final pixels).
+  auto far_depth = [&](int px, int py) {
+    float z = 0;
+    for (int y = std::max(0, (py - 1) * aa); y < std::min(H, (py + 2) * aa); ++y)
+      for (int x = std::max(0, (px - 1) * aa); x < std::min(W, (px + 2) * aa); ++x) z = std::max(z, depth[std::size_t(y) * W + x]);
+    return z;
+  };
+  const std::array<std::uint8_t, 4> visible_ink{20, 20, 20, 255}, hidden_ink{150, 150, 150, 255};
+  struct Segment {
+    Vec3 a, b;  // final-pixel x, y (y up) and window depth
+  };
+  std::vector<Segment> segments;
+  auto project = [&](const Point3& p, Vec3& out) {
+    const Vec4 c = pv * p.homogeneous();
+    if (!(c.w() > 1e-12)) return false;
+    out = Vec3((c.x() / c.w() + 1) * 0.5 * rw, (c.y() / c.w() + 1) * 0.5 * rh, (c.z() / c.w() + 1) * 0.5);
+    return true;
+  };
+  auto add = [&](const Point3& a, const Point3& b) {
+    Segment s;
+    if (project(a, s.a) && project(b, s.b)) segments.push_back(s);
+  };
+  for (const Edges& e : edges) {
+    for (const auto& f : e.features) add(f[0], f[1]);
+    for (const auto& sm : e.smooth) {
+      const Vec3 d = camera.orthographic ? cm.projector : Vec3(0.5 * (sm.a + sm.b) - camera.eye);
+      if ((sm.n1.dot(d) < 0) != (sm.n2.dot(d) < 0)) add(sm.a, sm.b);
+    }
+  }
+  // Hidden parts first (dashed, if asked), then the visible ones over them.
+  for (int pass = dashed ? 0 : 1; pass < 2; ++pass)
+    for (const Segment& s : segments) {
+      const double len = std::max(std::abs(s.b.x() - s.a.x()), std::abs(s.b.y() - s.a.y()));
+      const int steps = std::max(1, int(std::ceil(2 * len)));
+      for (int k = 0; k <= steps; ++k) {
+        const double t = double(k) / steps;
+        const Vec3 q = s.a + t * (s.b - s.a);
+        const int px = int(std::floor(q.x())), py = int(std::floor(q.y()));
+        if (px < 0 || py < 0 || px >= rw || py >= rh) continue;
+        const bool visible = q.z() <= far_depth(px, py) + 2e-3;
+        if (pass == 1 && visible) put(sheet, ox + px, oy + rh - 1 - py, visible_ink);
+        // dashes of 4 pixels on, 3 off along the segment
+        if (pass == 0 && !visible && std::fmod(t * len, 7.0) < 4.0) put(sheet, ox + px, oy + rh - 1 - py, hidden_ink);
+      }
+    }
 }
 
 }  // namespace
+
+std::string view_title(const std::string& name) {
+  static const std::pair<const char*, const char*> titles[] = {
+      {"front", "FRONT"},       {"top", "TOP"},           {"side", "SIDE"},
+      {"iso", "ISOMETRIC"},     {"isometric", "ISOMETRIC"}, {"dimetric", "DIMETRIC"},
+      {"trimetric", "TRIMETRIC"}, {"cavalier", "CAVALIER"}, {"cabinet", "CABINET"},
+      {"oblique", "OBLIQUE"},   {"one_point", "ONE-POINT PERSPECTIVE"},
+      {"two_point", "TWO-POINT PERSPECTIVE"}, {"three_point", "THREE-POINT PERSPECTIVE"}};
+  for (const auto& [n, t] : titles)
+    if (name == n) return t;
+  return name;
+}
 
 int text_width(const std::string& text, int scale) {
   return text.empty() ? 0 : int(text.size()) * 6 * scale - scale;
@@ -106,7 +210,15 @@ Image render_drawing(const std::vector<DrawItem>& items, const DrawingOptions& o
     if (it.mesh)
       for (const auto& p : it.mesh->positions) bounds.extend(apply_point(it.transform, p));
   if (bounds.empty()) fail("drawing: nothing to draw (no vertices)");
-  for (const auto& v : o.views) named_view(v, bounds);  // unknown names fail before any rendering
+  if (!o.view_params.empty() && o.view_params.size() != o.views.size())
+    fail("drawing: ", o.view_params.size(), " view parameter sets for ", n, " views");
+  auto camera = [&](int v) { return named_view(o.views[v], bounds, o.view_params.empty() ? ViewParams{} : o.view_params[v]); };
+  for (int v = 0; v < n; ++v) camera(v);  // unknown names and bad options fail before any rendering
+  if (!o.titles.empty() && o.titles.size() != o.views.size())
+    fail("drawing: ", o.titles.size(), " titles for ", n, " views");
+  std::vector<Edges> edges;
+  if (o.edges)
+    for (const auto& it : items) edges.push_back(item_edges(it, o.crease_angle));
 
   const int cols = o.columns > 0 ? o.columns : int(std::ceil(std::sqrt(double(n))));
   const int rows = (n + cols - 1) / cols;
@@ -136,8 +248,9 @@ Image render_drawing(const std::vector<DrawItem>& items, const DrawingOptions& o
     const int cx = (v % cols) * cw, cy = (v / cols) * ch;
     RenderOptions ro = o.render;
     ro.width = rw, ro.height = rh;
-    ro.camera = fitted_view(o.views[v], bounds);
-    Image im = render_scene(items, ro);
+    ro.camera = camera(v);
+    std::vector<float> depth;
+    Image im = render_scene(items, ro, o.edges ? &depth : nullptr);
     for (int y = 0; y < rh; ++y)
       std::copy_n(&im.rgba[std::size_t(y) * rw * 4], std::size_t(rw) * 4,
                   &sheet.rgba[(std::size_t(cy + frame + band + y) * o.width + cx + frame) * 4]);
@@ -145,7 +258,11 @@ Image render_drawing(const std::vector<DrawItem>& items, const DrawingOptions& o
       for (int x = cx; x < cx + cw; ++x) put(sheet, x, cy, rule), put(sheet, x, cy + ch - 1, rule);
       for (int y = cy; y < cy + ch; ++y) put(sheet, cx, y, rule), put(sheet, cx + cw - 1, y, rule);
     }
-    if (o.labels) draw_text(sheet, cx + frame + 2 * scale, cy + frame + 2 * scale, o.views[v], ink, scale);
+    if (o.edges)
+      draw_edges(sheet, cx + frame, cy + frame + band, rw, rh, ro.antialias, depth, edges, ro.camera, bounds, o.hidden_dashed);
+    if (o.labels)
+      draw_text(sheet, cx + frame + 2 * scale, cy + frame + 2 * scale, o.titles.empty() ? view_title(o.views[v]) : o.titles[v],
+                ink, scale);
   }
   return sheet;
 }

@@ -5,6 +5,7 @@
 // number of contexts may render at once on different threads.
 #pragma once
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -255,10 +256,51 @@ struct Camera {
   Vec3 up{0, 0, 1};
   double fovy = 45, near = 0.1, far = 100;
   double left = -1, right = 1, bottom = -1, top = 1;  // orthographic box
-  bool fit = true;  // if true, near/far/ortho box are fitted to the scene's bounds
+  bool fit = true;  // if true, near and far are fitted to the scene's bounds
+  // An oblique parallel projection's shear in eye space (see oblique()); the projection matrix is
+  // Ortho * shear. Identity for every other camera.
+  Mat4 shear = Mat4::Identity();
+  // If true, the window (the ortho box, or the frustum's window, then possibly off-axis) is fitted
+  // around the scene's bounds as this camera sees them, plus `margin` times the larger extent on
+  // each side; left/right/bottom/top and fovy are then unused.
+  bool fit_window = false;
+  double margin = 0.06;
 };
-// A named view ("iso", "dimetric", "front", "top", "side", "oblique") looking at `bounds`.
+
+// The course's views (camera.cpp has the frames and formulas):
+//   multiview orthographic: "front" (along +Y, Z up), "top" (down -Z, Y up), "side" (along -X);
+//   axonometric: "iso" = "isometric", "dimetric" (X and Z whole, Y at half; rx= or ry= choose
+//     another), "trimetric" (rx=, ry=: the rotations of axonometric(), default 20 and -30);
+//   oblique: "cavalier" (ratio 1), "cabinet" (ratio 1/2), "oblique" (ratio=, default 1/2), the
+//     receding axis (world Y) drawn at angle= degrees (default 45) from the picture's x axis;
+//   perspective: "one_point", "two_point" (angle=: the view's azimuth, default 30), "three_point";
+//     distance= the eye's distance from the centre in bounding radii (default 3).
+// NaN means "not given". Options a view does not take are errors.
+struct ViewParams {
+  double rx = NAN, ry = NAN, angle = NAN, ratio = NAN, distance = NAN;
+};
+// A named view looking at `bounds`, its window fitted to them. Throws wedge::Error naming the
+// view and the bad option.
+Camera named_view(const std::string& name, const Box3& bounds, const ViewParams& params);
 Camera named_view(const std::string& name, const Box3& bounds);
+const std::vector<std::string>& view_names();
+// The axonometric rotation Rx(rx) * Ry(ry) (degrees) in the view frame (x right, y up, z towards
+// the viewer), to be followed by an orthographic projection along z.
+Mat4 axonometric(double rx, double ry);
+// The oblique parallel projection's shear in the view frame: the receding axis (-z, into the
+// picture) drawn at `angle` degrees from x with lengths times `ratio` (1 cavalier, 1/2 cabinet);
+// z is kept for depth. Follow it with an orthographic projection along z.
+Mat4 oblique(double angle, double ratio);
+
+// What render_scene loads for camera `c` drawing `bounds` into an image of aspect width/height:
+// the modelview (look_at) and projection matrices; also the eye space in which visibility sorting
+// is done (the view after any oblique shear, where projectors run along -z) and, for parallel
+// projections, the projectors' world direction.
+struct CameraMatrices {
+  Mat4 view, projection, sort_view;
+  Vec3 projector;
+};
+CameraMatrices camera_matrices(const Camera& c, const Box3& bounds, double aspect);
 
 // How hidden surfaces are removed: the z-buffer, or drawing back to front without a depth test
 // (painter's algorithm: triangles sorted by their farthest eye-space depth, the order then
@@ -299,17 +341,30 @@ struct DrawItem {
 // Renders the items; smooth normals are computed (area-weighted) only for meshes without them;
 // flat shading uses each triangle's geometric normal.
 Image render_scene(const std::vector<DrawItem>& items, const RenderOptions& options);
+// The same, also handing back the depth buffer (window z in 0..1, bottom row first, at the
+// supersampled size: width * antialias by height * antialias).
+Image render_scene(const std::vector<DrawItem>& items, const RenderOptions& options, std::vector<float>* depth);
 // A multi-view orthographic sheet (drawing{} in API.md): the named views on a grid of
 // `columns` (0: ceil(sqrt(views))) cells, each view's orthographic box fitted to the items'
 // bounds seen along it, with a one-pixel border and the view's name if asked. `render` gives
 // lights, shading, background and antialiasing; its size and camera are set per cell.
 struct DrawingOptions {
   std::vector<std::string> views{"front", "top", "side", "iso"};
+  std::vector<ViewParams> view_params;  // empty, or one per view
   int width = 800, height = 600;  // the whole sheet
   int columns = 0;
   bool border = true, labels = true;
+  // The items' edges as lines over the shaded faces: the edges between different source faces
+  // (face ids), or, without ids, where the faces meet at more than `crease_angle` degrees, plus
+  // boundary edges and each view's silhouette. Hidden edges are left out, or drawn dashed.
+  bool edges = true;
+  bool hidden_dashed = false;
+  double crease_angle = 30;
+  std::vector<std::string> titles;  // empty, or one per view (default: the view's title)
   RenderOptions render;
 };
+// The title a drawing gives a view: "FRONT", "ISOMETRIC", "CABINET", "ONE-POINT PERSPECTIVE", ...
+std::string view_title(const std::string& name);
 Image render_drawing(const std::vector<DrawItem>& items, const DrawingOptions& options);
 // Text in the built-in 5x7 bitmap font (6 x 7 pixels a character cell, times `scale`), top-left
 // corner at (x, y); characters outside A-Z, 0-9 and "-._:" are left blank. Pixels outside the

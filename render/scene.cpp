@@ -301,29 +301,6 @@ std::vector<WorldTri> depth_sort(const std::vector<WorldTri>& tris, const Mat4& 
 
 }  // namespace
 
-Camera named_view(const std::string& name, const Box3& bounds) {
-  Camera c;
-  Vec3 dir;
-  Vec3 up(0, 0, 1);
-  if (name == "iso") dir = Vec3(1, -1, 1);
-  else if (name == "dimetric") dir = Vec3(1, -2, 1.5);
-  else if (name == "front") dir = Vec3(0, -1, 0);
-  else if (name == "top") dir = Vec3(0, 0, 1), up = Vec3(0, 1, 0);
-  else if (name == "side") dir = Vec3(1, 0, 0);
-  else if (name == "oblique") dir = Vec3(0.5, -1, 0.5);
-  else fail("unknown view '", name, "' (expected iso, dimetric, front, top, side or oblique)");
-  Point3 center = bounds.empty() ? Point3::Zero() : Point3(bounds.center());
-  double r = bounds.empty() ? 1.0 : std::max(1e-9, 0.5 * bounds.diagonal());
-  c.orthographic = true;
-  c.center = center;
-  c.eye = center + dir.normalized() * (3 * r);
-  c.up = up;
-  c.left = -r * 1.1, c.right = r * 1.1, c.bottom = -r * 1.1, c.top = r * 1.1;
-  c.near = r * 0.5, c.far = r * 6;
-  c.fit = true;
-  return c;
-}
-
 Image downsample(const Image& im, int f) {
   if (f <= 1) return im;
   Image out;
@@ -340,7 +317,9 @@ Image downsample(const Image& im, int f) {
   return out;
 }
 
-Image render_scene(const std::vector<DrawItem>& items, const RenderOptions& o) {
+Image render_scene(const std::vector<DrawItem>& items, const RenderOptions& o) { return render_scene(items, o, nullptr); }
+
+Image render_scene(const std::vector<DrawItem>& items, const RenderOptions& o, std::vector<float>* depth) {
   if (o.width < 1 || o.height < 1 || o.width > 8192 || o.height > 8192)
     fail("render: size ", o.width, "x", o.height, " must be within 1..8192");
   if (o.antialias < 1 || o.antialias > 4) fail("render: antialias ", o.antialias, " must be 1, 2, 3 or 4");
@@ -356,34 +335,10 @@ Image render_scene(const std::vector<DrawItem>& items, const RenderOptions& o) {
       for (const auto& p : it.mesh->positions) bounds.extend(apply_point(it.transform, p));
 
   const Camera& c = o.camera;
-  const Mat4 view = look_at(c.eye, c.center, c.up);
-  double n = c.near, f = c.far;
-  if (c.fit && !bounds.empty()) {
-    // Near and far just around the scene, so the depth buffer's precision is spent on it.
-    double zmin = 1e300, zmax = -1e300;
-    for (int i = 0; i < 8; ++i) {
-      Point3 corner((i & 1) ? bounds.max.x() : bounds.min.x(), (i & 2) ? bounds.max.y() : bounds.min.y(),
-                    (i & 4) ? bounds.max.z() : bounds.min.z());
-      double z = -(view * corner.homogeneous()).z();
-      zmin = std::min(zmin, z), zmax = std::max(zmax, z);
-    }
-    double pad = 0.01 * (zmax - zmin) + 1e-6;
-    f = zmax + pad;
-    n = c.orthographic ? zmin - pad : std::max(zmin - pad, f * 1e-4);
-  }
+  const CameraMatrices cm = camera_matrices(c, bounds, double(W) / H);
+  const Mat4& view = cm.view;
   g.matrix_mode(MatrixMode::Projection);
-  g.load_identity();
-  const double aspect = double(W) / H;
-  if (c.orthographic) {
-    double l = c.left, r = c.right, b = c.bottom, t = c.top;
-    // Keep square pixels: widen the box to the image's aspect.
-    double cx = 0.5 * (l + r), hw = 0.5 * (r - l), hh = 0.5 * (t - b);
-    if (hw / hh < aspect) hw = hh * aspect;
-    else hh = hw / aspect;
-    g.ortho(cx - hw, cx + hw, 0.5 * (b + t) - hh, 0.5 * (b + t) + hh, n, f);
-  } else {
-    g.perspective(c.fovy, aspect, n, f);
-  }
+  g.load_matrix(cm.projection);
   g.matrix_mode(MatrixMode::ModelView);
   g.load_identity();
 
@@ -476,12 +431,11 @@ Image render_scene(const std::vector<DrawItem>& items, const RenderOptions& o) {
     }
   }
   if (o.visibility == Visibility::Painter) {
-    tris = depth_sort(tris, view, c.orthographic);
+    tris = depth_sort(tris, cm.sort_view, c.orthographic);
     g.disable(Cap::DepthTest);
   } else if (o.visibility == Visibility::Bsp) {
     BspTree bsp(tris);
-    const Vec3 dir = (c.center - c.eye).normalized();
-    tris = bsp.back_to_front(c.eye, c.orthographic ? &dir : nullptr);
+    tris = bsp.back_to_front(c.eye, c.orthographic ? &cm.projector : nullptr);
     g.disable(Cap::DepthTest);
   }
   int current = -1;
@@ -510,6 +464,7 @@ Image render_scene(const std::vector<DrawItem>& items, const RenderOptions& o) {
     }
   }
   g.end();
+  if (depth) *depth = g.depth_buffer();
   return downsample(g.image(), aa);
 }
 

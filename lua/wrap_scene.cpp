@@ -1,0 +1,497 @@
+// Lua bindings of scenes (API.md "Scenes"): group{}, g:add(), instance(), array{}, radial_array{},
+// g:copy(), g:bounds(), g:table(); a group exports and renders as the meshes of its leaves placed
+// by their world matrices (see wrap_scene.h for the model and the traversal).
+#include "lua/wrap_scene.h"
+
+#include <cmath>
+#include <functional>
+#include <sstream>
+#include <unordered_set>
+
+#include "lua/lua_util.h"
+#include "lua/wedge_lua.h"
+#include "lua/wrap_matrix.h"
+#include "lua/wrap_render.h"
+#include "lua/wrap_solid.h"
+
+namespace wedge::lua {
+
+namespace {
+
+constexpr const char* kKey = "wedge.Group";
+using NodePtr = std::shared_ptr<SceneNode>;
+
+constexpr std::size_t kMaxLeaves = 1000000;
+constexpr std::size_t kMaxDepth = 1000;
+
+NodePtr& self(lua_State* L) { return check_object<NodePtr>(L, 1, kKey, "Group"); }
+NodePtr* test_group(lua_State* L, int idx) { return test_object<NodePtr>(L, idx, kKey); }
+
+void push_group(lua_State* L, NodePtr node) { push_object(L, kKey, std::move(node)); }
+
+// A transform for a scene node: a finite, affine, invertible Matrix.
+Mat4 checked_transform(const Mat4& m, int arg, const std::string& what) {
+  if (!m.allFinite()) throw ArgError{arg, what + " must be finite"};
+  if (m(3, 0) != 0 || m(3, 1) != 0 || m(3, 2) != 0 || m(3, 3) != 1)
+    throw ArgError{arg, what + " must be affine (last row 0 0 0 1); a projection cannot place a part"};
+  const double det = m.block<3, 3>(0, 0).determinant();
+  if (!(std::abs(det) > 1e-300)) throw ArgError{arg, what + " is singular (it flattens the part)"};
+  return m;
+}
+
+// The value at idx as a child node: a group as itself (shared), anything drawable as a new leaf.
+NodePtr child_node(lua_State* L, int idx, int arg) {
+  idx = lua_absindex(L, idx);
+  if (NodePtr* g = test_group(L, idx)) return *g;
+  auto leaf = std::make_shared<SceneLeaf>();
+  if (const Solid* s = test_solid(L, idx)) {
+    if (s->empty()) throw ArgError{arg, "the empty solid cannot be part of a scene"};
+    leaf->solid = *s;
+    if (push_material(L, idx) == LUA_TTABLE) {
+      std::shared_ptr<const render::Texture> texture;
+      leaf->material = read_material(L, lua_gettop(L), arg, texture);
+      leaf->texture = texture;
+    }
+    lua_pop(L, 1);
+  } else if (lua_type(L, idx) == LUA_TNIL || lua_type(L, idx) == LUA_TNONE) {
+    throw ArgError{arg, "Group, Solid or surface expected, got nil"};
+  } else {
+    try {
+      leaf->mesh = to_mesh(L, idx, arg, current_tolerance(L));
+    } catch (const ArgError&) {
+      throw ArgError{arg, "Group, Solid or surface expected, got " + type_name(L, idx)};
+    }
+    if (leaf->mesh.empty()) throw ArgError{arg, "a scene part needs triangles; this " + type_name(L, idx) + " has none"};
+  }
+  auto node = std::make_shared<SceneNode>();
+  node->leaf = std::move(leaf);
+  return node;
+}
+
+// Whether `target` is `from` or lies under it.
+bool reaches(const SceneNode* from, const SceneNode* target) {
+  std::vector<const SceneNode*> todo{from};
+  std::unordered_set<const SceneNode*> seen;
+  while (!todo.empty()) {
+    const SceneNode* n = todo.back();
+    todo.pop_back();
+    if (n == target) return true;
+    if (!seen.insert(n).second) continue;
+    for (const auto& c : n->children) todo.push_back(c.get());
+  }
+  return false;
+}
+
+void add_child(SceneNode& parent, NodePtr child, int arg) {
+  if (reaches(child.get(), &parent)) throw ArgError{arg, "the group would contain itself (a scene must have no cycle)"};
+  parent.children.push_back(std::move(child));
+}
+
+// Reads transform=, name=, material= from the options into a node.
+void read_node_options(lua_State* L, Options& o, SceneNode& node) {
+  if (o.push("transform") != LUA_TNIL) {
+    const Mat4* m = test_matrix(L, -1);
+    if (!m) throw ArgError{o.arg(), "field 'transform' must be a Matrix (from matrix.*), got " + type_name(L, -1)};
+    node.transform = checked_transform(*m, o.arg(), "field 'transform'");
+  }
+  lua_pop(L, 1);
+  node.name = o.string("name", "");
+  if (o.push("material") != LUA_TNIL) {
+    std::shared_ptr<const render::Texture> texture;
+    node.material = read_material(L, lua_gettop(L), o.arg(), texture);
+    node.texture = texture;
+  }
+  lua_pop(L, 1);
+}
+
+// group() | group{child, ..., transform=, name=, material=}
+int group_fn(lua_State* L) {
+  return guarded(L, [&] {
+    auto node = std::make_shared<SceneNode>();
+    if (!lua_isnoneornil(L, 1)) {
+      Options o(L, 1);
+      o.allow_positional();
+      read_node_options(L, o, *node);
+      o.finish();
+      const lua_Integer n = static_cast<lua_Integer>(lua_rawlen(L, 1));
+      for (lua_Integer i = 1; i <= n; ++i) {
+        lua_rawgeti(L, 1, i);
+        if (lua_isnil(L, -1)) throw ArgError{1, "element " + std::to_string(i) + " is nil"};
+        add_child(*node, child_node(L, -1, 1), 1);
+        lua_pop(L, 1);
+      }
+    }
+    push_group(L, std::move(node));
+    return 1;
+  });
+}
+
+// g:add(x, ...): adds each as a child; returns g.
+int add_m(lua_State* L) {
+  return guarded(L, [&] {
+    NodePtr g = self(L);
+    const int n = lua_gettop(L);
+    if (n < 2) throw ArgError{2, "Group, Solid or surface expected, got no value"};
+    std::vector<NodePtr> children;
+    for (int i = 2; i <= n; ++i) children.push_back(child_node(L, i, i));
+    for (int i = 2; i <= n; ++i) add_child(*g, children[std::size_t(i - 2)], i);
+    lua_settop(L, 1);
+    return 1;
+  });
+}
+
+NodePtr deep_copy(const NodePtr& n, std::size_t depth = 0) {
+  if (depth > kMaxDepth) fail("copy: the scene is deeper than ", kMaxDepth, " levels");
+  auto c = std::make_shared<SceneNode>(*n);
+  for (auto& child : c->children) child = deep_copy(child, depth + 1);
+  return c;  // leaves (immutable geometry) are shared by the copy
+}
+
+// g:copy(): a new tree equal to g now; later changes to g or its parts do not reach it.
+int copy_m(lua_State* L) {
+  return guarded(L, [&] {
+    push_group(L, deep_copy(self(L)));
+    return 1;
+  });
+}
+
+// instance(x [, {transform=, name=, material=}]): a node that shares x (a Group: every change to it
+// shows in every instance) under a transform of its own.
+int instance_fn(lua_State* L) {
+  return guarded(L, [&] {
+    auto node = std::make_shared<SceneNode>();
+    NodePtr proto = child_node(L, 1, 1);
+    if (!lua_isnoneornil(L, 2)) {
+      Options o(L, 2);
+      read_node_options(L, o, *node);
+      o.finish();
+    }
+    node->children.push_back(std::move(proto));
+    push_group(L, std::move(node));
+    return 1;
+  });
+}
+
+int required_count(Options& o) {
+  if (!o.has("count")) throw ArgError{1, "field 'count' is missing (how many copies)"};
+  const int count = o.integer("count", 0);
+  if (count < 1 || count > 100000) throw ArgError{1, "field 'count' must be within 1..100000, got " + std::to_string(count)};
+  return count;
+}
+
+// array{x, count=, step={dx, dy, dz}, transform=, name=}: count instances of x, the k-th (from 0)
+// translated by k * step.
+int array_fn(lua_State* L) {
+  return guarded(L, [&] {
+    check_table(L, 1);
+    Options o(L, 1);
+    o.allow_positional();
+    if (lua_rawlen(L, 1) != 1) throw ArgError{1, "array{} takes one thing to repeat, then count= and step="};
+    const int count = required_count(o);
+    auto step = o.vec3("step");
+    if (!step) throw ArgError{1, "field 'step' is missing (the offset between copies, {dx, dy, dz})"};
+    auto node = std::make_shared<SceneNode>();
+    read_node_options(L, o, *node);
+    o.finish();
+    lua_rawgeti(L, 1, 1);
+    NodePtr proto = child_node(L, -1, 1);
+    lua_pop(L, 1);
+    for (int k = 0; k < count; ++k) {
+      auto inst = std::make_shared<SceneNode>();
+      inst->transform = translate(double(k) * *step);
+      inst->children.push_back(proto);
+      node->children.push_back(std::move(inst));
+    }
+    push_group(L, std::move(node));
+    return 1;
+  });
+}
+
+// radial_array{x, count=, radius=, axis={0,0,1}, center={0,0,0}, angle=360, transform=, name=}:
+// count instances of x, each moved `radius` out from the axis (towards the direction of x
+// perpendicular to the axis, or y if the axis is x) and turned about the axis through `center` by
+// k * angle / count (k * angle / (count - 1) when angle < 360, so that both ends are used).
+int radial_array_fn(lua_State* L) {
+  return guarded(L, [&] {
+    check_table(L, 1);
+    Options o(L, 1);
+    o.allow_positional();
+    if (lua_rawlen(L, 1) != 1) throw ArgError{1, "radial_array{} takes one thing to repeat, then count= and radius="};
+    const int count = required_count(o);
+    if (!o.has("radius")) throw ArgError{1, "field 'radius' is missing (the distance from the axis)"};
+    const double radius = o.number("radius", 0);
+    if (radius < 0) throw ArgError{1, "field 'radius' must not be negative, got " + number_text(radius)};
+    const Vec3 axis = o.vec3("axis", Vec3(0, 0, 1));
+    if (axis.norm() == 0) throw ArgError{1, "field 'axis' must be non-zero"};
+    const Vec3 center = o.vec3("center", Vec3::Zero());
+    const double angle = o.number("angle", 360);
+    if (!(angle > 0) || angle > 360) throw ArgError{1, "field 'angle' must be within 0..360 (above 0), got " + number_text(angle)};
+    auto node = std::make_shared<SceneNode>();
+    read_node_options(L, o, *node);
+    o.finish();
+    lua_rawgeti(L, 1, 1);
+    NodePtr proto = child_node(L, -1, 1);
+    lua_pop(L, 1);
+    const Vec3 a = axis.normalized();
+    Vec3 out = Vec3::UnitX() - a.x() * a;
+    if (out.norm() < 1e-9) out = Vec3::UnitY() - a.y() * a;
+    out.normalize();
+    const double step = angle >= 360 ? 360.0 / count : count > 1 ? angle / (count - 1) : 0;
+    for (int k = 0; k < count; ++k) {
+      auto inst = std::make_shared<SceneNode>();
+      inst->transform = rotate(k * step, a, Point3(center)) * translate(center + radius * out);
+      inst->children.push_back(proto);
+      node->children.push_back(std::move(inst));
+    }
+    push_group(L, std::move(node));
+    return 1;
+  });
+}
+
+// The merged mesh of every leaf in world coordinates (what export and to_mesh see).
+Mesh scene_mesh(const SceneNode& root, const Tolerance& tol) {
+  Mesh all;
+  std::vector<std::pair<const SceneLeaf*, Mesh>> cache;
+  for (const auto& occ : flatten(root)) {
+    const Mesh* m = nullptr;
+    for (const auto& [leaf, mesh] : cache)
+      if (leaf == occ.leaf) m = &mesh;
+    if (!m) {
+      cache.emplace_back(occ.leaf, leaf_mesh(*occ.leaf, tol, false));
+      m = &cache.back().second;
+    }
+    all.append(m->transformed(occ.world));
+  }
+  return all;
+}
+
+std::optional<Mesh> scene_to_mesh(lua_State* L, int idx, const Tolerance& tol) {
+  if (const SceneNode* n = test_scene(L, idx)) return scene_mesh(*n, tol);
+  return std::nullopt;
+}
+
+// g:bounds(): {min=, max=} of the leaves' meshes in world coordinates.
+int bounds_m(lua_State* L) {
+  return guarded(L, [&] {
+    const Box3 b = scene_mesh(*self(L), current_tolerance(L)).bounds();
+    lua_createtable(L, 0, 2);
+    push_vec3(L, b.min);
+    lua_setfield(L, -2, "min");
+    push_vec3(L, b.max);
+    lua_setfield(L, -2, "max");
+    return 1;
+  });
+}
+
+// The world matrix as translation * rotation * scale: scale from the column lengths (one made
+// negative for a mirror), rotation as the angles of matrix.euler (Rz * Ry * Rx), and whether the
+// matrix holds a shear that the three do not show.
+struct Decomposed {
+  Vec3 translation, scale, rotation;
+  bool shear;
+};
+Decomposed decompose(const Mat4& m) {
+  Decomposed d;
+  d.translation = m.block<3, 1>(0, 3);
+  Mat3 a = m.block<3, 3>(0, 0);
+  d.scale = Vec3(a.col(0).norm(), a.col(1).norm(), a.col(2).norm());
+  if (a.determinant() < 0) d.scale.x() = -d.scale.x();
+  Mat3 r = a;
+  for (int k = 0; k < 3; ++k) r.col(k) /= d.scale[k];
+  d.shear = (r.transpose() * r - Mat3::Identity()).cwiseAbs().maxCoeff() > 1e-9;
+  constexpr double deg = 180.0 / 3.14159265358979323846;
+  const double sy = std::clamp(-r(2, 0), -1.0, 1.0);
+  if (std::abs(sy) < 1 - 1e-12) {
+    d.rotation = Vec3(std::atan2(r(2, 1), r(2, 2)), std::asin(sy), std::atan2(r(1, 0), r(0, 0))) * deg;
+  } else {  // gimbal lock: y = +-90; put the whole turn in x
+    d.rotation = Vec3(std::atan2(-r(1, 2), r(1, 1)), std::asin(sy), 0) * deg;
+  }
+  for (int k = 0; k < 3; ++k)
+    if (std::abs(d.rotation[k]) < 1e-12) d.rotation[k] = 0;
+  return d;
+}
+
+// g:table(): the instance table, one row per leaf in traversal order:
+// {symbol=, path=, translation={x,y,z}, rotation={x,y,z} (degrees, matrix.euler's order),
+//  scale={sx,sy,sz}, shear=false, matrix=M_world}
+int table_m(lua_State* L) {
+  return guarded(L, [&] {
+    const auto occs = flatten(*self(L));
+    lua_createtable(L, int(occs.size()), 0);
+    for (std::size_t i = 0; i < occs.size(); ++i) {
+      const Decomposed d = decompose(occs[i].world);
+      lua_createtable(L, 0, 7);
+      lua_pushstring(L, occs[i].symbol.c_str());
+      lua_setfield(L, -2, "symbol");
+      lua_pushstring(L, occs[i].path.c_str());
+      lua_setfield(L, -2, "path");
+      push_vec3(L, d.translation);
+      lua_setfield(L, -2, "translation");
+      push_vec3(L, d.rotation);
+      lua_setfield(L, -2, "rotation");
+      push_vec3(L, d.scale);
+      lua_setfield(L, -2, "scale");
+      lua_pushboolean(L, d.shear);
+      lua_setfield(L, -2, "shear");
+      push_matrix_value(L, occs[i].world);
+      lua_setfield(L, -2, "matrix");
+      lua_rawseti(L, -2, lua_Integer(i + 1));
+    }
+    return 1;
+  });
+}
+
+const luaL_Reg kMethods[] = {{"add", add_m},       {"copy", copy_m}, {"bounds", bounds_m},
+                             {"table", table_m},   {nullptr, nullptr}};
+
+// g.transform, g.name (read and write), g.children (a list of the child groups; leaves appear as
+// nil-free placeholders: their geometry is not a Lua value any more), #g, and the methods.
+int index_m(lua_State* L) {
+  return guarded(L, [&] {
+    NodePtr& g = self(L);
+    const std::string key = lua_type(L, 2) == LUA_TSTRING ? lua_tostring(L, 2) : "";
+    if (key == "transform") {
+      push_matrix_value(L, g->transform);
+      return 1;
+    }
+    if (key == "name") {
+      lua_pushstring(L, g->name.c_str());
+      return 1;
+    }
+    for (const luaL_Reg* m = kMethods; m->name; ++m)
+      if (key == m->name) {
+        lua_pushcfunction(L, m->func);
+        return 1;
+      }
+    throw Error("Group has no field or method '" + (key.empty() ? describe(L, 2) : key) +
+                "' (it has transform, name, add, copy, bounds, table)");
+  });
+}
+
+int newindex_m(lua_State* L) {
+  return guarded(L, [&] {
+    NodePtr& g = self(L);
+    const std::string key = lua_type(L, 2) == LUA_TSTRING ? lua_tostring(L, 2) : "";
+    if (key == "transform") {
+      const Mat4* m = test_matrix(L, 3);
+      if (!m) throw Error("Group transform must be a Matrix (from matrix.*), got " + type_name(L, 3));
+      try {
+        g->transform = checked_transform(*m, 3, "Group transform");
+      } catch (const ArgError& e) {
+        throw Error(e.message);
+      }
+    } else if (key == "name") {
+      if (lua_type(L, 3) != LUA_TSTRING) throw Error("Group name must be a string, got " + type_name(L, 3));
+      g->name = lua_tostring(L, 3);
+    } else {
+      throw Error("Group has no field '" + (key.empty() ? describe(L, 2) : key) + "' to set (transform, name)");
+    }
+    return 0;
+  });
+}
+
+int len_m(lua_State* L) {
+  return guarded(L, [&] {
+    lua_pushinteger(L, lua_Integer(self(L)->children.size()));
+    return 1;
+  });
+}
+
+int tostring_m(lua_State* L) {
+  return guarded(L, [&] {
+    const NodePtr& g = self(L);
+    std::ostringstream out;
+    out << "Group(" << (g->name.empty() ? "" : "'" + g->name + "', ") << g->children.size()
+        << (g->children.size() == 1 ? " child)" : " children)");
+    const std::string s = out.str();
+    lua_pushlstring(L, s.data(), s.size());
+    return 1;
+  });
+}
+
+const luaL_Reg kMeta[] = {{"__index", index_m},
+                          {"__newindex", newindex_m},
+                          {"__len", len_m},
+                          {"__tostring", tostring_m},
+                          {nullptr, nullptr}};
+
+const luaL_Reg kFunctions[] = {{"group", group_fn},
+                               {"instance", instance_fn},
+                               {"array", array_fn},
+                               {"radial_array", radial_array_fn},
+                               {nullptr, nullptr}};
+
+}  // namespace
+
+const SceneNode* test_scene(lua_State* L, int idx) {
+  NodePtr* g = test_group(L, idx);
+  return g ? g->get() : nullptr;
+}
+
+std::vector<SceneOccurrence> flatten(const SceneNode& root) {
+  std::vector<SceneOccurrence> out;
+  // The traversal's stacks, one entry per node on the way down: the node and the next child to
+  // visit, its world matrix (the matrix stack), its material and its path.
+  struct Frame {
+    const SceneNode* node;
+    std::size_t next;
+    Mat4 world;
+    const render::Material* material;
+    std::shared_ptr<const render::Texture> texture;
+    std::string path, symbol;
+  };
+  auto enter = [](const SceneNode& n, const Frame* parent) {
+    Frame f{&n, 0, n.transform, nullptr, nullptr, "", ""};
+    if (parent) f.world = parent->world * n.transform;  // M_world = M_parent * M_local
+    f.material = n.material ? &*n.material : parent ? parent->material : nullptr;
+    f.texture = n.material ? n.texture : parent ? parent->texture : nullptr;
+    const std::string parent_path = parent ? parent->path : "";
+    f.path = n.name.empty() ? parent_path : parent_path.empty() ? n.name : parent_path + "/" + n.name;
+    f.symbol = n.name.empty() ? (parent ? parent->symbol : "") : n.name;
+    return f;
+  };
+  std::vector<Frame> stack;
+  stack.push_back(enter(root, nullptr));
+  while (!stack.empty()) {
+    Frame& top = stack.back();
+    if (const SceneLeaf* leaf = top.node->leaf.get()) {
+      SceneOccurrence o;
+      o.leaf = leaf;
+      o.world = top.world;
+      o.path = top.path;
+      o.symbol = !top.symbol.empty() ? top.symbol : leaf->solid ? "solid" : "mesh";
+      if (leaf->material) o.material = *leaf->material, o.texture = leaf->texture;
+      else if (top.material) o.material = *top.material, o.texture = top.texture;
+      out.push_back(std::move(o));
+      if (out.size() > kMaxLeaves) fail("the scene has more than ", kMaxLeaves, " parts");
+      stack.pop_back();
+      continue;
+    }
+    if (top.next == top.node->children.size()) {
+      stack.pop_back();  // leaving the node: pop its matrix
+      continue;
+    }
+    const SceneNode& child = *top.node->children[top.next++];
+    if (stack.size() >= kMaxDepth) fail("the scene is deeper than ", kMaxDepth, " levels");
+    Frame f = enter(child, &stack.back());
+    stack.push_back(std::move(f));
+  }
+  if (out.empty()) fail("the scene is empty: add a solid to a group first");
+  return out;
+}
+
+Mesh leaf_mesh(const SceneLeaf& leaf, const Tolerance& tol, bool for_render) {
+  if (!leaf.solid) return leaf.mesh;
+  Mesh m = leaf.solid->mesh(tol);
+  return for_render ? m.with_face_normals() : m;
+}
+
+void register_scene(lua_State* L) {
+  // Methods are reached through __index (which also answers g.transform), so the class table of
+  // methods stays empty; they are named "Group:add" etc. for errors all the same.
+  register_class(L, kKey, "Group", kMethods, kMeta, gc_object<NodePtr>);
+  set_functions(L, kFunctions);
+  add_mesh_converter(L, scene_to_mesh);
+}
+
+}  // namespace wedge::lua

@@ -1,0 +1,254 @@
+// Scenes from Lua: inheritance of transforms (M_world = M_parent * M_local), instances sharing
+// their prototype versus copies, arrays, the instance table, export and render of a scene; and
+// the bad calls of the new functions (scenes, views, projection matrices), each checked for its
+// message and its line.
+#include <catch2/catch.hpp>
+
+#include <filesystem>
+#include <sstream>
+
+#include "lua/wedge_lua.h"
+#include "render/render.h"
+
+using namespace wedge;
+
+namespace {
+struct Run {
+  int status;
+  std::string err;
+};
+Run run(const std::string& code, const std::string& chunk = "@scene.lua") {
+  std::ostringstream err;
+  int status = lua::run_string(code, chunk, err);
+  return {status, err.str()};
+}
+const std::string kOut = std::string(WEDGE_BINARY_DIR) + "/scene-test";
+// Lua helpers the scripts share.
+const char* kHelpers = R"LUA(
+local function near(a, b, tol) return math.abs(a - b) <= (tol or 1e-9) end
+local function vnear(v, w, tol)
+  for i = 1, 3 do if not near(v[i], w[i], tol) then return false end end
+  return true
+end
+local function vstr(v) return "{" .. v[1] .. ", " .. v[2] .. ", " .. v[3] .. "}" end
+)LUA";
+}  // namespace
+
+TEST_CASE("children inherit their parent's transform: M_world = M_parent * M_local", "[lua][scene]") {
+  auto r = run(std::string(kHelpers) + R"LUA(
+    local root = group{transform = matrix.translate(10, 0, 0)}
+    local arm = group{transform = matrix.rotate(90, "z"), name = "arm"}
+    root:add(arm)
+    arm:add(box(1, 1, 1))
+    -- the unit box turned a quarter about z (x in [-1, 0], y in [0, 1]), then moved 10 along x;
+    -- the other order (translate first) would put it at y in [10, 11]
+    local b = root:bounds()
+    assert(vnear(b.min, {9, 0, 0}) and vnear(b.max, {10, 1, 1}), vstr(b.min) .. " " .. vstr(b.max))
+    -- a grandchild: the whole stack applies
+    local hand = group{transform = matrix.translate(0, 3, 0)}
+    arm:add(hand)
+    hand:add(box(1, 1, 1))
+    local t = root:table()
+    assert(#t == 2)
+    -- hand's box: translate(0,3,0) first, then the arm's quarter turn sends +y to -x
+    assert(vnear(t[2].translation, {10 - 3, 0, 0}), vstr(t[2].translation))
+    assert(vnear(t[2].rotation, {0, 0, 90}) and vnear(t[2].scale, {1, 1, 1}))
+    assert(t[1].symbol == "arm" and t[1].path == "arm")
+    -- changing a transform later changes the world matrices (the scene is walked when used)
+    arm.transform = matrix.identity()
+    b = root:bounds()
+    assert(vnear(b.min, {10, 0, 0}) and vnear(b.max, {11, 4, 1}), vstr(b.min) .. " " .. vstr(b.max))
+    assert(arm.name == "arm" and #arm == 2 and tostring(arm):find("Group%('arm', 2 children%)"))
+  )LUA");
+  INFO(r.err);
+  CHECK(r.status == 0);
+}
+
+TEST_CASE("an instance shares its prototype; a copy does not", "[lua][scene]") {
+  auto r = run(std::string(kHelpers) + R"LUA(
+    local wheel = group{name = "wheel"}
+    wheel:add(box(1, 1, 1))
+    local a = instance(wheel, {transform = matrix.translate(5, 0, 0)})
+    local b = instance(wheel, {transform = matrix.translate(0, 5, 0)})
+    local c = wheel:copy()
+    local root = group{a, b, c}
+    assert(#root:table() == 3)
+    -- change the prototype: both instances change, the copy does not
+    wheel:add(box(1, 1, 1):translate(0, 0, 2))
+    local t = root:table()
+    assert(#t == 5, #t)
+    wheel.transform = matrix.scale(2)
+    local ba, bc = a:bounds(), c:bounds()
+    assert(vnear(ba.min, {5, 0, 0}) and vnear(ba.max, {7, 2, 6}), vstr(ba.max))
+    assert(vnear(bc.min, {0, 0, 0}) and vnear(bc.max, {1, 1, 1}), vstr(bc.max))
+    -- the instance table names the symbol and shows the instance transform
+    t = root:table()
+    assert(t[1].symbol == "wheel" and vnear(t[1].translation, {5, 0, 0}) and vnear(t[1].scale, {2, 2, 2}))
+    assert(t[3].symbol == "wheel" and vnear(t[3].translation, {0, 5, 0}))
+    -- an instance of a solid, named
+    local s = instance(box(1, 2, 3), {name = "brick", transform = matrix.rotate(90, "x")})
+    local st = s:table()
+    assert(#st == 1 and st[1].symbol == "brick" and vnear(st[1].rotation, {90, 0, 0}))
+    -- a mirror shows as a negative scale
+    local m = instance(box(1, 1, 1), {transform = matrix.mirror({1, 0, 0})}):table()[1]
+    assert(vnear(m.scale, {-1, 1, 1}) and not m.shear)
+  )LUA");
+  INFO(r.err);
+  CHECK(r.status == 0);
+}
+
+TEST_CASE("array and radial_array place instances by step and by angle", "[lua][scene]") {
+  auto r = run(std::string(kHelpers) + R"LUA(
+    local row = array{box(1, 1, 1), count = 5, step = {2, 0, 0}}
+    local t = row:table()
+    assert(#t == 5)
+    for k = 1, 5 do assert(vnear(t[k].translation, {2 * (k - 1), 0, 0})) end
+    local b = row:bounds()
+    assert(vnear(b.min, {0, 0, 0}) and vnear(b.max, {9, 1, 1}))
+    local ring = radial_array{box(1, 1, 1), count = 4, radius = 5}
+    t = ring:table()
+    local want = {{5, 0, 0, 0}, {0, 5, 0, 90}, {-5, 0, 0, 180}, {0, -5, 0, -90}}
+    for k = 1, 4 do
+      assert(vnear(t[k].translation, {want[k][1], want[k][2], want[k][3]}, 1e-9), k .. ": " .. vstr(t[k].translation))
+      assert(near(t[k].rotation[3], want[k][4], 1e-9), k .. ": " .. t[k].rotation[3])
+    end
+    -- a partial sweep spreads count instances over the angle, both ends used
+    local fan = radial_array{box(1, 1, 1), count = 3, radius = 2, angle = 90, axis = {0, 0, 1}}:table()
+    assert(vnear(fan[1].translation, {2, 0, 0}) and vnear(fan[3].translation, {0, 2, 0}))
+    assert(near(fan[2].rotation[3], 45))
+    -- about another axis, through a centre
+    local tilt = radial_array{box(1, 1, 1), count = 2, radius = 1, axis = {1, 0, 0}, center = {0, 0, 10}}:table()
+    assert(vnear(tilt[1].translation, {0, 1, 10}) and vnear(tilt[2].translation, {0, -1, 10}), vstr(tilt[2].translation))
+    -- arrays nest: a 3 x 2 grid
+    local grid = array{array{box(1, 1, 1), count = 3, step = {2, 0, 0}}, count = 2, step = {0, 2, 0}}
+    assert(#grid:table() == 6)
+  )LUA");
+  INFO(r.err);
+  CHECK(r.status == 0);
+}
+
+TEST_CASE("a scene exports as one mesh or one file per part, and renders with its materials", "[lua][scene]") {
+  std::filesystem::create_directories(kOut);
+  auto r = run(std::string(kHelpers) + "local out = '" + kOut + "'\n" + R"LUA(
+    local row = array{box(1, 1, 1), count = 5, step = {2, 0, 0}}
+    export(row, out .. "/row.stl")
+    local back = import(out .. "/row.stl")
+    assert(near(back:volume(), 5, 1e-9), back:volume())
+    local b = back:bounds()
+    assert(vnear(b.min, {0, 0, 0}) and vnear(b.max, {9, 1, 1}))
+    local files = export(group{name = "parts", row}, out .. "/part.stl", {split = true})
+    assert(#files == 5 and files[2] == out .. "/part-2-parts.stl", files[2])
+    local second = import(files[2])
+    assert(near(second:volume(), 1, 1e-9) and vnear(second:bounds().min, {2, 0, 0}))
+    -- render: a red and a blue box, side by side
+    local scene = group{box(1, 1, 1):material{diffuse = {1, 0, 0}, ambient = {1, 0, 0}},
+                        instance(box(1, 1, 1):material{diffuse = {0, 0, 1}, ambient = {0, 0, 1}},
+                                 {transform = matrix.translate(2, 0, 0)})}
+    render{scene, out = out .. "/scene.png", size = {120, 80}, view = "front"}
+    -- a group's material reaches the parts that have none
+    render{group{box(1, 1, 1), material = {diffuse = {0, 1, 0}, ambient = {0, 1, 0}}}, out = out .. "/green.png", size = {40, 40}, view = "front"}
+    drawing{scene, out = out .. "/scene-sheet.png", size = {200, 200}}
+  )LUA");
+  INFO(r.err);
+  REQUIRE(r.status == 0);
+  render::Image im = render::read_png(kOut + "/scene.png");
+  int red = 0, blue = 0;
+  long red_x = 0, blue_x = 0;
+  for (int y = 0; y < im.height; ++y)
+    for (int x = 0; x < im.width; ++x) {
+      auto p = im.pixel(x, y);
+      if (p[0] > 100 && p[1] < 40 && p[2] < 40) ++red, red_x += x;
+      if (p[2] > 100 && p[0] < 40 && p[1] < 40) ++blue, blue_x += x;
+    }
+  CHECK(red > 300);
+  CHECK(blue > 300);
+  CHECK(red_x / std::max(red, 1) < blue_x / std::max(blue, 1));  // red at x = 0..1, blue at 2..3
+  render::Image g = render::read_png(kOut + "/green.png");
+  auto mid = g.pixel(20, 20);
+  CHECK(int(mid[1]) > 100);
+  CHECK(int(mid[0]) < 40);
+}
+
+TEST_CASE("bad calls of the new functions name the function, the problem and the line", "[lua][scene][errors]") {
+  struct Bad {
+    const char* call;
+    const char* message;
+  } bad[] = {
+      // scenes
+      {"group(5)", "bad argument #1 to 'group' (table of options expected, got number)"},
+      {"group{transform = 5}", "field 'transform' must be a Matrix"},
+      {"group{transform = matrix.scale(0, 1, 1)}", "field 'transform' is singular"},
+      {"group{transform = matrix.perspective(45, 1, 1, 10)}", "must be affine"},
+      {"group{transform = matrix.translate(1, 0, 0), colour = {1, 0, 0}}", "unknown field 'colour'"},
+      {"group{name = 3}", "field 'name' must be a string"},
+      {"group{box(1, 1, 1), 'x'}", "bad argument #1 to 'group' (Group, Solid or surface expected, got string)"},
+      {"group{material = {diffuse = 'red'}}", "field 'material.diffuse' must be a colour"},
+      {"group():add()", "bad argument #1 to 'add' (Group, Solid or surface expected, got no value)"},
+      {"group():add(42)", "bad argument #1 to 'add' (Group, Solid or surface expected, got number)"},
+      {"group():add(nil)", "Group, Solid or surface expected, got nil"},
+      {"local g = group() g:add(g)", "the group would contain itself"},
+      {"local a, b = group(), group() a:add(b) b:add(a)", "the group would contain itself"},
+      {"group():bounds()", "the scene is empty"},
+      {"group():table()", "the scene is empty"},
+      {"render{group(), out = 'x.png'}", "the scene is empty"},
+      {"export(group{group()}, 'x.stl')", "the scene is empty"},
+      {"group().colour = 1", "Group has no field 'colour' to set"},
+      {"local x = group().size", "Group has no field or method 'size'"},
+      {"group().transform = 'up'", "Group transform must be a Matrix"},
+      {"group().name = {}", "Group name must be a string"},
+      {"instance()", "bad argument #1 to 'instance' (Group, Solid or surface expected, got nil)"},
+      {"instance(box(1, 1, 1), {transform = 'x'})", "field 'transform' must be a Matrix"},
+      {"instance(box(1, 1, 1), {scale = 2})", "unknown field 'scale'"},
+      {"array{box(1, 1, 1), step = {1, 0, 0}}", "field 'count' is missing"},
+      {"array{box(1, 1, 1), count = 0, step = {1, 0, 0}}", "field 'count' must be within 1..100000, got 0"},
+      {"array{box(1, 1, 1), count = -3, step = {1, 0, 0}}", "field 'count' must be within 1..100000, got -3"},
+      {"array{box(1, 1, 1), count = 2.5, step = {1, 0, 0}}", "field 'count' must be an integer, got 2.5"},
+      {"array{box(1, 1, 1), count = 0/0, step = {1, 0, 0}}", "field 'count' must be finite"},
+      {"array{box(1, 1, 1), count = 3}", "field 'step' is missing"},
+      {"array{box(1, 1, 1), count = 3, step = {1, 0}}", "field 'step' must have 3 coordinates"},
+      {"array{box(1, 1, 1), count = 3, step = {1, 0, 0/0}}", "field 'step' coordinate 3 must be finite"},
+      {"array{count = 3, step = {1, 0, 0}}", "array{} takes one thing to repeat"},
+      {"array{box(1, 1, 1), box(1, 1, 1), count = 3, step = {1, 0, 0}}", "array{} takes one thing to repeat"},
+      {"array{box(1, 1, 1), count = 3, step = {1, 0, 0}, spacing = 2}", "unknown field 'spacing'"},
+      {"radial_array{box(1, 1, 1), radius = 5}", "field 'count' is missing"},
+      {"radial_array{box(1, 1, 1), count = 4}", "field 'radius' is missing"},
+      {"radial_array{box(1, 1, 1), count = 4, radius = -1}", "field 'radius' must not be negative, got -1"},
+      {"radial_array{box(1, 1, 1), count = 4, radius = 1, axis = {0, 0, 0}}", "field 'axis' must be non-zero"},
+      {"radial_array{box(1, 1, 1), count = 4, radius = 1, angle = 0}", "field 'angle' must be within 0..360"},
+      {"radial_array{box(1, 1, 1), count = 4, radius = 1, angle = 400}", "field 'angle' must be within 0..360"},
+      {"export(box(1, 1, 1), 'x.stl', {split = true})", "field 'split' needs a scene group to split, got Solid"},
+      // views and projections
+      {"render{box(1, 1, 1), out = 'x.png', view = 'perspective'}", "unknown view 'perspective'"},
+      {"render{box(1, 1, 1), out = 'x.png', view = 3}", "field 'view' must be a view name or {name, options...}, got number"},
+      {"render{box(1, 1, 1), out = 'x.png', view = {'iso', angle = 30}}", "view 'iso' takes no angle"},
+      {"render{box(1, 1, 1), out = 'x.png', view = {'trimetric', rx = 95}}", "rx must be within -89..89"},
+      {"render{box(1, 1, 1), out = 'x.png', view = {'oblique', ratio = 0}}", "ratio"},
+      {"render{box(1, 1, 1), out = 'x.png', view = {'cabinet', angel = 30}}", "unknown field 'view.angel'"},
+      {"render{box(1, 1, 1), out = 'x.png', view = {angle = 30}}", "field 'view' needs a view name"},
+      {"render{box(1, 1, 1), out = 'x.png', view = {'cabinet', name = 'iso'}}", "names its view twice"},
+      {"render{box(1, 1, 1), out = 'x.png', view = {'one_point', distance = 1}}", "distance must be within"},
+      {"render{box(1, 1, 1), out = 'x.png', view = 'front', camera = 'top'}", "give either camera={...} or view=, not both"},
+      {"render{box(1, 1, 1), out = 'x.png', camera = {fovy = 'wide'}}", "field 'camera.fovy' must be a number"},
+      {"render{box(1, 1, 1), out = 'x.png', camera = {projection = 'fisheye'}}", "field 'camera.projection' must be"},
+      {"drawing{box(1, 1, 1), out = 'x.png', views = {'front', 7}}", "field 'views[2]' must be a view name"},
+      {"drawing{box(1, 1, 1), out = 'x.png', views = {'front', {'cabinet', angle = 0/0}}}", "field 'views[2].angle' must be finite"},
+      {"matrix.oblique{angle = 45, ratio = 0}", "bad argument #1 to 'oblique' (ratio must be positive, got 0)"},
+      {"matrix.oblique{angle = 45, ratio = -1}", "ratio must be positive, got -1"},
+      {"matrix.oblique{angle = 0/0}", "field 'angle' must be finite"},
+      {"matrix.oblique{angel = 45}", "unknown field 'angel'"},
+      {"matrix.oblique('cabinet')", "table {angle=, ratio=} or numbers expected, got string"},
+      {"matrix.axonometric{rx = 'iso'}", "field 'rx' must be a number, got string"},
+      {"matrix.axonometric{rx = 30, rz = 10}", "unknown field 'rz'"},
+      {"matrix.axonometric(1/0, 0)", "bad argument #1 to 'axonometric' (finite number expected, got inf)"},
+  };
+  int n = 0;
+  for (const auto& b : bad) {
+    auto r = run(std::string("local a = 1\n\n") + b.call + "\n", "@bad.lua");
+    INFO(b.call << "\n  -> " << r.err);
+    CHECK(r.status == 1);
+    CHECK_THAT(r.err, Catch::StartsWith("bad.lua:3: "));
+    CHECK_THAT(r.err, Catch::Contains(b.message));
+    ++n;
+  }
+  CHECK(n >= 60);
+}
