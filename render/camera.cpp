@@ -169,7 +169,15 @@ Camera named_view(const std::string& name, const Box3& bounds, const ViewParams&
 
 Camera named_view(const std::string& name, const Box3& bounds) { return named_view(name, bounds, ViewParams{}); }
 
-CameraMatrices camera_matrices(const Camera& c, const Box3& bounds, double aspect) {
+std::vector<Point3> world_points(const std::vector<DrawItem>& items) {
+  std::vector<Point3> out;
+  for (const auto& it : items)
+    if (it.mesh)
+      for (const auto& p : it.mesh->positions) out.push_back(apply_point(it.transform, p));
+  return out;
+}
+
+CameraMatrices camera_matrices(const Camera& c, const Box3& bounds, double aspect, const std::vector<Point3>& points) {
   if (!(aspect > 0) || !std::isfinite(aspect)) fail("camera: aspect ", aspect, " must be positive");
   CameraMatrices m;
   m.view = look_at(c.eye, c.center, c.up);
@@ -193,15 +201,19 @@ CameraMatrices camera_matrices(const Camera& c, const Box3& bounds, double aspec
   if (c.fit_window && !bounds.empty()) {
     double x0 = 1e300, x1 = -1e300, y0 = 1e300, y1 = -1e300;
     bool ok = true;
-    for (int i = 0; i < 8; ++i) {
-      const Vec4 e = sheared * corner(bounds, i).homogeneous();
+    auto extend = [&](const Point3& p) {
+      const Vec4 e = sheared * p.homogeneous();
       double x = e.x(), y = e.y();
       if (!c.orthographic) {
         if (!(-e.z() > 1e-12)) ok = false;
         x /= -e.z(), y /= -e.z();
       }
       x0 = std::min(x0, x), x1 = std::max(x1, x), y0 = std::min(y0, y), y1 = std::max(y1, y);
-    }
+    };
+    if (points.empty())
+      for (int i = 0; i < 8; ++i) extend(corner(bounds, i));
+    else
+      for (const Point3& p : points) extend(p);
     if (ok) {
       const double scale = std::max(x1 - x0, y1 - y0);
       const double margin = std::max(c.margin * scale, std::max(1e-9, 1e-6 * (c.orthographic ? bounds.diagonal() : 1.0)));

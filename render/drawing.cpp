@@ -113,19 +113,34 @@ Edges item_edges(const DrawItem& it, double crease_deg) {
 }
 
 // Draws the edges of one view over its cell. `depth` is the view's depth buffer (bottom row first,
-// (rw * aa) x (rh * aa)); an edge point is visible where it is no deeper than the nearest surface
-// around its pixel, give or take a little (its own faces are at its depth).
+// (rw * aa) x (rh * aa)); an edge point is visible where no surface lies clearly in front of it.
 void draw_edges(Image& sheet, int ox, int oy, int rw, int rh, int aa, const std::vector<float>& depth,
-                const std::vector<Edges>& edges, const Camera& camera, const Box3& bounds, bool dashed) {
-  const CameraMatrices cm = camera_matrices(camera, bounds, double(rw) / rh);
+                const std::vector<Edges>& edges, const Camera& camera, const Box3& bounds,
+                const std::vector<Point3>& points, bool dashed) {
+  const CameraMatrices cm = camera_matrices(camera, bounds, double(rw) / rh, points);
   const Mat4 pv = cm.projection * cm.view;
   const int W = rw * aa, H = rh * aa;
-  // The farthest depth within a pixel's 3x3 neighbourhood (of final pixels).
-  auto far_depth = [&](int px, int py) {
+  // The farthest depth within a final pixel (its aa x aa samples); 1 where nothing was drawn.
+  auto block_depth = [&](int px, int py) {
     float z = 0;
-    for (int y = std::max(0, (py - 1) * aa); y < std::min(H, (py + 2) * aa); ++y)
-      for (int x = std::max(0, (px - 1) * aa); x < std::min(W, (px + 2) * aa); ++x) z = std::max(z, depth[std::size_t(y) * W + x]);
+    for (int y = py * aa; y < (py + 1) * aa; ++y)
+      for (int x = px * aa; x < (px + 1) * aa; ++x) z = std::max(z, depth[std::size_t(y) * W + x]);
     return z;
+  };
+  // A point of an edge at window depth z over pixel (px, py) is visible unless the surface drawn
+  // there is nearer by more than the surface's own change of depth to a neighbouring pixel (an
+  // edge lies on its faces, whose depth varies across the pixel), plus a little.
+  auto visible_at = [&](int px, int py, double z) {
+    const float zc = block_depth(px, py);
+    if (zc >= 1.0f) return true;  // nothing drawn under the line
+    float slope = 0;
+    const int nx[4] = {px - 1, px + 1, px, px}, ny[4] = {py, py, py - 1, py + 1};
+    for (int k = 0; k < 4; ++k) {
+      if (nx[k] < 0 || ny[k] < 0 || nx[k] >= W / aa || ny[k] >= H / aa) continue;
+      const float zn = block_depth(nx[k], ny[k]);
+      if (zn < 1.0f) slope = std::max(slope, std::abs(zn - zc));
+    }
+    return z <= zc + slope + 2e-3;
   };
   const std::array<std::uint8_t, 4> visible_ink{20, 20, 20, 255}, hidden_ink{150, 150, 150, 255};
   struct Segment {
@@ -159,7 +174,7 @@ void draw_edges(Image& sheet, int ox, int oy, int rw, int rh, int aa, const std:
         const Vec3 q = s.a + t * (s.b - s.a);
         const int px = int(std::floor(q.x())), py = int(std::floor(q.y()));
         if (px < 0 || py < 0 || px >= rw || py >= rh) continue;
-        const bool visible = q.z() <= far_depth(px, py) + 2e-3;
+        const bool visible = visible_at(px, py, q.z());
         if (pass == 1 && visible) put(sheet, ox + px, oy + rh - 1 - py, visible_ink);
         // dashes of 4 pixels on, 3 off along the segment
         if (pass == 0 && !visible && std::fmod(t * len, 7.0) < 4.0) put(sheet, ox + px, oy + rh - 1 - py, hidden_ink);
@@ -216,6 +231,7 @@ Image render_drawing(const std::vector<DrawItem>& items, const DrawingOptions& o
   for (int v = 0; v < n; ++v) camera(v);  // unknown names and bad options fail before any rendering
   if (!o.titles.empty() && o.titles.size() != o.views.size())
     fail("drawing: ", o.titles.size(), " titles for ", n, " views");
+  const std::vector<Point3> points = world_points(items);
   std::vector<Edges> edges;
   if (o.edges)
     for (const auto& it : items) edges.push_back(item_edges(it, o.crease_angle));
@@ -259,7 +275,8 @@ Image render_drawing(const std::vector<DrawItem>& items, const DrawingOptions& o
       for (int y = cy; y < cy + ch; ++y) put(sheet, cx, y, rule), put(sheet, cx + cw - 1, y, rule);
     }
     if (o.edges)
-      draw_edges(sheet, cx + frame, cy + frame + band, rw, rh, ro.antialias, depth, edges, ro.camera, bounds, o.hidden_dashed);
+      draw_edges(sheet, cx + frame, cy + frame + band, rw, rh, ro.antialias, depth, edges, ro.camera, bounds,
+                 ro.camera.fit_window ? points : std::vector<Point3>{}, o.hidden_dashed);
     if (o.labels)
       draw_text(sheet, cx + frame + 2 * scale, cy + frame + 2 * scale, o.titles.empty() ? view_title(o.views[v]) : o.titles[v],
                 ink, scale);

@@ -300,7 +300,9 @@ struct CameraMatrices {
   Mat4 view, projection, sort_view;
   Vec3 projector;
 };
-CameraMatrices camera_matrices(const Camera& c, const Box3& bounds, double aspect);
+// A fitted window (fit_window) is fitted around `points` (the scene's vertices in world
+// coordinates) if given, else around the corners of `bounds`.
+CameraMatrices camera_matrices(const Camera& c, const Box3& bounds, double aspect, const std::vector<Point3>& points = {});
 
 // How hidden surfaces are removed: the z-buffer, or drawing back to front without a depth test
 // (painter's algorithm: triangles sorted by their farthest eye-space depth, the order then
@@ -337,6 +339,9 @@ struct DrawItem {
   std::shared_ptr<const Texture> texture;
   Mat4 transform = Mat4::Identity();
 };
+
+// Every vertex of the items, placed by its item's transform (what a fitted window is fitted to).
+std::vector<Point3> world_points(const std::vector<DrawItem>& items);
 
 // Renders the items; smooth normals are computed (area-weighted) only for meshes without them;
 // flat shading uses each triangle's geometric normal.

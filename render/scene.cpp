@@ -335,7 +335,7 @@ Image render_scene(const std::vector<DrawItem>& items, const RenderOptions& o, s
       for (const auto& p : it.mesh->positions) bounds.extend(apply_point(it.transform, p));
 
   const Camera& c = o.camera;
-  const CameraMatrices cm = camera_matrices(c, bounds, double(W) / H);
+  const CameraMatrices cm = camera_matrices(c, bounds, double(W) / H, c.fit_window ? world_points(items) : std::vector<Point3>{});
   const Mat4& view = cm.view;
   g.matrix_mode(MatrixMode::Projection);
   g.load_matrix(cm.projection);
