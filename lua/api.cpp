@@ -22,6 +22,7 @@ const Registrar kRegistrars[] = {
     register_brep,
     register_render,
     register_scene,
+    register_wireframe,
 };
 
 int version_fn(lua_State* L) {

@@ -53,5 +53,6 @@ void register_surfaces(lua_State* L);  // wrap_surface.cpp
 void register_brep(lua_State* L);      // wrap_brep.cpp
 void register_render(lua_State* L);
 void register_scene(lua_State* L);     // wrap_scene.cpp
+void register_wireframe(lua_State* L); // wrap_wireframe.cpp
 
 }  // namespace wedge::lua

@@ -6,6 +6,7 @@
 #include "lua/wrap_curve.h"
 #include "lua/wrap_scene.h"
 #include "lua/wrap_solid.h"
+#include "lua/wrap_wireframe.h"
 #include "tessellate/mesh_io.h"
 
 namespace wedge::lua {
@@ -54,6 +55,15 @@ int export_fn(lua_State* L) {
       tol.chordal = o.positive("tolerance", tol.chordal);
       split = o.boolean("split", false);
       o.finish();
+    }
+    if (const Wireframe* w = test_wireframe(L, 1)) {
+      if (split) throw ArgError{3, "field 'split' needs a scene group to split, got Wireframe"};
+      Stage stage(L, "write");
+      write_wireframe_obj(*w, path);
+      std::size_t n = 0;
+      for (const auto& line : w->lines) n += line.size() - 1;
+      lua_pushinteger(L, lua_Integer(n));  // segments written
+      return 1;
     }
     mesh_format(path);  // an unknown extension is an error before any tessellation work
     if (split) return export_split(L, path, tol, options);

@@ -17,6 +17,7 @@
 #include "lua/wrap_render.h"
 #include "lua/wrap_scene.h"
 #include "lua/wrap_solid.h"
+#include "lua/wrap_wireframe.h"
 #include "render/render.h"
 
 namespace wedge::lua {
@@ -253,8 +254,7 @@ struct Drawn {
   std::vector<render::DrawItem> items;
   Box3 bounds() const {
     Box3 b;
-    for (const auto& it : items)
-      for (const auto& p : it.mesh->positions) b.extend(apply_point(it.transform, p));
+    for (const Point3& p : render::world_points(items)) b.extend(p);
     return b;
   }
 };
@@ -269,6 +269,14 @@ void read_drawn(lua_State* L, const char* fn, Drawn& drawn) {
   lua_geti(L, 1, 1);
   const int obj = lua_gettop(L);
   if (lua_isnil(L, obj)) throw ArgError{1, std::string(fn) + "{} needs the thing to draw as its first element"};
+  if (const Wireframe* w = test_wireframe(L, obj)) {
+    render::DrawItem item;
+    item.lines = &w->lines;  // the Wireframe stays on the stack (t[1]) while it is drawn
+    item.material.diffuse = w->color;
+    drawn.items.push_back(item);
+    lua_pop(L, 1);
+    return;
+  }
   if (const SceneNode* scene = test_scene(L, obj)) {
     Stage stage(L, "mesh");
     const Tolerance tol = current_tolerance(L);

@@ -171,9 +171,13 @@ Camera named_view(const std::string& name, const Box3& bounds) { return named_vi
 
 std::vector<Point3> world_points(const std::vector<DrawItem>& items) {
   std::vector<Point3> out;
-  for (const auto& it : items)
+  for (const auto& it : items) {
     if (it.mesh)
       for (const auto& p : it.mesh->positions) out.push_back(apply_point(it.transform, p));
+    if (it.lines)
+      for (const auto& line : *it.lines)
+        for (const auto& p : line) out.push_back(apply_point(it.transform, p));
+  }
   return out;
 }
 

@@ -184,6 +184,57 @@ void draw_edges(Image& sheet, int ox, int oy, int rw, int rh, int aa, const std:
 
 }  // namespace
 
+std::vector<std::array<Point3, 2>> feature_edges(const Mesh& mesh, double crease_deg) {
+  DrawItem it;
+  it.mesh = &mesh;
+  return item_edges(it, crease_deg).features;
+}
+
+std::vector<std::vector<Point3>> polylines(const std::vector<std::array<Point3, 2>>& segments) {
+  // Points are joined where they are exactly equal (the segments come from welded vertices).
+  auto key_less = [](const Point3& a, const Point3& b) {
+    return a.x() != b.x() ? a.x() < b.x() : a.y() != b.y() ? a.y() < b.y() : a.z() < b.z();
+  };
+  std::vector<Point3> points;
+  for (const auto& s : segments) points.push_back(s[0]), points.push_back(s[1]);
+  std::sort(points.begin(), points.end(), key_less);
+  points.erase(std::unique(points.begin(), points.end()), points.end());
+  auto id = [&](const Point3& p) {
+    return std::size_t(std::lower_bound(points.begin(), points.end(), p, key_less) - points.begin());
+  };
+  std::vector<std::vector<std::pair<std::size_t, std::size_t>>> at(points.size());  // (other end, segment)
+  for (std::size_t k = 0; k < segments.size(); ++k) {
+    const std::size_t a = id(segments[k][0]), b = id(segments[k][1]);
+    at[a].push_back({b, k}), at[b].push_back({a, k});
+  }
+  std::vector<char> used(segments.size(), 0);
+  std::vector<std::vector<Point3>> out;
+  auto walk = [&](std::size_t start) {
+    for (;;) {
+      std::vector<Point3> line{points[start]};
+      std::size_t v = start;
+      bool moved = false;
+      for (;;) {
+        bool step = false;
+        for (const auto& [w, k] : at[v])
+          if (!used[k]) {
+            used[k] = 1, v = w, step = true, moved = true;
+            line.push_back(points[v]);
+            break;
+          }
+        if (!step) break;
+      }
+      if (!moved) return;
+      out.push_back(std::move(line));
+    }
+  };
+  // Open chains start at their ends (points not met by exactly two segments), then closed loops.
+  for (std::size_t v = 0; v < points.size(); ++v)
+    if (at[v].size() != 2) walk(v);
+  for (std::size_t v = 0; v < points.size(); ++v) walk(v);
+  return out;
+}
+
 std::string view_title(const std::string& name) {
   static const std::pair<const char*, const char*> titles[] = {
       {"front", "FRONT"},       {"top", "TOP"},           {"side", "SIDE"},
@@ -221,9 +272,7 @@ Image render_drawing(const std::vector<DrawItem>& items, const DrawingOptions& o
     fail("drawing: size ", o.width, "x", o.height, " must be within 1..8192");
   if (o.columns < 0 || o.columns > n) fail("drawing: columns ", o.columns, " must be within 0..", n, " (0: automatic)");
   Box3 bounds;
-  for (const auto& it : items)
-    if (it.mesh)
-      for (const auto& p : it.mesh->positions) bounds.extend(apply_point(it.transform, p));
+  for (const Point3& p : world_points(items)) bounds.extend(p);
   if (bounds.empty()) fail("drawing: nothing to draw (no vertices)");
   if (!o.view_params.empty() && o.view_params.size() != o.views.size())
     fail("drawing: ", o.view_params.size(), " view parameter sets for ", n, " views");

@@ -335,6 +335,9 @@ struct RenderOptions {
 
 struct DrawItem {
   const Mesh* mesh = nullptr;
+  // Polylines drawn as unlit lines in the material's diffuse colour (a wireframe model), placed by
+  // `transform` as the mesh is; either may be absent.
+  const std::vector<std::vector<Point3>>* lines = nullptr;
   Material material;
   std::shared_ptr<const Texture> texture;
   Mat4 transform = Mat4::Identity();
@@ -368,6 +371,13 @@ struct DrawingOptions {
   std::vector<std::string> titles;  // empty, or one per view (default: the view's title)
   RenderOptions render;
 };
+// The edges of a mesh that a drawing or a wireframe shows: those between different source faces
+// (face ids), or, without ids, where the faces meet at more than `crease_deg` degrees, and the
+// boundary (or non-manifold) edges. Vertices are welded by position first.
+std::vector<std::array<Point3, 2>> feature_edges(const Mesh& mesh, double crease_deg);
+// Segments joined end to end into polylines (a closed loop repeats its first point at the end).
+std::vector<std::vector<Point3>> polylines(const std::vector<std::array<Point3, 2>>& segments);
+
 // The title a drawing gives a view: "FRONT", "ISOMETRIC", "CABINET", "ONE-POINT PERSPECTIVE", ...
 std::string view_title(const std::string& name);
 Image render_drawing(const std::vector<DrawItem>& items, const DrawingOptions& options);

@@ -330,9 +330,7 @@ Image render_scene(const std::vector<DrawItem>& items, const RenderOptions& o, s
   g.clear_color(o.background[0], o.background[1], o.background[2], o.background[3]);
   g.clear();
   Box3 bounds;
-  for (const auto& it : items)
-    if (it.mesh)
-      for (const auto& p : it.mesh->positions) bounds.extend(apply_point(it.transform, p));
+  for (const Point3& p : world_points(items)) bounds.extend(p);
 
   const Camera& c = o.camera;
   const CameraMatrices cm = camera_matrices(c, bounds, double(W) / H, c.fit_window ? world_points(items) : std::vector<Point3>{});
@@ -464,6 +462,21 @@ Image render_scene(const std::vector<DrawItem>& items, const RenderOptions& o, s
     }
   }
   g.end();
+  // Wireframe models: unlit lines in the material's diffuse colour.
+  bool lit = true;
+  for (const auto& it : items) {
+    if (!it.lines) continue;
+    if (lit) g.disable(Cap::Lighting), g.disable(Cap::Texture2D), lit = false;
+    g.color(it.material.diffuse[0], it.material.diffuse[1], it.material.diffuse[2], it.material.diffuse[3]);
+    for (const auto& line : *it.lines) {
+      g.begin(Primitive::LineStrip);
+      for (const Point3& p : line) {
+        const Point3 q = apply_point(it.transform, p);
+        g.vertex(q.x(), q.y(), q.z());
+      }
+      g.end();
+    }
+  }
   if (depth) *depth = g.depth_buffer();
   return downsample(g.image(), aa);
 }
