@@ -13,6 +13,7 @@ namespace {
 
 constexpr const char* kKey = "wedge.Solid";
 constexpr const char* kToleranceKey = "wedge.tolerance";
+constexpr const char* kAngleKey = "wedge.tolerance.angle";
 constexpr const char* kConvertersKey = "wedge.mesh_converters";
 
 const Solid& self(lua_State* L) { return check_solid(L, 1); }
@@ -205,16 +206,29 @@ int tostring_m(lua_State* L) {
 }
 
 // tolerance() -> current; tolerance(t) sets the chordal tolerance for this state.
+// tolerance(chordal) | tolerance{chordal=, angle=}: the global tessellation tolerances (chordal in
+// model units, angular in degrees); returns the chordal and the angular tolerance now in force.
 int tolerance_fn(lua_State* L) {
   return guarded(L, [&] {
-    if (!lua_isnoneornil(L, 1)) {
+    if (lua_type(L, 1) == LUA_TTABLE) {
+      Options o(L, 1);
+      auto chordal = o.number("chordal");
+      auto angle = o.number("angle");
+      o.finish();
+      if (chordal && !(*chordal > 0)) throw ArgError{1, "field 'chordal' must be positive, got " + number_text(*chordal)};
+      if (angle && !(*angle > 0 && *angle <= 90)) throw ArgError{1, "field 'angle' must be within 0..90 degrees (above 0), got " + number_text(*angle)};
+      if (chordal) lua_pushnumber(L, *chordal), lua_setfield(L, LUA_REGISTRYINDEX, kToleranceKey);
+      if (angle) lua_pushnumber(L, *angle), lua_setfield(L, LUA_REGISTRYINDEX, kAngleKey);
+    } else if (!lua_isnoneornil(L, 1)) {
       double t = check_number(L, 1);
       if (!(t > 0)) throw ArgError{1, "tolerance must be positive, got " + std::to_string(t)};
       lua_pushnumber(L, t);
       lua_setfield(L, LUA_REGISTRYINDEX, kToleranceKey);
     }
-    lua_pushnumber(L, current_tolerance(L).chordal);
-    return 1;
+    const Tolerance t = current_tolerance(L);
+    lua_pushnumber(L, t.chordal);
+    lua_pushnumber(L, t.angular);
+    return 2;
   });
 }
 
@@ -272,6 +286,8 @@ int push_material(lua_State* L, int idx) {
 Tolerance current_tolerance(lua_State* L) {
   Tolerance t;
   if (lua_getfield(L, LUA_REGISTRYINDEX, kToleranceKey) == LUA_TNUMBER) t.chordal = lua_tonumber(L, -1);
+  lua_pop(L, 1);
+  if (lua_getfield(L, LUA_REGISTRYINDEX, kAngleKey) == LUA_TNUMBER) t.angular = lua_tonumber(L, -1);
   lua_pop(L, 1);
   return t;
 }

@@ -169,3 +169,24 @@ TEST_CASE("wedge run --sandbox does not run a script it cannot confine", "[lua][
   }
   CHECK_FALSE(std::filesystem::exists(marker));
 }
+
+TEST_CASE("tolerance takes its positional and its table form", "[lua][contract]") {
+  auto r = run(R"LUA(
+    local c, a = tolerance()
+    assert(c == 0.01 and a == 15, c .. " " .. a)
+    c, a = tolerance(0.002)
+    assert(c == 0.002 and a == 15)
+    c, a = tolerance{chordal = 0.05, angle = 10}
+    assert(c == 0.05 and a == 10)
+    c, a = tolerance{angle = 20}
+    assert(c == 0.05 and a == 20)
+    local ok, err = pcall(tolerance, {angle = 0})
+    assert(err:find("field 'angle' must be within 0..90"), err)
+    ok, err = pcall(tolerance, {chordal = -1})
+    assert(err:find("field 'chordal' must be positive"), err)
+    ok, err = pcall(tolerance, {chord = 1})
+    assert(err:find("unknown field 'chord'"), err)
+  )LUA");
+  INFO(r.err);
+  CHECK(r.status == 0);
+}
