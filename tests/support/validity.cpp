@@ -1,0 +1,101 @@
+// closed_manifold_outward: combinatorial checks on vertex indices, no geometry but the volume.
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "tests/support/boolean_cases.h"
+#include "tests/support/cgal_oracle.h"
+
+namespace wedge::testing {
+
+namespace {
+std::string where(const Mesh& m, std::uint32_t u, std::uint32_t v) {
+  std::ostringstream s;
+  s.precision(17);
+  const auto& p = m.positions[u];
+  const auto& q = m.positions[v];
+  s << "edge " << u << "-" << v << " (" << p.x() << ", " << p.y() << ", " << p.z() << ")-(" << q.x() << ", " << q.y()
+    << ", " << q.z() << ")";
+  return s.str();
+}
+}  // namespace
+
+std::string closed_manifold_outward(const Mesh& m) {
+  const std::size_t nv = m.positions.size(), nt = m.triangles.size();
+  for (std::size_t i = 0; i < nv; ++i)
+    if (!m.positions[i].allFinite()) return "vertex " + std::to_string(i) + " is not finite";
+  for (std::size_t t = 0; t < nt; ++t) {
+    const auto& tri = m.triangles[t];
+    if (tri[0] >= nv || tri[1] >= nv || tri[2] >= nv) return "triangle " + std::to_string(t) + ": index out of range";
+    if (tri[0] == tri[1] || tri[1] == tri[2] || tri[2] == tri[0])
+      return "triangle " + std::to_string(t) + ": repeated vertex index";
+  }
+  // Directed edges sorted by undirected key: each undirected edge must hold u->v and v->u once.
+  struct Half {
+    std::uint32_t lo, hi;
+    bool forward;  // u < v
+  };
+  std::vector<Half> half;
+  half.reserve(3 * nt);
+  for (const auto& tri : m.triangles)
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t u = tri[k], v = tri[(k + 1) % 3];
+      half.push_back({std::min(u, v), std::max(u, v), u < v});
+    }
+  std::sort(half.begin(), half.end(), [](const Half& a, const Half& b) {
+    return a.lo != b.lo ? a.lo < b.lo : a.hi != b.hi ? a.hi < b.hi : a.forward < b.forward;
+  });
+  for (std::size_t i = 0; i < half.size();) {
+    std::size_t j = i;
+    while (j < half.size() && half[j].lo == half[i].lo && half[j].hi == half[i].hi) ++j;
+    const std::size_t n = j - i;
+    if (n == 1) return "border " + where(m, half[i].lo, half[i].hi);
+    if (n > 2) return "non-manifold " + where(m, half[i].lo, half[i].hi) + " has " + std::to_string(n) + " triangles";
+    if (half[i].forward == half[i + 1].forward)
+      return "inconsistent orientation at " + where(m, half[i].lo, half[i].hi);
+    i = j;
+  }
+  // Around each vertex the wedges (b, c) of its triangles (v, b, c) must chain into one cycle.
+  std::vector<std::uint32_t> start(nv + 1, 0);
+  for (const auto& tri : m.triangles)
+    for (int k = 0; k < 3; ++k) ++start[tri[k] + 1];
+  for (std::size_t i = 0; i < nv; ++i) start[i + 1] += start[i];
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> wedge(3 * nt);
+  std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
+  for (const auto& tri : m.triangles)
+    for (int k = 0; k < 3; ++k) wedge[fill[tri[k]]++] = {tri[(k + 1) % 3], tri[(k + 2) % 3]};
+  for (std::size_t v = 0; v < nv; ++v) {
+    auto first = wedge.begin() + start[v], last = wedge.begin() + start[v + 1];
+    if (first == last) continue;
+    std::sort(first, last);
+    // Follow b -> c from the first wedge; every wedge must be reached.
+    std::size_t steps = 0, n = static_cast<std::size_t>(last - first);
+    std::uint32_t b = first->first;
+    do {
+      auto it = std::lower_bound(first, last, std::make_pair(b, std::uint32_t(0)));
+      if (it == last || it->first != b) break;
+      b = it->second;
+      ++steps;
+    } while (b != first->first && steps <= n);
+    if (steps != n) {
+      std::ostringstream s;
+      s.precision(17);
+      const auto& p = m.positions[v];
+      s << "non-manifold vertex " << v << " (" << p.x() << ", " << p.y() << ", " << p.z()
+        << "): its triangles form more than one fan";
+      return s.str();
+    }
+  }
+  if (nt > 0) {
+    const double vol = polyhedron_volume(m);
+    if (!(vol > 0)) {
+      std::ostringstream s;
+      s.precision(17);
+      s << "volume " << vol << " is not positive (inward orientation)";
+      return s.str();
+    }
+  }
+  return "";
+}
+
+}  // namespace wedge::testing
