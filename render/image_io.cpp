@@ -1,5 +1,6 @@
-// PNG through libspng, and PFM for depth. Every file is written to "<path>.tmp.<random>" in the
-// same directory and renamed into place, so a reader never sees a half-written image.
+// PNG through libspng, and PFM for depth. Every file is written through an AtomicFile
+// (kernel/file_io.h): whole or not at all, with the system's reason on any error, and no
+// temporary file left behind by a killed process.
 #include <spng.h>
 
 #include <cstdio>
@@ -8,32 +9,12 @@
 #include <memory>
 #include <random>
 
+#include "kernel/file_io.h"
 #include "render/render.h"
 
 namespace wedge::render {
 
 namespace {
-
-void write_atomically(const std::string& path, const void* data, std::size_t size) {
-  std::random_device rd;
-  std::string tmp = path + ".tmp." + std::to_string(rd());
-  {
-    std::FILE* f = std::fopen(tmp.c_str(), "wb");
-    if (!f) fail("cannot write '", path, "': ", std::strerror(errno));
-    bool ok = std::fwrite(data, 1, size, f) == size;
-    ok = (std::fclose(f) == 0) && ok;
-    if (!ok) {
-      std::remove(tmp.c_str());
-      fail("cannot write '", path, "': write failed");
-    }
-  }
-  std::error_code ec;
-  std::filesystem::rename(tmp, path, ec);
-  if (ec) {
-    std::remove(tmp.c_str());
-    fail("cannot write '", path, "': ", ec.message());
-  }
-}
 
 struct SpngFree {
   void operator()(spng_ctx* c) const { spng_ctx_free(c); }
@@ -59,16 +40,16 @@ void write_png(const std::string& path, const Image& image) {
   void* buf = spng_get_png_buffer(ctx.get(), &len, &err);
   if (!buf) fail("write_png '", path, "': ", spng_strerror(err));
   std::unique_ptr<void, void (*)(void*)> owned(buf, std::free);
-  write_atomically(path, buf, len);
+  write_file_atomically(path, buf, len);
 }
 
 Image read_png(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) fail("cannot open PNG '", path, "': ", std::strerror(errno));
-  std::vector<char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::string bytes = read_file(path);
   std::unique_ptr<spng_ctx, SpngFree> ctx(spng_ctx_new(0));
   if (!ctx) fail("read_png '", path, "': out of memory");
   spng_set_image_limits(ctx.get(), 16384, 16384);
+  // Ancillary chunks (text, ICC profiles) are not kept: bound what they may ask for.
+  spng_set_chunk_limits(ctx.get(), 1 << 20, 1 << 24);
   spng_set_png_buffer(ctx.get(), bytes.data(), bytes.size());
   spng_ihdr ihdr{};
   int err = spng_get_ihdr(ctx.get(), &ihdr);
@@ -76,6 +57,14 @@ Image read_png(const std::string& path) {
   std::size_t size = 0;
   err = spng_decoded_image_size(ctx.get(), SPNG_FMT_RGBA8, &size);
   if (err) fail("'", path, "': ", spng_strerror(err));
+  // Deflate expands at most 1032:1, so an image larger than that much of the file cannot be in it:
+  // refuse it before allocating (a 100-byte file may declare 16384 x 16384 pixels).
+  const int channels[7] = {1, 0, 3, 1, 2, 0, 4};  // by colour type: grey, -, RGB, palette, grey+alpha, -, RGBA
+  const std::size_t bits = std::size_t(ihdr.bit_depth) * channels[ihdr.color_type <= 6 ? ihdr.color_type : 6];
+  const std::size_t raw = std::size_t(ihdr.height) * (1 + (std::size_t(ihdr.width) * bits + 7) / 8);
+  if (raw > bytes.size() * 1032 + 4096)
+    fail("'", path, "': the header declares ", ihdr.width, " x ", ihdr.height, " pixels, more than its ",
+         bytes.size(), " bytes can hold (truncated or corrupt PNG)");
   Image im;
   im.width = int(ihdr.width), im.height = int(ihdr.height);
   im.rgba.resize(size);
@@ -91,7 +80,7 @@ void write_pfm(const std::string& path, int width, int height, const std::vector
   std::vector<char> data(header.begin(), header.end());
   const char* p = reinterpret_cast<const char*>(values.data());
   data.insert(data.end(), p, p + values.size() * sizeof(float));
-  write_atomically(path, data.data(), data.size());
+  write_file_atomically(path, data.data(), data.size());
 }
 
 }  // namespace wedge::render

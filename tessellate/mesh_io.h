@@ -1,8 +1,15 @@
-// Mesh files: OBJ, STL (ASCII and binary), PLY and OFF, read and written through OpenMesh.
-// Writing is atomic: the mesh goes to a temporary file beside the target, which is renamed over
-// it only once complete, so a failed export never leaves a half-written file.
+// Mesh files: OBJ, STL (ASCII and binary), PLY (ASCII and binary) and OFF, read and written here.
+//
+// Writing is atomic (kernel/file_io.h): the mesh goes to a temporary file beside the target, which
+// replaces it only once complete and synced, so a failed export never leaves a half-written file
+// and reports the system's reason (a full disk, a read-only folder).
+//
+// Reading trusts nothing in a file: a count in a header is checked against the file's size before
+// anything is allocated, so memory stays proportional to the file; every malformed file is an
+// error naming the file, the place (line, byte offset, or element number) and what is wrong.
 #pragma once
 #include <string>
+#include <string_view>
 
 #include "kernel/mesh.h"
 
@@ -23,9 +30,15 @@ std::string mesh_format(const std::string& path);
 // Corners without a normal in a file that has some, or whose vertex was split, get the
 // area-weighted average of the face normals around their file vertex; a file without normals or
 // splits gives a mesh without normals (the renderer computes the same area-weighted ones).
-// The mesh may so hold several vertices at one position: a Solid checks closedness on the
-// vertices welded by position (csg/solid.h). Throws wedge::Error naming the path and the reason.
+// PLY and OFF keep per-vertex normals and texture coordinates. STL's separate corners are welded
+// by exact position. The mesh may so hold several vertices at one position: a Solid checks
+// closedness on the vertices welded by position (csg/solid.h). Throws wedge::Error naming the
+// path, the place and the reason.
 Mesh read_mesh(const std::string& path);
+
+// The same from a file's bytes, for `format` "obj", "stl", "ply" or "off"; `name` is the file's
+// name in messages. The entry point of the fuzz targets (fuzz/).
+Mesh parse_mesh(std::string_view bytes, const std::string& format, const std::string& name);
 
 // Writes a mesh (positions, and for OBJ/PLY/OFF the normals and uvs it has). Throws wedge::Error
 // naming the path and the reason; on error the target file is left as it was.

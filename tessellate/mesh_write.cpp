@@ -1,0 +1,251 @@
+// Mesh file writers: OBJ, STL (ASCII and binary), PLY (ASCII and binary little-endian) and OFF.
+// Each writes through an AtomicFile (kernel/file_io.h): the old file stays until a complete,
+// synced new one replaces it, and every write error is reported with the system's reason.
+// Text numbers are the shortest decimal that reads back as the same double (std::to_chars).
+#include <algorithm>
+#include <bit>
+#include <charconv>
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <string>
+
+#include "kernel/error.h"
+#include "kernel/file_io.h"
+#include "kernel/kernel.h"
+#include "tessellate/mesh_io.h"
+
+namespace wedge {
+
+namespace {
+
+// A text line builder over the file: numbers in their shortest exact form.
+class TextOut {
+ public:
+  explicit TextOut(AtomicFile& file) : file_(file) { buf_.reserve(kFlush + 256); }
+  TextOut& operator<<(std::string_view s) {
+    buf_.append(s);
+    return maybe_flush();
+  }
+  TextOut& operator<<(char c) {
+    buf_.push_back(c);
+    return maybe_flush();
+  }
+  TextOut& operator<<(double x) {
+    char tmp[32];
+    auto r = std::to_chars(tmp, tmp + sizeof tmp, x);
+    buf_.append(tmp, r.ptr);
+    return maybe_flush();
+  }
+  TextOut& operator<<(std::uint64_t x) {
+    char tmp[24];
+    auto r = std::to_chars(tmp, tmp + sizeof tmp, x);
+    buf_.append(tmp, r.ptr);
+    return maybe_flush();
+  }
+  TextOut& operator<<(std::uint32_t x) { return *this << static_cast<std::uint64_t>(x); }
+  void flush() {
+    file_.write(buf_);
+    buf_.clear();
+  }
+
+ private:
+  static constexpr std::size_t kFlush = 1 << 16;
+  TextOut& maybe_flush() {
+    if (buf_.size() >= kFlush) flush();
+    return *this;
+  }
+  AtomicFile& file_;
+  std::string buf_;
+};
+
+void put_u32le(std::string& out, std::uint32_t x) {
+  if constexpr (std::endian::native == std::endian::big) x = __builtin_bswap32(x);
+  char b[4];
+  std::memcpy(b, &x, 4);
+  out.append(b, 4);
+}
+void put_f32le(std::string& out, float x) { put_u32le(out, std::bit_cast<std::uint32_t>(x)); }
+void put_f64le(std::string& out, double x) {
+  std::uint64_t u = std::bit_cast<std::uint64_t>(x);
+  if constexpr (std::endian::native == std::endian::big) u = __builtin_bswap64(u);
+  char b[8];
+  std::memcpy(b, &u, 8);
+  out.append(b, 8);
+}
+
+// A file must hold every triangle as a valid surface: each directed edge at most once, no
+// triangle repeating a vertex. Counts the triangles that break it.
+std::size_t non_manifold_triangles(const Mesh& mesh) {
+  std::vector<std::uint64_t> edges;
+  edges.reserve(mesh.triangles.size() * 3);
+  std::size_t bad = 0;
+  for (const auto& t : mesh.triangles) {
+    if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2]) ++bad;
+    for (int k = 0; k < 3; ++k) edges.push_back(std::uint64_t(t[k]) << 32 | t[(k + 1) % 3]);
+  }
+  std::sort(edges.begin(), edges.end());
+  for (std::size_t i = 1; i < edges.size(); ++i)
+    if (edges[i] == edges[i - 1]) ++bad;
+  return bad;
+}
+
+void write_stl(const Mesh& mesh, AtomicFile& file, bool ascii) {
+  // STL holds 32-bit floats: a coordinate beyond their range would be written as infinity.
+  for (std::size_t i = 0; i < mesh.positions.size(); ++i)
+    for (int k = 0; k < 3; ++k)
+      if (std::fabs(mesh.positions[i][k]) > std::numeric_limits<float>::max())
+        fail("cannot write '", file.path(), "': vertex ", i, " coordinate ", mesh.positions[i][k],
+             " is beyond the range of STL's 32-bit floats");
+  if (ascii) {
+    TextOut out(file);
+    out << "solid wedge\n";
+    for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+      const Vec3 n = mesh.triangle_normal(t);
+      out << "  facet normal " << n.x() << ' ' << n.y() << ' ' << n.z() << "\n    outer loop\n";
+      for (auto v : mesh.triangles[t]) {
+        const Point3& p = mesh.positions[v];
+        out << "      vertex " << p.x() << ' ' << p.y() << ' ' << p.z() << '\n';
+      }
+      out << "    endloop\n  endfacet\n";
+    }
+    out << "endsolid wedge\n";
+    out.flush();
+    return;
+  }
+  if (mesh.triangles.size() > std::numeric_limits<std::uint32_t>::max())
+    fail("cannot write '", file.path(), "': ", mesh.triangles.size(), " triangles are more than binary STL can count");
+  std::string out;
+  out.reserve(1 << 16);
+  std::string header = std::string("binary STL written by wedge ") + version();
+  header.resize(80, ' ');
+  out += header;
+  put_u32le(out, static_cast<std::uint32_t>(mesh.triangles.size()));
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+    const Vec3 n = mesh.triangle_normal(t);
+    for (int k = 0; k < 3; ++k) put_f32le(out, static_cast<float>(n[k]));
+    for (auto v : mesh.triangles[t])
+      for (int k = 0; k < 3; ++k) put_f32le(out, static_cast<float>(mesh.positions[v][k]));
+    out.append(2, '\0');  // attribute byte count
+    if (out.size() >= (1 << 16)) {
+      file.write(out);
+      out.clear();
+    }
+  }
+  file.write(out);
+}
+
+void write_obj(const Mesh& mesh, AtomicFile& file, bool normals, bool uvs) {
+  TextOut out(file);
+  out << "# written by wedge " << version() << '\n';
+  for (const auto& p : mesh.positions) out << "v " << p.x() << ' ' << p.y() << ' ' << p.z() << '\n';
+  if (uvs)
+    for (const auto& t : mesh.uvs) out << "vt " << t.x() << ' ' << t.y() << '\n';
+  if (normals)
+    for (const auto& n : mesh.normals) out << "vn " << n.x() << ' ' << n.y() << ' ' << n.z() << '\n';
+  for (const auto& t : mesh.triangles) {
+    out << 'f';
+    for (auto v : t) {
+      const std::uint64_t i = std::uint64_t(v) + 1;
+      out << ' ' << i;
+      if (uvs || normals) {
+        out << '/';
+        if (uvs) out << i;
+        if (normals) out << '/' << i;
+      }
+    }
+    out << '\n';
+  }
+  out.flush();
+}
+
+void write_off(const Mesh& mesh, AtomicFile& file, bool normals, bool uvs) {
+  TextOut out(file);
+  out << (uvs ? "ST" : "") << (normals ? "N" : "") << "OFF\n";
+  out << std::uint64_t(mesh.positions.size()) << ' ' << std::uint64_t(mesh.triangles.size()) << " 0\n";
+  for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
+    const Point3& p = mesh.positions[i];
+    out << p.x() << ' ' << p.y() << ' ' << p.z();
+    if (normals) out << ' ' << mesh.normals[i].x() << ' ' << mesh.normals[i].y() << ' ' << mesh.normals[i].z();
+    if (uvs) out << ' ' << mesh.uvs[i].x() << ' ' << mesh.uvs[i].y();
+    out << '\n';
+  }
+  for (const auto& t : mesh.triangles) out << "3 " << t[0] << ' ' << t[1] << ' ' << t[2] << '\n';
+  out.flush();
+}
+
+void write_ply(const Mesh& mesh, AtomicFile& file, bool ascii, bool normals, bool uvs) {
+  TextOut head(file);
+  head << "ply\nformat " << (ascii ? "ascii" : "binary_little_endian") << " 1.0\ncomment written by wedge "
+       << version() << "\nelement vertex " << std::uint64_t(mesh.positions.size())
+       << "\nproperty double x\nproperty double y\nproperty double z\n";
+  if (normals) head << "property double nx\nproperty double ny\nproperty double nz\n";
+  if (uvs) head << "property double u\nproperty double v\n";
+  head << "element face " << std::uint64_t(mesh.triangles.size()) << "\nproperty list uchar uint vertex_indices\nend_header\n";
+  if (ascii) {
+    for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
+      const Point3& p = mesh.positions[i];
+      head << p.x() << ' ' << p.y() << ' ' << p.z();
+      if (normals) head << ' ' << mesh.normals[i].x() << ' ' << mesh.normals[i].y() << ' ' << mesh.normals[i].z();
+      if (uvs) head << ' ' << mesh.uvs[i].x() << ' ' << mesh.uvs[i].y();
+      head << '\n';
+    }
+    for (const auto& t : mesh.triangles) head << "3 " << t[0] << ' ' << t[1] << ' ' << t[2] << '\n';
+    head.flush();
+    return;
+  }
+  head.flush();
+  std::string out;
+  out.reserve(1 << 16);
+  auto spill = [&] {
+    if (out.size() >= (1 << 16)) {
+      file.write(out);
+      out.clear();
+    }
+  };
+  for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
+    for (int k = 0; k < 3; ++k) put_f64le(out, mesh.positions[i][k]);
+    if (normals)
+      for (int k = 0; k < 3; ++k) put_f64le(out, mesh.normals[i][k]);
+    if (uvs)
+      for (int k = 0; k < 2; ++k) put_f64le(out, mesh.uvs[i][k]);
+    spill();
+  }
+  for (const auto& t : mesh.triangles) {
+    out.push_back(3);
+    for (auto v : t) put_u32le(out, v);
+    spill();
+  }
+  file.write(out);
+}
+
+}  // namespace
+
+void write_mesh(const Mesh& mesh, const std::string& path, const MeshWriteOptions& options) {
+  std::string format = mesh_format(path);
+  try {
+    mesh.check();
+  } catch (const Error& e) {
+    fail("cannot write '", path, "': ", e.what());
+  }
+  if (mesh.triangles.empty()) fail("cannot write '", path, "': the mesh has no triangles");
+  if (std::size_t bad = non_manifold_triangles(mesh))
+    fail("cannot write '", path, "': ", bad, " of ", mesh.triangles.size(),
+         " triangles make non-manifold edges or repeat a vertex (the mesh is not a valid surface)");
+  const bool normals = mesh.normals.size() == mesh.positions.size() && !mesh.normals.empty();
+  const bool uvs = mesh.uvs.size() == mesh.positions.size() && !mesh.uvs.empty();
+  auto finite = [](const auto& values) {
+    return std::all_of(values.begin(), values.end(), [](const auto& v) { return v.allFinite(); });
+  };
+  if ((normals && !finite(mesh.normals)) || (uvs && !finite(mesh.uvs)))
+    fail("cannot write '", path, "': the mesh has a non-finite normal or texture coordinate");
+
+  AtomicFile file(path);
+  if (format == "stl") write_stl(mesh, file, options.ascii);
+  else if (format == "obj") write_obj(mesh, file, normals, uvs);
+  else if (format == "off") write_off(mesh, file, normals, uvs);
+  else write_ply(mesh, file, options.ascii, normals, uvs);
+  file.commit();
+}
+
+}  // namespace wedge
