@@ -1,6 +1,7 @@
 #include "csg/solid.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <map>
 #include <numeric>
@@ -48,6 +49,34 @@ EulerCounts euler_counts(const Mesh& mesh) {
   for (const auto& [e, n] : directed)
     if (!directed.count({e.second, e.first}))
       fail("mesh is not closed: edge ", e.first, "-", e.second, " has only one triangle");
+  // Every vertex must be one fan of triangles: around v, each triangle (v, u, w) links u to w, and
+  // the links must close into a single cycle. Two parts that touch at one point give two cycles
+  // (the mesh is closed but not a 2-manifold there; its Euler counts would say nothing true).
+  {
+    std::vector<std::array<std::uint32_t, 3>> corners;  // (v, u, w)
+    corners.reserve(mesh.triangles.size() * 3);
+    for (const auto& t : mesh.triangles)
+      for (int k = 0; k < 3; ++k) corners.push_back({t[k], t[(k + 1) % 3], t[(k + 2) % 3]});
+    std::sort(corners.begin(), corners.end());
+    for (std::size_t i = 0; i < corners.size();) {
+      std::size_t j = i;
+      while (j < corners.size() && corners[j][0] == corners[i][0]) ++j;
+      // corners[i..j) are sorted by u: follow u -> w from the first until the cycle closes.
+      auto next = [&](std::uint32_t u) {
+        auto it = std::lower_bound(corners.begin() + long(i), corners.begin() + long(j), u,
+                                   [](const std::array<std::uint32_t, 3>& c, std::uint32_t x) { return c[1] < x; });
+        return (*it)[2];
+      };
+      std::size_t steps = 1;
+      for (std::uint32_t u = next(corners[i][1]); u != corners[i][1]; u = next(u)) ++steps;
+      if (steps != j - i) {
+        const Point3& p = mesh.positions[corners[i][0]];
+        fail("mesh is not 2-manifold: vertex ", corners[i][0], " at (", p.x(), ", ", p.y(), ", ", p.z(),
+             ") joins separate fans of triangles (parts that touch at one point)");
+      }
+      i = j;
+    }
+  }
   // Components by union-find over vertices used by triangles.
   std::vector<std::uint32_t> parent(mesh.positions.size());
   std::iota(parent.begin(), parent.end(), 0u);
