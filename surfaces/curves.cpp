@@ -50,11 +50,24 @@ double gauss5(const std::function<double(double)>& f, double a, double b) {
   return s * h;
 }
 
-double adaptive(const std::function<double(double)>& f, double a, double b, double whole, double tol, int depth) {
+// Adaptive Gauss-Legendre on [a, b]. `budget` counts the panels left for the whole integral, so
+// an integrand that never settles (rounding noise above the tolerance at huge coordinates) costs a
+// bounded time and gives the best estimate so far, instead of 2^depth panels.
+double adaptive(const std::function<double(double)>& f, double a, double b, double whole, double tol, int depth,
+                long& budget) {
   double m = 0.5 * (a + b);
   double left = gauss5(f, a, m), right = gauss5(f, m, b);
-  if (depth <= 0 || std::abs(left + right - whole) <= tol) return left + right;
-  return adaptive(f, a, m, left, tol / 2, depth - 1) + adaptive(f, m, b, right, tol / 2, depth - 1);
+  budget -= 2;
+  if (depth <= 0 || budget <= 0 || !std::isfinite(left + right) || std::abs(left + right - whole) <= tol) return left + right;
+  return adaptive(f, a, m, left, tol / 2, depth - 1, budget) + adaptive(f, m, b, right, tol / 2, depth - 1, budget);
+}
+
+// |v| without overflow or underflow in the squares (coordinates near 1e200 are finite, their
+// squares are not).
+double safe_norm(const Vec3& v) {
+  const double s = v.cwiseAbs().maxCoeff();
+  if (!(s > 0) || !std::isfinite(s)) return s;
+  return s * (v / s).norm();
 }
 
 double point_segment_distance(const Point3& p, const Point3& a, const Point3& b) {
@@ -69,17 +82,22 @@ double point_segment_distance(const Point3& p, const Point3& a, const Point3& b)
 double Curve::length(double a, double b) const {
   require_finite(a, "start parameter");
   require_finite(b, "end parameter");
-  auto f = [this](double t) { return derivative(t, 1).norm(); };
+  auto f = [this](double t) { return safe_norm(derivative(t, 1)); };
   double total = 0;
   std::vector<double> br = breaks();
   std::vector<double> cuts{a};
   for (double x : br)
     if (x > a && x < b) cuts.push_back(x);
   cuts.push_back(b);
+  // About 200000 evaluations of the derivative in all: well under a second for any curve here.
+  const long per_span = std::max<long>(64, 40000 / static_cast<long>(cuts.size()));
   for (std::size_t i = 0; i + 1 < cuts.size(); ++i) {
     double whole = gauss5(f, cuts[i], cuts[i + 1]);
-    total += adaptive(f, cuts[i], cuts[i + 1], whole, 1e-13 * (1 + std::abs(whole)), 30);
+    long budget = per_span;
+    total += adaptive(f, cuts[i], cuts[i + 1], whole, 1e-13 * (1 + std::abs(whole)), 30, budget);
   }
+  if (!std::isfinite(total))
+    fail("the curve's length overflows (", total, "): its coordinates or tangents are too large");
   return total;
 }
 
@@ -360,9 +378,12 @@ HermiteSpline natural_spline(const std::vector<double>& t, const std::vector<Poi
 
 HermiteSpline kochanek_bartels(const std::vector<Point3>& points, double tension, double bias, double continuity,
                                bool closed) {
-  require_finite(tension, "tension");
-  require_finite(bias, "bias");
-  require_finite(continuity, "continuity");
+  // Kochanek & Bartels define the three parameters on -1..1; far outside it the tangents grow
+  // without bound (tension 1e300 makes them overflow) and the curve loops.
+  for (auto [x, what] : {std::pair{tension, "tension"}, {bias, "bias"}, {continuity, "continuity"}}) {
+    require_finite(x, what);
+    if (x < -1 || x > 1) fail(what, " must be within -1..1 (Kochanek-Bartels), got ", x);
+  }
   std::size_t n = points.size();
   if (n < (closed ? 3u : 2u))
     fail(closed ? "a closed spline needs at least 3 points, got " : "a spline needs at least 2 points, got ", n);

@@ -320,3 +320,26 @@ TEST_CASE("high-degree polynomial interpolation oscillates where a cubic spline 
   CHECK(poly_err > 1.0);
   CHECK(spline_err < 0.05);
 }
+
+TEST_CASE("arc length answers quickly on extreme curves, and overflow is an error", "[curves][extreme]") {
+  // A parabola-like Bezier at 1e200: the length scales exactly with the coordinates, so it is
+  // 1e200 times the unit curve's (computed at ordinary size), to quadrature accuracy. Before, the
+  // squares of the derivative overflowed and adaptive quadrature recursed 2^30 times.
+  BezierCurve unit({{0, 0, 0}, {1, 1, 0}, {2, 0, 0}});
+  BezierCurve huge({{0, 0, 0}, {1e200, 1e200, 0}, {2e200, 0, 0}});
+  // The unit curve's length in closed form: |C'(t)| = 2 sqrt(1 + (1 - 2t)^2).
+  const double s = std::sqrt(2.0);
+  const double unit_length = s + std::log(1 + s);  // = integral of sqrt(1 + u^2) over [-1, 1] = sqrt2 + asinh 1
+  CHECK(unit.length() == Approx(unit_length).epsilon(1e-12));
+  CHECK(huge.length() == Approx(1e200 * unit_length).epsilon(1e-9));
+  BezierCurve overflow({{0, 0, 0}, {1e308, 1e308, 0}, {-1e308, 1e308, 0}, {1e308, 0, 0}});
+  CHECK_THROWS_WITH(overflow.length(), Catch::Contains("length overflows"));
+}
+
+TEST_CASE("Kochanek-Bartels parameters outside -1..1 are refused by name", "[curves][extreme]") {
+  std::vector<Point3> Q = {{0, 0, 0}, {1, 1, 0}, {2, 0, 0}};
+  CHECK_THROWS_WITH(kochanek_bartels(Q, 1e300, 0, 0), Catch::Contains("tension must be within -1..1"));
+  CHECK_THROWS_WITH(kochanek_bartels(Q, 0, -2, 0), Catch::Contains("bias must be within -1..1 (Kochanek-Bartels), got -2"));
+  CHECK_THROWS_WITH(kochanek_bartels(Q, 0, 0, std::nan("")), Catch::Contains("continuity must be a finite number"));
+  CHECK(kochanek_bartels(Q, 1, -1, 1).length() > 0);
+}
