@@ -2,6 +2,9 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <unistd.h>
 #include <cmath>
 #include <cstring>
 #include <sstream>
@@ -133,6 +136,49 @@ void name_functions(lua_State* L, int api_idx) {
     lua_pop(L, 1);
   }
   lua_pop(L, 1);
+}
+
+// --- progress ---
+
+namespace {
+constexpr const char* kQuietKey = "wedge.quiet";
+}
+
+void set_quiet(lua_State* L, bool quiet) {
+  lua_pushboolean(L, quiet);
+  lua_setfield(L, LUA_REGISTRYINDEX, kQuietKey);
+}
+
+Progress::Progress(lua_State* L, std::string what, std::size_t total)
+    : what_(std::move(what)), total_(total), start_(RunStats::now()) {
+  lua_getfield(L, LUA_REGISTRYINDEX, kQuietKey);
+  const bool quiet = lua_toboolean(L, -1);
+  lua_pop(L, 1);
+  const char* mode = std::getenv("WEDGE_PROGRESS");
+  const std::string m = mode ? mode : "";
+  always_ = m == "always";
+  enabled_ = !quiet && total_ > 1 && m != "never" && (always_ || ::isatty(2));
+}
+
+void Progress::step() {
+  ++done_;
+  if (!enabled_ || done_ > total_) return;
+  if (!always_ && RunStats::now() - start_ < 0.5) return;
+  constexpr int kWidth = 30;
+  const int filled = int(kWidth * done_ / total_);
+  std::string bar = "\r[" + std::string(std::size_t(filled), '#') + std::string(std::size_t(kWidth - filled), ' ') + "] " +
+                    what_ + " " + std::to_string(done_) + "/" + std::to_string(total_);
+  std::fputs(bar.c_str(), stderr);
+  std::fflush(stderr);
+  shown_ = true;
+}
+
+Progress::~Progress() {
+  if (!shown_) return;
+  // Erase the line: carriage return, spaces over the longest line drawn, carriage return.
+  const std::string blank(what_.size() + 40 + 2 * std::to_string(total_).size(), ' ');
+  std::fprintf(stderr, "\r%s\r", blank.c_str());
+  std::fflush(stderr);
 }
 
 // --- run statistics ---

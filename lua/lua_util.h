@@ -36,6 +36,27 @@ std::string running_function_name(lua_State* L);
 // holds the same function.
 void name_functions(lua_State* L, int api_idx);
 
+// A progress bar on stderr for long work ("\r[#####     ] drawing views 3/8"), shown only when
+// stderr is a terminal, the run is not --quiet, and the work has run for half a second; the line
+// is erased when the work ends. WEDGE_PROGRESS=always shows it from the first step (for tests),
+// WEDGE_PROGRESS=never never.
+class Progress {
+ public:
+  Progress(lua_State* L, std::string what, std::size_t total);
+  ~Progress();
+  Progress(const Progress&) = delete;
+  Progress& operator=(const Progress&) = delete;
+  void step();  // one more of `total` done
+
+ private:
+  std::string what_;
+  std::size_t total_, done_ = 0;
+  double start_;
+  bool enabled_, shown_ = false, always_ = false;
+};
+// Marks the state as --quiet (no progress bars).
+void set_quiet(lua_State* L, bool quiet);
+
 // Time per stage for `wedge run --stats`. A binding opens a Stage around its work; nothing is
 // recorded unless the runner has installed a RunStats in this state. Stages nest; each stage is
 // charged its own time, not that of the stages inside it.

@@ -103,6 +103,7 @@ int run_file(const std::string& path, const std::vector<std::string>& args, std:
   if (options.quiet) {
     lua_pushcfunction(L, print_nothing);
     lua_setglobal(L, "print");
+    set_quiet(L, true);
   }
   if (options.sandbox) {
     try {

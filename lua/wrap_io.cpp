@@ -25,7 +25,9 @@ int export_split(lua_State* L, const std::string& path, const Tolerance& tol, co
   {
     Stage stage(L, "mesh");
     const auto occs = flatten(*scene);
+    Progress progress(L, "meshing the scene's parts", occs.size());
     for (std::size_t k = 0; k < occs.size(); ++k) {
+      progress.step();
       std::string symbol = occs[k].symbol;
       for (char& c : symbol)
         if (!std::isalnum(static_cast<unsigned char>(c)) && c != '_' && c != '-') c = '_';
@@ -35,7 +37,9 @@ int export_split(lua_State* L, const std::string& path, const Tolerance& tol, co
   }
   Stage stage(L, "write");
   lua_createtable(L, int(files.size()), 0);
+  Progress progress(L, "writing files", files.size());
   for (std::size_t k = 0; k < files.size(); ++k) {
+    progress.step();
     write_mesh(files[k].second, files[k].first, options);
     lua_pushstring(L, files[k].first.c_str());
     lua_rawseti(L, -2, lua_Integer(k + 1));

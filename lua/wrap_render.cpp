@@ -281,7 +281,10 @@ void read_drawn(lua_State* L, const char* fn, Drawn& drawn) {
     Stage stage(L, "mesh");
     const Tolerance tol = current_tolerance(L);
     std::vector<std::tuple<const SceneLeaf*, bool, const Mesh*>> made;
-    for (const SceneOccurrence& occ : flatten(*scene)) {
+    const auto occs = flatten(*scene);
+    Progress progress(L, "meshing the scene's parts", occs.size());
+    for (const SceneOccurrence& occ : occs) {
+      progress.step();
       const bool textured = occ.texture != nullptr;
       const Mesh* mesh = nullptr;
       for (const auto& [leaf, tex, m] : made)
@@ -486,6 +489,8 @@ int drawing_fn(lua_State* L) {
     render::Image im;
     {
       Stage stage(L, "render");
+      Progress progress(L, "drawing views", d.views.size());
+      d.view_done = [&] { progress.step(); };
       im = render::render_drawing(drawn.items, d);
     }
     Stage stage(L, "write");

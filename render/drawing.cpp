@@ -326,6 +326,7 @@ Image render_drawing(const std::vector<DrawItem>& items, const DrawingOptions& o
     if (o.edges)
       draw_edges(sheet, cx + frame, cy + frame + band, rw, rh, ro.antialias, depth, edges, ro.camera, bounds,
                  ro.camera.fit_window ? points : std::vector<Point3>{}, o.hidden_dashed);
+    if (o.view_done) o.view_done();
     if (o.labels)
       draw_text(sheet, cx + frame + 2 * scale, cy + frame + 2 * scale, o.titles.empty() ? view_title(o.views[v]) : o.titles[v],
                 ink, scale);

@@ -6,6 +6,7 @@
 #pragma once
 #include <array>
 #include <cmath>
+#include <functional>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -370,6 +371,7 @@ struct DrawingOptions {
   double crease_angle = 30;
   std::vector<std::string> titles;  // empty, or one per view (default: the view's title)
   RenderOptions render;
+  std::function<void()> view_done;  // called after each view is drawn (progress), if set
 };
 // The edges of a mesh that a drawing or a wireframe shows: those between different source faces
 // (face ids), or, without ids, where the faces meet at more than `crease_deg` degrees, and the
