@@ -4,13 +4,10 @@
 // display of a solid's triangles.
 #include "lua/wrap_wireframe.h"
 
-#include <cerrno>
 #include <cstdio>
-#include <cstring>
-#include <filesystem>
 #include <sstream>
-#include <unistd.h>
 
+#include "kernel/file_io.h"
 #include "lua/lua_util.h"
 #include "lua/wedge_lua.h"
 #include "lua/wrap_solid.h"
@@ -116,38 +113,26 @@ const luaL_Reg kFunctions[] = {{"wireframe", wireframe_fn}, {nullptr, nullptr}};
 const Wireframe* test_wireframe(lua_State* L, int idx) { return test_object<Wireframe>(L, idx, kKey); }
 
 void write_wireframe_obj(const Wireframe& w, const std::string& path) {
-  namespace fs = std::filesystem;
-  const fs::path target(path);
-  if (target.extension() != ".obj")
+  const std::size_t dot = path.find_last_of('.');
+  if (dot == std::string::npos || path.substr(dot) != ".obj")
     fail("cannot write '", path, "': a wireframe has no faces; export it as .obj (polylines)");
-  const fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
-  const fs::path tmp = dir / ("." + target.filename().string() + ".tmp" + std::to_string(::getpid()));
-  std::FILE* f = std::fopen(tmp.c_str(), "wb");
-  if (!f) fail("cannot write '", path, "': ", std::strerror(errno));
-  bool ok = std::fprintf(f, "# wedge wireframe: %zu polylines\n", w.lines.size()) > 0;
-  for (const auto& line : w.lines)
-    for (const auto& p : line) ok = ok && std::fprintf(f, "v %.17g %.17g %.17g\n", p.x(), p.y(), p.z()) > 0;
+  AtomicFile file(path);  // whole or not at all (kernel/file_io.h)
+  char line[96];
+  std::snprintf(line, sizeof line, "# wedge wireframe: %zu polylines\n", w.lines.size());
+  file.write(line);
+  for (const auto& l : w.lines)
+    for (const auto& p : l) {
+      std::snprintf(line, sizeof line, "v %.17g %.17g %.17g\n", p.x(), p.y(), p.z());
+      file.write(line);
+    }
   std::size_t base = 1;
-  for (const auto& line : w.lines) {
-    ok = ok && std::fputs("l", f) >= 0;
-    for (std::size_t k = 0; k < line.size(); ++k) ok = ok && std::fprintf(f, " %zu", base + k) > 0;
-    ok = ok && std::fputs("\n", f) >= 0;
-    base += line.size();
+  for (const auto& l : w.lines) {
+    std::string record = "l";
+    for (std::size_t k = 0; k < l.size(); ++k) record += " " + std::to_string(base + k);
+    file.write(record + "\n");
+    base += l.size();
   }
-  const int saved = errno;
-  ok = (std::fflush(f) == 0) && ok;
-  ok = (::fsync(::fileno(f)) == 0) && ok;
-  ok = (std::fclose(f) == 0) && ok;
-  std::error_code ec;
-  if (!ok) {
-    fs::remove(tmp, ec);
-    fail("cannot write '", path, "': ", std::strerror(errno ? errno : saved));
-  }
-  fs::rename(tmp, target, ec);
-  if (ec) {
-    fs::remove(tmp, ec);
-    fail("cannot write '", path, "': ", ec.message());
-  }
+  file.commit();
 }
 
 void register_wireframe(lua_State* L) {

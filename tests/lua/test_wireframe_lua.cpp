@@ -84,6 +84,7 @@ TEST_CASE("bad wireframe calls name the problem and the line", "[lua][wireframe]
       {"wireframe(box(1, 1, 1), {colour = {1, 0, 0}})", "unknown field 'colour'"},
       {"export(wireframe(box(1, 1, 1)), 'w.stl')", "a wireframe has no faces; export it as .obj"},
       {"export(wireframe(box(1, 1, 1)), 'w.obj', {split = true})", "field 'split' needs a scene group"},
+      {"export(wireframe(box(1, 1, 1)), '/nonexistent/w.obj')", "export: cannot write '/nonexistent/w.obj': folder '/nonexistent' does not exist"},
   };
   for (const auto& b : bad) {
     auto r = run(std::string("local a = 1\n\n") + b.call + "\n", "@bad.lua");
