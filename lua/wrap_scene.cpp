@@ -57,6 +57,7 @@ NodePtr child_node(lua_State* L, int idx, int arg) {
     throw ArgError{arg, "Group, Solid or surface expected, got nil"};
   } else {
     try {
+      Stage stage(L, "mesh");  // a surface is meshed when it joins the scene
       leaf->mesh = to_mesh(L, idx, arg, current_tolerance(L));
     } catch (const ArgError&) {
       throw ArgError{arg, "Group, Solid or surface expected, got " + type_name(L, idx)};
