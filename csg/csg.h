@@ -1,12 +1,6 @@
-// wedge::csg — the CSG tree and its evaluator: the Solid value type and its leaves.
+// wedge::csg — the CSG tree and its evaluator: the Solid value type and its leaves, and the exact
+// mesh-boolean engine (csg/boolean.h).
 #pragma once
+#include "csg/boolean.h"
 #include "csg/solid.h"
 #include "tessellate/tessellate.h"
-
-namespace wedge {
-
-// Regularised boolean operations; union and intersection are n-ary, difference subtracts
-// every later operand from the first.
-enum class BooleanOp { Union, Difference, Intersection };
-
-}  // namespace wedge

@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <map>
+#include <mutex>
 #include <numeric>
 
 namespace wedge {
@@ -136,11 +137,28 @@ double m_norm(const Mat4& m) { return m.block<3, 3>(0, 0).norm(); }
 }  // namespace
 
 struct Solid::Node {
-  enum class Kind { Empty, Leaf, Transform } kind = Kind::Empty;
+  enum class Kind { Empty, Leaf, Transform, Boolean } kind = Kind::Empty;
   std::shared_ptr<const SolidLeaf> leaf;
   Mat4 matrix = Mat4::Identity();
   std::shared_ptr<const Node> child;
+  // Boolean: the operation, its operands, and the evaluated meshes by chordal tolerance.
+  BooleanOp op = BooleanOp::Union;
+  std::vector<std::shared_ptr<const Node>> operands;
+  mutable std::mutex cache_mutex;
+  mutable std::map<std::pair<double, double>, std::shared_ptr<const Mesh>> cache;
+
+  Node() = default;
+  Node(const Node& o) : kind(o.kind), leaf(o.leaf), matrix(o.matrix), child(o.child), op(o.op), operands(o.operands) {}
 };
+
+Solid Solid::boolean(BooleanOp op, std::vector<Solid> operands) {
+  if (operands.empty()) fail("boolean: no operands");
+  auto n = std::make_shared<Node>();
+  n->kind = Node::Kind::Boolean;
+  n->op = op;
+  for (auto& s : operands) n->operands.push_back(s.node_);
+  return Solid(std::shared_ptr<const Node>(n));
+}
 
 Solid::Solid() : node_(std::make_shared<Node>()) {}
 
@@ -176,6 +194,7 @@ Solid Solid::transformed(const Mat4& m) const {
       n->matrix = m * node_->matrix;
       return Solid(std::shared_ptr<const Node>(n));
     }
+    case Node::Kind::Boolean: break;
   }
   auto n = std::make_shared<Node>();
   n->kind = Node::Kind::Transform;
@@ -195,6 +214,22 @@ Mesh Solid::mesh(const Tolerance& tol) const {
       if (stretch > 0) t.chordal = tol.chordal / std::max(1.0, stretch);
       return Solid(node_->child).mesh(t).transformed(node_->matrix);
     }
+    case Node::Kind::Boolean: {
+      std::pair<double, double> key(tol.chordal, tol.angular);
+      {
+        std::lock_guard<std::mutex> lock(node_->cache_mutex);
+        auto it = node_->cache.find(key);
+        if (it != node_->cache.end()) return *it->second;
+      }
+      std::vector<Mesh> meshes;
+      for (const auto& o : node_->operands) meshes.push_back(Solid(o).mesh(tol));
+      std::vector<const Mesh*> ptrs;
+      for (const auto& m : meshes) ptrs.push_back(&m);
+      auto result = std::make_shared<const Mesh>(wedge::boolean(node_->op, ptrs).mesh);
+      std::lock_guard<std::mutex> lock(node_->cache_mutex);
+      node_->cache[key] = result;
+      return *result;
+    }
   }
   return Mesh();
 }
@@ -211,6 +246,21 @@ Box3 Solid::bounds() const {
         out.extend(apply_point(node_->matrix, corner));
       }
       return out;
+    }
+    case Node::Kind::Boolean: {
+      // Bounds of the operands that can contribute (exact bounds need the evaluated mesh).
+      Box3 out;
+      if (node_->op == BooleanOp::Union) {
+        for (const auto& o : node_->operands) {
+          Box3 b = Solid(o).bounds();
+          if (!b.empty()) {
+            out.extend(b.min);
+            out.extend(b.max);
+          }
+        }
+        return out;
+      }
+      return mesh(Tolerance{}).bounds();
     }
   }
   return Box3();
@@ -235,6 +285,7 @@ std::string Solid::validate(const Tolerance& tol) const {
     case Node::Kind::Empty: return "";
     case Node::Kind::Leaf: return node_->leaf->validate();
     case Node::Kind::Transform: return Solid(node_->child).validate(tol);
+    case Node::Kind::Boolean: return mesh_solid_defect(mesh(tol), "boolean result");
   }
   return "";
 }

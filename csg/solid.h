@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "brep/brep.h"
+#include "csg/boolean.h"
 #include "kernel/kernel.h"
 
 namespace wedge {
@@ -73,6 +74,11 @@ class Solid {
 
   bool empty() const;
   Solid transformed(const Mat4& m) const;
+
+  // A lazy boolean node (csg/boolean.h): union and intersection of all operands, difference of
+  // the first minus the rest. Nothing is computed until a query asks for the mesh; the result is
+  // then kept per tolerance.
+  static Solid boolean(BooleanOp op, std::vector<Solid> operands);
 
   // Queries. `tol` is the chordal tolerance used where the mesh is needed.
   Mesh mesh(const Tolerance& tol) const;

@@ -23,6 +23,7 @@ const Registrar kRegistrars[] = {
     register_render,
     register_scene,
     register_wireframe,
+    register_boolean,
 };
 
 int version_fn(lua_State* L) {

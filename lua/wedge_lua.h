@@ -54,5 +54,6 @@ void register_brep(lua_State* L);      // wrap_brep.cpp
 void register_render(lua_State* L);
 void register_scene(lua_State* L);     // wrap_scene.cpp
 void register_wireframe(lua_State* L); // wrap_wireframe.cpp
+void register_boolean(lua_State* L);  // wrap_boolean.cpp (after register_solid)
 
 }  // namespace wedge::lua

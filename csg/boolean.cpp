@@ -1,0 +1,268 @@
+// The boolean engine's driver: operand checks, the input soup, and the stages in order
+// (broad phase, exact intersection and retriangulation, classification, output).
+#include "csg/boolean.h"
+
+#include <algorithm>
+#include <cstring>
+#include <sstream>
+#include <unordered_map>
+
+#include "csg/boolean_impl.h"
+#include "kernel/error.h"
+#include "kernel/parallel.h"
+#include "kernel/predicates.h"
+
+namespace wedge {
+
+using namespace boolean_detail;
+
+namespace {
+
+struct PosHash {
+  std::size_t operator()(const Vec3& p) const {
+    std::size_t h = 0;
+    for (int i = 0; i < 3; ++i) {
+      double x = p[i] == 0 ? 0.0 : p[i];  // -0 and +0 are one position
+      std::uint64_t b;
+      std::memcpy(&b, &x, sizeof b);
+      h = (h ^ b) * 0x100000001b3ull + 0x9e3779b97f4a7c15ull;
+    }
+    return h;
+  }
+};
+struct PosEq {
+  bool operator()(const Vec3& a, const Vec3& b) const { return a == b; }
+};
+
+std::string at(const Vec3& p) {
+  std::ostringstream o;
+  o.precision(17);
+  o << "(" << p.x() << ", " << p.y() << ", " << p.z() << ")";
+  return o.str();
+}
+
+}  // namespace
+
+// Merges the operands into one soup of triangles on unique positions.
+Soup boolean_detail::make_soup(const std::vector<const Mesh*>& operands) {
+  Soup s;
+  s.operands = static_cast<int>(operands.size());
+  std::unordered_map<Vec3, u32, PosHash, PosEq> ids;
+  for (std::size_t o = 0; o < operands.size(); ++o) {
+    const Mesh& m = *operands[o];
+    std::vector<u32> map(m.positions.size());
+    for (std::size_t v = 0; v < m.positions.size(); ++v) {
+      Vec3 p = m.positions[v];
+      for (int i = 0; i < 3; ++i)
+        if (p[i] == 0) p[i] = 0.0;
+      auto [it, ins] = ids.try_emplace(p, static_cast<u32>(s.verts.size()));
+      if (ins) s.verts.push_back(p);
+      map[v] = it->second;
+    }
+    for (std::size_t t = 0; t < m.triangles.size(); ++t) {
+      const auto& tr = m.triangles[t];
+      s.tris.push_back({map[tr[0]], map[tr[1]], map[tr[2]]});
+      s.operand.push_back(static_cast<std::int32_t>(o));
+      s.local.push_back(static_cast<std::int32_t>(t));
+      s.face_id.push_back(m.face_ids.empty() ? -1 : m.face_ids[t]);
+    }
+  }
+  std::size_t n = s.tris.size();
+  s.axis.resize(n);
+  s.axis_sign.resize(n);
+  parallel_for(0, n, [&](std::size_t t) {
+    const auto& T = s.tris[t];
+    const Vec3 &a = s.verts[T[0]], &b = s.verts[T[1]], &c = s.verts[T[2]];
+    Vec3 nrm = (b - a).cross(c - a);
+    int order[3] = {0, 1, 2};
+    std::sort(order, order + 3, [&](int x, int y) { return std::abs(nrm[x]) > std::abs(nrm[y]); });
+    s.axis[t] = -1;
+    for (int k : order) {
+      int i = (k + 1) % 3, j = (k + 2) % 3;
+      int o = orient2d(Point2(a[i], a[j]), Point2(b[i], b[j]), Point2(c[i], c[j]));
+      if (o != 0) {
+        s.axis[t] = static_cast<std::int8_t>(k);
+        s.axis_sign[t] = static_cast<std::int8_t>(o);
+        break;
+      }
+    }
+  });
+  return s;
+}
+
+// Whether triangles t and u of a soup meet anywhere but in the vertices (or edge) they share,
+// decided exactly.
+bool boolean_detail::triangles_clash(const Soup& s, u32 t, u32 u) {
+  const auto& T = s.tris[t];
+  const auto& U = s.tris[u];
+  int shared = 0, ti = -1, ui = -1;
+  for (int a = 0; a < 3; ++a)
+    for (int b = 0; b < 3; ++b)
+      if (T[a] == U[b]) {
+        ++shared;
+        ti = a;
+        ui = b;
+      }
+  const Vec3 *A = &s.verts[T[0]], *B = &s.verts[T[1]], *C = &s.verts[T[2]];
+  const Vec3 *D = &s.verts[U[0]], *E = &s.verts[U[1]], *F = &s.verts[U[2]];
+  bool hit = false;
+  // Quick exact rejection: one triangle strictly on one side of the other's plane (shared
+  // vertices aside).
+  auto apart = [&](const std::array<u32, 3>& P, const std::array<u32, 3>& Q) {
+    int sg = 0;
+    for (u32 q : Q) {
+      if (q == P[0] || q == P[1] || q == P[2]) continue;
+      int o = orient3d(s.verts[P[0]], s.verts[P[1]], s.verts[P[2]], s.verts[q]);
+      if (o == 0 || (sg != 0 && o != sg)) return false;
+      sg = o;
+    }
+    return true;
+  };
+  if (shared < 3 && (apart(T, U) || apart(U, T))) return false;
+  if (shared == 0) {
+    hit = triangles_intersect(*A, *B, *C, *D, *E, *F);
+  } else if (shared == 1) {
+    // Beyond the shared vertex: the opposite edge of one meets the other, or (coplanar) an
+    // edge from the shared vertex runs inside the other.
+    const Vec3& ta = s.verts[T[(ti + 1) % 3]];
+    const Vec3& tb = s.verts[T[(ti + 2) % 3]];
+    const Vec3& ua = s.verts[U[(ui + 1) % 3]];
+    const Vec3& ub = s.verts[U[(ui + 2) % 3]];
+    hit = segment_triangle_intersect(ta, tb, *D, *E, *F) || segment_triangle_intersect(ua, ub, *A, *B, *C);
+    if (!hit && orient3d(*A, *B, *C, ua) == 0 && orient3d(*A, *B, *C, ub) == 0) {
+      // Coplanar fans around one vertex: they overlap if an edge of one runs into the other.
+      const Vec3& v = s.verts[T[ti]];
+      auto inside_open = [&](const Vec3& q, const Vec3& r, const Vec3& x) {
+        // x strictly inside the angle at v spanned by q and r (projection along T's axis).
+        int k = s.axis[t], i = (k + 1) % 3, j = (k + 2) % 3;
+        Point2 Q(q[i], q[j]), R(r[i], r[j]), X(x[i], x[j]), V(v[i], v[j]);
+        int o = orient2d(V, Q, R);
+        return orient2d(V, Q, X) * o > 0 && orient2d(V, X, R) * o > 0;
+      };
+      hit = inside_open(ta, tb, ua) || inside_open(ta, tb, ub) || inside_open(ua, ub, ta) ||
+            inside_open(ua, ub, tb);
+    }
+  } else if (shared == 2) {
+    // Sharing an edge: they overlap only if folded flat onto each other.
+    u32 t3 = 0, u3 = 0;
+    for (int a = 0; a < 3; ++a) {
+      if (T[a] != U[0] && T[a] != U[1] && T[a] != U[2]) t3 = T[a];
+      if (U[a] != T[0] && U[a] != T[1] && U[a] != T[2]) u3 = U[a];
+    }
+    if (orient3d(*A, *B, *C, s.verts[u3]) == 0) {
+      // Coplanar: overlap if u3 is on the same side of the shared edge as t3.
+      u32 e0 = kNone, e1 = kNone;
+      for (int a = 0; a < 3; ++a)
+        if (T[a] != t3) (e0 == kNone ? e0 : e1) = T[a];
+      int k = s.axis[t], i = (k + 1) % 3, j = (k + 2) % 3;
+      auto p2 = [&](u32 v) { return Point2(s.verts[v][i], s.verts[v][j]); };
+      hit = orient2d(p2(e0), p2(e1), p2(t3)) * orient2d(p2(e0), p2(e1), p2(u3)) > 0;
+    }
+  } else {
+    hit = true;  // the same three vertices twice
+  }
+  return hit;
+}
+
+namespace {
+
+// The first defect of one closed mesh, or "" (exact). `self` also checks self-intersections.
+std::string defect(const Mesh& m, const std::string& name, bool self) {
+  try {
+    m.check();
+  } catch (const Error& e) {
+    return name + ": " + e.what();
+  }
+  if (m.triangles.empty()) return "";
+  std::vector<const Mesh*> one{&m};
+  Soup s = make_soup(one);
+  for (std::size_t t = 0; t < s.tris.size(); ++t) {
+    const auto& T = s.tris[t];
+    if (s.axis[t] < 0)
+      return name + " has a zero-area triangle #" + std::to_string(t + 1) + " at " + at(s.verts[T[0]]) + ", " +
+             at(s.verts[T[1]]) + ", " + at(s.verts[T[2]]);
+  }
+  // Closed and 2-manifold: each directed edge once, and its reverse once.
+  std::vector<std::pair<std::uint64_t, u32>> dir;
+  dir.reserve(s.tris.size() * 3);
+  for (std::size_t t = 0; t < s.tris.size(); ++t)
+    for (int e = 0; e < 3; ++e)
+      dir.push_back({static_cast<std::uint64_t>(s.tris[t][e]) << 32 | s.tris[t][(e + 1) % 3], static_cast<u32>(t)});
+  std::sort(dir.begin(), dir.end());
+  auto edge_at = [&](std::uint64_t key) {
+    return at(s.verts[key >> 32]) + " - " + at(s.verts[key & 0xffffffffu]);
+  };
+  for (std::size_t i = 0; i < dir.size(); ++i) {
+    std::uint64_t key = dir[i].first;
+    std::uint64_t rev = (key << 32) | (key >> 32);
+    if (i + 1 < dir.size() && dir[i + 1].first == key) {
+      // Allowed only where shells touch: as many reverse uses as forward ones.
+      std::size_t n = 0, r = 0;
+      for (std::size_t j = i; j < dir.size() && dir[j].first == key; ++j) ++n;
+      auto lo = std::lower_bound(dir.begin(), dir.end(), std::make_pair(rev, u32(0)));
+      for (auto it = lo; it != dir.end() && it->first == rev; ++it) ++r;
+      if (n != r)
+        return name + " is not consistently oriented: edge " + edge_at(key) + " is used " + std::to_string(n) +
+               " times in one direction";
+    }
+    auto lo = std::lower_bound(dir.begin(), dir.end(), std::make_pair(rev, u32(0)));
+    if (lo == dir.end() || lo->first != rev)
+      return name + " is not closed: edge " + edge_at(key) + " of triangle #" + std::to_string(dir[i].second + 1) +
+             " has no neighbour";
+  }
+  if (!(m.volume() > 0)) return name + " is inside out (negative volume): triangles must be counter-clockwise seen from outside";
+  if (!self) return "";
+  // Self-intersection: triangle pairs whose boxes overlap meet only in their shared vertices/edge.
+  std::vector<u32> all(s.tris.size());
+  for (std::size_t i = 0; i < all.size(); ++i) all[i] = static_cast<u32>(i);
+  Bvh bvh(s, all, 3);
+  std::vector<std::string> found(s.tris.size());
+  parallel_for(0, s.tris.size(), [&](std::size_t t) {
+    const auto& T = s.tris[t];
+    double lo[3], hi[3];
+    for (int d = 0; d < 3; ++d) {
+      lo[d] = std::min({s.verts[T[0]][d], s.verts[T[1]][d], s.verts[T[2]][d]});
+      hi[d] = std::max({s.verts[T[0]][d], s.verts[T[1]][d], s.verts[T[2]][d]});
+    }
+    bvh.query(lo, hi, [&](u32 u) {
+      if (u <= t || !found[t].empty()) return;
+      if (!triangles_clash(s, static_cast<u32>(t), u)) return;
+      const auto& U = s.tris[u];
+      const Vec3 *A = &s.verts[T[0]], *B = &s.verts[T[1]], *C = &s.verts[T[2]];
+      const Vec3 *D = &s.verts[U[0]], *E = &s.verts[U[1]], *F = &s.verts[U[2]];
+      found[t] = name + " intersects itself: triangles #" + std::to_string(t + 1) + " " + at(*A) + " " + at(*B) + " " +
+                   at(*C) + " and #" + std::to_string(u + 1) + " " + at(*D) + " " + at(*E) + " " + at(*F);
+    });
+  });
+  for (const auto& f : found)
+    if (!f.empty()) return f;
+  return "";
+}
+
+std::string operand_name(std::size_t i, std::size_t n) {
+  if (n == 2) return i == 0 ? "the first operand" : "the second operand";
+  return "operand " + std::to_string(i + 1);
+}
+
+}  // namespace
+
+std::string mesh_solid_defect(const Mesh& mesh, const std::string& name) { return defect(mesh, name, true); }
+
+BooleanResult boolean(BooleanOp op, const std::vector<const Mesh*>& operands) {
+  if (operands.empty()) fail("boolean: no operands");
+  for (std::size_t i = 0; i < operands.size(); ++i) {
+    if (!operands[i]) fail("boolean: ", operand_name(i, operands.size()), " is null");
+    std::string d = defect(*operands[i], operand_name(i, operands.size()), true);
+    if (!d.empty()) fail("boolean: ", d);
+  }
+  Soup soup = make_soup(operands);
+  Points pts(soup);
+  auto pairs = candidate_pairs(soup);
+  Arrangement arr = arrange(pts, pairs);
+  auto keep = classify(pts, arr, op);
+  return assemble(pts, arr, keep);
+}
+
+Mesh boolean(BooleanOp op, const Mesh& a, const Mesh& b) { return boolean(op, {&a, &b}).mesh; }
+
+}  // namespace wedge

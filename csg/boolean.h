@@ -1,0 +1,42 @@
+// wedge's exact mesh-boolean engine: regularised union, intersection and difference of closed,
+// consistently oriented triangle meshes. Every decision (which triangles meet, where, how a cut
+// triangle is retriangulated, what is inside what) is made exactly on the input doubles; the
+// output is rounded to doubles once, at the end. The stages live in csg/boolean_*.cpp and share
+// csg/boolean_impl.h, which opens with the notation.
+#pragma once
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "kernel/mesh.h"
+
+namespace wedge {
+
+// Regularised boolean operations; union and intersection are n-ary, difference subtracts
+// every later operand from the first.
+enum class BooleanOp { Union, Difference, Intersection };
+
+struct BooleanResult {
+  // Closed, 2-manifold, outward-oriented. Where the regularised result is not a manifold (two
+  // cubes sharing only an edge) it comes back as shells that touch, each 2-manifold, with their
+  // coincident vertices kept apart. face_ids: the source triangle's face id in its operand
+  // (-1 where that operand has none).
+  Mesh mesh;
+  std::vector<std::int32_t> operand;  // per output triangle: the operand it came from (0-based)
+  std::vector<std::int32_t> source;   // per output triangle: its input triangle in that operand
+};
+
+// The boolean of `operands` (union and intersection of all of them in one pass; difference is
+// operands[0] minus all the others). Throws wedge::Error naming the operand and the first
+// offending spot if an operand is not closed, not 2-manifold, inside out, has a zero-area triangle
+// or intersects itself. Runs on TBB's threads; the result is the same bits at any thread count.
+BooleanResult boolean(BooleanOp op, const std::vector<const Mesh*>& operands);
+// The two-operand shorthand: boolean(op, {&a, &b}).mesh.
+Mesh boolean(BooleanOp op, const Mesh& a, const Mesh& b);
+
+// "" if `mesh` is closed, 2-manifold (touching shells allowed only at distinct vertex indices),
+// consistently oriented with positive volume and free of self-intersections, all decided exactly;
+// otherwise the first defect in words, with the offending spot. `name` starts the message.
+std::string mesh_solid_defect(const Mesh& mesh, const std::string& name = "mesh");
+
+}  // namespace wedge

@@ -1,0 +1,333 @@
+// Exact points and predicates of the boolean engine.
+//
+// Every point is an input vertex or an implicit point (LPI: a segment cut by a plane; TPI: three
+// planes), with homogeneous coordinates (X, Y, Z, W) that are polynomials in the input doubles.
+// Each predicate is one polynomial sign, evaluated first in interval arithmetic on the cached
+// interval coordinates of its points (CGAL::Interval_nt, rounding mode set upward for the
+// duration of the filter), and, only when the interval contains zero, again in exact
+// arithmetic (CGAL::Mpzf: exact sums and products of doubles). The filter decides almost every
+// call; the exact path makes every answer the one exact real arithmetic would give.
+#include <CGAL/Interval_nt.h>
+#include <CGAL/Mpzf.h>
+
+#include <cmath>
+
+#include "csg/boolean_impl.h"
+#include "kernel/error.h"
+#include "kernel/predicates.h"
+
+namespace wedge::boolean_detail {
+
+namespace {
+
+using IA = CGAL::Interval_nt<false>;  // needs the rounding mode upward: see Filter
+using EX = CGAL::Mpzf;
+
+// Rounds toward +infinity while alive, as Interval_nt<false> requires.
+using Filter = CGAL::Protect_FPU_rounding<true>;
+
+template <class NT>
+NT lift(double x) {
+  return NT(x);
+}
+
+template <class NT>
+struct H {
+  NT c[4];  // X, Y, Z, W
+};
+
+template <class NT>
+void plane_eval(const Soup& s, const Plane& P, NT n[3], NT& d) {
+  const Vec3& a = s.verts[P.a];
+  const Vec3& b = s.verts[P.b];
+  NT ax = lift<NT>(a.x()), ay = lift<NT>(a.y()), az = lift<NT>(a.z());
+  NT ux = lift<NT>(b.x()) - ax, uy = lift<NT>(b.y()) - ay, uz = lift<NT>(b.z()) - az;
+  if (P.axis < 0) {
+    const Vec3& c = s.verts[P.c];
+    NT vx = lift<NT>(c.x()) - ax, vy = lift<NT>(c.y()) - ay, vz = lift<NT>(c.z()) - az;
+    n[0] = uy * vz - uz * vy;
+    n[1] = uz * vx - ux * vz;
+    n[2] = ux * vy - uy * vx;
+  } else if (P.axis == 0) {  // u x e_x
+    n[0] = lift<NT>(0);
+    n[1] = uz;
+    n[2] = -uy;
+  } else if (P.axis == 1) {  // u x e_y
+    n[0] = -uz;
+    n[1] = lift<NT>(0);
+    n[2] = ux;
+  } else {  // u x e_z
+    n[0] = uy;
+    n[1] = -ux;
+    n[2] = lift<NT>(0);
+  }
+  d = -(n[0] * ax + n[1] * ay + n[2] * az);
+}
+
+template <class NT>
+H<NT> point_eval(const Soup& s, const PointDef& def) {
+  H<NT> h;
+  if (def.kind == PointDef::Explicit) {
+    const Vec3& p = s.verts[def.p];
+    h.c[0] = lift<NT>(p.x());
+    h.c[1] = lift<NT>(p.y());
+    h.c[2] = lift<NT>(p.z());
+    h.c[3] = lift<NT>(1);
+    return h;
+  }
+  if (def.kind == PointDef::Lpi) {
+    NT n[3], d;
+    plane_eval(s, def.P[0], n, d);
+    const Vec3& p = s.verts[def.p];
+    const Vec3& q = s.verts[def.q];
+    NT P[3] = {lift<NT>(p.x()), lift<NT>(p.y()), lift<NT>(p.z())};
+    NT Q[3] = {lift<NT>(q.x()), lift<NT>(q.y()), lift<NT>(q.z())};
+    NT dp = n[0] * P[0] + n[1] * P[1] + n[2] * P[2] + d;
+    NT dq = n[0] * Q[0] + n[1] * Q[1] + n[2] * Q[2] + d;
+    for (int i = 0; i < 3; ++i) h.c[i] = dp * Q[i] - dq * P[i];
+    h.c[3] = dp - dq;
+    return h;
+  }
+  NT n1[3], n2[3], n3[3], d1, d2, d3;
+  plane_eval(s, def.P[0], n1, d1);
+  plane_eval(s, def.P[1], n2, d2);
+  plane_eval(s, def.P[2], n3, d3);
+  NT c23[3] = {n2[1] * n3[2] - n2[2] * n3[1], n2[2] * n3[0] - n2[0] * n3[2], n2[0] * n3[1] - n2[1] * n3[0]};
+  NT c31[3] = {n3[1] * n1[2] - n3[2] * n1[1], n3[2] * n1[0] - n3[0] * n1[2], n3[0] * n1[1] - n3[1] * n1[0]};
+  NT c12[3] = {n1[1] * n2[2] - n1[2] * n2[1], n1[2] * n2[0] - n1[0] * n2[2], n1[0] * n2[1] - n1[1] * n2[0]};
+  for (int i = 0; i < 3; ++i) h.c[i] = -(d1 * c23[i] + d2 * c31[i] + d3 * c12[i]);
+  h.c[3] = n1[0] * c23[0] + n1[1] * c23[1] + n1[2] * c23[2];
+  return h;
+}
+
+template <class NT>
+H<NT> centroid_of(const H<NT>& a, const H<NT>& b, const H<NT>& c) {
+  H<NT> h;
+  NT bc = b.c[3] * c.c[3], ac = a.c[3] * c.c[3], ab = a.c[3] * b.c[3];
+  for (int i = 0; i < 3; ++i) h.c[i] = a.c[i] * bc + b.c[i] * ac + c.c[i] * ab;
+  h.c[3] = lift<NT>(3) * a.c[3] * bc;
+  return h;
+}
+
+// Signs: +1, -1, or 0; for intervals, 2 when the interval contains zero (undecided).
+int sign_of(const EX& x) {
+  auto s = x.sign();
+  return s == CGAL::POSITIVE ? 1 : (s == CGAL::NEGATIVE ? -1 : 0);
+}
+int sign_of(const IA& x) {
+  if (x.inf() > 0) return 1;
+  if (x.sup() < 0) return -1;
+  if (x.inf() == 0 && x.sup() == 0) return 0;
+  return 2;
+}
+
+// Product of signs, undecided (2) if any is.
+int mul(int a, int b) { return (a == 2 || b == 2) ? 2 : a * b; }
+
+H<IA> to_ia(const IntervalH& ih) {
+  H<IA> h;
+  for (int i = 0; i < 4; ++i) h.c[i] = IA(ih.lo[i], ih.hi[i]);
+  return h;
+}
+
+template <class NT>
+NT det3(const NT& a, const NT& b, const NT& c, const NT& d, const NT& e, const NT& f, const NT& g,
+        const NT& h, const NT& i) {
+  return a * (e * i - f * h) - b * (d * i - f * g) + c * (d * h - e * g);
+}
+
+template <class NT>
+int orient2d_sign(const H<NT>& a, const H<NT>& b, const H<NT>& c, int k) {
+  int i = (k + 1) % 3, j = (k + 2) % 3;
+  NT det = det3(a.c[i], a.c[j], a.c[3], b.c[i], b.c[j], b.c[3], c.c[i], c.c[j], c.c[3]);
+  return mul(sign_of(det), mul(sign_of(a.c[3]), mul(sign_of(b.c[3]), sign_of(c.c[3]))));
+}
+
+template <class NT>
+int compare_sign(const H<NT>& a, const H<NT>& b, int axis) {
+  NT d = a.c[axis] * b.c[3] - b.c[axis] * a.c[3];
+  return mul(sign_of(d), mul(sign_of(a.c[3]), sign_of(b.c[3])));
+}
+
+template <class NT>
+int side_sign(const Soup& s, const Plane& P, const H<NT>& p) {
+  NT n[3], d;
+  plane_eval(s, P, n, d);
+  NT v = n[0] * p.c[0] + n[1] * p.c[1] + n[2] * p.c[2] + d * p.c[3];
+  return mul(sign_of(v), sign_of(p.c[3]));
+}
+
+template <class NT>
+int incircle_sign(const H<NT>& a, const H<NT>& b, const H<NT>& c, const H<NT>& d, int k) {
+  int i = (k + 1) % 3, j = (k + 2) % 3;
+  // Rows (x W^2, y W^2, (x^2 + y^2) W^2, W^2) = (X W, Y W, X^2 + Y^2, W^2): the affine rows of
+  // the classic 4x4 determinant times W^2 > 0, so the sign is the classic one.
+  const H<NT>* p[4] = {&a, &b, &c, &d};
+  NT m[4][4];
+  for (int r = 0; r < 4; ++r) {
+    const NT& X = p[r]->c[i];
+    const NT& Y = p[r]->c[j];
+    const NT& W = p[r]->c[3];
+    m[r][0] = X * W;
+    m[r][1] = Y * W;
+    m[r][2] = X * X + Y * Y;
+    m[r][3] = W * W;
+  }
+  // Laplace expansion along the last column.
+  NT det = -m[0][3] * det3(m[1][0], m[1][1], m[1][2], m[2][0], m[2][1], m[2][2], m[3][0], m[3][1], m[3][2]) +
+           m[1][3] * det3(m[0][0], m[0][1], m[0][2], m[2][0], m[2][1], m[2][2], m[3][0], m[3][1], m[3][2]) -
+           m[2][3] * det3(m[0][0], m[0][1], m[0][2], m[1][0], m[1][1], m[1][2], m[3][0], m[3][1], m[3][2]) +
+           m[3][3] * det3(m[0][0], m[0][1], m[0][2], m[1][0], m[1][1], m[1][2], m[2][0], m[2][1], m[2][2]);
+  return sign_of(det);
+}
+
+}  // namespace
+
+Points::Points(const Soup& soup) : soup_(&soup) {
+  std::size_t n = soup.verts.size();
+  defs_.resize(n);
+  approx_.resize(n);
+  ih_.resize(n);
+  box_.resize(n);
+  for (std::size_t v = 0; v < n; ++v) {
+    defs_[v].kind = PointDef::Explicit;
+    defs_[v].p = static_cast<u32>(v);
+    approx_[v] = soup.verts[v];
+    for (int i = 0; i < 3; ++i) ih_[v].lo[i] = ih_[v].hi[i] = soup.verts[v][i];
+    ih_[v].lo[3] = ih_[v].hi[3] = 1;
+    for (int i = 0; i < 3; ++i) box_[v][i] = box_[v][i + 3] = soup.verts[v][i];
+  }
+}
+
+u32 Points::add(const PointDef& d) {
+  IntervalH ih;
+  Vec3 ap;
+  std::array<double, 6> bx;
+  {
+    Filter guard;
+    H<IA> h = point_eval<IA>(*soup_, d);
+    for (int i = 0; i < 4; ++i) {
+      ih.lo[i] = h.c[i].inf();
+      ih.hi[i] = h.c[i].sup();
+    }
+    for (int i = 0; i < 3; ++i) {
+      IA q = h.c[i] / h.c[3];
+      ap[i] = q.inf() * 0.5 + q.sup() * 0.5;
+      bx[i] = q.inf();
+      bx[i + 3] = q.sup();
+    }
+  }
+  if (!ap.allFinite() || !(ih.lo[3] > 0 || ih.hi[3] < 0)) {
+    // The filter cannot bound this point (huge or tiny coordinates): take the exact quotient.
+    H<EX> e = point_eval<EX>(*soup_, d);
+    if (sign_of(e.c[3]) == 0) fail("boolean: internal error: a constructed point has W = 0");
+    for (int i = 0; i < 3; ++i) ap[i] = CGAL::to_double(e.c[i]) / CGAL::to_double(e.c[3]);
+    for (int i = 0; i < 3; ++i) {
+      bx[i] = -INFINITY;
+      bx[i + 3] = INFINITY;
+    }
+  }
+  defs_.push_back(d);
+  approx_.push_back(ap);
+  ih_.push_back(ih);
+  box_.push_back(bx);
+  return static_cast<u32>(defs_.size() - 1);
+}
+
+int Points::orient2d(u32 a, u32 b, u32 c, int k) const {
+  {
+    Filter guard;
+    int s = orient2d_sign(to_ia(ih_[a]), to_ia(ih_[b]), to_ia(ih_[c]), k);
+    if (s != 2) return s;
+  }
+  return orient2d_sign(point_eval<EX>(*soup_, defs_[a]), point_eval<EX>(*soup_, defs_[b]),
+                       point_eval<EX>(*soup_, defs_[c]), k);
+}
+
+int Points::compare(u32 a, u32 b, int axis) const {
+  if (a == b) return 0;
+  {
+    Filter guard;
+    int s = compare_sign(to_ia(ih_[a]), to_ia(ih_[b]), axis);
+    if (s != 2) return s;
+  }
+  return compare_sign(point_eval<EX>(*soup_, defs_[a]), point_eval<EX>(*soup_, defs_[b]), axis);
+}
+
+bool Points::equal(u32 a, u32 b) const {
+  return a == b || (compare(a, b, 0) == 0 && compare(a, b, 1) == 0 && compare(a, b, 2) == 0);
+}
+
+int Points::compare_def(const PointDef& a, const PointDef& b, int axis) const {
+  {
+    Filter guard;
+    int s = compare_sign(point_eval<IA>(*soup_, a), point_eval<IA>(*soup_, b), axis);
+    if (s != 2) return s;
+  }
+  return compare_sign(point_eval<EX>(*soup_, a), point_eval<EX>(*soup_, b), axis);
+}
+
+int Points::side(const Plane& P, u32 p) const {
+  {
+    Filter guard;
+    int s = side_sign(*soup_, P, to_ia(ih_[p]));
+    if (s != 2) return s;
+  }
+  return side_sign(*soup_, P, point_eval<EX>(*soup_, defs_[p]));
+}
+
+int Points::incircle(u32 a, u32 b, u32 c, u32 d, int k) const {
+  {
+    Filter guard;
+    int s = incircle_sign(to_ia(ih_[a]), to_ia(ih_[b]), to_ia(ih_[c]), to_ia(ih_[d]), k);
+    if (s != 2) return s;
+  }
+  return incircle_sign(point_eval<EX>(*soup_, defs_[a]), point_eval<EX>(*soup_, defs_[b]),
+                       point_eval<EX>(*soup_, defs_[c]), point_eval<EX>(*soup_, defs_[d]), k);
+}
+
+int Points::orient2d_centroid(u32 u, u32 v, const std::array<u32, 3>& t, int k) const {
+  {
+    Filter guard;
+    H<IA> c = centroid_of(to_ia(ih_[t[0]]), to_ia(ih_[t[1]]), to_ia(ih_[t[2]]));
+    int s = orient2d_sign(to_ia(ih_[u]), to_ia(ih_[v]), c, k);
+    if (s != 2) return s;
+  }
+  H<EX> c = centroid_of(point_eval<EX>(*soup_, defs_[t[0]]), point_eval<EX>(*soup_, defs_[t[1]]),
+                        point_eval<EX>(*soup_, defs_[t[2]]));
+  return orient2d_sign(point_eval<EX>(*soup_, defs_[u]), point_eval<EX>(*soup_, defs_[v]), c, k);
+}
+
+int Points::side_centroid(const Plane& P, const std::array<u32, 3>& t) const {
+  {
+    Filter guard;
+    H<IA> c = centroid_of(to_ia(ih_[t[0]]), to_ia(ih_[t[1]]), to_ia(ih_[t[2]]));
+    int s = side_sign(*soup_, P, c);
+    if (s != 2) return s;
+  }
+  H<EX> c = centroid_of(point_eval<EX>(*soup_, defs_[t[0]]), point_eval<EX>(*soup_, defs_[t[1]]),
+                        point_eval<EX>(*soup_, defs_[t[2]]));
+  return side_sign(*soup_, P, c);
+}
+
+int Points::cross_sign(const Plane& P, const Plane& Q, int axis) const {
+  int i = (axis + 1) % 3, j = (axis + 2) % 3;
+  {
+    Filter guard;
+    IA n[3], m[3], d, e;
+    plane_eval(*soup_, P, n, d);
+    plane_eval(*soup_, Q, m, e);
+    int s = sign_of(n[i] * m[j] - n[j] * m[i]);
+    if (s != 2) return s;
+  }
+  EX n[3], m[3], d, e;
+  plane_eval(*soup_, P, n, d);
+  plane_eval(*soup_, Q, m, e);
+  return sign_of(n[i] * m[j] - n[j] * m[i]);
+}
+
+int orient3d_v(const Soup& s, u32 a, u32 b, u32 c, u32 d) {
+  return wedge::orient3d(s.verts[a], s.verts[b], s.verts[c], s.verts[d]);
+}
+
+}  // namespace wedge::boolean_detail

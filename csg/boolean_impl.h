@@ -1,0 +1,189 @@
+// The boolean engine's private header: its data and its stages, grouped by the file that defines
+// them (this header is the map of the engine).
+//
+// Notation and number representation
+// - The input is a *soup*: every operand's triangles, on vertices merged by exactly equal position
+//   across operands. Input coordinates are doubles and are exact.
+// - A *point* is an input vertex or an implicit point, never a rounded construction:
+//     LPI  the segment p q (input vertices) cut by a plane,
+//     TPI  the meeting point of three planes,
+//   where a *plane* is the plane of an input triangle (a, b, c) or the plane through the input
+//   vertices a, b that contains the coordinate axis e_k (the "wall" over a segment when a triangle
+//   is seen along e_k). Every point has exact homogeneous coordinates (X, Y, Z, W): polynomials in
+//   the input doubles, evaluated in three number types:
+//     double     approximate position (sorting hints, the final rounding);
+//     Interval   CGAL::Interval_nt, the filter: most predicates are decided here;
+//     Mpzf       CGAL's exact multi-precision float, for the rare ties the filter cannot decide.
+//   W is never 0 for a point the engine makes (its planes are independent). Every predicate
+//   (orientation in a projection, coordinate comparison, side of a plane) returns the sign exact
+//   arithmetic would give.
+// - T, U are input triangles; k(T) is the axis T is projected along (the largest component of its
+//   normal, exactly non-zero), and (i, j) = (k+1, k+2) mod 3 its 2D coordinates, so that the
+//   projection keeps T's orientation when n_k > 0.
+// - A *segment* of T is a constraint of T's retriangulation: a piece of T's intersection with
+//   another operand, given by its two end points and the plane that cuts T along it.
+// - A *patch* is a set of output candidate triangles of one operand joined across edges that no
+//   other operand touches; a patch is all inside or all outside every other operand.
+// - w_j(P) is the winding number of point P with respect to operand j.
+//
+// Where rounding happens: only in output.cpp, once, when exact output vertices become doubles.
+#pragma once
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "csg/boolean.h"
+#include "kernel/types.h"
+
+namespace wedge::boolean_detail {
+
+using u32 = std::uint32_t;
+constexpr u32 kNone = 0xffffffffu;
+
+// --- the input soup (boolean.cpp) ---
+struct Soup {
+  std::vector<Vec3> verts;                // unique input positions
+  std::vector<std::array<u32, 3>> tris;   // vertex ids, counter-clockwise seen from outside
+  std::vector<std::int32_t> operand;      // per triangle
+  std::vector<std::int32_t> local;        // per triangle: its index in its operand
+  std::vector<std::int32_t> face_id;      // per triangle: the operand's face id, or -1
+  std::vector<std::int8_t> axis;          // per triangle: k(T)
+  std::vector<std::int8_t> axis_sign;     // per triangle: sign of n_k(T)
+  int operands = 0;
+};
+
+// Merges meshes into one soup (positions equal in value become one vertex; -0 is 0).
+Soup make_soup(const std::vector<const Mesh*>& meshes);
+// Whether triangles t and u meet anywhere but in the vertices or edge they share (exact).
+bool triangles_clash(const Soup& s, u32 t, u32 u);
+
+// --- exact points and predicates (boolean_exact.cpp) ---
+struct Plane {
+  std::int32_t axis;  // -1: the plane of triangle (a, b, c); 0..2: through a, b containing e_axis
+  u32 a, b, c;
+  static Plane of_triangle(const std::array<u32, 3>& t) { return {-1, t[0], t[1], t[2]}; }
+  static Plane wall(u32 a, u32 b, int k) { return {k, a, b, kNone}; }
+  bool operator==(const Plane& o) const { return axis == o.axis && a == o.a && b == o.b && c == o.c; }
+};
+
+struct PointDef {
+  enum Kind : std::uint8_t { Explicit, Lpi, Tpi } kind = Explicit;
+  u32 p = kNone, q = kNone;  // Explicit: vertex p; Lpi: segment p q
+  Plane P[3] = {};           // Lpi: P[0]; Tpi: P[0], P[1], P[2]
+};
+
+struct IntervalH { double lo[4], hi[4]; };  // interval homogeneous coordinates (X, Y, Z, W)
+
+// The table of every point of a run. Ids below soup.verts.size() are the input vertices.
+class Points {
+ public:
+  explicit Points(const Soup& soup);
+  u32 add(const PointDef& d);  // not thread-safe; computes the filter data
+  std::size_t size() const { return defs_.size(); }
+  const PointDef& def(u32 p) const { return defs_[p]; }
+  const Vec3& approx(u32 p) const { return approx_[p]; }
+  const IntervalH& interval(u32 p) const { return ih_[p]; }
+  bool is_explicit(u32 p) const { return defs_[p].kind == PointDef::Explicit; }
+  const Soup& soup() const { return *soup_; }
+
+  // Exact predicates.
+  int orient2d(u32 a, u32 b, u32 c, int k) const;  // in the projection along e_k, (i, j) = (k+1, k+2)
+  int compare(u32 a, u32 b, int axis) const;       // sign(a_axis - b_axis)
+  bool equal(u32 a, u32 b) const;
+  int side(const Plane& P, u32 p) const;           // sign(n . p + d): + on the side n points to
+  // +1 if d is inside the circle through a, b, c (counter-clockwise in projection k), -1 outside.
+  int incircle(u32 a, u32 b, u32 c, u32 d, int k) const;
+  // For the centroid of triangle (a, b, c): sign of orient2d(u, v, centroid) in projection k, with
+  // u, v input vertices; and the side of a plane.
+  int orient2d_centroid(u32 u, u32 v, const std::array<u32, 3>& t, int k) const;
+  int side_centroid(const Plane& P, const std::array<u32, 3>& t) const;
+  // Whether two planes are parallel or the same (cross product of normals exactly zero) — and
+  // the sign of a component of that cross product.
+  int cross_sign(const Plane& P, const Plane& Q, int axis) const;
+  // compare() on points not (yet) in the table.
+  int compare_def(const PointDef& a, const PointDef& b, int axis) const;
+  // A box that holds the point exactly: lo[0..2], hi[0..2].
+  const std::array<double, 6>& box(u32 p) const { return box_[p]; }
+
+ private:
+  const Soup* soup_;
+  std::vector<PointDef> defs_;
+  std::vector<Vec3> approx_;
+  std::vector<IntervalH> ih_;
+  std::vector<std::array<double, 6>> box_;
+};
+
+// Exact sign of orient3d on input vertices.
+int orient3d_v(const Soup& s, u32 a, u32 b, u32 c, u32 d);
+
+// --- broad phase (boolean_broad.cpp) ---
+// Pairs (T, U), T < U, of triangles of different operands whose boxes overlap, sorted.
+std::vector<std::array<u32, 2>> candidate_pairs(const Soup& soup);
+
+// An axis-aligned box tree over triangles, for point and vertical-line queries.
+class Bvh {
+ public:
+  // Over the triangles `ids` of the soup; boxes of `dims` axes (2: xy only, for vertical rays).
+  Bvh(const Soup& soup, std::vector<u32> ids, int dims);
+  // Calls f(triangle id) for every triangle whose box meets the box [lo, hi].
+  template <class F>
+  void query(const double lo[3], const double hi[3], F&& f) const;
+
+  struct Node { float lo[3], hi[3]; u32 first, count; u32 left, right; };  // leaf: count > 0
+  std::vector<Node> nodes;
+  std::vector<u32> items;
+  int dims = 3;
+};
+
+template <class F>
+void Bvh::query(const double lo[3], const double hi[3], F&& f) const {
+  if (nodes.empty()) return;
+  u32 stack[128];
+  int top = 0;
+  stack[top++] = 0;
+  while (top) {
+    const Node& n = nodes[stack[--top]];
+    bool miss = false;
+    for (int d = 0; d < dims; ++d)
+      if (n.lo[d] > hi[d] || n.hi[d] < lo[d]) miss = true;
+    if (miss) continue;
+    if (n.count) {
+      for (u32 i = n.first; i < n.first + n.count; ++i) f(items[i]);
+    } else {
+      stack[top++] = n.left;
+      stack[top++] = n.right;
+    }
+  }
+}
+
+// --- exact triangle-triangle intersection (boolean_intersect.cpp) ---
+struct Segment {
+  PointDef a, b;  // end points (before point ids are assigned)
+  Plane cut;      // the plane that cuts the triangle along the segment
+};
+struct PairCut {       // what T ∩ U adds to T's and to U's retriangulation
+  std::vector<Segment> segs_t, segs_u;
+  std::vector<PointDef> points;  // isolated touching points (in both)
+  bool coplanar = false;
+};
+PairCut intersect_pair(const Points& pts, u32 t, u32 u);
+
+// --- retriangulation (boolean_triangulate.cpp) ---
+struct Piece {               // an output candidate triangle
+  std::array<u32, 3> v;      // point ids, counter-clockwise seen from outside its operand
+  u32 tri;                   // its input triangle
+};
+struct Arrangement {
+  std::vector<Piece> pieces;             // every triangle cut into pieces, uncut ones whole
+  std::vector<std::vector<u32>> coplanar;  // per input triangle: overlapping coplanar triangles
+};
+Arrangement arrange(Points& pts, const std::vector<std::array<u32, 2>>& pairs);
+
+// --- classification (boolean_classify.cpp) ---
+// For each piece: 0 drop, +1 keep, -1 keep reversed.
+std::vector<std::int8_t> classify(const Points& pts, const Arrangement& arr, BooleanOp op);
+
+// --- output and rounding (boolean_output.cpp) ---
+BooleanResult assemble(const Points& pts, const Arrangement& arr, const std::vector<std::int8_t>& keep);
+
+}  // namespace wedge::boolean_detail

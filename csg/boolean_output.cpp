@@ -1,0 +1,285 @@
+// Output: the kept pieces become a triangle mesh of doubles.
+//
+// Exact until here: every vertex is a point id, and two pieces share a vertex exactly when their
+// points are equal. Where the result is not a manifold (two solids that share only an edge or a
+// vertex) its shells are kept apart: around an edge used by more than two triangles, each
+// triangle is paired with its neighbour on its back side (the side its solid is on), and each
+// vertex gets one copy per fan of triangles joined through such pairs; the copies have the same
+// position and different indices.
+// Rounding happens here, once: each vertex becomes the double nearest (within an ulp) to its
+// exact position. A triangle whose rounded normal turns against its source plane is reported.
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+#include "csg/boolean_impl.h"
+#include "kernel/error.h"
+#include "kernel/parallel.h"
+
+namespace wedge::boolean_detail {
+
+namespace {
+
+class Dsu {
+ public:
+  explicit Dsu(std::size_t n) : p_(n) { std::iota(p_.begin(), p_.end(), 0u); }
+  u32 find(u32 x) {
+    while (p_[x] != x) x = p_[x] = p_[p_[x]];
+    return x;
+  }
+  void unite(u32 a, u32 b) {
+    a = find(a);
+    b = find(b);
+    if (a != b) p_[std::max(a, b)] = std::min(a, b);
+  }
+
+ private:
+  std::vector<u32> p_;
+};
+
+// Removes triangles with a repeated vertex and positions no triangle uses (keeping the
+// per-triangle arrays in step).
+void compact(BooleanResult& r, std::vector<char>& moved) {
+  std::size_t w = 0;
+  for (std::size_t t = 0; t < r.mesh.triangles.size(); ++t) {
+    const auto& T = r.mesh.triangles[t];
+    if (T[0] == T[1] || T[1] == T[2] || T[2] == T[0]) continue;
+    r.mesh.triangles[w] = T;
+    r.operand[w] = r.operand[t];
+    r.source[w] = r.source[t];
+    r.mesh.face_ids[w] = r.mesh.face_ids[t];
+    ++w;
+  }
+  r.mesh.triangles.resize(w);
+  r.operand.resize(w);
+  r.source.resize(w);
+  r.mesh.face_ids.resize(w);
+  std::vector<u32> index(r.mesh.positions.size(), kNone);
+  std::vector<Vec3> pos;
+  std::vector<char> mv;
+  for (auto& T : r.mesh.triangles)
+    for (auto& v : T) {
+      if (index[v] == kNone) {
+        index[v] = static_cast<u32>(pos.size());
+        pos.push_back(r.mesh.positions[v]);
+        mv.push_back(moved[v]);
+      }
+      v = index[v];
+    }
+  r.mesh.positions.swap(pos);
+  moved.swap(mv);
+}
+
+// Triangles with a rounded vertex that are degenerate or meet another triangle beyond their
+// shared vertices, decided exactly on the rounded doubles.
+std::vector<u32> rounding_defects(const Mesh& m, const std::vector<char>& moved) {
+  std::vector<const Mesh*> one{&m};
+  Soup s = make_soup(one);
+  std::vector<u32> all(s.tris.size());
+  std::iota(all.begin(), all.end(), 0u);
+  std::vector<char> bad(s.tris.size(), 0);
+  std::vector<u32> check;
+  for (std::size_t t = 0; t < m.triangles.size(); ++t)
+    if (moved[m.triangles[t][0]] || moved[m.triangles[t][1]] || moved[m.triangles[t][2]]) check.push_back(static_cast<u32>(t));
+  if (check.empty()) return {};
+  Bvh bvh(s, all, 3);
+  parallel_for(0, check.size(), [&](std::size_t i) {
+    u32 t = check[i];
+    if (s.axis[t] < 0) {
+      bad[t] = 1;
+      return;
+    }
+    const auto& T = s.tris[t];
+    double lo[3], hi[3];
+    for (int d = 0; d < 3; ++d) {
+      lo[d] = std::min({s.verts[T[0]][d], s.verts[T[1]][d], s.verts[T[2]][d]});
+      hi[d] = std::max({s.verts[T[0]][d], s.verts[T[1]][d], s.verts[T[2]][d]});
+    }
+    bvh.query(lo, hi, [&](u32 u) {
+      if (u != t && !bad[t] && triangles_clash(s, t, u)) bad[t] = 1;
+    });
+  });
+  std::vector<u32> out;
+  for (u32 t : check)
+    if (bad[t]) out.push_back(t);
+  return out;
+}
+
+// Rounding repair: each bad triangle loses its shortest edge that has a rounded end, the
+// rounded end collapsing into the other where the collapse keeps the surface a manifold (the
+// link condition); repeated until the exact check finds nothing.
+void repair_rounding(BooleanResult& r, std::vector<char>& moved) {
+  for (int round = 0; round < 16; ++round) {
+    std::vector<u32> bad = rounding_defects(r.mesh, moved);
+    if (bad.empty()) return;
+    auto& tris = r.mesh.triangles;
+    std::vector<std::vector<u32>> around(r.mesh.positions.size());
+    for (std::size_t t = 0; t < tris.size(); ++t)
+      for (u32 v : tris[t]) around[v].push_back(static_cast<u32>(t));
+    std::vector<char> touched(r.mesh.positions.size(), 0);
+    bool changed = false;
+    for (u32 t : bad) {
+      const auto T = tris[t];
+      if (touched[T[0]] || touched[T[1]] || touched[T[2]]) continue;
+      // Candidate edges, shortest first.
+      std::array<int, 3> order = {0, 1, 2};
+      auto len = [&](int e) { return (r.mesh.positions[T[e]] - r.mesh.positions[T[(e + 1) % 3]]).squaredNorm(); };
+      std::sort(order.begin(), order.end(), [&](int x, int y) { return len(x) < len(y); });
+      for (int e : order) {
+        u32 a = T[e], b = T[(e + 1) % 3];
+        if (!moved[a] && !moved[b]) continue;
+        if (!moved[a] || (moved[b] && b > a)) std::swap(a, b);  // a is removed, b kept
+        // Link condition: the common neighbours of a and b are the two opposite vertices.
+        std::vector<u32> na, nb, common, opposite;
+        for (u32 x : around[a])
+          for (u32 v : tris[x])
+            if (v != a) na.push_back(v);
+        for (u32 x : around[b])
+          for (u32 v : tris[x])
+            if (v != b) nb.push_back(v);
+        std::sort(na.begin(), na.end());
+        na.erase(std::unique(na.begin(), na.end()), na.end());
+        std::sort(nb.begin(), nb.end());
+        nb.erase(std::unique(nb.begin(), nb.end()), nb.end());
+        std::set_intersection(na.begin(), na.end(), nb.begin(), nb.end(), std::back_inserter(common));
+        for (u32 x : around[a]) {
+          const auto& X = tris[x];
+          if (X[0] == b || X[1] == b || X[2] == b)
+            for (u32 v : X)
+              if (v != a && v != b) opposite.push_back(v);
+        }
+        std::sort(opposite.begin(), opposite.end());
+        if (opposite.size() != 2 || common != opposite) continue;
+        for (u32 x : around[a])
+          for (u32& v : tris[x])
+            if (v == a) v = b;
+        for (u32 v : na) touched[v] = 1;
+        touched[a] = touched[b] = 1;
+        changed = true;
+        break;
+      }
+    }
+    if (!changed) break;
+    compact(r, moved);
+  }
+  std::vector<u32> bad = rounding_defects(r.mesh, moved);
+  if (!bad.empty()) {
+    const Vec3& p = r.mesh.positions[r.mesh.triangles[bad[0]][0]];
+    fail("boolean: the result cannot be rounded to doubles without a self-intersection near (", p.x(), ", ", p.y(),
+         ", ", p.z(), ")");
+  }
+}
+
+}  // namespace
+
+BooleanResult assemble(const Points& pts, const Arrangement& arr, const std::vector<std::int8_t>& keep) {
+  const Soup& soup = pts.soup();
+  std::vector<std::array<u32, 3>> tris;
+  std::vector<u32> src;
+  for (std::size_t p = 0; p < arr.pieces.size(); ++p) {
+    if (!keep[p]) continue;
+    auto v = arr.pieces[p].v;
+    if (keep[p] < 0) std::swap(v[1], v[2]);
+    tris.push_back(v);
+    src.push_back(arr.pieces[p].tri);
+  }
+  const std::size_t nt = tris.size();
+
+  // Directed edges; partner[c] for corner-edge c = 3*t+e (edge v[e] -> v[e+1]).
+  struct Half {
+    std::uint64_t key;  // undirected
+    u32 ce;             // 3*t+e
+  };
+  std::vector<Half> half(nt * 3);
+  for (std::size_t t = 0; t < nt; ++t)
+    for (int e = 0; e < 3; ++e) {
+      u32 a = tris[t][e], b = tris[t][(e + 1) % 3];
+      half[t * 3 + e] = {static_cast<std::uint64_t>(std::min(a, b)) << 32 | std::max(a, b), static_cast<u32>(t * 3 + e)};
+    }
+  std::sort(half.begin(), half.end(), [](const Half& x, const Half& y) {
+    return x.key < y.key || (x.key == y.key && x.ce < y.ce);
+  });
+  std::vector<u32> partner(nt * 3, kNone);
+  for (std::size_t i = 0; i < half.size();) {
+    std::size_t j = i;
+    while (j < half.size() && half[j].key == half[i].key) ++j;
+    if (j - i == 2) {
+      partner[half[i].ce] = half[i + 1].ce;
+      partner[half[i + 1].ce] = half[i].ce;
+    } else {
+      // Several sheets through one edge: sort them around it and pair each triangle with its
+      // neighbour behind it.
+      u32 a = static_cast<u32>(half[i].key >> 32), b = static_cast<u32>(half[i].key & 0xffffffffu);
+      Vec3 pa = pts.approx(a), e = (pts.approx(b) - pa).normalized();
+      Vec3 u = e.unitOrthogonal(), w = e.cross(u);
+      struct Sheet {
+        double angle;
+        u32 ce;
+        bool fwd;
+      };
+      std::vector<Sheet> sh;
+      for (std::size_t x = i; x < j; ++x) {
+        u32 t = half[x].ce / 3, ei = half[x].ce % 3;
+        u32 c = tris[t][(ei + 2) % 3];
+        Vec3 d = pts.approx(c) - pa;
+        sh.push_back({std::atan2(d.dot(w), d.dot(u)), half[x].ce, tris[t][ei] == a});
+      }
+      std::sort(sh.begin(), sh.end(), [](const Sheet& x, const Sheet& y) {
+        return x.angle < y.angle || (x.angle == y.angle && x.ce < y.ce);
+      });
+      // A triangle with edge a->b has its front towards increasing angle about a->b; its solid is
+      // behind it, towards decreasing angle. For b->a the other way round.
+      std::size_t n = sh.size();
+      for (std::size_t x = 0; x < n; ++x) {
+        if (!sh[x].fwd) continue;
+        std::size_t y = (x + n - 1) % n;
+        if (sh[y].fwd) continue;
+        partner[sh[x].ce] = sh[y].ce;
+        partner[sh[y].ce] = sh[x].ce;
+      }
+    }
+    i = j;
+  }
+  for (std::size_t c = 0; c < partner.size(); ++c)
+    if (partner[c] == kNone) fail("boolean: internal error: the result has an open edge");
+
+  // Vertex copies: corners (3*t+k) at the same point joined across paired edges.
+  Dsu corners(nt * 3);
+  for (std::size_t t = 0; t < nt; ++t)
+    for (u32 e = 0; e < 3; ++e) {
+      u32 c = partner[t * 3 + e];
+      u32 t2 = c / 3, e2 = c % 3;
+      // Edge v[e] -> v[e+1] of t is v[e2+1] -> v[e2] of t2.
+      corners.unite(static_cast<u32>(t * 3 + e), t2 * 3 + (e2 + 1) % 3);
+      corners.unite(static_cast<u32>(t * 3 + (e + 1) % 3), t2 * 3 + e2);
+    }
+  BooleanResult r;
+  std::vector<u32> index(nt * 3, kNone);
+  r.mesh.triangles.resize(nt);
+  for (std::size_t t = 0; t < nt; ++t)
+    for (int k = 0; k < 3; ++k) {
+      u32 root = corners.find(static_cast<u32>(t * 3 + k));
+      if (index[root] == kNone) {
+        index[root] = static_cast<u32>(r.mesh.positions.size());
+        r.mesh.positions.push_back(pts.approx(tris[t][k]));
+      }
+      r.mesh.triangles[t][k] = index[root];
+    }
+  r.operand.resize(nt);
+  r.source.resize(nt);
+  r.mesh.face_ids.resize(nt);
+  for (std::size_t t = 0; t < nt; ++t) {
+    u32 s = src[t];
+    r.operand[t] = soup.operand[s];
+    r.source[t] = soup.local[s];
+    r.mesh.face_ids[t] = soup.face_id[s];
+  }
+  std::vector<char> moved(r.mesh.positions.size(), 0);
+  for (std::size_t t = 0; t < nt; ++t)
+    for (int k = 0; k < 3; ++k)
+      if (!pts.is_explicit(tris[t][k])) moved[r.mesh.triangles[t][k]] = 1;
+  repair_rounding(r, moved);
+  return r;
+}
+
+}  // namespace wedge::boolean_detail

@@ -1,0 +1,563 @@
+// Retriangulation: every input triangle that another operand touches is cut into pieces along
+// its intersection segments, so that the pieces of all operands meet edge to edge.
+//
+// 1. Each candidate pair is intersected exactly (boolean_intersect.cpp), in parallel.
+// 2. The implicit points are interned in pair order (one id per symbolic definition), and every
+//    triangle's points are compared exactly with each other: equal points get one id (the
+//    smallest, so an input vertex wins) through a union-find over the whole run. Two points
+//    equal anywhere both lie on some triangle that lists both, so this finds every coincidence
+//    that matters.
+// 3. Within each triangle, segments that cross properly make a new point, the meeting of T's
+//    plane with the two segments' cutting planes (a TPI); these are interned and merged the same
+//    way, so the crossing of the same three surfaces gets one id in all three triangles.
+// 4. Each segment is split at every point of its triangle that lies on it, and the triangle is
+//    triangulated: a constrained Delaunay triangulation (CGAL's, over our own traits: the points
+//    are ids, and orientation, coordinate comparison and in-circle are the exact predicates of
+//    boolean_exact.cpp in the projection along the triangle's axis).
+// Work is split per triangle and concatenated in triangle order, so the result does not depend
+// on the number of threads.
+#include <CGAL/Constrained_Delaunay_triangulation_2.h>
+#include <CGAL/Constrained_triangulation_face_base_2.h>
+#include <CGAL/Triangulation_data_structure_2.h>
+#include <CGAL/Triangulation_vertex_base_2.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <unordered_map>
+
+#include "csg/boolean_impl.h"
+#include "kernel/error.h"
+#include "kernel/parallel.h"
+
+namespace wedge::boolean_detail {
+
+namespace {
+
+// --- CGAL traits over point ids ---
+
+struct Ctx {
+  const Points* pts = nullptr;
+  int k = 2;
+};
+thread_local Ctx g_ctx;
+
+struct Pid {
+  u32 id = kNone;
+  Pid() = default;
+  explicit Pid(u32 i) : id(i) {}
+  bool operator==(const Pid& o) const { return id == o.id; }
+  bool operator!=(const Pid& o) const { return id != o.id; }
+  bool operator<(const Pid& o) const { return id < o.id; }
+};
+
+CGAL::Sign cgal_sign(int s) { return s > 0 ? CGAL::POSITIVE : (s < 0 ? CGAL::NEGATIVE : CGAL::ZERO); }
+int ax(int which) { return (g_ctx.k + 1 + which) % 3; }  // which 0: projected x, 1: projected y
+
+struct IdTraits {
+  using Point_2 = Pid;
+  struct Segment_2 {
+    Pid s, t;
+    Segment_2() = default;
+    Segment_2(Pid a, Pid b) : s(a), t(b) {}
+    Pid source() const { return s; }
+    Pid target() const { return t; }
+  };
+  struct Triangle_2 {
+    Pid a, b, c;
+    Triangle_2() = default;
+    Triangle_2(Pid x, Pid y, Pid z) : a(x), b(y), c(z) {}
+  };
+  struct Orientation_2 {
+    CGAL::Orientation operator()(Pid a, Pid b, Pid c) const {
+      return cgal_sign(g_ctx.pts->orient2d(a.id, b.id, c.id, g_ctx.k));
+    }
+  };
+  struct Compare_x_2 {
+    CGAL::Comparison_result operator()(Pid a, Pid b) const {
+      return cgal_sign(g_ctx.pts->compare(a.id, b.id, ax(0)));
+    }
+  };
+  struct Compare_y_2 {
+    CGAL::Comparison_result operator()(Pid a, Pid b) const {
+      return cgal_sign(g_ctx.pts->compare(a.id, b.id, ax(1)));
+    }
+  };
+  struct Less_x_2 {
+    bool operator()(Pid a, Pid b) const { return g_ctx.pts->compare(a.id, b.id, ax(0)) < 0; }
+  };
+  struct Less_y_2 {
+    bool operator()(Pid a, Pid b) const { return g_ctx.pts->compare(a.id, b.id, ax(1)) < 0; }
+  };
+  struct Compare_xy_2 {
+    CGAL::Comparison_result operator()(Pid a, Pid b) const {
+      int c = g_ctx.pts->compare(a.id, b.id, ax(0));
+      if (c == 0) c = g_ctx.pts->compare(a.id, b.id, ax(1));
+      return cgal_sign(c);
+    }
+  };
+  struct Side_of_oriented_circle_2 {
+    CGAL::Oriented_side operator()(Pid a, Pid b, Pid c, Pid d) const {
+      return cgal_sign(g_ctx.pts->incircle(a.id, b.id, c.id, d.id, g_ctx.k));
+    }
+  };
+  struct Construct_segment_2 {
+    Segment_2 operator()(Pid a, Pid b) const { return Segment_2(a, b); }
+  };
+  struct Construct_triangle_2 {
+    Triangle_2 operator()(Pid a, Pid b, Pid c) const { return Triangle_2(a, b, c); }
+  };
+  struct Construct_point_2 {
+    const Pid& operator()(const Pid& p) const { return p; }
+  };
+  Construct_point_2 construct_point_2_object() const { return {}; }
+  Orientation_2 orientation_2_object() const { return {}; }
+  Compare_x_2 compare_x_2_object() const { return {}; }
+  Compare_y_2 compare_y_2_object() const { return {}; }
+  Less_x_2 less_x_2_object() const { return {}; }
+  Less_y_2 less_y_2_object() const { return {}; }
+  Compare_xy_2 compare_xy_2_object() const { return {}; }
+  Side_of_oriented_circle_2 side_of_oriented_circle_2_object() const { return {}; }
+  Construct_segment_2 construct_segment_2_object() const { return {}; }
+  Construct_triangle_2 construct_triangle_2_object() const { return {}; }
+};
+
+using Vb = CGAL::Triangulation_vertex_base_2<IdTraits>;
+using Fb = CGAL::Constrained_triangulation_face_base_2<IdTraits>;
+using Tds = CGAL::Triangulation_data_structure_2<Vb, Fb>;
+using Cdt = CGAL::Constrained_Delaunay_triangulation_2<IdTraits, Tds, CGAL::No_constraint_intersection_tag>;
+
+// --- interning ---
+
+struct DefKey {
+  std::uint64_t h[5];
+  bool operator==(const DefKey& o) const { return std::equal(h, h + 5, o.h); }
+};
+struct DefKeyHash {
+  std::size_t operator()(const DefKey& k) const {
+    std::uint64_t x = 0x9e3779b97f4a7c15ull;
+    for (auto v : k.h) x = (x ^ v) * 0xff51afd7ed558ccdull;
+    return static_cast<std::size_t>(x ^ (x >> 29));
+  }
+};
+
+Plane canonical(Plane p) {
+  if (p.axis < 0) {
+    // A cyclic rotation names the same oriented plane.
+    while (p.a > p.b || p.a > p.c) {
+      u32 t = p.a;
+      p.a = p.b;
+      p.b = p.c;
+      p.c = t;
+    }
+  }
+  return p;
+}
+std::uint64_t pack(const Plane& p) {
+  // axis in 2 bits + three 20-bit... ids can be large: hash-combine instead.
+  std::uint64_t x = static_cast<std::uint64_t>(p.axis + 1);
+  x = x * 0x100000001b3ull ^ p.a;
+  x = x * 0x100000001b3ull ^ p.b;
+  x = x * 0x100000001b3ull ^ p.c;
+  return x;
+}
+bool plane_less(const Plane& x, const Plane& y) {
+  if (x.axis != y.axis) return x.axis < y.axis;
+  if (x.a != y.a) return x.a < y.a;
+  if (x.b != y.b) return x.b < y.b;
+  return x.c < y.c;
+}
+
+PointDef canonical(PointDef d) {
+  if (d.kind == PointDef::Lpi) {
+    if (d.p > d.q) std::swap(d.p, d.q);
+    d.P[0] = canonical(d.P[0]);
+  } else if (d.kind == PointDef::Tpi) {
+    for (auto& p : d.P) p = canonical(p);
+    std::sort(d.P, d.P + 3, plane_less);
+  }
+  return d;
+}
+
+class Interner {
+ public:
+  explicit Interner(Points& pts) : pts_(pts) {}
+  u32 operator()(const PointDef& raw) {
+    if (raw.kind == PointDef::Explicit) return raw.p;
+    PointDef d = canonical(raw);
+    // The key holds every field exactly (collisions are resolved by comparing the fields).
+    DefKey key{{static_cast<std::uint64_t>(d.kind) << 32 | d.p, d.q, pack(d.P[0]),
+                d.kind == PointDef::Tpi ? pack(d.P[1]) : 0, d.kind == PointDef::Tpi ? pack(d.P[2]) : 0}};
+    auto [it, inserted] = map_.try_emplace(key, kNone);
+    if (!inserted) {
+      for (u32 id = it->second; id != kNone; id = next_[id - base()]) {
+        const PointDef& e = pts_.def(id);
+        if (e.kind == d.kind && e.p == d.p && e.q == d.q && e.P[0] == d.P[0] && e.P[1] == d.P[1] && e.P[2] == d.P[2])
+          return id;
+      }
+    }
+    u32 id = pts_.add(d);
+    if (first_ == kNone) first_ = id;
+    next_.resize(id - base() + 1, kNone);
+    next_[id - base()] = it->second;
+    it->second = id;
+    return id;
+  }
+
+ private:
+  u32 base() const { return first_ == kNone ? 0 : first_; }
+  Points& pts_;
+  std::unordered_map<DefKey, u32, DefKeyHash> map_;
+  std::vector<u32> next_;  // chain of ids sharing a hash key
+  u32 first_ = kNone;
+};
+
+// --- union-find over point ids (the representative is the smallest id) ---
+
+class Merge {
+ public:
+  u32 find(u32 x) {
+    grow(x);
+    while (parent_[x] != x) x = parent_[x] = parent_[parent_[x]];
+    return x;
+  }
+  void unite(u32 a, u32 b) {
+    a = find(a);
+    b = find(b);
+    if (a == b) return;
+    if (a < b) parent_[b] = a;
+    else parent_[a] = b;
+  }
+  u32 rep(u32 x) const {  // read-only find (after all unions)
+    if (x >= parent_.size()) return x;
+    while (parent_[x] != x) x = parent_[x];
+    return x;
+  }
+
+ private:
+  void grow(u32 x) {
+    while (parent_.size() <= x) parent_.push_back(static_cast<u32>(parent_.size()));
+  }
+  std::vector<u32> parent_;
+};
+
+struct TriWork {
+  std::vector<std::array<u32, 2>> segs;
+  std::vector<Plane> cuts;
+  std::vector<u32> points;
+  std::vector<u32> coplanar;
+};
+
+bool boxes_overlap(const std::array<double, 6>& a, const std::array<double, 6>& b) {
+  for (int i = 0; i < 3; ++i)
+    if (a[i] > b[i + 3] || b[i] > a[i + 3]) return false;
+  return true;
+}
+
+std::array<double, 6> seg_box(const Points& pts, u32 a, u32 b) {
+  const auto& x = pts.box(a);
+  const auto& y = pts.box(b);
+  return {std::min(x[0], y[0]), std::min(x[1], y[1]), std::min(x[2], y[2]),
+          std::max(x[3], y[3]), std::max(x[4], y[4]), std::max(x[5], y[5])};
+}
+
+// Pairs (i, j), i < j, of boxes that overlap: a sweep along x.
+template <class F>
+void overlapping(const std::vector<std::array<double, 6>>& boxes, F&& f) {
+  std::vector<u32> order(boxes.size());
+  std::iota(order.begin(), order.end(), 0u);
+  std::sort(order.begin(), order.end(), [&](u32 a, u32 b) {
+    return boxes[a][0] < boxes[b][0] || (boxes[a][0] == boxes[b][0] && a < b);
+  });
+  for (std::size_t x = 0; x < order.size(); ++x)
+    for (std::size_t y = x + 1; y < order.size() && boxes[order[y]][0] <= boxes[order[x]][3]; ++y)
+      if (boxes_overlap(boxes[order[x]], boxes[order[y]])) f(std::min(order[x], order[y]), std::max(order[x], order[y]));
+}
+
+// Every pair of equal points among `ids` (exact), found through a hash grid: each point goes into
+// every cell its box meets, and two points whose boxes overlap in a cell are compared exactly.
+// Equal points share the cell of their exact position, so none is missed.
+std::vector<std::array<u32, 2>> equal_points(const Points& pts, const std::vector<u32>& ids) {
+  if (ids.size() < 2) return {};
+  double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+  for (u32 p : ids)
+    for (int i = 0; i < 3; ++i) {
+      lo[i] = std::min(lo[i], pts.approx(p)[i]);
+      hi[i] = std::max(hi[i], pts.approx(p)[i]);
+    }
+  double size = std::max({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]});
+  double cell = size > 0 ? size / std::max(1.0, std::cbrt(static_cast<double>(ids.size()))) : 1.0;
+  struct Entry {
+    std::uint64_t key;
+    u32 id;
+  };
+  std::vector<Entry> entries;
+  std::vector<u32> wide;  // boxes too wide for the grid (exact fallbacks): compared with all
+  entries.reserve(ids.size());
+  auto coord = [&](double x, int i) { return static_cast<std::int64_t>(std::floor((x - lo[i]) / cell)); };
+  for (u32 p : ids) {
+    const auto& b = pts.box(p);
+    std::int64_t c0[3], c1[3];
+    bool ok = true;
+    for (int i = 0; i < 3; ++i) {
+      if (!std::isfinite(b[i]) || !std::isfinite(b[i + 3])) ok = false;
+      else {
+        c0[i] = coord(b[i], i);
+        c1[i] = coord(b[i + 3], i);
+        if (c1[i] - c0[i] > 2) ok = false;
+      }
+    }
+    if (!ok) {
+      wide.push_back(p);
+      continue;
+    }
+    for (std::int64_t x = c0[0]; x <= c1[0]; ++x)
+      for (std::int64_t y = c0[1]; y <= c1[1]; ++y)
+        for (std::int64_t z = c0[2]; z <= c1[2]; ++z) {
+          std::uint64_t key = (static_cast<std::uint64_t>(x + 1) & 0x1fffff) << 42 |
+                              (static_cast<std::uint64_t>(y + 1) & 0x1fffff) << 21 |
+                              (static_cast<std::uint64_t>(z + 1) & 0x1fffff);
+          entries.push_back({key, p});
+        }
+  }
+  std::sort(entries.begin(), entries.end(), [](const Entry& a, const Entry& b) {
+    return a.key < b.key || (a.key == b.key && a.id < b.id);
+  });
+  std::vector<std::array<u32, 2>> out;
+  for (std::size_t i = 0; i < entries.size();) {
+    std::size_t j = i;
+    while (j < entries.size() && entries[j].key == entries[i].key) ++j;
+    for (std::size_t a = i; a < j; ++a)
+      for (std::size_t b = a + 1; b < j; ++b) {
+        u32 x = entries[a].id, y = entries[b].id;
+        if (x != y && boxes_overlap(pts.box(x), pts.box(y)) && pts.equal(x, y)) out.push_back({x, y});
+      }
+    i = j;
+  }
+  for (u32 w : wide)
+    for (u32 p : ids)
+      if (p != w && pts.equal(w, p)) out.push_back({std::min(w, p), std::max(w, p)});
+  return out;
+}
+
+void unique_sorted(std::vector<u32>& v) {
+  std::sort(v.begin(), v.end());
+  v.erase(std::unique(v.begin(), v.end()), v.end());
+}
+
+// An axis along which a != b, preferring the longest approximate extent.
+int split_axis(const Points& pts, u32 a, u32 b) {
+  Vec3 d = (pts.approx(b) - pts.approx(a)).cwiseAbs();
+  int order[3] = {0, 1, 2};
+  std::sort(order, order + 3, [&](int x, int y) { return d[x] > d[y]; });
+  for (int i : order)
+    if (pts.compare(a, b, i) != 0) return i;
+  return -1;
+}
+
+}  // namespace
+
+Arrangement arrange(Points& pts, const std::vector<std::array<u32, 2>>& pairs) {
+  const Soup& soup = pts.soup();
+  const std::size_t nt = soup.tris.size();
+
+  // 1. Exact pair intersections.
+  std::vector<PairCut> cuts(pairs.size());
+  parallel_for(0, pairs.size(), [&](std::size_t i) { cuts[i] = intersect_pair(pts, pairs[i][0], pairs[i][1]); });
+
+  // 2. Interning, in pair order.
+  std::vector<u32> slot(nt, kNone);
+  std::vector<u32> touched;
+  std::vector<TriWork> work;
+  auto wk = [&](u32 t) -> TriWork& {
+    if (slot[t] == kNone) {
+      slot[t] = static_cast<u32>(work.size());
+      touched.push_back(t);
+      work.emplace_back();
+    }
+    return work[slot[t]];
+  };
+  Interner intern(pts);
+  for (std::size_t i = 0; i < pairs.size(); ++i) {
+    const PairCut& c = cuts[i];
+    if (c.segs_t.empty() && c.segs_u.empty() && c.points.empty() && !c.coplanar) continue;
+    u32 t = pairs[i][0], u = pairs[i][1];
+    for (const auto& s : c.segs_t) {
+      u32 a = intern(s.a), b = intern(s.b);
+      TriWork& w = wk(t);
+      w.segs.push_back({a, b});
+      w.cuts.push_back(s.cut);
+      w.points.push_back(a);
+      w.points.push_back(b);
+    }
+    for (const auto& s : c.segs_u) {
+      u32 a = intern(s.a), b = intern(s.b);
+      TriWork& w = wk(u);
+      w.segs.push_back({a, b});
+      w.cuts.push_back(s.cut);
+      w.points.push_back(a);
+      w.points.push_back(b);
+    }
+    for (const auto& p : c.points) {
+      u32 id = intern(p);
+      wk(t).points.push_back(id);
+      wk(u).points.push_back(id);
+    }
+    if (c.coplanar) {
+      wk(t).coplanar.push_back(u);
+      wk(u).coplanar.push_back(t);
+    }
+  }
+  cuts.clear();
+  cuts.shrink_to_fit();
+
+  Merge merge;
+  auto merge_round = [&]() {
+    std::vector<u32> ids;
+    for (std::size_t w = 0; w < work.size(); ++w) {
+      for (u32 p : work[w].points) ids.push_back(p);
+      for (u32 v : soup.tris[touched[w]]) ids.push_back(v);
+    }
+    unique_sorted(ids);
+    for (const auto& p : equal_points(pts, ids)) merge.unite(p[0], p[1]);
+  };
+  merge_round();
+
+  // 3. Proper crossings of segments within each triangle.
+  auto canon_work = [&](TriWork& w) {
+    for (auto& p : w.points) p = merge.rep(p);
+    unique_sorted(w.points);
+    std::vector<std::array<u32, 2>> segs;
+    std::vector<Plane> planes;
+    for (std::size_t i = 0; i < w.segs.size(); ++i) {
+      u32 a = merge.rep(w.segs[i][0]), b = merge.rep(w.segs[i][1]);
+      if (a == b) continue;
+      if (a > b) std::swap(a, b);
+      segs.push_back({a, b});
+      planes.push_back(w.cuts[i]);
+    }
+    // Drop repeated segments (same end points), keeping the first cut plane.
+    std::vector<u32> order(segs.size());
+    std::iota(order.begin(), order.end(), 0u);
+    std::stable_sort(order.begin(), order.end(), [&](u32 x, u32 y) { return segs[x] < segs[y]; });
+    w.segs.clear();
+    w.cuts.clear();
+    for (std::size_t i = 0; i < order.size(); ++i) {
+      if (i > 0 && segs[order[i]] == segs[order[i - 1]]) continue;
+      w.segs.push_back(segs[order[i]]);
+      w.cuts.push_back(planes[order[i]]);
+    }
+  };
+  for (auto& w : work) canon_work(w);
+  {
+    std::vector<std::vector<PointDef>> crossings(work.size());
+    parallel_for(0, work.size(), [&](std::size_t wi) {
+      const TriWork& w = work[wi];
+      u32 t = touched[wi];
+      int k = soup.axis[t];
+      std::vector<std::array<double, 6>> boxes(w.segs.size());
+      for (std::size_t i = 0; i < w.segs.size(); ++i) boxes[i] = seg_box(pts, w.segs[i][0], w.segs[i][1]);
+      overlapping(boxes, [&](u32 x, u32 y) {
+        auto [a, b] = w.segs[x];
+        auto [c, d] = w.segs[y];
+        if (a == c || a == d || b == c || b == d) return;
+        int o1 = pts.orient2d(a, b, c, k), o2 = pts.orient2d(a, b, d, k);
+        if (o1 * o2 >= 0) return;
+        int o3 = pts.orient2d(c, d, a, k), o4 = pts.orient2d(c, d, b, k);
+        if (o3 * o4 >= 0) return;
+        PointDef p;
+        p.kind = PointDef::Tpi;
+        p.P[0] = Plane::of_triangle(soup.tris[t]);
+        p.P[1] = w.cuts[x];
+        p.P[2] = w.cuts[y];
+        crossings[wi].push_back(p);
+      });
+    });
+    bool any = false;
+    for (std::size_t wi = 0; wi < work.size(); ++wi)
+      for (const auto& p : crossings[wi]) {
+        work[wi].points.push_back(intern(p));
+        any = true;
+      }
+    if (any) {
+      merge_round();
+      for (auto& w : work) canon_work(w);
+    }
+  }
+
+  // 4. Split segments at the points on them, and triangulate.
+  std::vector<std::vector<Piece>> cut_pieces(work.size());
+  parallel_for(0, work.size(), [&](std::size_t wi) {
+    TriWork& w = work[wi];
+    u32 t = touched[wi];
+    int k = soup.axis[t];
+    const auto& T = soup.tris[t];
+    std::vector<u32> points = w.points;
+    for (u32 v : T) points.push_back(v);
+    unique_sorted(points);
+    std::vector<std::array<double, 6>> pboxes(points.size());
+    for (std::size_t i = 0; i < points.size(); ++i) pboxes[i] = pts.box(points[i]);
+    std::vector<std::array<u32, 2>> constraints;
+    for (const auto& s : w.segs) {
+      u32 a = s[0], b = s[1];
+      auto sb = seg_box(pts, a, b);
+      int axis = split_axis(pts, a, b);
+      if (axis < 0) continue;
+      std::vector<u32> on;
+      for (std::size_t i = 0; i < points.size(); ++i) {
+        u32 p = points[i];
+        if (p == a || p == b || !boxes_overlap(sb, pboxes[i])) continue;
+        if (pts.orient2d(a, b, p, k) != 0) continue;
+        if (pts.compare(a, p, axis) * pts.compare(p, b, axis) > 0) on.push_back(p);
+      }
+      int dir = pts.compare(a, b, axis);
+      std::sort(on.begin(), on.end(), [&](u32 x, u32 y) { return pts.compare(x, y, axis) * dir < 0; });
+      u32 prev = a;
+      for (u32 p : on) {
+        constraints.push_back({prev, p});
+        prev = p;
+      }
+      constraints.push_back({prev, b});
+    }
+    g_ctx.pts = &pts;
+    g_ctx.k = k;
+    Cdt cdt;
+    std::unordered_map<u32, Cdt::Vertex_handle> vh;
+    Cdt::Face_handle hint;
+    for (u32 v : T) {
+      auto h = cdt.insert(Pid(v));
+      vh[v] = h;
+    }
+    for (u32 p : points) {
+      if (vh.count(p)) continue;
+      auto h = cdt.insert(Pid(p), hint);
+      hint = h->face();
+      vh[p] = h;
+    }
+    for (const auto& c : constraints) cdt.insert_constraint(vh.at(c[0]), vh.at(c[1]));
+    auto& out = cut_pieces[wi];
+    for (auto f : cdt.finite_face_handles()) {
+      std::array<u32, 3> v = {f->vertex(0)->point().id, f->vertex(1)->point().id, f->vertex(2)->point().id};
+      if (soup.axis_sign[t] < 0) std::swap(v[1], v[2]);
+      out.push_back({v, t});
+    }
+  });
+
+  Arrangement arr;
+  arr.coplanar.resize(nt);
+  std::size_t total = nt;
+  for (const auto& c : cut_pieces) total += c.size();
+  arr.pieces.reserve(total);
+  for (std::size_t t = 0; t < nt; ++t) {
+    if (slot[t] == kNone) {
+      arr.pieces.push_back({soup.tris[t], static_cast<u32>(t)});
+      continue;
+    }
+    for (const auto& p : cut_pieces[slot[t]]) arr.pieces.push_back(p);
+    arr.coplanar[t] = std::move(work[slot[t]].coplanar);
+    unique_sorted(arr.coplanar[t]);
+  }
+  return arr;
+}
+
+}  // namespace wedge::boolean_detail

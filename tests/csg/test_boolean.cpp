@@ -1,0 +1,205 @@
+// The boolean engine on cases with hand-worked answers: boxes (exact volumes), the degenerate
+// configurations of issue 11, provenance and operand errors. The CGAL oracle tests are in
+// test_boolean_oracle.cpp.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+
+#include "csg/boolean.h"
+#include "kernel/error.h"
+#include "kernel/transform.h"
+
+using namespace wedge;
+
+namespace {
+
+Mesh box(Vec3 lo, Vec3 hi) {
+  Mesh m;
+  for (int i = 0; i < 8; ++i)
+    m.add_vertex(Vec3(i & 1 ? hi.x() : lo.x(), i & 2 ? hi.y() : lo.y(), i & 4 ? hi.z() : lo.z()));
+  const int f[12][3] = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6}, {0, 1, 4}, {1, 5, 4},
+                        {2, 6, 3}, {3, 6, 7}, {0, 4, 2}, {2, 4, 6}, {1, 3, 5}, {3, 7, 5}};
+  for (auto& t : f) m.add_triangle(t[0], t[1], t[2]);
+  return m;
+}
+
+Mesh cube(double x, double y, double z, double s) { return box(Vec3(x, y, z), Vec3(x + s, y + s, z + s)); }
+
+// A closed UV sphere with `n` segments around and n/2 rings.
+Mesh sphere(Vec3 c, double r, int n) {
+  Mesh m;
+  int rings = n / 2;
+  m.add_vertex(c + Vec3(0, 0, r));
+  for (int i = 1; i < rings; ++i) {
+    double th = kPi * i / rings;
+    for (int j = 0; j < n; ++j) {
+      double ph = 2 * kPi * j / n;
+      m.add_vertex(c + r * Vec3(std::sin(th) * std::cos(ph), std::sin(th) * std::sin(ph), std::cos(th)));
+    }
+  }
+  m.add_vertex(c + Vec3(0, 0, -r));
+  auto id = [&](int i, int j) { return static_cast<std::uint32_t>(1 + (i - 1) * n + (j % n)); };
+  std::uint32_t south = static_cast<std::uint32_t>(m.positions.size() - 1);
+  for (int j = 0; j < n; ++j) m.add_triangle(0, id(1, j), id(1, j + 1));
+  for (int i = 1; i + 1 < rings; ++i)
+    for (int j = 0; j < n; ++j) {
+      m.add_triangle(id(i, j), id(i + 1, j), id(i + 1, j + 1));
+      m.add_triangle(id(i, j), id(i + 1, j + 1), id(i, j + 1));
+    }
+  for (int j = 0; j < n; ++j) m.add_triangle(south, id(rings - 1, j + 1), id(rings - 1, j));
+  return m;
+}
+
+void require_solid(const Mesh& m) {
+  INFO(mesh_solid_defect(m, "result"));
+  REQUIRE(mesh_solid_defect(m, "result").empty());
+}
+
+double vol(BooleanOp op, const Mesh& a, const Mesh& b) {
+  Mesh r = boolean(op, a, b);
+  if (!r.empty()) require_solid(r);
+  return r.volume();
+}
+
+}  // namespace
+
+TEST_CASE("boolean: two overlapping boxes, exact volumes", "[boolean]") {
+  Mesh a = box(Vec3(0, 0, 0), Vec3(2, 2, 2));
+  Mesh b = box(Vec3(1, 1, 1), Vec3(3, 3, 3));
+  CHECK(vol(BooleanOp::Union, a, b) == Approx(15).epsilon(1e-12));
+  CHECK(vol(BooleanOp::Intersection, a, b) == Approx(1).epsilon(1e-12));
+  CHECK(vol(BooleanOp::Difference, a, b) == Approx(7).epsilon(1e-12));
+  CHECK(vol(BooleanOp::Difference, b, a) == Approx(7).epsilon(1e-12));
+}
+
+TEST_CASE("boolean: a box through a box (a hole) keeps genus", "[boolean]") {
+  Mesh a = box(Vec3(0, 0, 0), Vec3(3, 3, 1));
+  Mesh b = box(Vec3(1, 1, -1), Vec3(2, 2, 2));
+  Mesh r = boolean(BooleanOp::Difference, a, b);
+  require_solid(r);
+  CHECK(r.volume() == Approx(8).epsilon(1e-12));
+  // V - E + F = 2 - 2g with g = 1.
+  long V = static_cast<long>(r.positions.size()), F = static_cast<long>(r.triangles.size());
+  long E = 3 * F / 2;
+  CHECK(V - E + F == 0);
+}
+
+TEST_CASE("boolean: degenerate configurations of boxes", "[boolean]") {
+  Mesh a = cube(0, 0, 0, 1);
+  SECTION("identical operands") {
+    CHECK(vol(BooleanOp::Union, a, a) == Approx(1).epsilon(1e-12));
+    CHECK(vol(BooleanOp::Intersection, a, a) == Approx(1).epsilon(1e-12));
+    CHECK(boolean(BooleanOp::Difference, a, a).empty());
+  }
+  SECTION("faces touching, coplanar with opposite orientation") {
+    Mesh b = cube(1, 0, 0, 1);
+    CHECK(vol(BooleanOp::Union, a, b) == Approx(2).epsilon(1e-12));
+    Mesh u = boolean(BooleanOp::Union, a, b);
+    CHECK(u.triangles.size() == 20);  // the two inner faces are gone: a 2x1x1 box in 10 quads
+    CHECK(boolean(BooleanOp::Intersection, a, b).empty());
+    CHECK(vol(BooleanOp::Difference, a, b) == Approx(1).epsilon(1e-12));
+  }
+  SECTION("coplanar overlapping faces with the same orientation (flush)") {
+    Mesh b = box(Vec3(0.25, 0.25, 0.5), Vec3(0.75, 0.75, 1));  // top flush with a's top
+    CHECK(vol(BooleanOp::Difference, a, b) == Approx(1 - 0.125).epsilon(1e-12));
+    CHECK(vol(BooleanOp::Union, a, b) == Approx(1).epsilon(1e-12));
+    CHECK(vol(BooleanOp::Intersection, a, b) == Approx(0.125).epsilon(1e-12));
+  }
+  SECTION("partly overlapping touching faces (offset)") {
+    Mesh b = box(Vec3(1, 0.5, 0.5), Vec3(2, 1.5, 1.5));
+    CHECK(vol(BooleanOp::Union, a, b) == Approx(2).epsilon(1e-12));
+  }
+  SECTION("two cubes sharing only an edge: two shells that touch") {
+    Mesh b = cube(1, 1, 0, 1);
+    Mesh u = boolean(BooleanOp::Union, a, b);
+    require_solid(u);
+    CHECK(u.volume() == Approx(2).epsilon(1e-12));
+    CHECK(u.positions.size() == 16);  // the shared edge's two vertices are kept apart
+  }
+  SECTION("touching at a vertex") {
+    Mesh b = cube(1, 1, 1, 1);
+    Mesh u = boolean(BooleanOp::Union, a, b);
+    require_solid(u);
+    CHECK(u.volume() == Approx(2).epsilon(1e-12));
+    CHECK(u.positions.size() == 16);
+    CHECK(boolean(BooleanOp::Intersection, a, b).empty());
+  }
+  SECTION("nested and disjoint") {
+    Mesh in = box(Vec3(0.25, 0.25, 0.25), Vec3(0.75, 0.75, 0.75));
+    CHECK(vol(BooleanOp::Union, a, in) == Approx(1).epsilon(1e-12));
+    CHECK(vol(BooleanOp::Intersection, a, in) == Approx(0.125).epsilon(1e-12));
+    CHECK(vol(BooleanOp::Difference, a, in) == Approx(0.875).epsilon(1e-12));
+    Mesh far = cube(5, 5, 5, 1);
+    CHECK(vol(BooleanOp::Union, a, far) == Approx(2).epsilon(1e-12));
+    CHECK(boolean(BooleanOp::Intersection, a, far).empty());
+  }
+  SECTION("T-junctions: a face split differently in the other operand") {
+    Mesh b = box(Vec3(0, 0, 1), Vec3(0.5, 1, 2));  // sits on half of a's top
+    CHECK(vol(BooleanOp::Union, a, b) == Approx(1.5).epsilon(1e-12));
+  }
+}
+
+TEST_CASE("boolean: n-ary union and intersection in one pass", "[boolean]") {
+  Mesh a = cube(0, 0, 0, 2), b = cube(1, 0, 0, 2), c = cube(0, 1, 0, 2);
+  auto u = boolean(BooleanOp::Union, {&a, &b, &c});
+  require_solid(u.mesh);
+  CHECK(u.mesh.volume() == Approx(16).epsilon(1e-12));  // [0,3]x[0,2]x[0,2] and [0,2]x[2,3]x[0,2]
+  auto i = boolean(BooleanOp::Intersection, {&a, &b, &c});
+  require_solid(i.mesh);
+  CHECK(i.mesh.volume() == Approx(2).epsilon(1e-12));
+  auto d = boolean(BooleanOp::Difference, {&a, &b, &c});
+  require_solid(d.mesh);
+  CHECK(d.mesh.volume() == Approx(8 - 4 - 4 + 2).epsilon(1e-12));
+}
+
+TEST_CASE("boolean: spheres, volume identities", "[boolean]") {
+  Mesh a = sphere(Vec3(0, 0, 0), 1, 32);
+  Mesh b = sphere(Vec3(0.5, 0.3, 0.2), 1, 32);
+  double va = a.volume(), vb = b.volume();
+  double u = vol(BooleanOp::Union, a, b), n = vol(BooleanOp::Intersection, a, b), d = vol(BooleanOp::Difference, a, b);
+  CHECK(u + n == Approx(va + vb).epsilon(1e-9));
+  CHECK(d == Approx(va - n).epsilon(1e-9));
+}
+
+TEST_CASE("boolean: provenance names the source triangle", "[boolean]") {
+  Mesh a = cube(0, 0, 0, 2);
+  Mesh b = cube(1, 1, 1, 2);
+  a.face_ids.assign(a.triangles.size(), 7);
+  auto r = boolean(BooleanOp::Difference, {&a, &b});
+  REQUIRE(r.operand.size() == r.mesh.triangles.size());
+  for (std::size_t t = 0; t < r.mesh.triangles.size(); ++t) {
+    const Mesh& src = r.operand[t] == 0 ? a : b;
+    REQUIRE(r.source[t] >= 0);
+    REQUIRE(r.source[t] < static_cast<int>(src.triangles.size()));
+    CHECK(r.mesh.face_ids[t] == (r.operand[t] == 0 ? 7 : -1));
+    // The output triangle lies in the plane of its source triangle.
+    const auto& s = src.triangles[r.source[t]];
+    Vec3 n = (src.positions[s[1]] - src.positions[s[0]]).cross(src.positions[s[2]] - src.positions[s[0]]);
+    for (int k = 0; k < 3; ++k)
+      CHECK(std::abs(n.dot(r.mesh.positions[r.mesh.triangles[t][k]] - src.positions[s[0]])) < 1e-12);
+  }
+}
+
+TEST_CASE("boolean: bad operands are errors naming the operand and the spot", "[boolean]") {
+  Mesh a = cube(0, 0, 0, 1);
+  Mesh open = a;
+  open.triangles.pop_back();
+  CHECK_THROWS_WITH(boolean(BooleanOp::Union, a, open), Catch::Contains("second operand is not closed"));
+  Mesh flipped = a;
+  for (auto& t : flipped.triangles) std::swap(t[1], t[2]);
+  CHECK_THROWS_WITH(boolean(BooleanOp::Union, flipped, a), Catch::Contains("first operand is inside out"));
+  Mesh two = a;
+  two.append(cube(0.5, 0.5, 0.5, 1));  // two overlapping shells in one mesh
+  CHECK_THROWS_WITH(boolean(BooleanOp::Union, a, two), Catch::Contains("second operand intersects itself"));
+}
+
+TEST_CASE("boolean: a chain of booleans stays valid", "[boolean]") {
+  Mesh r = cube(0, 0, 0, 4);
+  for (int i = 0; i < 12; ++i) {
+    double x = 0.3 * i, y = 0.17 * i;
+    Mesh c = box(Vec3(x, y, 3.5 - 0.1 * i), Vec3(x + 0.9, y + 1.3, 5));
+    r = boolean(i % 2 ? BooleanOp::Union : BooleanOp::Difference, r, c);
+    require_solid(r);
+  }
+  CHECK(r.volume() > 0);
+}
