@@ -3,6 +3,7 @@
 #include "csg/boolean.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cstring>
 #include <sstream>
 #include <unordered_map>
@@ -248,19 +249,51 @@ std::string operand_name(std::size_t i, std::size_t n) {
 
 std::string mesh_solid_defect(const Mesh& mesh, const std::string& name) { return defect(mesh, name, true); }
 
-BooleanResult boolean(BooleanOp op, const std::vector<const Mesh*>& operands) {
+BooleanResult boolean(BooleanOp op, const std::vector<const Mesh*>& operands, BooleanStats* stats) {
+  using Clock = std::chrono::steady_clock;
+  auto t0 = Clock::now();
+  auto lap = [&](double BooleanStats::*field) {
+    auto t = Clock::now();
+    if (stats) stats->*field = std::chrono::duration<double, std::milli>(t - t0).count();
+    t0 = t;
+  };
   if (operands.empty()) fail("boolean: no operands");
-  for (std::size_t i = 0; i < operands.size(); ++i) {
+  for (std::size_t i = 0; i < operands.size(); ++i)
     if (!operands[i]) fail("boolean: ", operand_name(i, operands.size()), " is null");
-    std::string d = defect(*operands[i], operand_name(i, operands.size()), true);
+  std::vector<std::string> defects(operands.size());
+  parallel_for(0, operands.size(), [&](std::size_t i) {
+    defects[i] = defect(*operands[i], operand_name(i, operands.size()), false);
+  });
+  for (const auto& d : defects)
     if (!d.empty()) fail("boolean: ", d);
-  }
+  lap(&BooleanStats::check);
   Soup soup = make_soup(operands);
   Points pts(soup);
-  auto pairs = candidate_pairs(soup);
+  // The broad phase also checks each operand for self-intersections.
+  std::array<u32, 2> clash;
+  auto pairs = candidate_pairs(soup, &clash);
+  if (clash[0] != kNone) {
+    u32 t = clash[0], u = clash[1];
+    auto tri = [&](u32 x) {
+      const auto& T = soup.tris[x];
+      return "#" + std::to_string(soup.local[x] + 1) + " " + at(soup.verts[T[0]]) + " " + at(soup.verts[T[1]]) + " " +
+             at(soup.verts[T[2]]);
+    };
+    fail("boolean: ", operand_name(soup.operand[t], operands.size()), " intersects itself: triangles ", tri(t), " and ",
+         tri(u));
+  }
+  lap(&BooleanStats::broad);
   Arrangement arr = arrange(pts, pairs);
+  lap(&BooleanStats::arrange);
   auto keep = classify(pts, arr, op);
-  return assemble(pts, arr, keep);
+  lap(&BooleanStats::classify);
+  BooleanResult r = assemble(pts, arr, keep);
+  lap(&BooleanStats::output);
+  if (stats) {
+    stats->pairs = pairs.size();
+    stats->pieces = arr.pieces.size();
+  }
+  return r;
 }
 
 Mesh boolean(BooleanOp op, const Mesh& a, const Mesh& b) { return boolean(op, {&a, &b}).mesh; }

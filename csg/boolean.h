@@ -26,11 +26,17 @@ struct BooleanResult {
   std::vector<std::int32_t> source;   // per output triangle: its input triangle in that operand
 };
 
+// Wall time per stage of one boolean (milliseconds), for --stats and the benchmark.
+struct BooleanStats {
+  double check = 0, broad = 0, arrange = 0, classify = 0, output = 0;
+  std::size_t pairs = 0, pieces = 0;
+};
+
 // The boolean of `operands` (union and intersection of all of them in one pass; difference is
 // operands[0] minus all the others). Throws wedge::Error naming the operand and the first
 // offending spot if an operand is not closed, not 2-manifold, inside out, has a zero-area triangle
 // or intersects itself. Runs on TBB's threads; the result is the same bits at any thread count.
-BooleanResult boolean(BooleanOp op, const std::vector<const Mesh*>& operands);
+BooleanResult boolean(BooleanOp op, const std::vector<const Mesh*>& operands, BooleanStats* stats = nullptr);
 // The two-operand shorthand: boolean(op, {&a, &b}).mesh.
 Mesh boolean(BooleanOp op, const Mesh& a, const Mesh& b);
 

@@ -32,23 +32,60 @@ void tri_box(const Soup& s, u32 t, double lo[3], double hi[3]) {
 
 }  // namespace
 
+namespace {
+
+// Spreads the low 21 bits of x to every third bit (Morton code).
+std::uint64_t spread(std::uint64_t x) {
+  x &= 0x1fffff;
+  x = (x | x << 32) & 0x1f00000000ffffull;
+  x = (x | x << 16) & 0x1f0000ff0000ffull;
+  x = (x | x << 8) & 0x100f00f00f00f00full;
+  x = (x | x << 4) & 0x10c30c30c30c30c3ull;
+  x = (x | x << 2) & 0x1249249249249249ull;
+  return x;
+}
+
+}  // namespace
+
+// Built in linear time after one sort: triangles in Morton order of their box centres, the tree
+// the halving of that order (leaves of up to 4), boxes computed bottom-up.
 Bvh::Bvh(const Soup& soup, std::vector<u32> ids, int d) : items(std::move(ids)), dims(d) {
   if (items.empty()) return;
-  std::size_t n = items.size();
-  std::vector<float> blo(n * 3), bhi(n * 3), ctr(n * 3);
+  const std::size_t n = items.size();
+  std::vector<std::array<float, 6>> box(n);
+  double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
   for (std::size_t i = 0; i < n; ++i) {
-    double lo[3], hi[3];
-    tri_box(soup, items[i], lo, hi);
+    double blo[3], bhi[3];
+    tri_box(soup, items[i], blo, bhi);
     for (int a = 0; a < 3; ++a) {
-      blo[i * 3 + a] = down(lo[a]);
-      bhi[i * 3 + a] = up(hi[a]);
-      ctr[i * 3 + a] = static_cast<float>(0.5 * (lo[a] + hi[a]));
+      box[i][a] = down(blo[a]);
+      box[i][a + 3] = up(bhi[a]);
+      lo[a] = std::min(lo[a], blo[a]);
+      hi[a] = std::max(hi[a], bhi[a]);
     }
   }
-  // Build over positions in a permutation; items are permuted at the end.
-  std::vector<u32> perm(n);
-  for (std::size_t i = 0; i < n; ++i) perm[i] = static_cast<u32>(i);
-  nodes.reserve(2 * n / 2 + 1);
+  std::vector<std::pair<std::uint64_t, u32>> order(n);
+  parallel_for(0, n, [&](std::size_t i) {
+    std::uint64_t code = 0;
+    for (int a = 0; a < 3; ++a) {
+      double ext = hi[a] - lo[a];
+      double c = 0.5 * (static_cast<double>(box[i][a]) + box[i][a + 3]);
+      double f = ext > 0 ? (c - lo[a]) / ext : 0.0;
+      auto q = static_cast<std::uint64_t>(std::clamp(f, 0.0, 1.0) * 2097151.0);
+      code |= spread(q) << a;
+    }
+    order[i] = {code, static_cast<u32>(i)};
+  });
+  std::sort(order.begin(), order.end());
+  std::vector<u32> sorted(n);
+  std::vector<std::array<float, 6>> sbox(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    sorted[i] = items[order[i].second];
+    sbox[i] = box[order[i].second];
+  }
+  items.swap(sorted);
+  nodes.reserve(2 * (n / 4 + 1) + 1);
+  // Build top-down by halving ranges; fill boxes bottom-up afterwards (children follow parents).
   struct Task { u32 node, first, count; };
   std::vector<Task> stack;
   nodes.push_back({});
@@ -56,51 +93,44 @@ Bvh::Bvh(const Soup& soup, std::vector<u32> ids, int d) : items(std::move(ids)),
   while (!stack.empty()) {
     Task t = stack.back();
     stack.pop_back();
-    Node nd{};
-    for (int a = 0; a < 3; ++a) {
-      nd.lo[a] = INFINITY;
-      nd.hi[a] = -INFINITY;
-    }
-    float clo[3] = {INFINITY, INFINITY, INFINITY}, chi[3] = {-INFINITY, -INFINITY, -INFINITY};
-    for (u32 i = t.first; i < t.first + t.count; ++i) {
-      u32 p = perm[i];
-      for (int a = 0; a < 3; ++a) {
-        nd.lo[a] = std::min(nd.lo[a], blo[p * 3 + a]);
-        nd.hi[a] = std::max(nd.hi[a], bhi[p * 3 + a]);
-        clo[a] = std::min(clo[a], ctr[p * 3 + a]);
-        chi[a] = std::max(chi[a], ctr[p * 3 + a]);
-      }
-    }
+    Node& nd = nodes[t.node];
     if (t.count <= 4) {
       nd.first = t.first;
       nd.count = t.count;
-      nodes[t.node] = nd;
+      for (int a = 0; a < 3; ++a) {
+        nd.lo[a] = INFINITY;
+        nd.hi[a] = -INFINITY;
+      }
+      for (u32 i = t.first; i < t.first + t.count; ++i)
+        for (int a = 0; a < 3; ++a) {
+          nd.lo[a] = std::min(nd.lo[a], sbox[i][a]);
+          nd.hi[a] = std::max(nd.hi[a], sbox[i][a + 3]);
+        }
       continue;
     }
-    int axis = 0;
-    for (int a = 1; a < dims; ++a)
-      if (chi[a] - clo[a] > chi[axis] - clo[axis]) axis = a;
-    u32 mid = t.first + t.count / 2;
-    std::nth_element(perm.begin() + t.first, perm.begin() + mid, perm.begin() + t.first + t.count,
-                     [&](u32 x, u32 y) {
-                       float cx = ctr[x * 3 + axis], cy = ctr[y * 3 + axis];
-                       return cx < cy || (cx == cy && x < y);
-                     });
-    nd.count = 0;
-    nd.left = static_cast<u32>(nodes.size());
-    nd.right = nd.left + 1;
-    nodes[t.node] = nd;
+    u32 half = t.count / 2;
+    u32 left = static_cast<u32>(nodes.size());
+    nodes[t.node].count = 0;
+    nodes[t.node].left = left;
+    nodes[t.node].right = left + 1;
     nodes.push_back({});
     nodes.push_back({});
-    stack.push_back({nd.left, t.first, mid - t.first});
-    stack.push_back({nd.right, mid, t.first + t.count - mid});
+    stack.push_back({left, t.first, half});
+    stack.push_back({left + 1, t.first + half, t.count - half});
   }
-  std::vector<u32> permuted(n);
-  for (std::size_t i = 0; i < n; ++i) permuted[i] = items[perm[i]];
-  items.swap(permuted);
+  for (std::size_t i = nodes.size(); i-- > 0;) {
+    Node& nd = nodes[i];
+    if (nd.count) continue;
+    const Node& l = nodes[nd.left];
+    const Node& r = nodes[nd.right];
+    for (int a = 0; a < 3; ++a) {
+      nd.lo[a] = std::min(l.lo[a], r.lo[a]);
+      nd.hi[a] = std::max(l.hi[a], r.hi[a]);
+    }
+  }
 }
 
-std::vector<std::array<u32, 2>> candidate_pairs(const Soup& soup) {
+std::vector<std::array<u32, 2>> candidate_pairs(const Soup& soup, std::array<u32, 2>* clash) {
   std::size_t n = soup.tris.size();
   std::vector<u32> all(n);
   for (std::size_t i = 0; i < n; ++i) all[i] = static_cast<u32>(i);
@@ -108,6 +138,7 @@ std::vector<std::array<u32, 2>> candidate_pairs(const Soup& soup) {
   constexpr std::size_t kBlock = 2048;
   std::size_t blocks = (n + kBlock - 1) / kBlock;
   std::vector<std::vector<std::array<u32, 2>>> out(blocks);
+  std::vector<std::array<u32, 2>> clashes(blocks, {kNone, kNone});
   parallel_for(0, blocks, [&](std::size_t b) {
     auto& res = out[b];
     std::vector<u32> hits;
@@ -116,18 +147,29 @@ std::vector<std::array<u32, 2>> candidate_pairs(const Soup& soup) {
       tri_box(soup, static_cast<u32>(t), lo, hi);
       hits.clear();
       bvh.query(lo, hi, [&](u32 u) {
-        if (u > t && soup.operand[u] != soup.operand[t]) {
-          double ulo[3], uhi[3];
-          tri_box(soup, u, ulo, uhi);
-          for (int a = 0; a < 3; ++a)
-            if (ulo[a] > hi[a] || uhi[a] < lo[a]) return;
+        if (u <= t) return;
+        double ulo[3], uhi[3];
+        tri_box(soup, u, ulo, uhi);
+        for (int a = 0; a < 3; ++a)
+          if (ulo[a] > hi[a] || uhi[a] < lo[a]) return;
+        if (soup.operand[u] != soup.operand[t]) {
           hits.push_back(u);
+        } else if (clash && clashes[b][0] == kNone && triangles_clash(soup, static_cast<u32>(t), u)) {
+          clashes[b] = {static_cast<u32>(t), u};
         }
       });
       std::sort(hits.begin(), hits.end());
       for (u32 u : hits) res.push_back({static_cast<u32>(t), u});
     }
   });
+  if (clash) {
+    *clash = {kNone, kNone};
+    for (const auto& c : clashes)
+      if (c[0] != kNone) {
+        *clash = c;
+        break;
+      }
+  }
   std::vector<std::array<u32, 2>> pairs;
   std::size_t total = 0;
   for (auto& v : out) total += v.size();

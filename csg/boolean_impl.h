@@ -117,8 +117,10 @@ class Points {
 int orient3d_v(const Soup& s, u32 a, u32 b, u32 c, u32 d);
 
 // --- broad phase (boolean_broad.cpp) ---
-// Pairs (T, U), T < U, of triangles of different operands whose boxes overlap, sorted.
-std::vector<std::array<u32, 2>> candidate_pairs(const Soup& soup);
+// Pairs (T, U), T < U, of triangles of different operands whose boxes overlap, sorted. With
+// `clash`, also checks the pairs of one operand exactly and reports the first two triangles that
+// meet beyond their shared vertices (or {kNone, kNone}).
+std::vector<std::array<u32, 2>> candidate_pairs(const Soup& soup, std::array<u32, 2>* clash = nullptr);
 
 // An axis-aligned box tree over triangles, for point and vertical-line queries.
 class Bvh {
