@@ -109,6 +109,11 @@ std::vector<u32> rounding_defects(const Mesh& m, const std::vector<char>& moved)
 // rounded end collapsing into the other where the collapse keeps the surface a manifold (the
 // link condition); repeated until the exact check finds nothing.
 void repair_rounding(BooleanResult& r, std::vector<char>& moved) {
+  // Only edges that rounding itself could have made (a billionth of the model's size) are
+  // collapsed: collapsing a longer one would move the surface by more than rounding did.
+  Box3 bounds = r.mesh.bounds();
+  double limit = 1e-9 * (bounds.max - bounds.min).norm();
+  double limit2 = limit * limit;
   for (int round = 0; round < 16; ++round) {
     std::vector<u32> bad = rounding_defects(r.mesh, moved);
     if (bad.empty()) return;
@@ -128,6 +133,7 @@ void repair_rounding(BooleanResult& r, std::vector<char>& moved) {
       for (int e : order) {
         u32 a = T[e], b = T[(e + 1) % 3];
         if (!moved[a] && !moved[b]) continue;
+        if (len(e) > limit2) break;  // sorted: every later edge is longer
         if (!moved[a] || (moved[b] && b > a)) std::swap(a, b);  // a is removed, b kept
         // Link condition: the common neighbours of a and b are the two opposite vertices.
         std::vector<u32> na, nb, common, opposite;
