@@ -8,9 +8,11 @@
 // arithmetic (CGAL::Mpzf: exact sums and products of doubles). The filter decides almost every
 // call; the exact path makes every answer the one exact real arithmetic would give.
 #include <CGAL/Interval_nt.h>
+#include <CGAL/Gmpq.h>
 #include <CGAL/Mpzf.h>
 
 #include <cmath>
+#include <limits>
 
 #include "csg/boolean_impl.h"
 #include "kernel/error.h"
@@ -217,14 +219,23 @@ u32 Points::add(const PointDef& d) {
       bx[i + 3] = q.sup();
     }
   }
-  if (!ap.allFinite() || !(ih.lo[3] > 0 || ih.hi[3] < 0)) {
-    // The filter cannot bound this point (huge or tiny coordinates): take the exact quotient.
+  // The approximation must be faithful (within an ulp of the exact coordinate): where the filter's
+  // quotient is wider than that (a W near zero: a segment nearly parallel to its cutting plane),
+  // the exact rational quotient is rounded instead.
+  bool tight = ap.allFinite() && (ih.lo[3] > 0 || ih.hi[3] < 0);
+  for (int i = 0; i < 3 && tight; ++i)
+    if (bx[i + 3] - bx[i] > 2 * std::numeric_limits<double>::epsilon() * std::max(std::abs(bx[i]), std::abs(bx[i + 3])))
+      tight = false;
+  if (!tight) {
     H<EX> e = point_eval<EX>(*soup_, d);
     if (sign_of(e.c[3]) == 0) fail("boolean: internal error: a constructed point has W = 0");
-    for (int i = 0; i < 3; ++i) ap[i] = CGAL::to_double(e.c[i]) / CGAL::to_double(e.c[3]);
+    CGAL::Gmpq w = static_cast<CGAL::Gmpq>(e.c[3]);
     for (int i = 0; i < 3; ++i) {
-      bx[i] = -INFINITY;
-      bx[i + 3] = INFINITY;
+      ap[i] = CGAL::to_double(static_cast<CGAL::Gmpq>(e.c[i]) / w);
+      if (!std::isfinite(bx[i]) || !std::isfinite(bx[i + 3]) || !(bx[i] <= ap[i] && ap[i] <= bx[i + 3])) {
+        bx[i] = -INFINITY;
+        bx[i + 3] = INFINITY;
+      }
     }
   }
   defs_.push_back(d);
