@@ -5,7 +5,11 @@
 // (second derivatives M_i from the tridiagonal system h_{i-1} M_{i-1} + 2 (h_{i-1} + h_i) M_i +
 // h_i M_{i+1} = 6 (slope_i - slope_{i-1}), solved by the Thomas algorithm) and Kochanek & Bartels'
 // splines ("Interpolating splines with local tension, continuity, and bias control", SIGGRAPH 1984),
-// whose source/destination tangents reduce to Catmull-Rom's (P_{i+1} - P_{i-1}) / 2 at t = b = c = 0.
+// whose tangents at P_i, with the chords in = P_i - P_{i-1} and out = P_{i+1} - P_i, are
+//   leaving P_i   (1-t)(1+b)(1+c)/2 in + (1-t)(1-b)(1-c)/2 out,
+//   reaching P_i  (1-t)(1+b)(1-c)/2 in + (1-t)(1-b)(1+c)/2 out,
+// Catmull-Rom's (P_{i+1} - P_{i-1}) / 2 at t = b = c = 0; c = -1 makes each segment's end tangents
+// its own chord (the polygon itself: corners), c = +1 swaps them (corners that overshoot).
 // Tessellation subdivides each chord until interior samples lie within the tolerance; arc length is
 // adaptive Gauss-Legendre quadrature of |C'(t)|.
 #include <algorithm>
@@ -402,8 +406,8 @@ HermiteSpline kochanek_bartels(const std::vector<Point3>& points, double tension
   std::vector<Vec3> out(count), in(count);
   for (std::size_t i = 0; i < count; ++i) {
     Vec3 before = at(long(i)) - at(long(i) - 1), after = at(long(i) + 1) - at(long(i));
-    out[i] = (1 - t) * (1 + b) * (1 - c) / 2 * before + (1 - t) * (1 - b) * (1 + c) / 2 * after;
-    in[i] = (1 - t) * (1 + b) * (1 + c) / 2 * before + (1 - t) * (1 - b) * (1 - c) / 2 * after;
+    out[i] = (1 - t) * (1 + b) * (1 + c) / 2 * before + (1 - t) * (1 - b) * (1 - c) / 2 * after;
+    in[i] = (1 - t) * (1 + b) * (1 - c) / 2 * before + (1 - t) * (1 - b) * (1 + c) / 2 * after;
     params[i] = double(i);
     P[i] = at(long(i));
   }
