@@ -10,6 +10,7 @@
 #include <cstring>
 #include <vector>
 
+#include "simd_skip.h"
 #include "render/context_state.h"  // lighting_pow, simd_fallback
 
 using namespace wedge;
@@ -36,6 +37,7 @@ TEST_CASE("the lighting's pow is within 1e-7 of std::pow, and its 4- and 8-lane 
   for (float x = 1.0f; x <= 0x1p40f; x *= 1.0003f) xs.push_back(x);
   const float ys[] = {0.001f, 0.1f, 0.5f, 1, 1.5f, 2, 3, 4.75f, 8, 10, 16.5f, 20, 30, 50, 64, 100, 127.25f, 128};
   std::vector<float> p4(xs.size()), p8(xs.size());
+  const bool wide = !test::avx2_missing("the lighting pow's 8-lane build");
   double worst = 0;
   for (float y : ys) {
     lighting_pow(xs.data(), xs.size(), y, p4.data(), false);
@@ -43,7 +45,7 @@ TEST_CASE("the lighting's pow is within 1e-7 of std::pow, and its 4- and 8-lane 
     int bad_bits = 0, bad = 0;
     for (std::size_t i = 0; i < xs.size(); ++i) {
       const float x = xs[i], got = p4[i];
-      bad_bits += !same_bits(got, p8[i]) || !same_bits(got, lighting_pow(x, y));
+      bad_bits += (wide && !same_bits(got, p8[i])) || !same_bits(got, lighting_pow(x, y));
       const double want = std::pow(double(x), double(y));
       if (want > FLT_MAX) {
         bad += got != INFINITY;
@@ -128,8 +130,10 @@ void check_paths(const char* what, Setup setup) {
   const Sphere sp(23, 37);  // vertex counts that are not multiples of 8
   const Image ref = draw(sp, Path::Avx2, setup);
   INFO(what);
-  CHECK(draw(sp, Path::Fallback, setup).rgba == ref.rgba);
-  CHECK(draw(sp, Path::EnvSse2, setup).rgba == ref.rgba);
+  if (test::cpu_has_avx2()) {  // (without AVX2 these are the reference's own path)
+    CHECK(draw(sp, Path::Fallback, setup).rgba == ref.rgba);
+    CHECK(draw(sp, Path::EnvSse2, setup).rgba == ref.rgba);
+  }
   CHECK(draw(sp, Path::General, setup).rgba == ref.rgba);
 }
 
@@ -137,6 +141,7 @@ void check_paths(const char* what, Setup setup) {
 
 TEST_CASE("the vertex lighting's SSE2 and AVX2 builds give the same bits, and the general path's",
           "[render][lighting][simd]") {
+  test::avx2_missing("the vertex lighting's AVX2 build (the general path is still compared)");
   check_paths("point light, specular", [](Context&) {});
   check_paths("back faces culled", [](Context& c) { c.enable(Cap::CullFace); });
   check_paths("spot lights, attenuation, local viewer, two-sided, scaled normals", [](Context& c) {

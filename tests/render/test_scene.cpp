@@ -8,6 +8,7 @@
 #include <set>
 #include <thread>
 
+#include "simd_skip.h"
 #include "render/context_state.h"  // simd_fallback
 #include "render/render.h"
 
@@ -682,6 +683,7 @@ TEST_CASE("vertex arrays, indexed arrays and begin/end draw independent triangle
 }
 
 TEST_CASE("the default build's vertex code draws what the run-time-selected (AVX2) code draws", "[render][threads]") {
+  if (test::avx2_missing("the vertex code's AVX2 build")) return;
   // A lit sphere (independent triangles through vertex arrays), some of it beyond the near plane.
   std::vector<double> pos;
   const int st = 40, sl = 60;
@@ -719,6 +721,7 @@ TEST_CASE("the default build's vertex code draws what the run-time-selected (AVX
 }
 
 TEST_CASE("batches of every small size draw alike in the default and the AVX2 vertex code", "[render][threads]") {
+  if (test::avx2_missing("the vertex code's AVX2 build")) return;
   // Chunks whose vertex counts leave partial vector groups (and, with two lanes, groups wholly
   // past the end): 1 to 9 triangles and one more than a chunk, through packed client arrays.
   for (int tris : {1, 2, 3, 4, 5, 6, 7, 8, 9, 257}) {
