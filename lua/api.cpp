@@ -8,6 +8,10 @@
 
 namespace wedge::lua {
 
+// wrap_canvas.cpp (declared here rather than in wedge_lua.h, which every binding and Lua test
+// includes: adding it there rebuilt them all).
+void register_canvas(lua_State* L);
+
 namespace {
 
 using Registrar = void (*)(lua_State*);
@@ -24,6 +28,7 @@ const Registrar kRegistrars[] = {
     register_scene,
     register_wireframe,
     register_boolean,
+    register_canvas,
 };
 
 int version_fn(lua_State* L) {

@@ -1,0 +1,298 @@
+// canvas{width=, height=, background=}: a pixel grid for the classic 2D raster algorithms of
+// render/raster2d.h (Foley et al., chapters 3 and 19), each reachable by name:
+//   c:line{{x0,y0}, {x1,y1}, algorithm="bresenham"|"dda", color=}
+//   c:circle{center={x,y}, radius=, color=}                     midpoint circle
+//   c:polygon{{x,y}, ..., fill="even-odd"|"nonzero", color=}    scan-line fill
+//   c:flood_fill{{x,y}, color=}                                 4-connected seed fill
+//   c:clip{window={xmin,ymin,xmax,ymax}, algorithm=}            clip what is drawn next
+//   c:pixel(x, y) -> {r,g,b}     c:save("out.png")
+// Pixel (x, y) is the unit square [x, x+1] x [y, y+1], y up from the bottom row (as raster2d's
+// Grid and a GL window); save() writes the top row first, as PNG files hold it. Colours are
+// {r, g, b} or {r, g, b, a} in [0, 1]. After c:clip{window=...}, lines are clipped to the window
+// by the chosen algorithm ("cohen_sutherland", the default, or "liang_barsky") before they are
+// rasterised and polygons by Sutherland-Hodgman before they are filled; circle pixels outside the
+// window are dropped. c:clip{} (no window) ends clipping.
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "lua/lua_util.h"
+#include "lua/wedge_lua.h"
+#include "render/raster2d.h"
+#include "render/render.h"
+
+namespace wedge::lua {
+
+namespace {
+
+constexpr const char* kKey = "wedge.Canvas";
+
+struct Canvas {
+  render::Grid grid;  // packed RGBA8 (r in the low byte), row 0 at the bottom
+  std::optional<Box2> window;
+  std::string line_clip = "cohen_sutherland";
+};
+
+Canvas& check_canvas(lua_State* L) { return check_object<Canvas>(L, 1, kKey, "Canvas"); }
+
+std::int32_t pack(const Vec3& rgb, double a) {
+  auto q = [](double c) { return std::uint32_t(std::lround(std::clamp(c, 0.0, 1.0) * 255)); };
+  return std::int32_t(q(rgb.x()) | q(rgb.y()) << 8 | q(rgb.z()) << 16 | q(a) << 24);
+}
+
+// A colour field {r, g, b} or {r, g, b, a} (components in [0, 1]).
+std::int32_t colour(Options& o, const char* key, std::int32_t fallback) {
+  lua_State* L = o.state();
+  if (o.push(key) == LUA_TNIL) {
+    lua_pop(L, 1);
+    return fallback;
+  }
+  const int idx = lua_gettop(L);
+  const std::string what = std::string("field '") + key + "'";
+  const int n = lua_istable(L, idx) ? int(lua_rawlen(L, idx)) : 0;
+  if (n != 3 && n != 4) {
+    const std::string got = describe(L, idx);
+    lua_pop(L, 1);
+    throw ArgError{o.arg(), what + " must be a colour {r, g, b} or {r, g, b, a}, got " + got};
+  }
+  double c[4] = {0, 0, 0, 1};
+  for (int k = 0; k < n; ++k) {
+    lua_rawgeti(L, idx, k + 1);
+    const bool ok = lua_type(L, -1) == LUA_TNUMBER;
+    c[k] = ok ? lua_tonumber(L, -1) : 0;
+    lua_pop(L, 1);
+    if (!ok || !(c[k] >= 0 && c[k] <= 1)) {
+      lua_pop(L, 1);
+      throw ArgError{o.arg(), what + ": component " + std::to_string(k + 1) + " must be a number in [0, 1]"};
+    }
+  }
+  lua_pop(L, 1);
+  return pack(Vec3(c[0], c[1], c[2]), c[3]);
+}
+
+// The positional points t[1], t[2], ... of an options table, each {x, y}.
+std::vector<Point2> points(lua_State* L, int arg) {
+  std::vector<Point2> pts;
+  const int n = int(lua_rawlen(L, arg));
+  for (int i = 1; i <= n; ++i) {
+    lua_rawgeti(L, arg, i);
+    try {
+      pts.push_back(to_vec2(L, -1, arg, "point " + std::to_string(i)));
+    } catch (...) {
+      lua_pop(L, 1);
+      throw;
+    }
+    lua_pop(L, 1);
+  }
+  return pts;
+}
+
+// A pixel position: a point whose coordinates are whole numbers.
+int whole(double v, int arg, const std::string& what) {
+  if (v != std::floor(v) || std::abs(v) > 1e9)
+    throw ArgError{arg, what + " must be a whole number (a pixel position), got " + number_text(v)};
+  return int(v);
+}
+
+void set(Canvas& c, int x, int y, std::int32_t value) {
+  if (c.grid.inside(x, y)) c.grid.at(x, y) = value;
+}
+
+int canvas_fn(lua_State* L) {
+  return guarded(L, [&] {
+    Options o(L, 1);
+    const int w = o.integer("width", 0), h = o.integer("height", 0);
+    if (w < 1 || h < 1 || w > 16384 || h > 16384)
+      throw ArgError{1, "width and height must be whole numbers in 1..16384, got " + std::to_string(w) + " x " +
+                            std::to_string(h)};
+    const std::int32_t bg = colour(o, "background", pack(Vec3(1, 1, 1), 1));
+    o.finish();
+    push_object(L, kKey, Canvas{render::Grid(w, h, bg), std::nullopt, "cohen_sutherland"});
+    return 1;
+  });
+}
+
+int line_m(lua_State* L) {
+  return guarded(L, [&] {
+    Canvas& c = check_canvas(L);
+    Options o(L, 2);
+    o.allow_positional();
+    const std::string algorithm = o.string("algorithm", "bresenham");
+    if (algorithm != "bresenham" && algorithm != "dda")
+      throw ArgError{2, "field 'algorithm' must be \"bresenham\" or \"dda\", got \"" + algorithm + "\""};
+    const std::int32_t col = colour(o, "color", pack(Vec3(0, 0, 0), 1));
+    o.finish();
+    const std::vector<Point2> p = points(L, 2);
+    if (p.size() != 2) throw ArgError{2, "a line needs two points {x0, y0}, {x1, y1}, got " + std::to_string(p.size())};
+    Point2 a = p[0], b = p[1];
+    int x0 = whole(a.x(), 2, "point 1's x"), y0 = whole(a.y(), 2, "point 1's y");
+    int x1 = whole(b.x(), 2, "point 2's x"), y1 = whole(b.y(), 2, "point 2's y");
+    if (c.window) {
+      const bool kept = c.line_clip == "liang_barsky" ? render::clip_liang_barsky(a, b, *c.window)
+                                                       : render::clip_cohen_sutherland(a, b, *c.window);
+      if (!kept) return 0;
+      // The clipped ends, back on the pixel grid.
+      x0 = int(std::lround(a.x())), y0 = int(std::lround(a.y())), x1 = int(std::lround(b.x())), y1 = int(std::lround(b.y()));
+    }
+    const auto px = algorithm == "dda" ? render::line_dda(x0, y0, x1, y1) : render::line_bresenham(x0, y0, x1, y1);
+    for (const render::Pixel& q : px) set(c, q.x, q.y, col);
+    return 0;
+  });
+}
+
+int circle_m(lua_State* L) {
+  return guarded(L, [&] {
+    Canvas& c = check_canvas(L);
+    Options o(L, 2);
+    const Vec2 centre = o.vec2("center", Vec2(0, 0));
+    const double r = o.number("radius", -1);
+    const std::int32_t col = colour(o, "color", pack(Vec3(0, 0, 0), 1));
+    o.finish();
+    const int cx = whole(centre.x(), 2, "center's x"), cy = whole(centre.y(), 2, "center's y");
+    if (r < 0 || r != std::floor(r) || r > 1e6)
+      throw ArgError{2, "field 'radius' must be a whole number >= 0, got " + number_text(r)};
+    for (const render::Pixel& q : render::circle_midpoint(cx, cy, int(r))) {
+      if (c.window && !(q.x >= c.window->min.x() && q.x <= c.window->max.x() && q.y >= c.window->min.y() &&
+                        q.y <= c.window->max.y()))
+        continue;
+      set(c, q.x, q.y, col);
+    }
+    return 0;
+  });
+}
+
+int polygon_m(lua_State* L) {
+  return guarded(L, [&] {
+    Canvas& c = check_canvas(L);
+    Options o(L, 2);
+    o.allow_positional();
+    const std::string fill = o.string("fill", "even-odd");
+    if (fill != "even-odd" && fill != "nonzero")
+      throw ArgError{2, "field 'fill' must be \"even-odd\" or \"nonzero\", got \"" + fill + "\""};
+    const std::int32_t col = colour(o, "color", pack(Vec3(0, 0, 0), 1));
+    o.finish();
+    std::vector<Point2> p = points(L, 2);
+    if (p.size() < 3) throw ArgError{2, "a polygon needs at least 3 points, got " + std::to_string(p.size())};
+    if (c.window) {
+      const Box2& wnd = *c.window;
+      p = render::clip_sutherland_hodgman(
+          p, {wnd.min, Point2(wnd.max.x(), wnd.min.y()), wnd.max, Point2(wnd.min.x(), wnd.max.y())});
+      if (p.size() < 3) return 0;
+    }
+    render::fill_polygon(c.grid, p, fill == "nonzero" ? render::FillRule::NonZero : render::FillRule::EvenOdd, col);
+    return 0;
+  });
+}
+
+int flood_fill_m(lua_State* L) {
+  return guarded(L, [&] {
+    Canvas& c = check_canvas(L);
+    Options o(L, 2);
+    o.allow_positional();
+    const std::int32_t col = colour(o, "color", pack(Vec3(0, 0, 0), 1));
+    o.finish();
+    const std::vector<Point2> p = points(L, 2);
+    if (p.size() != 1) throw ArgError{2, "flood_fill needs one seed point {x, y}, got " + std::to_string(p.size())};
+    const int x = whole(p[0].x(), 2, "the seed's x"), y = whole(p[0].y(), 2, "the seed's y");
+    if (!c.grid.inside(x, y))
+      throw ArgError{2, "the seed (" + std::to_string(x) + ", " + std::to_string(y) + ") is outside the " +
+                            std::to_string(c.grid.width) + " x " + std::to_string(c.grid.height) + " canvas"};
+    lua_pushinteger(L, lua_Integer(render::flood_fill(c.grid, x, y, col)));
+    return 1;
+  });
+}
+
+int clip_m(lua_State* L) {
+  return guarded(L, [&] {
+    Canvas& c = check_canvas(L);
+    Options o(L, 2);
+    const std::string algorithm = o.string("algorithm", "cohen_sutherland");
+    if (algorithm != "cohen_sutherland" && algorithm != "liang_barsky" && algorithm != "sutherland_hodgman")
+      throw ArgError{2, "field 'algorithm' must be \"cohen_sutherland\", \"liang_barsky\" or \"sutherland_hodgman\", got \"" +
+                            algorithm + "\""};
+    std::optional<Box2> window;
+    if (o.push("window") != LUA_TNIL) {
+      double v[4];
+      const int idx = lua_gettop(L);
+      const bool table = lua_istable(L, idx) && lua_rawlen(L, idx) == 4;
+      for (int k = 0; k < 4 && table; ++k) {
+        lua_rawgeti(L, idx, k + 1);
+        v[k] = lua_type(L, -1) == LUA_TNUMBER ? lua_tonumber(L, -1) : NAN;
+        lua_pop(L, 1);
+      }
+      lua_pop(L, 1);
+      if (!table || !std::isfinite(v[0]) || !std::isfinite(v[1]) || !std::isfinite(v[2]) || !std::isfinite(v[3]) ||
+          !(v[0] < v[2] && v[1] < v[3]))
+        throw ArgError{2, "field 'window' must be {xmin, ymin, xmax, ymax} with xmin < xmax and ymin < ymax"};
+      window = Box2{Point2(v[0], v[1]), Point2(v[2], v[3])};
+    } else {
+      lua_pop(L, 1);
+    }
+    o.finish();
+    c.window = window;
+    // Lines: the named line clipper (Sutherland-Hodgman names the polygon clipper, which
+    // polygons always use: lines then keep Cohen-Sutherland).
+    c.line_clip = algorithm == "liang_barsky" ? "liang_barsky" : "cohen_sutherland";
+    return 0;
+  });
+}
+
+int pixel_m(lua_State* L) {
+  return guarded(L, [&] {
+    Canvas& c = check_canvas(L);
+    const int x = check_integer(L, 2), y = check_integer(L, 3);
+    if (x < 0 || x >= c.grid.width) throw ArgError{2, "x must be in 0.." + std::to_string(c.grid.width - 1) + ", got " + std::to_string(x)};
+    if (y < 0 || y >= c.grid.height) throw ArgError{3, "y must be in 0.." + std::to_string(c.grid.height - 1) + ", got " + std::to_string(y)};
+    const std::uint32_t v = std::uint32_t(c.grid.at(x, y));
+    lua_createtable(L, 3, 0);
+    for (int k = 0; k < 3; ++k) {
+      lua_pushnumber(L, double(v >> (8 * k) & 0xff) / 255);
+      lua_rawseti(L, -2, k + 1);
+    }
+    return 1;
+  });
+}
+
+int save_m(lua_State* L) {
+  return guarded(L, [&] {
+    Canvas& c = check_canvas(L);
+    const std::string path = check_string(L, 2);
+    render::Image im;
+    im.width = c.grid.width, im.height = c.grid.height;
+    im.rgba.resize(std::size_t(im.width) * im.height * 4);
+    for (int y = 0; y < im.height; ++y)
+      for (int x = 0; x < im.width; ++x) {
+        const std::uint32_t v = std::uint32_t(c.grid.at(x, y));
+        std::uint8_t* p = &im.rgba[(std::size_t(im.height - 1 - y) * im.width + x) * 4];
+        for (int k = 0; k < 4; ++k) p[k] = std::uint8_t(v >> (8 * k));
+      }
+    render::write_png(path, im);
+    return 0;
+  });
+}
+
+int size_m(lua_State* L) {
+  return guarded(L, [&] {
+    Canvas& c = check_canvas(L);
+    lua_pushinteger(L, c.grid.width);
+    lua_pushinteger(L, c.grid.height);
+    return 2;
+  });
+}
+
+const luaL_Reg kMethods[] = {{"line", line_m},     {"circle", circle_m}, {"polygon", polygon_m},
+                             {"flood_fill", flood_fill_m}, {"clip", clip_m}, {"pixel", pixel_m},
+                             {"save", save_m},     {"size", size_m},     {nullptr, nullptr}};
+
+}  // namespace
+
+void register_canvas(lua_State* L) {
+  register_class(L, kKey, "Canvas", kMethods, nullptr, gc_object<Canvas>);
+  static const luaL_Reg functions[] = {{"canvas", canvas_fn}, {nullptr, nullptr}};
+  set_functions(L, functions);
+}
+
+}  // namespace wedge::lua
