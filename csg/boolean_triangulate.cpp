@@ -511,7 +511,7 @@ Arrangement arrange(Points& pts, const std::vector<std::array<u32, 2>>& pairs) {
         if (pts.compare(a, p, axis) * pts.compare(p, b, axis) > 0) on.push_back(p);
       }
       int dir = pts.compare(a, b, axis);
-      std::sort(on.begin(), on.end(), [&](u32 x, u32 y) { return pts.compare(x, y, axis) * dir < 0; });
+      std::sort(on.begin(), on.end(), [&](u32 x, u32 y) { return pts.compare(x, y, axis) == dir; });
       u32 prev = a;
       for (u32 p : on) {
         constraints.push_back({prev, p});
@@ -534,7 +534,13 @@ Arrangement arrange(Points& pts, const std::vector<std::array<u32, 2>>& pairs) {
       hint = h->face();
       vh[p] = h;
     }
-    for (const auto& c : constraints) cdt.insert_constraint(vh.at(c[0]), vh.at(c[1]));
+    try {
+      for (const auto& c : constraints) cdt.insert_constraint(vh.at(c[0]), vh.at(c[1]));
+    } catch (const std::exception& e) {
+      // Cannot happen when the constraints are split right; say where if it does.
+      fail("boolean: internal error retriangulating triangle #", soup.local[t] + 1, " of operand ", soup.operand[t] + 1,
+           ": ", e.what());
+    }
     auto& out = cut_pieces[wi];
     for (auto f : cdt.finite_face_handles()) {
       std::array<u32, 3> v = {f->vertex(0)->point().id, f->vertex(1)->point().id, f->vertex(2)->point().id};

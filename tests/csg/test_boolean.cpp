@@ -248,3 +248,30 @@ TEST_CASE("boolean: very large and very small coordinates together", "[boolean]"
   Mesh r = boolean(BooleanOp::Difference, a, b);
   CHECK(r.triangles.size() > 12);
 }
+
+TEST_CASE("boolean: n-ary operations on crossing rotated boxes agree with inclusion-exclusion", "[boolean]") {
+  // Three boxes whose faces cross inside one another's triangles, so that a triangle's cut
+  // segments meet each other (triple points) and are split at several points each.
+  Mesh a = box(Vec3(0, 0, 0), Vec3(2, 2, 2));
+  Mesh b = box(Vec3(-1, -1, -1), Vec3(1, 1, 1)).transformed(translate(Vec3(1, 1, 1.2)) * rotate(33, Vec3(1, 2, 3)));
+  Mesh c = box(Vec3(-1, -0.7, -0.9), Vec3(1, 0.7, 0.9)).transformed(translate(Vec3(1.1, 0.9, 0.8)) * rotate(71, Vec3(-2, 1, 0.5)));
+  Mesh s = sphere(Vec3(1.0, 1.1, 0.9), 0.95, 24);
+  std::vector<const Mesh*> all{&a, &b, &c, &s};
+  auto v = [](const BooleanResult& r) {
+    require_solid(r.mesh);
+    return r.mesh.volume();
+  };
+  double va = a.volume(), vb = b.volume(), vc = c.volume(), vs = s.volume();
+  double ab = v(boolean(BooleanOp::Intersection, {&a, &b})), ac = v(boolean(BooleanOp::Intersection, {&a, &c}));
+  double as = v(boolean(BooleanOp::Intersection, {&a, &s})), bc = v(boolean(BooleanOp::Intersection, {&b, &c}));
+  double bs = v(boolean(BooleanOp::Intersection, {&b, &s})), cs = v(boolean(BooleanOp::Intersection, {&c, &s}));
+  double abc = v(boolean(BooleanOp::Intersection, {&a, &b, &c})), abs_ = v(boolean(BooleanOp::Intersection, {&a, &b, &s}));
+  double acs = v(boolean(BooleanOp::Intersection, {&a, &c, &s})), bcs = v(boolean(BooleanOp::Intersection, {&b, &c, &s}));
+  double abcs = v(boolean(BooleanOp::Intersection, all));
+  double u = v(boolean(BooleanOp::Union, all));
+  double expect = va + vb + vc + vs - ab - ac - as - bc - bs - cs + abc + abs_ + acs + bcs - abcs;
+  CHECK(u == Approx(expect).epsilon(1e-9));
+  // a minus the rest = a - (a n (b u c u s))
+  double d = v(boolean(BooleanOp::Difference, all));
+  CHECK(d == Approx(va - (ab + ac + as - abc - abs_ - acs + abcs)).epsilon(1e-9));
+}
