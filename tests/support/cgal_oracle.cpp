@@ -4,7 +4,6 @@
 
 #include <CGAL/Exact_predicates_exact_constructions_kernel.h>
 #include <CGAL/Polygon_mesh_processing/corefinement.h>
-#include <CGAL/Polygon_mesh_processing/measure.h>
 #include <CGAL/Polygon_mesh_processing/self_intersections.h>
 #include <CGAL/Surface_mesh.h>
 #include <CGAL/intersections.h>
@@ -59,11 +58,27 @@ const char* op_name(BooleanOp op) {
   return "?";
 }
 
-// A lazy exact number's to_double is its interval's estimate, which after many operations can be
-// off in the 14th digit: compute the exact value first, which narrows the interval around it.
-double rounded(K::FT x) {
-  x.exact();
-  return CGAL::to_double(x);
+// Volumes are summed in the exact number type itself (Epeck's FT::ET, a rational), not in lazy
+// numbers: a sum of a million lazy terms is a DAG a million deep, and evaluating it overflows the
+// stack; and a lazy number's to_double is its interval's estimate, not the exact value rounded.
+using ET = K::FT::ET;
+
+ET det(const ET& ax, const ET& ay, const ET& az, const ET& bx, const ET& by, const ET& bz, const ET& cx,
+       const ET& cy, const ET& cz) {
+  return ax * (by * cz - bz * cy) - ay * (bx * cz - bz * cx) + az * (bx * cy - by * cx);
+}
+
+double exact_volume_of(const SM& sm) {
+  ET v = 0;
+  for (auto f : sm.faces()) {
+    const auto h = sm.halfedge(f);
+    const auto& a = sm.point(sm.target(h));
+    const auto& b = sm.point(sm.target(sm.next(h)));
+    const auto& c = sm.point(sm.target(sm.next(sm.next(h))));
+    v += det(CGAL::exact(a.x()), CGAL::exact(a.y()), CGAL::exact(a.z()), CGAL::exact(b.x()), CGAL::exact(b.y()),
+             CGAL::exact(b.z()), CGAL::exact(c.x()), CGAL::exact(c.y()), CGAL::exact(c.z()));
+  }
+  return CGAL::to_double(v / 6);
 }
 
 OracleResult run(const Mesh& first, const std::vector<std::pair<BooleanOp, const Mesh*>>& steps) {
@@ -88,7 +103,7 @@ OracleResult run(const Mesh& first, const std::vector<std::pair<BooleanOp, const
       }
       current = std::move(out);
     }
-    r.volume = current.is_empty() ? 0.0 : rounded(PMP::volume(current));
+    r.volume = exact_volume_of(current);
     r.triangles = current.number_of_faces();
     r.ok = true;
   } catch (const std::exception& e) {
@@ -118,16 +133,14 @@ OracleResult oracle_nary(BooleanOp op, const std::vector<const Mesh*>& operands)
 }
 
 double exact_volume(const Mesh& m) {
-  K::FT v = 0;
-  const K::Point_3 o(0, 0, 0);
+  ET v = 0;
   for (const auto& t : m.triangles) {
     const auto& a = m.positions[t[0]];
     const auto& b = m.positions[t[1]];
     const auto& c = m.positions[t[2]];
-    v += CGAL::determinant(K::Vector_3(a.x(), a.y(), a.z()), K::Vector_3(b.x(), b.y(), b.z()),
-                           K::Vector_3(c.x(), c.y(), c.z()));
+    v += det(ET(a.x()), ET(a.y()), ET(a.z()), ET(b.x()), ET(b.y()), ET(b.z()), ET(c.x()), ET(c.y()), ET(c.z()));
   }
-  return rounded(v / 6);
+  return CGAL::to_double(v / 6);
 }
 
 bool exact_self_intersects(const Mesh& m, std::string* where) {
