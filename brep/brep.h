@@ -290,6 +290,16 @@ struct Profile {
   std::vector<Vec2> outer;
   std::vector<std::vector<Vec2>> holes;
 };
+// Coordinates of a solid stay within +-kMaxCoordinate: the products that give normals (two
+// factors) and volumes (three) then stay finite. Builders and transforms refuse more, by name.
+constexpr double kMaxCoordinate = 1e100;
+
+// Throws wedge::Error naming the fault: a ring with fewer than 3 points, a point that is not
+// finite or beyond kMaxCoordinate, a point repeated, a ring that crosses or touches itself, a hole
+// that touches, crosses or lies outside the outer ring (a hole equal to it included), holes that
+// touch or overlap. polygon{} calls it where the profile is made; prism() again.
+void validate_profile(const Profile& profile);
+
 // The planar extrude: the profile at z = 0 swept to z = height (a through-hole per profile hole).
 Model prism(const Profile& profile, double height);
 // A frustum of a pyramid: the polygon `base` at z = 0, the same polygon scaled by `top_scale`

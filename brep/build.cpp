@@ -182,11 +182,78 @@ void require_polygon(const std::vector<Vec2>& p, const char* what) {
     if (!q.allFinite()) fail(what, " has a point that is not finite");
 }
 
+void require_size(double x, const char* what) {
+  require_positive(x, what);
+  if (x > kMaxCoordinate) fail(what, " ", x, " is beyond ", kMaxCoordinate, " (volumes and normals would overflow)");
+}
+
 }  // namespace
 
+void validate_profile(const Profile& profile) {
+  struct Seg {
+    Vec2 a, b;
+    std::size_t ring, index, ring_size;
+  };
+  std::vector<const std::vector<Vec2>*> rings{&profile.outer};
+  for (const auto& h : profile.holes) rings.push_back(&h);
+  auto ring_name = [](std::size_t r) { return r == 0 ? std::string("the outer ring") : "hole " + std::to_string(r); };
+  std::vector<Seg> segs;
+  for (std::size_t r = 0; r < rings.size(); ++r) {
+    const auto& ring = *rings[r];
+    if (ring.size() < 3) fail(ring_name(r), " needs at least 3 points, got ", ring.size());
+    for (std::size_t i = 0; i < ring.size(); ++i) {
+      const Vec2& p = ring[i];
+      if (!p.allFinite()) fail(ring_name(r), " point ", i + 1, " is not finite");
+      if (p.cwiseAbs().maxCoeff() > kMaxCoordinate)
+        fail(ring_name(r), " point ", i + 1, " (", p.x(), ", ", p.y(), ") is beyond +-", kMaxCoordinate,
+             " (areas and normals would overflow)");
+      const Vec2& q = ring[(i + 1) % ring.size()];
+      if (p == q) fail(ring_name(r), " point ", (i + 1) % ring.size() + 1, " repeats point ", i + 1, " (", p.x(), ", ", p.y(), ")");
+      segs.push_back({p, q, r, i, ring.size()});
+    }
+  }
+  // Every pair of segments whose x ranges overlap (sorted by their left end): none may meet, but
+  // for neighbours in one ring at their shared point.
+  std::sort(segs.begin(), segs.end(), [](const Seg& s, const Seg& t) { return std::min(s.a.x(), s.b.x()) < std::min(t.a.x(), t.b.x()); });
+  for (std::size_t i = 0; i < segs.size(); ++i) {
+    const Seg& s = segs[i];
+    const double right = std::max(s.a.x(), s.b.x());
+    for (std::size_t j = i + 1; j < segs.size() && std::min(segs[j].a.x(), segs[j].b.x()) <= right; ++j) {
+      const Seg& t = segs[j];
+      if (s.ring == t.ring) {
+        const std::size_t n = s.ring_size;
+        const bool adjacent = (s.index + 1) % n == t.index || (t.index + 1) % n == s.index;
+        if (adjacent) continue;
+        if (segments_intersect_2d(Point2(s.a), Point2(s.b), Point2(t.a), Point2(t.b)))
+          fail(ring_name(s.ring), " crosses or touches itself (edges ", std::min(s.index, t.index) + 1, " and ",
+               std::max(s.index, t.index) + 1, ")");
+      } else if (segments_intersect_2d(Point2(s.a), Point2(s.b), Point2(t.a), Point2(t.b))) {
+        const std::size_t lo = std::min(s.ring, t.ring), hi = std::max(s.ring, t.ring);
+        if (lo == 0) fail("hole ", hi, " touches or crosses the outer ring (a hole must lie strictly inside it)");
+        fail("holes ", lo, " and ", hi, " touch or cross each other");
+      }
+    }
+  }
+  // No crossings: a hole is inside a ring exactly when its first point is.
+  auto inside = [](const Vec2& p, const std::vector<Vec2>& ring) {
+    bool in = false;
+    for (std::size_t i = 0, j = ring.size() - 1; i < ring.size(); j = i++)
+      if ((ring[i].y() > p.y()) != (ring[j].y() > p.y()) &&
+          p.x() < (ring[j].x() - ring[i].x()) * (p.y() - ring[i].y()) / (ring[j].y() - ring[i].y()) + ring[i].x())
+        in = !in;
+    return in;
+  };
+  for (std::size_t h = 1; h < rings.size(); ++h) {
+    if (!inside(rings[h]->front(), profile.outer)) fail("hole ", h, " lies outside the outer ring");
+    for (std::size_t k = 1; k < rings.size(); ++k)
+      if (k != h && inside(rings[h]->front(), *rings[k])) fail("hole ", h, " lies inside hole ", k, " (holes may not overlap)");
+  }
+}
+
 Model prism(const Profile& profile, double height) {
-  require_positive(height, "prism height");
+  require_size(height, "prism height");
   require_polygon(profile.outer, "prism profile");
+  validate_profile(profile);
   std::vector<Ring> holes;
   for (const auto& h : profile.holes) {
     require_polygon(h, "prism hole");
@@ -200,8 +267,10 @@ Model prism(const Profile& profile, double height) {
 }
 
 Model box(const Vec3& size, const Point3& corner) {
-  for (int i = 0; i < 3; ++i) require_positive(size[i], "box size");
+  for (int i = 0; i < 3; ++i) require_size(size[i], "box size");
   if (!corner.allFinite()) fail("box: the corner is not finite");
+  if ((corner + size).cwiseAbs().maxCoeff() > kMaxCoordinate || corner.cwiseAbs().maxCoeff() > kMaxCoordinate)
+    fail("box: a corner is beyond +-", kMaxCoordinate, " (volumes and normals would overflow)");
   Lamina L = lamina(polygon_ring({{corner.x(), corner.y()}, {corner.x() + size.x(), corner.y()},
                                   {corner.x() + size.x(), corner.y() + size.y()}, {corner.x(), corner.y() + size.y()}},
                                  corner.z()),
@@ -250,6 +319,8 @@ Model polyhedron(const std::vector<Point3>& points, const std::vector<std::vecto
   if (faces.empty()) fail("polyhedron: no faces");
   for (int i = 0; i < np; ++i)
     if (!points[static_cast<std::size_t>(i)].allFinite()) fail("polyhedron: point ", i + 1, " is not finite");
+    else if (points[static_cast<std::size_t>(i)].cwiseAbs().maxCoeff() > kMaxCoordinate)
+      fail("polyhedron: point ", i + 1, " is beyond +-", kMaxCoordinate, " (volumes and normals would overflow)");
   // Directed edges → face; each undirected edge must appear once in each direction.
   auto key = [np](int a, int b) { return static_cast<std::int64_t>(a) * np + b; };
   std::unordered_map<std::int64_t, int> directed;

@@ -183,6 +183,17 @@ Solid Solid::transformed(const Mat4& m) const {
   if (std::abs(m.block<3, 3>(0, 0).determinant()) < 1e-300) fail("transform is singular: it would flatten the solid");
   if ((m.row(3) - Eigen::RowVector4d(0, 0, 0, 1)).cwiseAbs().maxCoeff() != 0)
     fail("transform is projective (last row not 0 0 0 1): solids take affine transforms only");
+  // A result beyond the coordinates a solid may have is an error here, not a nan volume later.
+  if (const Box3 b = bounds(); !b.empty()) {
+    double reach = 0;
+    for (int i = 0; i < 8; ++i) {
+      const Vec3 corner((i & 1) ? b.max.x() : b.min.x(), (i & 2) ? b.max.y() : b.min.y(), (i & 4) ? b.max.z() : b.min.z());
+      reach = std::max(reach, apply_point(m, corner).cwiseAbs().maxCoeff());
+    }
+    if (!(reach <= kMaxCoordinate))
+      fail("the transform overflows: the solid would reach coordinate ", reach, ", beyond +-", kMaxCoordinate,
+           " (its volume and normals would not be finite numbers)");
+  }
   switch (node_->kind) {
     case Node::Kind::Empty: return *this;
     case Node::Kind::Leaf:

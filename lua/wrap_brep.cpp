@@ -346,6 +346,10 @@ int polyhedron_fn(lua_State* L) {
         lua_Integer idx = lua_tointegerx(L, -1, &isnum);
         lua_pop(L, 1);
         if (!isnum) throw ArgError{1, "faces[" + std::to_string(i) + "][" + std::to_string(k) + "] must be an integer"};
+        // Checked here, in 64 bits: 4294967297 must not wrap to point 1 on the way to int.
+        if (idx < 1 || idx > static_cast<lua_Integer>(pts.size()))
+          throw ArgError{1, "faces[" + std::to_string(i) + "][" + std::to_string(k) + "] is point " + std::to_string(idx) +
+                                ", but there are " + std::to_string(pts.size()) + " points (numbered from 1)"};
         f.push_back(static_cast<int>(idx) - 1);
       }
       faces.push_back(std::move(f));

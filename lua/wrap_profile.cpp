@@ -53,6 +53,7 @@ std::vector<Vec2> read_ring(lua_State* L, int idx, int arg, const std::string& w
 }
 
 Profile& push_profile(lua_State* L, Profile p) {
+  as_arg(1, [&] { validate_profile(p); });  // the error points at the line that made the profile
   if (signed_area(p.outer) < 0) std::reverse(p.outer.begin(), p.outer.end());
   for (auto& h : p.holes)
     if (signed_area(h) > 0) std::reverse(h.begin(), h.end());
