@@ -32,17 +32,26 @@ Vec4f to_color(lua_State* L, int idx, int arg, const std::string& what) {
   if (lua_type(L, idx) != LUA_TTABLE) throw ArgError{arg, what + " must be a colour {r, g, b}, got " + type_name(L, idx)};
   Vec4f c(0, 0, 0, 1);
   lua_Integer n = static_cast<lua_Integer>(lua_rawlen(L, idx));
-  if (n < 3 || n > 4) throw ArgError{arg, what + " must have 3 or 4 components"};
+  if (n < 3 || n > 4) throw ArgError{arg, what + " must have 3 or 4 components {r, g, b [, a]}, got " + std::to_string(n)};
   for (int k = 1; k <= n; ++k) {
     lua_geti(L, idx, k);
-    if (!lua_isnumber(L, -1)) {
-      lua_pop(L, 1);
-      throw ArgError{arg, what + " component " + std::to_string(k) + " must be a number"};
-    }
-    c[k - 1] = float(lua_tonumber(L, -1));
+    const bool number = lua_type(L, -1) == LUA_TNUMBER;
+    const double x = lua_tonumber(L, -1);
     lua_pop(L, 1);
+    if (!number) throw ArgError{arg, what + " component " + std::to_string(k) + " must be a number"};
+    // Colours are 0..1 (API.md); NaN or 7 would be drawn as some clamped colour without a word.
+    if (!(x >= 0 && x <= 1))
+      throw ArgError{arg, what + " component " + std::to_string(k) + " must be within 0..1, got " + number_text(x)};
+    c[k - 1] = float(x);
   }
   return c;
+}
+
+// out= must name a PNG file: the image is written as PNG whatever the name says.
+void check_png_name(const std::string& out) {
+  std::string ext = out.size() >= 4 ? out.substr(out.size() - 4) : "";
+  for (char& ch : ext) ch = char(std::tolower(static_cast<unsigned char>(ch)));
+  if (ext != ".png") throw ArgError{1, "field 'out' must name a .png file (the image is written as PNG), got '" + out + "'"};
 }
 
 Vec4f opt_color(Options& o, const char* key, const Vec4f& fallback) {
@@ -74,17 +83,20 @@ render::Material read_material(lua_State* L, int idx, int arg, std::shared_ptr<c
     Vec4f c = opt_color(o, "color", m.diffuse);
     m.ambient = m.diffuse = c;
   }
-  m.shininess = float(o.number("shininess", 0));
-  if (m.shininess < 0 || m.shininess > 128) throw ArgError{arg, "material shininess must be within 0..128"};
+  const double shininess = o.number("shininess", 0);
+  if (shininess < 0 || shininess > 128)
+    throw ArgError{arg, "field '" + o.field("shininess") + "' must be within 0..128 (OpenGL's range), got " + number_text(shininess)};
+  m.shininess = float(shininess);
   int t = o.push("texture");
   if (t == LUA_TSTRING) {
     std::string path = lua_tostring(L, -1);
     lua_pop(L, 1);
-    texture = render::Texture::load_png(path);
+    sandbox_check_path(L, path, false);
+    texture = as_arg(arg, [&] { return render::Texture::load_png(path); });
   } else if (t != LUA_TNIL) {
     TexturePtr* p = test_object<TexturePtr>(L, -1, kTextureKey);
     lua_pop(L, 1);
-    if (!p) throw ArgError{arg, "material texture must be checker{...} or a PNG file name"};
+    if (!p) throw ArgError{arg, "field '" + o.field("texture") + "' must be checker{...} or a PNG file name"};
     texture = *p;
   } else {
     lua_pop(L, 1);
@@ -216,29 +228,50 @@ render::Camera read_camera(lua_State* L, int idx, const Box3& bounds) {
     } else {
       throw ArgError{1, "field 'camera.projection' must be \"perspective\" or \"ortho\", got '" + proj + "'"};
     }
+    // What OpenGL would take without complaint and draw as nothing, or as nonsense.
+    if (c.fovy >= 180) throw ArgError{1, "field 'camera.fovy' must be below 180, got " + number_text(c.fovy)};
+    if (!(c.near < c.far))
+      throw ArgError{1, "camera.near must be below camera.far, got " + number_text(c.near) + " and " + number_text(c.far)};
+    if (c.orthographic && !(c.left < c.right))
+      throw ArgError{1, "camera.left must be below camera.right, got " + number_text(c.left) + " and " + number_text(c.right)};
+    if (c.orthographic && !(c.bottom < c.top))
+      throw ArgError{1, "camera.bottom must be below camera.top, got " + number_text(c.bottom) + " and " + number_text(c.top)};
+    const Vec3 sight = c.center - c.eye;
+    if (sight.norm() == 0) throw ArgError{1, "camera.eye and camera.center must differ"};
+    if (!(c.up.cross(sight).norm() > 1e-12 * c.up.norm() * sight.norm()))
+      throw ArgError{1, "camera.up must be a non-zero vector not along the line of sight"};
   }
   o.finish();
-  if (c.fovy >= 180) throw ArgError{1, "field 'camera.fovy' must be below 180"};
   return c;
 }
 
-render::LightSpec read_light(lua_State* L, int idx) {
-  Options o(L, idx);
+render::LightSpec read_light(lua_State* L, int idx, const std::string& name) {
+  Options o(L, idx, 1, name);
+  const std::string prefix = "field '" + name + ".";
   render::LightSpec l;
   std::string type = o.string("type", "directional");
   if (type == "directional") l.type = render::LightSpec::Type::Directional;
   else if (type == "point") l.type = render::LightSpec::Type::Point;
   else if (type == "spot") l.type = render::LightSpec::Type::Spot;
-  else throw ArgError{idx, "light type must be \"directional\", \"point\" or \"spot\", got '" + type + "'"};
+  else throw ArgError{1, prefix + "type' must be \"directional\", \"point\" or \"spot\", got '" + type + "'"};
   l.position = o.vec3("position", l.position);
   l.direction = o.vec3("direction", l.direction);
   l.ambient = opt_color(o, "ambient", l.ambient);
   l.diffuse = opt_color(o, "diffuse", l.diffuse);
   l.specular = opt_color(o, "specular", l.specular);
+  if (l.direction.norm() == 0) throw ArgError{1, prefix + "direction' must be a non-zero vector"};
   l.attenuation = o.vec3("attenuation", l.attenuation);
-  l.cutoff = float(o.number("cutoff", 45));
-  l.exponent = float(o.number("exponent", 0));
-  l.eye_space = o.string("space", "world") == "eye";
+  if (l.attenuation.minCoeff() < 0 || l.attenuation.maxCoeff() == 0)
+    throw ArgError{1, prefix + "attenuation' {constant, linear, quadratic} must be non-negative and not all zero"};
+  const double cutoff = o.number("cutoff", 45), exponent = o.number("exponent", 0);
+  if (!((cutoff >= 0 && cutoff <= 90) || cutoff == 180))
+    throw ArgError{1, prefix + "cutoff' must be within 0..90 or 180 (OpenGL's range), got " + number_text(cutoff)};
+  if (exponent < 0 || exponent > 128)
+    throw ArgError{1, prefix + "exponent' must be within 0..128 (OpenGL's range), got " + number_text(exponent)};
+  l.cutoff = float(cutoff), l.exponent = float(exponent);
+  const std::string space = o.string("space", "world");
+  if (space != "world" && space != "eye") throw ArgError{1, prefix + "space' must be \"world\" or \"eye\", got '" + space + "'"};
+  l.eye_space = space == "eye";
   o.finish();
   return l;
 }
@@ -339,6 +372,8 @@ int render_fn(lua_State* L) {
     render::RenderOptions ro;
     std::string out = o.string("out", "");
     if (out.empty()) throw ArgError{1, "render{} needs out=\"file.png\""};
+    check_png_name(out);
+    sandbox_check_path(L, out, true);
     Vec2 size = o.vec2("size", Vec2(800, 600));
     if (size.x() < 1 || size.y() < 1 || size.x() > 8192 || size.y() > 8192 || size.x() != std::floor(size.x()) ||
         size.y() != std::floor(size.y()))
@@ -360,14 +395,20 @@ int render_fn(lua_State* L) {
       ro.camera = view ? view_camera(*view, bounds) : render::named_view("iso", bounds);
     }
     lua_pop(L, 1);
-    if (o.push("lights") == LUA_TTABLE) {
+    const int lights_type = o.push("lights");
+    if (lights_type == LUA_TTABLE) {
       int top = lua_gettop(L);
-      for (lua_Integer i = 1, n = static_cast<lua_Integer>(lua_rawlen(L, top)); i <= n; ++i) {
+      const auto n = static_cast<lua_Integer>(lua_rawlen(L, top));
+      if (n > 8) throw ArgError{1, "field 'lights' lists " + std::to_string(n) + " lights; OpenGL has 8"};
+      for (lua_Integer i = 1; i <= n; ++i) {
         lua_geti(L, top, i);
-        if (!lua_istable(L, -1)) throw ArgError{1, "lights[" + std::to_string(i) + "] must be a table"};
-        ro.lights.push_back(read_light(L, lua_gettop(L)));
+        const std::string name = "lights[" + std::to_string(i) + "]";
+        if (!lua_istable(L, -1)) throw ArgError{1, "field '" + name + "' must be a table {type=, ...}, got " + type_name(L, -1)};
+        ro.lights.push_back(read_light(L, lua_gettop(L), name));
         lua_pop(L, 1);
       }
+    } else if (lights_type != LUA_TNIL) {
+      throw ArgError{1, "field 'lights' must be a list of light tables {{type=, ...}, ...}, got " + describe(L, -1)};
     }
     lua_pop(L, 1);
     ro.ambient = opt_color(o, "ambient", ro.ambient);
@@ -388,16 +429,23 @@ int render_fn(lua_State* L) {
     for (int i = 0; i < 8; ++i)
       if (depth == names[i]) ro.depth = static_cast<render::DepthFunc>(i), found = true;
     if (!found) throw ArgError{1, "depth must be one of never, less, equal, lequal, greater, notequal, gequal, always; got '" + depth + "'"};
-    if (o.push("fog") == LUA_TTABLE) {
+    const int fog_type = o.push("fog");
+    if (fog_type != LUA_TTABLE && fog_type != LUA_TNIL)
+      throw ArgError{1, "field 'fog' must be a table {start=, stop=, color=}, got " + describe(L, -1)};
+    if (fog_type == LUA_TTABLE) {
       int top = lua_gettop(L);
-      Options f(L, top);
+      Options f(L, top, 1, "fog");
       ro.fog = true;
       std::string mode = f.string("mode", "linear");
       ro.fog_mode = mode == "exp" ? render::FogMode::Exp : mode == "exp2" ? render::FogMode::Exp2 : render::FogMode::Linear;
-      if (mode != "linear" && mode != "exp" && mode != "exp2") throw ArgError{1, "fog mode must be linear, exp or exp2"};
+      if (mode != "linear" && mode != "exp" && mode != "exp2")
+        throw ArgError{1, "field 'fog.mode' must be \"linear\", \"exp\" or \"exp2\", got '" + mode + "'"};
       ro.fog_start = float(f.number("start", 0));
       ro.fog_end = float(f.number("stop", 1));
       ro.fog_density = float(f.number("density", 1));
+      if (ro.fog_mode == render::FogMode::Linear && !(ro.fog_start < ro.fog_end))
+        throw ArgError{1, "fog.start must be below fog.stop, got " + number_text(ro.fog_start) + " and " + number_text(ro.fog_end)};
+      if (ro.fog_density < 0) throw ArgError{1, "field 'fog.density' must not be negative, got " + number_text(ro.fog_density)};
       ro.fog_color = opt_color(f, "color", ro.fog_color);
       f.finish();
     }
@@ -432,6 +480,8 @@ int drawing_fn(lua_State* L) {
     render::DrawingOptions d;
     std::string out = o.string("out", "");
     if (out.empty()) throw ArgError{1, "drawing{} needs out=\"file.png\""};
+    check_png_name(out);
+    sandbox_check_path(L, out, true);
     int views_type = o.push("views");
     if (views_type == LUA_TTABLE) {
       int top = lua_gettop(L);

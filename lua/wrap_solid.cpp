@@ -6,6 +6,7 @@
 #include "lua/lua_util.h"
 #include "lua/wedge_lua.h"
 #include "lua/wrap_matrix.h"
+#include "lua/wrap_render.h"
 
 namespace wedge::lua {
 
@@ -169,19 +170,9 @@ int triangles_m(lua_State* L) {
 int material_m(lua_State* L) {
   return guarded(L, [&] {
     const Solid& s = self(L);
-    Options o(L, 2);
-    for (const char* colour : {"ambient", "diffuse", "specular", "emission"}) {
-      int t = o.push(colour);
-      bool ok = t == LUA_TNIL || (t == LUA_TTABLE && (lua_rawlen(L, -1) == 3 || lua_rawlen(L, -1) == 4));
-      lua_pop(L, 1);
-      if (!ok) throw ArgError{2, std::string("field '") + colour + "' must be a colour {r, g, b} or {r, g, b, a}"};
-    }
-    if (auto sh = o.number("shininess")) {
-      if (*sh < 0 || *sh > 128) throw ArgError{2, "field 'shininess' must be in 0..128 (OpenGL's range), got " + std::to_string(*sh)};
-    }
-    o.has("texture");
-    o.has("color");
-    o.finish();
+    // Read as render{} will read it, so that a bad value is reported on the line that made it.
+    std::shared_ptr<const render::Texture> texture;
+    read_material(L, 2, 2, texture);
     push_solid(L, s);
     lua_pushvalue(L, 2);
     lua_setiuservalue(L, -2, 1);
