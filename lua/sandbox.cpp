@@ -1,15 +1,239 @@
-// `wedge run --sandbox`: the place where a stranger's script is confined before it runs (issue 14
-// owns what the confinement is: no os.execute, io.popen, package.loadlib or C modules, file access
-// only in the script's folder and the output folder). Until that lands the runner refuses to run a
-// script under --sandbox rather than run it unconfined while the user believes it is confined.
+// `wedge run --sandbox`: a stranger's script runs without process, library or file access beyond
+// two folders: the script's own and the output folder (params.out, when the command line gives
+// out=DIR). What is taken away and why:
+//  - os.execute, io.popen: run programs. package.loadlib and the C searchers of require: load
+//    native code. os.tmpname, os.getenv: touch /tmp, read the environment (tokens, keys).
+//    Each is replaced by a function that raises "... is not available under --sandbox", so the
+//    script's author reads why, not "attempt to call a nil value".
+//  - debug: getregistry, getupvalue and setupvalue reach the originals kept below (and the list of
+//    allowed folders); only debug.traceback stays.
+//  - load, loadfile, dofile take text chunks only: crafted bytecode can break out of any Lua.
+// What stays, but checked against the two folders (resolved through symbolic links and ".."):
+// io.open, io.lines, io.input, io.output, os.remove, os.rename, loadfile, dofile, require (Lua files
+// in the script's folder only), and wedge's own files: export, import, render/drawing out=,
+// textures (sandbox_check_path, called by those bindings).
+#include <sys/stat.h>
+
+#include <cstring>
+#include <filesystem>
+
 #include "kernel/kernel.h"
 #include "lua/wedge_lua.h"
 
 namespace wedge::lua {
 
+namespace {
+
+namespace fs = std::filesystem;
+constexpr const char* kRootsKey = "wedge.sandbox_roots";
+
+fs::path resolved(const std::string& path) {
+  std::error_code ec;
+  fs::path abs = fs::absolute(path, ec);
+  if (ec) fail("sandbox: cannot resolve '", path, "': ", ec.message());
+  fs::path canon = fs::weakly_canonical(abs, ec);
+  if (ec) fail("sandbox: cannot resolve '", path, "': ", ec.message());
+  return canon;
+}
+
+bool within(const fs::path& root, const fs::path& p) {
+  auto r = root.begin(), q = p.begin();
+  for (; r != root.end(); ++r, ++q) {
+    if (r->empty()) continue;  // a trailing separator
+    if (q == p.end() || *r != *q) return false;
+  }
+  return true;
+}
+
+// Pushes the reason and returns true if the path is refused. The caller raises the error with
+// lua_error after this returns, when no C++ object is alive to be skipped by the longjmp.
+bool refused(lua_State* L, const char* path, bool write) {
+  std::string why;
+  try {
+    sandbox_check_path(L, path, write);
+  } catch (const std::exception& e) {
+    why = e.what();
+  }
+  if (why.empty()) return false;
+  lua_pushlstring(L, why.data(), why.size());
+  return true;
+}
+
+bool is_regular(const char* path) {
+  struct stat st {};
+  return ::stat(path, &st) == 0 && S_ISREG(st.st_mode);
+}
+
+int unavailable(lua_State* L) {
+  return luaL_error(L, "%s is not available under --sandbox", lua_tostring(L, lua_upvalueindex(1)));
+}
+
+// Calls the original function (upvalue 1) with all arguments after checking argument `arg`
+// (upvalue 2) as a path, for writing if upvalue 3 says so (or, for io.open, if its mode writes).
+int checked_call(lua_State* L) {
+  const int arg = static_cast<int>(lua_tointeger(L, lua_upvalueindex(2)));
+  // 0 read, 1 write, 2 as io.open's mode says, 3 this argument and the next for writing
+  const int rule = static_cast<int>(lua_tointeger(L, lua_upvalueindex(3)));
+  for (int a = arg; a <= (rule == 3 ? arg + 1 : arg); ++a) {
+    if (lua_type(L, a) != LUA_TSTRING) continue;  // a file handle, or nothing: no path to check
+    bool write = rule == 1 || rule == 3;
+    if (rule == 2 && lua_type(L, 2) == LUA_TSTRING) write = std::strpbrk(lua_tostring(L, 2), "wa+") != nullptr;
+    if (refused(L, lua_tostring(L, a), write)) return lua_error(L);
+  }
+  const int n = lua_gettop(L);
+  lua_pushvalue(L, lua_upvalueindex(1));
+  lua_insert(L, 1);
+  lua_call(L, n, LUA_MULTRET);
+  return lua_gettop(L);
+}
+
+// load(chunk [, name [, mode [, env]]]) and loadfile(path [, mode [, env]]) with mode "t" forced.
+int text_only(lua_State* L) {
+  const int mode_arg = static_cast<int>(lua_tointeger(L, lua_upvalueindex(2)));
+  if (mode_arg == 2 && refused(L, luaL_checkstring(L, 1), false)) return lua_error(L);
+  if (lua_gettop(L) < mode_arg) lua_settop(L, mode_arg);
+  lua_pushliteral(L, "t");
+  lua_replace(L, mode_arg);
+  const int n = lua_gettop(L);
+  lua_pushvalue(L, lua_upvalueindex(1));
+  lua_insert(L, 1);
+  lua_call(L, n, LUA_MULTRET);
+  return lua_gettop(L);
+}
+
+// dofile(path): loadfile in text mode, then call.
+int dofile_checked(lua_State* L) {
+  const char* path = luaL_checkstring(L, 1);
+  if (refused(L, path, false)) return lua_error(L);
+  lua_settop(L, 1);
+  if (luaL_loadfilex(L, path, "t") != LUA_OK) return lua_error(L);
+  lua_call(L, 0, LUA_MULTRET);
+  return lua_gettop(L) - 1;
+}
+
+// require's searcher for Lua files in the script's folder only (upvalue 1: the folder).
+int searcher(lua_State* L) {
+  const char* name = luaL_checkstring(L, 1);
+  const char* dir = lua_tostring(L, lua_upvalueindex(1));
+  const char* base = luaL_gsub(L, name, ".", "/");
+  const char* candidates[2] = {lua_pushfstring(L, "%s/%s.lua", dir, base), lua_pushfstring(L, "%s/%s/init.lua", dir, base)};
+  for (const char* file : candidates) {
+    if (!is_regular(file)) continue;
+    if (refused(L, file, false)) return lua_error(L);
+    if (luaL_loadfilex(L, file, "t") != LUA_OK) return lua_error(L);
+    lua_pushstring(L, file);
+    return 2;
+  }
+  lua_pushfstring(L, "no file '%s' (under --sandbox only the script's folder is searched)", candidates[0]);
+  return 1;
+}
+
+// table[name] = f(upvalues...) on the table at `t`.
+void wrap(lua_State* L, int t, const char* name, lua_CFunction f, int arg, int rule) {
+  lua_getfield(L, t, name);
+  lua_pushinteger(L, arg);
+  lua_pushinteger(L, rule);
+  lua_pushcclosure(L, f, 3);
+  lua_setfield(L, t, name);
+}
+
+void disable(lua_State* L, int t, const char* table, const char* name) {
+  lua_pushfstring(L, "%s%s%s", table, *table ? "." : "", name);
+  lua_pushcclosure(L, unavailable, 1);
+  lua_setfield(L, t, name);
+}
+
+}  // namespace
+
+void sandbox_check_path(lua_State* L, const std::string& path, bool write) {
+  if (lua_getfield(L, LUA_REGISTRYINDEX, kRootsKey) != LUA_TTABLE) {
+    lua_pop(L, 1);
+    return;  // not sandboxed
+  }
+  const fs::path p = resolved(path);  // may throw: the table is on the stack, guarded() drops it
+  std::string roots;
+  for (lua_Integer i = 1; lua_rawgeti(L, -1, i) == LUA_TSTRING; ++i) {
+    const std::string root = lua_tostring(L, -1);
+    lua_pop(L, 1);
+    if (within(root, p)) {
+      lua_pop(L, 1);
+      return;
+    }
+    roots += (roots.empty() ? "'" : " or '") + root + "'";
+  }
+  lua_pop(L, 2);
+  fail("sandbox: cannot ", write ? "write" : "read", " '", path, "': under --sandbox a script may use files in ", roots,
+       " only");
+}
+
 void apply_sandbox(lua_State* L, const std::string& script_path) {
-  (void)L;
-  fail("--sandbox is not available yet: '", script_path, "' was not run");
+  const fs::path script_dir = resolved(script_path).parent_path();
+  // The allowed folders: the script's, and params.out when the command line names one.
+  lua_createtable(L, 2, 0);
+  lua_pushstring(L, script_dir.string().c_str());
+  lua_rawseti(L, -2, 1);
+  if (lua_getglobal(L, "params") == LUA_TTABLE && lua_getfield(L, -1, "out") == LUA_TSTRING) {
+    const fs::path out = resolved(lua_tostring(L, -1));
+    lua_pop(L, 2);
+    lua_pushstring(L, out.string().c_str());
+    lua_rawseti(L, -2, 2);
+  } else {
+    lua_pop(L, lua_istable(L, -1) ? 2 : 1);
+  }
+  lua_setfield(L, LUA_REGISTRYINDEX, kRootsKey);
+
+  lua_pushglobaltable(L);
+  const int g = lua_gettop(L);
+  lua_getfield(L, g, "os");
+  const int os = lua_gettop(L);
+  for (const char* name : {"execute", "tmpname", "getenv"}) disable(L, os, "os", name);
+  wrap(L, os, "remove", checked_call, 1, 1);
+  wrap(L, os, "rename", checked_call, 1, 3);  // both names are checked for writing
+  lua_getfield(L, g, "io");
+  const int io = lua_gettop(L);
+  disable(L, io, "io", "popen");
+  wrap(L, io, "open", checked_call, 1, 2);
+  wrap(L, io, "lines", checked_call, 1, 0);
+  wrap(L, io, "input", checked_call, 1, 0);
+  wrap(L, io, "output", checked_call, 1, 1);
+  // load's mode is its 3rd argument, loadfile's its 2nd.
+  lua_getfield(L, g, "load");
+  lua_pushinteger(L, 3);
+  lua_pushcclosure(L, text_only, 2);
+  lua_setfield(L, g, "load");
+  lua_getfield(L, g, "loadfile");
+  lua_pushinteger(L, 2);
+  lua_pushcclosure(L, text_only, 2);
+  lua_setfield(L, g, "loadfile");
+  lua_pushcfunction(L, dofile_checked);
+  lua_setfield(L, g, "dofile");
+  // debug: only the traceback.
+  lua_getfield(L, g, "debug");
+  lua_getfield(L, -1, "traceback");
+  lua_createtable(L, 0, 1);
+  lua_insert(L, -2);
+  lua_setfield(L, -2, "traceback");
+  lua_setfield(L, g, "debug");
+  lua_pop(L, 1);
+  // package: no native code; require finds preloaded modules and Lua files beside the script.
+  lua_getfield(L, g, "package");
+  const int pkg = lua_gettop(L);
+  disable(L, pkg, "package", "loadlib");
+  lua_pushliteral(L, "");
+  lua_setfield(L, pkg, "cpath");
+  lua_pushstring(L, (script_dir.string() + "/?.lua").c_str());
+  lua_setfield(L, pkg, "path");
+  lua_getfield(L, pkg, "searchers");
+  const int searchers = lua_gettop(L);
+  lua_rawgeti(L, searchers, 1);  // the preload searcher
+  lua_createtable(L, 2, 0);
+  lua_insert(L, -2);
+  lua_rawseti(L, -2, 1);
+  lua_pushstring(L, script_dir.string().c_str());
+  lua_pushcclosure(L, searcher, 1);
+  lua_rawseti(L, -2, 2);
+  lua_setfield(L, pkg, "searchers");
+  lua_settop(L, g - 1);
 }
 
 }  // namespace wedge::lua

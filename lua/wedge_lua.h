@@ -39,6 +39,10 @@ int run_file(const std::string& path, const std::vector<std::string>& args, std:
 // the script at `script_path` is about to run, to what a stranger's script may do. Throws
 // wedge::Error when the restriction cannot be made; the runner then does not run the script.
 void apply_sandbox(lua_State* L, const std::string& script_path);
+// Under --sandbox, throws wedge::Error unless `path` lies in the script's folder or the output
+// folder (resolved through symbolic links and ".."); does nothing otherwise. Every binding that
+// opens a file by name calls it first (export, import, render and drawing out=, textures).
+void sandbox_check_path(lua_State* L, const std::string& path, bool write);
 // Runs a chunk of code under `chunkname` (e.g. "@test.lua"), reporting errors the same way.
 int run_string(const std::string& code, const std::string& chunkname, std::ostream& err);
 

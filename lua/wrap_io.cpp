@@ -50,6 +50,7 @@ int export_split(lua_State* L, const std::string& path, const Tolerance& tol, co
 int export_fn(lua_State* L) {
   return guarded(L, [&] {
     std::string path = check_string(L, 2);
+    sandbox_check_path(L, path, true);
     Tolerance tol = current_tolerance(L);
     MeshWriteOptions options;
     bool split = false;
@@ -90,6 +91,7 @@ int export_fn(lua_State* L) {
 int import_fn(lua_State* L) {
   return guarded(L, [&] {
     std::string path = check_string(L, 1);
+    sandbox_check_path(L, path, false);
     Stage stage(L, "read");
     push_solid(L, Solid::from_mesh(read_mesh(path), path));
     return 1;
