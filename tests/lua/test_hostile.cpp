@@ -1,0 +1,153 @@
+// Bad calls a hostile or careless user makes: each must raise a Lua error at the caller's line,
+// naming what was wrong (the function, the argument or field, the value), and none may hang,
+// crash or return nonsense. The call sits on line 2 of its chunk, so "hostile.lua:2:" checks the
+// line. The writes of these calls go to a scratch folder, which must stay empty.
+#include <catch2/catch.hpp>
+
+#include <unistd.h>
+
+#include <filesystem>
+#include <sstream>
+
+#include "lua/wedge_lua.h"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct Case {
+  const char* code;
+  const char* expect;
+};
+
+// $ is replaced by a scratch folder.
+const Case kCases[] = {
+    // --- numbers: non-finite, out of range, overflowing results ---
+    {"box(0/0, 1, 1)", "bad argument #1 to 'box' (finite number expected, got nan)"},
+    {"box(-1, 1, 1)", "size must be positive, got -1"},
+    {"box(1e308, 1e308, 1e308)", "box size 1e+308 is beyond 1e+100"},
+    {"box(1, 1, 1):scale(1e200):volume()", "scale: the transform overflows: the solid would reach coordinate"},
+    {"box(1, 1, 1):translate(1e308, 0, 0)", "the transform overflows"},
+    {"box(1, 1, 1):shear{xy = 1e300}", "the transform overflows"},
+    {"box(1, 1, 1):transform(matrix.scale(1e200, 1, 1))", "the transform overflows"},
+    {"box(1, 1, 1):scale(0)", "scale factors must be non-zero"},
+    {"box(1, 1, 1):scale(1/0)", "finite number expected, got inf"},
+    {"box(1, 1, 1):rotate(10, {0, 0, 0})", "axis must be non-zero"},
+    {"box(1, 1, 1):mirror({0, 0, 0})", "axis must be non-zero"},
+    {"cube(-0.0)", "must be positive"},
+    {"extrude(rect(1, 1), 1e300)", "prism height 1.0000000000000001e+300 is beyond 1e+100"},
+    {"extrude(rect(1, 1), 0)", "height must be positive"},
+    {"rect(0, 1)", "width must be positive"},
+    {"rect(1e308, 1)", "is beyond +-1e+100"},
+    {"circle(0)", "radius must be positive, got 0"},
+    {"circle(1e308):length()", "length overflows"},
+    {"catmull_rom{points = {{0, 0}, {1, 1}, {2, 0}}, tension = 1e300}", "tension must be within -1..1"},
+    {"catmull_rom{points = {{0, 0}, {1, 1}, {2, 0}}, bias = 0/0}", "bias"},
+    {"bezier{{0, 0}, {1, 1}}:eval(0/0)", "bad argument #1 to 'eval' (finite number expected, got nan)"},
+    {"bezier{{0, 0}, {1, 1}}:eval(2)", "parameter t must be in [0, 1], got 2"},
+    {"bezier{{0, 0}}", "bezier"},
+    {"bspline{points = {{0, 0}, {1, 1}, {2, 0}}, degree = 10}", "a curve of degree 10 needs at least 11 control points, got 3"},
+    {"nurbs{points = {{0,0},{1,1},{2,0}}, weights = {1,-1,1}, knots = {0,0,0,1,1,1}, degree = 2}", "weight 2 must be a positive finite number, got -1"},
+    {"nurbs{points = {{0,0},{1,1},{2,0}}, weights = {1,1,1}, knots = {0,0,0,1,1,0}, degree = 2}", "knots must be non-decreasing"},
+    {"circle(1):points{tolerance = 0}", "field 'tolerance' must be positive, got 0"},
+    {"teapot():mesh{tolerance = 1e-9}", "would need more than"},
+    {"tolerance(-1)", "tolerance must be positive"},
+    {"tolerance(0/0)", "finite number expected, got nan"},
+    {"revolved_surface(circle{r = 1, center = {2, 0}}, {angle = 0})", "angle must be in (0, 360], got 0"},
+    {"bezier_surface{{{0, 0, 0}}}", "needs at least 2 x 2 control points, got 1 x 1"},
+    {"matrix.perspective(0, 1, 0.1, 10)", "fovy must be in (0, 180) degrees, got 0"},
+    {"matrix.ortho(0, 0, 0, 1, 0, 1)", "must differ"},
+    // --- indices and rings ---
+    {"polyhedron{points = {{0,0,0},{1,0,0},{0,1,0},{0,0,1}}, faces = {{1,3,2},{1,2,4},{2,3,4},{1,4,4294967297}}}",
+     "faces[4][3] is point 4294967297, but there are 4 points"},
+    {"polyhedron{points = {{0,0,0},{1,0,0},{0,1,0},{0,0,1}}, faces = {{1,3,2},{1,2,4},{2,3,4},{1,4,0}}}", "faces[4][3] is point 0"},
+    {"polyhedron{points = {{0,0,0},{1,0,0},{0,1,0},{0,0,1}}, faces = {{1,3,2},{1,2,4},{2,3,4},{1,4,3.5}}}", "faces[4][3] must be an integer"},
+    {"polyhedron{points = {{0,0,0},{1,0,0},{0,1,0},{0,0,1}}, faces = {{1,3,2},{1,2,4},{2,3,4}}}", "polyhedron"},
+    {"polyhedron{points = {}, faces = {}}", "no faces"},
+    {"polyhedron{points = {{0,0,0/0},{1,0,0},{0,1,0}}, faces = {{1,2,3}}}", "must be finite, got nan"},
+    {"polygon{outer = {{0,0},{1,0},{1,1},{0,1}}, holes = {{{0,0},{1,0},{1,1},{0,1}}}}", "hole 1 touches or crosses the outer ring"},
+    {"polygon{outer = {{0,0},{4,0},{4,4},{0,4}}, holes = {{{5,5},{6,5},{6,6}}}}", "hole 1 lies outside the outer ring"},
+    {"polygon{outer = {{0,0},{4,0},{4,4},{0,4}}, holes = {{{1,1},{3,1},{3,3}}, {{2,0.5},{2.5,2},{1.5,2}}}}", "touch or cross each other"},
+    {"polygon{outer = {{0,0},{9,0},{9,9},{0,9}}, holes = {{{1,1},{8,1},{8,8},{1,8}}, {{3,3},{4,3},{4,4}}}}", "hole 2 lies inside hole 1"},
+    {"polygon{{0,0},{4,0},{0,3},{3,4}}", "the outer ring crosses or touches itself (edges 2 and 4)"},
+    {"polygon{{0,0},{1,0},{1,0},{1,1}}", "the outer ring point 3 repeats point 2"},
+    {"polygon{{0,0},{1,0}}", "needs at least 3 points, got 2"},
+    {"polygon{{0,0},{1,0},{2,0}}", "has zero area"},
+    {"polygon{{0,0},{1,'a'},{2,0}}", "coordinate 2 must be a number"},
+    // --- rendering options: named by field, argument #1 ---
+    {"render{box(1,1,1), out = '$/a.jpg'}", "bad argument #1 to 'render' (field 'out' must name a .png file"},
+    {"render{box(1,1,1), out = '$/a.png', camera = {eye = {5,5,5}, near = 10, far = 1}}", "camera.near must be below camera.far, got 10 and 1"},
+    {"render{box(1,1,1), out = '$/a.png', camera = {projection = 'ortho', left = 1, right = 1, near = 0.1, far = 10}}",
+     "camera.left must be below camera.right, got 1 and 1"},
+    {"render{box(1,1,1), out = '$/a.png', camera = {projection = 'ortho', bottom = 2, top = 1}}", "camera.bottom must be below camera.top"},
+    {"render{box(1,1,1), out = '$/a.png', camera = {eye = {1,1,1}, center = {1,1,1}}}", "camera.eye and camera.center must differ"},
+    {"render{box(1,1,1), out = '$/a.png', camera = {eye = {0,0,5}, up = {0,0,1}}}", "camera.up must be a non-zero vector not along the line of sight"},
+    {"render{box(1,1,1), out = '$/a.png', camera = {fovy = 200}}", "camera.fovy' must be below 180, got 200"},
+    {"render{box(1,1,1), out = '$/a.png', camera = {near = 'x'}}", "field 'camera.near' must be a number, got string"},
+    {"render{box(1,1,1), out = '$/a.png', camera = {projection = 'fisheye'}}", "field 'camera.projection' must be \"perspective\" or \"ortho\""},
+    {"render{box(1,1,1), out = '$/a.png', background = {0/0, 0, 0}}", "field 'background' component 1 must be within 0..1, got nan"},
+    {"render{box(1,1,1), out = '$/a.png', background = {1, 2, 0}}", "field 'background' component 2 must be within 0..1, got 2"},
+    {"render{box(1,1,1), out = '$/a.png', ambient = {1, 1}}", "field 'ambient' must have 3 or 4 components {r, g, b [, a]}, got 2"},
+    {"render{box(1,1,1), out = '$/a.png', lights = 'sun'}", "field 'lights' must be a list of light tables {{type=, ...}, ...}, got string 'sun'"},
+    {"render{box(1,1,1), out = '$/a.png', lights = {'sun'}}", "field 'lights[1]' must be a table {type=, ...}, got string"},
+    {"render{box(1,1,1), out = '$/a.png', lights = {{type = 'laser'}}}", "field 'lights[1].type' must be \"directional\", \"point\" or \"spot\", got 'laser'"},
+    {"render{box(1,1,1), out = '$/a.png', lights = {{direction = {0, 0, 0}}}}", "field 'lights[1].direction' must be a non-zero vector"},
+    {"render{box(1,1,1), out = '$/a.png', lights = {{type = 'spot', cutoff = 120}}}", "field 'lights[1].cutoff' must be within 0..90 or 180"},
+    {"render{box(1,1,1), out = '$/a.png', lights = {{diffuse = {1, 1, -1}}}}", "field 'lights[1].diffuse' component 3 must be within 0..1, got -1"},
+    {"render{box(1,1,1), out = '$/a.png', lights = {{attenuation = {0, 0, 0}}}}", "field 'lights[1].attenuation' {constant, linear, quadratic} must be non-negative and not all zero"},
+    {"render{box(1,1,1), out = '$/a.png', lights = {{type = 'point', colour = {1,1,1}}}}", "unknown field 'lights[1].colour'"},
+    {"render{box(1,1,1), out = '$/a.png', fog = true}", "field 'fog' must be a table {start=, stop=, color=}, got true"},
+    {"render{box(1,1,1), out = '$/a.png', fog = {start = 5, stop = 1}}", "fog.start must be below fog.stop, got 5 and 1"},
+    {"render{box(1,1,1), out = '$/a.png', fog = {mode = 'thick'}}", "field 'fog.mode' must be \"linear\", \"exp\" or \"exp2\", got 'thick'"},
+    {"render{box(1,1,1), out = '$/a.png', size = {0, 10}}", "size must be two whole numbers within 1..8192"},
+    {"render{box(1,1,1), out = '$/a.png', antialias = 9}", "antialias must be 1, 2, 3 or 4"},
+    {"render{box(1,1,1), out = '$/a.png', shading = 'toon'}", "shading must be \"flat\", \"gouraud\" or \"phong\", got 'toon'"},
+    {"render{box(1,1,1), out = '$/a.png', view = 'upside'}", "upside"},
+    {"drawing{box(1,1,1), out = '$/sheet.svg'}", "bad argument #1 to 'drawing' (field 'out' must name a .png file"},
+    // --- materials: refused where they are made ---
+    {"box(1,1,1):material{shininess = 500}", "field 'material.shininess' must be within 0..128 (OpenGL's range), got 500"},
+    {"box(1,1,1):material{diffuse = {1, 0, 0/0}}", "field 'material.diffuse' component 3 must be within 0..1, got nan"},
+    {"box(1,1,1):material{diffuse = {1, 0, 7}}", "component 3 must be within 0..1, got 7"},
+    {"box(1,1,1):material{texture = 42}", "field 'material.texture' must be checker{...} or a PNG file name"},
+    {"box(1,1,1):material{texture = '$/missing.png'}", "missing.png': No such file or directory"},
+    {"box(1,1,1):material{glow = 1}", "unknown field 'material.glow'"},
+    {"box(1,1,1):material(5)", "table"},
+    {"checker{n = 0}", "checker needs 1 <= n <= size <= 4096"},
+    // --- files ---
+    {"export(box(1,1,1), '$/x.step')", "unknown mesh format '.step' (supported: .obj .stl .ply .off)"},
+    {"export(box(1,1,1), '$')", "unknown mesh format '(no extension)'"},
+    {"export(box(1,1,1), '$/no/such/dir/x.stl')", "does not exist"},
+    {"export(box(1,1,1), '$/x.stl', {asci = true})", "unknown field 'asci'"},
+    {"export(box(1,1,1), '$/x.stl', {tolerance = 0})", "field 'tolerance' must be positive, got 0"},
+    {"export(42, '$/x.stl')", "bad argument #1 to 'export' (Solid or mesh expected, got number)"},
+    {"import('$/none.stl')", "cannot read '$/none.stl': No such file or directory"},
+    {"import('$')", "unknown mesh format"},
+    {"import('$/x.gltf')", "unknown mesh format '.gltf'"},
+};
+
+std::string replace_all(std::string s, const std::string& from, const std::string& to) {
+  for (std::size_t at = s.find(from); at != std::string::npos; at = s.find(from, at + to.size())) s.replace(at, from.size(), to);
+  return s;
+}
+
+}  // namespace
+
+TEST_CASE("bad script calls are errors at the caller's line naming what was wrong", "[lua][hostile]") {
+  const fs::path dir = fs::temp_directory_path() / ("wedge-hostile-" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  std::size_t n = 0;
+  for (const Case& c : kCases) {
+    const std::string code = replace_all(c.code, "$", dir.string());
+    const std::string expect = replace_all(c.expect, "$", dir.string());
+    INFO(code);
+    std::ostringstream err;
+    int status = wedge::lua::run_string("local _ = 1\n" + code + "\n", "@hostile.lua", err);
+    CHECK(status == 1);
+    CHECK_THAT(err.str(), Catch::StartsWith("hostile.lua:2: "));
+    CHECK_THAT(err.str(), Catch::Contains(expect));
+    ++n;
+  }
+  CHECK(n >= 60);
+  CHECK(fs::is_empty(dir));  // no file written, no temporary left by a refused call
+  fs::remove_all(dir);
+}

@@ -1,0 +1,109 @@
+// `wedge run --sandbox`: a stranger's script tries every way out (programs, native code, files
+// outside its folder and the output folder, bytecode, the debug library) and each is refused with
+// a message; what a model script needs (its own folder, the output folder, require of a sibling
+// module, export/render into the output folder) still works. Run through the real executable.
+#include <catch2/catch.hpp>
+
+#include <unistd.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct Result {
+  int status;
+  std::string output;
+};
+
+Result run(const std::string& command) {
+  Result r{0, ""};
+  std::FILE* p = ::popen((command + " 2>&1").c_str(), "r");
+  REQUIRE(p);
+  char buf[4096];
+  for (std::size_t n; (n = std::fread(buf, 1, sizeof buf, p)) > 0;) r.output.append(buf, n);
+  r.status = ::pclose(p);
+  return r;
+}
+
+// Each escape runs in pcall; the script prints BLOCKED or ESCAPED for each, by name.
+const char* kEscapes = R"(
+local outside = ...
+local function try(name, f)
+  local ok, err = pcall(f)
+  if ok then print("ESCAPED " .. name) else print("BLOCKED " .. name .. ": " .. tostring(err)) end
+end
+try("os.execute", function() return os.execute("true") end)
+try("io.popen", function() return io.popen("id"):read("a") end)
+try("package.loadlib", function() return package.loadlib("libc.so.6", "*") end)
+try("require of a C module", function() package.cpath = "/usr/lib/x86_64-linux-gnu/lua/5.4/?.so"; return require("lpeg") end)
+try("require from another folder", function() package.path = outside .. "/?.lua"; return require("evil") end)
+try("os.getenv", function() return os.getenv("HOME") end)
+try("os.tmpname", function() return os.tmpname() end)
+try("io.open outside for reading", function() return assert(io.open("/etc/passwd")):read("a") end)
+try("io.open outside for writing", function() return assert(io.open(outside .. "/owned.txt", "w")) end)
+try("io.open through ..", function() return assert(io.open(SCRIPT_DIR .. "/../../etc/hostname")) end)
+try("io.lines outside", function() for l in io.lines("/etc/passwd") do return l end end)
+try("io.output outside", function() return io.output(outside .. "/owned.txt") end)
+try("io.input outside", function() return io.input("/etc/passwd") end)
+try("os.remove outside", function() return assert(os.remove(outside .. "/keep.txt")) end)
+try("os.rename out of the folder", function() return assert(os.rename(SCRIPT_DIR .. "/mine.txt", outside .. "/stolen.txt")) end)
+try("dofile outside", function() return dofile(outside .. "/evil.lua") end)
+try("loadfile outside", function() return assert(loadfile(outside .. "/evil.lua"))() end)
+try("binary chunk", function() return assert(load(string.dump(function() return 1 end), "x", "b"))() end)
+try("binary chunk by default mode", function() return assert(load(string.dump(function() return 1 end)))() end)
+try("debug.getregistry", function() return debug.getregistry() end)
+try("debug.getupvalue", function() return debug.getupvalue(io.open, 1) end)
+try("export outside", function() return export(box(1, 1, 1), outside .. "/x.stl") end)
+try("import outside", function() return import(outside .. "/tet.off") end)
+try("render outside", function() return render{box(1, 1, 1), out = outside .. "/x.png", size = {8, 8}} end)
+try("texture outside", function() return box(1, 1, 1):material{texture = outside .. "/t.png"} end)
+try("symbolic link out", function() return assert(io.open(SCRIPT_DIR .. "/link/keep.txt")) end)
+-- What a model script needs still works.
+local f = assert(io.open(SCRIPT_DIR .. "/mine.txt", "w")); f:write("ok"); f:close()
+assert(io.open(SCRIPT_DIR .. "/mine.txt"):read("a") == "ok")
+assert(require("helper") == 42)
+assert(export(box(1, 1, 1), params.out .. "/part.stl") == 12)
+render{box(1, 1, 1), out = params.out .. "/part.png", size = {8, 8}}
+assert(import(params.out .. "/part.stl"):volume() > 0.99)
+print("WORKS")
+)";
+
+}  // namespace
+
+TEST_CASE("wedge run with the sandbox flag refuses every escape and keeps what a model script needs", "[lua][sandbox]") {
+  const fs::path root = fs::temp_directory_path() / ("wedge-sandbox-" + std::to_string(::getpid()));
+  const fs::path dir = root / "model", out = root / "out", outside = root / "outside";
+  for (const auto& d : {dir, out, outside}) fs::create_directories(d);
+  std::ofstream(dir / "escape.lua") << "SCRIPT_DIR = '" << dir.string() << "'\n" << kEscapes;
+  std::ofstream(dir / "helper.lua") << "return 42\n";
+  std::ofstream(outside / "evil.lua") << "print('ESCAPED evil.lua ran') return 1\n";
+  std::ofstream(outside / "keep.txt") << "keep";
+  std::ofstream(outside / "tet.off") << "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n";
+  fs::create_directory_symlink(outside, dir / "link");
+
+  Result r = run(std::string(WEDGE_EXE) + " run --sandbox " + (dir / "escape.lua").string() + " " + outside.string() +
+                 " out=" + out.string());
+  INFO(r.output);
+  CHECK(r.status == 0);
+  CHECK(r.output.find("ESCAPED") == std::string::npos);
+  std::size_t blocked = 0;
+  for (std::size_t at = r.output.find("BLOCKED"); at != std::string::npos; at = r.output.find("BLOCKED", at + 1)) ++blocked;
+  CHECK(blocked == 26);
+  CHECK_THAT(r.output, Catch::Contains("BLOCKED os.execute: ") && Catch::Contains("os.execute is not available under --sandbox"));
+  CHECK_THAT(r.output, Catch::Contains("cannot read '/etc/passwd': under --sandbox a script may use files in '" + dir.string() + "' or '" +
+                                       out.string() + "' only"));
+  CHECK_THAT(r.output, Catch::Contains("WORKS"));
+  CHECK(fs::exists(outside / "keep.txt"));
+  CHECK(!fs::exists(outside / "owned.txt"));
+  CHECK(!fs::exists(outside / "x.stl"));
+  CHECK(fs::exists(out / "part.stl"));
+
+  // Without --sandbox the same script escapes (the test would notice a sandbox that does nothing).
+  Result free = run(std::string(WEDGE_EXE) + " run " + (dir / "escape.lua").string() + " " + outside.string() + " out=" + out.string());
+  CHECK_THAT(free.output, Catch::Contains("ESCAPED io.open outside for reading"));
+  fs::remove_all(root);
+}
