@@ -5,6 +5,8 @@
 #pragma once
 #include <cstdint>
 #include <functional>
+#include <type_traits>
+#include <utility>
 #include <vector>
 
 #include "kernel/error.h"
@@ -73,6 +75,67 @@ class Arena {
   std::vector<T> items_;
   std::vector<bool> alive_;
   std::size_t live_ = 0;
+};
+
+
+// Data attached to the elements of an arena by id, in the style of geometry-central's MeshData:
+// `map[id]` reads or writes the value of one element (growing the store on write), and
+// `for (auto [id, value] : map)` visits every slot that was ever written, in id order. Values of
+// removed elements stay (an inverse operator brings the element and its value back).
+template <class IdT, class T>
+class IdMap {
+ public:
+  // The value for id, default-constructed the first time it is written.
+  T& operator[](IdT id) {
+    if (!id.valid()) fail("IdMap: invalid id");
+    std::size_t i = static_cast<std::size_t>(id.value);
+    if (i >= values_.size()) {
+      values_.resize(i + 1);
+      set_.resize(i + 1, false);
+    }
+    set_[i] = true;
+    return values_[i];
+  }
+  const T& operator[](IdT id) const {
+    if (!contains(id)) fail("IdMap: no value for id ", id.value);
+    return values_[static_cast<std::size_t>(id.value)];
+  }
+  bool contains(IdT id) const {
+    return id.valid() && static_cast<std::size_t>(id.value) < values_.size() && set_[static_cast<std::size_t>(id.value)];
+  }
+  std::size_t capacity() const { return values_.size(); }
+
+  template <class V>
+  class Iter {
+   public:
+    Iter(V* values, const std::vector<bool>* set, std::size_t i) : values_(values), set_(set), i_(i) { skip(); }
+    using Ref = std::conditional_t<std::is_const_v<V>, const T&, T&>;
+    std::pair<IdT, Ref> operator*() const {
+      return {IdT(static_cast<std::int32_t>(i_)), (*values_)[i_]};
+    }
+    Iter& operator++() {
+      ++i_;
+      skip();
+      return *this;
+    }
+    bool operator!=(const Iter& o) const { return i_ != o.i_; }
+
+   private:
+    void skip() {
+      while (i_ < set_->size() && !(*set_)[i_]) ++i_;
+    }
+    V* values_;
+    const std::vector<bool>* set_;
+    std::size_t i_;
+  };
+  Iter<std::vector<T>> begin() { return {&values_, &set_, 0}; }
+  Iter<std::vector<T>> end() { return {&values_, &set_, values_.size()}; }
+  Iter<const std::vector<T>> begin() const { return {&values_, &set_, 0}; }
+  Iter<const std::vector<T>> end() const { return {&values_, &set_, values_.size()}; }
+
+ private:
+  std::vector<T> values_;
+  std::vector<bool> set_;
 };
 
 }  // namespace wedge
