@@ -160,7 +160,8 @@ Vec3 LineSegment::derivative(double t, int k) const {
   return k == 1 ? Vec3(b - a) : Vec3::Zero();
 }
 
-CircularArc::CircularArc(const Point3& center, double radius, double start, double end, const Vec3& normal)
+CircularArc::CircularArc(const Point3& center, double radius, double start, double end, const Vec3& normal,
+                         const Vec3& x_axis)
     : center_(center), radius_(radius), start_(start), end_(end) {
   require_positive(radius, "radius");
   require_finite(start, "start angle");
@@ -170,6 +171,7 @@ CircularArc::CircularArc(const Point3& center, double radius, double start, doub
   if (!(normal.norm() > 0) || !normal.allFinite()) fail("arc normal must be a non-zero vector");
   Vec3 n = normal.normalized();
   x_ = n == Vec3::UnitZ() ? Vec3::UnitX() : Vec3(std::abs(n.x()) < 0.9 ? Vec3::UnitX() : Vec3::UnitY());
+  if (x_axis.allFinite() && (x_axis - x_axis.dot(n) * n).norm() > 1e-12 * x_axis.norm() && x_axis.norm() > 0) x_ = x_axis;
   x_ = (x_ - x_.dot(n) * n).normalized();
   y_ = n.cross(x_);
 }

@@ -135,10 +135,12 @@ class LineSegment : public Curve {
   Point3 a, b;
 };
 
-// The trigonometric arc C(t) = c + r (cos t x + sin t y), t in [start, end] (radians).
+// The trigonometric arc C(t) = c + r (cos t x + sin t y), t in [start, end] (radians), with
+// y = normal x x; x is `x_axis` made perpendicular to the normal, or a default when zero.
 class CircularArc : public Curve {
  public:
-  CircularArc(const Point3& center, double radius, double start, double end, const Vec3& normal = Vec3::UnitZ());
+  CircularArc(const Point3& center, double radius, double start, double end, const Vec3& normal = Vec3::UnitZ(),
+              const Vec3& x_axis = Vec3::Zero());
   std::pair<double, double> domain() const override { return {start_, end_}; }
   Point3 eval(double t) const override;
   Vec3 derivative(double t, int k) const override;
@@ -408,6 +410,117 @@ class LoftedSurface : public Surface {
  private:
   std::vector<CurvePtr> sections_;
   std::vector<HermiteSpline> cardinal_;
+};
+
+// ---------------------------------------------------------------------------------------------
+// Curves and surfaces made from others (surfaces/derived.cpp): what the B-Rep builders attach to
+// edges and faces. Each keeps its source alive through the shared pointer.
+
+// C(t0 + t1 - t): the same points run the other way, over the same domain.
+class ReversedCurve : public Curve {
+ public:
+  explicit ReversedCurve(CurvePtr c);
+  std::pair<double, double> domain() const override { return curve_->domain(); }
+  Point3 eval(double t) const override;
+  Vec3 derivative(double t, int k) const override;
+  std::vector<double> breaks() const override;
+
+ private:
+  CurvePtr curve_;
+};
+
+// The piece of a curve over [a, b] (inside its domain), with the curve's own parameter.
+class SubCurve : public Curve {
+ public:
+  SubCurve(CurvePtr c, double a, double b);
+  std::pair<double, double> domain() const override { return {a_, b_}; }
+  Point3 eval(double t) const override { return curve_->eval(t); }
+  Vec3 derivative(double t, int k) const override { return curve_->derivative(t, k); }
+  std::vector<double> breaks() const override;
+
+ private:
+  CurvePtr curve_;
+  double a_, b_;
+};
+
+// An iso-parameter line of a surface: t -> S(t, value) (along u) or S(value, t) (along v), over
+// [a, b] of that parameter.
+class IsoCurve : public Curve {
+ public:
+  IsoCurve(SurfacePtr s, bool along_u, double value, double a, double b);
+  std::pair<double, double> domain() const override { return {a_, b_}; }
+  Point3 eval(double t) const override;
+  Vec3 derivative(double t, int k) const override;
+  std::vector<double> breaks() const override;
+
+ private:
+  SurfacePtr surface_;
+  bool along_u_;
+  double value_, a_, b_;
+};
+
+// m applied to a curve / surface (an affine map: derivatives take its linear part).
+class TransformedCurve : public Curve {
+ public:
+  TransformedCurve(CurvePtr c, const Mat4& m);
+  std::pair<double, double> domain() const override { return curve_->domain(); }
+  Point3 eval(double t) const override;
+  Vec3 derivative(double t, int k) const override;
+  std::vector<double> breaks() const override { return curve_->breaks(); }
+
+ private:
+  CurvePtr curve_;
+  Mat4 m_;
+};
+class TransformedSurface : public Surface {
+ public:
+  TransformedSurface(SurfacePtr s, const Mat4& m);
+  std::pair<double, double> u_domain() const override { return surface_->u_domain(); }
+  std::pair<double, double> v_domain() const override { return surface_->v_domain(); }
+  Point3 eval(double u, double v) const override;
+  Vec3 derivative(double u, double v, int ku, int kv) const override;
+  std::vector<double> u_breaks() const override { return surface_->u_breaks(); }
+  std::vector<double> v_breaks() const override { return surface_->v_breaks(); }
+
+ private:
+  SurfacePtr surface_;
+  Mat4 m_;
+};
+
+// OpenSCAD's revolve of a profile curve in the XY plane (x the radius, y the height):
+// S(u, v) = (x(u) cos v, x(u) sin v, y(u)), u along the profile, v in [0, angle] (radians).
+// Exact, with analytic derivatives of every order.
+class RevolutionSurface : public Surface {
+ public:
+  RevolutionSurface(CurvePtr profile, double angle);
+  std::pair<double, double> u_domain() const override { return profile_->domain(); }
+  std::pair<double, double> v_domain() const override { return {0.0, angle_}; }
+  Point3 eval(double u, double v) const override;
+  Vec3 derivative(double u, double v, int ku, int kv) const override;
+  std::vector<double> u_breaks() const override { return profile_->breaks(); }
+  const CurvePtr& profile() const { return profile_; }
+  double angle() const { return angle_; }
+
+ private:
+  CurvePtr profile_;
+  double angle_;
+};
+
+// OpenSCAD's linear_extrude with twist and scale of a profile curve in the XY plane:
+// S(u, v) = R(twist v) (1 + (scale - 1) v) P(u) + (0, 0, height v), v in [0, 1]. A twist gives
+// the exact helicoidal surface; derivatives analytic in both parameters.
+class TwistedExtrusionSurface : public Surface {
+ public:
+  TwistedExtrusionSurface(CurvePtr profile, double height, double twist, double scale);
+  std::pair<double, double> u_domain() const override { return profile_->domain(); }
+  std::pair<double, double> v_domain() const override { return {0.0, 1.0}; }
+  Point3 eval(double u, double v) const override;
+  Vec3 derivative(double u, double v, int ku, int kv) const override;
+  std::vector<double> u_breaks() const override { return profile_->breaks(); }
+
+ private:
+  CurvePtr profile_;
+  double height_, twist_, scale_;
 };
 
 // Newell's teapot: the 32 bicubic Bezier patches (rim, body, lid, handle, spout, bottom), z up.

@@ -1,0 +1,122 @@
+// Curves and surfaces made from others: reversal, pieces, iso-lines, affine images, and the two
+// sweeps of OpenSCAD (revolve about +z of an XY profile, linear extrude with twist and scale).
+// Derivatives are analytic: a rotation by an angle phi(v) = a v has d^k/dv^k R(a v) = a^k
+// R(a v + k pi/2), and (1 + (s - 1) v) R(a v) differentiates by Leibniz's rule with one term of
+// the linear factor.
+#include <algorithm>
+#include <cmath>
+
+#include "surfaces/surfaces.h"
+
+namespace wedge {
+
+namespace {
+// (x, y) rotated by angle a (the z part untouched).
+Vec3 rot(const Vec3& p, double a) {
+  double c = std::cos(a), s = std::sin(a);
+  return {c * p.x() - s * p.y(), s * p.x() + c * p.y(), p.z()};
+}
+}  // namespace
+
+ReversedCurve::ReversedCurve(CurvePtr c) : curve_(std::move(c)) {
+  if (!curve_) fail("ReversedCurve: no curve");
+}
+Point3 ReversedCurve::eval(double t) const {
+  auto [a, b] = curve_->domain();
+  return curve_->eval(a + b - t);
+}
+Vec3 ReversedCurve::derivative(double t, int k) const {
+  auto [a, b] = curve_->domain();
+  Vec3 d = curve_->derivative(a + b - t, k);
+  return k % 2 ? Vec3(-d) : d;
+}
+std::vector<double> ReversedCurve::breaks() const {
+  auto [a, b] = curve_->domain();
+  std::vector<double> out;
+  for (double t : curve_->breaks()) out.push_back(a + b - t);
+  std::reverse(out.begin(), out.end());
+  return out;
+}
+
+SubCurve::SubCurve(CurvePtr c, double a, double b) : curve_(std::move(c)), a_(a), b_(b) {
+  if (!curve_) fail("SubCurve: no curve");
+  auto [t0, t1] = curve_->domain();
+  if (!(a < b) || a < t0 - 1e-12 || b > t1 + 1e-12) fail("SubCurve: [", a, ", ", b, "] is not inside the domain [", t0, ", ", t1, "]");
+}
+std::vector<double> SubCurve::breaks() const {
+  std::vector<double> out{a_};
+  for (double t : curve_->breaks())
+    if (t > a_ && t < b_) out.push_back(t);
+  out.push_back(b_);
+  return out;
+}
+
+IsoCurve::IsoCurve(SurfacePtr s, bool along_u, double value, double a, double b)
+    : surface_(std::move(s)), along_u_(along_u), value_(value), a_(a), b_(b) {
+  if (!surface_) fail("IsoCurve: no surface");
+  if (!(a < b)) fail("IsoCurve: empty interval [", a, ", ", b, "]");
+}
+Point3 IsoCurve::eval(double t) const { return along_u_ ? surface_->eval(t, value_) : surface_->eval(value_, t); }
+Vec3 IsoCurve::derivative(double t, int k) const {
+  return along_u_ ? surface_->derivative(t, value_, k, 0) : surface_->derivative(value_, t, 0, k);
+}
+std::vector<double> IsoCurve::breaks() const {
+  std::vector<double> out{a_};
+  for (double t : along_u_ ? surface_->u_breaks() : surface_->v_breaks())
+    if (t > a_ && t < b_) out.push_back(t);
+  out.push_back(b_);
+  return out;
+}
+
+TransformedCurve::TransformedCurve(CurvePtr c, const Mat4& m) : curve_(std::move(c)), m_(m) {
+  if (!curve_) fail("TransformedCurve: no curve");
+}
+Point3 TransformedCurve::eval(double t) const { return apply_point(m_, curve_->eval(t)); }
+Vec3 TransformedCurve::derivative(double t, int k) const {
+  return k == 0 ? eval(t) : Vec3(m_.block<3, 3>(0, 0) * curve_->derivative(t, k));
+}
+
+TransformedSurface::TransformedSurface(SurfacePtr s, const Mat4& m) : surface_(std::move(s)), m_(m) {
+  if (!surface_) fail("TransformedSurface: no surface");
+}
+Point3 TransformedSurface::eval(double u, double v) const { return apply_point(m_, surface_->eval(u, v)); }
+Vec3 TransformedSurface::derivative(double u, double v, int ku, int kv) const {
+  return ku + kv == 0 ? eval(u, v) : Vec3(m_.block<3, 3>(0, 0) * surface_->derivative(u, v, ku, kv));
+}
+
+RevolutionSurface::RevolutionSurface(CurvePtr profile, double angle) : profile_(std::move(profile)), angle_(angle) {
+  if (!profile_) fail("RevolutionSurface: no profile");
+  if (!(angle > 0) || angle > 2 * kPi + 1e-12) fail("RevolutionSurface: the angle must be in (0, 2 pi], got ", angle);
+}
+Point3 RevolutionSurface::eval(double u, double v) const { return derivative(u, v, 0, 0); }
+Vec3 RevolutionSurface::derivative(double u, double v, int ku, int kv) const {
+  Vec3 p = ku == 0 ? profile_->eval(u) : profile_->derivative(u, ku);
+  // (x cos v, x sin v, y): the k-th v derivative rotates (x, 0) by v + k pi/2; y only for k = 0.
+  Vec3 r = rot(Vec3(p.x(), 0, 0), v + kv * kPi / 2);
+  return {r.x(), r.y(), kv == 0 ? p.y() : 0.0};
+}
+
+TwistedExtrusionSurface::TwistedExtrusionSurface(CurvePtr profile, double height, double twist, double scale)
+    : profile_(std::move(profile)), height_(height), twist_(twist), scale_(scale) {
+  if (!profile_) fail("TwistedExtrusionSurface: no profile");
+  if (!(height > 0) || !std::isfinite(height)) fail("TwistedExtrusionSurface: the height must be positive, got ", height);
+  if (!std::isfinite(twist)) fail("TwistedExtrusionSurface: the twist is not finite");
+  if (!(scale >= 0) || !std::isfinite(scale)) fail("TwistedExtrusionSurface: the scale must be >= 0, got ", scale);
+}
+Point3 TwistedExtrusionSurface::eval(double u, double v) const { return derivative(u, v, 0, 0); }
+Vec3 TwistedExtrusionSurface::derivative(double u, double v, int ku, int kv) const {
+  Vec3 p = ku == 0 ? profile_->eval(u) : profile_->derivative(u, ku);
+  p.z() = 0;
+  double a = twist_, k = 1 + (scale_ - 1) * v, dk = scale_ - 1;
+  // d^n/dv^n [k(v) R(a v)] = k a^n R(a v + n pi/2) + n k' a^(n-1) R(a v + (n-1) pi/2).
+  Vec3 out = k * std::pow(a, kv) * rot(p, a * v + kv * kPi / 2);
+  if (kv >= 1) out += kv * dk * std::pow(a, kv - 1) * rot(p, a * v + (kv - 1) * kPi / 2);
+  out.z() = 0;
+  if (ku == 0) {
+    if (kv == 0) out.z() = height_ * v;
+    if (kv == 1) out.z() = height_;
+  }
+  return out;
+}
+
+}  // namespace wedge
