@@ -16,11 +16,14 @@
 // H, the through-holes (genus), is counted by the operators (kfmrh/mfkrh) and checked by
 // validate() against the genus of each shell found by traversal.
 #pragma once
+#include <array>
+#include <optional>
 #include <string>
 #include <variant>
 #include <vector>
 
 #include "kernel/kernel.h"
+#include "surfaces/surfaces.h"
 
 namespace wedge {
 
@@ -58,7 +61,11 @@ struct ArcCurve {
   Vec3 axis;
   double radius = 0;
 };
-using EdgeCurve = std::variant<LineCurve, ArcCurve>;
+// An edge on a curve of surfaces/: C(t0) is the point of v[0], C(t1) that of v[1].
+struct ParamCurve {
+  CurvePtr curve;
+};
+using EdgeCurve = std::variant<LineCurve, ArcCurve, ParamCurve>;
 
 struct NoSurface {};  // a plane, fitted to the outer loop when asked
 struct PlaneSurface {
@@ -71,7 +78,24 @@ struct CylinderSurface {
   double radius = 0;
   bool outward = true;  // the solid's outward normal points away from the axis
 };
-using FaceSurface = std::variant<NoSurface, PlaneSurface, CylinderSurface>;
+// A face on a surface of surfaces/: the outward normal is Su x Sv, or its negative when
+// `reversed`. Each side of the face's loops carries a PCurve, so the face's region in the (u, v)
+// domain is known exactly (curved faces of the builders cover a whole parameter rectangle, with
+// seams and poles on its border).
+struct ParamSurface {
+  SurfacePtr surface;
+  bool reversed = false;
+};
+using FaceSurface = std::variant<NoSurface, PlaneSurface, CylinderSurface, ParamSurface>;
+
+// The image of an edge in the (u, v) domain of the face on one of its sides: the straight segment
+// from `start` (at the curve's t0, the point of v[0]) to `end` (at t1), linear in t. A seam edge
+// has two (one per side, on the two borders of the domain); a pole is where consecutive sides'
+// images do not meet (the segment between them maps to one point).
+struct PCurve {
+  Vec2 start, end;
+  Vec2 at(double s) const { return start + s * (end - start); }  // s in [0, 1]
+};
 
 // The arc from a through m to b (three distinct, non-collinear points).
 ArcCurve arc_through(const Point3& a, const Point3& m, const Point3& b);
@@ -216,6 +240,15 @@ class Model {
   void set_point(VertexId v, const Point3& p);
   void set_curve(EdgeId e, EdgeCurve c);
   void set_surface(FaceId f, FaceSurface s);
+  // The pcurve of one side of an edge on its face, or nullptr (planar faces need none).
+  const PCurve* pcurve(EdgeSide s) const;
+  void set_pcurve(EdgeSide s, const PCurve& p);
+  // The point of edge e at fraction s in [0, 1] of its parameter range (any curve kind).
+  Point3 edge_point(EdgeId e, double s) const;
+  // The edge's curve as a surfaces/ Curve running v[0] -> v[1] (lines and arcs converted).
+  CurvePtr edge_curve(EdgeId e) const;
+  // True when some face is a ParamSurface (the model has free-form or quadric faces).
+  bool has_param_faces() const;
 
   // The first corner of v in loop l (throws if v is not on l).
   Corner corner(LoopId l, VertexId v) const;
@@ -234,8 +267,11 @@ class Model {
   Box3 bounds() const;
   bool all_planar() const;  // every face a plane (or none) and every edge a line
 
-  // Mass properties of a closed solid with planar faces (divergence theorem over the faces'
-  // fan triangles). Throws if a face or edge is curved.
+  // Mass properties of a closed solid from its exact geometry (brep/mass.cpp): with planar faces
+  // and straight edges, the divergence theorem over the faces' fan triangles (exact); otherwise
+  // Gauss-Legendre quadrature of the divergence-theorem integrands over each ParamSurface face's
+  // parameter rectangle and, on planar faces, of Green's theorem along their (curved) edges.
+  // Throws for a CylinderSurface face or a trimmed ParamSurface face.
   BrepMass mass_properties() const;
   // The signed volume enclosed by the boundary polylines (arcs sampled), for any faces.
   double approximate_volume() const;
@@ -271,10 +307,12 @@ class Model {
   Arena<BrepFace, FaceId> faces_;
   Arena<BrepShell, ShellId> shells_;
   long holes_ = 0;
-  // Geometry, attached by id (index = id value).
-  std::vector<Point3> points_;
-  std::vector<EdgeCurve> curves_;
-  std::vector<FaceSurface> surfaces_;
+  BrepMass exact_mass() const;  // brep/mass.cpp
+  // Geometry, attached by id.
+  IdMap<VertexId, Point3> points_;
+  IdMap<EdgeId, EdgeCurve> curves_;
+  IdMap<FaceId, FaceSurface> surfaces_;
+  IdMap<EdgeId, std::array<std::optional<PCurve>, 2>> pcurves_;
 };
 
 // ---------------------------------------------------------------------------------------------
@@ -315,6 +353,59 @@ Model polyhedron(const std::vector<Point3>& points, const std::vector<std::vecto
 // Sweeps face f of m by d (Mäntylä's translational sweep, through mev and mef only): every
 // loop of f gets a side wall; f ends up moved by d. Side faces of arcs get cylinders.
 void sweep(Model& m, FaceId f, const Vec3& d);
+
+// --- Curved solids (brep/curved.cpp) ------------------------------------------------------------
+//
+// A section is a closed loop of curve pieces in the XY plane, each piece running from its start to
+// the next piece's start (a full circle is two half circles: no edge starts and ends at one vertex).
+// The outer loop runs counter-clockwise, holes clockwise.
+using SectionLoop = std::vector<CurvePtr>;
+struct Section {
+  SectionLoop outer;
+  std::vector<SectionLoop> holes;
+};
+// The section of a polygon profile (line pieces), and a closed curve as a loop of two halves.
+Section section_of(const Profile& p);
+SectionLoop loop_of_curve(const CurvePtr& closed_curve);
+SectionLoop circle_loop(const Vec2& center, double r);  // counter-clockwise, two half arcs
+
+// The generalised sweep that every curved builder reduces to: sides[k][j] is the surface swept by
+// piece j of loop k (u along the piece, v along the sweep over one common interval); neighbouring
+// pieces meet (S_j(u1, v) = S_{j+1}(u0, v)). Capped: planar end faces at v0 and v1 (a section that
+// collapses to a point at v1 is an apex); closed: S(u, v1) = S(u, v0), a ring with no caps. A
+// piece end that does not move along v is a pole (one vertex, no edge); a piece that does not move
+// at all (a profile edge on a revolve's axis) gives no face. Built only through Euler operators
+// (build_from_loops); throws if the result is not a valid solid.
+//
+// Counts, one convention for every builder: per profile vertex off the axis, one vertex at each
+// end of the sweep and one edge between them (closed sweeps: two edges, split at the half-way
+// parameter, so that no edge is a loop); per profile piece one side face, one edge at each end
+// (closed: one seam edge); the caps carry the profile's holes as rings.
+Model sweep_sides(const std::vector<std::vector<SurfacePtr>>& sides, bool closed);
+
+// The solids of the Lua API. Angles in radians. Each returns a validated model.
+//   sphere:   V 2 (the poles), E 1 (the seam), F 1
+//   cylinder: V 4, E 6, F 4 (two half-cylinder faces, two discs); cone frustum the same
+//   cone with an apex: V 3, E 4, F 3
+//   torus:    V 4, E 6, F 2, H 1 (two half-tube faces)
+//   tube:     V 8, E 12, F 6, R 2, H 1
+Model sphere(double r, const Point3& center = Point3::Zero());
+Model cylinder(double r, double h, const Point3& base = Point3::Zero());
+// A cone frustum along +z from radius r1 at z = 0 to r2 at z = h (either may be 0: an apex).
+Model cone(double r1, double r2, double h, const Point3& base = Point3::Zero());
+Model torus(double R, double r, const Point3& center = Point3::Zero());
+Model tube(double r_outer, double r_inner, double h, const Point3& base = Point3::Zero());
+// OpenSCAD's linear_extrude: height h, twist (radians, counter-clockwise at the top), scale of
+// the top section (0: an apex at the origin's axis).
+Model extrude(const Section& s, double h, double twist = 0, double scale = 1);
+// OpenSCAD's rotate_extrude: x is the radius, y becomes z; angle in (0, 2 pi]. Every x >= 0.
+Model revolve(const Section& s, double angle);
+// The section swept along a 3D path with rotation-minimising frames (section x along the frame's
+// r, y along s). A closed path gives a ring (the frames' twist at the joint is spread along it).
+Model sweep_along(const Section& s, const CurvePtr& path);
+// Lofted through sections at heights (ruled for two, a natural cubic spline across for more).
+// Every section needs the same number of loops and pieces.
+Model loft(const std::vector<Section>& sections, const std::vector<double>& heights);
 
 // The seed's worked example: a block with a protrusion, a sharp-cornered depression, a round-
 // cornered depression and a round through-hole. `rows` receives each feature's own counts

@@ -13,14 +13,6 @@
 
 namespace wedge {
 
-namespace {
-template <class T, class IdT>
-void grow(std::vector<T>& table, IdT id, T value) {
-  if (table.size() <= static_cast<std::size_t>(id.value)) table.resize(static_cast<std::size_t>(id.value) + 1);
-  table[static_cast<std::size_t>(id.value)] = std::move(value);
-}
-}  // namespace
-
 ArcCurve arc_through(const Point3& a, const Point3& m, const Point3& b) {
   Vec3 u = m - a, w = b - a;
   Vec3 n = u.cross(w);
@@ -35,7 +27,7 @@ ArcCurve arc_through(const Point3& a, const Point3& m, const Point3& b) {
 // --- element helpers -------------------------------------------------------------------------
 VertexId Model::new_vertex(const Point3& p) {
   VertexId v = vertices_.add({});
-  grow(points_, v, p);
+  points_[v] = p;
   return v;
 }
 EdgeId Model::new_edge(VertexId a, VertexId b, EdgeCurve c) {
@@ -43,14 +35,14 @@ EdgeId Model::new_edge(VertexId a, VertexId b, EdgeCurve c) {
   e.v[0] = a;
   e.v[1] = b;
   EdgeId id = edges_.add(e);
-  grow(curves_, id, std::move(c));
+  curves_[id] = std::move(c);
   return id;
 }
 FaceId Model::new_face(ShellId s) {
   BrepFace f;
   f.shell = s;
   FaceId id = faces_.add(f);
-  grow(surfaces_, id, FaceSurface{NoSurface{}});
+  surfaces_[id] = FaceSurface{NoSurface{}};
   shells_[s].faces++;
   return id;
 }
@@ -60,7 +52,7 @@ void Model::kill_face(FaceId f) {
 }
 EdgeId Model::raw_add_edge(BrepEdge e) {
   EdgeId id = edges_.add(e);
-  grow(curves_, id, EdgeCurve{LineCurve{}});
+  curves_[id] = EdgeCurve{LineCurve{}};
   return id;
 }
 
@@ -78,28 +70,68 @@ void Model::relabel(EdgeSide start, LoopId l) {
 
 const Point3& Model::point(VertexId v) const {
   if (!vertices_.contains(v)) fail("no vertex ", v.value);
-  return points_[static_cast<std::size_t>(v.value)];
+  return points_[v];
 }
 const EdgeCurve& Model::curve(EdgeId e) const {
   if (!edges_.contains(e)) fail("no edge ", e.value);
-  return curves_[static_cast<std::size_t>(e.value)];
+  return curves_[e];
 }
 const FaceSurface& Model::surface(FaceId f) const {
   if (!faces_.contains(f)) fail("no face ", f.value);
-  return surfaces_[static_cast<std::size_t>(f.value)];
+  return surfaces_[f];
 }
 void Model::set_point(VertexId v, const Point3& p) {
   if (!vertices_.contains(v)) fail("set_point: no vertex ", v.value);
   if (!p.allFinite()) fail("set_point: the point of vertex ", v.value, " is not finite");
-  points_[static_cast<std::size_t>(v.value)] = p;
+  points_[v] = p;
 }
 void Model::set_curve(EdgeId e, EdgeCurve c) {
   if (!edges_.contains(e)) fail("set_curve: no edge ", e.value);
-  curves_[static_cast<std::size_t>(e.value)] = std::move(c);
+  curves_[e] = std::move(c);
 }
+const PCurve* Model::pcurve(EdgeSide s) const {
+  if (!pcurves_.contains(s.edge)) return nullptr;
+  const auto& p = pcurves_[s.edge][s.side];
+  return p ? &*p : nullptr;
+}
+void Model::set_pcurve(EdgeSide s, const PCurve& p) {
+  if (!edges_.contains(s.edge)) fail("set_pcurve: no edge ", s.edge.value);
+  pcurves_[s.edge][s.side] = p;
+}
+bool Model::has_param_faces() const {
+  bool any = false;
+  faces_.for_each([&](FaceId f, const BrepFace&) { any = any || std::holds_alternative<ParamSurface>(surface(f)); });
+  return any;
+}
+CurvePtr Model::edge_curve(EdgeId e) const {
+  const EdgeCurve& c = curve(e);
+  Point3 a = point(edges_[e].v[0]), b = point(edges_[e].v[1]);
+  if (auto* pc = std::get_if<ParamCurve>(&c)) return pc->curve;
+  if (auto* arc = std::get_if<ArcCurve>(&c)) {
+    Vec3 x = (a - arc->center).normalized();
+    Vec3 y = arc->axis.cross(x);
+    Vec3 d = b - arc->center;
+    double sweep = std::atan2(d.dot(y), d.dot(x));
+    if (sweep <= 1e-12) sweep += 2 * kPi;
+    // CircularArc measures from its x axis toward normal x x_axis... build from the frame directly.
+    return std::make_shared<const CircularArc>(arc->center, arc->radius, 0.0, sweep, arc->axis, x);
+  }
+  return std::make_shared<const LineSegment>(a, b);
+}
+Point3 Model::edge_point(EdgeId e, double s) const {
+  const EdgeCurve& c = curve(e);
+  if (std::holds_alternative<LineCurve>(c)) {
+    Point3 a = point(edges_[e].v[0]), b = point(edges_[e].v[1]);
+    return a + s * (b - a);
+  }
+  CurvePtr cv = edge_curve(e);
+  auto [t0, t1] = cv->domain();
+  return cv->eval(t0 + s * (t1 - t0));
+}
+
 void Model::set_surface(FaceId f, FaceSurface s) {
   if (!faces_.contains(f)) fail("set_surface: no face ", f.value);
-  surfaces_[static_cast<std::size_t>(f.value)] = std::move(s);
+  surfaces_[f] = std::move(s);
 }
 
 void Model::require_vertex(VertexId v, const char* op, const char* what) const {
@@ -527,8 +559,8 @@ FaceId Model::mfkrh(FaceId f, LoopId ring) {
   faces_[f2].outer = ring;
   loops_[ring].face = f2;
   // The new face lies in the plane of f, facing the other way.
-  if (auto* pl = std::get_if<PlaneSurface>(&surfaces_[static_cast<std::size_t>(f.value)]))
-    surfaces_[static_cast<std::size_t>(f2.value)] = PlaneSurface{pl->point, -pl->normal};
+  if (auto* pl = std::get_if<PlaneSurface>(&surfaces_[f]))
+    surfaces_[f2] = PlaneSurface{pl->point, -pl->normal};
   return f2;
 }
 
@@ -538,7 +570,7 @@ Model::Mev Model::semv(EdgeId e, const Point3& p) {
   if (!p.allFinite()) fail("semv: the new point is not finite");
   VertexId v1 = edges_[e].v[1];
   VertexId w = new_vertex(p);
-  EdgeId e2 = new_edge(w, v1, curves_[static_cast<std::size_t>(e.value)]);
+  EdgeId e2 = new_edge(w, v1, curves_[e]);
   edges_[e].v[1] = w;
   EdgeSide e0{e, 0}, e1{e, 1}, f0{e2, 0}, f1{e2, 1};
   side_mut(f0).loop = side(e0).loop;
@@ -580,7 +612,16 @@ void Model::reverse_edge(EdgeId e) {
     if (vertices_[v].out.edge == e) vertices_[v].out = vertices_[v].out.mate();
   for (const BrepSide& sd : ed2.side)
     if (loops_[sd.loop].first.edge == e) loops_[sd.loop].first = loops_[sd.loop].first.mate();
-  if (auto* arc = std::get_if<ArcCurve>(&curves_[static_cast<std::size_t>(e.value)])) arc->axis = -arc->axis;
+  if (auto* arc = std::get_if<ArcCurve>(&curves_[e])) arc->axis = -arc->axis;
+  if (auto* pc = std::get_if<ParamCurve>(&curves_[e])) pc->curve = std::make_shared<const ReversedCurve>(pc->curve);
+  if (pcurves_.contains(e)) {
+    // Side k (on face A) becomes side 1 - k; the curve's parameter now runs from the old end.
+    auto old = pcurves_[e];
+    for (int k = 0; k < 2; ++k) {
+      pcurves_[e][1 - k].reset();
+      if (old[k]) pcurves_[e][1 - k] = PCurve{old[k]->end, old[k]->start};
+    }
+  }
 }
 
 void Model::jekv(EdgeId e2, VertexId v) {

@@ -53,7 +53,12 @@ Vec3 newell(const std::vector<Point3>& pts) {
 }  // namespace
 
 void Model::append_arc_interior(EdgeSide s, int arc_segments, std::vector<Point3>& out) const {
-  auto* arc = std::get_if<ArcCurve>(&curves_[static_cast<std::size_t>(s.edge.value)]);
+  if (std::holds_alternative<ParamCurve>(curves_[s.edge])) {
+    for (int k = 1; k < arc_segments; ++k)
+      out.push_back(edge_point(s.edge, double(s.side == 0 ? k : arc_segments - k) / arc_segments));
+    return;
+  }
+  auto* arc = std::get_if<ArcCurve>(&curves_[s.edge]);
   if (!arc) return;
   // The arc runs counter-clockwise about its axis from v[0] to v[1].
   Point3 p0 = point(edges_[s.edge].v[0]), p1 = point(edges_[s.edge].v[1]);
@@ -103,10 +108,20 @@ Box3 Model::bounds() const {
   vertices_.for_each([&](VertexId v, const BrepVertex&) { b.extend(point(v)); });
   // Arcs bulge past their ends: include their sampled points.
   edges_.for_each([&](EdgeId e, const BrepEdge& ed) {
-    if (!std::holds_alternative<ArcCurve>(curve(e))) return;
+    if (std::holds_alternative<LineCurve>(curve(e))) return;
     LoopId l = ed.side[0].loop;
     if (loops_.contains(l))
       for (const Point3& p : loop_polyline(l, 64)) b.extend(p);
+  });
+  // Curved faces bulge past their edges: a grid of samples (a box within the sampling's sag).
+  faces_.for_each([&](FaceId f, const BrepFace&) {
+    auto* ps = std::get_if<ParamSurface>(&surface(f));
+    if (!ps) return;
+    auto [u0, u1] = ps->surface->u_domain();
+    auto [v0, v1] = ps->surface->v_domain();
+    const int n = 48;
+    for (int i = 0; i <= n; ++i)
+      for (int j = 0; j <= n; ++j) b.extend(ps->surface->eval(u0 + (u1 - u0) * i / n, v0 + (v1 - v0) * j / n));
   });
   return b;
 }
@@ -114,15 +129,16 @@ Box3 Model::bounds() const {
 bool Model::all_planar() const {
   bool ok = true;
   faces_.for_each([&](FaceId f, const BrepFace&) {
-    if (std::holds_alternative<CylinderSurface>(surface(f))) ok = false;
+    if (!std::holds_alternative<PlaneSurface>(surface(f)) && !std::holds_alternative<NoSurface>(surface(f))) ok = false;
   });
   edges_.for_each([&](EdgeId e, const BrepEdge&) {
-    if (std::holds_alternative<ArcCurve>(curve(e))) ok = false;
+    if (!std::holds_alternative<LineCurve>(curve(e))) ok = false;
   });
   return ok;
 }
 
 double Model::approximate_volume() const {
+  if (has_param_faces()) return exact_mass().volume;
   Point3 ref = bounds().center();
   double vol = 0;
   auto tri = [&](const Point3& a, const Point3& b, const Point3& c) { vol += (a - ref).dot((b - ref).cross(c - ref)) / 6.0; };
@@ -155,7 +171,11 @@ double Model::approximate_volume() const {
 }
 
 BrepMass Model::mass_properties() const {
-  if (!all_planar()) fail("mass properties need planar faces and straight edges: this model has curved ones");
+  if (!all_planar()) {
+    BrepMass e = exact_mass();
+    if (!(e.volume > 0)) fail("mass properties: the model encloses no positive volume (", e.volume, ")");
+    return e;
+  }
   BrepMass mp;
   Point3 ref = bounds().center();
   Vec3 first = Vec3::Zero();
@@ -193,18 +213,30 @@ void Model::transform(const Mat4& m) {
   if (!std::isfinite(det) || std::abs(det) < 1e-300) fail("transform: the matrix is singular");
   if (m.row(3) != Eigen::RowVector4d(0, 0, 0, 1)) fail("transform: a projective matrix cannot move a solid");
   double s = std::cbrt(std::abs(det));
-  bool curved = !all_planar();
-  if (curved && !(lin.transpose() * lin).isApprox(s * s * Mat3::Identity(), 1e-9))
-    fail("transform: a non-uniform scale or shear would turn arcs into ellipses; this model has curved edges");
-  for (auto& p : points_) p = apply_point(m, p);
-  for (auto& c : curves_)
-    if (auto* a = std::get_if<ArcCurve>(&c)) {
+  bool circular = false;  // arcs and cylinders stay circular only under similarities
+  for (auto [e, c] : curves_) circular = circular || (edges_.contains(e) && std::holds_alternative<ArcCurve>(c));
+  for (auto [f, c] : surfaces_) circular = circular || (faces_.contains(f) && std::holds_alternative<CylinderSurface>(c));
+  if (circular && !(lin.transpose() * lin).isApprox(s * s * Mat3::Identity(), 1e-9))
+    fail("transform: a non-uniform scale or shear would turn arcs into ellipses; this model has circular edges");
+  for (auto [v, p] : points_) p = apply_point(m, p);
+  for (auto [e, c] : curves_)
+    if (auto* pc = std::get_if<ParamCurve>(&c)) {
+      pc->curve = std::make_shared<const TransformedCurve>(pc->curve, m);
+      // A mirror swaps every edge's ends below: the curve then runs the other way.
+      if (det < 0) pc->curve = std::make_shared<const ReversedCurve>(pc->curve);
+      if (det < 0 && pcurves_.contains(e))
+        for (auto& pcv : pcurves_[e])
+          if (pcv) std::swap(pcv->start, pcv->end);
+    } else if (auto* a = std::get_if<ArcCurve>(&c)) {
       a->center = apply_point(m, a->center);
       a->axis = apply_vector(m, a->axis).normalized();
       a->radius *= s;
     }
-  for (auto& f : surfaces_) {
-    if (auto* p = std::get_if<PlaneSurface>(&f)) {
+  for (auto [id, f] : surfaces_) {
+    if (auto* ps = std::get_if<ParamSurface>(&f)) {
+      ps->surface = std::make_shared<const TransformedSurface>(ps->surface, m);
+      if (det < 0) ps->reversed = !ps->reversed;  // a mirror turns Su x Sv inward
+    } else if (auto* p = std::get_if<PlaneSurface>(&f)) {
       p->point = apply_point(m, p->point);
       p->normal = apply_normal(m, p->normal);
     } else if (auto* c = std::get_if<CylinderSurface>(&f)) {
@@ -465,6 +497,27 @@ Validation Model::validate(bool geometry) const {
     const BrepFace& face = faces_[f];
     std::string name = "face " + std::to_string(f.value);
     if (std::holds_alternative<CylinderSurface>(surface(f))) continue;
+    if (auto* ps = std::get_if<ParamSurface>(&surface(f))) {
+      // Every side carries its image in the face's domain, the images of consecutive sides meet
+      // or are joined by a pole (a stretch of the domain's border that maps to the shared
+      // vertex), and the ends of each image map onto the side's vertices.
+      std::vector<LoopId> ls{face.outer};
+      ls.insert(ls.end(), face.rings.begin(), face.rings.end());
+      for (LoopId l : ls)
+        for (EdgeSide sd : loop_sides(l)) {
+          const PCurve* pc = pcurve(sd);
+          if (!pc) return bad(name + ": " + side_name(sd) + " has no curve in the face's parameter domain");
+          Point3 a = ps->surface->eval(pc->start.x(), pc->start.y());
+          Point3 b = ps->surface->eval(pc->end.x(), pc->end.y());
+          const BrepEdge& ed = edges_[sd.edge];
+          if ((a - point(ed.v[0])).norm() > tol || (b - point(ed.v[1])).norm() > tol)
+            return bad(name + ": the ends of " + side_name(sd) + " are not where the face's surface puts them");
+          Point3 m = ps->surface->eval(pc->at(0.5).x(), pc->at(0.5).y());
+          if ((m - edge_point(sd.edge, 0.5)).norm() > tol)
+            return bad(name + ": " + side_name(sd) + " leaves the face's surface");
+        }
+      continue;
+    }
     Vec3 n = face_normal(f);
     if (n.norm() < 0.5) return bad(name + " has no normal: its outer loop encloses no area");
     const BrepLoop& outer_loop = loops_[face.outer];

@@ -13,8 +13,8 @@ class BrepLeaf final : public SolidLeaf {
   // Throws wedge::Error with validate()'s message when the model is not a valid solid.
   explicit BrepLeaf(Model model);
   std::string kind() const override { return "brep"; }
-  // Planar faces by constrained Delaunay (tessellate/planar.h); a cylinder patch bounded by two
-  // arcs and two rulings as a strip. Each arc is sampled once, at `tol.chordal`, for both faces.
+  // tessellate/brep_mesh.h: each edge sampled once for both faces, faces triangulated in their
+  // plane or parameter domain and refined to the tolerance.
   Mesh mesh(const Tolerance& tol) const override;
   Box3 bounds() const override { return model_->bounds(); }
   std::optional<MassProperties> mass_properties() const override;

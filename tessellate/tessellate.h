@@ -2,4 +2,5 @@
 #pragma once
 #include "brep/brep.h"
 #include "tessellate/mesh_io.h"
+#include "tessellate/brep_mesh.h"
 #include "tessellate/planar.h"

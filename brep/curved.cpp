@@ -1,0 +1,580 @@
+// Curved solids, built only through the Euler operators.
+//
+// build_from_loops(): a boundary given as faces (each one loop of edge sides) becomes a winged-edge
+// model by the method of polyhedron() in build.cpp, with edges named by index instead of by their
+// two vertices (so two edges may join the same vertices, and one loop may pass an edge both ways,
+// as a seam does): the rotation of edge sides around each vertex is read off the loops (for a
+// corner p -> q at vertex u, the side after reverse(p) around u is q); a spanning tree of the
+// vertices grows by mev, each new side placed before the first present side that follows it in
+// the rotation; each remaining edge closes with mef when its two corners share a loop, and with
+// kfmrh + mekr (a handle) when they do not. A face with holes is given as one loop through
+// "bridge" edges, which kemr turns into rings at the end.
+//
+// sweep_sides(): the generalised sweep (brep.h) as such a face list. Notation: loop k of the
+// section, piece j, its side surface S_kj(u, v), u in [u0_kj, u1_kj] along the piece, v in
+// [v0, v1] along the sweep. Vertices b_kj = S_kj(u0, v0) (start), t_kj = S_kj(u0, v1) (end of a
+// capped sweep) or m_kj = S_kj(u0, vm) (half-way point of a closed one). Edges carry iso-parameter
+// curves of the side surfaces and their images (PCurves) in the faces on both sides.
+#include <algorithm>
+#include <cmath>
+#include <deque>
+
+#include "brep/brep.h"
+
+namespace wedge {
+
+namespace {
+
+struct LoopsSpec {
+  std::vector<Point3> points;
+  std::vector<std::array<int, 2>> edges;                 // v0, v1
+  std::vector<std::vector<std::pair<int, int>>> faces;  // each: one loop of (edge, side)
+};
+struct Built {
+  Model m;
+  std::vector<EdgeId> edges;  // model edge of each spec edge, with v[0] = the spec's v0
+  std::vector<FaceId> faces;
+};
+
+Built build_from_loops(const LoopsSpec& sp) {
+  const int nv = static_cast<int>(sp.points.size()), ne = static_cast<int>(sp.edges.size());
+  auto org = [&](int x) { return sp.edges[static_cast<std::size_t>(x / 2)][static_cast<std::size_t>(x % 2)]; };
+  auto dst = [&](int x) { return sp.edges[static_cast<std::size_t>(x / 2)][static_cast<std::size_t>(1 - x % 2)]; };
+  auto mate = [](int x) { return x ^ 1; };
+  for (int e = 0; e < ne; ++e) {
+    const auto& ed = sp.edges[static_cast<std::size_t>(e)];
+    if (ed[0] == ed[1]) fail("build_from_loops: edge ", e, " starts and ends at vertex ", ed[0]);
+    if (ed[0] < 0 || ed[1] < 0 || ed[0] >= nv || ed[1] >= nv) fail("build_from_loops: edge ", e, " names a missing vertex");
+  }
+  std::vector<int> used(static_cast<std::size_t>(2 * ne), 0), succ(static_cast<std::size_t>(2 * ne), -1);
+  for (std::size_t f = 0; f < sp.faces.size(); ++f) {
+    const auto& L = sp.faces[f];
+    if (L.empty()) fail("build_from_loops: face ", f, " has no sides");
+    for (std::size_t k = 0; k < L.size(); ++k) {
+      int p = 2 * L[k].first + L[k].second, q = 2 * L[(k + 1) % L.size()].first + L[(k + 1) % L.size()].second;
+      if (dst(p) != org(q)) fail("build_from_loops: face ", f, " is not a closed loop at its side ", k);
+      if (used[static_cast<std::size_t>(p)]++) fail("build_from_loops: side ", p % 2, " of edge ", p / 2, " is used twice");
+      if (succ[static_cast<std::size_t>(mate(p))] != -1) fail("build_from_loops: vertex ", dst(p), " is not 2-manifold");
+      succ[static_cast<std::size_t>(mate(p))] = q;
+    }
+  }
+  for (int x = 0; x < 2 * ne; ++x)
+    if (!used[static_cast<std::size_t>(x)]) fail("build_from_loops: side ", x % 2, " of edge ", x / 2, " lies on no face");
+  std::vector<std::vector<int>> outs(static_cast<std::size_t>(nv));
+  for (int x = 0; x < 2 * ne; ++x) outs[static_cast<std::size_t>(org(x))].push_back(x);
+  for (int u = 0; u < nv; ++u) {
+    const auto& o = outs[static_cast<std::size_t>(u)];
+    if (o.empty()) fail("build_from_loops: vertex ", u, " has no edges");
+    int x = o[0];
+    std::size_t n = 0;
+    do {
+      x = succ[static_cast<std::size_t>(x)];
+      ++n;
+    } while (x != o[0] && n <= o.size());
+    if (n != o.size()) fail("build_from_loops: the faces around vertex ", u, " form more than one fan");
+  }
+
+  Built out;
+  Model& m = out.m;
+  std::vector<VertexId> vid(static_cast<std::size_t>(nv));
+  std::vector<LoopId> lone(static_cast<std::size_t>(nv));
+  std::vector<int> degree(static_cast<std::size_t>(nv), 0);
+  std::vector<EdgeSide> ms(static_cast<std::size_t>(2 * ne));
+  auto corner_at = [&](int u, int x) -> Corner {
+    if (degree[static_cast<std::size_t>(u)] == 0) return Corner{lone[static_cast<std::size_t>(u)], {}, vid[static_cast<std::size_t>(u)]};
+    int y = succ[static_cast<std::size_t>(x)];
+    while (!ms[static_cast<std::size_t>(y)].valid()) y = succ[static_cast<std::size_t>(y)];
+    EdgeSide s = ms[static_cast<std::size_t>(y)];
+    return Corner{m.side(s).loop, s, vid[static_cast<std::size_t>(u)]};
+  };
+  std::vector<char> visited(static_cast<std::size_t>(nv), 0);
+  for (int root = 0; root < nv; ++root) {
+    if (visited[static_cast<std::size_t>(root)]) continue;
+    visited[static_cast<std::size_t>(root)] = 1;
+    auto s = m.mvfs(sp.points[static_cast<std::size_t>(root)]);
+    vid[static_cast<std::size_t>(root)] = s.v;
+    lone[static_cast<std::size_t>(root)] = m.faces()[s.f].outer;
+    std::deque<int> queue{root};
+    while (!queue.empty()) {
+      int u = queue.front();
+      queue.pop_front();
+      for (int x : outs[static_cast<std::size_t>(u)]) {
+        int w = dst(x);
+        if (visited[static_cast<std::size_t>(w)]) continue;
+        visited[static_cast<std::size_t>(w)] = 1;
+        auto r = m.mev_at(corner_at(u, x), sp.points[static_cast<std::size_t>(w)]);
+        vid[static_cast<std::size_t>(w)] = r.v;
+        ms[static_cast<std::size_t>(x)] = EdgeSide{r.e, 0};
+        ms[static_cast<std::size_t>(mate(x))] = EdgeSide{r.e, 1};
+        degree[static_cast<std::size_t>(u)]++;
+        degree[static_cast<std::size_t>(w)]++;
+        queue.push_back(w);
+      }
+    }
+  }
+  for (int e = 0; e < ne; ++e) {
+    int x0 = 2 * e, x1 = 2 * e + 1;
+    if (ms[static_cast<std::size_t>(x0)].valid()) continue;
+    Corner c1 = corner_at(org(x0), x0), c2 = corner_at(org(x1), x1);
+    EdgeId id;
+    if (c1.loop == c2.loop) {
+      id = m.mef_at(c1.out, c2.out).e;
+    } else {
+      FaceId f1 = m.loops()[c1.loop].face, f2 = m.loops()[c2.loop].face;
+      if (f1 != f2) m.kfmrh(f2, f1);
+      id = m.mekr_at(c1, c2);
+      if (m.edges()[id].v[0] != vid[static_cast<std::size_t>(org(x0))]) m.reverse_edge(id);
+    }
+    ms[static_cast<std::size_t>(x0)] = EdgeSide{id, 0};
+    ms[static_cast<std::size_t>(x1)] = EdgeSide{id, 1};
+    degree[static_cast<std::size_t>(org(x0))]++;
+    degree[static_cast<std::size_t>(org(x1))]++;
+  }
+  if (m.faces().size() != sp.faces.size())
+    fail("build_from_loops: the loops give ", m.faces().size(), " faces, not ", sp.faces.size());
+  // A tree edge grown along its side 1 runs backwards: turn it round (no topological change).
+  for (int e = 0; e < ne; ++e) {
+    EdgeSide s0 = ms[static_cast<std::size_t>(2 * e)];
+    if (s0.side == 1) {
+      m.reverse_edge(s0.edge);
+      ms[static_cast<std::size_t>(2 * e)] = EdgeSide{s0.edge, 0};
+      ms[static_cast<std::size_t>(2 * e + 1)] = EdgeSide{s0.edge, 1};
+    }
+    out.edges.push_back(s0.edge);
+  }
+  std::vector<char> taken(m.faces().capacity(), 0);
+  for (std::size_t f = 0; f < sp.faces.size(); ++f) {
+    const auto& L = sp.faces[f];
+    EdgeSide s0 = ms[static_cast<std::size_t>(2 * L[0].first + L[0].second)];
+    LoopId l = m.side(s0).loop;
+    FaceId face = m.loops()[l].face;
+    if (m.faces()[face].outer != l || m.loop_sides(l).size() != L.size() || taken[static_cast<std::size_t>(face.value)]++)
+      fail("build_from_loops: face ", f, " does not close into a loop of its own");
+    out.faces.push_back(face);
+  }
+  return out;
+}
+
+// --- the generalised sweep ---------------------------------------------------------------------
+
+struct Geo {
+  CurvePtr curve;
+  // pcurve per side: the spec face of that side and its image
+  std::optional<PCurve> pc[2];
+};
+
+Model sweep_raw(const std::vector<std::vector<SurfacePtr>>& sides, bool closed) {
+  if (sides.empty() || sides[0].empty()) fail("sweep: the section has no pieces");
+  const std::size_t K = sides.size();
+  auto [v0, v1] = sides[0][0]->v_domain();
+  double vm = (v0 + v1) / 2;
+  // Size of the model, for the coincidence tolerance.
+  Box3 box;
+  for (const auto& loop : sides)
+    for (const auto& S : loop) {
+      auto [a, b] = S->u_domain();
+      for (int i = 0; i <= 4; ++i)
+        for (int j = 0; j <= 4; ++j) box.extend(S->eval(a + (b - a) * i / 4, v0 + (v1 - v0) * j / 4));
+    }
+  double eps = 1e-9 * std::max(box.diagonal(), 1e-300);
+  auto ud = [&](std::size_t k, std::size_t j) { return sides[k][j]->u_domain(); };
+  auto still = [&](std::size_t k, std::size_t j, double u) {  // S(u, v) does not move along v
+    const Surface& S = *sides[k][j];
+    Point3 p = S.eval(u, v0);
+    for (int i = 1; i <= 6; ++i)
+      if ((S.eval(u, v0 + (v1 - v0) * i / 6) - p).norm() > eps) return false;
+    return true;
+  };
+  std::vector<std::vector<char>> pole(K), degenerate(K);
+  for (std::size_t k = 0; k < K; ++k) {
+    std::size_t n = sides[k].size();
+    pole[k].resize(n);
+    degenerate[k].resize(n);
+    for (std::size_t j = 0; j < n; ++j) pole[k][j] = still(k, j, ud(k, j).first);
+    for (std::size_t j = 0; j < n; ++j) {
+      auto [a, b] = ud(k, j);
+      degenerate[k][j] = pole[k][j] && pole[k][(j + 1) % n] && still(k, j, (a + b) / 2) && still(k, j, a + (b - a) / 3);
+    }
+  }
+  // A capped sweep whose end section is one point ends in an apex.
+  bool apex = false;
+  Point3 apex_point;
+  if (!closed) {
+    apex_point = sides[0][0]->eval(ud(0, 0).first, v1);
+    apex = true;
+    for (std::size_t k = 0; k < K && apex; ++k)
+      for (std::size_t j = 0; j < sides[k].size() && apex; ++j) {
+        auto [a, b] = ud(k, j);
+        for (int i = 0; i <= 4; ++i)
+          if ((sides[k][j]->eval(a + (b - a) * i / 4, v1) - apex_point).norm() > eps) apex = false;
+      }
+    if (apex && K > 1) fail("sweep: a section with holes cannot shrink to an apex");
+  }
+
+  LoopsSpec sp;
+  std::vector<Geo> geo;
+  std::vector<FaceSurface> face_geo;
+  std::vector<int> bridges;
+  auto add_edge = [&](int a, int b, CurvePtr c) {
+    sp.edges.push_back({a, b});
+    geo.push_back(Geo{std::move(c), {}});
+    return static_cast<int>(sp.edges.size()) - 1;
+  };
+  auto add_point = [&](const Point3& p) {
+    sp.points.push_back(p);
+    return static_cast<int>(sp.points.size()) - 1;
+  };
+  auto iso_u = [&](std::size_t k, std::size_t j, double v) {  // along the piece at v
+    auto [a, b] = ud(k, j);
+    return std::make_shared<const IsoCurve>(sides[k][j], true, v, a, b);
+  };
+  auto iso_v = [&](std::size_t k, std::size_t j, double a, double b) {  // along the sweep at u0
+    return std::make_shared<const IsoCurve>(sides[k][j], false, ud(k, j).first, a, b);
+  };
+  int apex_v = apex ? add_point(apex_point) : -1;
+  std::vector<std::vector<int>> bv(K), tv(K), bottom(K), top(K), strut(K), strut2(K), sidef(K);
+  for (std::size_t k = 0; k < K; ++k) {
+    std::size_t n = sides[k].size();
+    bv[k].assign(n, -1);
+    tv[k].assign(n, -1);
+    bottom[k].assign(n, -1);
+    top[k].assign(n, -1);
+    strut[k].assign(n, -1);
+    strut2[k].assign(n, -1);
+    sidef[k].assign(n, -1);
+    // Vertices: a pole whose both pieces are degenerate touches nothing and is left out.
+    for (std::size_t j = 0; j < n; ++j) {
+      bool lonely = closed && degenerate[k][j] && degenerate[k][(j + n - 1) % n];
+      if (lonely) continue;
+      bv[k][j] = add_point(sides[k][j]->eval(ud(k, j).first, v0));
+      if (pole[k][j]) tv[k][j] = bv[k][j];
+      else if (!closed) tv[k][j] = apex ? apex_v : add_point(sides[k][j]->eval(ud(k, j).first, v1));
+      else tv[k][j] = add_point(sides[k][j]->eval(ud(k, j).first, vm));
+    }
+    for (std::size_t j = 0; j < n; ++j) {
+      std::size_t jn = (j + 1) % n;
+      if (closed && degenerate[k][j]) continue;
+      bottom[k][j] = add_edge(bv[k][j], bv[k][jn], iso_u(k, j, v0));
+      if (closed) continue;
+      if (degenerate[k][j]) top[k][j] = bottom[k][j];
+      else if (!apex) top[k][j] = add_edge(tv[k][j], tv[k][jn], iso_u(k, j, v1));
+    }
+    for (std::size_t j = 0; j < n; ++j) {
+      if (pole[k][j]) continue;
+      if (closed) {
+        strut[k][j] = add_edge(bv[k][j], tv[k][j], iso_v(k, j, v0, vm));
+        strut2[k][j] = add_edge(tv[k][j], bv[k][j], iso_v(k, j, vm, v1));
+      } else {
+        strut[k][j] = add_edge(bv[k][j], tv[k][j], iso_v(k, j, v0, v1));
+      }
+    }
+    // Side faces and the pcurves of their sides.
+    for (std::size_t j = 0; j < n; ++j) {
+      if (degenerate[k][j]) continue;
+      std::size_t jn = (j + 1) % n;
+      auto [a, b] = ud(k, j);
+      std::vector<std::pair<int, int>> L;
+      auto put = [&](int e, int side, Vec2 s, Vec2 t) {
+        L.emplace_back(e, side);
+        geo[static_cast<std::size_t>(e)].pc[side] = PCurve{s, t};
+      };
+      put(bottom[k][j], 0, {a, v0}, {b, v0});
+      if (closed) {
+        if (!pole[k][jn]) {
+          put(strut[k][jn], 0, {b, v0}, {b, vm});
+          put(strut2[k][jn], 0, {b, vm}, {b, v1});
+        }
+        put(bottom[k][j], 1, {a, v1}, {b, v1});
+        if (!pole[k][j]) {
+          put(strut2[k][j], 1, {a, vm}, {a, v1});
+          put(strut[k][j], 1, {a, v0}, {a, vm});
+        }
+      } else {
+        if (!pole[k][jn]) put(strut[k][jn], 0, {b, v0}, {b, v1});
+        if (!apex) put(top[k][j], 1, {a, v1}, {b, v1});
+        if (!pole[k][j]) put(strut[k][j], 1, {a, v0}, {a, v1});
+      }
+      sidef[k][j] = static_cast<int>(sp.faces.size());
+      sp.faces.push_back(std::move(L));
+      face_geo.push_back(ParamSurface{sides[k][j], false});
+    }
+  }
+  if (!closed) {
+    // Caps: the bottom runs the section backwards (its outside faces -v), the top forwards. Holes
+    // hang on bridges from the outer loop's first vertex.
+    auto cap = [&](bool at_top) {
+      std::vector<std::pair<int, int>> L;
+      std::vector<Point3> pts;
+      auto loop_sides = [&](std::size_t k) {
+        std::size_t n = sides[k].size();
+        for (std::size_t i = 0; i < n; ++i) {
+          std::size_t j = at_top ? i : n - 1 - i;
+          int e = at_top ? top[k][j] : bottom[k][j];
+          L.emplace_back(e, at_top ? 0 : 1);
+          if (k == 0)
+            for (int s = 0; s < 8; ++s) {
+              auto [a, b] = ud(k, j);
+              double u = at_top ? a + (b - a) * s / 8 : b - (b - a) * s / 8;
+              pts.push_back(sides[k][j]->eval(u, at_top ? v1 : v0));
+            }
+        }
+      };
+      loop_sides(0);
+      const auto& vs = at_top ? tv : bv;
+      for (std::size_t k = 1; k < K; ++k) {
+        int br = add_edge(vs[0][0], vs[k][0], nullptr);
+        bridges.push_back(br);
+        L.emplace_back(br, 0);
+        loop_sides(k);
+        L.emplace_back(br, 1);
+      }
+      Vec3 nrm = Vec3::Zero();
+      for (std::size_t i = 0; i < pts.size(); ++i) nrm += pts[i].cross(pts[(i + 1) % pts.size()]);
+      if (!(nrm.norm() > 0)) fail("sweep: an end section has no area");
+      sp.faces.push_back(std::move(L));
+      face_geo.push_back(PlaneSurface{pts[0], nrm.normalized()});
+    };
+    cap(false);
+    if (!apex) cap(true);
+  }
+  Built B = build_from_loops(sp);
+  Model& m = B.m;
+  for (std::size_t e = 0; e < geo.size(); ++e) {
+    EdgeId id = B.edges[e];
+    if (geo[e].curve) m.set_curve(id, ParamCurve{geo[e].curve});
+    for (int s = 0; s < 2; ++s)
+      if (geo[e].pc[s]) m.set_pcurve(EdgeSide{id, s}, *geo[e].pc[s]);
+  }
+  for (std::size_t f = 0; f < face_geo.size(); ++f) m.set_surface(B.faces[f], face_geo[f]);
+  for (int br : bridges) m.kemr(B.edges[static_cast<std::size_t>(br)]);
+  Validation v = m.validate(false);
+  if (!v) fail("sweep: the swept boundary is not a valid solid: ", v.message);
+  return m;
+}
+
+SectionLoop reversed(const SectionLoop& l) {
+  SectionLoop out;
+  for (auto it = l.rbegin(); it != l.rend(); ++it) out.push_back(std::make_shared<const ReversedCurve>(*it));
+  return out;
+}
+Section reversed(const Section& s) {
+  Section out{reversed(s.outer), {}};
+  for (const auto& h : s.holes) out.holes.push_back(reversed(h));
+  return out;
+}
+// Twice the signed area of a loop about +z (its pieces sampled).
+double area2(const SectionLoop& l) {
+  std::vector<Point3> p;
+  for (const auto& c : l) {
+    auto [a, b] = c->domain();
+    for (int i = 0; i < 16; ++i) p.push_back(c->eval(a + (b - a) * i / 16));
+  }
+  double s = 0;
+  for (std::size_t i = 0; i < p.size(); ++i) s += p[i].x() * p[(i + 1) % p.size()].y() - p[(i + 1) % p.size()].x() * p[i].y();
+  return s;
+}
+// Outer counter-clockwise, holes clockwise; every piece joins the next.
+Section normalised(const Section& s, const char* what) {
+  auto check = [&](const SectionLoop& l, const char* which) {
+    if (l.empty()) fail(what, ": the section's ", which, " loop has no pieces");
+    for (std::size_t i = 0; i < l.size(); ++i) {
+      if (!l[i]) fail(what, ": a piece of the section is missing");
+      Point3 e = l[i]->eval(l[i]->domain().second), b = l[(i + 1) % l.size()]->eval(l[(i + 1) % l.size()]->domain().first);
+      if ((e - b).norm() > 1e-9 * (1 + e.norm())) fail(what, ": the section's ", which, " loop is not closed (piece ", i + 1, " does not end where the next starts)");
+      if (l.size() == 1) fail(what, ": a loop of one piece starts and ends at one point (split it: loop_of_curve)");
+    }
+    if (area2(l) == 0) fail(what, ": the section's ", which, " loop encloses no area");
+  };
+  check(s.outer, "outer");
+  for (const auto& h : s.holes) check(h, "inner");
+  Section out{area2(s.outer) > 0 ? s.outer : reversed(s.outer), {}};
+  for (const auto& h : s.holes) out.holes.push_back(area2(h) < 0 ? h : reversed(h));
+  return out;
+}
+
+// Builds from the section, and from its mirror image when the sweep turns it inside out (a
+// revolve maps the XY plane's counter-clockwise onto clockwise seen from outside).
+template <class MakeSide>
+Model oriented_sweep(const Section& s0, bool closed, MakeSide make, const char* what) {
+  Section s = normalised(s0, what);
+  for (int attempt = 0; attempt < 2; ++attempt) {
+    std::vector<std::vector<SurfacePtr>> sides;
+    std::vector<const SectionLoop*> loops{&s.outer};
+    for (const auto& h : s.holes) loops.push_back(&h);
+    for (const SectionLoop* l : loops) {
+      sides.emplace_back();
+      for (const auto& piece : *l) sides.back().push_back(make(piece));
+    }
+    Model m = sweep_raw(sides, closed);
+    double vol = m.approximate_volume();
+    if (vol > 0) {
+      Validation v = m.validate();
+      if (!v) fail(what, ": the result is not a valid solid: ", v.message);
+      return m;
+    }
+    s = reversed(s);
+  }
+  fail(what, ": the swept solid encloses no volume");
+}
+
+}  // namespace
+
+Model sweep_sides(const std::vector<std::vector<SurfacePtr>>& sides, bool closed) {
+  Model m = sweep_raw(sides, closed);
+  Validation v = m.validate();
+  if (!v) fail("sweep: ", v.message);
+  return m;
+}
+
+SectionLoop circle_loop(const Vec2& c, double r) {
+  require_positive(r, "circle radius");
+  Point3 center(c.x(), c.y(), 0);
+  return {std::make_shared<const CircularArc>(center, r, 0.0, kPi), std::make_shared<const CircularArc>(center, r, kPi, 2 * kPi)};
+}
+
+SectionLoop loop_of_curve(const CurvePtr& c) {
+  if (!c || !c->closed()) fail("profile: the curve is not closed");
+  auto [a, b] = c->domain();
+  double m = (a + b) / 2;
+  return {std::make_shared<const SubCurve>(c, a, m), std::make_shared<const SubCurve>(c, m, b)};
+}
+
+Section section_of(const Profile& p) {
+  auto loop = [](const std::vector<Vec2>& pts) {
+    if (pts.size() < 3) fail("profile: a polygon needs at least 3 points, got ", pts.size());
+    SectionLoop l;
+    for (std::size_t i = 0; i < pts.size(); ++i) {
+      const Vec2& a = pts[i];
+      const Vec2& b = pts[(i + 1) % pts.size()];
+      if (a == b) fail("profile: polygon point ", i + 1, " repeats the next one");
+      l.push_back(std::make_shared<const LineSegment>(Point3(a.x(), a.y(), 0), Point3(b.x(), b.y(), 0)));
+    }
+    return l;
+  };
+  Section s{loop(p.outer), {}};
+  for (const auto& h : p.holes) s.holes.push_back(loop(h));
+  return s;
+}
+
+Model extrude(const Section& s, double h, double twist, double scale) {
+  require_positive(h, "extrude height");
+  if (!std::isfinite(twist)) fail("extrude: twist is not finite");
+  if (!(scale >= 0) || !std::isfinite(scale)) fail("extrude: scale must be >= 0, got ", scale);
+  return oriented_sweep(s, false, [&](const CurvePtr& c) -> SurfacePtr {
+    return std::make_shared<const TwistedExtrusionSurface>(c, h, twist, scale);
+  }, "extrude");
+}
+
+Model revolve(const Section& s, double angle) {
+  if (!(angle > 0) || angle > 2 * kPi * (1 + 1e-12)) fail("revolve: angle must be in (0, 360] degrees, got ", degrees(angle));
+  auto check_x = [](const SectionLoop& l) {
+    for (const auto& c : l) {
+      auto [a, b] = c->domain();
+      for (int i = 0; i <= 32; ++i)
+        if (c->eval(a + (b - a) * i / 32).x() < -1e-12) fail("revolve: the profile crosses the axis (x < 0): every x must be >= 0");
+    }
+  };
+  check_x(s.outer);
+  for (const auto& h : s.holes) check_x(h);
+  bool full = angle >= 2 * kPi * (1 - 1e-12);
+  double a = full ? 2 * kPi : angle;
+  return oriented_sweep(s, full, [&](const CurvePtr& c) -> SurfacePtr { return std::make_shared<const RevolutionSurface>(c, a); },
+                        "revolve");
+}
+
+Model sweep_along(const Section& s, const CurvePtr& path) {
+  if (!path) fail("sweep: no path");
+  if (path->closed()) fail("sweep: closed paths are not supported yet (the frames' twist at the joint)");
+  return oriented_sweep(s, false, [&](const CurvePtr& c) -> SurfacePtr { return std::make_shared<const SweptSurface>(c, path); },
+                        "sweep");
+}
+
+Model loft(const std::vector<Section>& sections, const std::vector<double>& heights) {
+  if (sections.size() < 2) fail("loft: needs at least two profiles, got ", sections.size());
+  if (heights.size() != sections.size()) fail("loft: ", sections.size(), " profiles but ", heights.size(), " heights");
+  for (std::size_t i = 1; i < heights.size(); ++i)
+    if (!(heights[i] > heights[i - 1])) fail("loft: heights must increase (height ", i + 1, " is ", heights[i], ")");
+  std::vector<Section> ns;
+  for (const auto& s : sections) ns.push_back(normalised(s, "loft"));
+  for (std::size_t i = 1; i < ns.size(); ++i) {
+    if (ns[i].holes.size() != ns[0].holes.size()) fail("loft: profile ", i + 1, " has a different number of holes than profile 1");
+    if (ns[i].outer.size() != ns[0].outer.size())
+      fail("loft: profile ", i + 1, " has ", ns[i].outer.size(), " pieces, profile 1 has ", ns[0].outer.size(), " (they must match)");
+    for (std::size_t k = 0; k < ns[0].holes.size(); ++k)
+      if (ns[i].holes[k].size() != ns[0].holes[k].size()) fail("loft: hole ", k + 1, " of profile ", i + 1, " has a different number of pieces");
+  }
+  // Pieces of every section at their heights; the side of piece j lofts piece j of each.
+  std::vector<std::vector<SurfacePtr>> sides;
+  std::size_t K = 1 + ns[0].holes.size();
+  for (std::size_t k = 0; k < K; ++k) {
+    sides.emplace_back();
+    std::size_t n = (k == 0 ? ns[0].outer : ns[0].holes[k - 1]).size();
+    for (std::size_t j = 0; j < n; ++j) {
+      std::vector<CurvePtr> secs;
+      for (std::size_t i = 0; i < ns.size(); ++i) {
+        const SectionLoop& l = k == 0 ? ns[i].outer : ns[i].holes[k - 1];
+        secs.push_back(std::make_shared<const TransformedCurve>(l[j], translate(Vec3(0, 0, heights[i]))));
+      }
+      sides.back().push_back(std::make_shared<const LoftedSurface>(secs));
+    }
+  }
+  Model m = sweep_raw(sides, false);
+  Validation v = m.validate();
+  if (!v) fail("loft: the result is not a valid solid: ", v.message);
+  return m;
+}
+
+Model sphere(double r, const Point3& c) {
+  require_positive(r, "sphere radius");
+  Section s{{std::make_shared<const CircularArc>(Point3::Zero(), r, -kPi / 2, kPi / 2),
+             std::make_shared<const LineSegment>(Point3(0, r, 0), Point3(0, -r, 0))},
+            {}};
+  Model m = revolve(s, 2 * kPi);
+  if (c != Point3::Zero()) m.transform(translate(c));
+  return m;
+}
+
+Model cylinder(double r, double h, const Point3& base) {
+  require_positive(r, "cylinder radius");
+  require_positive(h, "cylinder height");
+  Model m = extrude(Section{circle_loop(Vec2::Zero(), r), {}}, h);
+  if (base != Point3::Zero()) m.transform(translate(base));
+  return m;
+}
+
+Model cone(double r1, double r2, double h, const Point3& base) {
+  require_positive(h, "cone height");
+  if (!(r1 >= 0) || !(r2 >= 0) || !std::isfinite(r1) || !std::isfinite(r2)) fail("cone: radii must be >= 0, got ", r1, " and ", r2);
+  if (r1 == 0 && r2 == 0) fail("cone: r1 and r2 are both 0 (no volume)");
+  Model m;
+  if (r1 > 0) {
+    m = extrude(Section{circle_loop(Vec2::Zero(), r1), {}}, h, 0, r2 / r1);
+  } else {
+    // Apex at the bottom: the apex-up cone of radius r2, turned over about x.
+    m = extrude(Section{circle_loop(Vec2::Zero(), r2), {}}, h, 0, 0);
+    m.transform(translate(Vec3(0, 0, h)) * rotate_x(180));
+  }
+  if (base != Point3::Zero()) m.transform(translate(base));
+  return m;
+}
+
+Model torus(double R, double r, const Point3& c) {
+  require_positive(R, "torus major radius R");
+  require_positive(r, "torus minor radius r");
+  if (!(r < R)) fail("torus: the minor radius r (", r, ") must be less than the major radius R (", R, ")");
+  Model m = revolve(Section{circle_loop(Vec2(R, 0), r), {}}, 2 * kPi);
+  if (c != Point3::Zero()) m.transform(translate(c));
+  return m;
+}
+
+Model tube(double ro, double ri, double h, const Point3& base) {
+  require_positive(ro, "tube outer radius");
+  require_positive(ri, "tube inner radius");
+  require_positive(h, "tube height");
+  if (!(ri < ro)) fail("tube: the inner radius (", ri, ") must be less than the outer radius (", ro, ")");
+  Model m = extrude(Section{circle_loop(Vec2::Zero(), ro), {circle_loop(Vec2::Zero(), ri)}}, h);
+  if (base != Point3::Zero()) m.transform(translate(base));
+  return m;
+}
+
+}  // namespace wedge

@@ -1,0 +1,18 @@
+// B-Rep -> Mesh: the one tessellator of solids. Every edge is discretised once, to the chordal
+// and angular tolerance, and both of its faces use exactly those points, so the mesh is watertight
+// by construction. Planar faces are triangulated in their plane; faces on a ParamSurface in their
+// (u, v) domain by CGAL's constrained Delaunay triangulation (loops, seams and poles as
+// constraints), refined until the chordal and angular tolerances hold inside the face. Triangles
+// carry their source face id; a pole is one vertex, and no triangle has zero area from it.
+#pragma once
+#include "brep/brep.h"
+
+namespace wedge {
+
+Mesh tessellate(const Model& m, const Tolerance& tol);
+
+// The parameters along a curve at which its polyline stays within tol.chordal of it and turns by
+// at most tol.angular degrees per segment (the curve's breaks always included).
+std::vector<double> curve_parameters(const Curve& c, const Tolerance& tol);
+
+}  // namespace wedge

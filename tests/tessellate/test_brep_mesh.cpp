@@ -1,0 +1,110 @@
+// The B-Rep tessellator on curved solids: closed 2-manifold meshes of the right genus, no
+// zero-area triangles, and a chordal error (sampled on every triangle, measured against the
+// closed-form surface) under the requested tolerance.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <functional>
+
+#include "csg/solid.h"
+#include "tessellate/brep_mesh.h"
+
+using namespace wedge;
+
+namespace {
+
+// The largest distance from sample points of the mesh's triangles to the exact boundary, given
+// as the (unsigned) distance function of the closed-form solid.
+double chordal_error(const Mesh& mesh, const std::function<double(const Point3&)>& dist) {
+  double worst = 0;
+  const double bary[][3] = {{1.0 / 3, 1.0 / 3, 1.0 / 3}, {0.5, 0.5, 0}, {0, 0.5, 0.5}, {0.5, 0, 0.5},
+                            {2.0 / 3, 1.0 / 6, 1.0 / 6}, {1.0 / 6, 2.0 / 3, 1.0 / 6}, {1.0 / 6, 1.0 / 6, 2.0 / 3}};
+  for (const auto& t : mesh.triangles)
+    for (const auto& b : bary) {
+      Point3 p = b[0] * mesh.positions[t[0]] + b[1] * mesh.positions[t[1]] + b[2] * mesh.positions[t[2]];
+      worst = std::max(worst, dist(p));
+    }
+  return worst;
+}
+
+double min_area(const Mesh& mesh) {
+  double a = 1e300;
+  for (std::size_t i = 0; i < mesh.triangles.size(); ++i) {
+    const auto& t = mesh.triangles[i];
+    a = std::min(a, 0.5 * (mesh.positions[t[1]] - mesh.positions[t[0]]).cross(mesh.positions[t[2]] - mesh.positions[t[0]]).norm());
+  }
+  return a;
+}
+
+struct Case {
+  const char* name;
+  std::function<Model()> make;
+  std::function<double(const Point3&)> dist;
+  long genus;
+  double volume;
+};
+
+std::vector<Case> cases() {
+  const double pi = kPi;
+  return {
+      {"sphere", [] { return sphere(1.5, Point3(0.5, 0, 0)); },
+       [](const Point3& p) { return std::abs((p - Point3(0.5, 0, 0)).norm() - 1.5); }, 0, 4.0 / 3 * pi * 3.375},
+      {"cylinder", [] { return cylinder(1, 2); },
+       [](const Point3& p) {
+         double dr = std::hypot(p.x(), p.y()) - 1, dz = std::abs(p.z() - 1) - 1;
+         return std::abs(std::hypot(std::max(dr, 0.0), std::max(dz, 0.0)) + std::min(std::max(dr, dz), 0.0));
+       },
+       0, 2 * pi},
+      {"torus", [] { return torus(2, 0.5); },
+       [](const Point3& p) { return std::abs(std::hypot(std::hypot(p.x(), p.y()) - 2, p.z()) - 0.5); }, 1, 2 * pi * pi * 2 * 0.25},
+      {"cone", [] { return cone(1, 0, 2); },
+       [](const Point3& p) {
+         // Distance to the boundary of the cone x^2 + y^2 <= (1 - z/2)^2, 0 <= z <= 2, in the
+         // (rho, z) half-plane: to the base segment and to the slanted segment.
+         Vec2 q(std::hypot(p.x(), p.y()), p.z());
+         auto seg = [](const Vec2& x, const Vec2& a, const Vec2& b) {
+           Vec2 d = b - a;
+           double t = std::clamp((x - a).dot(d) / d.squaredNorm(), 0.0, 1.0);
+           return (x - (a + t * d)).norm();
+         };
+         return std::min(seg(q, {0, 0}, {1, 0}), seg(q, {1, 0}, {0, 2}));
+       },
+       0, pi * 2 / 3},
+  };
+}
+
+}  // namespace
+
+TEST_CASE("curved solids tessellate into closed 2-manifolds within the chordal tolerance", "[tessellate][curved]") {
+  for (const Case& c : cases()) {
+    Model m = c.make();
+    for (double tol : {1e-2, 1e-3, 1e-4}) {
+      INFO(c.name << " at tolerance " << tol);
+      Tolerance t;
+      t.chordal = tol;
+      Mesh mesh = tessellate(m, t);
+      EulerCounts ec = euler_counts(mesh);  // throws unless closed and 2-manifold
+      CHECK(ec.S == 1);
+      CHECK(ec.H == c.genus);
+      CHECK(min_area(mesh) > 0);
+      double err = chordal_error(mesh, c.dist);
+      CHECK(err <= tol);
+      // The mesh's volume converges to the exact one from inside, by O(tol).
+      CHECK(std::abs(mesh.volume() - c.volume) <= 10 * tol * c.volume);
+      CHECK(mesh.face_ids.size() == mesh.triangles.size());
+    }
+  }
+}
+
+TEST_CASE("points along a curved edge grow as 1/sqrt(tolerance)", "[tessellate][curved]") {
+  // A circle of radius 1 needs about pi / sqrt(2 tol) chords: 100x finer tolerance, 10x more.
+  CircularArc c(Point3::Zero(), 1, 0, 2 * kPi);
+  Tolerance t2, t4;
+  t2.chordal = 1e-2;
+  t4.chordal = 1e-4;
+  t2.angular = t4.angular = 180;
+  double n2 = static_cast<double>(curve_parameters(c, t2).size() - 1), n4 = static_cast<double>(curve_parameters(c, t4).size() - 1);
+  CHECK(n2 >= kPi / std::sqrt(2e-2));
+  CHECK(n4 >= kPi / std::sqrt(2e-4));
+  CHECK(n4 / n2 == Approx(10).epsilon(0.35));
+}
