@@ -1,8 +1,9 @@
-// Lua bindings of 2D profiles and the planar extrude: polygon{}, rect(), extrude().
-// A profile is a polygon with holes in the XY plane (brep/brep.h's Profile). A closed Curve (such
-// as circle(r)) is also accepted as a profile: it is replaced by its polyline at the current
-// chordal tolerance, so the extruded solid is faceted (planar faces within the tolerance of the
-// curve), which the B-Rep's planar extrude can build exactly through Euler operators.
+// Lua bindings of 2D profiles and the solids built from them: polygon{}, rect(), extrude(),
+// revolve(), sweep(), loft{}, and the curved primitives sphere, cylinder, cone, torus, tube.
+// A profile is a polygon with holes in the XY plane (brep/brep.h's Profile), or a closed Curve
+// (such as circle(r)), which is used exactly: its solid's side faces lie on the exact swept
+// surface (brep/curved.cpp). A polygon extruded straight (no twist, no scale) stays the planar
+// prism of brep/build.cpp.
 #include <algorithm>
 #include <cmath>
 
@@ -136,6 +137,26 @@ Profile check_profile(lua_State* L, int arg) {
   throw ArgError{arg, "profile (polygon, rect or closed curve) expected, got " + type_name(L, arg)};
 }
 
+// The exact section of a profile argument: a Profile's polygons, or a closed curve split in two.
+Section check_section(lua_State* L, int arg) {
+  if (const Profile* p = test_object<Profile>(L, arg, kKey)) return section_of(*p);
+  if (const LuaCurve* c = test_curve(L, arg)) {
+    if (!c->curve->closed()) throw ArgError{arg, "the curve is open: a profile must be a closed curve"};
+    auto [a, b] = c->curve->domain();
+    for (int i = 0; i <= 16; ++i)
+      if (std::abs(c->curve->eval(a + (b - a) * i / 16).z()) > 1e-12)
+        throw ArgError{arg, "the curve leaves the XY plane: a profile must be planar"};
+    return Section{loop_of_curve(c->curve), {}};
+  }
+  throw ArgError{arg, "profile (polygon, rect or closed curve) expected, got " + type_name(L, arg)};
+}
+
+// Runs a kernel builder, turning its wedge::Error into an error of argument `arg`.
+template <class F>
+Model build(int arg, F&& f) {
+  return as_arg(arg, std::forward<F>(f));
+}
+
 // extrude(profile, h [, {twist=0, scale=1}])
 int extrude_fn(lua_State* L) {
   return guarded(L, [&] {
@@ -149,11 +170,13 @@ int extrude_fn(lua_State* L) {
       k = o.number("scale", 1);
       o.finish();
     }
-    if (twist != 0)
-      throw ArgError{3, "twist is not supported yet: a twisted extrude has non-planar side faces, and the B-Rep "
-                        "builds planar extrudes only (use swept_surface for twisted shapes)"};
-    if (!(k >= 0)) throw ArgError{3, "field 'scale' must be zero or positive, got " + std::to_string(k)};
-    if (k == 1) {
+    if (!std::isfinite(twist)) throw ArgError{3, "field 'twist' must be a finite angle in degrees"};
+    if (!(k >= 0) || !std::isfinite(k)) throw ArgError{3, "field 'scale' must be zero or positive, got " + std::to_string(k)};
+    bool polygon = test_object<Profile>(L, 1, kKey) != nullptr;
+    if (!polygon || twist != 0) {
+      Section s = check_section(L, 1);
+      push_solid(L, brep_solid(build(1, [&] { return extrude(s, h, radians(twist), k); })));
+    } else if (k == 1) {
       push_solid(L, prism_solid(p, h));
     } else {
       if (!p.holes.empty()) throw ArgError{3, "a scaled extrude of a profile with holes is not supported yet"};
@@ -182,7 +205,188 @@ int tostring_m(lua_State* L) {
   });
 }
 
-const luaL_Reg kFunctions[] = {{"polygon", polygon_fn}, {"rect", rect_fn}, {"extrude", extrude_fn}, {nullptr, nullptr}};
+// revolve(profile [, {angle=360}]): OpenSCAD's rotate_extrude (x the radius, y becomes z).
+int revolve_fn(lua_State* L) {
+  return guarded(L, [&] {
+    Section s = check_section(L, 1);
+    double angle = 360;
+    if (!lua_isnoneornil(L, 2)) {
+      Options o(L, 2);
+      angle = o.number("angle", 360);
+      o.finish();
+    }
+    if (!(angle > 0 && angle <= 360)) throw ArgError{2, "field 'angle' must be in (0, 360] degrees, got " + number_text(angle)};
+    push_solid(L, brep_solid(build(1, [&] { return revolve(s, radians(angle)); })));
+    return 1;
+  });
+}
+
+// sweep(profile, path): the profile along a 3D curve with rotation-minimising frames.
+int sweep_fn(lua_State* L) {
+  return guarded(L, [&] {
+    Section s = check_section(L, 1);
+    const LuaCurve& path = check_curve(L, 2);
+    push_solid(L, brep_solid(build(1, [&] { return sweep_along(s, path.curve); })));
+    return 1;
+  });
+}
+
+// loft{profiles={p1, p2, ...}, heights={z1, z2, ...}}
+int loft_fn(lua_State* L) {
+  return guarded(L, [&] {
+    Options o(L, 1);
+    std::vector<Section> sections;
+    std::vector<double> heights;
+    if (o.push("profiles") != LUA_TTABLE) throw ArgError{1, "field 'profiles' must be a list of profiles"};
+    int t = lua_gettop(L);
+    for (lua_Integer i = 1, n = static_cast<lua_Integer>(lua_rawlen(L, t)); i <= n; ++i) {
+      lua_rawgeti(L, t, i);
+      sections.push_back(check_section(L, lua_gettop(L)));
+      lua_pop(L, 1);
+    }
+    lua_pop(L, 1);
+    if (o.push("heights") != LUA_TTABLE) throw ArgError{1, "field 'heights' must be a list of numbers"};
+    t = lua_gettop(L);
+    for (lua_Integer i = 1, n = static_cast<lua_Integer>(lua_rawlen(L, t)); i <= n; ++i) {
+      lua_rawgeti(L, t, i);
+      if (!lua_isnumber(L, -1)) throw ArgError{1, "heights[" + std::to_string(i) + "] must be a number"};
+      heights.push_back(lua_tonumber(L, -1));
+      lua_pop(L, 1);
+    }
+    lua_pop(L, 1);
+    o.finish();
+    push_solid(L, brep_solid(build(1, [&] { return loft(sections, heights); })));
+    return 1;
+  });
+}
+
+// A size argument: a finite number > 0.
+double positive_arg(double x, int arg, const char* what) {
+  if (!(x > 0) || !std::isfinite(x)) throw ArgError{arg, std::string(what) + " must be positive, got " + number_text(x)};
+  return x;
+}
+
+// sphere(r) | sphere{r=1, center={0,0,0}}
+int sphere_fn(lua_State* L) {
+  return guarded(L, [&] {
+    double r = 1;
+    Vec3 c = Vec3::Zero();
+    if (lua_type(L, 1) == LUA_TTABLE) {
+      Options o(L, 1);
+      r = o.number("r", 1);
+      c = o.vec3("center", Vec3::Zero(), true);
+      o.finish();
+    } else {
+      r = check_number(L, 1);
+    }
+    positive_arg(r, 1, "radius r");
+    push_solid(L, brep_solid(build(1, [&] { return sphere(r, c); })));
+    return 1;
+  });
+}
+
+// cylinder(r, h) | cylinder{r=1, h=1, center=false}: axis +Z, base at z = 0 unless center.
+int cylinder_fn(lua_State* L) {
+  return guarded(L, [&] {
+    double r = 1, h = 1;
+    bool center = false;
+    if (lua_type(L, 1) == LUA_TTABLE) {
+      Options o(L, 1);
+      r = o.number("r", 1);
+      h = o.number("h", 1);
+      center = o.boolean("center", false);
+      o.finish();
+    } else {
+      r = check_number(L, 1);
+      h = check_number(L, 2);
+      positive_arg(h, 2, "height h");
+    }
+    positive_arg(r, 1, "radius r");
+    positive_arg(h, 1, "height h");
+    push_solid(L, brep_solid(build(1, [&] { return cylinder(r, h, Point3(0, 0, center ? -h / 2 : 0)); })));
+    return 1;
+  });
+}
+
+// cone{r1=1, r2=0, h=1, center=false} | cone(r1, r2, h)
+int cone_fn(lua_State* L) {
+  return guarded(L, [&] {
+    double r1 = 1, r2 = 0, h = 1;
+    bool center = false;
+    if (lua_type(L, 1) == LUA_TTABLE) {
+      Options o(L, 1);
+      r1 = o.number("r1", 1);
+      r2 = o.number("r2", 0);
+      h = o.number("h", 1);
+      center = o.boolean("center", false);
+      o.finish();
+    } else {
+      r1 = check_number(L, 1);
+      r2 = check_number(L, 2);
+      h = check_number(L, 3);
+    }
+    if (!(r1 >= 0) || !(r2 >= 0) || !std::isfinite(r1) || !std::isfinite(r2) || (r1 == 0 && r2 == 0))
+      throw ArgError{1, "radii r1 and r2 must be >= 0 and not both 0, got " + number_text(r1) + " and " + number_text(r2)};
+    positive_arg(h, 1, "height h");
+    push_solid(L, brep_solid(build(1, [&] { return cone(r1, r2, h, Point3(0, 0, center ? -h / 2 : 0)); })));
+    return 1;
+  });
+}
+
+// torus{R=2, r=0.5, center={0,0,0}} | torus(R, r): in the XY plane.
+int torus_fn(lua_State* L) {
+  return guarded(L, [&] {
+    double R = 2, r = 0.5;
+    Vec3 c = Vec3::Zero();
+    if (lua_type(L, 1) == LUA_TTABLE) {
+      Options o(L, 1);
+      R = o.number("R", 2);
+      r = o.number("r", 0.5);
+      c = o.vec3("center", Vec3::Zero(), true);
+      o.finish();
+    } else {
+      R = check_number(L, 1);
+      r = check_number(L, 2);
+    }
+    positive_arg(R, 1, "major radius R");
+    positive_arg(r, 1, "minor radius r");
+    if (!(r < R)) throw ArgError{1, "minor radius r (" + number_text(r) + ") must be less than major radius R (" + number_text(R) + ")"};
+    push_solid(L, brep_solid(build(1, [&] { return torus(R, r, c); })));
+    return 1;
+  });
+}
+
+// tube{r_outer=2, r_inner=1, h=1, center=false} | tube(r_outer, r_inner, h)
+int tube_fn(lua_State* L) {
+  return guarded(L, [&] {
+    double ro = 2, ri = 1, h = 1;
+    bool center = false;
+    if (lua_type(L, 1) == LUA_TTABLE) {
+      Options o(L, 1);
+      ro = o.number("r_outer", 2);
+      ri = o.number("r_inner", 1);
+      h = o.number("h", 1);
+      center = o.boolean("center", false);
+      o.finish();
+    } else {
+      ro = check_number(L, 1);
+      ri = check_number(L, 2);
+      h = check_number(L, 3);
+    }
+    positive_arg(ro, 1, "outer radius r_outer");
+    positive_arg(ri, 1, "inner radius r_inner");
+    positive_arg(h, 1, "height h");
+    if (!(ri < ro))
+      throw ArgError{1, "inner radius r_inner (" + number_text(ri) + ") must be less than outer radius r_outer (" + number_text(ro) + ")"};
+    push_solid(L, brep_solid(build(1, [&] { return tube(ro, ri, h, Point3(0, 0, center ? -h / 2 : 0)); })));
+    return 1;
+  });
+}
+
+const luaL_Reg kFunctions[] = {{"polygon", polygon_fn},   {"rect", rect_fn},         {"extrude", extrude_fn},
+                               {"revolve", revolve_fn},   {"sweep", sweep_fn},       {"loft", loft_fn},
+                               {"sphere", sphere_fn},     {"cylinder", cylinder_fn}, {"cone", cone_fn},
+                               {"torus", torus_fn},       {"tube", tube_fn},         {nullptr, nullptr}};
 const luaL_Reg kMethods[] = {{"area", area_m}, {nullptr, nullptr}};
 const luaL_Reg kMeta[] = {{"__tostring", tostring_m}, {nullptr, nullptr}};
 

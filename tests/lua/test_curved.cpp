@@ -1,0 +1,85 @@
+// The curved solids from Lua: positional and table forms, center=, exact volumes against the
+// closed forms, valid B-Reps with the documented Euler counts, and errors that name the argument.
+#include <catch2/catch.hpp>
+
+#include <sstream>
+
+#include "lua/wedge_lua.h"
+
+namespace {
+struct Run {
+  int status;
+  std::string err;
+};
+Run run(const std::string& code, const std::string& chunk = "@curved.lua") {
+  std::ostringstream err;
+  int status = wedge::lua::run_string(code, chunk, err);
+  return {status, err.str()};
+}
+}  // namespace
+
+TEST_CASE("sphere, cylinder, cone, torus and tube from Lua are exact", "[lua][curved]") {
+  auto r = run(R"(
+    local function near(a, b, tol) return math.abs(a - b) <= (tol or 1e-12) * math.max(1, math.abs(b)) end
+    local function counts(s, V, E, F, R, H)
+      local e = s:euler()
+      assert(e.V == V and e.E == E and e.F == F and e.R == R and e.H == H and e.S == 1,
+             string.format("V%d E%d F%d R%d H%d S%d", e.V, e.E, e.F, e.R, e.H, e.S))
+      assert(s:is_valid())
+    end
+    local pi = math.pi
+    local s = sphere(2)
+    assert(near(s:volume(), 4 / 3 * pi * 8), s:volume())
+    assert(near(s:area(), 16 * pi))
+    counts(s, 2, 1, 1, 0, 0)
+    local s2 = sphere{r = 1, center = {1, 2, 3}}
+    local c = s2:centroid()
+    assert(near(c[1], 1) and near(c[2], 2) and near(c[3], 3))
+    assert(near(s2:bounds().max[3], 4, 1e-9))
+
+    local cy = cylinder(1, 2)
+    assert(near(cy:volume(), 2 * pi))
+    counts(cy, 4, 6, 4, 0, 0)
+    local cc = cylinder{r = 1, h = 2, center = true}
+    assert(near(cc:bounds().min[3], -1) and near(cc:centroid()[3], 0))
+
+    local f = cone{r1 = 2, r2 = 1, h = 3}
+    assert(near(f:volume(), pi * 3 / 3 * (4 + 2 + 1)))
+    counts(f, 4, 6, 4, 0, 0)
+    local a = cone{r1 = 1, r2 = 0, h = 3}
+    assert(near(a:volume(), pi))
+    counts(a, 3, 4, 3, 0, 0)
+    assert(near(cone(0, 1, 3):volume(), pi))
+
+    local t = torus{R = 2, r = 0.5}
+    assert(near(t:volume(), 2 * pi * pi * 2 * 0.25))
+    counts(t, 4, 6, 2, 0, 1)
+    assert(near(torus(3, 1):area(), 4 * pi * pi * 3))
+
+    local tb = tube{r_outer = 2, r_inner = 1, h = 1}
+    assert(near(tb:volume(), 3 * pi))
+    counts(tb, 8, 12, 6, 2, 1)
+    assert(near(tube(2, 1, 1):volume(), 3 * pi))
+
+    -- Moved solids stay exact.
+    assert(near(sphere(1):translate(5, 0, 0):volume(), 4 / 3 * pi))
+    assert(near(sphere(1):rotate(30, {1, 1, 0}):volume(), 4 / 3 * pi))
+    assert(near(sphere(1):scale(2, 1, 1):volume(), 8 / 3 * pi, 1e-10))
+    assert(near(torus(2, 0.5):mirror({1, 0, 0}):volume(), pi * pi))
+    assert(torus(2, 0.5):mirror({1, 0, 0}):is_valid())
+    -- The mesh at the current tolerance is closed: is_valid on the triangles.
+    assert(s:triangles() > 100)
+  )");
+  INFO(r.err);
+  CHECK(r.status == 0);
+}
+
+TEST_CASE("curved solid arguments are checked", "[lua][curved][errors]") {
+  CHECK_THAT(run("sphere(-1)\n", "@e.lua").err, Catch::StartsWith("e.lua:1: bad argument #1 to 'sphere' (radius r must be positive"));
+  CHECK_THAT(run("sphere{r=1, centre={0,0,0}}\n", "@e.lua").err, Catch::Contains("unknown field 'centre'"));
+  CHECK_THAT(run("cylinder(1, 0)\n", "@e.lua").err, Catch::Contains("bad argument #2 to 'cylinder' (height h must be positive"));
+  CHECK_THAT(run("cone{r1=0, r2=0}\n", "@e.lua").err, Catch::Contains("not both 0"));
+  CHECK_THAT(run("torus{R=1, r=2}\n", "@e.lua").err, Catch::Contains("must be less than major radius"));
+  CHECK_THAT(run("tube{r_outer=1, r_inner=1}\n", "@e.lua").err, Catch::Contains("must be less than outer radius"));
+  CHECK_THAT(run("sphere(0/0)\n", "@e.lua").err, Catch::Contains("bad argument #1 to 'sphere'"));
+}
