@@ -221,10 +221,7 @@ std::string defect(const Mesh& m, const std::string& name, bool self) {
   parallel_for(0, s.tris.size(), [&](std::size_t t) {
     const auto& T = s.tris[t];
     double lo[3], hi[3];
-    for (int d = 0; d < 3; ++d) {
-      lo[d] = std::min({s.verts[T[0]][d], s.verts[T[1]][d], s.verts[T[2]][d]});
-      hi[d] = std::max({s.verts[T[0]][d], s.verts[T[1]][d], s.verts[T[2]][d]});
-    }
+    triangle_box(s, static_cast<u32>(t), lo, hi);
     bvh.query(lo, hi, [&](u32 u) {
       if (u <= t || !found[t].empty()) return;
       if (!triangles_clash(s, static_cast<u32>(t), u)) return;

@@ -22,13 +22,7 @@ float up(double x) {
   return static_cast<double>(f) < x ? std::nextafter(f, INFINITY) : f;
 }
 
-void tri_box(const Soup& s, u32 t, double lo[3], double hi[3]) {
-  for (int d = 0; d < 3; ++d) {
-    double a = s.verts[s.tris[t][0]][d], b = s.verts[s.tris[t][1]][d], c = s.verts[s.tris[t][2]][d];
-    lo[d] = std::min({a, b, c});
-    hi[d] = std::max({a, b, c});
-  }
-}
+void tri_box(const Soup& s, u32 t, double lo[3], double hi[3]) { triangle_box(s, t, lo, hi); }
 
 }  // namespace
 

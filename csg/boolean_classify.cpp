@@ -55,23 +55,6 @@ bool membership(BooleanOp op, const std::vector<char>& m) {
   return false;
 }
 
-class Dsu {
- public:
-  explicit Dsu(std::size_t n) : p_(n) { std::iota(p_.begin(), p_.end(), 0u); }
-  u32 find(u32 x) {
-    while (p_[x] != x) x = p_[x] = p_[p_[x]];
-    return x;
-  }
-  void unite(u32 a, u32 b) {
-    a = find(a);
-    b = find(b);
-    if (a != b) p_[std::max(a, b)] = std::min(a, b);
-  }
-
- private:
-  std::vector<u32> p_;
-};
-
 }  // namespace
 
 std::vector<std::int8_t> classify(const Points& pts, const Arrangement& arr, BooleanOp op) {

@@ -28,6 +28,7 @@
 //
 // Where rounding happens: only in output.cpp, once, when exact output vertices become doubles.
 #pragma once
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <vector>
@@ -56,6 +57,36 @@ struct Soup {
 Soup make_soup(const std::vector<const Mesh*>& meshes);
 // Whether triangles t and u meet anywhere but in the vertices or edge they share (exact).
 bool triangles_clash(const Soup& s, u32 t, u32 u);
+
+// The box of soup triangle t (exact: the min and max of its vertices).
+inline void triangle_box(const Soup& s, u32 t, double lo[3], double hi[3]) {
+  for (int d = 0; d < 3; ++d) {
+    double a = s.verts[s.tris[t][0]][d], b = s.verts[s.tris[t][1]][d], c = s.verts[s.tris[t][2]][d];
+    lo[d] = std::min(a, std::min(b, c));
+    hi[d] = std::max(a, std::max(b, c));
+  }
+}
+
+// Union-find over 0..n-1; a set's representative is its smallest member (so results do not
+// depend on the order of unions).
+class Dsu {
+ public:
+  explicit Dsu(std::size_t n) : p_(n) {
+    for (std::size_t i = 0; i < n; ++i) p_[i] = static_cast<u32>(i);
+  }
+  u32 find(u32 x) {
+    while (p_[x] != x) x = p_[x] = p_[p_[x]];
+    return x;
+  }
+  void unite(u32 a, u32 b) {
+    a = find(a);
+    b = find(b);
+    if (a != b) p_[std::max(a, b)] = std::min(a, b);
+  }
+
+ private:
+  std::vector<u32> p_;
+};
 
 // --- exact points and predicates (boolean_exact.cpp) ---
 struct Plane {

@@ -20,23 +20,6 @@ namespace wedge::boolean_detail {
 
 namespace {
 
-class Dsu {
- public:
-  explicit Dsu(std::size_t n) : p_(n) { std::iota(p_.begin(), p_.end(), 0u); }
-  u32 find(u32 x) {
-    while (p_[x] != x) x = p_[x] = p_[p_[x]];
-    return x;
-  }
-  void unite(u32 a, u32 b) {
-    a = find(a);
-    b = find(b);
-    if (a != b) p_[std::max(a, b)] = std::min(a, b);
-  }
-
- private:
-  std::vector<u32> p_;
-};
-
 // Removes triangles with a repeated vertex and positions no triangle uses (keeping the
 // per-triangle arrays in step).
 void compact(BooleanResult& r, std::vector<char>& moved) {
@@ -91,10 +74,7 @@ std::vector<u32> rounding_defects(const Mesh& m, const std::vector<char>& moved)
     }
     const auto& T = s.tris[t];
     double lo[3], hi[3];
-    for (int d = 0; d < 3; ++d) {
-      lo[d] = std::min({s.verts[T[0]][d], s.verts[T[1]][d], s.verts[T[2]][d]});
-      hi[d] = std::max({s.verts[T[0]][d], s.verts[T[1]][d], s.verts[T[2]][d]});
-    }
+    triangle_box(s, static_cast<u32>(t), lo, hi);
     bvh.query(lo, hi, [&](u32 u) {
       if (u != t && !bad[t] && triangles_clash(s, t, u)) bad[t] = 1;
     });
