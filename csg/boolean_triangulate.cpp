@@ -382,22 +382,18 @@ Arrangement arrange(Points& pts, const std::vector<std::array<u32, 2>>& pairs) {
     const PairCut& c = cuts[i];
     if (c.segs_t.empty() && c.segs_u.empty() && c.points.empty() && !c.coplanar) continue;
     u32 t = pairs[i][0], u = pairs[i][1];
-    for (const auto& s : c.segs_t) {
-      u32 a = intern(s.a), b = intern(s.b);
-      TriWork& w = wk(t);
-      w.segs.push_back({a, b});
-      w.cuts.push_back(s.cut);
-      w.points.push_back(a);
-      w.points.push_back(b);
-    }
-    for (const auto& s : c.segs_u) {
-      u32 a = intern(s.a), b = intern(s.b);
-      TriWork& w = wk(u);
-      w.segs.push_back({a, b});
-      w.cuts.push_back(s.cut);
-      w.points.push_back(a);
-      w.points.push_back(b);
-    }
+    auto add_segments = [&](const std::vector<Segment>& segs, u32 tri) {
+      for (const auto& s : segs) {
+        u32 a = intern(s.a), b = intern(s.b);
+        TriWork& w = wk(tri);
+        w.segs.push_back({a, b});
+        w.cuts.push_back(s.cut);
+        w.points.push_back(a);
+        w.points.push_back(b);
+      }
+    };
+    add_segments(c.segs_t, t);
+    add_segments(c.segs_u, u);
     for (const auto& p : c.points) {
       u32 id = intern(p);
       wk(t).points.push_back(id);
