@@ -484,9 +484,12 @@ Model revolve(const Section& s, double angle) {
 
 Model sweep_along(const Section& s, const CurvePtr& path) {
   if (!path) fail("sweep: no path");
-  if (path->closed()) fail("sweep: closed paths are not supported yet (the frames' twist at the joint)");
-  return oriented_sweep(s, false, [&](const CurvePtr& c) -> SurfacePtr { return std::make_shared<const SweptSurface>(c, path); },
-                        "sweep");
+  // A closed path gives a ring: the frames' holonomy is spread along it (SweptSurface), and the
+  // sweep closes on itself with no caps.
+  bool closed = path->closed();
+  return oriented_sweep(s, closed, [&](const CurvePtr& c) -> SurfacePtr {
+    return std::make_shared<const SweptSurface>(c, path, 512, closed);
+  }, "sweep");
 }
 
 Model loft(const std::vector<Section>& sections, const std::vector<double>& heights) {

@@ -594,6 +594,8 @@ Frame reflect_step(const Frame& f, const Point3& x1, const Vec3& t1) {
   return Frame{x1, t1, r1, t1.cross(r1)};
 }
 
+double angle_of(const Vec3& a, const Vec3& b) { return std::atan2(a.cross(b).norm(), a.dot(b)); }
+
 Vec3 path_tangent(const Curve& path, double t) {
   Vec3 d = path.tangent(t);
   if (d == Vec3::Zero()) fail("sweep path has no tangent at parameter ", t);
@@ -620,11 +622,26 @@ std::vector<Frame> rotation_minimizing_frames(const Curve& path, int count) {
   return frames;
 }
 
-SweptSurface::SweptSurface(CurvePtr profile, CurvePtr path, int frames) : profile_(std::move(profile)), path_(std::move(path)) {
+SweptSurface::SweptSurface(CurvePtr profile, CurvePtr path, int frames, bool close_frames)
+    : profile_(std::move(profile)), path_(std::move(path)) {
   if (!profile_ || !path_) fail("swept surface: missing profile or path");
   frames_ = rotation_minimizing_frames(*path_, frames);
   auto [a, b] = path_->domain();
   for (int i = 0; i < frames; ++i) params_.push_back(a + (b - a) * i / (frames - 1));
+  if (close_frames) {
+    const Frame& f0 = frames_.front();
+    const Frame& f1 = frames_.back();
+    double size = 0;
+    for (const Frame& f : frames_) size = std::max(size, (f.origin - f0.origin).norm());
+    if (!path_->closed() || (f1.origin - f0.origin).norm() > 1e-9 * std::max(size, 1e-300))
+      fail("sweep: the path is not closed");
+    if (angle_of(f0.t, f1.t) > 1e-6)
+      fail("sweep: a closed path must be smooth where it closes (its tangent turns by ", degrees(angle_of(f0.t, f1.t)),
+           " degrees there)");
+    // The end frame is the start frame turned by phi about t: turn the profile by -phi over v.
+    double phi = std::atan2(f1.r.dot(f0.s), f1.r.dot(f0.r));
+    twist_rate_ = -phi / (b - a);
+  }
 }
 
 Frame SweptSurface::frame(double v) const {
@@ -634,9 +651,16 @@ Frame SweptSurface::frame(double v) const {
   return reflect_step(frames_[i], path_->eval(v), path_tangent(*path_, v));
 }
 
+Vec3 SweptSurface::turned(double u, double v, int ku) const {
+  Vec3 p = ku == 0 ? Vec3(profile_->eval(u)) : profile_->derivative(u, ku);
+  if (twist_rate_ == 0) return p;
+  double th = twist_rate_ * (v - path_->domain().first), c = std::cos(th), s = std::sin(th);
+  return Vec3(c * p.x() - s * p.y(), s * p.x() + c * p.y(), p.z());
+}
+
 Point3 SweptSurface::eval(double u, double v) const {
   Frame f = frame(v);
-  Point3 p = profile_->eval(u);
+  Vec3 p = turned(u, v, 0);
   return f.origin + p.x() * f.r + p.y() * f.s + p.z() * f.t;
 }
 
@@ -645,10 +669,11 @@ Vec3 SweptSurface::derivative(double u, double v, int ku, int kv) const {
   Frame f = frame(v);
   if (kv == 0) {
     if (ku == 0) return eval(u, v);
-    Vec3 p = profile_->derivative(u, ku);
+    Vec3 p = turned(u, v, ku);
     return p.x() * f.r + p.y() * f.s + p.z() * f.t;
   }
-  // S = O + x(u) r + y(u) s + z(u) t. With L = |C'| and t = C'/L (primes: d/dv):
+  // S = O + X r + Y s + z t, (X, Y) the profile's (x, y) turned by w (v - v0) (w the twist rate;
+  // X' = -w Y, Y' = w X). With L = |C'| and t = C'/L (primes: d/dv):
   //   t' = (C2 - L1 t) / L with L1 = C2.t, and t'' = (C3 - L2 t - 2 L1 t') / L with L2 = C3.t + C2.t'
   // (Ck the k-th derivative of the path). A rotation-minimising frame does not turn about t, so
   // r' = -(r.t') t (and s likewise), and differentiating again (r'.t' = 0):
@@ -668,24 +693,21 @@ Vec3 SweptSurface::derivative(double u, double v, int ku, int kv) const {
   Vec3 t = d1 / L;
   double L1 = d2.dot(t);
   Vec3 t1 = (d2 - L1 * t) / L;
-  Vec3 O, r, s, tt;
+  Vec3 r1 = -f.r.dot(t1) * t, s1 = -f.s.dot(t1) * t;
+  Vec3 p = turned(u, v, ku);
+  double w = twist_rate_;
+  double X = p.x(), Y = p.y(), X1 = -w * Y, Y1 = w * X;
+  Vec3 d;
   if (kv == 1) {
-    O = d1;
-    tt = t1;
-    r = -f.r.dot(t1) * t;
-    s = -f.s.dot(t1) * t;
+    d = (ku == 0 ? d1 : Vec3::Zero()) + X * r1 + Y * s1 + p.z() * t1 + X1 * f.r + Y1 * f.s;
   } else {
     Vec3 d3 = path_->derivative(v, 3);
     double L2 = d3.dot(t) + d2.dot(t1);
     Vec3 t2 = (d3 - L2 * t - 2 * L1 * t1) / L;
-    O = d2;
-    tt = t2;
-    r = -f.r.dot(t2) * t - f.r.dot(t1) * t1;
-    s = -f.s.dot(t2) * t - f.s.dot(t1) * t1;
+    Vec3 r2 = -f.r.dot(t2) * t - f.r.dot(t1) * t1, s2 = -f.s.dot(t2) * t - f.s.dot(t1) * t1;
+    d = (ku == 0 ? d2 : Vec3::Zero()) + X * r2 + Y * s2 + p.z() * t2 + 2 * (X1 * r1 + Y1 * s1) - w * w * (X * f.r + Y * f.s);
   }
-  Vec3 p = ku == 0 ? Vec3(profile_->eval(u)) : profile_->derivative(u, ku);
-  Vec3 d = p.x() * r + p.y() * s + p.z() * tt;
-  return ku == 0 ? Vec3(O + d) : d;
+  return d;
 }
 
 // --- lofting ---

@@ -379,20 +379,29 @@ std::vector<Frame> rotation_minimizing_frames(const Curve& path, int count);
 // double-reflection step from the nearest precomputed frame, so it is continuous. The v
 // derivatives up to order 2 are analytic (the RMF does not turn about the tangent:
 // r' = -(r.t') t); higher orders are central differences of those.
+// `close_frames` (a closed, smooth path): the RMF comes back turned about the tangent by its
+// holonomy angle; the profile is turned against it linearly along v, so that S(u, v1) = S(u, v0)
+// and the swept surface closes into a ring. Throws if the path is not closed or has a corner
+// where it closes.
 class SweptSurface : public Surface {
  public:
-  SweptSurface(CurvePtr profile, CurvePtr path, int frames = 512);
+  SweptSurface(CurvePtr profile, CurvePtr path, int frames = 512, bool close_frames = false);
   std::pair<double, double> u_domain() const override { return profile_->domain(); }
   std::pair<double, double> v_domain() const override { return path_->domain(); }
   Point3 eval(double u, double v) const override;
   Vec3 derivative(double u, double v, int ku, int kv) const override;
   std::vector<double> u_breaks() const override { return profile_->breaks(); }
   Frame frame(double v) const;
+  // The turn of the profile per unit v (radians; 0 unless close_frames).
+  double twist_rate() const { return twist_rate_; }
 
  private:
   CurvePtr profile_, path_;
   std::vector<Frame> frames_;
   std::vector<double> params_;
+  double twist_rate_ = 0;
+  // The profile's point (or u-derivative of order ku) turned by the closing twist at v.
+  Vec3 turned(double u, double v, int ku) const;
 };
 
 // The skinned surface through section curves C_0..C_{n-1}: S(u, v) = sum_i C_i(u) N_i(v) with N_i
