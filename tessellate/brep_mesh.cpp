@@ -41,6 +41,8 @@ struct VInfo {
 using Vb = CGAL::Triangulation_vertex_base_with_info_2<VInfo, K>;
 struct FInfo {
   int depth = -1;   // nesting depth: odd inside the face
+  int blocked = -1;  // the refinement round in which a neighbour got a point
+  int seen = -1;     // the last round that queued it
   // The corners it had when it was found within the tolerances (a flip reuses a face with new
   // corners: then they differ and it is checked again).
   const void* ok[3] = {nullptr, nullptr, nullptr};
@@ -81,6 +83,29 @@ void mark_depth(CDT& cdt) {
   }
 }
 
+// The parameter (0: u, 1: v) along which the surface is a straight line everywhere (its second
+// derivative along it and the twist term vanish in the normal direction), or -1.
+int straight_axis(const Surface& S) {
+  auto [u0, u1] = S.u_domain();
+  auto [v0, v1] = S.v_domain();
+  double k[3] = {0, 0, 0}, scale = 0;
+  for (int i = 0; i <= 6; ++i)
+    for (int j = 0; j <= 6; ++j) {
+      double u = u0 + (u1 - u0) * (i + 0.5) / 7.0, v = v0 + (v1 - v0) * (j + 0.5) / 7.0;
+      Vec3 Su = S.derivative(u, v, 1, 0), Sv = S.derivative(u, v, 0, 1), n = Su.cross(Sv);
+      if (!(n.norm() > 0)) continue;
+      n.normalize();
+      k[0] = std::max(k[0], std::abs(S.derivative(u, v, 2, 0).dot(n)));
+      k[1] = std::max(k[1], std::abs(S.derivative(u, v, 0, 2).dot(n)));
+      k[2] = std::max(k[2], std::abs(S.derivative(u, v, 1, 1).dot(n)));
+      scale = std::max({scale, Su.norm() * Su.norm(), Sv.norm() * Sv.norm()});
+    }
+  double eps = 1e-12 * scale;
+  if (k[1] <= eps && k[2] <= eps && k[0] > eps) return 1;
+  if (k[0] <= eps && k[2] <= eps && k[1] > eps) return 0;
+  return -1;
+}
+
 struct EdgeSamples {
   std::vector<double> s;              // interior fractions of the parameter range, increasing
   std::vector<std::uint32_t> index;   // their mesh vertices
@@ -88,7 +113,16 @@ struct EdgeSamples {
 
 }  // namespace
 
-std::vector<double> curve_parameters(const Curve& c, const Tolerance& tol) {
+namespace {
+// As curve_parameters, and a stretch [a, b] is also split while `turns(a, b)` (the normals of
+// the faces along the edge turn by more than the angular tolerance between a and b).
+std::vector<double> edge_parameters(const Curve& c, const Tolerance& tol, const std::function<bool(double, double)>& turns);
+}  // namespace
+
+std::vector<double> curve_parameters(const Curve& c, const Tolerance& tol) { return edge_parameters(c, tol, nullptr); }
+
+namespace {
+std::vector<double> edge_parameters(const Curve& c, const Tolerance& tol, const std::function<bool(double, double)>& turns) {
   auto [t0, t1] = c.domain();
   std::vector<double> cuts{t0};
   for (double t : c.breaks())
@@ -108,6 +142,7 @@ std::vector<double> curve_parameters(const Curve& c, const Tolerance& tol) {
         if (seg_distance(q, pa, pb) > tol.chordal) split = true;
       }
       if (!split && angle_between(c.derivative(a, 1), c.derivative(b, 1)) > ang) split = true;
+      if (!split && turns && turns(a, b)) split = true;
     }
     if (split) {
       rec(a, m, pa, pm, depth + 1);
@@ -123,7 +158,7 @@ std::vector<double> curve_parameters(const Curve& c, const Tolerance& tol) {
     Point3 a = c.eval(cuts[i]), pm = c.eval(m), b = c.eval(cuts[i + 1]);
     bool straight = seg_distance(pm, a, b) <= 1e-12 * (a - b).norm() &&
                     seg_distance(c.eval(cuts[i] + 0.25 * (cuts[i + 1] - cuts[i])), a, b) <= 1e-12 * (a - b).norm();
-    if (straight) {
+    if (straight && !(turns && turns(cuts[i], cuts[i + 1]))) {
       out.push_back(cuts[i + 1]);
       continue;
     }
@@ -132,6 +167,7 @@ std::vector<double> curve_parameters(const Curve& c, const Tolerance& tol) {
   }
   return out;
 }
+}  // namespace
 
 Mesh tessellate(const Model& m, const Tolerance& tol_in) {
   Tolerance tol = tol_in;
@@ -141,15 +177,72 @@ Mesh tessellate(const Model& m, const Tolerance& tol_in) {
   std::unordered_map<std::int32_t, std::uint32_t> vindex;
   m.vertices().for_each([&](VertexId v, const BrepVertex&) { vindex[v.value] = out.add_vertex(m.point(v)); });
   std::unordered_map<std::int32_t, EdgeSamples> samples;
+  std::unordered_map<std::int32_t, std::vector<double>> fractions;  // interior points of curved edges
   m.edges().for_each([&](EdgeId e, const BrepEdge&) {
     if (std::holds_alternative<LineCurve>(m.curve(e))) return;
     CurvePtr c = m.edge_curve(e);
     auto [t0, t1] = c->domain();
-    std::vector<double> ts = curve_parameters(*c, tol);
+    // The faces on a ParamSurface along the edge: their normals must not turn by more than the
+    // angular tolerance between neighbouring points (a twisted face turns along a straight edge).
+    std::vector<std::pair<const ParamSurface*, const PCurve*>> along;
+    for (int side = 0; side < 2; ++side) {
+      EdgeSide es{e, side};
+      FaceId f = m.loops()[m.side(es).loop].face;
+      const PCurve* pc = m.pcurve(es);
+      if (auto* ps = std::get_if<ParamSurface>(&m.surface(f)); ps && pc) along.emplace_back(ps, pc);
+    }
+    double ang = radians(tol.angular);
+    auto turns = [&](double a, double b) {
+      for (const auto& [ps, pc] : along) {
+        Vec2 pa = pc->at((a - t0) / (t1 - t0)), pb = pc->at((b - t0) / (t1 - t0));
+        if (angle_between(ps->surface->normal(pa.x(), pa.y()), ps->surface->normal(pb.x(), pb.y())) > ang) return true;
+      }
+      return false;
+    };
+    std::vector<double> ts = along.empty() ? curve_parameters(*c, tol) : edge_parameters(*c, tol, turns);
+    std::vector<double>& fr = fractions[e.value];
+    for (std::size_t i = 1; i + 1 < ts.size(); ++i) fr.push_back((ts[i] - t0) / (t1 - t0));
+  });
+  // A face that is straight along one parameter (a cone frustum, a scaled extrusion, a ruled
+  // loft): its two curved borders get each other's points too, so that the triangles between
+  // them follow the rulings and need no points inside (otherwise a chord between points at
+  // different u cuts across the face and the refinement fills the face).
+  m.faces().for_each([&](FaceId f, const BrepFace& face) {
+    auto* ps = std::get_if<ParamSurface>(&m.surface(f));
+    if (!ps || !face.rings.empty()) return;
+    int straight = straight_axis(*ps->surface);
+    if (straight < 0) return;
+    int along = 1 - straight;  // the curved borders run along this parameter
+    std::vector<std::pair<EdgeSide, const PCurve*>> borders;
+    for (EdgeSide es : m.loop_sides(face.outer)) {
+      const PCurve* pc = m.pcurve(es);
+      if (pc && pc->start[straight] == pc->end[straight] && pc->start[along] != pc->end[along] && fractions.count(es.edge.value))
+        borders.emplace_back(es, pc);
+    }
+    if (borders.size() != 2) return;
+    std::vector<double> ps_all;
+    for (const auto& [es, pc] : borders)
+      for (double x : fractions[es.edge.value]) ps_all.push_back(pc->at(x)[along]);
+    for (const auto& [es, pc] : borders) {
+      std::vector<double>& fr = fractions[es.edge.value];
+      double a = pc->start[along], b = pc->end[along];
+      for (double x : ps_all) {
+        double t = (x - a) / (b - a);
+        if (t > 1e-9 && t < 1 - 1e-9) fr.push_back(t);
+      }
+      std::sort(fr.begin(), fr.end());
+      fr.erase(std::unique(fr.begin(), fr.end(), [](double p, double q) { return q - p < 1e-9; }), fr.end());
+    }
+  });
+  m.edges().for_each([&](EdgeId e, const BrepEdge&) {
+    auto it = fractions.find(e.value);
+    if (it == fractions.end()) return;
+    CurvePtr c = m.edge_curve(e);
+    auto [t0, t1] = c->domain();
     EdgeSamples& es = samples[e.value];
-    for (std::size_t i = 1; i + 1 < ts.size(); ++i) {
-      es.s.push_back((ts[i] - t0) / (t1 - t0));
-      es.index.push_back(out.add_vertex(c->eval(ts[i])));
+    for (double x : it->second) {
+      es.s.push_back(x);
+      es.index.push_back(out.add_vertex(c->eval(t0 + x * (t1 - t0))));
     }
   });
   // A side's points from its start (included) to its end (excluded), with their fractions s of
@@ -220,19 +313,46 @@ Mesh tessellate(const Model& m, const Tolerance& tol_in) {
     const Surface& S = *ps->surface;
     auto [u0, u1] = S.u_domain();
     auto [v0, v1] = S.v_domain();
-    // Scale of (u, v): the mean speeds of the surface along u and v.
-    double su = 0, sv = 0;
+    // The metric of (u, v): each axis is scaled by the number of chords per unit parameter that
+    // the tolerance needs along it, sqrt(k / (8 tol)) with k the largest normal curvature term
+    // (|Suu.n|, |Svv.n|, and |Suv.n| for twisted patches) over a grid of samples: a chord of
+    // parameter length d then deviates by about k d^2 / 8. A straight direction (a cylinder's or
+    // cone's rulings) needs no points inside, so its scale falls to the floor (one chord over the
+    // face's size) and Delaunay gives long triangles across it: counts then grow as 1/sqrt(tol)
+    // per curved edge, not 1/tol. Where neither direction bends (a flat patch), the mean speeds
+    // |Su|, |Sv| keep the plane isometric.
+    double su = 0, sv = 0, kuu = 0, kvv = 0, kuv = 0;
+    Box3 fbox;
     for (int i = 0; i <= 8; ++i)
       for (int j = 0; j <= 8; ++j) {
         double u = u0 + (u1 - u0) * (i + 0.5) / 9.0, v = v0 + (v1 - v0) * (j + 0.5) / 9.0;
-        su += S.derivative(u, v, 1, 0).norm();
-        sv += S.derivative(u, v, 0, 1).norm();
+        Vec3 Su = S.derivative(u, v, 1, 0), Sv = S.derivative(u, v, 0, 1);
+        su += Su.norm();
+        sv += Sv.norm();
+        fbox.extend(S.eval(u, v));
+        Vec3 n = Su.cross(Sv);
+        if (!(n.norm() > 0)) continue;
+        n.normalize();
+        kuu = std::max(kuu, std::abs(S.derivative(u, v, 2, 0).dot(n)));
+        kvv = std::max(kvv, std::abs(S.derivative(u, v, 0, 2).dot(n)));
+        kuv = std::max(kuv, std::abs(S.derivative(u, v, 1, 1).dot(n)));
       }
     su = su > 0 ? su / 81 : 1;
     sv = sv > 0 ? sv / 81 : 1;
+    {
+      double size = std::max(fbox.diagonal(), 1e-300);
+      double gu = std::sqrt(std::max(kuu, kuv) / (8 * tol.chordal)), gv = std::sqrt(std::max(kvv, kuv) / (8 * tol.chordal));
+      if (gu > 0 || gv > 0) {
+        su = std::max(gu, su / size);
+        sv = std::max(gv, sv / size);
+      }
+    }
     auto to_plane = [&](const Vec2& uv) { return K::Point_2(uv.x() * su, uv.y() * sv); };
 
     CDT cdt;
+    // The mesh vertices that are poles of this face, and the parameter along which each does not
+    // move: a pole's (u, v) stands for a whole stretch of the border.
+    std::unordered_map<std::uint32_t, int> pole_axis;
     struct LoopPt {
       std::uint32_t index;
       Vec2 uv;
@@ -273,6 +393,7 @@ Mesh tessellate(const Model& m, const Tolerance& tol_in) {
           int n = std::max(2, static_cast<int>(std::ceil(d.norm() / std::max(spacing, 1e-300))));
           n = std::min(n, 4096);
           int axis = std::abs(d.x()) >= std::abs(d.y()) ? 0 : 1;
+          pole_axis[pole] = axis;
           // The pole's corners at both ends of the stretch are the sides' own points; mark the
           // stretch's points, whose one parameter is free.
           for (int k = 1; k < n; ++k) pts.push_back({pole, a + (b - a) * (double(k) / n), axis});
@@ -288,74 +409,143 @@ Mesh tessellate(const Model& m, const Tolerance& tol_in) {
         if (hs[i] != hs[(i + 1) % hs.size()]) cdt.insert_constraint(hs[i], hs[(i + 1) % hs.size()]);
     }
     double sign = ps->reversed ? -1.0 : 1.0;
+    const double margin = straight_axis(S) >= 0 ? 1.0 : 0.8;
+    // How far the flat point p lies off the surface near S(uv): along the surface's normal there,
+    // so that a place of the flat triangle that maps to other parameters than the mean of its
+    // corners' (any chord that is not an iso-line) is not counted as an error.
+    auto off_surface = [&](const Vec2& uv, const Point3& p) {
+      Vec3 d = p - S.eval(uv.x(), uv.y());
+      Vec3 n = S.normal(uv.x(), uv.y());
+      return n.squaredNorm() > 0 ? std::abs(d.dot(n)) : d.norm();
+    };
     auto pos = [&](std::uint32_t i) -> const Point3& { return out.positions[i]; };
     double ang = radians(tol.angular);
     std::size_t budget = 4'000'000;
-    for (int round = 0; round < 400; ++round) {
-      mark_depth(cdt);
-      std::vector<Vec2> add;
-      for (auto fh = cdt.finite_faces_begin(); fh != cdt.finite_faces_end(); ++fh) {
+    // The faces to look at in a round: all of them first, then those around the points the last
+    // round added and around the triangles it held back. An insertion changes only triangles
+    // around the new point, and they inherit the depth of the triangle it fell in.
+    mark_depth(cdt);
+    std::vector<CDT::Face_handle> todo;
+    for (auto fh = cdt.finite_faces_begin(); fh != cdt.finite_faces_end(); ++fh) todo.push_back(fh);
+    std::vector<CDT::Vertex_handle> touched;
+    for (int round = 0; !todo.empty(); ++round) {
+      struct Add {
+        Vec2 at, centroid;  // the worst place, and the triangle's own centroid in (u, v)
+        CDT::Vertex_handle near;  // a corner, where the search for the place starts
+      };
+      std::vector<Add> add;
+      touched.clear();
+      // One point per neighbourhood and round: a triangle next to one that gets a point this
+      // round waits for the next round (the new point often fixes it too). Without this, the
+      // neighbours of one long edge each add a point beside it and the mesh ends up several times
+      // denser than the tolerance needs.
+      for (CDT::Face_handle fh : todo) {
+        if (cdt.is_infinite(fh)) continue;
         if (fh->info().depth % 2 != 1) continue;
+        if (fh->info().blocked == round) {
+          for (int k = 0; k < 3; ++k) touched.push_back(fh->vertex(k));
+          continue;
+        }
         const void* corners[3] = {&*fh->vertex(0), &*fh->vertex(1), &*fh->vertex(2)};
         if (std::equal(corners, corners + 3, fh->info().ok)) continue;
         VInfo e[3] = {fh->vertex(0)->info(), fh->vertex(1)->info(), fh->vertex(2)->info()};
         if (e[0].index == e[1].index || e[1].index == e[2].index || e[0].index == e[2].index) continue;
-        // A corner on a pole stands for the whole stretch: give it the others' mean along the
-        // free parameter, so that the triangle's parameters follow its fan in 3D.
+        auto axis_of = [&](const VInfo& x) {
+          auto it = pole_axis.find(x.index);
+          return it == pole_axis.end() ? -1 : it->second;
+        };
+        // A corner on a pole stands for the whole stretch: the straight segment from it to another
+        // corner is the image of the segment from that corner's own free parameter, and the
+        // centroid's free parameter is the others' mean.
+        Vec2 uvc = Vec2::Zero();
         for (int k = 0; k < 3; ++k) {
-          int ax = e[k].free_axis;
-          if (ax < 0) {
-            // The pole's own vertex at the stretch's ends: free along the axis of a pole it
-            // belongs to, if any corner of this triangle is on such a stretch.
-            continue;
-          }
-          double sum = 0;
-          int cnt = 0;
-          for (int j = 0; j < 3; ++j)
-            if (j != k && e[j].index != e[k].index) sum += e[j].uv[ax], ++cnt;
-          if (cnt) e[k].uv[ax] = sum / cnt;
+          Vec2 uv = e[k].uv;
+          int ax = axis_of(e[k]);
+          if (ax >= 0) uv[ax] = (e[(k + 1) % 3].uv[ax] + e[(k + 2) % 3].uv[ax]) / 2;
+          uvc += uv / 3;
         }
-        const VInfo* c[3] = {&e[0], &e[1], &e[2]};
         double worst = 0;
         Vec2 at = Vec2::Zero();
-        Vec2 uvc = (c[0]->uv + c[1]->uv + c[2]->uv) / 3;
-        Point3 pc = (pos(c[0]->index) + pos(c[1]->index) + pos(c[2]->index)) / 3;
-        double dc = (S.eval(uvc.x(), uvc.y()) - pc).norm();
+        Point3 pc = (pos(e[0].index) + pos(e[1].index) + pos(e[2].index)) / 3;
+        double dc = off_surface(uvc, pc);
         if (dc > worst) worst = dc, at = uvc;
+        bool angle_over = false;
         for (int k = 0; k < 3; ++k) {
+          // Constrained edges lie on the face's border: their points come from the edge's own
+          // discretisation (which holds both tolerances), and no point inside improves them.
           if (cdt.is_constrained(CDT::Edge(fh, k))) continue;
-          const VInfo* a = c[(k + 1) % 3];
-          const VInfo* b = c[(k + 2) % 3];
-          Vec2 uvm = (a->uv + b->uv) / 2;
-          double de = (S.eval(uvm.x(), uvm.y()) - (pos(a->index) + pos(b->index)) / 2).norm();
+          Vec2 a = e[(k + 1) % 3].uv, b = e[(k + 2) % 3].uv;
+          int axa = axis_of(e[(k + 1) % 3]), axb = axis_of(e[(k + 2) % 3]);
+          if (axa >= 0) a[axa] = b[axa];
+          if (axb >= 0) b[axb] = a[axb];
+          Vec2 uvm = (a + b) / 2;
+          double de = off_surface(uvm, (pos(e[(k + 1) % 3].index) + pos(e[(k + 2) % 3].index)) / 2);
           if (de > worst) worst = de, at = uvm;
+          if (!angle_over && angle_between(S.normal(a.x(), a.y()), S.normal(b.x(), b.y())) > ang) angle_over = true;
         }
         // The flat triangle's largest distance lies between the sampled points (at the
-        // circumcentre on a sphere): hold the samples to a margin below the tolerance.
-        bool over = worst > 0.8 * tol.chordal;
-        if (!over) {
-          Vec3 n0 = S.normal(c[0]->uv.x(), c[0]->uv.y()), n1 = S.normal(c[1]->uv.x(), c[1]->uv.y()),
-               n2 = S.normal(c[2]->uv.x(), c[2]->uv.y());
-          if (std::max({angle_between(n0, n1), angle_between(n1, n2), angle_between(n0, n2)}) > ang) {
-            over = true;
-            at = uvc;
-          }
+        // circumcentre on a sphere): hold the samples to a margin below the tolerance. On a face
+        // straight along one parameter the largest distance is that of the chords across the
+        // rulings, which the border's points (within the tolerance) already bound: no margin.
+        bool over = worst > margin * tol.chordal;
+        if (!over && angle_over) {
+          over = true;
+          at = uvc;
         }
-        if (over) add.push_back(at);
-        else std::copy(corners, corners + 3, fh->info().ok);
+        if (over) {
+          add.push_back({at, (e[0].uv + e[1].uv + e[2].uv) / 3, fh->vertex(0)});
+          for (int k = 0; k < 3; ++k) fh->neighbor(k)->info().blocked = round;
+        } else {
+          std::copy(corners, corners + 3, fh->info().ok);
+        }
       }
       if (add.empty()) break;
       if (out.positions.size() + add.size() > budget)
         fail("tessellate: face ", f.value, " needs more than ", budget, " points at tolerance ", tol.chordal);
-      for (const Vec2& uv : add) {
-        auto loc = to_plane(uv);
-        CDT::Locate_type lt;
-        int li;
-        auto fh = cdt.locate(loc, lt, li);
-        if (lt == CDT::VERTEX) continue;
-        if (lt == CDT::EDGE && cdt.is_constrained(CDT::Edge(fh, li))) continue;
-        auto h = cdt.insert(loc, fh);
-        h->info() = VInfo{out.add_vertex(S.eval(uv.x(), uv.y())), uv};
+      std::size_t inserted = 0;
+      const double eu = 1e-12 * (u1 - u0), ev = 1e-12 * (v1 - v0);
+      for (const Add& a : add) {
+        // A place on the border, on a vertex or outside the face cannot take a point: try the
+        // triangle's centroid in the plane instead (strictly inside it).
+        for (const Vec2& uv : {a.at, a.centroid}) {
+          if (!(uv.x() > u0 + eu && uv.x() < u1 - eu && uv.y() > v0 + ev && uv.y() < v1 - ev)) continue;
+          auto loc = to_plane(uv);
+          CDT::Locate_type lt;
+          int li;
+          auto fh = cdt.locate(loc, lt, li, a.near->face());
+          if (lt == CDT::VERTEX || lt == CDT::OUTSIDE_CONVEX_HULL || lt == CDT::OUTSIDE_AFFINE_HULL) continue;
+          if (lt == CDT::EDGE && cdt.is_constrained(CDT::Edge(fh, li))) continue;
+          int depth = fh->info().depth;
+          if (depth % 2 != 1) continue;
+          // Two places a rounding apart (the same midpoint reached from two triangles at a pole)
+          // would give a zero-area triangle: the second is not a new point.
+          double shortest = 1e300, nearest = 1e300;
+          for (int k = 0; k < 3; ++k) {
+            nearest = std::min(nearest, CGAL::squared_distance(loc, fh->vertex(k)->point()));
+            shortest = std::min(shortest, CGAL::squared_distance(fh->vertex(k)->point(), fh->vertex((k + 1) % 3)->point()));
+          }
+          if (nearest <= 1e-12 * shortest) continue;
+          auto h = cdt.insert(loc, fh);
+          h->info() = VInfo{out.add_vertex(S.eval(uv.x(), uv.y())), uv};
+          auto fc = cdt.incident_faces(h), done = fc;
+          do {
+            fc->info().depth = depth;
+          } while (++fc != done);
+          touched.push_back(h);
+          ++inserted;
+          break;
+        }
+      }
+      if (!inserted) break;  // nothing more can be placed (see the measured-error tests)
+      todo.clear();
+      for (CDT::Vertex_handle v : touched) {
+        auto fc = cdt.incident_faces(v), done = fc;
+        if (fc != nullptr) do {
+            if (fc->info().seen != round) {
+              fc->info().seen = round;
+              todo.push_back(fc);
+            }
+          } while (++fc != done);
       }
     }
     mark_depth(cdt);

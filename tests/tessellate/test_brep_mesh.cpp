@@ -70,6 +70,20 @@ std::vector<Case> cases() {
          return std::min(seg(q, {0, 0}, {1, 0}), seg(q, {1, 0}, {0, 2}));
        },
        0, pi * 2 / 3},
+      // The builders: a full revolve of the rectangle [1, 2] x [0, 1] (a ring with a square
+      // section), a disc swept around a closed circle (the torus again, through the swept surface
+      // and its closing twist), and a twisted, scaled square (no closed-form distance: its
+      // measured error is checked against a finer mesh's vertices, which lie on the surface).
+      {"revolved rectangle", [] { return revolve(section_of(Profile{{{1, 0}, {2, 0}, {2, 1}, {1, 1}}, {}}), 2 * kPi); },
+       [](const Point3& p) {
+         double dr = std::abs(std::hypot(p.x(), p.y()) - 1.5) - 0.5, dz = std::abs(p.z() - 0.5) - 0.5;
+         return std::abs(std::hypot(std::max(dr, 0.0), std::max(dz, 0.0)) + std::min(std::max(dr, dz), 0.0));
+       },
+       1, pi * 3},
+      {"closed sweep", [] {
+         return sweep_along(Section{circle_loop(Vec2::Zero(), 0.5), {}}, std::make_shared<const CircularArc>(Point3::Zero(), 2, 0.0, 2 * kPi));
+       },
+       [](const Point3& p) { return std::abs(std::hypot(std::hypot(p.x(), p.y()) - 2, p.z()) - 0.5); }, 1, 2 * pi * pi * 2 * 0.25},
   };
 }
 
@@ -107,4 +121,72 @@ TEST_CASE("points along a curved edge grow as 1/sqrt(tolerance)", "[tessellate][
   CHECK(n2 >= kPi / std::sqrt(2e-2));
   CHECK(n4 >= kPi / std::sqrt(2e-4));
   CHECK(n4 / n2 == Approx(10).epsilon(0.35));
+}
+
+TEST_CASE("a ruled face gets no points inside: cylinder and cone counts grow as 1/sqrt(tol), not 1/tol", "[tessellate][curved]") {
+  // Along a cylinder's or cone's rulings the surface is straight: triangles run from one circle to
+  // the other (or to the apex), so the count is proportional to the points on the circles.
+  for (const Model& m : {cylinder(1, 2), cone(1, 0, 2), cone(1.5, 0.5, 2)}) {
+    std::vector<double> n;
+    for (double tol : {1e-3, 1e-5}) {
+      Tolerance t;
+      t.chordal = tol;
+      t.angular = 180;
+      n.push_back(static_cast<double>(tessellate(m, t).triangles.size()));
+    }
+    INFO(n[0] << " and " << n[1] << " triangles");
+    CHECK(n[1] / n[0] == Approx(10).epsilon(0.35));
+    // A circle of radius r needs about pi / sqrt(2 tol / r) chords; two triangles per chord on
+    // the side and about one per chord on each cap; a frustum's circles also take each other's
+    // points (at most twice as many).
+    CHECK(n[1] < 2 * 4 * kPi / std::sqrt(2e-5 / 1.5) + 100);
+  }
+}
+
+TEST_CASE("a twisted, scaled extrusion tessellates closed, inside the tolerance", "[tessellate][curved]") {
+  Model m = extrude(section_of(Profile{{{-1, -1}, {1, -1}, {1, 1}, {-1, 1}}, {}}), 2, 1.5, 0.5);
+  double exact = m.mass_properties().volume;
+  Tolerance fine;
+  fine.chordal = 1e-4;
+  Mesh ref = tessellate(m, fine);
+  for (double tol : {1e-2, 1e-3}) {
+    INFO("tolerance " << tol);
+    Tolerance t;
+    t.chordal = tol;
+    Mesh mesh = tessellate(m, t);
+    EulerCounts ec = euler_counts(mesh);
+    CHECK(ec.S == 1);
+    CHECK(ec.H == 0);
+    CHECK(min_area(mesh) > 0);
+    CHECK(std::abs(mesh.volume() - exact) <= 10 * tol * exact);
+    // The fine mesh's vertices lie on the exact surface: none is farther than tol from the coarse
+    // mesh (the distance from a surface point to the flat triangles, the other side of the error).
+    double worst = 0;
+    for (std::size_t i = 0; i < ref.positions.size(); i += 13) {
+      double d = 1e300;
+      for (const auto& tr : mesh.triangles) {
+        const Point3 &a = mesh.positions[tr[0]], &b = mesh.positions[tr[1]], &c = mesh.positions[tr[2]];
+        Vec3 n = (b - a).cross(c - a);
+        double l = n.norm();
+        if (!(l > 0)) continue;
+        n /= l;
+        Point3 q = ref.positions[i] - n.dot(ref.positions[i] - a) * n;  // projection on the plane
+        auto inside = [&](const Point3& p0, const Point3& p1) { return (p1 - p0).cross(q - p0).dot(n) >= 0; };
+        double dist;
+        if (inside(a, b) && inside(b, c) && inside(c, a)) {
+          dist = std::abs(n.dot(ref.positions[i] - a));
+        } else {
+          auto seg = [&](const Point3& p0, const Point3& p1) {
+            Vec3 d01 = p1 - p0;
+            double s = std::clamp((ref.positions[i] - p0).dot(d01) / d01.squaredNorm(), 0.0, 1.0);
+            return (ref.positions[i] - (p0 + s * d01)).norm();
+          };
+          dist = std::min({seg(a, b), seg(b, c), seg(c, a)});
+        }
+        d = std::min(d, dist);
+      }
+      worst = std::max(worst, d);
+    }
+    CHECK(worst <= tol);
+  }
 }
