@@ -178,9 +178,12 @@ int extrude_fn(lua_State* L) {
       push_solid(L, brep_solid(build(1, [&] { return extrude(s, h, radians(twist), k); })));
     } else if (k == 1) {
       push_solid(L, prism_solid(p, h));
-    } else {
-      if (!p.holes.empty()) throw ArgError{3, "a scaled extrude of a profile with holes is not supported yet"};
+    } else if (p.holes.empty()) {
       push_solid(L, brep_solid(frustum(p.outer, h, k, Vec2::Zero())));
+    } else {
+      // Holes scale with the outer ring: the exact sweep (planar sides on the scaled extrusion).
+      Section s = check_section(L, 1);
+      push_solid(L, brep_solid(build(1, [&] { return extrude(s, h, 0, k); })));
     }
     return 1;
   });

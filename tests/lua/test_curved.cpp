@@ -69,6 +69,16 @@ TEST_CASE("sphere, cylinder, cone, torus and tube from Lua are exact", "[lua][cu
     assert(torus(2, 0.5):mirror({1, 0, 0}):is_valid())
     -- The mesh at the current tolerance is closed: is_valid on the triangles.
     assert(s:triangles() > 100)
+
+    -- A polygon with a hole, scaled: the frustum of the ring, V = h (A_outer - A_hole) (1 + k + k^2) / 3.
+    local holed = polygon{outer = {{-2, -2}, {2, -2}, {2, 2}, {-2, 2}}, holes = {{{-1, -1}, {-1, 1}, {1, 1}, {1, -1}}}}
+    local sh = extrude(holed, 3, {scale = 0.5})
+    assert(near(sh:volume(), 3 * 12 * 1.75 / 3, 1e-9), sh:volume())
+    counts(sh, 16, 24, 10, 2, 1)
+    -- A sweep along a closed circle is the torus.
+    local ring = sweep(circle(0.5), circle(2))
+    assert(near(ring:volume(), 2 * pi * pi * 2 * 0.25, 1e-7), ring:volume())
+    counts(ring, 4, 6, 2, 0, 1)
   )");
   INFO(r.err);
   CHECK(r.status == 0);
