@@ -246,13 +246,14 @@ std::string operand_name(std::size_t i, std::size_t n) {
 
 std::string mesh_solid_defect(const Mesh& mesh, const std::string& name) { return defect(mesh, name, true); }
 
-BooleanResult boolean(BooleanOp op, const std::vector<const Mesh*>& operands, BooleanStats* stats) {
+BooleanResult boolean(BooleanOp op, const std::vector<const Mesh*>& operands, BooleanStats* stats, const CancelCheck* cancel) {
   using Clock = std::chrono::steady_clock;
   auto t0 = Clock::now();
   auto lap = [&](double BooleanStats::*field) {
     auto t = Clock::now();
     if (stats) stats->*field = std::chrono::duration<double, std::milli>(t - t0).count();
     t0 = t;
+    if (cancel && *cancel && (*cancel)()) throw Cancelled();
   };
   if (operands.empty()) fail("boolean: no operands");
   for (std::size_t i = 0; i < operands.size(); ++i)

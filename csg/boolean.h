@@ -5,9 +5,11 @@
 // csg/boolean_impl.h, which opens with the notation.
 #pragma once
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
+#include "kernel/error.h"
 #include "kernel/mesh.h"
 
 namespace wedge {
@@ -32,11 +34,20 @@ struct BooleanStats {
   std::size_t pairs = 0, pieces = 0;
 };
 
+// Thrown when an evaluation is cancelled (boolean()'s `cancel`, Solid evaluation's EvalControl).
+class Cancelled : public Error {
+ public:
+  Cancelled() : Error("cancelled") {}
+};
+using CancelCheck = std::function<bool()>;
+
 // The boolean of `operands` (union and intersection of all of them in one pass; difference is
 // operands[0] minus all the others). Throws wedge::Error naming the operand and the first
 // offending spot if an operand is not closed, not 2-manifold, inside out, has a zero-area triangle
 // or intersects itself. Runs on TBB's threads; the result is the same bits at any thread count.
-BooleanResult boolean(BooleanOp op, const std::vector<const Mesh*>& operands, BooleanStats* stats = nullptr);
+// `cancel`, if given, is polled between stages; when it returns true, boolean() throws Cancelled.
+BooleanResult boolean(BooleanOp op, const std::vector<const Mesh*>& operands, BooleanStats* stats = nullptr,
+                      const CancelCheck* cancel = nullptr);
 // The two-operand shorthand: boolean(op, {&a, &b}).mesh.
 Mesh boolean(BooleanOp op, const Mesh& a, const Mesh& b);
 
