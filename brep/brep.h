@@ -85,6 +85,9 @@ struct CylinderSurface {
 struct ParamSurface {
   SurfacePtr surface;
   bool reversed = false;
+  // What the surface is, in the words of s:faces(): "sphere", "cylinder", "cone", "torus",
+  // "revolved", "extruded", "swept", "lofted", "nurbs" (set by the builder that made the face).
+  std::string kind;
 };
 using FaceSurface = std::variant<NoSurface, PlaneSurface, CylinderSurface, ParamSurface>;
 
@@ -347,8 +350,10 @@ Model frustum(const std::vector<Vec2>& base, double height, double top_scale, co
 // A closed 2-manifold polyhedron from points and faces (0-based indices, each face
 // counter-clockwise seen from outside). Rejects open or non-manifold input, inconsistent
 // orientation, repeated or unused indices, with a message naming the edge, vertex or face.
-// Any genus; each connected component becomes a shell.
-Model polyhedron(const std::vector<Point3>& points, const std::vector<std::vector<int>>& faces);
+// Any genus; each connected component becomes a shell. face_of, if given, receives the model face
+// of each input face.
+Model polyhedron(const std::vector<Point3>& points, const std::vector<std::vector<int>>& faces,
+                 std::vector<FaceId>* face_of = nullptr);
 
 // Sweeps face f of m by d (Mäntylä's translational sweep, through mev and mef only): every
 // loop of f gets a side wall; f ends up moved by d. Side faces of arcs get cylinders.

@@ -17,6 +17,7 @@
 #include <unordered_map>
 
 #include "brep/brep.h"
+#include "brep/polyhedron_topology.h"
 
 namespace wedge {
 
@@ -314,7 +315,22 @@ Model frustum(const std::vector<Vec2>& base_in, double height, double top_scale,
   return polyhedron(pts, faces);
 }
 
-Model polyhedron(const std::vector<Point3>& points, const std::vector<std::vector<int>>& faces) {
+namespace {
+Model build_polyhedron(const std::vector<Point3>& points, const std::vector<std::vector<int>>& faces, std::vector<FaceId>* face_of,
+                       bool geometry);
+}  // namespace
+
+Model polyhedron(const std::vector<Point3>& points, const std::vector<std::vector<int>>& faces, std::vector<FaceId>* face_of) {
+  return build_polyhedron(points, faces, face_of, true);
+}
+
+Model polyhedron_topology(const std::vector<Point3>& points, const std::vector<std::vector<int>>& faces, std::vector<FaceId>* face_of) {
+  return build_polyhedron(points, faces, face_of, false);
+}
+
+namespace {
+Model build_polyhedron(const std::vector<Point3>& points, const std::vector<std::vector<int>>& faces, std::vector<FaceId>* face_of,
+                       bool geometry) {
   const int np = static_cast<int>(points.size());
   if (faces.empty()) fail("polyhedron: no faces");
   for (int i = 0; i < np; ++i)
@@ -460,6 +476,7 @@ Model polyhedron(const std::vector<Point3>& points, const std::vector<std::vecto
       half[key(b, a)] = EdgeSide{e, 1};
     }
   // Each input face is now one face; give it its plane (Newell normal, centroid).
+  if (face_of) face_of->clear();
   if (m.faces().size() != faces.size())
     fail("polyhedron: the faces do not form closed 2-manifold surfaces (", m.faces().size(), " faces built from ", faces.size(), ")");
   for (std::size_t fi = 0; fi < faces.size(); ++fi) {
@@ -475,13 +492,18 @@ Model polyhedron(const std::vector<Point3>& points, const std::vector<std::vecto
       n += p.cross(points[static_cast<std::size_t>(f[(k + 1) % f.size()])]);
       c += p;
     }
-    if (n.norm() == 0) fail("polyhedron: face ", fi + 1, " has zero area");
-    m.set_surface(face, PlaneSurface{c / static_cast<double>(f.size()), n.normalized()});
+    if (n.norm() == 0) {
+      if (geometry) fail("polyhedron: face ", fi + 1, " has zero area");
+    } else {
+      m.set_surface(face, PlaneSurface{c / static_cast<double>(f.size()), n.normalized()});
+    }
+    if (face_of) face_of->push_back(face);
   }
-  Validation v = m.validate();
+  Validation v = m.validate(geometry);
   if (!v) fail("polyhedron: ", v.message);
   return m;
 }
+}  // namespace
 
 Model worked_example(std::vector<FeatureRow>* rows) {
   Model m = box(Vec3(10, 8, 4));

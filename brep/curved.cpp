@@ -296,7 +296,7 @@ Model sweep_raw(const std::vector<std::vector<SurfacePtr>>& sides, bool closed) 
       }
       sidef[k][j] = static_cast<int>(sp.faces.size());
       sp.faces.push_back(std::move(L));
-      face_geo.push_back(ParamSurface{sides[k][j], false});
+      face_geo.push_back(ParamSurface{sides[k][j], false, {}});
     }
   }
   if (!closed) {
@@ -417,6 +417,17 @@ Model oriented_sweep(const Section& s0, bool closed, MakeSide make, const char* 
   fail(what, ": the swept solid encloses no volume");
 }
 
+// Names every curved face of m as s:faces() reports it.
+Model named(Model m, const char* kind) {
+  for (FaceId f : m.faces().ids())
+    if (auto* ps = std::get_if<ParamSurface>(&m.surface(f))) {
+      ParamSurface named_surface = *ps;
+      named_surface.kind = kind;
+      m.set_surface(f, named_surface);
+    }
+  return m;
+}
+
 }  // namespace
 
 Model sweep_sides(const std::vector<std::vector<SurfacePtr>>& sides, bool closed) {
@@ -460,9 +471,9 @@ Model extrude(const Section& s, double h, double twist, double scale) {
   require_positive(h, "extrude height");
   if (!std::isfinite(twist)) fail("extrude: twist is not finite");
   if (!(scale >= 0) || !std::isfinite(scale)) fail("extrude: scale must be >= 0, got ", scale);
-  return oriented_sweep(s, false, [&](const CurvePtr& c) -> SurfacePtr {
+  return named(oriented_sweep(s, false, [&](const CurvePtr& c) -> SurfacePtr {
     return std::make_shared<const TwistedExtrusionSurface>(c, h, twist, scale);
-  }, "extrude");
+  }, "extrude"), "extruded");
 }
 
 Model revolve(const Section& s, double angle) {
@@ -478,8 +489,8 @@ Model revolve(const Section& s, double angle) {
   for (const auto& h : s.holes) check_x(h);
   bool full = angle >= 2 * kPi * (1 - 1e-12);
   double a = full ? 2 * kPi : angle;
-  return oriented_sweep(s, full, [&](const CurvePtr& c) -> SurfacePtr { return std::make_shared<const RevolutionSurface>(c, a); },
-                        "revolve");
+  return named(oriented_sweep(s, full, [&](const CurvePtr& c) -> SurfacePtr { return std::make_shared<const RevolutionSurface>(c, a); },
+                              "revolve"), "revolved");
 }
 
 Model sweep_along(const Section& s, const CurvePtr& path) {
@@ -487,9 +498,9 @@ Model sweep_along(const Section& s, const CurvePtr& path) {
   // A closed path gives a ring: the frames' holonomy is spread along it (SweptSurface), and the
   // sweep closes on itself with no caps.
   bool closed = path->closed();
-  return oriented_sweep(s, closed, [&](const CurvePtr& c) -> SurfacePtr {
+  return named(oriented_sweep(s, closed, [&](const CurvePtr& c) -> SurfacePtr {
     return std::make_shared<const SweptSurface>(c, path, 512, closed);
-  }, "sweep");
+  }, "sweep"), "swept");
 }
 
 Model loft(const std::vector<Section>& sections, const std::vector<double>& heights) {
@@ -524,7 +535,7 @@ Model loft(const std::vector<Section>& sections, const std::vector<double>& heig
   Model m = sweep_raw(sides, false);
   Validation v = m.validate();
   if (!v) fail("loft: the result is not a valid solid: ", v.message);
-  return m;
+  return named(std::move(m), "lofted");
 }
 
 Model sphere(double r, const Point3& c) {
@@ -534,7 +545,7 @@ Model sphere(double r, const Point3& c) {
             {}};
   Model m = revolve(s, 2 * kPi);
   if (c != Point3::Zero()) m.transform(translate(c));
-  return m;
+  return named(std::move(m), "sphere");
 }
 
 Model cylinder(double r, double h, const Point3& base) {
@@ -542,7 +553,7 @@ Model cylinder(double r, double h, const Point3& base) {
   require_positive(h, "cylinder height");
   Model m = extrude(Section{circle_loop(Vec2::Zero(), r), {}}, h);
   if (base != Point3::Zero()) m.transform(translate(base));
-  return m;
+  return named(std::move(m), "cylinder");
 }
 
 Model cone(double r1, double r2, double h, const Point3& base) {
@@ -558,7 +569,7 @@ Model cone(double r1, double r2, double h, const Point3& base) {
     m.transform(translate(Vec3(0, 0, h)) * rotate_x(180));
   }
   if (base != Point3::Zero()) m.transform(translate(base));
-  return m;
+  return named(std::move(m), "cone");
 }
 
 Model torus(double R, double r, const Point3& c) {
@@ -567,7 +578,7 @@ Model torus(double R, double r, const Point3& c) {
   if (!(r < R)) fail("torus: the minor radius r (", r, ") must be less than the major radius R (", R, ")");
   Model m = revolve(Section{circle_loop(Vec2(R, 0), r), {}}, 2 * kPi);
   if (c != Point3::Zero()) m.transform(translate(c));
-  return m;
+  return named(std::move(m), "torus");
 }
 
 Model tube(double ro, double ri, double h, const Point3& base) {
@@ -577,7 +588,7 @@ Model tube(double ro, double ri, double h, const Point3& base) {
   if (!(ri < ro)) fail("tube: the inner radius (", ri, ") must be less than the outer radius (", ro, ")");
   Model m = extrude(Section{circle_loop(Vec2::Zero(), ro), {circle_loop(Vec2::Zero(), ri)}}, h);
   if (base != Point3::Zero()) m.transform(translate(base));
-  return m;
+  return named(std::move(m), "cylinder");
 }
 
 }  // namespace wedge
