@@ -45,4 +45,22 @@ std::shared_ptr<const SolidLeaf> BrepLeaf::transformed(const Mat4& m) const {
 
 Mesh BrepLeaf::mesh(const Tolerance& tol) const { return tessellate(*model_, tol); }
 
+// The surface kind of a B-Rep face, as s:faces() names it.
+std::string surface_kind(const FaceSurface& fs) {
+  if (std::holds_alternative<CylinderSurface>(fs)) return "cylinder";
+  if (auto* ps = std::get_if<ParamSurface>(&fs)) {
+    if (!ps->kind.empty()) return ps->kind;
+    if (dynamic_cast<const NurbsSurface*>(ps->surface.get())) return "nurbs";
+    if (dynamic_cast<const Plane*>(ps->surface.get())) return "plane";
+    return "swept";
+  }
+  return "plane";
+}
+
+std::vector<std::string> BrepLeaf::face_kinds() const {
+  std::vector<std::string> kinds(model_->faces().capacity(), "plane");
+  model_->faces().for_each([&](FaceId f, const BrepFace&) { kinds[static_cast<std::size_t>(f.value)] = surface_kind(model_->surface(f)); });
+  return kinds;
+}
+
 }  // namespace wedge

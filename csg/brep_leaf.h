@@ -21,11 +21,17 @@ class BrepLeaf final : public SolidLeaf {
   std::optional<EulerCounts> euler() const override { return model_->counts(); }
   std::string validate() const override { return model_->validate().message; }
   std::shared_ptr<const SolidLeaf> transformed(const Mat4& m) const override;
+  std::vector<std::string> face_kinds() const override;
+  bool polyhedral() const override { return model_->all_planar() && !model_->has_param_faces(); }
   const Model& model() const { return *model_; }
 
  private:
   std::shared_ptr<const Model> model_;
 };
+
+// The kind of a face's surface as s:faces() names it: "plane", "cylinder", or a curved builder's
+// name ("sphere", "torus", "revolved", ...); "nurbs" for an unnamed NURBS patch.
+std::string surface_kind(const FaceSurface& surface);
 
 // A Solid whose leaf is the model (validated).
 Solid brep_solid(Model model);

@@ -5,7 +5,19 @@
 #include <cmath>
 #include <map>
 #include <mutex>
+#include <set>
+#include <unordered_map>
+#include <atomic>
+#include <chrono>
+
+#include <tbb/task_arena.h>
+
+#include "csg/brep_leaf.h"
+#include "kernel/parallel.h"
+#include "kernel/predicates.h"
 #include <numeric>
+
+#include <Eigen/Eigenvalues>
 
 namespace wedge {
 
@@ -129,34 +141,432 @@ std::shared_ptr<const SolidLeaf> MeshLeaf::transformed(const Mat4& m) const {
 }
 
 // --- the CSG tree ---
+//
+// Evaluation. Every node keeps its evaluated result per tolerance (chordal, angular): the mesh, its
+// face ids numbering the node's faces, and each face's surface kind; the winged-edge solid rebuilt
+// from it is made on demand and kept beside it. A subtree shared by several parents is a shared
+// node, so it is evaluated once. A boolean node evaluates its operands (in parallel on TBB's
+// threads, each in an isolated task arena so that a thread waiting for a shared node never runs a
+// task that waits for it too), prunes by bounding boxes, and calls the engine once per group of
+// operands whose boxes overlap. Cancel and progress go through the installed EvalControl.
 
 namespace {
 // The largest stretch a transform applies to any direction (its spectral norm, bounded above by
 // the Frobenius norm of the linear part, which is cheap and safe for choosing tolerances).
-double m_norm(const Mat4& m) { return m.block<3, 3>(0, 0).norm(); }
+double m_norm(const Mat4& m) {
+  // sqrt of the largest eigenvalue of A^T A: exactly 1 for a rotation or a translation, so that a
+  // moved copy of a shared subtree asks for it at the same tolerance and shares its cache entry.
+  const Mat3 a = m.block<3, 3>(0, 0);
+  const double s = std::sqrt(Eigen::SelfAdjointEigenSolver<Mat3>(a.transpose() * a, Eigen::EigenvaluesOnly).eigenvalues().maxCoeff());
+  return std::abs(s - 1) < 1e-9 ? 1.0 : s;
+}
+
+// A box that holds the solid under n, found without evaluating any boolean (for checks that must
+// not force an evaluation).
+Box3 loose_bounds(const std::shared_ptr<const Solid::Node>& n);
+
+std::atomic<const EvalControl*> g_control{nullptr};
+std::mutex g_options_mutex;
+EvalOptions g_options;
+
+EvalOptions options() {
+  std::lock_guard<std::mutex> lock(g_options_mutex);
+  return g_options;
+}
+
+// Face ids for a mesh without its own: the connected regions of exactly coplanar, like-facing
+// triangles (orient3d of the neighbour's far corner is zero). Returns the region count.
+std::size_t planar_regions(Mesh& mesh) {
+  Mesh w = mesh.welded();
+  const std::size_t n = w.triangles.size();
+  std::unordered_map<std::uint64_t, std::uint32_t> edge_tri;  // directed edge -> triangle
+  edge_tri.reserve(n * 3);
+  for (std::uint32_t t = 0; t < n; ++t)
+    for (int k = 0; k < 3; ++k) edge_tri[std::uint64_t(w.triangles[t][k]) << 32 | w.triangles[t][(k + 1) % 3]] = t;
+  std::vector<std::int32_t> region(n, -1);
+  std::int32_t count = 0;
+  for (std::uint32_t seed = 0; seed < n; ++seed) {
+    if (region[seed] >= 0) continue;
+    std::vector<std::uint32_t> stack{seed};
+    region[seed] = count;
+    const auto& S = w.triangles[seed];
+    const Point3 &a = w.positions[S[0]], &b = w.positions[S[1]], &c = w.positions[S[2]];
+    const Vec3 ns = (b - a).cross(c - a);
+    while (!stack.empty()) {
+      std::uint32_t t = stack.back();
+      stack.pop_back();
+      const auto& T = w.triangles[t];
+      for (int k = 0; k < 3; ++k) {
+        auto it = edge_tri.find(std::uint64_t(T[(k + 1) % 3]) << 32 | T[k]);
+        if (it == edge_tri.end() || region[it->second] >= 0) continue;
+        const auto& U = w.triangles[it->second];
+        bool flat = true;
+        for (int j = 0; j < 3 && flat; ++j) flat = orient3d(a, b, c, w.positions[U[j]]) == 0;
+        const Vec3 nu = (w.positions[U[1]] - w.positions[U[0]]).cross(w.positions[U[2]] - w.positions[U[0]]);
+        if (!flat || ns.dot(nu) <= 0) continue;
+        region[it->second] = count;
+        stack.push_back(it->second);
+      }
+    }
+    ++count;
+  }
+  mesh.face_ids.assign(region.begin(), region.end());
+  return static_cast<std::size_t>(count);
+}
+
+double elapsed_ms(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
 }  // namespace
+
+void set_eval_control(const EvalControl* control) { g_control.store(control); }
+
+void set_eval_options(const EvalOptions& o) {
+  std::lock_guard<std::mutex> lock(g_options_mutex);
+  g_options = o;
+}
+
+// A node's result at one tolerance.
+struct Evaluated {
+  Mesh mesh;                       // face_ids index kinds
+  std::vector<std::string> kinds;  // surface kind per face id
+  std::vector<int> tags;           // tag per face id (-1: none)
+  std::mutex rebuild_mutex;
+  std::shared_ptr<const RebuiltSolid> rebuilt;
+};
 
 struct Solid::Node {
   enum class Kind { Empty, Leaf, Transform, Boolean } kind = Kind::Empty;
   std::shared_ptr<const SolidLeaf> leaf;
   Mat4 matrix = Mat4::Identity();
   std::shared_ptr<const Node> child;
-  // Boolean: the operation, its operands, and the evaluated meshes by chordal tolerance.
   BooleanOp op = BooleanOp::Union;
   std::vector<std::shared_ptr<const Node>> operands;
+  int tag = -1;  // Solid::tagged
+  // The evaluated results by (chordal, angular) tolerance. A slot's own mutex is held while it is
+  // computed, so a second caller waits for the first instead of computing it again.
+  struct Slot {
+    std::mutex mutex;
+    std::shared_ptr<Evaluated> value;
+  };
   mutable std::mutex cache_mutex;
-  mutable std::map<std::pair<double, double>, std::shared_ptr<const Mesh>> cache;
+  mutable std::map<std::pair<double, double>, std::shared_ptr<Slot>> cache;
 
   Node() = default;
-  Node(const Node& o) : kind(o.kind), leaf(o.leaf), matrix(o.matrix), child(o.child), op(o.op), operands(o.operands) {}
+  Node(const Node& o)
+      : kind(o.kind), leaf(o.leaf), matrix(o.matrix), child(o.child), op(o.op), operands(o.operands), tag(o.tag) {}
 };
+
+namespace {
+
+using NodePtr = std::shared_ptr<const Solid::Node>;
+
+// One evaluation from a public entry point: the control, and the count of boolean nodes for the
+// progress callback.
+struct Run {
+  const EvalControl* control = nullptr;
+  EvalOptions options;
+  std::size_t total = 0;
+  std::atomic<std::size_t> done{0};
+  std::mutex stats_mutex;
+  CancelCheck cancel;
+
+  void check() const {
+    if (control && control->cancelled && control->cancelled()) throw Cancelled();
+  }
+  void add(double EvalStats::*field, double ms) {
+    if (!control || !control->stats) return;
+    std::lock_guard<std::mutex> lock(stats_mutex);
+    control->stats->*field += ms;
+  }
+  void count(long EvalStats::*field) {
+    if (!control || !control->stats) return;
+    std::lock_guard<std::mutex> lock(stats_mutex);
+    ++(control->stats->*field);
+  }
+  void boolean_done() {
+    std::size_t d = ++done;
+    if (control && control->progress) control->progress(std::min(d, total), total);
+  }
+};
+
+Tolerance child_tolerance(const Solid::Node& n, const Tolerance& tol) {
+  Tolerance t = tol;
+  double stretch = m_norm(n.matrix);
+  if (stretch > 0) t.chordal = tol.chordal / std::max(1.0, stretch);
+  return t;
+}
+
+bool cached(const Solid::Node& n, const Tolerance& tol) {
+  std::lock_guard<std::mutex> lock(n.cache_mutex);
+  auto it = n.cache.find({tol.chordal, tol.angular});
+  return it != n.cache.end() && it->second->value;
+}
+
+// The boolean nodes an evaluation at tol will compute (each shared node once).
+void count_booleans(const NodePtr& n, const Tolerance& tol, std::set<const Solid::Node*>& seen) {
+  if (!n || !seen.insert(n.get()).second) return;
+  switch (n->kind) {
+    case Solid::Node::Kind::Transform: count_booleans(n->child, child_tolerance(*n, tol), seen); break;
+    case Solid::Node::Kind::Boolean:
+      if (cached(*n, tol)) return;
+      for (const auto& o : n->operands) count_booleans(o, tol, seen);
+      break;
+    default: break;
+  }
+}
+
+std::shared_ptr<Evaluated> evaluate(const NodePtr& n, const Tolerance& tol, Run& run);
+
+Box3 mesh_box(const Mesh& m) { return m.empty() ? Box3() : m.bounds(); }
+
+bool boxes_apart(const Box3& a, const Box3& b) {
+  if (a.empty() || b.empty()) return true;
+  for (int i = 0; i < 3; ++i)
+    if (a.max[i] < b.min[i] || b.max[i] < a.min[i]) return true;
+  return false;
+}
+
+// Appends b's mesh and faces to a (face ids of b offset past a's).
+void append_evaluated(Evaluated& a, const Evaluated& b) {
+  const std::int32_t offset = static_cast<std::int32_t>(a.kinds.size());
+  const std::size_t t0 = a.mesh.triangles.size();
+  a.mesh.append(b.mesh);
+  for (std::size_t t = t0; t < a.mesh.face_ids.size(); ++t) a.mesh.face_ids[t] += offset;
+  a.kinds.insert(a.kinds.end(), b.kinds.begin(), b.kinds.end());
+  a.tags.insert(a.tags.end(), b.tags.begin(), b.tags.end());
+}
+
+// The engine on some operands; the result's face ids number the operands' faces in turn.
+std::shared_ptr<Evaluated> engine(BooleanOp op, const std::vector<std::shared_ptr<Evaluated>>& in, Run& run) {
+  auto out = std::make_shared<Evaluated>();
+  if (in.size() == 1) {
+    out->mesh = in[0]->mesh;
+    out->kinds = in[0]->kinds;
+    out->tags = in[0]->tags;
+    return out;
+  }
+  std::vector<const Mesh*> ptrs;
+  std::vector<std::int32_t> offset;
+  for (const auto& e : in) {
+    ptrs.push_back(&e->mesh);
+    offset.push_back(static_cast<std::int32_t>(out->kinds.size()));
+    out->kinds.insert(out->kinds.end(), e->kinds.begin(), e->kinds.end());
+    out->tags.insert(out->tags.end(), e->tags.begin(), e->tags.end());
+  }
+  BooleanStats st;
+  BooleanResult r = wedge::boolean(op, ptrs, &st, &run.cancel);
+  run.add(&EvalStats::check, st.check);
+  run.add(&EvalStats::broad, st.broad);
+  run.add(&EvalStats::arrange, st.arrange);
+  run.add(&EvalStats::classify, st.classify);
+  run.add(&EvalStats::output, st.output);
+  run.count(&EvalStats::booleans);
+  out->mesh = std::move(r.mesh);
+  out->mesh.face_ids.resize(out->mesh.triangles.size());
+  for (std::size_t t = 0; t < out->mesh.triangles.size(); ++t) {
+    const std::size_t o = static_cast<std::size_t>(r.operand[t]);
+    out->mesh.face_ids[t] = offset[o] + in[o]->mesh.face_ids[static_cast<std::size_t>(r.source[t])];
+  }
+  return out;
+}
+
+std::shared_ptr<Evaluated> evaluate_boolean(const Solid::Node& n, const Tolerance& tol, Run& run) {
+  std::vector<std::shared_ptr<Evaluated>> in(n.operands.size());
+  auto one = [&](std::size_t i) { in[i] = evaluate(n.operands[i], tol, run); };
+  if (run.options.parallel && in.size() > 1) parallel_for(0, in.size(), one);
+  else
+    for (std::size_t i = 0; i < in.size(); ++i) one(i);
+  run.check();
+  std::vector<Box3> box(in.size());
+  for (std::size_t i = 0; i < in.size(); ++i) box[i] = mesh_box(in[i]->mesh);
+
+  if (!run.options.prune) {
+    std::vector<std::shared_ptr<Evaluated>> all;
+    for (auto& e : in)
+      if (!e->mesh.empty()) all.push_back(e);
+    if (all.empty() || (n.op == BooleanOp::Difference && in[0]->mesh.empty()) ||
+        (n.op == BooleanOp::Intersection && all.size() != in.size()))
+      return std::make_shared<Evaluated>();
+    return engine(n.op, all, run);
+  }
+  switch (n.op) {
+    case BooleanOp::Difference: {
+      // Only the operands whose boxes meet the first can take anything away.
+      if (in[0]->mesh.empty()) return std::make_shared<Evaluated>();
+      std::vector<std::shared_ptr<Evaluated>> use{in[0]};
+      for (std::size_t i = 1; i < in.size(); ++i)
+        if (!boxes_apart(box[0], box[i])) use.push_back(in[i]);
+        else run.count(&EvalStats::pruned);
+      return engine(BooleanOp::Difference, use, run);
+    }
+    case BooleanOp::Intersection: {
+      for (std::size_t i = 0; i < in.size(); ++i)
+        for (std::size_t j = i + 1; j < in.size(); ++j)
+          if (boxes_apart(box[i], box[j])) {
+            run.count(&EvalStats::pruned);
+            return std::make_shared<Evaluated>();
+          }
+      return engine(BooleanOp::Intersection, in, run);
+    }
+    case BooleanOp::Union: {
+      // Operands in groups whose boxes overlap (transitively); a group of one needs no engine,
+      // and groups far apart are put side by side as separate shells.
+      std::vector<std::size_t> parent(in.size());
+      std::iota(parent.begin(), parent.end(), 0);
+      auto find = [&](std::size_t x) {
+        while (parent[x] != x) x = parent[x] = parent[parent[x]];
+        return x;
+      };
+      std::vector<std::size_t> order;
+      for (std::size_t i = 0; i < in.size(); ++i)
+        if (!in[i]->mesh.empty()) order.push_back(i);
+      // Sweep along x: only boxes whose x-ranges overlap can touch.
+      std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return box[a].min.x() < box[b].min.x(); });
+      for (std::size_t a = 0; a < order.size(); ++a)
+        for (std::size_t b = a + 1; b < order.size() && box[order[b]].min.x() <= box[order[a]].max.x(); ++b)
+          if (!boxes_apart(box[order[a]], box[order[b]])) parent[find(order[a])] = find(order[b]);
+      std::map<std::size_t, std::vector<std::shared_ptr<Evaluated>>> groups;
+      for (std::size_t i : order) groups[find(i)].push_back(in[i]);
+      std::vector<std::vector<std::shared_ptr<Evaluated>>> list;
+      for (auto& [root, g] : groups) list.push_back(std::move(g));
+      if (list.size() > 1) run.count(&EvalStats::pruned);
+      std::vector<std::shared_ptr<Evaluated>> parts(list.size());
+      auto part = [&](std::size_t i) { parts[i] = engine(BooleanOp::Union, list[i], run); };
+      if (run.options.parallel && list.size() > 1) parallel_for(0, list.size(), part);
+      else
+        for (std::size_t i = 0; i < list.size(); ++i) part(i);
+      if (parts.size() == 1) return parts[0];
+      auto out = std::make_shared<Evaluated>();
+      for (const auto& p : parts) append_evaluated(*out, *p);
+      return out;
+    }
+  }
+  return std::make_shared<Evaluated>();
+}
+
+std::shared_ptr<Evaluated> compute_untagged(const Solid::Node& n, const Tolerance& tol, Run& run);
+
+std::shared_ptr<Evaluated> compute(const Solid::Node& n, const Tolerance& tol, Run& run) {
+  auto out = compute_untagged(n, tol, run);
+  if (n.tag >= 0)
+    for (int& t : out->tags)
+      if (t < 0) t = n.tag;
+  return out;
+}
+
+std::shared_ptr<Evaluated> compute_untagged(const Solid::Node& n, const Tolerance& tol, Run& run) {
+  switch (n.kind) {
+    case Solid::Node::Kind::Empty: return std::make_shared<Evaluated>();
+    case Solid::Node::Kind::Leaf: {
+      auto t0 = std::chrono::steady_clock::now();
+      auto out = std::make_shared<Evaluated>();
+      out->mesh = n.leaf->mesh(tol);
+      out->kinds = n.leaf->face_kinds();
+      if (out->kinds.empty()) {
+        out->kinds.assign(planar_regions(out->mesh), "plane");
+      } else {
+        for (auto& id : out->mesh.face_ids)
+          if (id < 0 || static_cast<std::size_t>(id) >= out->kinds.size()) fail("a leaf's mesh names face ", id, ", which it has not");
+      }
+      out->tags.assign(out->kinds.size(), -1);
+      run.add(&EvalStats::tessellate, elapsed_ms(t0));
+      return out;
+    }
+    case Solid::Node::Kind::Transform: {
+      auto c = evaluate(n.child, child_tolerance(n, tol), run);
+      auto out = std::make_shared<Evaluated>();
+      out->mesh = c->mesh.transformed(n.matrix);
+      out->kinds = c->kinds;
+      out->tags = c->tags;
+      return out;
+    }
+    case Solid::Node::Kind::Boolean: {
+      auto out = evaluate_boolean(n, tol, run);
+      run.boolean_done();
+      return out;
+    }
+  }
+  return std::make_shared<Evaluated>();
+}
+
+std::shared_ptr<Evaluated> evaluate(const NodePtr& n, const Tolerance& tol, Run& run) {
+  run.check();
+  if (!run.options.cache) return compute(*n, tol, run);
+  std::shared_ptr<Solid::Node::Slot> slot;
+  {
+    std::lock_guard<std::mutex> lock(n->cache_mutex);
+    auto& s = n->cache[{tol.chordal, tol.angular}];
+    if (!s) s = std::make_shared<Solid::Node::Slot>();
+    slot = s;
+  }
+  std::lock_guard<std::mutex> lock(slot->mutex);
+  if (slot->value) {
+    run.count(&EvalStats::cached);
+    return slot->value;
+  }
+  std::shared_ptr<Evaluated> value;
+  tbb::this_task_arena::isolate([&] { value = compute(*n, tol, run); });
+  slot->value = value;
+  return value;
+}
+
+// Evaluates the tree under n at tol with the installed control.
+std::shared_ptr<Evaluated> evaluate_root(const NodePtr& n, const Tolerance& tol) {
+  Run run;
+  run.control = g_control.load();
+  run.options = options();
+  if (run.control && run.control->cancelled) run.cancel = run.control->cancelled;
+  if (run.control && run.control->progress) {
+    std::set<const Solid::Node*> seen;
+    count_booleans(n, tol, seen);
+    for (const auto* p : seen) run.total += p->kind == Solid::Node::Kind::Boolean && !cached(*p, tol);
+  }
+  return evaluate(n, tol, run);
+}
+
+}  // namespace
+
+namespace {
+Box3 transformed_box(const Box3& b, const Mat4& m) {
+  Box3 out;
+  if (b.empty()) return out;
+  for (int i = 0; i < 8; ++i)
+    out.extend(apply_point(m, Vec3((i & 1) ? b.max.x() : b.min.x(), (i & 2) ? b.max.y() : b.min.y(), (i & 4) ? b.max.z() : b.min.z())));
+  return out;
+}
+
+Box3 loose_bounds(const std::shared_ptr<const Solid::Node>& n) {
+  switch (n->kind) {
+    case Solid::Node::Kind::Empty: return Box3();
+    case Solid::Node::Kind::Leaf: return n->leaf->bounds();
+    case Solid::Node::Kind::Transform: return transformed_box(loose_bounds(n->child), n->matrix);
+    case Solid::Node::Kind::Boolean: {
+      if (n->op == BooleanOp::Difference) return loose_bounds(n->operands[0]);
+      Box3 out;
+      for (const auto& o : n->operands) out.extend(loose_bounds(o));
+      return out;
+    }
+  }
+  return Box3();
+}
+}  // namespace
 
 Solid Solid::boolean(BooleanOp op, std::vector<Solid> operands) {
   if (operands.empty()) fail("boolean: no operands");
   auto n = std::make_shared<Node>();
   n->kind = Node::Kind::Boolean;
   n->op = op;
-  for (auto& s : operands) n->operands.push_back(s.node_);
+  for (auto& s : operands) {
+    // Nested unions (a + b + c + ... builds a chain) become one n-ary union: one engine pass over
+    // all operands, grouped by their boxes, instead of a chain of growing intermediate results.
+    const Node& o = *s.node_;
+    if (op == BooleanOp::Union && o.kind == Node::Kind::Boolean && o.op == BooleanOp::Union && o.tag < 0 &&
+        !cached(o, Tolerance{}))
+      n->operands.insert(n->operands.end(), o.operands.begin(), o.operands.end());
+    else
+      n->operands.push_back(s.node_);
+  }
   return Solid(std::shared_ptr<const Node>(n));
 }
 
@@ -184,7 +594,7 @@ Solid Solid::transformed(const Mat4& m) const {
   if ((m.row(3) - Eigen::RowVector4d(0, 0, 0, 1)).cwiseAbs().maxCoeff() != 0)
     fail("transform is projective (last row not 0 0 0 1): solids take affine transforms only");
   // A result beyond the coordinates a solid may have is an error here, not a nan volume later.
-  if (const Box3 b = bounds(); !b.empty()) {
+  if (const Box3 b = loose_bounds(node_); !b.empty()) {
     double reach = 0;
     for (int i = 0; i < 8; ++i) {
       const Vec3 corner((i & 1) ? b.max.x() : b.min.x(), (i & 2) ? b.max.y() : b.min.y(), (i & 4) ? b.max.z() : b.min.z());
@@ -197,7 +607,7 @@ Solid Solid::transformed(const Mat4& m) const {
   switch (node_->kind) {
     case Node::Kind::Empty: return *this;
     case Node::Kind::Leaf:
-      if (auto t = node_->leaf->transformed(m)) return Solid(std::move(t));
+      if (auto t = node_->leaf->transformed(m)) return node_->tag >= 0 ? Solid(std::move(t)).tagged(node_->tag) : Solid(std::move(t));
       break;
     case Node::Kind::Transform: {
       // Fold consecutive transforms into one node.
@@ -217,32 +627,66 @@ Solid Solid::transformed(const Mat4& m) const {
 Mesh Solid::mesh(const Tolerance& tol) const {
   switch (node_->kind) {
     case Node::Kind::Empty: return Mesh();
+    // A leaf's own mesh, attributes as the leaf gives them (an imported mesh's seams and normals).
     case Node::Kind::Leaf: return node_->leaf->mesh(tol);
-    case Node::Kind::Transform: {
-      // Tessellate the child finely enough that scaling up keeps the chordal error within tol.
-      Tolerance t = tol;
-      double stretch = m_norm(node_->matrix);
-      if (stretch > 0) t.chordal = tol.chordal / std::max(1.0, stretch);
-      return Solid(node_->child).mesh(t).transformed(node_->matrix);
-    }
-    case Node::Kind::Boolean: {
-      std::pair<double, double> key(tol.chordal, tol.angular);
-      {
-        std::lock_guard<std::mutex> lock(node_->cache_mutex);
-        auto it = node_->cache.find(key);
-        if (it != node_->cache.end()) return *it->second;
-      }
-      std::vector<Mesh> meshes;
-      for (const auto& o : node_->operands) meshes.push_back(Solid(o).mesh(tol));
-      std::vector<const Mesh*> ptrs;
-      for (const auto& m : meshes) ptrs.push_back(&m);
-      auto result = std::make_shared<const Mesh>(wedge::boolean(node_->op, ptrs).mesh);
-      std::lock_guard<std::mutex> lock(node_->cache_mutex);
-      node_->cache[key] = result;
-      return *result;
-    }
+    case Node::Kind::Transform:
+      if (Solid(node_->child).node_->kind == Node::Kind::Leaf) return Solid(node_->child).mesh(child_tolerance(*node_, tol)).transformed(node_->matrix);
+      break;
+    case Node::Kind::Boolean: break;
   }
-  return Mesh();
+  return evaluate_root(node_, tol)->mesh;
+}
+
+Mesh Solid::tagged_mesh(const Tolerance& tol) const { return evaluate_root(node_, tol)->mesh; }
+
+std::vector<std::string> Solid::face_kinds(const Tolerance& tol) const { return evaluate_root(node_, tol)->kinds; }
+
+std::vector<int> Solid::face_tags(const Tolerance& tol) const { return evaluate_root(node_, tol)->tags; }
+
+Solid Solid::tagged(int tag) const {
+  if (tag < 0) fail("tagged: a tag is a number >= 0, got ", tag);
+  auto n = std::make_shared<Node>(*node_);
+  n->tag = tag;
+  return Solid(std::shared_ptr<const Node>(n));
+}
+
+std::shared_ptr<const RebuiltSolid> Solid::rebuilt(const Tolerance& tol) const {
+  auto e = evaluate_root(node_, tol);
+  std::lock_guard<std::mutex> lock(e->rebuild_mutex);
+  if (!e->rebuilt) {
+    auto t0 = std::chrono::steady_clock::now();
+    e->rebuilt = std::make_shared<const RebuiltSolid>(rebuild_brep(e->mesh.welded()));
+    if (const EvalControl* c = g_control.load(); c && c->stats) c->stats->rebuild += elapsed_ms(t0);
+  }
+  return e->rebuilt;
+}
+
+std::vector<SolidFace> Solid::faces(const Tolerance& tol) const {
+  std::vector<SolidFace> out;
+  if (empty()) return out;
+  if (node_->kind == Node::Kind::Leaf)
+    if (auto* b = dynamic_cast<const BrepLeaf*>(node_->leaf.get())) {
+      const Model& m = b->model();
+      Mesh mesh = b->mesh(tol);
+      std::unordered_map<std::int32_t, double> area;
+      for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+        const auto& T = mesh.triangles[t];
+        area[mesh.face_ids[t]] +=
+            0.5 * (mesh.positions[T[1]] - mesh.positions[T[0]]).cross(mesh.positions[T[2]] - mesh.positions[T[0]]).norm();
+      }
+      m.faces().for_each([&](FaceId f, const BrepFace& face) {
+        out.push_back({surface_kind(m.surface(f)), area[f.value], 1 + static_cast<int>(face.rings.size())});
+      });
+      return out;
+    }
+  auto e = evaluate_root(node_, tol);
+  auto r = rebuilt(tol);
+  r->model.faces().for_each([&](FaceId f, const BrepFace& face) {
+    std::int32_t src = r->source.at(f.value);
+    std::string kind = src >= 0 && static_cast<std::size_t>(src) < e->kinds.size() ? e->kinds[static_cast<std::size_t>(src)] : "plane";
+    out.push_back({kind, r->area.at(f.value), 1 + static_cast<int>(face.rings.size())});
+  });
+  return out;
 }
 
 Box3 Solid::bounds() const {
@@ -285,20 +729,60 @@ MassProperties Solid::mass_properties(const Tolerance& tol) const {
 
 EulerCounts Solid::euler(const Tolerance& tol) const {
   if (node_->kind == Node::Kind::Empty) return EulerCounts();
-  if (node_->kind == Node::Kind::Leaf)
+  if (node_->kind == Node::Kind::Leaf) {
     if (auto c = node_->leaf->euler()) return *c;
-  if (node_->kind == Node::Kind::Transform) return Solid(node_->child).euler(tol);
-  return euler_counts(mesh(tol));
+    return euler_counts(mesh(tol));
+  }
+  if (node_->kind == Node::Kind::Transform) return Solid(node_->child).euler(child_tolerance(*node_, tol));
+  // A boolean: the counts of its rebuilt winged-edge solid (faces merged back by source face).
+  auto r = rebuilt(tol);
+  return r->model.counts();
 }
 
 std::string Solid::validate(const Tolerance& tol) const {
   switch (node_->kind) {
     case Node::Kind::Empty: return "";
     case Node::Kind::Leaf: return node_->leaf->validate();
-    case Node::Kind::Transform: return Solid(node_->child).validate(tol);
-    case Node::Kind::Boolean: return mesh_solid_defect(mesh(tol), "boolean result");
+    case Node::Kind::Transform: return Solid(node_->child).validate(child_tolerance(*node_, tol));
+    case Node::Kind::Boolean: {
+      auto e = evaluate_root(node_, tol);
+      if (e->mesh.empty()) return "";
+      std::string d = mesh_solid_defect(e->mesh, "boolean result");
+      if (!d.empty()) return d;
+      try {
+        auto r = rebuilt(tol);
+        Validation v = r->model.validate(false);
+        if (!v) return "boolean result's rebuilt B-Rep: " + v.message;
+      } catch (const Error& err) {
+        return std::string("boolean result: ") + err.what();
+      }
+      return "";
+    }
   }
   return "";
+}
+
+bool Solid::polyhedral() const {
+  switch (node_->kind) {
+    case Node::Kind::Empty: return true;
+    case Node::Kind::Leaf: return node_->leaf->polyhedral();
+    case Node::Kind::Transform: return Solid(node_->child).polyhedral();
+    case Node::Kind::Boolean:
+      return std::all_of(node_->operands.begin(), node_->operands.end(), [](const auto& o) { return Solid(o).polyhedral(); });
+  }
+  return false;
+}
+
+Membership Solid::contains(const Point3& p, const Tolerance& tol) const {
+  if (!p.allFinite()) fail("contains: the point (", p.x(), ", ", p.y(), ", ", p.z(), ") is not finite");
+  if (empty()) return Membership::Outside;
+  return classify_point(mesh(tol), p, polyhedral() ? 0.0 : tol.chordal);
+}
+
+CellDecomposition Solid::cells(double size, const Tolerance& tol) const {
+  if (!(size > 0) || !std::isfinite(size)) fail("cells: size must be a positive number, got ", size);
+  if (empty()) return CellDecomposition();
+  return decompose_cells(mesh(tol), size, polyhedral() ? 0.0 : tol.chordal);
 }
 
 }  // namespace wedge

@@ -7,6 +7,7 @@
 // exactly what it can (a B-Rep knows its Euler counts and exact volume); everything else falls back
 // to the leaf's triangle mesh.
 #pragma once
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -14,6 +15,8 @@
 
 #include "brep/brep.h"
 #include "csg/boolean.h"
+#include "csg/membership.h"
+#include "csg/rebuild.h"
 #include "kernel/kernel.h"
 
 namespace wedge {
@@ -41,7 +44,44 @@ class SolidLeaf {
   // An exactly transformed copy, or nullptr if this leaf cannot transform itself (the Solid then
   // keeps a transform node and transforms the mesh).
   virtual std::shared_ptr<const SolidLeaf> transformed(const Mat4& /*m*/) const { return nullptr; }
+  // True when mesh() is the solid exactly (planar faces, straight edges), at any tolerance.
+  virtual bool polyhedral() const { return false; }
+  // The surface kind (as s:faces() names it) of each face id that mesh() puts on its triangles,
+  // indexed by the id; empty when the mesh carries no face ids of its own (its coplanar regions
+  // are then its faces).
+  virtual std::vector<std::string> face_kinds() const { return {}; }
 };
+
+// A face of a solid as s:faces() lists it.
+struct SolidFace {
+  std::string surface;  // "plane", "cylinder", "cone", "sphere", "torus", "nurbs", "revolved", ...
+  double area = 0;      // of its triangles at the tolerance asked
+  int loops = 0;        // 1 + its rings
+};
+
+// Progress and cancel for the evaluation of CSG trees. `progress` is called after each boolean
+// node with the nodes done and the nodes the evaluation needs; `cancelled` is polled between
+// nodes and between the stages of each boolean, and when it returns true the evaluation throws
+// Cancelled and keeps no partial result. `stats`, if set, accumulates the time per stage.
+struct EvalStats {
+  double tessellate = 0, check = 0, broad = 0, arrange = 0, classify = 0, output = 0, rebuild = 0;  // ms
+  long booleans = 0, pruned = 0, cached = 0;
+};
+struct EvalControl {
+  std::function<void(std::size_t done, std::size_t total)> progress;
+  CancelCheck cancelled;
+  EvalStats* stats = nullptr;
+};
+// Installs `control` for the evaluations of this process until set_eval_control(nullptr); the
+// caller keeps it alive. For the runner and tests.
+void set_eval_control(const EvalControl* control);
+// The evaluator's optimisations, on by default; off only to measure what they save (bench/).
+struct EvalOptions {
+  bool cache = true;     // shared subtrees once, results kept per tolerance
+  bool prune = true;     // bounding-box pruning and disjoint unions without the engine
+  bool parallel = true;  // independent operands evaluated in parallel
+};
+void set_eval_options(const EvalOptions& options);
 
 // A closed 2-manifold triangle mesh as a leaf (what import() returns). The mesh is kept as given,
 // attributes and all (a vertex split for its uvs or normals stays split, so it renders as the file
@@ -58,6 +98,7 @@ class MeshLeaf final : public SolidLeaf {
   std::optional<EulerCounts> euler() const override { return counts_; }
   std::string validate() const override { return ""; }
   std::shared_ptr<const SolidLeaf> transformed(const Mat4& m) const override;
+  bool polyhedral() const override { return true; }
   const Mesh& triangles() const { return mesh_; }
 
  private:
@@ -86,6 +127,30 @@ class Solid {
   MassProperties mass_properties(const Tolerance& tol) const;
   EulerCounts euler(const Tolerance& tol) const;
   std::string validate(const Tolerance& tol) const;  // "" when valid
+  // The faces: of a B-Rep leaf, its own; of anything else, those of the winged-edge solid rebuilt
+  // from its mesh (one face per connected region of one source face).
+  std::vector<SolidFace> faces(const Tolerance& tol) const;
+  // The evaluated mesh rebuilt as a winged-edge solid through Euler operators (csg/rebuild.h).
+  std::shared_ptr<const RebuiltSolid> rebuilt(const Tolerance& tol) const;
+  // The mesh with face ids that index face_kinds(tol) (a boolean's faces numbered across its operands).
+  Mesh tagged_mesh(const Tolerance& tol) const;
+  std::vector<std::string> face_kinds(const Tolerance& tol) const;
+  // A copy whose faces carry `tag` (a material, a colour: the caller's number) wherever no tag
+  // from further down the tree is on them; booleans keep each face's tag, so every face of a
+  // result keeps the tag of the solid it came from. face_tags(tol)[id] is the tag of face id of
+  // tagged_mesh(tol), -1 where none.
+  Solid tagged(int tag) const;
+  std::vector<int> face_tags(const Tolerance& tol) const;
+
+  // True when every leaf is polyhedral: the mesh is then the solid itself, at any tolerance.
+  bool polyhedral() const;
+
+  // Point membership (csg/membership.h): exact for a polyhedral solid; for a curved one, a point
+  // within tol.chordal of its mesh is "boundary" and the rest is decided on the mesh.
+  Membership contains(const Point3& p, const Tolerance& tol) const;
+  // The octree cell decomposition down to cells of longest side <= size; for a curved solid the
+  // cells within tol.chordal of its mesh count as boundary, so the bounds bracket the exact volume.
+  CellDecomposition cells(double size, const Tolerance& tol) const;
 
   struct Node;  // the CSG node (csg/solid.cpp)
  private:

@@ -1,11 +1,20 @@
 // The script runner, modelled on lua.c: load, pcall with a traceback handler, report
 // "file:line: message" and a non-zero exit on error.
+#include <unistd.h>
+
+#include <atomic>
 #include <cerrno>
+#include <csignal>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <fstream>
 #include <memory>
+#include <mutex>
 #include <ostream>
+#include <sstream>
+
+#include "csg/solid.h"
 
 #include "lua/lua_util.h"
 #include "lua/wedge_lua.h"
@@ -57,6 +66,78 @@ int call_chunk(lua_State* L, int nargs, std::ostream& err) {
 }
 
 int print_nothing(lua_State*) { return 0; }
+
+// Ctrl-C, as lua.c does it: the handler sets a flag and a hook that stops the script at its next
+// instruction; an evaluation of the CSG tree polls the flag between nodes and engine stages.
+std::atomic<bool> g_interrupted{false};
+lua_State* g_state = nullptr;
+
+void interrupt_hook(lua_State* L, lua_Debug*) {
+  lua_sethook(L, nullptr, 0, 0);
+  luaL_error(L, "interrupted");
+}
+
+extern "C" void on_sigint(int) {
+  g_interrupted = true;
+  if (g_state) lua_sethook(g_state, interrupt_hook, LUA_MASKCALL | LUA_MASKRET | LUA_MASKCOUNT, 1);
+}
+
+// The progress bar of a CSG evaluation on stderr ("\r[#####     ] evaluating the CSG tree 3/8"):
+// shown when stderr is a terminal (or WEDGE_PROGRESS=always) and not --quiet, after half a second
+// of work (at once with WEDGE_PROGRESS=always), erased when the last node is done. Called from
+// any of TBB's threads.
+class EvalBar {
+ public:
+  explicit EvalBar(bool quiet) {
+    const char* mode = std::getenv("WEDGE_PROGRESS");
+    const std::string m = mode ? mode : "";
+    always_ = m == "always";
+    enabled_ = !quiet && m != "never" && (always_ || ::isatty(2));
+  }
+  void update(std::size_t done, std::size_t total) {
+    if (!enabled_ || total == 0) return;
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (done == 1 || start_ == 0) start_ = RunStats::now();
+    if (done >= total) {
+      if (shown_) std::fprintf(stderr, "\r%60s\r", "");
+      shown_ = false;
+      start_ = 0;
+      std::fflush(stderr);
+      return;
+    }
+    if (!always_ && RunStats::now() - start_ < 0.5) return;
+    constexpr int kWidth = 30;
+    const int filled = int(kWidth * done / total);
+    std::fprintf(stderr, "\r[%s%s] evaluating the CSG tree %zu/%zu", std::string(std::size_t(filled), '#').c_str(),
+                 std::string(std::size_t(kWidth - filled), ' ').c_str(), done, total);
+    std::fflush(stderr);
+    shown_ = true;
+  }
+  ~EvalBar() {
+    if (shown_) std::fprintf(stderr, "\r%60s\r", "");
+  }
+
+ private:
+  std::mutex mutex_;
+  bool enabled_ = false, always_ = false, shown_ = false;
+  double start_ = 0;
+};
+
+void report_eval_stats(const EvalStats& s, std::ostream& err) {
+  if (s.booleans == 0 && s.tessellate == 0 && s.rebuild == 0) return;
+  char line[160];
+  err << "wedge: CSG evaluation by stage (summed over the booleans; they may run in parallel)\n";
+  const std::pair<const char*, double> rows[] = {{"tessellation", s.tessellate}, {"checks", s.check},
+                                                 {"broad phase", s.broad},       {"intersection", s.arrange},
+                                                 {"classification", s.classify}, {"output", s.output},
+                                                 {"rebuild", s.rebuild}};
+  for (const auto& [name, ms] : rows) {
+    std::snprintf(line, sizeof line, "  %-14s %10.1f ms\n", name, ms);
+    err << line;
+  }
+  err << "  " << s.booleans << " engine calls, " << s.pruned << " pruned by bounding boxes, " << s.cached
+      << " answered from the cache\n";
+}
 
 void report_stats(const RunStats& stats, double total, const std::string& path, std::ostream& err) {
   char line[160];
@@ -116,6 +197,20 @@ int run_file(const std::string& path, const std::vector<std::string>& args, std:
 
   RunStats stats;
   if (options.stats) install_stats(L, &stats);
+  // CSG evaluations of this run: progress bar, Ctrl-C, time per stage.
+  EvalStats eval_stats;
+  EvalBar bar(options.quiet);
+  EvalControl control;
+  control.progress = [&bar](std::size_t done, std::size_t total) { bar.update(done, total); };
+  control.cancelled = [] { return g_interrupted.load(); };
+  if (options.stats) control.stats = &eval_stats;
+  set_eval_control(&control);
+  g_interrupted = false;
+  g_state = L;
+  struct sigaction action {}, previous{};
+  action.sa_handler = on_sigint;
+  sigemptyset(&action.sa_mask);
+  sigaction(SIGINT, &action, &previous);
   const double start = RunStats::now();
   int status = 0;
   {
@@ -129,11 +224,22 @@ int run_file(const std::string& path, const std::vector<std::string>& args, std:
   if (status == 0) {
     for (const auto& a : args) lua_pushlstring(L, a.data(), a.size());
     Stage run(L, "lua");
-    status = call_chunk(L, static_cast<int>(args.size()), err);
+    std::ostringstream message;
+    status = call_chunk(L, static_cast<int>(args.size()), message);
+    if (status != 0 && g_interrupted) {
+      err << "wedge: interrupted by Ctrl-C: " << path << " stopped (no output file is left half-written)\n";
+      status = 130;
+    } else {
+      err << message.str();
+    }
   }
+  sigaction(SIGINT, &previous, nullptr);
+  g_state = nullptr;
+  set_eval_control(nullptr);
   if (options.stats) {
     install_stats(L, nullptr);
     report_stats(stats, RunStats::now() - start, path, err);
+    report_eval_stats(eval_stats, err);
   }
   return status;
 }

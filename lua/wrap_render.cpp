@@ -9,6 +9,8 @@
 #include <algorithm>
 #include <cmath>
 #include <deque>
+#include <unordered_map>
+#include <map>
 #include <tuple>
 #include <optional>
 
@@ -298,6 +300,46 @@ Mesh with_uvs_if_textured(Mesh mesh, bool textured) {
   return mesh;
 }
 
+// A solid whose faces carry the materials of several solids (a boolean of solids with
+// s:material{}): one item per material, each face drawn in the material of the solid it came
+// from. Adds nothing and returns false when the faces carry at most one material.
+bool draw_by_face_tags(lua_State* L, int obj, const Solid& s, Drawn& drawn) {
+  const Tolerance tol = current_tolerance(L);
+  std::vector<int> tags;
+  Mesh mesh;
+  {
+    Stage stage(L, "mesh");
+    mesh = s.tagged_mesh(tol);
+    tags = s.face_tags(tol);
+  }
+  std::map<int, Mesh> parts;
+  std::map<int, std::unordered_map<std::uint32_t, std::uint32_t>> index;
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+    const int tag = tags.at(static_cast<std::size_t>(mesh.face_ids[t]));
+    Mesh& part = parts[tag];
+    auto& ix = index[tag];
+    std::uint32_t v[3];
+    for (int k = 0; k < 3; ++k) {
+      auto [it, fresh] = ix.emplace(mesh.triangles[t][k], static_cast<std::uint32_t>(part.positions.size()));
+      if (fresh) part.positions.push_back(mesh.positions[mesh.triangles[t][k]]);
+      v[k] = it->second;
+    }
+    part.add_triangle(v[0], v[1], v[2], mesh.face_ids[t]);
+  }
+  if (parts.size() < 2) return false;
+  for (auto& [tag, part] : parts) {
+    render::DrawItem item;
+    const int top = lua_gettop(L);
+    const int type = tag >= 0 ? push_tag_material(L, tag) : push_material(L, obj);
+    if (type == LUA_TTABLE) item.material = read_material(L, lua_gettop(L), 1, item.texture);
+    lua_settop(L, top);
+    drawn.meshes.push_back(with_uvs_if_textured(part.with_face_normals(), item.texture != nullptr));
+    item.mesh = &drawn.meshes.back();
+    drawn.items.push_back(std::move(item));
+  }
+  return true;
+}
+
 void read_drawn(lua_State* L, const char* fn, Drawn& drawn) {
   lua_geti(L, 1, 1);
   const int obj = lua_gettop(L);
@@ -334,6 +376,10 @@ void read_drawn(lua_State* L, const char* fn, Drawn& drawn) {
       item.transform = occ.world;
       drawn.items.push_back(std::move(item));
     }
+    lua_pop(L, 1);
+    return;
+  }
+  if (const Solid* s = test_solid(L, obj); s && draw_by_face_tags(L, obj, *s, drawn)) {
     lua_pop(L, 1);
     return;
   }

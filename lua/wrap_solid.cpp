@@ -16,6 +16,7 @@ constexpr const char* kKey = "wedge.Solid";
 constexpr const char* kToleranceKey = "wedge.tolerance";
 constexpr const char* kAngleKey = "wedge.tolerance.angle";
 constexpr const char* kConvertersKey = "wedge.mesh_converters";
+constexpr const char* kMaterialsKey = "wedge.face_materials";
 
 const Solid& self(lua_State* L) { return check_solid(L, 1); }
 
@@ -152,6 +153,79 @@ int is_valid_m(lua_State* L) {
   });
 }
 
+// s:contains({x,y,z}) -> "inside" | "outside" | "boundary"
+int contains_m(lua_State* L) {
+  return guarded(L, [&] {
+    Vec3 p = check_vec3(L, 2);
+    lua_pushstring(L, membership_name(self(L).contains(p, current_tolerance(L))));
+    return 1;
+  });
+}
+
+// s:cells{size=, boxes=false} | s:cells(size) -> {inside=, boundary=, outside=, volume_min=,
+// volume_max=} (counts of octree leaf cells; with boxes=true also boxes={{min=, max=, state=}, ...})
+int cells_m(lua_State* L) {
+  return guarded(L, [&] {
+    double size = 0;
+    bool boxes = false;
+    if (lua_type(L, 2) == LUA_TNUMBER) {
+      size = check_number(L, 2);
+      if (!(size > 0)) throw ArgError{2, "size must be positive, got " + number_text(size)};
+    } else {
+      Options o(L, 2);
+      if (!o.has("size")) throw ArgError{2, "field 'size' is required (the longest side of the smallest cells)"};
+      size = o.positive("size", 1);
+      boxes = o.boolean("boxes", false);
+      o.finish();
+    }
+    CellDecomposition d = self(L).cells(size, current_tolerance(L));
+    lua_createtable(L, 0, 6);
+    const std::pair<const char*, long> counts[] = {{"inside", d.inside}, {"boundary", d.boundary}, {"outside", d.outside}};
+    for (const auto& [name, value] : counts) {
+      lua_pushinteger(L, value);
+      lua_setfield(L, -2, name);
+    }
+    lua_pushnumber(L, d.volume_min);
+    lua_setfield(L, -2, "volume_min");
+    lua_pushnumber(L, d.volume_max);
+    lua_setfield(L, -2, "volume_max");
+    if (boxes) {
+      lua_createtable(L, static_cast<int>(d.cells.size()), 0);
+      for (std::size_t i = 0; i < d.cells.size(); ++i) {
+        lua_createtable(L, 0, 3);
+        push_vec3(L, d.cells[i].box.min);
+        lua_setfield(L, -2, "min");
+        push_vec3(L, d.cells[i].box.max);
+        lua_setfield(L, -2, "max");
+        lua_pushstring(L, membership_name(d.cells[i].state));
+        lua_setfield(L, -2, "state");
+        lua_rawseti(L, -2, static_cast<lua_Integer>(i + 1));
+      }
+      lua_setfield(L, -2, "boxes");
+    }
+    return 1;
+  });
+}
+
+// s:faces() -> { {surface=, area=, loops=}, ... }
+int faces_m(lua_State* L) {
+  return guarded(L, [&] {
+    std::vector<SolidFace> faces = self(L).faces(current_tolerance(L));
+    lua_createtable(L, static_cast<int>(faces.size()), 0);
+    for (std::size_t i = 0; i < faces.size(); ++i) {
+      lua_createtable(L, 0, 3);
+      lua_pushlstring(L, faces[i].surface.data(), faces[i].surface.size());
+      lua_setfield(L, -2, "surface");
+      lua_pushnumber(L, faces[i].area);
+      lua_setfield(L, -2, "area");
+      lua_pushinteger(L, faces[i].loops);
+      lua_setfield(L, -2, "loops");
+      lua_rawseti(L, -2, static_cast<lua_Integer>(i + 1));
+    }
+    return 1;
+  });
+}
+
 // s:triangles{tolerance=} -> the triangle count after tessellation
 int triangles_m(lua_State* L) {
   return guarded(L, [&] {
@@ -173,7 +247,19 @@ int material_m(lua_State* L) {
     // Read as render{} will read it, so that a bad value is reported on the line that made it.
     std::shared_ptr<const render::Texture> texture;
     read_material(L, 2, 2, texture);
-    push_solid(L, s);
+    // The material also goes on the solid's faces as a tag (its place in the registry's list of
+    // materials), so that a boolean keeps it on the faces that came from this solid.
+    if (lua_getfield(L, LUA_REGISTRYINDEX, kMaterialsKey) != LUA_TTABLE) {
+      lua_pop(L, 1);
+      lua_newtable(L);
+      lua_pushvalue(L, -1);
+      lua_setfield(L, LUA_REGISTRYINDEX, kMaterialsKey);
+    }
+    const lua_Integer tag = static_cast<lua_Integer>(lua_rawlen(L, -1));
+    lua_pushvalue(L, 2);
+    lua_rawseti(L, -2, tag + 1);
+    lua_pop(L, 1);
+    push_solid(L, s.tagged(static_cast<int>(tag)));
     lua_pushvalue(L, 2);
     lua_setiuservalue(L, -2, 1);
     return 1;
@@ -241,6 +327,9 @@ const luaL_Reg kMethods[] = {
     {"euler", euler_m},
     {"is_valid", is_valid_m},
     {"triangles", triangles_m},
+    {"contains", contains_m},
+    {"faces", faces_m},
+    {"cells", cells_m},
     {"material", material_m},
     {nullptr, nullptr}};
 
@@ -272,6 +361,17 @@ int push_material(lua_State* L, int idx) {
     return LUA_TNIL;
   }
   return lua_getiuservalue(L, idx, 1);
+}
+
+int push_tag_material(lua_State* L, int tag) {
+  if (tag < 0 || lua_getfield(L, LUA_REGISTRYINDEX, kMaterialsKey) != LUA_TTABLE) {
+    if (tag >= 0) lua_pop(L, 1);
+    lua_pushnil(L);
+    return LUA_TNIL;
+  }
+  int type = lua_rawgeti(L, -1, tag + 1);
+  lua_remove(L, -2);
+  return type;
 }
 
 Tolerance current_tolerance(lua_State* L) {

@@ -17,6 +17,8 @@ const Solid* test_solid(lua_State* L, int idx);   // nullptr if not a Solid
 const Solid& check_solid(lua_State* L, int idx);  // throws ArgError if not a Solid
 // Pushes the material table of the Solid at idx (nil when it has none); returns its Lua type.
 int push_material(lua_State* L, int idx);
+// Pushes the material table of a face tag (Solid::face_tags; made by s:material{}), or nil.
+int push_tag_material(lua_State* L, int tag);
 
 // The chordal tolerance set by tolerance(t) in this Lua state (default 0.01 model units).
 Tolerance current_tolerance(lua_State* L);

@@ -201,3 +201,32 @@ TEST_CASE("import() of a seamed, faceted, textured cube OBJ gives a Solid that r
   CHECK(blueish > 1000);
   CHECK(std::abs(yellowish - blueish) < (yellowish + blueish) / 4);
 }
+
+TEST_CASE("render{} draws each face of a boolean in the material of the solid it came from", "[lua][render][tree]") {
+  std::string out = std::string(WEDGE_BINARY_DIR) + "/lua_render_colours.png";
+  std::filesystem::remove(out);
+  std::string err;
+  int status = run(R"(
+      local red = sphere(1):material{diffuse = {0.9, 0.1, 0.1}}
+      local blue = cube(2):material{diffuse = {0.1, 0.1, 0.9}}
+      render{red - blue, out = ')" + out + R"(', size = {80, 80}, background = {1, 1, 1},
+        camera = {eye = {4, 4, 4}, center = {0, 0, 0}, up = {0, 0, 1}, fovy = 40},
+        lights = {{type = 'directional', direction = {-1, -1, -1}}}})",
+                   err);
+  INFO(err);
+  REQUIRE(status == 0);
+  render::Image im = render::read_png(out);
+  int reds = 0, blues = 0;
+  for (int y = 0; y < 80; ++y)
+    for (int x = 0; x < 80; ++x) {
+      auto p = im.pixel(x, y);
+      if (p[0] > p[2] + 60 && p[0] > 60) ++reds;
+      if (p[2] > p[0] + 60 && p[2] > 60) ++blues;
+    }
+  // The cut corner (the cube's three quarter discs) faces the eye: blue in the middle, the rest
+  // of the sphere red around it.
+  auto mid = im.pixel(40, 40);
+  CHECK(mid[2] > mid[0] + 60);
+  CHECK(reds > 300);
+  CHECK(blues > 100);
+}

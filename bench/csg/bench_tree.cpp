@@ -1,0 +1,137 @@
+// Issue 16's benchmark: CSG trees of a CAD kind, evaluated with and without the evaluator's cache
+// and bounding-box pruning, at 1 and 2 threads; and how long a cancel takes to stop an evaluation.
+//
+//   bench_tree [repeats]
+//
+// Models (fresh trees for every run, so nothing is cached across runs):
+//   plate: a 42 x 42 x 2 plate with 400 instances (20 x 20) of one drilled boss (a cylinder r 0.6,
+//          h 2 on top, drilled r 0.3 through boss and plate), all one n-ary union minus the drills;
+//   gear:  a disc r 10 with 60 teeth (boxes) unioned, drilled by a centre hole and 6 lightening holes.
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cstdio>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <tbb/global_control.h>
+
+#include "csg/brep_leaf.h"
+#include "csg/csg.h"
+
+using namespace wedge;
+
+namespace {
+
+double now() { return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count(); }
+
+Solid plate_model() {
+  Solid plate = brep_solid(box(Vec3(42, 42, 2)));
+  // One boss, drilled; every instance is a transform of this one node.
+  Solid boss = Solid::boolean(BooleanOp::Difference, {brep_solid(cylinder(0.6, 2, Point3(0, 0, 2))),
+                                                      brep_solid(cylinder(0.3, 2.5, Point3(0, 0, 1.9)))});
+  Solid drill = brep_solid(cylinder(0.3, 5, Point3(0, 0, -1)));
+  std::vector<Solid> parts{plate}, drills;
+  for (int i = 0; i < 20; ++i)
+    for (int j = 0; j < 20; ++j) {
+      Mat4 m = translate(Vec3(2 + 2 * i, 2 + 2 * j, 0));
+      parts.push_back(boss.transformed(m));
+      drills.push_back(drill.transformed(m));
+    }
+  Solid body = Solid::boolean(BooleanOp::Union, parts);
+  std::vector<Solid> ops{body};
+  ops.insert(ops.end(), drills.begin(), drills.end());
+  return Solid::boolean(BooleanOp::Difference, ops);
+}
+
+Solid gear_model() {
+  Solid disc = brep_solid(cylinder(10, 2));
+  Solid tooth = brep_solid(box(Vec3(1.6, 0.8, 2), Point3(9.5, -0.4, 0)));
+  std::vector<Solid> parts{disc};
+  for (int k = 0; k < 60; ++k) parts.push_back(tooth.transformed(rotate_z(6.0 * k)));
+  std::vector<Solid> ops{Solid::boolean(BooleanOp::Union, parts), brep_solid(cylinder(2, 4, Point3(0, 0, -1)))};
+  for (int k = 0; k < 6; ++k) ops.push_back(brep_solid(cylinder(1.5, 4, Point3(6 * std::cos(k * kPi / 3), 6 * std::sin(k * kPi / 3), -1))));
+  return Solid::boolean(BooleanOp::Difference, ops);
+}
+
+struct Row {
+  double seconds;
+  double volume;
+  EvalStats stats;
+};
+
+Row run(Solid (*make)(), const EvalOptions& o, int threads) {
+  tbb::global_control g(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
+  set_eval_options(o);
+  EvalStats stats;
+  EvalControl c;
+  c.stats = &stats;
+  set_eval_control(&c);
+  Solid s = make();
+  Tolerance tol;
+  double t0 = now();
+  double v = s.mass_properties(tol).volume;
+  double t = now() - t0;
+  set_eval_control(nullptr);
+  set_eval_options({});
+  return {t, v, stats};
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  int repeats = argc > 1 ? std::max(1, std::atoi(argv[1])) : 3;
+  struct Model {
+    const char* name;
+    Solid (*make)();
+  } models[] = {{"plate, 400 drilled bosses", plate_model}, {"gear, 60 teeth, drilled", gear_model}};
+  struct Config {
+    const char* name;
+    EvalOptions o;
+  } configs[] = {{"cache+prune", {true, true, true}}, {"no cache, no prune", {false, false, true}}};
+  std::printf("| model | evaluator | threads | median s | engine calls | volume |\n|---|---|---|---|---|---|\n");
+  for (const auto& m : models)
+    for (const auto& c : configs)
+      for (int threads : {1, 2}) {
+        std::vector<double> times;
+        Row last{};
+        for (int r = 0; r < repeats; ++r) {
+          last = run(m.make, c.o, threads);
+          times.push_back(last.seconds);
+        }
+        std::sort(times.begin(), times.end());
+        std::printf("| %s | %s | %d | %.3f | %ld | %.6f |\n", m.name, c.name, threads, times[times.size() / 2], last.stats.booleans,
+                    last.volume);
+        std::fflush(stdout);
+      }
+  // Cancel latency: a flag raised part-way through the plate; the time until evaluation returns.
+  std::printf("\ncancel latency (plate, 2 threads):");
+  for (double after : {0.2, 0.5, 1.0}) {
+    std::atomic<bool> stop{false};
+    std::atomic<double> raised{0};
+    EvalControl c;
+    c.cancelled = [&] { return stop.load(); };
+    set_eval_control(&c);
+    Solid s = plate_model();
+    std::thread t([&] {
+      std::this_thread::sleep_for(std::chrono::duration<double>(after));
+      raised = now();
+      stop = true;
+    });
+    double end = 0;
+    bool cancelled = false;
+    try {
+      s.mass_properties(Tolerance{});
+    } catch (const Cancelled&) {
+      cancelled = true;
+    }
+    end = now();
+    t.join();
+    set_eval_control(nullptr);
+    if (cancelled) std::printf(" %.0f ms (raised at %.1f s);", 1e3 * (end - raised.load()), after);
+    else std::printf(" finished before %.1f s;", after);
+  }
+  std::printf("\n");
+  return 0;
+}

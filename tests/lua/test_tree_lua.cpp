@@ -1,0 +1,166 @@
+// s:contains, s:cells and s:faces from Lua: answers against closed forms, and errors that name
+// the argument.
+#include <catch2/catch.hpp>
+
+#include <sstream>
+
+#include "lua/wedge_lua.h"
+
+namespace {
+struct Run {
+  int status;
+  std::string err;
+};
+Run run(const std::string& code) {
+  std::ostringstream err;
+  int status = wedge::lua::run_string(code, "@tree.lua", err);
+  return {status, err.str()};
+}
+}  // namespace
+
+TEST_CASE("s:contains answers inside, outside and boundary on primitives and booleans", "[lua][tree]") {
+  auto r = run(R"(
+    local b = box(2, 2, 2)
+    assert(b:contains{1, 1, 1} == "inside")
+    assert(b:contains{2, 1, 1} == "boundary")
+    assert(b:contains{2, 2, 2} == "boundary")
+    assert(b:contains{3, 1, 1} == "outside")
+    local d = b - box(2, 2, 2):translate(1, 1, 1)
+    assert(d:contains{1.5, 1.5, 1.5} == "outside")
+    assert(d:contains{1, 1.5, 1.5} == "boundary")
+    assert(d:contains{0.5, 1.5, 1.5} == "inside")
+    local s = sphere(1)
+    assert(s:contains{0, 0, 0.9} == "inside")
+    assert(s:contains{0, 0, 1.1} == "outside")
+    assert(s:contains{0, 0, 1} == "boundary")
+  )");
+  INFO(r.err);
+  CHECK(r.status == 0);
+}
+
+TEST_CASE("s:cells brackets the volume and lists its boxes on request", "[lua][tree]") {
+  auto r = run(R"(
+    local c = box(1, 2, 3):cells{size = 0.25}
+    assert(c.volume_min <= 6 and c.volume_max >= 6, c.volume_min .. " " .. c.volume_max)
+    assert(c.inside > 0 and c.boundary > 0 and c.outside >= 0)
+    assert(c.boxes == nil)
+    local s = sphere(1)
+    local coarse, fine = s:cells(0.5), s:cells{size = 0.125, boxes = true}
+    local v = 4 / 3 * math.pi
+    assert(fine.volume_min <= v and v <= fine.volume_max)
+    assert(fine.volume_max - fine.volume_min < coarse.volume_max - coarse.volume_min)
+    assert(#fine.boxes == fine.inside + fine.boundary + fine.outside)
+    local b = fine.boxes[1]
+    assert(#b.min == 3 and #b.max == 3 and (b.state == "inside" or b.state == "outside" or b.state == "boundary"))
+  )");
+  INFO(r.err);
+  CHECK(r.status == 0);
+}
+
+TEST_CASE("s:faces lists the faces a boolean kept, with their surfaces", "[lua][tree]") {
+  auto r = run(R"(
+    local kinds = function(s)
+      local k = {}
+      for _, f in ipairs(s:faces()) do k[f.surface] = (k[f.surface] or 0) + 1 end
+      return k
+    end
+    local k = kinds(sphere(1) - cube(2))
+    assert(k.sphere == 1 and k.plane == 3, "sphere minus cube")
+    k = kinds(cylinder(1, 2))
+    assert(k.cylinder == 2 and k.plane == 2)
+    k = kinds(torus{R = 2, r = 0.5})
+    assert(k.torus == 2)
+    k = kinds(cone{r1 = 1, r2 = 0.5, h = 1})
+    assert(k.cone == 2)
+    local f = box(1, 2, 3):faces()
+    assert(#f == 6 and f[1].surface == "plane" and f[1].loops == 1)
+    local total = 0
+    for _, x in ipairs(f) do total = total + x.area end
+    assert(math.abs(total - 22) < 1e-12)
+    local plate = box(4, 4, 1) - box(2, 2, 3):translate(1, 1, -1)
+    local rings = 0
+    for _, x in ipairs(plate:faces()) do if x.loops == 2 then rings = rings + 1 end end
+    assert(#plate:faces() == 10 and rings == 2)
+    local e = plate:euler()
+    assert(e.F == 10 and e.R == 2 and e.H == 1 and e.S == 1)
+  )");
+  INFO(r.err);
+  CHECK(r.status == 0);
+}
+
+TEST_CASE("s:contains and s:cells name a bad argument", "[lua][tree]") {
+  auto bad = [](const std::string& code) { return run(code).err; };
+  CHECK_THAT(bad("box(1,1,1):contains(3)"), Catch::Contains("tree.lua:1:") && Catch::Contains("contains"));
+  CHECK_THAT(bad("box(1,1,1):contains{0/0, 0, 0}"), Catch::Contains("tree.lua:1:"));
+  CHECK_THAT(bad("box(1,1,1):cells{}"), Catch::Contains("field 'size' is required"));
+  CHECK_THAT(bad("box(1,1,1):cells{size = -1}"), Catch::Contains("size"));
+  CHECK_THAT(bad("box(1,1,1):cells{size = 1, bogus = 2}"), Catch::Contains("bogus"));
+  CHECK_THAT(bad("box(1,1,1):cells(0)"), Catch::Contains("size must be positive"));
+}
+
+#include <fcntl.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <fstream>
+#include <thread>
+
+namespace {
+struct Interrupted {
+  int exit_code = -1;
+  double seconds_after_signal = 0;
+  std::string err;
+};
+// Runs `wedge run` on the script, sends SIGINT after `delay`, and waits for the exit.
+Interrupted interrupt(const std::string& script, std::chrono::milliseconds delay) {
+  const std::string dir = std::string(WEDGE_BINARY_DIR) + "/tests";
+  const std::string path = dir + "/interrupt-" + std::to_string(::getpid()) + ".lua";
+  const std::string errpath = path + ".err";
+  std::ofstream(path) << script;
+  Interrupted r;
+  pid_t pid = ::fork();
+  if (pid == 0) {
+    int fd = ::open(errpath.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    ::dup2(fd, 2);
+    ::execl(WEDGE_EXE, WEDGE_EXE, "run", path.c_str(), static_cast<char*>(nullptr));
+    ::_exit(127);
+  }
+  std::this_thread::sleep_for(delay);
+  ::kill(pid, SIGINT);
+  auto t0 = std::chrono::steady_clock::now();
+  int status = 0;
+  ::waitpid(pid, &status, 0);
+  r.seconds_after_signal = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  std::ifstream in(errpath);
+  r.err.assign(std::istreambuf_iterator<char>(in), {});
+  std::remove(path.c_str());
+  std::remove(errpath.c_str());
+  return r;
+}
+}  // namespace
+
+TEST_CASE("Ctrl-C stops a running script and a CSG evaluation cleanly", "[lua][tree][cli]") {
+  SECTION("a Lua loop") {
+    auto r = interrupt("while true do end\n", std::chrono::milliseconds(300));
+    CHECK(r.exit_code == 130);
+    CHECK_THAT(r.err, Catch::Contains("interrupted by Ctrl-C"));
+  }
+  SECTION("a long boolean") {
+    // Many fine spheres unioned and subtracted: seconds of work, cancelled between stages.
+    auto r = interrupt(R"(
+      tolerance(1e-4)
+      local s = box(10, 10, 1)
+      local holes = {}
+      for i = 1, 9 do for j = 1, 9 do holes[#holes + 1] = sphere(0.45):translate(i, j, 0.5) end end
+      local d = difference(s, table.unpack(holes))
+      print(d:volume())
+    )", std::chrono::milliseconds(1500));
+    CHECK(r.exit_code == 130);
+    CHECK_THAT(r.err, Catch::Contains("interrupted by Ctrl-C"));
+    // Generous: the 100 ms target is measured in bench/, not here.
+    CHECK(r.seconds_after_signal < 5);
+  }
+}
