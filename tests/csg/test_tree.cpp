@@ -241,3 +241,24 @@ TEST_CASE("tree: each face of a result keeps the tag of the solid it came from",
   for (std::size_t i = 0; i < te.size(); ++i)
     if (ke[i] == "sphere") CHECK(te[i] == 7);
 }
+
+TEST_CASE("tree: a finer tolerance re-evaluates the boolean from the tree and converges", "[tree]") {
+  // Sphere r = 1 minus the octant cube: 7/8 of the ball. A finer tolerance tessellates the leaves
+  // again (more triangles, not the coarse facets subdivided) and the volume error shrinks.
+  Solid d = Solid::boolean(BooleanOp::Difference, {brep_solid(sphere(1)), box_solid(Vec3(2, 2, 2))});
+  const double exact = 7.0 / 8.0 * 4.0 / 3.0 * kPi;
+  double last_error = 1e300;
+  std::size_t last_count = 0;
+  for (double t : {1e-2, 1e-3, 1e-4}) {
+    Tolerance tol;
+    tol.chordal = t;
+    Mesh m = d.mesh(tol);
+    double error = std::abs(mass_properties(m).volume - exact);
+    INFO("tolerance " << t << " error " << error);
+    CHECK(m.triangles.size() > last_count);
+    CHECK(error < last_error);
+    CHECK(error < 13.4 * t);  // a chordal error t costs at most the area (4.25 pi) times t
+    last_error = error;
+    last_count = m.triangles.size();
+  }
+}
