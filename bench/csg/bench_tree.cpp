@@ -1,7 +1,7 @@
 // Issue 16's benchmark: CSG trees of a CAD kind, evaluated with and without the evaluator's cache
 // and bounding-box pruning, at 1 and 2 threads; and how long a cancel takes to stop an evaluation.
 //
-//   bench_tree [repeats]
+//   bench_tree [repeats] [bosses per side, default 20]
 //
 // Models (fresh trees for every run, so nothing is cached across runs):
 //   plate: a 42 x 42 x 2 plate with 400 instances (20 x 20) of one drilled boss (a cylinder r 0.6,
@@ -26,15 +26,18 @@ namespace {
 
 double now() { return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count(); }
 
+int g_n = 20;  // bosses per side
+
 Solid plate_model() {
-  Solid plate = brep_solid(box(Vec3(42, 42, 2)));
+  const int n = g_n;
+  Solid plate = brep_solid(box(Vec3(2 * n + 2, 2 * n + 2, 2)));
   // One boss, drilled; every instance is a transform of this one node.
-  Solid boss = Solid::boolean(BooleanOp::Difference, {brep_solid(cylinder(0.6, 2, Point3(0, 0, 2))),
-                                                      brep_solid(cylinder(0.3, 2.5, Point3(0, 0, 1.9)))});
-  Solid drill = brep_solid(cylinder(0.3, 5, Point3(0, 0, -1)));
+  Solid boss = Solid::boolean(BooleanOp::Difference, {brep_solid(cylinder(0.6, 2, Point3(0, 0, 1.5))),
+                                                      brep_solid(cylinder(0.3, 3, Point3(0, 0, 1)))});
+  Solid drill = brep_solid(cylinder(0.2, 5, Point3(0, 0, -1)));
   std::vector<Solid> parts{plate}, drills;
-  for (int i = 0; i < 20; ++i)
-    for (int j = 0; j < 20; ++j) {
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) {
       Mat4 m = translate(Vec3(2 + 2 * i, 2 + 2 * j, 0));
       parts.push_back(boss.transformed(m));
       drills.push_back(drill.transformed(m));
@@ -82,15 +85,17 @@ Row run(Solid (*make)(), const EvalOptions& o, int threads) {
 
 int main(int argc, char** argv) {
   int repeats = argc > 1 ? std::max(1, std::atoi(argv[1])) : 3;
+  if (argc > 2) g_n = std::max(1, std::atoi(argv[2]));
   struct Model {
     const char* name;
     Solid (*make)();
-  } models[] = {{"plate, 400 drilled bosses", plate_model}, {"gear, 60 teeth, drilled", gear_model}};
+  } models[] = {{"plate of drilled bosses", plate_model}, {"gear, 60 teeth, drilled", gear_model}};
+  std::printf("plate: %d x %d bosses\n", g_n, g_n);
   struct Config {
     const char* name;
     EvalOptions o;
   } configs[] = {{"cache+prune", {true, true, true}}, {"no cache, no prune", {false, false, true}}};
-  std::printf("| model | evaluator | threads | median s | engine calls | volume |\n|---|---|---|---|---|---|\n");
+  std::printf("| model | evaluator | threads | median s | engine calls | tessellation, broad, intersection, classification, output ms (summed) | volume |\n|---|---|---|---|---|---|---|\n");
   for (const auto& m : models)
     for (const auto& c : configs)
       for (int threads : {1, 2}) {
@@ -101,8 +106,9 @@ int main(int argc, char** argv) {
           times.push_back(last.seconds);
         }
         std::sort(times.begin(), times.end());
-        std::printf("| %s | %s | %d | %.3f | %ld | %.6f |\n", m.name, c.name, threads, times[times.size() / 2], last.stats.booleans,
-                    last.volume);
+        const EvalStats& st = last.stats;
+        std::printf("| %s | %s | %d | %.3f | %ld | %.0f, %.0f, %.0f, %.0f, %.0f | %.6f |\n", m.name, c.name, threads,
+                    times[times.size() / 2], st.booleans, st.tessellate, st.broad, st.arrange, st.classify, st.output, last.volume);
         std::fflush(stdout);
       }
   // Cancel latency: a flag raised part-way through the plate; the time until evaluation returns.

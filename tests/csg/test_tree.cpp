@@ -92,7 +92,7 @@ TEST_CASE("rebuild: a sphere drilled through keeps an annular spherical face", "
   CHECK(k.size() == 2);
 }
 
-TEST_CASE("rebuild: a plate minus 400 through-cylinders has H = 400", "[tree][rebuild][.slow]") {
+TEST_CASE("rebuild: a plate minus 400 through-cylinders has H = 400", "[tree][rebuild]") {
   Tolerance tol;
   tol.chordal = 0.05;
   std::vector<Solid> ops{box_solid(Vec3(21, 21, 1))};
