@@ -1,5 +1,6 @@
 #include "csg/rebuild.h"
 
+#include <algorithm>
 #include <deque>
 
 #include "brep/polyhedron_topology.h"
@@ -128,7 +129,67 @@ RebuiltSolid rebuild_brep(const Mesh& mesh) {
       const Vec3& n = data.at(f.value).normal;
       if (newell(m, part1).dot(n) > newell(m, part0).dot(n)) m.reverse_edge(e);
     }
-    m.kemr(e);  // leaves no strut behind: both ends keep other edges
+    const VertexId ends[2] = {m.edges()[e].v[0], m.edges()[e].v[1]};
+    m.kemr(e);
+    // A bridge of several edges: what remains of it now hangs into the ring or the outer loop.
+    for (VertexId x : ends)
+      for (EdgeId n : at[x.value])
+        if (m.edges().contains(n)) work.push_back(n);
+    kill_struts();
+  }
+
+  // 3. A vertex where only two edges meet lies inside one intersection curve (or one source
+  // edge): jekv joins its two edges into one edge on the polyline through it, so the counts are
+  // those of the result's faces and curves, not of its triangles. A closed curve keeps two edges.
+  std::unordered_map<std::int32_t, std::vector<Point3>> poly;  // edge -> its points, v[0] to v[1]
+  std::unordered_map<std::int32_t, std::vector<EdgeId>> incident;
+  for (EdgeId e : m.edges().ids()) {
+    const BrepEdge& ed = m.edges()[e];
+    poly[e.value] = {m.point(ed.v[0]), m.point(ed.v[1])};
+    for (int k = 0; k < 2; ++k) incident[ed.v[k].value].push_back(e);
+  }
+  auto far_end = [&](EdgeId e, VertexId v) { return m.edges()[e].v[m.edges()[e].v[0] == v ? 1 : 0]; };
+  auto from = [&](EdgeId e, VertexId v) {  // e's points starting at its end v
+    std::vector<Point3> p = poly.at(e.value);
+    if (m.edges()[e].v[0] != v) std::reverse(p.begin(), p.end());
+    return p;
+  };
+  for (VertexId v : m.vertices().ids()) {
+    auto it = incident.find(v.value);
+    if (it == incident.end() || it->second.size() != 2 || it->second[0] == it->second[1]) continue;
+    EdgeId eo = it->second[0], e2 = it->second[1];
+    VertexId a = far_end(eo, v), b = far_end(e2, v);
+    if (a == b) continue;  // the last two edges of a closed curve
+    std::vector<Point3> pts = from(eo, a);  // a ... v
+    std::vector<Point3> rest = from(e2, v);  // v ... b
+    pts.insert(pts.end(), rest.begin() + 1, rest.end());
+    try {
+      m.jekv(e2, v);
+    } catch (const Error&) {
+      continue;  // a precondition failed; the model is as it was
+    }
+    // eo now runs between a and b, one way or the other.
+    if (m.edges()[eo].v[0] != a) std::reverse(pts.begin(), pts.end());
+    poly[eo.value] = std::move(pts);
+    poly.erase(e2.value);
+    incident.erase(v.value);
+    for (EdgeId& x : incident.at(b.value))
+      if (x == e2) x = eo;
+  }
+  // Each joined edge lies on its polyline: a degree-1 NURBS curve through its points, by chord
+  // length (left a straight edge if two of its parameters would coincide).
+  for (auto& [id, pts] : poly) {
+    pts.erase(std::unique(pts.begin(), pts.end()), pts.end());
+    if (pts.size() <= 2) continue;
+    std::vector<double> knots{0, 0};
+    double total = 0;
+    std::vector<double> len{0};
+    for (std::size_t i = 1; i < pts.size(); ++i) len.push_back(total += (pts[i] - pts[i - 1]).norm());
+    for (std::size_t i = 1; i + 1 < pts.size(); ++i) knots.push_back(total > 0 ? len[i] / total : double(i) / double(pts.size() - 1));
+    knots.push_back(1);
+    knots.push_back(1);
+    if (std::adjacent_find(knots.begin() + 1, knots.end() - 1, std::greater_equal<double>()) != knots.end() - 1) continue;
+    m.set_curve(EdgeId(id), ParamCurve{std::make_shared<const NurbsCurve>(1, pts, knots)});
   }
 
   for (const auto& [id, d] : data) {
