@@ -283,12 +283,14 @@ class Model {
   // loops stay counter-clockwise seen from outside. Throws for a non-similarity on curved geometry.
   void transform(const Mat4& m);
 
-  // For validate()'s tests only: direct access that bypasses the Euler operators.
-  BrepEdge& raw_edge(EdgeId e) { return edges_[e]; }
-  BrepLoop& raw_loop(LoopId l) { return loops_[l]; }
-  EdgeId raw_add_edge(BrepEdge e);
 
  private:
+  // validate()'s tests break a model on purpose (tests/brep/test_euler.cpp defines this friend);
+  // nothing else changes topology except through the Euler operators.
+  friend struct ModelCorruptor;
+  BrepEdge& raw_edge(EdgeId e) { return edges_[e]; }
+  EdgeId raw_add_edge(BrepEdge e);
+
   BrepSide& side_mut(EdgeSide s) { return edges_[s.edge].side[s.side]; }
   // link(a, b): next(a) = b, prev(b) = a
   void link(EdgeSide a, EdgeSide b);

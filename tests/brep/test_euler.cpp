@@ -225,12 +225,20 @@ TEST_CASE("two disjoint boxes are two shells", "[brep]") {
   CHECK(m.mass_properties().volume == Approx(2.0));
 }
 
+namespace wedge {
+// Direct access past the Euler operators, to break a model on purpose (a friend of Model).
+struct ModelCorruptor {
+  static BrepEdge& edge(Model& m, EdgeId e) { return m.raw_edge(e); }
+  static EdgeId add_edge(Model& m, BrepEdge e) { return m.raw_add_edge(e); }
+};
+}  // namespace wedge
+
 TEST_CASE("validate() catches a broken wing, an open loop and a dangling edge", "[brep][validate]") {
   SECTION("broken wing") {
     Model m = box(Vec3(1, 1, 1));
     EdgeId e = m.edges().ids()[0];
     EdgeId other = m.edges().ids()[5];
-    m.raw_edge(e).side[0].next = EdgeSide{other, 0};
+    ModelCorruptor::edge(m, e).side[0].next = EdgeSide{other, 0};
     Validation v = m.validate();
     CHECK_FALSE(v.ok);
     CHECK_THAT(v.message, Catch::StartsWith("broken wing: the successor of edge 0 side 0"));
@@ -239,7 +247,7 @@ TEST_CASE("validate() catches a broken wing, an open loop and a dangling edge", 
     Model m = box(Vec3(1, 1, 1));
     EdgeId e = m.edges().ids()[2];
     LoopId l = m.edges()[e].side[1].loop;
-    m.raw_edge(e).side[1].next = EdgeSide();
+    ModelCorruptor::edge(m, e).side[1].next = EdgeSide();
     Validation v = m.validate();
     CHECK_FALSE(v.ok);
     CHECK(v.message == "loop " + std::to_string(l.value) + " is not closed: edge 2 side 1 has no successor");
@@ -251,9 +259,9 @@ TEST_CASE("validate() catches a broken wing, an open loop and a dangling edge", 
     auto vs = m.loop_vertices(m.faces()[top].outer);
     d.v[0] = vs[0];
     d.v[1] = vs[2];
-    EdgeId id = m.raw_add_edge(d);
+    EdgeId id = ModelCorruptor::add_edge(m, d);
     // Its sides point at each other and claim the top face's loop, which never reaches them.
-    BrepEdge& de = m.raw_edge(id);
+    BrepEdge& de = ModelCorruptor::edge(m, id);
     for (int k = 0; k < 2; ++k) {
       de.side[k].loop = m.faces()[top].outer;
       de.side[k].next = de.side[k].prev = EdgeSide{id, 1 - k};
