@@ -53,12 +53,34 @@ std::vector<Vec2> read_ring(lua_State* L, int idx, int arg, const std::string& w
   return ring;
 }
 
-Profile& push_profile(lua_State* L, Profile p) {
+// A profile as Lua holds it: polygons, and holes that are closed curves (circle(r), a closed
+// spline), kept exact for the curved builders. `polygon.holes` ends with each curve hole's polyline
+// (at the tolerance current when the profile was made), for the planar paths and for checks.
+struct LuaProfile {
+  Profile polygon;
+  std::vector<CurvePtr> curve_holes;
+  std::size_t polygon_holes() const { return polygon.holes.size() - curve_holes.size(); }
+};
+
+LuaProfile& push_profile(lua_State* L, Profile p, std::vector<CurvePtr> curve_holes = {}) {
   as_arg(1, [&] { validate_profile(p); });  // the error points at the line that made the profile
   if (signed_area(p.outer) < 0) std::reverse(p.outer.begin(), p.outer.end());
   for (auto& h : p.holes)
     if (signed_area(h) > 0) std::reverse(h.begin(), h.end());
-  return push_object(L, kKey, std::move(p));
+  return push_object(L, kKey, LuaProfile{std::move(p), std::move(curve_holes)});
+}
+
+// A closed planar curve at stack index idx as a polyline ring (argument `arg`, named `what`).
+std::vector<Vec2> curve_ring(lua_State* L, const Curve& c, int arg, const std::string& what) {
+  if (!c.closed()) throw ArgError{arg, what + " is an open curve: a hole must be closed"};
+  std::vector<Vec2> ring;
+  for (const auto& q : c.points(current_tolerance(L).chordal)) {
+    if (std::abs(q.z()) > 1e-12) throw ArgError{arg, what + " leaves the XY plane: a profile must be planar"};
+    ring.emplace_back(q.x(), q.y());
+  }
+  if (ring.size() > 1 && (ring.front() - ring.back()).norm() < 1e-12) ring.pop_back();
+  if (ring.size() < 3) throw ArgError{arg, what + " is too small for the tolerance"};
+  return ring;
 }
 
 // polygon{{x,y}, ...} | polygon{outer={...}, holes={{...}, ...}}
@@ -66,6 +88,7 @@ int polygon_fn(lua_State* L) {
   return guarded(L, [&] {
     check_table(L, 1);
     Profile p;
+    std::vector<CurvePtr> curves;
     lua_pushstring(L, "outer");
     bool has_outer = lua_rawget(L, 1) != LUA_TNIL;
     lua_pop(L, 1);
@@ -85,13 +108,20 @@ int polygon_fn(lua_State* L) {
       if (o.push("holes") != LUA_TNIL) {
         int holes = lua_gettop(L);
         try {
-          if (lua_type(L, holes) != LUA_TTABLE) throw ArgError{1, "field 'holes' must be a list of polygons"};
+          if (lua_type(L, holes) != LUA_TTABLE) throw ArgError{1, "field 'holes' must be a list of polygons or closed curves"};
           lua_Integer n = static_cast<lua_Integer>(lua_rawlen(L, holes));
+          std::vector<std::vector<Vec2>> curve_rings;
           for (lua_Integer i = 1; i <= n; ++i) {
             lua_rawgeti(L, holes, i);
-            p.holes.push_back(read_ring(L, -1, 1, "hole " + std::to_string(i)));
+            if (const LuaCurve* c = test_curve(L, -1)) {
+              curve_rings.push_back(curve_ring(L, *c->curve, 1, "hole " + std::to_string(i)));
+              curves.push_back(c->curve);
+            } else {
+              p.holes.push_back(read_ring(L, -1, 1, "hole " + std::to_string(i)));
+            }
             lua_pop(L, 1);
           }
+          p.holes.insert(p.holes.end(), curve_rings.begin(), curve_rings.end());
         } catch (const ArgError& e) {
           err = e.message;
         }
@@ -101,7 +131,7 @@ int polygon_fn(lua_State* L) {
       if (!err.empty()) throw ArgError{1, err};
       o.finish();
     }
-    push_profile(L, std::move(p));
+    push_profile(L, std::move(p), std::move(curves));
     return 1;
   });
 }
@@ -121,7 +151,7 @@ int rect_fn(lua_State* L) {
 
 // The profile at argument `arg`: a Profile, or a closed planar Curve as its polyline.
 Profile check_profile(lua_State* L, int arg) {
-  if (const Profile* p = test_object<Profile>(L, arg, kKey)) return *p;
+  if (const LuaProfile* p = test_object<LuaProfile>(L, arg, kKey)) return p->polygon;
   if (const LuaCurve* c = test_curve(L, arg)) {
     if (!c->curve->closed()) throw ArgError{arg, "the curve is open: a profile must be a closed curve"};
     std::vector<Point3> pts = c->curve->points(current_tolerance(L).chordal);
@@ -139,7 +169,13 @@ Profile check_profile(lua_State* L, int arg) {
 
 // The exact section of a profile argument: a Profile's polygons, or a closed curve split in two.
 Section check_section(lua_State* L, int arg) {
-  if (const Profile* p = test_object<Profile>(L, arg, kKey)) return section_of(*p);
+  if (const LuaProfile* p = test_object<LuaProfile>(L, arg, kKey)) {
+    Profile polygons = p->polygon;
+    polygons.holes.resize(p->polygon_holes());
+    Section s = section_of(polygons);
+    for (const auto& c : p->curve_holes) s.holes.push_back(loop_of_curve(c));
+    return s;
+  }
   if (const LuaCurve* c = test_curve(L, arg)) {
     if (!c->curve->closed()) throw ArgError{arg, "the curve is open: a profile must be a closed curve"};
     auto [a, b] = c->curve->domain();
@@ -172,7 +208,9 @@ int extrude_fn(lua_State* L) {
     }
     if (!std::isfinite(twist)) throw ArgError{3, "field 'twist' must be a finite angle in degrees"};
     if (!(k >= 0) || !std::isfinite(k)) throw ArgError{3, "field 'scale' must be zero or positive, got " + std::to_string(k)};
-    bool polygon = test_object<Profile>(L, 1, kKey) != nullptr;
+    // A polygon (no curve holes) extruded straight stays the planar prism or frustum.
+    const LuaProfile* lp = test_object<LuaProfile>(L, 1, kKey);
+    bool polygon = lp != nullptr && lp->curve_holes.empty();
     if (!polygon || twist != 0) {
       Section s = check_section(L, 1);
       push_solid(L, brep_solid(build(1, [&] { return extrude(s, h, radians(twist), k); })));
@@ -191,7 +229,7 @@ int extrude_fn(lua_State* L) {
 
 int area_m(lua_State* L) {
   return guarded(L, [&] {
-    const Profile& p = check_object<Profile>(L, 1, kKey, "Profile");
+    const Profile& p = check_object<LuaProfile>(L, 1, kKey, "Profile").polygon;
     double a = std::abs(signed_area(p.outer));
     for (const auto& h : p.holes) a -= std::abs(signed_area(h));
     lua_pushnumber(L, a);
@@ -201,8 +239,10 @@ int area_m(lua_State* L) {
 
 int tostring_m(lua_State* L) {
   return guarded(L, [&] {
-    const Profile& p = check_object<Profile>(L, 1, kKey, "Profile");
-    std::string s = "Profile(" + std::to_string(p.outer.size()) + " points, " + std::to_string(p.holes.size()) + " holes)";
+    const LuaProfile& lp = check_object<LuaProfile>(L, 1, kKey, "Profile");
+    std::string s = "Profile(" + std::to_string(lp.polygon.outer.size()) + " points, " + std::to_string(lp.polygon.holes.size()) + " holes";
+    if (!lp.curve_holes.empty()) s += ", " + std::to_string(lp.curve_holes.size()) + " of them curves";
+    s += ")";
     lua_pushstring(L, s.c_str());
     return 1;
   });
@@ -396,7 +436,7 @@ const luaL_Reg kMeta[] = {{"__tostring", tostring_m}, {nullptr, nullptr}};
 }  // namespace
 
 void register_profiles(lua_State* L) {
-  register_class(L, kKey, "Profile", kMethods, kMeta, gc_object<Profile>);
+  register_class(L, kKey, "Profile", kMethods, kMeta, gc_object<LuaProfile>);
   set_functions(L, kFunctions);
 }
 

@@ -75,6 +75,14 @@ TEST_CASE("sphere, cylinder, cone, torus and tube from Lua are exact", "[lua][cu
     local sh = extrude(holed, 3, {scale = 0.5})
     assert(near(sh:volume(), 3 * 12 * 1.75 / 3, 1e-9), sh:volume())
     counts(sh, 16, 24, 10, 2, 1)
+    -- Circle holes in a polygon are kept exact: the prism's volume with pi, not a polyline's.
+    local plate = polygon{outer = {{-2, -2}, {2, -2}, {2, 2}, {-2, 2}}, holes = {circle(1)}}
+    local pl = extrude(plate, 2)
+    assert(near(pl:volume(), 2 * (16 - pi), 1e-9), pl:volume())
+    counts(pl, 12, 18, 8, 2, 1)
+    assert(tostring(plate):find("1 of them curves"))
+    local washer = revolve(polygon{outer = {{1, -1}, {3, -1}, {3, 1}, {1, 1}}, holes = {circle{r = 0.5, center = {2, 0}}}})
+    assert(near(washer:volume(), 2 * pi * 2 * (4 - pi / 4), 1e-9), washer:volume())
     -- A sweep along a closed circle is the torus.
     local ring = sweep(circle(0.5), circle(2))
     assert(near(ring:volume(), 2 * pi * pi * 2 * 0.25, 1e-7), ring:volume())

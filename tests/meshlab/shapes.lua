@@ -15,6 +15,7 @@ local shapes = {
   {"torus", torus{R = 2, r = 0.5}, 1, 1},
   {"tube", tube{r_outer = 2, r_inner = 1, h = 1}, 1, 1},
   {"prism_with_hole", extrude(holed, 1), 1, 1},
+  {"prism_with_circle_holes", extrude(polygon{outer = {{-3, -2}, {3, -2}, {3, 2}, {-3, 2}}, holes = {circle(0.5), {{1.5, -0.5}, {2.5, -0.5}, {2.5, 0.5}, {1.5, 0.5}}}}, 1), 1, 2},
   {"twisted", extrude(square, 2, {twist = 90}), 1, 0},
   {"twisted_scaled_circle", extrude(circle(1), 2, {twist = 45, scale = 0.5}), 1, 0},
   {"scaled_with_hole", extrude(holed, 1, {scale = 0.5}), 1, 1},
