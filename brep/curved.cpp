@@ -25,6 +25,22 @@ namespace wedge {
 
 namespace {
 
+// A size of a curved primitive (radius, height): positive, and within 1e-100..kMaxCoordinate so
+// that its areas and volumes (squares and cubes) neither overflow nor underflow to zero.
+void require_extent(double x, const char* what) {
+  require_positive(x, what);
+  if (x > kMaxCoordinate) fail(what, " ", x, " is beyond ", kMaxCoordinate, " (volumes and normals would overflow)");
+  if (x < 1 / kMaxCoordinate) fail(what, " ", x, " is below ", 1 / kMaxCoordinate, " (areas and volumes would underflow to zero)");
+}
+
+// The placement of a primitive of reach `extent` at `at`: every coordinate stays within kMaxCoordinate.
+void require_placement(const Point3& at, double extent, const char* what) {
+  if (!at.allFinite()) fail(what, ": the position (", at.x(), ", ", at.y(), ", ", at.z(), ") is not finite");
+  if (!(at.cwiseAbs().maxCoeff() + extent <= kMaxCoordinate))
+    fail(what, ": the solid at (", at.x(), ", ", at.y(), ", ", at.z(), ") would reach beyond +-", kMaxCoordinate,
+         " (volumes and normals would overflow)");
+}
+
 struct LoopsSpec {
   std::vector<Point3> points;
   std::vector<std::array<int, 2>> edges;                 // v0, v1
@@ -438,7 +454,7 @@ Model sweep_sides(const std::vector<std::vector<SurfacePtr>>& sides, bool closed
 }
 
 SectionLoop circle_loop(const Vec2& c, double r) {
-  require_positive(r, "circle radius");
+  require_extent(r, "circle radius");
   Point3 center(c.x(), c.y(), 0);
   return {std::make_shared<const CircularArc>(center, r, 0.0, kPi), std::make_shared<const CircularArc>(center, r, kPi, 2 * kPi)};
 }
@@ -468,7 +484,8 @@ Section section_of(const Profile& p) {
 }
 
 Model extrude(const Section& s, double h, double twist, double scale) {
-  require_positive(h, "extrude height");
+  require_extent(h, "extrude height");
+  if (scale > kMaxCoordinate) fail("extrude: scale ", scale, " is beyond ", kMaxCoordinate);
   if (!std::isfinite(twist)) fail("extrude: twist is not finite");
   if (!(scale >= 0) || !std::isfinite(scale)) fail("extrude: scale must be >= 0, got ", scale);
   return named(oriented_sweep(s, false, [&](const CurvePtr& c) -> SurfacePtr {
@@ -539,7 +556,8 @@ Model loft(const std::vector<Section>& sections, const std::vector<double>& heig
 }
 
 Model sphere(double r, const Point3& c) {
-  require_positive(r, "sphere radius");
+  require_extent(r, "sphere radius");
+  require_placement(c, r, "sphere");
   Section s{{std::make_shared<const CircularArc>(Point3::Zero(), r, -kPi / 2, kPi / 2),
              std::make_shared<const LineSegment>(Point3(0, r, 0), Point3(0, -r, 0))},
             {}};
@@ -549,8 +567,9 @@ Model sphere(double r, const Point3& c) {
 }
 
 Model cylinder(double r, double h, const Point3& base) {
-  require_positive(r, "cylinder radius");
-  require_positive(h, "cylinder height");
+  require_extent(r, "cylinder radius");
+  require_extent(h, "cylinder height");
+  require_placement(base, std::max(r, h), "cylinder");
   Model m = extrude(Section{circle_loop(Vec2::Zero(), r), {}}, h);
   if (base != Point3::Zero()) m.transform(translate(base));
   return named(std::move(m), "cylinder");
@@ -560,6 +579,10 @@ Model cone(double r1, double r2, double h, const Point3& base) {
   require_positive(h, "cone height");
   if (!(r1 >= 0) || !(r2 >= 0) || !std::isfinite(r1) || !std::isfinite(r2)) fail("cone: radii must be >= 0, got ", r1, " and ", r2);
   if (r1 == 0 && r2 == 0) fail("cone: r1 and r2 are both 0 (no volume)");
+  require_extent(h, "cone height");
+  if (r1 > 0) require_extent(r1, "cone radius r1");
+  if (r2 > 0) require_extent(r2, "cone radius r2");
+  require_placement(base, std::max({r1, r2, h}), "cone");
   Model m;
   if (r1 > 0) {
     m = extrude(Section{circle_loop(Vec2::Zero(), r1), {}}, h, 0, r2 / r1);
@@ -573,8 +596,9 @@ Model cone(double r1, double r2, double h, const Point3& base) {
 }
 
 Model torus(double R, double r, const Point3& c) {
-  require_positive(R, "torus major radius R");
-  require_positive(r, "torus minor radius r");
+  require_extent(R, "torus major radius R");
+  require_extent(r, "torus minor radius r");
+  require_placement(c, R + r, "torus");
   if (!(r < R)) fail("torus: the minor radius r (", r, ") must be less than the major radius R (", R, ")");
   Model m = revolve(Section{circle_loop(Vec2(R, 0), r), {}}, 2 * kPi);
   if (c != Point3::Zero()) m.transform(translate(c));
@@ -582,9 +606,10 @@ Model torus(double R, double r, const Point3& c) {
 }
 
 Model tube(double ro, double ri, double h, const Point3& base) {
-  require_positive(ro, "tube outer radius");
-  require_positive(ri, "tube inner radius");
-  require_positive(h, "tube height");
+  require_extent(ro, "tube outer radius");
+  require_extent(ri, "tube inner radius");
+  require_extent(h, "tube height");
+  require_placement(base, std::max(ro, h), "tube");
   if (!(ri < ro)) fail("tube: the inner radius (", ri, ") must be less than the outer radius (", ro, ")");
   Model m = extrude(Section{circle_loop(Vec2::Zero(), ro), {circle_loop(Vec2::Zero(), ri)}}, h);
   if (base != Point3::Zero()) m.transform(translate(base));

@@ -155,10 +155,10 @@ Mat4 look_at(const Point3& eye, const Point3& center, const Vec3& up) {
   require_finite3(center, "center");
   require_finite3(up, "up");
   Vec3 f = center - eye;
-  if (!(f.norm() > 0)) fail("lookAt: eye and center are the same point");
+  if (!(f.norm() > 0)) fail("look_at: eye and center are the same point");
   f.normalize();
   Vec3 s = f.cross(up);
-  if (!(s.norm() > 0)) fail("lookAt: up vector is parallel to the view direction");
+  if (!(s.norm() > 0)) fail("look_at: up vector is parallel to the view direction");
   s.normalize();
   Vec3 u = s.cross(f);
   Mat4 m = Mat4::Identity();

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstring>
 #include <sstream>
+#include <string_view>
 
 namespace wedge::lua {
 
@@ -88,8 +89,16 @@ int raise_pending(lua_State* L, int arg) {
     if (f.method && --arg == 0) return luaL_error(L, "calling '%s' on bad self (%s)", f.name.c_str(), message);
     return luaL_error(L, "bad argument #%d to '%s' (%s)", arg, f.name.c_str(), message);
   }
-  // Name the running function, as luaL_argerror does, so the message says where it came from.
-  if (!f.name.empty()) return luaL_error(L, "%s: %s", f.name.c_str(), message);
+  // Name the running function, as luaL_argerror does, so the message says where it came from;
+  // once: a message that starts with that name already ("perspective: aspect must be ...", from
+  // the kernel) keeps its own.
+  if (!f.name.empty()) {
+    const std::string_view m(message);
+    const std::size_t cut = f.name.find_last_of(".:");
+    const std::string last = cut == std::string::npos ? f.name : f.name.substr(cut + 1);
+    if (m.rfind(f.name + ": ", 0) == 0 || m.rfind(last + ": ", 0) == 0) return luaL_error(L, "%s", message);
+    return luaL_error(L, "%s: %s", f.name.c_str(), message);
+  }
   return luaL_error(L, "%s", message);
 }
 

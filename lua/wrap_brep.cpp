@@ -15,6 +15,7 @@
 //   b:counts() -> {V=,E=,F=,R=,H=,S=}     b:validate([geometry=true]) -> true | false, message
 //   b:point(v) -> {x,y,z}         b:vertices(f) -> outer loop's vertex ids
 //   b:solid() -> a Solid (a copy of the model; it must validate)
+#include <cmath>
 #include <string>
 
 #include "csg/brep_leaf.h"
@@ -34,6 +35,17 @@ template <class IdT>
 IdT check_id(lua_State* L, int idx) {
   return IdT(check_integer(L, idx));
 }
+// A vertex position: finite (check_vec3) and within +-kMaxCoordinate, as every builder keeps
+// its solids (brep.h); blamed on the argument that gave it.
+Point3 check_point(lua_State* L, int idx) {
+  Point3 p = check_vec3(L, idx, true);
+  for (int k = 0; k < 3; ++k)
+    if (std::abs(p[k]) > kMaxCoordinate)
+      throw ArgError{idx, "point coordinate " + std::to_string(k + 1) + " is " + number_text(p[k]) + ", beyond +-" +
+                              number_text(kMaxCoordinate) + " (volumes and normals would overflow)"};
+  return p;
+}
+
 template <class IdT>
 void push_id(lua_State* L, IdT id) {
   lua_pushinteger(L, id.value);
@@ -64,7 +76,7 @@ int brep_fn(lua_State* L) {
 int mvfs_m(lua_State* L) {
   return guarded(L, [&] {
     Model& m = self(L);
-    Point3 p = check_vec3(L, 2, true);
+    Point3 p = check_point(L, 2);
     auto r = op(L, "mvfs", [&] { return m.mvfs(p); });
     push_id(L, r.v);
     push_id(L, r.f);
@@ -77,7 +89,7 @@ int mev_m(lua_State* L) {
     Model& m = self(L);
     auto f = check_id<FaceId>(L, 2);
     auto v = check_id<VertexId>(L, 3);
-    Point3 p = check_vec3(L, 4, true);
+    Point3 p = check_point(L, 4);
     auto r = op(L, "mev", [&] { return m.mev(f, v, p); });
     push_id(L, r.e);
     push_id(L, r.v);
@@ -170,7 +182,7 @@ int semv_m(lua_State* L) {
   return guarded(L, [&] {
     Model& m = self(L);
     auto e = check_id<EdgeId>(L, 2);
-    Point3 p = check_vec3(L, 3, true);
+    Point3 p = check_point(L, 3);
     auto r = op(L, "semv", [&] { return m.semv(e, p); });
     push_id(L, r.e);
     push_id(L, r.v);

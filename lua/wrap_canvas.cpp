@@ -7,12 +7,14 @@
 //   c:clip{window={xmin,ymin,xmax,ymax}, algorithm=}            clip what is drawn next
 //   c:pixel(x, y) -> {r,g,b}     c:save("out.png")
 // Pixel (x, y) is the unit square [x, x+1] x [y, y+1], y up from the bottom row (as raster2d's
-// Grid and a GL window); save() writes the top row first, as PNG files hold it. Colours are
+// Grid and a GL window); save() writes the top row first, as PNG files hold it, whole or not at all
+// (render::write_png goes through an AtomicFile). Colours are
 // {r, g, b} or {r, g, b, a} in [0, 1]. After c:clip{window=...}, lines are clipped to the window
 // by the chosen algorithm ("cohen_sutherland", the default, or "liang_barsky") before they are
 // rasterised and polygons by Sutherland-Hodgman before they are filled; circle pixels outside the
 // window are dropped. c:clip{} (no window) ends clipping.
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdint>
 #include <optional>
@@ -260,6 +262,10 @@ int save_m(lua_State* L) {
   return guarded(L, [&] {
     Canvas& c = check_canvas(L);
     const std::string path = check_string(L, 2);
+    std::string ext = path.size() >= 4 ? path.substr(path.size() - 4) : "";
+    for (char& ch : ext) ch = char(std::tolower(static_cast<unsigned char>(ch)));
+    if (ext != ".png") throw ArgError{2, "the file must be a .png (the canvas is saved as PNG), got '" + path + "'"};
+    sandbox_check_path(L, path, true);  // under --sandbox: the script's or the output folder only
     render::Image im;
     im.width = c.grid.width, im.height = c.grid.height;
     im.rgba.resize(std::size_t(im.width) * im.height * 4);

@@ -61,6 +61,7 @@ try("export outside", function() return export(box(1, 1, 1), outside .. "/x.stl"
 try("import outside", function() return import(outside .. "/tet.off") end)
 try("render outside", function() return render{box(1, 1, 1), out = outside .. "/x.png", size = {8, 8}} end)
 try("texture outside", function() return box(1, 1, 1):material{texture = outside .. "/t.png"} end)
+try("canvas save outside", function() return canvas{width = 2, height = 2}:save(outside .. "/c.png") end)
 try("symbolic link out", function() return assert(io.open(SCRIPT_DIR .. "/link/keep.txt")) end)
 -- What a model script needs still works.
 local f = assert(io.open(SCRIPT_DIR .. "/mine.txt", "w")); f:write("ok"); f:close()
@@ -68,6 +69,7 @@ assert(io.open(SCRIPT_DIR .. "/mine.txt"):read("a") == "ok")
 assert(require("helper") == 42)
 assert(export(box(1, 1, 1), params.out .. "/part.stl") == 12)
 render{box(1, 1, 1), out = params.out .. "/part.png", size = {8, 8}}
+canvas{width = 2, height = 2}:save(params.out .. "/canvas.png")
 assert(import(params.out .. "/part.stl"):volume() > 0.99)
 print("WORKS")
 )";
@@ -92,7 +94,7 @@ TEST_CASE("wedge run with the sandbox flag refuses every escape and keeps what a
   CHECK(r.output.find("ESCAPED") == std::string::npos);
   std::size_t blocked = 0;
   for (std::size_t at = r.output.find("BLOCKED"); at != std::string::npos; at = r.output.find("BLOCKED", at + 1)) ++blocked;
-  CHECK(blocked == 26);
+  CHECK(blocked == 27);
   CHECK_THAT(r.output, Catch::Contains("BLOCKED os.execute: ") && Catch::Contains("os.execute is not available under --sandbox"));
   CHECK_THAT(r.output, Catch::Contains("cannot read '/etc/passwd': under --sandbox a script may use files in '" + dir.string() + "' or '" +
                                        out.string() + "' only"));
@@ -100,7 +102,9 @@ TEST_CASE("wedge run with the sandbox flag refuses every escape and keeps what a
   CHECK(fs::exists(outside / "keep.txt"));
   CHECK(!fs::exists(outside / "owned.txt"));
   CHECK(!fs::exists(outside / "x.stl"));
+  CHECK(!fs::exists(outside / "c.png"));
   CHECK(fs::exists(out / "part.stl"));
+  CHECK(fs::exists(out / "canvas.png"));
 
   // Without --sandbox the same script escapes (the test would notice a sandbox that does nothing).
   Result free = run(std::string(WEDGE_EXE) + " run " + (dir / "escape.lua").string() + " " + outside.string() + " out=" + out.string());
