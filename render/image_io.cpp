@@ -10,6 +10,7 @@
 #include <random>
 
 #include "kernel/file_io.h"
+#include "render/png_decode.h"
 #include "render/render.h"
 
 namespace wedge::render {
@@ -43,8 +44,9 @@ void write_png(const std::string& path, const Image& image) {
   write_file_atomically(path, buf, len);
 }
 
-Image read_png(const std::string& path) {
-  std::string bytes = read_file(path);
+Image read_png(const std::string& path) { return decode_png(read_file(path), path); }
+
+Image decode_png(std::string_view bytes, const std::string& path) {
   std::unique_ptr<spng_ctx, SpngFree> ctx(spng_ctx_new(0));
   if (!ctx) fail("read_png '", path, "': out of memory");
   spng_set_image_limits(ctx.get(), 16384, 16384);
