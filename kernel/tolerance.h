@@ -1,5 +1,6 @@
 // Tolerances are explicit arguments in wedge, never hidden globals.
 #pragma once
+#include <cstddef>
 
 namespace wedge {
 
@@ -7,6 +8,9 @@ struct Tolerance {
   double chordal = 0.01;      // max distance between a curve/surface and its polyline/mesh (model units)
   double angular = 15.0;      // max turn between neighbouring segments or facets (degrees)
   double distance = 1e-9;     // two points closer than this are the same point (model units)
+  // The triangle budget of one tessellation: a tolerance whose estimated mesh is larger is an
+  // error giving the estimate, before the work (and the memory) is spent. Raise it to go further.
+  std::size_t max_triangles = 10'000'000;
 };
 
 }  // namespace wedge

@@ -58,6 +58,7 @@ int export_fn(lua_State* L) {
       Options o(L, 3);
       options.ascii = o.boolean("ascii", false);
       tol.chordal = o.positive("tolerance", tol.chordal);
+      if (auto n = o.number("max_triangles")) tol.max_triangles = std::size_t(check_max_triangles(*n, 3));
       split = o.boolean("split", false);
       o.finish();
     }

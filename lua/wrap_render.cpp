@@ -56,6 +56,20 @@ void check_png_name(const std::string& out) {
   if (ext != ".png") throw ArgError{1, "field 'out' must name a .png file (the image is written as PNG), got '" + out + "'"};
 }
 
+// The pixel budget of one image: width x height x antialias^2 samples (each a colour and a depth,
+// 8 bytes), by default 2^26 (an 8192 x 8192 image without supersampling, 512 MiB). A larger image
+// is an error giving its sample count; max_pixels= raises the budget.
+void check_pixel_budget(Options& o, const char* fn, int width, int height, int antialias) {
+  double budget = o.number("max_pixels").value_or(double(1 << 26));
+  if (!(budget >= 1 && budget <= 1e12 && budget == std::floor(budget)))
+    throw ArgError{1, "field 'max_pixels' must be a whole number in 1..1e12, got " + number_text(budget)};
+  const double samples = double(width) * height * antialias * antialias;
+  if (samples > budget)
+    throw ArgError{1, std::string(fn) + " of " + std::to_string(width) + " x " + std::to_string(height) + " at antialias " +
+                          std::to_string(antialias) + " needs " + number_text(samples) + " samples, more than the budget of " +
+                          number_text(budget) + " (raise it with max_pixels=)"};
+}
+
 Vec4f opt_color(Options& o, const char* key, const Vec4f& fallback) {
   lua_State* L = o.state();
   int t = o.push(key);
@@ -498,6 +512,7 @@ int render_fn(lua_State* L) {
     lua_pop(L, 1);
     ro.antialias = o.integer("antialias", 1);
     if (ro.antialias < 1 || ro.antialias > 4) throw ArgError{1, "antialias must be 1, 2, 3 or 4"};
+    check_pixel_budget(o, "an image", ro.width, ro.height, ro.antialias);
     ro.background = opt_color(o, "background", ro.background);
     o.finish();
     render::Image im;
@@ -581,6 +596,7 @@ int drawing_fn(lua_State* L) {
     else throw ArgError{1, "shading must be \"flat\", \"gouraud\" or \"phong\", got '" + shading + "'"};
     d.render.antialias = o.integer("antialias", 1);
     if (d.render.antialias < 1 || d.render.antialias > 4) throw ArgError{1, "antialias must be 1, 2, 3 or 4"};
+    check_pixel_budget(o, "a sheet", d.width, d.height, d.render.antialias);
     o.finish();
     render::Image im;
     {

@@ -1,6 +1,7 @@
 // Lua bindings of csg/solid.h: the Solid userdata, its transforms and queries, tolerance().
 #include "lua/wrap_solid.h"
 
+#include <cmath>
 #include <sstream>
 
 #include "lua/lua_util.h"
@@ -15,6 +16,7 @@ namespace {
 constexpr const char* kKey = "wedge.Solid";
 constexpr const char* kToleranceKey = "wedge.tolerance";
 constexpr const char* kAngleKey = "wedge.tolerance.angle";
+constexpr const char* kMaxTrianglesKey = "wedge.tolerance.max_triangles";
 constexpr const char* kConvertersKey = "wedge.mesh_converters";
 constexpr const char* kMaterialsKey = "wedge.face_materials";
 
@@ -233,6 +235,7 @@ int triangles_m(lua_State* L) {
     if (!lua_isnoneornil(L, 2)) {
       Options o(L, 2);
       tol.chordal = o.positive("tolerance", tol.chordal);
+      if (auto n = o.number("max_triangles")) tol.max_triangles = std::size_t(check_max_triangles(*n, 2));
       o.finish();
     }
     lua_pushinteger(L, static_cast<lua_Integer>(self(L).mesh(tol).triangle_count()));
@@ -283,15 +286,19 @@ int tostring_m(lua_State* L) {
 }
 
 // tolerance() -> current; tolerance(t) sets the chordal tolerance for this state.
-// tolerance(chordal) | tolerance{chordal=, angle=}: the global tessellation tolerances (chordal in
-// model units, angular in degrees); returns the chordal and the angular tolerance now in force.
+// tolerance(chordal) | tolerance{chordal=, angle=, max_triangles=}: the global tessellation
+// tolerances (chordal in model units, angular in degrees) and the triangle budget of one
+// tessellation (default 10 million); returns the chordal and the angular tolerance and the budget
+// now in force.
 int tolerance_fn(lua_State* L) {
   return guarded(L, [&] {
     if (lua_type(L, 1) == LUA_TTABLE) {
       Options o(L, 1);
       auto chordal = o.number("chordal");
       auto angle = o.number("angle");
+      auto budget = o.number("max_triangles");
       o.finish();
+      if (budget) lua_pushnumber(L, check_max_triangles(*budget, 1)), lua_setfield(L, LUA_REGISTRYINDEX, kMaxTrianglesKey);
       if (chordal && !(*chordal > 0)) throw ArgError{1, "field 'chordal' must be positive, got " + number_text(*chordal)};
       if (angle && !(*angle > 0 && *angle <= 90)) throw ArgError{1, "field 'angle' must be within 0..90 degrees (above 0), got " + number_text(*angle)};
       if (chordal) lua_pushnumber(L, *chordal), lua_setfield(L, LUA_REGISTRYINDEX, kToleranceKey);
@@ -305,7 +312,8 @@ int tolerance_fn(lua_State* L) {
     const Tolerance t = current_tolerance(L);
     lua_pushnumber(L, t.chordal);
     lua_pushnumber(L, t.angular);
-    return 2;
+    lua_pushinteger(L, lua_Integer(t.max_triangles));
+    return 3;
   });
 }
 
@@ -374,11 +382,19 @@ int push_tag_material(lua_State* L, int tag) {
   return type;
 }
 
+double check_max_triangles(double n, int arg) {
+  if (!(n >= 1 && n <= 1e12 && n == std::floor(n)))
+    throw ArgError{arg, "field 'max_triangles' must be a whole number in 1..1e12, got " + number_text(n)};
+  return n;
+}
+
 Tolerance current_tolerance(lua_State* L) {
   Tolerance t;
   if (lua_getfield(L, LUA_REGISTRYINDEX, kToleranceKey) == LUA_TNUMBER) t.chordal = lua_tonumber(L, -1);
   lua_pop(L, 1);
   if (lua_getfield(L, LUA_REGISTRYINDEX, kAngleKey) == LUA_TNUMBER) t.angular = lua_tonumber(L, -1);
+  lua_pop(L, 1);
+  if (lua_getfield(L, LUA_REGISTRYINDEX, kMaxTrianglesKey) == LUA_TNUMBER) t.max_triangles = std::size_t(lua_tonumber(L, -1));
   lua_pop(L, 1);
   return t;
 }

@@ -24,6 +24,7 @@
 #include <cmath>
 #include <deque>
 #include <functional>
+#include <limits>
 #include <unordered_map>
 
 #include "tessellate/planar.h"
@@ -111,6 +112,64 @@ struct EdgeSamples {
   std::vector<std::uint32_t> index;   // their mesh vertices
 };
 
+// The edge length that meets the chordal tolerance t (sagitta h^2 kappa / 8 <= t) and the angular
+// tolerance a (turn kappa h <= a) where the curvature is kappa; infinite where it is flat.
+double spacing_for(double kappa, double t, double a) {
+  if (!(kappa > 0)) return std::numeric_limits<double>::infinity();
+  return std::min(std::sqrt(8 * t / kappa), a / kappa);
+}
+
+// Sampled on a grid of n x n cells over the face's surface: each cell's area |Su x Sv| du dv and
+// its largest normal curvature give the triangles it needs at the tolerances (equilateral
+// triangles of side spacing_for(...), area sqrt(3)/4 side^2). Edges: their length over the spacing
+// their curvature needs, for each of the two faces (a boundary point costs a triangle).
+double estimate_triangles(const Model& m, const Tolerance& tol) {
+  const double t = tol.chordal, a = radians(tol.angular);
+  double total = 0;
+  m.edges().for_each([&](EdgeId e, const BrepEdge&) {
+    if (std::holds_alternative<LineCurve>(m.curve(e))) return;
+    CurvePtr c = m.edge_curve(e);
+    auto [t0, t1] = c->domain();
+    constexpr int n = 32;
+    for (int i = 0; i < n; ++i) {
+      double s = t0 + (t1 - t0) * (i + 0.5) / n;
+      Vec3 d1 = c->derivative(s, 1), d2 = c->derivative(s, 2);
+      double speed = d1.norm();
+      if (!(speed > 0)) continue;
+      double kappa = d1.cross(d2).norm() / (speed * speed * speed);
+      total += 2 * speed * (t1 - t0) / n / spacing_for(kappa, t, a);
+    }
+  });
+  m.faces().for_each([&](FaceId f, const BrepFace&) {
+    auto* ps = std::get_if<ParamSurface>(&m.surface(f));
+    if (!ps) return;
+    const Surface& S = *ps->surface;
+    // A ruled face (cylinder, cone) gets no points inside: its strips are counted by its edges.
+    if (straight_axis(S) >= 0) return;
+    auto [u0, u1] = S.u_domain();
+    auto [v0, v1] = S.v_domain();
+    constexpr int n = 16;
+    const double du = (u1 - u0) / n, dv = (v1 - v0) / n;
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; j < n; ++j) {
+        double u = u0 + du * (i + 0.5), v = v0 + dv * (j + 0.5);
+        Vec3 su = S.derivative(u, v, 1, 0), sv = S.derivative(u, v, 0, 1);
+        Vec3 nrm = su.cross(sv);
+        double area = nrm.norm() * du * dv;
+        if (!(area > 0)) continue;
+        nrm /= nrm.norm();
+        // Normal curvatures along u, v and the diagonal (second fundamental form over the first).
+        double L = S.derivative(u, v, 2, 0).dot(nrm), M = S.derivative(u, v, 1, 1).dot(nrm), N = S.derivative(u, v, 0, 2).dot(nrm);
+        double E = su.squaredNorm(), F = su.dot(sv), G = sv.squaredNorm();
+        double kappa = std::max({std::abs(L) / E, std::abs(N) / G, std::abs(L + 2 * M + N) / (E + 2 * F + G),
+                                 std::abs(L - 2 * M + N) / std::max(E - 2 * F + G, 1e-300)});
+        double h = spacing_for(kappa, t, a);
+        total += area / (std::sqrt(3.0) / 4 * h * h);
+      }
+  });
+  return total;
+}
+
 }  // namespace
 
 namespace {
@@ -173,6 +232,11 @@ Mesh tessellate(const Model& m, const Tolerance& tol_in) {
   Tolerance tol = tol_in;
   if (!(tol.chordal > 0)) fail("tessellate: the chordal tolerance must be positive");
   if (!(tol.angular > 0)) tol.angular = 180;
+  // The budget is checked on an estimate first, so that a tolerance far too fine fails at once
+  // instead of after minutes of refinement (and gigabytes); the refinement below checks it again.
+  if (const double estimate = estimate_triangles(m, tol); !(estimate <= double(tol.max_triangles)))
+    fail("tessellate: tolerance ", tol.chordal, " would need about ", std::llround(std::min(estimate, 1e18)),
+         " triangles, more than the budget of ", tol.max_triangles, ": use a larger tolerance or raise max_triangles");
   Mesh out;
   std::unordered_map<std::int32_t, std::uint32_t> vindex;
   m.vertices().for_each([&](VertexId v, const BrepVertex&) { vindex[v.value] = out.add_vertex(m.point(v)); });
@@ -420,7 +484,7 @@ Mesh tessellate(const Model& m, const Tolerance& tol_in) {
     };
     auto pos = [&](std::uint32_t i) -> const Point3& { return out.positions[i]; };
     double ang = radians(tol.angular);
-    std::size_t budget = 4'000'000;
+    std::size_t budget = std::max<std::size_t>(tol.max_triangles / 2, 1000);
     // The faces to look at in a round: all of them first, then those around the points the last
     // round added and around the triangles it held back. An insertion changes only triangles
     // around the new point, and they inherit the depth of the triangle it fell in.
@@ -501,7 +565,8 @@ Mesh tessellate(const Model& m, const Tolerance& tol_in) {
       }
       if (add.empty()) break;
       if (out.positions.size() + add.size() > budget)
-        fail("tessellate: face ", f.value, " needs more than ", budget, " points at tolerance ", tol.chordal);
+        fail("tessellate: face ", f.value, " needs more than ", budget, " points at tolerance ", tol.chordal,
+             ", more than the budget of ", tol.max_triangles, " triangles allows: use a larger tolerance or raise max_triangles");
       std::size_t inserted = 0;
       const double eu = 1e-12 * (u1 - u0), ev = 1e-12 * (v1 - v0);
       for (const Add& a : add) {

@@ -135,6 +135,16 @@ const Case kCases[] = {
     {"tube(1e300, 1, 1)", "tube outer radius 1.0000000000000001e+300 is beyond 1e+100"},
     {"cone(1e200, 0, 1)", "cone radius r1 9.9999999999999997e+199 is beyond 1e+100"},
     {"sphere{r = 1, center = {1e300, 0, 0}}", "would reach beyond +-1e+100"},
+    // --- budgets: an estimate first, an error giving it, a way to raise the budget ---
+    {"export(sphere(1), '$/s.stl', {tolerance = 1e-12})", "tessellate: tolerance 9.9999999999999998e-13 would need about"},
+    {"sphere(1):triangles{tolerance = 1e-9}", "more than the budget of 10000000: use a larger tolerance or raise max_triangles"},
+    {"sphere(1):triangles{max_triangles = 100}", "more than the budget of 100"},
+    {"tolerance{max_triangles = 0}", "field 'max_triangles' must be a whole number in 1..1e12, got 0"},
+    {"export(box(1,1,1), '$/x.stl', {max_triangles = 1.5})", "field 'max_triangles' must be a whole number"},
+    {"render{box(1,1,1), out = '$/a.png', size = {8192, 8192}, antialias = 4}",
+     "an image of 8192 x 8192 at antialias 4 needs 1073741824 samples, more than the budget of 67108864 (raise it with max_pixels=)"},
+    {"render{box(1,1,1), out = '$/a.png', size = {64, 64}, max_pixels = -1}", "field 'max_pixels' must be a whole number"},
+    {"drawing{box(1,1,1), out = '$/d.png', size = {8192, 8192}, antialias = 2}", "a sheet of 8192 x 8192 at antialias 2 needs"},
     // --- one prefix: the function's name is not repeated in front of the kernel's own ---
     {"matrix.perspective(60, 0, 0.1, 10)", "hostile.lua:2: perspective: aspect must be positive, got 0"},
     {"matrix.ortho(0, 1, 0, 1, 1, 1)", "hostile.lua:2: ortho: left/right, bottom/top and near/far must differ"},

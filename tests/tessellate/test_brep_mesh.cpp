@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <functional>
+#include <string>
 
 #include "csg/solid.h"
 #include "tessellate/brep_mesh.h"
@@ -188,5 +189,40 @@ TEST_CASE("a twisted, scaled extrusion tessellates closed, inside the tolerance"
       worst = std::max(worst, d);
     }
     CHECK(worst <= tol);
+  }
+}
+
+TEST_CASE("a tolerance beyond the triangle budget fails at once, giving the estimate", "[tessellate][curved][budget]") {
+  // The estimate is checked against the tessellator's own count: a budget 8 times below the real
+  // mesh must be refused before any work, one 4 times above it must pass. A sphere of radius 1 at
+  // 1e-12 needs about 4 pi / (sqrt(3)/4 * 8e-12) = 3.6e12 triangles (h^2 = 8 tol / kappa): the
+  // error comes from the estimate (no refinement could end in time).
+  for (const Case& c : cases()) {
+    Model m = c.make();
+    for (double tol : {1e-2, 1e-3}) {
+      INFO(c.name << " at tolerance " << tol);
+      Tolerance t;
+      t.chordal = tol;
+      const std::size_t n = tessellate(m, t).triangle_count();
+      t.max_triangles = 4 * n;
+      CHECK(tessellate(m, t).triangle_count() == n);
+      t.max_triangles = n / 8;
+      CHECK_THROWS_WITH(tessellate(m, t), Catch::Contains("would need about") && Catch::Contains("more than the budget of " + std::to_string(n / 8)));
+    }
+  }
+  Tolerance fine;
+  fine.chordal = 1e-12;
+  try {
+    tessellate(sphere(1), fine);
+    FAIL("no error");
+  } catch (const Error& e) {
+    const std::string m = e.what();
+    INFO(m);
+    const std::size_t at = m.find("would need about ") + 17;
+    REQUIRE(at > 17);
+    const double estimate = std::stod(m.substr(at));
+    CHECK(estimate > 1e12);
+    CHECK(estimate < 1e13);
+    CHECK_THAT(m, Catch::Contains("triangles, more than the budget of 10000000"));
   }
 }
