@@ -285,10 +285,12 @@ BooleanResult boolean(BooleanOp op, const std::vector<const Mesh*>& operands, Bo
   lap(&BooleanStats::arrange);
   auto keep = classify(pts, arr, op);
   lap(&BooleanStats::classify);
-  BooleanResult r = assemble(pts, arr, keep);
+  std::size_t collapses = 0;
+  BooleanResult r = assemble(pts, arr, keep, &collapses);
   lap(&BooleanStats::output);
   if (stats) {
     stats->pairs = pairs.size();
+    stats->collapses = collapses;
     stats->pieces = arr.pieces.size();
   }
   return r;

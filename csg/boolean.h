@@ -32,6 +32,7 @@ struct BooleanResult {
 struct BooleanStats {
   double check = 0, broad = 0, arrange = 0, classify = 0, output = 0;
   std::size_t pairs = 0, pieces = 0;
+  std::size_t collapses = 0;  // edges the rounding repair collapsed (0 on most inputs)
 };
 
 // Thrown when an evaluation is cancelled (boolean()'s `cancel`, Solid evaluation's EvalControl).

@@ -217,6 +217,8 @@ Arrangement arrange(Points& pts, const std::vector<std::array<u32, 2>>& pairs);
 std::vector<std::int8_t> classify(const Points& pts, const Arrangement& arr, BooleanOp op);
 
 // --- output and rounding (boolean_output.cpp) ---
-BooleanResult assemble(const Points& pts, const Arrangement& arr, const std::vector<std::int8_t>& keep);
+// `collapses` (if given) receives the number of edges the rounding repair collapsed.
+BooleanResult assemble(const Points& pts, const Arrangement& arr, const std::vector<std::int8_t>& keep,
+                       std::size_t* collapses = nullptr);
 
 }  // namespace wedge::boolean_detail

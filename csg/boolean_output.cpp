@@ -15,14 +15,25 @@
 #include "csg/boolean_impl.h"
 #include "kernel/error.h"
 #include "kernel/parallel.h"
+#include "kernel/predicates.h"
 
 namespace wedge::boolean_detail {
 
 namespace {
 
+// What the rounding check knows of each output triangle besides the mesh: its source triangle in
+// the soup and the orientation its exact piece has in its source's projection.
+struct Rounding {
+  const Soup* soup;
+  std::vector<char> moved;          // per vertex: its position was rounded (not an input vertex)
+  std::vector<u32> src;             // per triangle: soup triangle
+  std::vector<std::int8_t> sign;    // per triangle: exact orientation in the projection along k(src)
+  std::size_t collapses = 0;
+};
+
 // Removes triangles with a repeated vertex and positions no triangle uses (keeping the
 // per-triangle arrays in step).
-void compact(BooleanResult& r, std::vector<char>& moved) {
+void compact(BooleanResult& r, Rounding& rd) {
   std::size_t w = 0;
   for (std::size_t t = 0; t < r.mesh.triangles.size(); ++t) {
     const auto& T = r.mesh.triangles[t];
@@ -31,12 +42,16 @@ void compact(BooleanResult& r, std::vector<char>& moved) {
     r.operand[w] = r.operand[t];
     r.source[w] = r.source[t];
     r.mesh.face_ids[w] = r.mesh.face_ids[t];
+    rd.src[w] = rd.src[t];
+    rd.sign[w] = rd.sign[t];
     ++w;
   }
   r.mesh.triangles.resize(w);
   r.operand.resize(w);
   r.source.resize(w);
   r.mesh.face_ids.resize(w);
+  rd.src.resize(w);
+  rd.sign.resize(w);
   std::vector<u32> index(r.mesh.positions.size(), kNone);
   std::vector<Vec3> pos;
   std::vector<char> mv;
@@ -45,34 +60,42 @@ void compact(BooleanResult& r, std::vector<char>& moved) {
       if (index[v] == kNone) {
         index[v] = static_cast<u32>(pos.size());
         pos.push_back(r.mesh.positions[v]);
-        mv.push_back(moved[v]);
+        mv.push_back(rd.moved[v]);
       }
       v = index[v];
     }
   r.mesh.positions.swap(pos);
-  moved.swap(mv);
+  rd.moved.swap(mv);
 }
 
-// Triangles with a rounded vertex that are degenerate or meet another triangle beyond their
-// shared vertices, decided exactly on the rounded doubles.
-std::vector<u32> rounding_defects(const Mesh& m, const std::vector<char>& moved) {
+// The orientation of rounded triangle t in the projection along its source's axis (exact).
+int projected_sign(const Mesh& m, const Rounding& rd, std::size_t t) {
+  const int k = rd.soup->axis[rd.src[t]], i = (k + 1) % 3, j = (k + 2) % 3;
+  const auto& T = m.triangles[t];
+  auto p2 = [&](int c) { return Point2(m.positions[T[c]][i], m.positions[T[c]][j]); };
+  return orient2d(p2(0), p2(1), p2(2));
+}
+
+// Triangles with a rounded vertex that are degenerate, turned over in their source's projection,
+// or meet another triangle beyond their shared vertices, decided exactly on the rounded doubles.
+std::vector<u32> rounding_defects(const Mesh& m, const Rounding& rd) {
+  std::vector<u32> check;
+  for (std::size_t t = 0; t < m.triangles.size(); ++t)
+    if (rd.moved[m.triangles[t][0]] || rd.moved[m.triangles[t][1]] || rd.moved[m.triangles[t][2]])
+      check.push_back(static_cast<u32>(t));
+  if (check.empty()) return {};
   std::vector<const Mesh*> one{&m};
   Soup s = make_soup(one);
   std::vector<u32> all(s.tris.size());
   std::iota(all.begin(), all.end(), 0u);
   std::vector<char> bad(s.tris.size(), 0);
-  std::vector<u32> check;
-  for (std::size_t t = 0; t < m.triangles.size(); ++t)
-    if (moved[m.triangles[t][0]] || moved[m.triangles[t][1]] || moved[m.triangles[t][2]]) check.push_back(static_cast<u32>(t));
-  if (check.empty()) return {};
   Bvh bvh(s, all, 3);
   parallel_for(0, check.size(), [&](std::size_t i) {
     u32 t = check[i];
-    if (s.axis[t] < 0) {
+    if (s.axis[t] < 0 || projected_sign(m, rd, t) != rd.sign[t]) {
       bad[t] = 1;
       return;
     }
-    const auto& T = s.tris[t];
     double lo[3], hi[3];
     triangle_box(s, static_cast<u32>(t), lo, hi);
     bvh.query(lo, hi, [&](u32 u) {
@@ -85,17 +108,27 @@ std::vector<u32> rounding_defects(const Mesh& m, const std::vector<char>& moved)
   return out;
 }
 
-// Rounding repair: each bad triangle loses its shortest edge that has a rounded end, the
-// rounded end collapsing into the other where the collapse keeps the surface a manifold (the
-// link condition); repeated until the exact check finds nothing.
-void repair_rounding(BooleanResult& r, std::vector<char>& moved) {
+// How far (approximately) position p is from the plane of soup triangle t.
+double plane_gap(const Soup& s, u32 t, const Vec3& p) {
+  const Vec3 &a = s.verts[s.tris[t][0]], &b = s.verts[s.tris[t][1]], &c = s.verts[s.tris[t][2]];
+  const Vec3 n = (b - a).cross(c - a);
+  const double len = n.norm();
+  return len > 0 ? std::abs(n.dot(p - a)) / len : 0.0;
+}
+
+// Rounding repair: each bad triangle loses its shortest edge that has a rounded end, one end
+// collapsing into the other where the collapse keeps the surface a manifold (the link
+// condition). Of the two directions the one that keeps the surviving triangles closest to their
+// source planes is taken, and an input vertex never moves. Repeated until the exact check finds
+// nothing.
+void repair_rounding(BooleanResult& r, Rounding& rd) {
   // Only edges that rounding itself could have made (a billionth of the model's size) are
   // collapsed: collapsing a longer one would move the surface by more than rounding did.
   Box3 bounds = r.mesh.bounds();
   double limit = 1e-9 * (bounds.max - bounds.min).norm();
   double limit2 = limit * limit;
   for (int round = 0; round < 16; ++round) {
-    std::vector<u32> bad = rounding_defects(r.mesh, moved);
+    std::vector<u32> bad = rounding_defects(r.mesh, rd);
     if (bad.empty()) return;
     auto& tris = r.mesh.triangles;
     std::vector<std::vector<u32>> around(r.mesh.positions.size());
@@ -103,6 +136,25 @@ void repair_rounding(BooleanResult& r, std::vector<char>& moved) {
       for (u32 v : tris[t]) around[v].push_back(static_cast<u32>(t));
     std::vector<char> touched(r.mesh.positions.size(), 0);
     bool changed = false;
+    auto neighbours = [&](u32 a) {
+      std::vector<u32> n;
+      for (u32 x : around[a])
+        for (u32 v : tris[x])
+          if (v != a) n.push_back(v);
+      std::sort(n.begin(), n.end());
+      n.erase(std::unique(n.begin(), n.end()), n.end());
+      return n;
+    };
+    // The largest distance of b from the source planes of a's triangles that survive a -> b.
+    auto cost = [&](u32 a, u32 b) {
+      double worst = 0;
+      for (u32 x : around[a]) {
+        const auto& X = tris[x];
+        if (X[0] == b || X[1] == b || X[2] == b) continue;
+        worst = std::max(worst, plane_gap(*rd.soup, rd.src[x], r.mesh.positions[b]));
+      }
+      return worst;
+    };
     for (u32 t : bad) {
       const auto T = tris[t];
       if (touched[T[0]] || touched[T[1]] || touched[T[2]]) continue;
@@ -112,21 +164,16 @@ void repair_rounding(BooleanResult& r, std::vector<char>& moved) {
       std::sort(order.begin(), order.end(), [&](int x, int y) { return len(x) < len(y); });
       for (int e : order) {
         u32 a = T[e], b = T[(e + 1) % 3];
-        if (!moved[a] && !moved[b]) continue;
+        if (!rd.moved[a] && !rd.moved[b]) continue;
         if (len(e) > limit2) break;  // sorted: every later edge is longer
-        if (!moved[a] || (moved[b] && b > a)) std::swap(a, b);  // a is removed, b kept
+        if (!rd.moved[a]) std::swap(a, b);  // a is removed, b kept
+        else if (rd.moved[b]) {
+          const double ab = cost(a, b), ba = cost(b, a);
+          if (ba < ab || (ba == ab && b > a)) std::swap(a, b);
+        }
         // Link condition: the common neighbours of a and b are the two opposite vertices.
-        std::vector<u32> na, nb, common, opposite;
-        for (u32 x : around[a])
-          for (u32 v : tris[x])
-            if (v != a) na.push_back(v);
-        for (u32 x : around[b])
-          for (u32 v : tris[x])
-            if (v != b) nb.push_back(v);
-        std::sort(na.begin(), na.end());
-        na.erase(std::unique(na.begin(), na.end()), na.end());
-        std::sort(nb.begin(), nb.end());
-        nb.erase(std::unique(nb.begin(), nb.end()), nb.end());
+        const std::vector<u32> na = neighbours(a), nb = neighbours(b);
+        std::vector<u32> common, opposite;
         std::set_intersection(na.begin(), na.end(), nb.begin(), nb.end(), std::back_inserter(common));
         for (u32 x : around[a]) {
           const auto& X = tris[x];
@@ -142,13 +189,14 @@ void repair_rounding(BooleanResult& r, std::vector<char>& moved) {
         for (u32 v : na) touched[v] = 1;
         touched[a] = touched[b] = 1;
         changed = true;
+        ++rd.collapses;
         break;
       }
     }
     if (!changed) break;
-    compact(r, moved);
+    compact(r, rd);
   }
-  std::vector<u32> bad = rounding_defects(r.mesh, moved);
+  std::vector<u32> bad = rounding_defects(r.mesh, rd);
   if (!bad.empty()) {
     const Vec3& p = r.mesh.positions[r.mesh.triangles[bad[0]][0]];
     fail("boolean: the result cannot be rounded to doubles without a self-intersection near (", p.x(), ", ", p.y(),
@@ -158,16 +206,19 @@ void repair_rounding(BooleanResult& r, std::vector<char>& moved) {
 
 }  // namespace
 
-BooleanResult assemble(const Points& pts, const Arrangement& arr, const std::vector<std::int8_t>& keep) {
+BooleanResult assemble(const Points& pts, const Arrangement& arr, const std::vector<std::int8_t>& keep,
+                       std::size_t* collapses) {
   const Soup& soup = pts.soup();
   std::vector<std::array<u32, 3>> tris;
   std::vector<u32> src;
+  std::vector<char> flipped;
   for (std::size_t p = 0; p < arr.pieces.size(); ++p) {
     if (!keep[p]) continue;
     auto v = arr.pieces[p].v;
     if (keep[p] < 0) std::swap(v[1], v[2]);
     tris.push_back(v);
     src.push_back(arr.pieces[p].tri);
+    flipped.push_back(keep[p] < 0);
   }
   const std::size_t nt = tris.size();
 
@@ -260,11 +311,15 @@ BooleanResult assemble(const Points& pts, const Arrangement& arr, const std::vec
     r.source[t] = soup.local[s];
     r.mesh.face_ids[t] = soup.face_id[s];
   }
-  std::vector<char> moved(r.mesh.positions.size(), 0);
-  for (std::size_t t = 0; t < nt; ++t)
+  Rounding rd{&soup, std::vector<char>(r.mesh.positions.size(), 0), src, std::vector<std::int8_t>(nt), 0};
+  for (std::size_t t = 0; t < nt; ++t) {
     for (int k = 0; k < 3; ++k)
-      if (!pts.is_explicit(tris[t][k])) moved[r.mesh.triangles[t][k]] = 1;
-  repair_rounding(r, moved);
+      if (!pts.is_explicit(tris[t][k])) rd.moved[r.mesh.triangles[t][k]] = 1;
+    // A piece keeps its source's orientation in the source's projection, reversed if flipped.
+    rd.sign[t] = static_cast<std::int8_t>(soup.axis_sign[src[t]] * (flipped[t] ? -1 : 1));
+  }
+  repair_rounding(r, rd);
+  if (collapses) *collapses = rd.collapses;
   return r;
 }
 

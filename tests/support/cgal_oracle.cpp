@@ -9,6 +9,8 @@
 #include <CGAL/intersections.h>
 
 #include <algorithm>
+#include <array>
+#include <cmath>
 #include <sstream>
 
 namespace wedge::testing {
@@ -141,6 +143,18 @@ double exact_volume(const Mesh& m) {
     v += det(ET(a.x()), ET(a.y()), ET(a.z()), ET(b.x()), ET(b.y()), ET(b.z()), ET(c.x()), ET(c.y()), ET(c.z()));
   }
   return CGAL::to_double(v / 6);
+}
+
+double exact_plane_distance(const Point3& a, const Point3& b, const Point3& c, const Point3& p) {
+  auto v = [](const Point3& x, const Point3& o) {
+    return std::array<ET, 3>{ET(x.x()) - ET(o.x()), ET(x.y()) - ET(o.y()), ET(x.z()) - ET(o.z())};
+  };
+  const auto u = v(b, a), w = v(c, a), q = v(p, a);
+  const std::array<ET, 3> n{u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0]};
+  const ET d = n[0] * q[0] + n[1] * q[1] + n[2] * q[2];
+  const ET nn = n[0] * n[0] + n[1] * n[1] + n[2] * n[2];
+  if (nn == 0) return 0;
+  return std::sqrt(CGAL::to_double(d * d / nn));
 }
 
 bool exact_self_intersects(const Mesh& m, std::string* where) {

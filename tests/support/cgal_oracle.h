@@ -30,6 +30,10 @@ OracleResult oracle_nary(BooleanOp op, const std::vector<const Mesh*>& operands)
 // The signed volume of the mesh's doubles computed exactly (Epeck), rounded once.
 double exact_volume(const Mesh& m);
 
+// The distance of p from the plane through a, b, c, computed exactly and rounded once (a sliver
+// triangle's plane is too ill-conditioned for floating point, even long double).
+double exact_plane_distance(const Point3& a, const Point3& b, const Point3& c, const Point3& p);
+
 // "" when the mesh is closed, 2-manifold and consistently oriented outward, else the first defect
 // with its place: an index out of range or a repeated index in a triangle, a border edge, an edge
 // with more than two triangles, two triangles using an edge in the same direction, a vertex whose
