@@ -245,32 +245,56 @@ BooleanResult assemble(const Points& pts, const Arrangement& arr, const std::vec
       partner[half[i + 1].ce] = half[i].ce;
     } else {
       // Several sheets through one edge: sort them around it and pair each triangle with its
-      // neighbour behind it.
+      // neighbour behind it. Sorted exactly: sheet i leaves the edge e = b - a in direction
+      // d_i = s_i (n_i x e), with n_i its source triangle's normal and s_i = +-1 (its
+      // direction along the edge, and whether it was kept reversed). Then
+      //   (d_i x d_j) . e = s_i s_j (e . (n_i x n_j)) |e|^2,
+      // and as n_i x n_j is parallel to e, its sign is that of e_k (n_i x n_j)_k on an axis k
+      // with e_k != 0: exact signs of input-vertex polynomials and one coordinate comparison.
       u32 a = static_cast<u32>(half[i].key >> 32), b = static_cast<u32>(half[i].key & 0xffffffffu);
-      Vec3 pa = pts.approx(a), e = (pts.approx(b) - pa).normalized();
-      Vec3 u = e.unitOrthogonal(), w = e.cross(u);
+      const Vec3 approx_e = pts.approx(b) - pts.approx(a);
+      int k = 0, ek = 0;
+      for (int tries = 0; tries < 3 && ek == 0; ++tries) {
+        int order[3] = {0, 1, 2};
+        std::sort(order, order + 3, [&](int x, int y) { return std::abs(approx_e[x]) > std::abs(approx_e[y]); });
+        k = order[tries];
+        ek = pts.compare(b, a, k);
+      }
       struct Sheet {
-        double angle;
         u32 ce;
-        bool fwd;
+        int s;        // s_i
+        Plane plane;  // the source triangle's plane
+        Vec3 n;       // its approximate normal (only to tell parallel normals' directions apart)
+        int half = 0;
       };
       std::vector<Sheet> sh;
       for (std::size_t x = i; x < j; ++x) {
         u32 t = half[x].ce / 3, ei = half[x].ce % 3;
-        u32 c = tris[t][(ei + 2) % 3];
-        Vec3 d = pts.approx(c) - pa;
-        sh.push_back({std::atan2(d.dot(w), d.dot(u)), half[x].ce, tris[t][ei] == a});
+        const auto& S = soup.tris[src[t]];
+        const Vec3 n = (soup.verts[S[1]] - soup.verts[S[0]]).cross(soup.verts[S[2]] - soup.verts[S[0]]);
+        const int s_i = (tris[t][ei] == a ? 1 : -1) * (flipped[t] ? -1 : 1);
+        sh.push_back({half[x].ce, s_i, Plane::of_triangle(S), n});
       }
-      std::sort(sh.begin(), sh.end(), [](const Sheet& x, const Sheet& y) {
-        return x.angle < y.angle || (x.angle == y.angle && x.ce < y.ce);
+      // ccw(x, y) > 0: y lies less than a half-turn counter-clockwise of x about e.
+      auto ccw = [&](const Sheet& x, const Sheet& y) { return x.s * y.s * ek * pts.cross_sign(x.plane, y.plane, k); };
+      for (Sheet& y : sh) {
+        const int c = ccw(sh[0], y);
+        if (c != 0) y.half = c > 0 ? 0 : 1;
+        else y.half = (y.s * (sh[0].n.dot(y.n) > 0 ? 1 : -1) == sh[0].s) ? 0 : 1;  // same or opposite direction
+      }
+      std::sort(sh.begin(), sh.end(), [&](const Sheet& x, const Sheet& y) {
+        if (x.half != y.half) return x.half < y.half;
+        const int c = ccw(x, y);
+        return c != 0 ? c > 0 : x.ce < y.ce;
       });
       // A triangle with edge a->b has its front towards increasing angle about a->b; its solid is
       // behind it, towards decreasing angle. For b->a the other way round.
       std::size_t n = sh.size();
+      auto fwd = [&](std::size_t x) { return tris[sh[x].ce / 3][sh[x].ce % 3] == a; };
       for (std::size_t x = 0; x < n; ++x) {
-        if (!sh[x].fwd) continue;
+        if (!fwd(x)) continue;
         std::size_t y = (x + n - 1) % n;
-        if (sh[y].fwd) continue;
+        if (fwd(y)) continue;
         partner[sh[x].ce] = sh[y].ce;
         partner[sh[y].ce] = sh[x].ce;
       }
