@@ -340,7 +340,8 @@ std::vector<std::array<u32, 2>> equal_points(const Points& pts, const std::vecto
   return out;
 }
 
-void unique_sorted(std::vector<u32>& v) {
+template <class T>
+void unique_sorted(std::vector<T>& v) {
   std::sort(v.begin(), v.end());
   v.erase(std::unique(v.begin(), v.end()), v.end());
 }
@@ -515,6 +516,11 @@ Arrangement arrange(Points& pts, const std::vector<std::array<u32, 2>>& pairs) {
       }
       constraints.push_back({prev, b});
     }
+    // Overlapping segments (an edge of T cut by two operands, say) split into the same pieces;
+    // each piece is one constraint (CGAL's CDT counts a repeated constraint as an intersection).
+    for (auto& c : constraints)
+      if (c[0] > c[1]) std::swap(c[0], c[1]);
+    unique_sorted(constraints);
     g_ctx.pts = &pts;
     g_ctx.k = k;
     Cdt cdt;
