@@ -80,7 +80,7 @@ Soup boolean_detail::make_soup(const std::vector<const Mesh*>& operands) {
     s.axis[t] = -1;
     for (int k : order) {
       int i = (k + 1) % 3, j = (k + 2) % 3;
-      int o = orient2d(Point2(a[i], a[j]), Point2(b[i], b[j]), Point2(c[i], c[j]));
+      int o = orient2d_fast(a[i], a[j], b[i], b[j], c[i], c[j]);
       if (o != 0) {
         s.axis[t] = static_cast<std::int8_t>(k);
         s.axis_sign[t] = static_cast<std::int8_t>(o);
@@ -113,7 +113,7 @@ bool boolean_detail::triangles_clash(const Soup& s, u32 t, u32 u) {
     int sg = 0;
     for (u32 q : Q) {
       if (q == P[0] || q == P[1] || q == P[2]) continue;
-      int o = orient3d(s.verts[P[0]], s.verts[P[1]], s.verts[P[2]], s.verts[q]);
+      int o = orient3d_fast(s.verts[P[0]], s.verts[P[1]], s.verts[P[2]], s.verts[q]);
       if (o == 0 || (sg != 0 && o != sg)) return false;
       sg = o;
     }
@@ -130,7 +130,7 @@ bool boolean_detail::triangles_clash(const Soup& s, u32 t, u32 u) {
     const Vec3& ua = s.verts[U[(ui + 1) % 3]];
     const Vec3& ub = s.verts[U[(ui + 2) % 3]];
     hit = segment_triangle_intersect(ta, tb, *D, *E, *F) || segment_triangle_intersect(ua, ub, *A, *B, *C);
-    if (!hit && orient3d(*A, *B, *C, ua) == 0 && orient3d(*A, *B, *C, ub) == 0) {
+    if (!hit && orient3d_fast(*A, *B, *C, ua) == 0 && orient3d_fast(*A, *B, *C, ub) == 0) {
       // Coplanar fans around one vertex: they overlap if an edge of one runs into the other.
       const Vec3& v = s.verts[T[ti]];
       auto inside_open = [&](const Vec3& q, const Vec3& r, const Vec3& x) {
@@ -150,7 +150,7 @@ bool boolean_detail::triangles_clash(const Soup& s, u32 t, u32 u) {
       if (T[a] != U[0] && T[a] != U[1] && T[a] != U[2]) t3 = T[a];
       if (U[a] != T[0] && U[a] != T[1] && U[a] != T[2]) u3 = U[a];
     }
-    if (orient3d(*A, *B, *C, s.verts[u3]) == 0) {
+    if (orient3d_fast(*A, *B, *C, s.verts[u3]) == 0) {
       // Coplanar: overlap if u3 is on the same side of the shared edge as t3.
       u32 e0 = kNone, e1 = kNone;
       for (int a = 0; a < 3; ++a)

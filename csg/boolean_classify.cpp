@@ -30,7 +30,7 @@ namespace {
 
 int orient2d_xy(const Soup& s, u32 a, u32 b, u32 c) {
   const Vec3 &A = s.verts[a], &B = s.verts[b], &C = s.verts[c];
-  return wedge::orient2d(Point2(A.x(), A.y()), Point2(B.x(), B.y()), Point2(C.x(), C.y()));
+  return orient2d_fast(A.x(), A.y(), B.x(), B.y(), C.x(), C.y());
 }
 
 // orient2d(a, b, centroid) in xy with the Simulation-of-Simplicity tie break.

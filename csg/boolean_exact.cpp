@@ -338,7 +338,7 @@ int Points::cross_sign(const Plane& P, const Plane& Q, int axis) const {
 }
 
 int orient3d_v(const Soup& s, u32 a, u32 b, u32 c, u32 d) {
-  return wedge::orient3d(s.verts[a], s.verts[b], s.verts[c], s.verts[d]);
+  return orient3d_fast(s.verts[a], s.verts[b], s.verts[c], s.verts[d]);
 }
 
 }  // namespace wedge::boolean_detail

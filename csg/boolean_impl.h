@@ -33,10 +33,43 @@
 #include <cstdint>
 #include <vector>
 
+#include <cmath>
+
 #include "csg/boolean.h"
+#include "kernel/predicates.h"
 #include "kernel/types.h"
 
 namespace wedge::boolean_detail {
+
+// Filtered orientation predicates on input doubles: the determinant in double with a static
+// error bound (Shewchuk's stage-A bounds for a 2x2 and a 3x3 determinant of differences); only
+// when the bound cannot decide does the exact predicate (CGAL, kernel/predicates.cpp) run.
+inline int orient2d_fast(double ax, double ay, double bx, double by, double cx, double cy) {
+  const double l = (bx - ax) * (cy - ay), r = (by - ay) * (cx - ax);
+  const double det = l - r;
+  const double bound = 3.3306690738754716e-16 * (std::abs(l) + std::abs(r));
+  if (bound > 1e-280) {  // far from underflow, where the bound holds
+    if (det > bound) return 1;
+    if (-det > bound) return -1;
+  }
+  return wedge::orient2d(Point2(ax, ay), Point2(bx, by), Point2(cx, cy));
+}
+// sign det[b - a, c - a, d - a], as wedge::orient3d.
+inline int orient3d_fast(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
+  const double bx = b.x() - a.x(), by = b.y() - a.y(), bz = b.z() - a.z();
+  const double cx = c.x() - a.x(), cy = c.y() - a.y(), cz = c.z() - a.z();
+  const double dx = d.x() - a.x(), dy = d.y() - a.y(), dz = d.z() - a.z();
+  const double cydz = cy * dz, czdy = cz * dy, czdx = cz * dx, cxdz = cx * dz, cxdy = cx * dy, cydx = cy * dx;
+  const double det = bx * (cydz - czdy) + by * (czdx - cxdz) + bz * (cxdy - cydx);
+  const double perm = std::abs(bx) * (std::abs(cydz) + std::abs(czdy)) + std::abs(by) * (std::abs(czdx) + std::abs(cxdz)) +
+                      std::abs(bz) * (std::abs(cxdy) + std::abs(cydx));
+  const double bound = 7.7715611723761027e-16 * perm;
+  if (bound > 1e-280) {
+    if (det > bound) return 1;
+    if (-det > bound) return -1;
+  }
+  return wedge::orient3d(a, b, c, d);
+}
 
 using u32 = std::uint32_t;
 constexpr u32 kNone = 0xffffffffu;

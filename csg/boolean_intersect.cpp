@@ -66,7 +66,7 @@ void order2(const Points& pts, std::vector<PointDef>& s, int axis) {
 int orient2d_v(const Soup& s, u32 a, u32 b, u32 c, int k) {
   int i = (k + 1) % 3, j = (k + 2) % 3;
   const Vec3 &A = s.verts[a], &B = s.verts[b], &C = s.verts[c];
-  return wedge::orient2d(Point2(A[i], A[j]), Point2(B[i], B[j]), Point2(C[i], C[j]));
+  return orient2d_fast(A[i], A[j], B[i], B[j], C[i], C[j]);
 }
 
 // An axis along which p != q (exactly), preferring the longest extent.

@@ -4,9 +4,12 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <random>
 
 #include "csg/boolean.h"
+#include "csg/boolean_impl.h"
 #include "kernel/error.h"
+#include "kernel/predicates.h"
 #include "kernel/transform.h"
 
 using namespace wedge;
@@ -274,4 +277,48 @@ TEST_CASE("boolean: n-ary operations on crossing rotated boxes agree with inclus
   // a minus the rest = a - (a n (b u c u s))
   double d = v(boolean(BooleanOp::Difference, all));
   CHECK(d == Approx(va - (ab + ac + as - abc - abs_ - acs + abcs)).epsilon(1e-9));
+}
+
+
+TEST_CASE("boolean: the engine's filtered orientation tests agree with the exact ones on near-degenerate input",
+          "[boolean]") {
+  // Points on a line or a plane, each coordinate nudged by a few ulps, at several scales: the
+  // float filter must either decide correctly or hand over to the exact predicate.
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> u(-1, 1);
+  std::uniform_int_distribution<int> nudge(-3, 3);
+  auto jiggle = [&](double x) {
+    for (int k = nudge(rng); k != 0; k += (k > 0 ? -1 : 1)) x = std::nextafter(x, k > 0 ? INFINITY : -INFINITY);
+    return x;
+  };
+  std::uniform_int_distribution<int> small(-8, 8);
+  int decided_zero = 0;
+  // Powers of two keep the integer cases exactly degenerate after scaling.
+  for (double scale : {std::ldexp(1.0, -490), std::ldexp(1.0, -10), 1.0, std::ldexp(1.0, 23), std::ldexp(1.0, 300)}) {
+    for (int n = 0; n < 20000; ++n) {
+      Vec3 a(u(rng), u(rng), u(rng)), b(u(rng), u(rng), u(rng)), c(u(rng), u(rng), u(rng)), d;
+      double cx, cy;
+      if (n % 4 == 0) {  // small integers: d exactly on the plane, (cx, cy) exactly on the line
+        a = Vec3(small(rng), small(rng), small(rng));
+        b = Vec3(small(rng), small(rng), small(rng));
+        c = Vec3(small(rng), small(rng), small(rng));
+        d = a + (b - a) * small(rng) + (c - a) * small(rng);
+        const int m = small(rng);
+        cx = a.x() + m * (b.x() - a.x());
+        cy = a.y() + m * (b.y() - a.y());
+      } else {
+        const double s = u(rng), t = u(rng);
+        d = a + s * (b - a) + t * (c - a);  // on the plane, up to rounding
+        d = Vec3(jiggle(d.x()), jiggle(d.y()), jiggle(d.z()));
+        cx = jiggle(a.x() + s * (b.x() - a.x()));
+        cy = jiggle(a.y() + s * (b.y() - a.y()));
+      }
+      const Vec3 A = a * scale, B = b * scale, C = c * scale, D = d * scale;
+      REQUIRE(boolean_detail::orient3d_fast(A, B, C, D) == orient3d(A, B, C, D));
+      const int fast = boolean_detail::orient2d_fast(A.x(), A.y(), B.x(), B.y(), cx * scale, cy * scale);
+      REQUIRE(fast == orient2d(Point2(A.x(), A.y()), Point2(B.x(), B.y()), Point2(cx * scale, cy * scale)));
+      if (fast == 0) ++decided_zero;
+    }
+  }
+  CHECK(decided_zero > 0);  // the cases include exact degeneracies, decided by the exact path
 }

@@ -407,3 +407,22 @@ TEST_CASE("boolean: surfaces a few ulps apart give a valid result or the roundin
     }
   }
 }
+
+
+TEST_CASE("boolean: an n-ary union whose cuts overlap on one edge retriangulates (CGAL's fold agrees)", "[boolean]") {
+  // Three copies of a box with a square hole: two operands cut the same edge of a third's
+  // triangle into overlapping segments (once "Unauthorized intersections of constraints").
+  const Mesh s = boolean(BooleanOp::Difference, box_mesh({0, 0, 0}, {2, 2, 2}), box_mesh({0.5, 0.5, -0.5}, {1, 1, 3}));
+  auto moved = [&](const Vec3& d) {
+    Mesh m = s;
+    for (Point3& p : m.positions) p += d;
+    return m;
+  };
+  for (const auto& offsets : {std::array<Vec3, 2>{Vec3(1, 0, 0), Vec3(0, 1, 0)},
+                              std::array<Vec3, 2>{Vec3(1.3, 0.2, 0.1), Vec3(0.3, 1.1, 0.2)}}) {
+    const Mesh a = moved(offsets[0]), b = moved(offsets[1]);
+    const OracleResult want = oracle_nary(BooleanOp::Union, {&s, &a, &b});
+    REQUIRE(want.ok);
+    require_volume(checked(BooleanOp::Union, {&s, &a, &b}).mesh, want.volume);
+  }
+}
