@@ -124,36 +124,62 @@ Bvh::Bvh(const Soup& soup, std::vector<u32> ids, int d) : items(std::move(ids)),
   }
 }
 
+// Each pair is found once: the triangles are visited in the tree's (Morton) order, and a visit
+// from position p skips every subtree whose items all sit at positions <= p (a node covers a
+// contiguous range of positions). Pairs are sorted at the end, so the order is the same at any
+// thread count.
 std::vector<std::array<u32, 2>> candidate_pairs(const Soup& soup, std::array<u32, 2>* clash) {
   std::size_t n = soup.tris.size();
   std::vector<u32> all(n);
   for (std::size_t i = 0; i < n; ++i) all[i] = static_cast<u32>(i);
   Bvh bvh(soup, all, 3);
+  // One past the last item position under each node (children follow their parent).
+  std::vector<u32> end(bvh.nodes.size());
+  for (std::size_t i = bvh.nodes.size(); i-- > 0;) {
+    const Bvh::Node& nd = bvh.nodes[i];
+    end[i] = nd.count ? nd.first + nd.count : end[nd.right];
+  }
   constexpr std::size_t kBlock = 2048;
   std::size_t blocks = (n + kBlock - 1) / kBlock;
   std::vector<std::vector<std::array<u32, 2>>> out(blocks);
   std::vector<std::array<u32, 2>> clashes(blocks, {kNone, kNone});
   parallel_for(0, blocks, [&](std::size_t b) {
     auto& res = out[b];
-    std::vector<u32> hits;
-    for (std::size_t t = b * kBlock; t < std::min(n, (b + 1) * kBlock); ++t) {
+    u32 stack[128];
+    for (std::size_t p = b * kBlock; p < std::min(n, (b + 1) * kBlock); ++p) {
+      const u32 t = bvh.items[p];
       double lo[3], hi[3];
-      tri_box(soup, static_cast<u32>(t), lo, hi);
-      hits.clear();
-      bvh.query(lo, hi, [&](u32 u) {
-        if (u <= t) return;
-        double ulo[3], uhi[3];
-        tri_box(soup, u, ulo, uhi);
-        for (int a = 0; a < 3; ++a)
-          if (ulo[a] > hi[a] || uhi[a] < lo[a]) return;
-        if (soup.operand[u] != soup.operand[t]) {
-          hits.push_back(u);
-        } else if (clash && clashes[b][0] == kNone && triangles_clash(soup, static_cast<u32>(t), u)) {
-          clashes[b] = {static_cast<u32>(t), u};
+      tri_box(soup, t, lo, hi);
+      int top = 0;
+      stack[top++] = 0;
+      while (top) {
+        const u32 id = stack[--top];
+        if (end[id] <= p + 1) continue;  // every item below sits at or before p
+        const Bvh::Node& nd = bvh.nodes[id];
+        bool miss = false;
+        for (int d = 0; d < 3; ++d)
+          if (nd.lo[d] > hi[d] || nd.hi[d] < lo[d]) miss = true;
+        if (miss) continue;
+        if (!nd.count) {
+          stack[top++] = nd.left;
+          stack[top++] = nd.right;
+          continue;
         }
-      });
-      std::sort(hits.begin(), hits.end());
-      for (u32 u : hits) res.push_back({static_cast<u32>(t), u});
+        for (u32 i = std::max<u32>(nd.first, static_cast<u32>(p + 1)); i < nd.first + nd.count; ++i) {
+          const u32 u = bvh.items[i];
+          double ulo[3], uhi[3];
+          tri_box(soup, u, ulo, uhi);
+          bool apart = false;
+          for (int a = 0; a < 3; ++a)
+            if (ulo[a] > hi[a] || uhi[a] < lo[a]) apart = true;
+          if (apart) continue;
+          if (soup.operand[u] != soup.operand[t]) {
+            res.push_back({std::min(t, u), std::max(t, u)});
+          } else if (clash && clashes[b][0] == kNone && triangles_clash(soup, t, u)) {
+            clashes[b] = {std::min(t, u), std::max(t, u)};
+          }
+        }
+      }
     }
   });
   if (clash) {
@@ -169,6 +195,7 @@ std::vector<std::array<u32, 2>> candidate_pairs(const Soup& soup, std::array<u32
   for (auto& v : out) total += v.size();
   pairs.reserve(total);
   for (auto& v : out) pairs.insert(pairs.end(), v.begin(), v.end());
+  std::sort(pairs.begin(), pairs.end());
   return pairs;
 }
 

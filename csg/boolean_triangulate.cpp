@@ -494,6 +494,20 @@ Arrangement arrange(Points& pts, const std::vector<std::array<u32, 2>>& pairs) {
     unique_sorted(points);
     std::vector<std::array<double, 6>> pboxes(points.size());
     for (std::size_t i = 0; i < points.size(); ++i) pboxes[i] = pts.box(points[i]);
+    // Points sorted along T's longer projected axis, so each segment looks only at the points
+    // in its own slab (a plate face cut by hundreds of holes has thousands of each).
+    int sweep = (k + 1) % 3;
+    {
+      const Vec3 &A = soup.verts[T[0]], &B = soup.verts[T[1]], &C = soup.verts[T[2]];
+      const int other = (k + 2) % 3;
+      auto extent = [&](int d) { return std::max({A[d], B[d], C[d]}) - std::min({A[d], B[d], C[d]}); };
+      if (extent(other) > extent(sweep)) sweep = other;
+    }
+    std::vector<u32> by_lo(points.size());
+    std::iota(by_lo.begin(), by_lo.end(), 0u);
+    std::sort(by_lo.begin(), by_lo.end(), [&](u32 x, u32 y) { return pboxes[x][sweep] < pboxes[y][sweep]; });
+    double widest = 0;
+    for (const auto& b : pboxes) widest = std::max(widest, b[sweep + 3] - b[sweep]);
     std::vector<std::array<u32, 2>> constraints;
     for (const auto& s : w.segs) {
       u32 a = s[0], b = s[1];
@@ -501,7 +515,10 @@ Arrangement arrange(Points& pts, const std::vector<std::array<u32, 2>>& pairs) {
       int axis = split_axis(pts, a, b);
       if (axis < 0) continue;
       std::vector<u32> on;
-      for (std::size_t i = 0; i < points.size(); ++i) {
+      auto first = std::partition_point(by_lo.begin(), by_lo.end(),
+                                        [&](u32 x) { return pboxes[x][sweep] < sb[sweep] - widest; });
+      for (auto it = first; it != by_lo.end() && pboxes[*it][sweep] <= sb[sweep + 3]; ++it) {
+        const std::size_t i = *it;
         u32 p = points[i];
         if (p == a || p == b || !boxes_overlap(sb, pboxes[i])) continue;
         if (pts.orient2d(a, b, p, k) != 0) continue;
