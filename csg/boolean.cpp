@@ -296,6 +296,15 @@ BooleanResult boolean(BooleanOp op, const std::vector<const Mesh*>& operands, Bo
   return r;
 }
 
+const char* boolean_op_name(BooleanOp op) {
+  switch (op) {
+    case BooleanOp::Union: return "union";
+    case BooleanOp::Difference: return "difference";
+    case BooleanOp::Intersection: return "intersection";
+  }
+  return "?";
+}
+
 Mesh boolean(BooleanOp op, const Mesh& a, const Mesh& b) { return boolean(op, {&a, &b}).mesh; }
 
 }  // namespace wedge

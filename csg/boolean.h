@@ -17,6 +17,8 @@ namespace wedge {
 // Regularised boolean operations; union and intersection are n-ary, difference subtracts
 // every later operand from the first.
 enum class BooleanOp { Union, Difference, Intersection };
+// "union", "difference" or "intersection": the word scripts, messages and reports use.
+const char* boolean_op_name(BooleanOp op);
 
 struct BooleanResult {
   // Closed, 2-manifold, outward-oriented. Where the regularised result is not a manifold (two

@@ -12,10 +12,6 @@ namespace wedge::lua {
 
 namespace {
 
-const char* op_word(BooleanOp op) {
-  return op == BooleanOp::Union ? "union" : op == BooleanOp::Difference ? "difference" : "intersection";
-}
-
 // a + b, a - b, a * b: Lua calls the metamethod with the operands in order, whichever is the Solid.
 template <BooleanOp Op>
 int operator_m(lua_State* L) {
@@ -25,7 +21,7 @@ int operator_m(lua_State* L) {
     for (int i = 1; i <= 2; ++i) {
       const Solid* s = test_solid(L, i);
       if (!s)
-        throw Error(std::string("operator '") + sym + "' (" + op_word(Op) + "): the " + (i == 1 ? "first" : "second") +
+        throw Error(std::string("operator '") + sym + "' (" + boolean_op_name(Op) + "): the " + (i == 1 ? "first" : "second") +
                     " operand is " + describe(L, i) + ", a Solid expected");
       ops.push_back(*s);
     }
@@ -53,12 +49,12 @@ int function_fn(lua_State* L) {
         ops.push_back(*s);
         lua_pop(L, 1);
       }
-      if (ops.empty()) throw ArgError{1, std::string("no operands: ") + op_word(Op) + " needs at least one Solid"};
+      if (ops.empty()) throw ArgError{1, std::string("no operands: ") + boolean_op_name(Op) + " needs at least one Solid"};
       lua_geti(L, 1, 1);
       first = lua_gettop(L);
     } else {
       int n = lua_gettop(L);
-      if (n == 0) throw ArgError{1, std::string("no operands: ") + op_word(Op) + " needs at least one Solid"};
+      if (n == 0) throw ArgError{1, std::string("no operands: ") + boolean_op_name(Op) + " needs at least one Solid"};
       for (int i = 1; i <= n; ++i) ops.push_back(check_solid(L, i));
     }
     push_solid(L, Solid::boolean(Op, std::move(ops)), first);

@@ -56,15 +56,6 @@ struct Case {
   int sphere_size = 0;  // the sphere series (for the slope), else 0
 };
 
-const char* op_name(BooleanOp op) {
-  switch (op) {
-    case BooleanOp::Union: return "union";
-    case BooleanOp::Intersection: return "intersection";
-    case BooleanOp::Difference: return "difference";
-  }
-  return "?";
-}
-
 Step all_of(BooleanOp op, int n) {
   Step s{op, {}};
   for (int i = 0; i < n; ++i) s.inputs.push_back(i);
@@ -77,7 +68,7 @@ std::vector<Case> all_cases() {
   for (int n : {4096, 65536, 1048576}) {
     const std::string size = n == 4096 ? "4k" : n == 65536 ? "65k" : "1M";
     for (BooleanOp op : ops)
-      cases.push_back({"spheres " + size + " " + op_name(op), [n] { return overlapping_spheres(n); },
+      cases.push_back({"spheres " + size + " " + boolean_op_name(op), [n] { return overlapping_spheres(n); },
                        {{op, {0, 1}}}, n});
   }
   cases.push_back({"classic figure", [] { return classic_figure_operands(16384, 128); },
@@ -90,7 +81,7 @@ std::vector<Case> all_cases() {
   for (const BooleanCase& c : degenerate_cases())
     for (BooleanOp op : ops) {
       const std::string name = c.name;
-      cases.push_back({"degenerate: " + c.name + " " + op_name(op), [name] { return degenerate_case(name).operands; },
+      cases.push_back({"degenerate: " + c.name + " " + boolean_op_name(op), [name] { return degenerate_case(name).operands; },
                        {{op, {0, 1}}}});
     }
   return cases;
@@ -194,7 +185,7 @@ Row run_manifold(const std::vector<Mesh>& operands, const Recipe& recipe, int re
     std::ofstream j(dir + "/recipe.json");
     j << "{\"operands\": " << operands.size() << ", \"steps\": [";
     for (std::size_t s = 0; s < recipe.size(); ++s) {
-      j << (s ? ", " : "") << "{\"op\": \"" << op_name(recipe[s].op) << "\", \"inputs\": [";
+      j << (s ? ", " : "") << "{\"op\": \"" << boolean_op_name(recipe[s].op) << "\", \"inputs\": [";
       for (std::size_t i = 0; i < recipe[s].inputs.size(); ++i) j << (i ? ", " : "") << recipe[s].inputs[i];
       j << "]}";
     }

@@ -28,15 +28,6 @@ using namespace wedge::testing;
 namespace {
 const BooleanOp kOps[] = {BooleanOp::Union, BooleanOp::Intersection, BooleanOp::Difference};
 
-const char* name(BooleanOp op) {
-  switch (op) {
-    case BooleanOp::Union: return "union";
-    case BooleanOp::Intersection: return "intersection";
-    case BooleanOp::Difference: return "difference";
-  }
-  return "?";
-}
-
 std::string text(const Point3& p) {
   std::ostringstream s;
   s.precision(17);
@@ -128,7 +119,7 @@ void require_valid(const Mesh& m) {
 // Runs the engine, checks the result's validity and provenance, returns it.
 BooleanResult checked(BooleanOp op, const std::vector<const Mesh*>& operands) {
   BooleanResult r = boolean(op, operands);
-  INFO(name(op) << " of " << operands.size() << " operands");
+  INFO(boolean_op_name(op) << " of " << operands.size() << " operands");
   require_valid(r.mesh);
   require_provenance(r, op, operands);
   return r;
@@ -163,7 +154,7 @@ TEST_CASE("boolean: overlapping spheres match CGAL's exact corefinement to 1e-9"
     const auto spheres = overlapping_spheres(n);
     const auto ops = pointers(spheres);
     for (BooleanOp op : kOps) {
-      INFO(n << " triangles, " << name(op));
+      INFO(n << " triangles, " << boolean_op_name(op));
       const OracleResult want = oracle_boolean(op, spheres[0], spheres[1]);
       INFO(want.why);
       REQUIRE(want.ok);
@@ -177,7 +168,7 @@ TEST_CASE("boolean: every degenerate configuration gives its closed form and CGA
   for (const BooleanCase& c : degenerate_cases()) {
     if (c.name.rfind("1e-6 and 1e6", 0) == 0) continue;  // their own test below
     for (BooleanOp op : kOps) {
-      INFO(c.name << ", " << name(op));
+      INFO(c.name << ", " << boolean_op_name(op));
       const BooleanResult r = checked(op, pointers(c.operands));
       const OracleResult oracle = oracle_boolean(op, c.operands[0], c.operands[1]);
       if (const auto want = c.expected(op)) require_volume(r.mesh, *want);
@@ -251,7 +242,7 @@ TEST_CASE("boolean: the same output bits at 1 and 2 threads", "[boolean]") {
   const auto spheres = overlapping_spheres(20000);
   const auto fig = classic_figure_operands(4000, 64);
   for (BooleanOp op : kOps) {
-    INFO(name(op));
+    INFO(boolean_op_name(op));
     BooleanResult one, two, one_fig, two_fig;
     {
       tbb::global_control c(tbb::global_control::max_allowed_parallelism, 1);
@@ -281,7 +272,7 @@ TEST_CASE("boolean: an operand that is not a closed manifold is an error naming 
   CHECK_THROWS_AS(boolean(BooleanOp::Difference, {&a, &crossing}), Error);
 }
 
-// --- Held back from main until the engine bugs in ENGINE_BUGS.md are fixed ---
+// --- The classic figure, rounding, n-ary calls, long chains, extreme scales, near-coincident surfaces ---
 
 TEST_CASE("boolean: the classic figure, (cube n sphere) - three cylinders, matches CGAL", "[boolean]") {
   const auto fig = classic_figure_operands(2000, 48);
@@ -304,7 +295,7 @@ TEST_CASE("boolean: new vertices are rounded faithfully (within an ulp per coord
   const auto spheres = overlapping_spheres(2000);
   const auto fig = classic_figure_operands(2000, 48);
   for (BooleanOp op : kOps) {
-    INFO(name(op));
+    INFO(boolean_op_name(op));
     const BooleanResult r = boolean(op, pointers(spheres));
     require_provenance(r, op, pointers(spheres), kFaithful);
     const BooleanResult f = boolean(op, pointers(fig));
@@ -319,7 +310,7 @@ TEST_CASE("boolean: n-ary union, intersection and difference in one call match C
   for (int k = 0; k < 5; ++k) ms.push_back(random_operand(rng, k + 1));
   ms[0] = box_mesh({0, 0, 0}, {1.6, 1.6, 1.6});  // holds part of every other operand
   for (BooleanOp op : kOps) {
-    INFO(name(op));
+    INFO(boolean_op_name(op));
     const OracleResult want = oracle_nary(op, pointers(ms));
     REQUIRE(want.ok);
     require_volume(checked(op, pointers(ms)).mesh, want.volume);
@@ -353,7 +344,7 @@ TEST_CASE("boolean: a chain of 50 booleans, each on the previous result, stays v
       big = icosphere(at * 0.1, 1.6, 1280);
       other = &big;
     }
-    INFO("step " << k << ": " << name(op));
+    INFO("step " << k << ": " << boolean_op_name(op));
     const OracleResult want = oracle_boolean(op, current, *other);
     INFO(want.why);
     REQUIRE(want.ok);
@@ -369,7 +360,7 @@ TEST_CASE("boolean: 1e-6 and 1e6 coordinates together give the closed forms and 
   for (const BooleanCase& c : degenerate_cases()) {
     if (c.name.rfind("1e-6 and 1e6", 0) != 0) continue;
     for (BooleanOp op : kOps) {
-      INFO(c.name << ", " << name(op));
+      INFO(c.name << ", " << boolean_op_name(op));
       const BooleanResult r = checked(op, pointers(c.operands));
       const OracleResult oracle = oracle_boolean(op, c.operands[0], c.operands[1]);
       if (const auto want = c.expected(op)) require_volume(r.mesh, *want);
@@ -392,7 +383,7 @@ TEST_CASE("boolean: surfaces a few ulps apart give a valid result or the roundin
     const Mat4 turn = rotate(angle * 180 / kPi, Vec3(1, 2, 3));
     for (Point3& p : b.positions) p = apply_point(turn, p);
     for (BooleanOp op : kOps) {
-      INFO(angle << " rad, " << name(op));
+      INFO(angle << " rad, " << boolean_op_name(op));
       try {
         const BooleanResult r = boolean(op, {&a, &b});
         require_valid(r.mesh);

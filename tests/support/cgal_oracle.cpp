@@ -51,15 +51,6 @@ bool apply(BooleanOp op, SM& a, SM& b, SM& out) {
   return false;
 }
 
-const char* op_name(BooleanOp op) {
-  switch (op) {
-    case BooleanOp::Union: return "union";
-    case BooleanOp::Intersection: return "intersection";
-    case BooleanOp::Difference: return "difference";
-  }
-  return "?";
-}
-
 // Volumes are summed in the exact number type itself (Epeck's FT::ET, a rational), not in lazy
 // numbers: a sum of a million lazy terms is a DAG a million deep, and evaluating it overflows the
 // stack; and a lazy number's to_double is its interval's estimate, not the exact value rounded.
@@ -99,7 +90,7 @@ OracleResult run(const Mesh& first, const std::vector<std::pair<BooleanOp, const
         return r;
       }
       if (!apply(steps[k].first, current, b, out)) {
-        r.why = std::string("CGAL refused step ") + std::to_string(k + 1) + " (" + op_name(steps[k].first) +
+        r.why = std::string("CGAL refused step ") + std::to_string(k + 1) + " (" + boolean_op_name(steps[k].first) +
                 "): the result is not a 2-manifold";
         return r;
       }
