@@ -183,11 +183,26 @@ int incircle_sign(const H<NT>& a, const H<NT>& b, const H<NT>& c, const H<NT>& d
   return sign_of(det);
 }
 
+// Whether plane P is x_i = c for a double c (then set).
+bool fixes_coordinate(const Soup& s, const Plane& P, int i, double& c) {
+  const Vec3& a = s.verts[P.a];
+  const Vec3& b = s.verts[P.b];
+  if (a[i] != b[i]) return false;
+  if (P.axis < 0) {
+    if (s.verts[P.c][i] != a[i]) return false;
+  } else if (P.axis == i) {
+    return false;  // a wall contains e_axis, so it is never x_axis = c
+  }
+  c = a[i] == 0 ? 0.0 : a[i];
+  return true;
+}
+
 }  // namespace
 
 Points::Points(const Soup& soup) : soup_(&soup) {
   std::size_t n = soup.verts.size();
   defs_.resize(n);
+  fixed_.assign(n, 7);
   approx_.resize(n);
   ih_.resize(n);
   box_.resize(n);
@@ -238,14 +253,43 @@ u32 Points::add(const PointDef& d) {
       }
     }
   }
+  // Coordinates known exactly without arithmetic: the point lies on a plane x_i = c (a triangle
+  // whose three vertices share coordinate i, or a wall over a segment with a_i = b_i), or, for an
+  // LPI, on a segment with p_i = q_i. Those coordinates are the double c itself, so the point
+  // need not move there when it is rounded.
+  std::uint8_t fixed = 0;
+  for (int i = 0; i < 3; ++i) {
+    double c = 0;
+    bool known = false;
+    if (d.kind == PointDef::Lpi && soup_->verts[d.p][i] == soup_->verts[d.q][i]) {
+      c = soup_->verts[d.p][i];
+      known = true;
+    }
+    const int planes = d.kind == PointDef::Tpi ? 3 : 1;
+    for (int k = 0; k < planes && !known; ++k) known = fixes_coordinate(*soup_, d.P[k], i, c);
+    if (known) {
+      ap[i] = bx[i] = bx[i + 3] = c;
+      fixed |= static_cast<std::uint8_t>(1u << i);
+    }
+  }
   defs_.push_back(d);
+  fixed_.push_back(fixed);
   approx_.push_back(ap);
   ih_.push_back(ih);
   box_.push_back(bx);
   return static_cast<u32>(defs_.size() - 1);
 }
 
+// Fast paths: where every coordinate a predicate reads is known exactly (fixed), the predicate
+// is the double one on approx(), itself exact (static filter, then CGAL's exact arithmetic).
+
 int Points::orient2d(u32 a, u32 b, u32 c, int k) const {
+  const int i = (k + 1) % 3, j = (k + 2) % 3;
+  const std::uint8_t m = static_cast<std::uint8_t>(1u << i | 1u << j);
+  if ((fixed_[a] & fixed_[b] & fixed_[c] & m) == m) {
+    const Vec3 &A = approx_[a], &B = approx_[b], &C = approx_[c];
+    return orient2d_fast(A[i], A[j], B[i], B[j], C[i], C[j]);
+  }
   {
     Filter guard;
     int s = orient2d_sign(to_ia(ih_[a]), to_ia(ih_[b]), to_ia(ih_[c]), k);
@@ -257,6 +301,10 @@ int Points::orient2d(u32 a, u32 b, u32 c, int k) const {
 
 int Points::compare(u32 a, u32 b, int axis) const {
   if (a == b) return 0;
+  if (fixed_[a] & fixed_[b] & (1u << axis)) {
+    const double x = approx_[a][axis], y = approx_[b][axis];
+    return x < y ? -1 : (x > y ? 1 : 0);
+  }
   {
     Filter guard;
     int s = compare_sign(to_ia(ih_[a]), to_ia(ih_[b]), axis);
@@ -279,6 +327,15 @@ int Points::compare_def(const PointDef& a, const PointDef& b, int axis) const {
 }
 
 int Points::side(const Plane& P, u32 p) const {
+  if (fixed_[p] == 7) {
+    const Vec3& a = soup_->verts[P.a];
+    const Vec3& b = soup_->verts[P.b];
+    const Vec3& q = approx_[p];
+    if (P.axis < 0) return orient3d_fast(a, b, soup_->verts[P.c], q);  // n . (q - a), n = (b - a) x (c - a)
+    // A wall: n = (b - a) x e_k, and n . (q - a) = -orient2d(a, b, q) in the projection along e_k.
+    const int i = (P.axis + 1) % 3, j = (P.axis + 2) % 3;
+    return -orient2d_fast(a[i], a[j], b[i], b[j], q[i], q[j]);
+  }
   {
     Filter guard;
     int s = side_sign(*soup_, P, to_ia(ih_[p]));
@@ -288,6 +345,12 @@ int Points::side(const Plane& P, u32 p) const {
 }
 
 int Points::incircle(u32 a, u32 b, u32 c, u32 d, int k) const {
+  const int i = (k + 1) % 3, j = (k + 2) % 3;
+  const std::uint8_t m = static_cast<std::uint8_t>(1u << i | 1u << j);
+  if ((fixed_[a] & fixed_[b] & fixed_[c] & fixed_[d] & m) == m) {
+    auto p2 = [&](u32 x) { return Point2(approx_[x][i], approx_[x][j]); };
+    return wedge::incircle(p2(a), p2(b), p2(c), p2(d));
+  }
   {
     Filter guard;
     int s = incircle_sign(to_ia(ih_[a]), to_ia(ih_[b]), to_ia(ih_[c]), to_ia(ih_[d]), k);

@@ -148,6 +148,12 @@ class Points {
   const Vec3& approx(u32 p) const { return approx_[p]; }
   const IntervalH& interval(u32 p) const { return ih_[p]; }
   bool is_explicit(u32 p) const { return defs_[p].kind == PointDef::Explicit; }
+  // Whether approx(p) is the point exactly (an input vertex, or a point whose three coordinates
+  // are each fixed by a segment or an axis-parallel plane through it); such a point does not
+  // move when the result is rounded.
+  bool is_double(u32 p) const { return fixed_[p] == 7; }
+  // Bit i set: coordinate i of approx(p) is exact.
+  std::uint8_t fixed(u32 p) const { return fixed_[p]; }
   const Soup& soup() const { return *soup_; }
 
   // Exact predicates.
@@ -172,6 +178,7 @@ class Points {
  private:
   const Soup* soup_;
   std::vector<PointDef> defs_;
+  std::vector<std::uint8_t> fixed_;
   std::vector<Vec3> approx_;
   std::vector<IntervalH> ih_;
   std::vector<std::array<double, 6>> box_;
@@ -195,6 +202,11 @@ class Bvh {
   template <class F>
   void query(const double lo[3], const double hi[3], F&& f) const;
 
+  // As query(), descending only into nodes whose (float) box `enter(lo, hi)` accepts; f(triangle
+  // id) for every triangle of an accepted leaf.
+  template <class Enter, class F>
+  void query_if(Enter&& enter, F&& f) const;
+
   struct Node { float lo[3], hi[3]; u32 first, count; u32 left, right; };  // leaf: count > 0
   std::vector<Node> nodes;
   std::vector<u32> items;
@@ -213,6 +225,24 @@ void Bvh::query(const double lo[3], const double hi[3], F&& f) const {
     for (int d = 0; d < dims; ++d)
       if (n.lo[d] > hi[d] || n.hi[d] < lo[d]) miss = true;
     if (miss) continue;
+    if (n.count) {
+      for (u32 i = n.first; i < n.first + n.count; ++i) f(items[i]);
+    } else {
+      stack[top++] = n.left;
+      stack[top++] = n.right;
+    }
+  }
+}
+
+template <class Enter, class F>
+void Bvh::query_if(Enter&& enter, F&& f) const {
+  if (nodes.empty()) return;
+  u32 stack[128];
+  int top = 0;
+  stack[top++] = 0;
+  while (top) {
+    const Node& n = nodes[stack[--top]];
+    if (!enter(n.lo, n.hi)) continue;
     if (n.count) {
       for (u32 i = n.first; i < n.first + n.count; ++i) f(items[i]);
     } else {

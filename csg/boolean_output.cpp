@@ -28,6 +28,7 @@ struct Rounding {
   std::vector<char> moved;          // per vertex: its position was rounded (not an input vertex)
   std::vector<u32> src;             // per triangle: soup triangle
   std::vector<std::int8_t> sign;    // per triangle: exact orientation in the projection along k(src)
+  std::vector<char> recheck;        // per triangle: to be checked (it has changed since the last check)
   std::size_t collapses = 0;
 };
 
@@ -44,6 +45,7 @@ void compact(BooleanResult& r, Rounding& rd) {
     r.mesh.face_ids[w] = r.mesh.face_ids[t];
     rd.src[w] = rd.src[t];
     rd.sign[w] = rd.sign[t];
+    rd.recheck[w] = rd.recheck[t];
     ++w;
   }
   r.mesh.triangles.resize(w);
@@ -52,6 +54,7 @@ void compact(BooleanResult& r, Rounding& rd) {
   r.mesh.face_ids.resize(w);
   rd.src.resize(w);
   rd.sign.resize(w);
+  rd.recheck.resize(w);
   std::vector<u32> index(r.mesh.positions.size(), kNone);
   std::vector<Vec3> pos;
   std::vector<char> mv;
@@ -76,20 +79,74 @@ int projected_sign(const Mesh& m, const Rounding& rd, std::size_t t) {
   return orient2d(p2(0), p2(1), p2(2));
 }
 
-// Triangles with a rounded vertex that are degenerate, turned over in their source's projection,
-// or meet another triangle beyond their shared vertices, decided exactly on the rounded doubles.
+// A triangle's separating-axis data, for box tests during a tree descent.
+struct TriSat {
+  double v[3][3];  // vertices
+  double ax[10][3];  // the normal, then e_k x edge_j
+  double lo[10], hi[10], wt[10];  // the triangle's extent on each axis; margin weight
+  int n = 0;
+  TriSat(const Vec3& a, const Vec3& b, const Vec3& c) {
+    const Vec3* p[3] = {&a, &b, &c};
+    for (int i = 0; i < 3; ++i)
+      for (int d = 0; d < 3; ++d) v[i][d] = (*p[i])[d];
+    double e[3][3];
+    for (int j = 0; j < 3; ++j)
+      for (int d = 0; d < 3; ++d) e[j][d] = v[(j + 1) % 3][d] - v[j][d];
+    auto add = [&](double x, double y, double z) {
+      ax[n][0] = x, ax[n][1] = y, ax[n][2] = z;
+      double p0 = x * v[0][0] + y * v[0][1] + z * v[0][2], p1 = x * v[1][0] + y * v[1][1] + z * v[1][2],
+             p2 = x * v[2][0] + y * v[2][1] + z * v[2][2];
+      lo[n] = std::min({p0, p1, p2});
+      hi[n] = std::max({p0, p1, p2});
+      wt[n] = std::abs(x) + std::abs(y) + std::abs(z);
+      ++n;
+    };
+    add(e[0][1] * e[1][2] - e[0][2] * e[1][1], e[0][2] * e[1][0] - e[0][0] * e[1][2], e[0][0] * e[1][1] - e[0][1] * e[1][0]);
+    for (int j = 0; j < 3; ++j) {
+      add(0, -e[j][2], e[j][1]);  // e_x x e_j
+      add(e[j][2], 0, -e[j][0]);  // e_y x e_j
+      add(-e[j][1], e[j][0], 0);  // e_z x e_j
+    }
+  }
+  // Whether the triangle certainly misses the box [lo, hi]: a separating axis among its normal and
+  // the nine cross products of its edges with the coordinate axes (the box's own axes are the box
+  // test the caller makes), with a margin far above this double arithmetic's rounding error, so
+  // that a triangle that touches the box is never said to miss it.
+  bool misses(const float blo[3], const float bhi[3]) const {
+    double c[3], h[3], scale = 0;
+    for (int d = 0; d < 3; ++d) {
+      c[d] = 0.5 * (double(blo[d]) + bhi[d]);
+      h[d] = 0.5 * (double(bhi[d]) - blo[d]);
+      scale = std::max({scale, std::abs(double(blo[d])), std::abs(double(bhi[d]))});
+    }
+    for (int i = 0; i < 3; ++i)
+      for (int d = 0; d < 3; ++d) scale = std::max(scale, std::abs(v[i][d]));
+    for (int k = 0; k < n; ++k) {
+      const double* a = ax[k];
+      const double pc = a[0] * c[0] + a[1] * c[1] + a[2] * c[2];
+      const double r = h[0] * std::abs(a[0]) + h[1] * std::abs(a[1]) + h[2] * std::abs(a[2]);
+      const double margin = 1e-9 * wt[k] * scale;
+      if (lo[k] > pc + r + margin || hi[k] < pc - r - margin) return true;
+    }
+    return false;
+  }
+};
+
+// Triangles to recheck (rd.recheck) that are degenerate, turned over in their source's
+// projection, or meet another triangle beyond their shared vertices, decided exactly on the
+// rounded doubles. Pairs of triangles neither of which is to be rechecked are not looked at: they
+// were found apart by an earlier check and have not changed since.
 std::vector<u32> rounding_defects(const Mesh& m, const Rounding& rd) {
   std::vector<u32> check;
   for (std::size_t t = 0; t < m.triangles.size(); ++t)
-    if (rd.moved[m.triangles[t][0]] || rd.moved[m.triangles[t][1]] || rd.moved[m.triangles[t][2]])
-      check.push_back(static_cast<u32>(t));
+    if (rd.recheck[t]) check.push_back(static_cast<u32>(t));
   if (check.empty()) return {};
   std::vector<const Mesh*> one{&m};
   Soup s = make_soup(one);
   std::vector<u32> all(s.tris.size());
   std::iota(all.begin(), all.end(), 0u);
   std::vector<char> bad(s.tris.size(), 0);
-  Bvh bvh(s, all, 3);
+  const Bvh bvh(s, std::move(all), 3);
   parallel_for(0, check.size(), [&](std::size_t i) {
     u32 t = check[i];
     if (s.axis[t] < 0 || projected_sign(m, rd, t) != rd.sign[t]) {
@@ -98,8 +155,19 @@ std::vector<u32> rounding_defects(const Mesh& m, const Rounding& rd) {
     }
     double lo[3], hi[3];
     triangle_box(s, static_cast<u32>(t), lo, hi);
-    bvh.query(lo, hi, [&](u32 u) {
-      if (u != t && !bad[t] && triangles_clash(s, t, u)) bad[t] = 1;
+    const TriSat sat(s.verts[s.tris[t][0]], s.verts[s.tris[t][1]], s.verts[s.tris[t][2]]);
+    auto enter = [&](const float nlo[3], const float nhi[3]) {
+      for (int d = 0; d < 3; ++d)
+        if (nlo[d] > hi[d] || nhi[d] < lo[d]) return false;
+      return !sat.misses(nlo, nhi);
+    };
+    bvh.query_if(enter, [&](u32 u) {
+      if (u == t || bad[t]) return;
+      double ulo[3], uhi[3];
+      triangle_box(s, u, ulo, uhi);
+      for (int d = 0; d < 3; ++d)
+        if (ulo[d] > hi[d] || uhi[d] < lo[d]) return;
+      if (triangles_clash(s, t, u)) bad[t] = 1;
     });
   });
   std::vector<u32> out;
@@ -130,6 +198,9 @@ void repair_rounding(BooleanResult& r, Rounding& rd) {
   for (int round = 0; round < 16; ++round) {
     std::vector<u32> bad = rounding_defects(r.mesh, rd);
     if (bad.empty()) return;
+    // What the next round checks: the triangles still bad and those a collapse changes.
+    std::fill(rd.recheck.begin(), rd.recheck.end(), 0);
+    for (u32 t : bad) rd.recheck[t] = 1;
     auto& tris = r.mesh.triangles;
     std::vector<std::vector<u32>> around(r.mesh.positions.size());
     for (std::size_t t = 0; t < tris.size(); ++t)
@@ -183,9 +254,11 @@ void repair_rounding(BooleanResult& r, Rounding& rd) {
         }
         std::sort(opposite.begin(), opposite.end());
         if (opposite.size() != 2 || common != opposite) continue;
-        for (u32 x : around[a])
+        for (u32 x : around[a]) {
           for (u32& v : tris[x])
             if (v == a) v = b;
+          rd.recheck[x] = 1;
+        }
         for (u32 v : na) touched[v] = 1;
         touched[a] = touched[b] = 1;
         changed = true;
@@ -335,13 +408,19 @@ BooleanResult assemble(const Points& pts, const Arrangement& arr, const std::vec
     r.source[t] = soup.local[s];
     r.mesh.face_ids[t] = soup.face_id[s];
   }
-  Rounding rd{&soup, std::vector<char>(r.mesh.positions.size(), 0), src, std::vector<std::int8_t>(nt), 0};
+  Rounding rd{&soup, std::vector<char>(r.mesh.positions.size(), 0), src, std::vector<std::int8_t>(nt),
+              std::vector<char>(nt, 0), 0};
   for (std::size_t t = 0; t < nt; ++t) {
     for (int k = 0; k < 3; ++k)
-      if (!pts.is_explicit(tris[t][k])) rd.moved[r.mesh.triangles[t][k]] = 1;
+      if (!pts.is_double(tris[t][k])) rd.moved[r.mesh.triangles[t][k]] = 1;
     // A piece keeps its source's orientation in the source's projection, reversed if flipped.
     rd.sign[t] = static_cast<std::int8_t>(soup.axis_sign[src[t]] * (flipped[t] ? -1 : 1));
   }
+  // The exact result is free of crossings: only triangles with a vertex that rounding moved can
+  // meet another one after it.
+  for (std::size_t t = 0; t < nt; ++t)
+    for (u32 v : r.mesh.triangles[t])
+      if (rd.moved[v]) rd.recheck[t] = 1;
   repair_rounding(r, rd);
   if (collapses) *collapses = rd.collapses;
   return r;

@@ -322,3 +322,120 @@ TEST_CASE("boolean: the engine's filtered orientation tests agree with the exact
   }
   CHECK(decided_zero > 0);  // the cases include exact degeneracies, decided by the exact path
 }
+
+TEST_CASE("boolean: points with coordinates fixed by their definition are exact doubles, and the fast predicates on "
+          "them agree with exact ones",
+          "[boolean]") {
+  // Random segments and planes, some axis-parallel (their points have coordinates known without
+  // arithmetic), some generic. A point the engine calls a double must lie exactly on every plane
+  // and segment that defines it (checked with the kernel's exact predicates); side() must agree
+  // with orient3d on the plane's vertices (walls: a, b, a + e_k).
+  std::mt19937_64 rng(5);
+  std::uniform_int_distribution<int> small(-6, 6);
+  std::uniform_real_distribution<double> u(-3, 3);
+  Mesh m;
+  auto coord = [&](int i) { return i % 3 == 0 ? double(small(rng)) : u(rng); };
+  for (int i = 0; i < 60; ++i) m.add_vertex(Vec3(coord(i), coord(i + 1), coord(i + 2)));
+  // Axis-parallel vertex pairs and triples: shared coordinates.
+  for (int i = 0; i < 60; ++i) {
+    Vec3 p = m.positions[i];
+    const int k = i % 3;
+    Vec3 q = p, r = p;
+    q[(k + 1) % 3] = u(rng);
+    r[(k + 2) % 3] = u(rng);
+    q[(k + 2) % 3] = small(rng);
+    m.add_vertex(q);
+    m.add_vertex(r);
+  }
+  std::vector<const Mesh*> one{&m};
+  boolean_detail::Soup soup = boolean_detail::make_soup(one);
+  REQUIRE(soup.verts.size() == m.positions.size());  // no two positions merged: ids are the mesh's
+  boolean_detail::Points pts(soup);
+  using boolean_detail::u32;
+  const auto nv = static_cast<u32>(soup.verts.size());
+  std::uniform_int_distribution<u32> pick(0, nv - 1), base(0, 59);
+  // Vertex i < 60 and its two companions q = 60 + 2i (coordinate i % 3 kept) and r = 61 + 2i (only
+  // coordinate (i + 2) % 3 changed): (i, r) is an axis-parallel segment, (i, q, r) lies in the
+  // plane x_{i % 3} = const.
+  auto plane = [&]() {
+    const u32 i = base(rng);
+    switch (rng() % 3) {
+      case 0: return boolean_detail::Plane::of_triangle({i, 60 + 2 * i, 61 + 2 * i});
+      case 1: return boolean_detail::Plane::wall(pick(rng), pick(rng), static_cast<int>(rng() % 3));
+      default: return boolean_detail::Plane::of_triangle({pick(rng), pick(rng), pick(rng)});
+    }
+  };
+  auto vert = [&](boolean_detail::u32 v) { return soup.verts[v]; };
+  auto on_plane = [&](const boolean_detail::Plane& P, const Vec3& x) {
+    if (P.axis < 0) return orient3d(vert(P.a), vert(P.b), vert(P.c), x) == 0;
+    const int i = (P.axis + 1) % 3, j = (P.axis + 2) % 3;
+    return orient2d(Point2(vert(P.a)[i], vert(P.a)[j]), Point2(vert(P.b)[i], vert(P.b)[j]), Point2(x[i], x[j])) == 0;
+  };
+  auto degenerate = [&](const boolean_detail::Plane& P) {
+    if (P.axis < 0) return collinear(vert(P.a), vert(P.b), vert(P.c));
+    const int i = (P.axis + 1) % 3, j = (P.axis + 2) % 3;
+    return vert(P.a)[i] == vert(P.b)[i] && vert(P.a)[j] == vert(P.b)[j];
+  };
+  int doubles = 0, sides = 0;
+  for (int n = 0; n < 12000; ++n) {
+    boolean_detail::PointDef d;
+    if (n % 2 == 0) {
+      d.kind = boolean_detail::PointDef::Lpi;
+      if (rng() % 2) {
+        d.p = base(rng);
+        d.q = 61 + 2 * d.p;
+      } else {
+        d.p = pick(rng);
+        d.q = pick(rng);
+      }
+      if (d.q == d.p) continue;
+      d.P[0] = plane();
+      if (degenerate(d.P[0])) continue;
+      // The segment must cross the plane (W != 0): p and q on strictly opposite sides.
+      if (pts.side(d.P[0], d.p) * pts.side(d.P[0], d.q) >= 0) continue;
+    } else {
+      d.kind = boolean_detail::PointDef::Tpi;
+      for (auto& P : d.P) P = plane();
+      if (degenerate(d.P[0]) || degenerate(d.P[1]) || degenerate(d.P[2])) continue;
+      bool independent = false;
+      for (int k = 0; k < 3 && !independent; ++k)
+        if (pts.cross_sign(d.P[1], d.P[2], k) != 0) independent = true;
+      if (!independent) continue;
+      // Three independent planes: det of the normals != 0 (checked on doubles far from zero).
+      Vec3 nn[3];
+      for (int k = 0; k < 3; ++k) {
+        const auto& P = d.P[k];
+        nn[k] = P.axis < 0 ? (vert(P.b) - vert(P.a)).cross(vert(P.c) - vert(P.a))
+                           : (vert(P.b) - vert(P.a)).cross(Vec3::Unit(P.axis));
+      }
+      const double det = nn[0].dot(nn[1].cross(nn[2]));
+      if (!(std::abs(det) > 1e-6 * nn[0].norm() * nn[1].norm() * nn[2].norm())) continue;
+    }
+    const u32 id = pts.add(d);
+    const Vec3 x = pts.approx(id);
+    if (pts.is_double(id)) {
+      ++doubles;
+      if (d.kind == boolean_detail::PointDef::Lpi) {
+        REQUIRE(on_plane(d.P[0], x));
+        REQUIRE(collinear(vert(d.p), vert(d.q), x));
+      } else {
+        REQUIRE(on_plane(d.P[0], x));
+        REQUIRE(on_plane(d.P[1], x));
+        REQUIRE(on_plane(d.P[2], x));
+      }
+      for (int k = 0; k < 20; ++k) {
+        const u32 a = pick(rng), b = pick(rng), c = pick(rng);
+        const int axis = static_cast<int>(rng() % 3);
+        if (!collinear(vert(a), vert(b), vert(c)))
+          REQUIRE(pts.side(boolean_detail::Plane::of_triangle({a, b, c}), id) == orient3d(vert(a), vert(b), vert(c), x));
+        const Vec3 a1 = vert(a) + Vec3::Unit(axis);
+        if (a1 - Vec3::Unit(axis) == vert(a) && !(vert(a) - vert(b)).isZero())
+          REQUIRE(pts.side(boolean_detail::Plane::wall(a, b, axis), id) == orient3d(vert(a), vert(b), a1, x));
+        REQUIRE(pts.compare(id, a, axis) == (x[axis] < vert(a)[axis] ? -1 : x[axis] > vert(a)[axis] ? 1 : 0));
+        ++sides;
+      }
+    }
+  }
+  CHECK(doubles > 150);
+  CHECK(sides > 3000);
+}

@@ -13,6 +13,7 @@
 #include <cstring>
 #include <limits>
 #include <random>
+#include <set>
 #include <sstream>
 
 #include "csg/boolean.h"
@@ -416,4 +417,22 @@ TEST_CASE("boolean: an n-ary union whose cuts overlap on one edge retriangulates
     REQUIRE(want.ok);
     require_volume(checked(BooleanOp::Union, {&s, &a, &b}).mesh, want.volume);
   }
+}
+
+TEST_CASE("boolean: a plate minus vertical cylinders keeps the cylinders' edge positions exactly", "[boolean]") {
+  // The hole's vertices on the cylinders' vertical edges are cuts of exact vertical segments by
+  // exact horizontal planes: exact doubles that rounding must not move by an ulp.
+  const std::vector<Mesh> ops = plate_and_cylinders(3, 24);
+  std::vector<const Mesh*> p;
+  for (const auto& m : ops) p.push_back(&m);
+  const BooleanResult r = boolean(BooleanOp::Difference, p);
+  REQUIRE(mesh_solid_defect(r.mesh, "result").empty());
+  std::set<std::pair<double, double>> edges;  // the cylinders' (x, y) columns
+  for (std::size_t k = 1; k < ops.size(); ++k)
+    for (const auto& v : ops[k].positions) edges.insert({v.x(), v.y()});
+  int on_edges = 0;
+  for (const auto& v : r.mesh.positions)
+    if ((v.z() == 0 || v.z() == 1) && edges.count({v.x(), v.y()})) ++on_edges;
+  // Each cylinder has 24 vertical edges, each cut at z = 0 and z = 1.
+  CHECK(on_edges == 9 * 24 * 2);
 }
