@@ -16,8 +16,7 @@
 // space behind it and not in front, kept reversed if the other way round, and dropped otherwise.
 // Coplanar pieces of several operands that are kept are kept once: by the lowest operand.
 #include <algorithm>
-#include <map>
-#include <numeric>
+#include <cmath>
 
 #include "csg/boolean_impl.h"
 #include "kernel/error.h"
@@ -95,10 +94,24 @@ std::vector<std::int8_t> classify(const Points& pts, const Arrangement& arr, Boo
     patch_of[i] = r;
   }
 
-  // A vertical-ray tree over all triangles.
-  std::vector<u32> all(soup.tris.size());
-  std::iota(all.begin(), all.end(), 0u);
-  Bvh bvh(soup, all, 2);
+  // A tree per operand, for the vertical rays, and each operand's box: a point outside the box
+  // has winding number 0 there, so the operand's tree need not be looked at (a ray through a
+  // Menger sponge meets a few bars' boxes, not every bar above it).
+  std::vector<std::vector<u32>> by_operand(nops);
+  for (std::size_t t = 0; t < soup.tris.size(); ++t) by_operand[soup.operand[t]].push_back(static_cast<u32>(t));
+  std::vector<Bvh> trees;
+  trees.reserve(nops);
+  for (auto& ids : by_operand) trees.emplace_back(soup, std::move(ids), 3);
+  std::vector<std::array<double, 6>> op_box(nops, {INFINITY, INFINITY, INFINITY, -INFINITY, -INFINITY, -INFINITY});
+  for (std::size_t t = 0; t < soup.tris.size(); ++t) {
+    double lo[3], hi[3];
+    triangle_box(soup, static_cast<u32>(t), lo, hi);
+    auto& b = op_box[soup.operand[t]];
+    for (int d = 0; d < 3; ++d) {
+      b[d] = std::min(b[d], lo[d]);
+      b[d + 3] = std::max(b[d + 3], hi[d]);
+    }
+  }
 
   std::vector<std::int8_t> patch_keep(np, 0);
   parallel_for(0, reps.size(), [&](std::size_t ri) {
@@ -107,53 +120,102 @@ std::vector<std::int8_t> classify(const Points& pts, const Arrangement& arr, Boo
     u32 t = piece.tri;
     int i = soup.operand[t];
     int k = soup.axis[t];
-    // Coplanar operands covering the piece: +1 same orientation, -1 opposite.
-    std::map<int, int> coplanar;
+    // A tight box around the centroid decides most tests on doubles: the box wholly on one side
+    // of a line or plane (its corners, exactly) puts the centroid there.
+    const std::array<double, 6> cb = pts.centroid_box(piece.v);
+    const bool cb_ok = std::isfinite(cb[0]) && std::isfinite(cb[1]) && std::isfinite(cb[2]) &&
+                       std::isfinite(cb[3]) && std::isfinite(cb[4]) && std::isfinite(cb[5]);
+    // Side of the centroid of line A B in the projection along e_k (0: undecided).
+    auto edge_side = [&](const Vec3& A, const Vec3& B, int kk) {
+      if (!cb_ok) return 0;
+      const int x = (kk + 1) % 3, y = (kk + 2) % 3;
+      const int s0 = orient2d_fast(A[x], A[y], B[x], B[y], cb[x], cb[y]);
+      if (s0 == 0 || orient2d_fast(A[x], A[y], B[x], B[y], cb[x + 3], cb[y]) != s0 ||
+          orient2d_fast(A[x], A[y], B[x], B[y], cb[x], cb[y + 3]) != s0 ||
+          orient2d_fast(A[x], A[y], B[x], B[y], cb[x + 3], cb[y + 3]) != s0)
+        return 0;
+      return s0;
+    };
+    // Coplanar operands covering the piece: +1 same orientation, -1 opposite (few: a short list).
+    std::vector<std::pair<int, int>> coplanar;
+    auto coplanar_with = [&](int j) -> const std::pair<int, int>* {
+      for (const auto& c : coplanar)
+        if (c.first == j) return &c;
+      return nullptr;
+    };
     for (u32 u : arr.coplanar[t]) {
       int j = soup.operand[u];
-      if (j == i || coplanar.count(j)) continue;
+      if (j == i || coplanar_with(j)) continue;
       const auto& U = soup.tris[u];
       int o = pts.orient2d(U[0], U[1], U[2], k);  // U's orientation seen along k
       bool inside = true;
-      for (int e = 0; e < 3 && inside; ++e)
-        if (pts.orient2d_centroid(U[e], U[(e + 1) % 3], piece.v, k) * o <= 0) inside = false;
-      if (inside) coplanar[j] = (o > 0) == (soup.axis_sign[t] > 0) ? 1 : -1;
+      for (int e = 0; e < 3 && inside; ++e) {
+        int f = edge_side(soup.verts[U[e]], soup.verts[U[(e + 1) % 3]], k);
+        if (f == 0) f = pts.orient2d_centroid(U[e], U[(e + 1) % 3], piece.v, k);
+        if (f * o <= 0) inside = false;
+      }
+      if (inside) coplanar.push_back({j, (o > 0) == (soup.axis_sign[t] > 0) ? 1 : -1});
     }
+    std::sort(coplanar.begin(), coplanar.end());
     // Winding numbers of the centroid with respect to every other operand.
-    std::map<int, int> winding;
+    std::vector<std::pair<int, int>> winding;  // (operand, winding number), the ones met
     double lo[3], hi[3];
     for (int d = 0; d < 3; ++d) {
       lo[d] = std::min({pts.box(piece.v[0])[d], pts.box(piece.v[1])[d], pts.box(piece.v[2])[d]});
       hi[d] = std::max({pts.box(piece.v[0])[d + 3], pts.box(piece.v[1])[d + 3], pts.box(piece.v[2])[d + 3]});
     }
-    bvh.query(lo, hi, [&](u32 u) {
-      int j = soup.operand[u];
-      if (j == i || coplanar.count(j)) return;
+    // Whether operand j's box may hold the centroid (the centroid's box meets it).
+    const double clo[3] = {lo[0], lo[1], lo[2]}, chi[3] = {hi[0], hi[1], hi[2]};
+    auto near = [&](int j) {
+      for (int d = 0; d < 3; ++d)
+        if (chi[d] < op_box[j][d] || clo[d] > op_box[j][d + 3]) return false;
+      return true;
+    };
+    auto plane_side = [&](const Vec3& A, const Vec3& B, const Vec3& C) {  // 0: undecided
+      int s0 = 0;
+      for (int c = 0; c < 8; ++c) {
+        const Vec3 q(cb[(c & 1) ? 3 : 0], cb[(c & 2) ? 4 : 1], cb[(c & 4) ? 5 : 2]);
+        const int o = orient3d_fast(A, B, C, q);
+        if (o == 0 || (s0 != 0 && o != s0)) return 0;
+        s0 = o;
+      }
+      return s0;
+    };
+    // The ray goes up: triangles wholly below the centroid's box cannot be above it.
+    hi[2] = INFINITY;
+    auto hit = [&](u32 u) {
+      const int j = soup.operand[u];
+      double ulo[3], uhi[3];
+      triangle_box(soup, u, ulo, uhi);
+      if (uhi[0] < clo[0] || ulo[0] > chi[0] || uhi[1] < clo[1] || ulo[1] > chi[1] || uhi[2] < clo[2]) return;
       const auto& U = soup.tris[u];
       int o = orient2d_xy(soup, U[0], U[1], U[2]);
       if (o == 0) return;  // vertical: the perturbed ray misses it
-      for (int e = 0; e < 3; ++e)
-        if (orient_sos(pts, U[e], U[(e + 1) % 3], piece.v) != o) return;
-      int side = pts.side_centroid(Plane::of_triangle(U), piece.v);
+      for (int e = 0; e < 3; ++e) {
+        const int f = edge_side(soup.verts[U[e]], soup.verts[U[(e + 1) % 3]], 2);
+        if (f != 0 ? f != o : orient_sos(pts, U[e], U[(e + 1) % 3], piece.v) != o) return;
+      }
+      int side = cb_ok ? plane_side(soup.verts[U[0]], soup.verts[U[1]], soup.verts[U[2]]) : 0;
+      if (side == 0) side = pts.side_centroid(Plane::of_triangle(U), piece.v);
       if (side == 0) fail("boolean: internal error: a piece's centroid lies on a triangle of operand ", j + 1);
-      if (side * o < 0) winding[j] += o;
-    });
+      if (side * o < 0) {
+        auto w = std::find_if(winding.begin(), winding.end(), [&](const auto& x) { return x.first == j; });
+        if (w == winding.end()) winding.push_back({j, o});
+        else w->second += o;
+      }
+    };
+    for (int j = 0; j < nops; ++j)
+      if (j != i && near(j) && !coplanar_with(j)) trees[j].query(lo, hi, hit);
     std::vector<char> front(nops, 0), back(nops, 0);
     back[i] = 1;
-    for (int j = 0; j < nops; ++j) {
-      if (j == i) continue;
-      auto c = coplanar.find(j);
-      if (c != coplanar.end()) {
-        front[j] = c->second < 0;
-        back[j] = c->second > 0;
-      } else {
-        auto w = winding.find(j);
-        front[j] = back[j] = (w != winding.end() && w->second > 0);
-      }
+    for (const auto& [j, w] : winding) front[j] = back[j] = w > 0;
+    for (const auto& [j, c] : coplanar) {
+      front[j] = c < 0;
+      back[j] = c > 0;
     }
     bool fb = membership(op, back), ff = membership(op, front);
     std::int8_t keep = (fb && !ff) ? 1 : (!fb && ff) ? -1 : 0;
-    if (keep && !coplanar.empty() && coplanar.begin()->first < i) keep = 0;
+    if (keep && !coplanar.empty() && coplanar.front().first < i) keep = 0;
     patch_keep[pi] = keep;
   });
   std::vector<std::int8_t> keep(np);

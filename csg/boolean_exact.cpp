@@ -384,6 +384,20 @@ int Points::side_centroid(const Plane& P, const std::array<u32, 3>& t) const {
   return side_sign(*soup_, P, c);
 }
 
+std::array<double, 6> Points::centroid_box(const std::array<u32, 3>& t) const {
+  std::array<double, 6> b;
+  Filter guard;
+  H<IA> c = centroid_of(to_ia(ih_[t[0]]), to_ia(ih_[t[1]]), to_ia(ih_[t[2]]));
+  const bool w_sign = c.c[3].inf() > 0 || c.c[3].sup() < 0;
+  for (int i = 0; i < 3; ++i) {
+    IA q = c.c[i] / c.c[3];
+    const bool ok = w_sign && std::isfinite(q.inf()) && std::isfinite(q.sup());
+    b[i] = ok ? q.inf() : -INFINITY;
+    b[i + 3] = ok ? q.sup() : INFINITY;
+  }
+  return b;
+}
+
 int Points::cross_sign(const Plane& P, const Plane& Q, int axis) const {
   int i = (axis + 1) % 3, j = (axis + 2) % 3;
   {

@@ -167,6 +167,9 @@ class Points {
   // u, v input vertices; and the side of a plane.
   int orient2d_centroid(u32 u, u32 v, const std::array<u32, 3>& t, int k) const;
   int side_centroid(const Plane& P, const std::array<u32, 3>& t) const;
+  // A box that holds the centroid of triangle (a, b, c) exactly: lo[0..2], hi[0..2] (infinite
+  // where the filter cannot bound it).
+  std::array<double, 6> centroid_box(const std::array<u32, 3>& t) const;
   // Whether two planes are parallel or the same (cross product of normals exactly zero) — and
   // the sign of a component of that cross product.
   int cross_sign(const Plane& P, const Plane& Q, int axis) const;
