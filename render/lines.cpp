@@ -1,41 +1,127 @@
-// Lines and points in window coordinates (GL 1.x sections 3.3, 3.4). A line is sampled at the
-// pixel centres of its major axis between its snapped endpoints (a DDA) with the diamond-exit
-// rule at the ends (3.4.1), w pixels wide across the minor axis; its depth and attributes are
-// interpolated perspective-correctly along it. A point of size s is an s x s square centred on
+// Lines and points in window coordinates (GL 1.x sections 3.3, 3.4). A line is the quad it
+// sweeps, w pixels wide across its minor axis, sampled at pixel centres, with the diamond-exit
+// rule at its ends (3.4.1), as llvmpipe draws it; its depth and attributes are interpolated
+// perspective-correctly along it. A point of size s is an s x s square centred on
 // the pixel holding it (odd s) or on the nearest pixel corner (even s).
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 
 #include "render/raster.h"
 
 namespace wedge::render::raster {
 
-// --- lines: a DDA that samples the line at the pixel centres of its major axis ---
-void Raster::line(const WinVert& a_in, const WinVert& b_in, int side, const float* flat) {
+// --- lines: a parallelogram w pixels across the minor axis, sampled at pixel centres ---
+// llvmpipe's non-smooth lines (our oracle) are the quad swept by the segment, w pixels thick
+// across its minor axis, sampled at pixel centres with the triangles' fill rule (left and bottom
+// edges included): a line exactly on a pixel boundary takes the pixel left of or below it. Its
+// ends follow the diamond-exit rule (GL 1.5, 3.4.1), decided from the unsnapped float ends and
+// applied by moving an end of the quad along the line onto the pixel boundary that takes in or
+// leaves out the end pixel. llvmpipe makes that decision in its framebuffer's rows, which run
+// top-down (y' = height - y); the same here, because the rule's ties (an end on a diamond's
+// corner) are not symmetric in y.
+namespace {
+struct LineEnds {
+  double x0, y0, x1, y1;  // the quad's ends on the line (top-down rows, as the input)
+};
+// The diamond-exit decisions and the ends moved by them, for a line from (ax, ay) to (bx, by)
+// in top-down rows (llvmpipe's float arithmetic, so that its ties fall the same way).
+LineEnds line_ends(float ax, float ay, float bx, float by) {
+  const float ux = bx - ax, uy = by - ay;
+  auto off = [](float v) { return v - std::floor(v) - 0.5f; };  // from the pixel centre
+  auto frac = [](float v) { return v - std::floor(v); };
+  float fx0 = off(ax), fy0 = off(ay), fx1 = off(bx), fy1 = off(by);
+  float sx = 0, sy = 0, ex = 0, ey = 0;  // moves of the start and the end
+  if (std::fabs(ux) >= std::fabs(uy)) {  // x-major
+    const float k = uy / ux;
+    if (fy1 == -0.5f && uy > 0) fy1 = 0.5f;
+    bool start;  // whether the start pixel is drawn: the line leaves its diamond
+    if (std::fabs(fx0) + std::fabs(fy0) < 0.5f) start = true;
+    else if ((fx0 >= 0) == (ux >= 0)) start = false;
+    else if ((fy0 <= 0) != (uy <= 0)) start = true;
+    else {
+      const float yi = frac(ay) + fx0 * k;
+      start = yi > 0 && yi < 1;
+    }
+    bool end;  // whether the end pixel is drawn: the line passes its diamond before ending
+    if (std::fabs(fx1) + std::fabs(fy1) < 0.5f) end = false;
+    else if ((fx1 >= 0) != (ux >= 0)) end = false;
+    else if ((fy1 <= 0) == (uy <= 0)) end = true;
+    else {
+      const float yi = frac(by) + fx1 * k;
+      end = yi > 0 && yi < 1;
+    }
+    // Whether the quad's plain ends already take the end pixels in (left edges included).
+    const bool right = ux > 0;
+    if ((right ? fx0 <= 0 : fx0 > 0) != start) sx = right ? -fx0 - 0.5f : -fx0 + 0.5f, sy = sx * k;
+    if ((right ? fx1 > 0 : fx1 <= 0) != end) ex = right ? -fx1 - 0.5f : -fx1 + 0.5f, ey = ex * k;
+  } else {  // y-major
+    const float k = ux / uy;
+    if (fx1 == -0.5f && ux > 0) fx1 = 0.5f;
+    bool start;
+    if (std::fabs(fx0) + std::fabs(fy0) < 0.5f) start = true;
+    else if ((fy0 <= 0) == (uy <= 0)) start = false;
+    else if ((fx0 >= 0) != (ux >= 0)) start = true;
+    else {
+      const float xi = frac(ax) + fy0 * k;
+      start = xi > 0 && xi < 1;
+    }
+    bool end;
+    if (std::fabs(fx1) + std::fabs(fy1) < 0.5f) end = false;
+    else if ((fy1 <= 0) != (uy <= 0)) end = false;
+    else if ((fx1 >= 0) == (ux >= 0)) end = true;
+    else {
+      const float xi = frac(bx) + fy1 * k;
+      end = xi >= 0 && xi < 1;
+    }
+    // Top-down rows: the lower edge on screen (larger y') is the one included.
+    const bool down = uy < 0;  // towards smaller y' (up on the screen)
+    if ((down ? fy0 >= 0 : fy0 < 0) != start) sy = down ? -fy0 + 0.5f : -fy0 - 0.5f, sx = sy * k;
+    if ((down ? fy1 < 0 : fy1 >= 0) != end) ey = down ? -fy1 + 0.5f : -fy1 - 0.5f, ex = ey * k;
+  }
+  return {double(ax + sx), double(ay + sy), double(bx + ex), double(by + ey)};
+}
+// Floor and ceiling of n / d for d > 0, exactly.
+inline std::int64_t floor_div(std::int64_t n, std::int64_t d) { return n >= 0 ? n / d : -((-n + d - 1) / d); }
+inline std::int64_t ceil_div(std::int64_t n, std::int64_t d) { return -floor_div(-n, d); }
+}  // namespace
+
+void Raster::line(const WinVert& a, const WinVert& b, int side, const float* flat) {
   const int col = side ? kBack : kFront;
-  // Endpoints snapped to the 1/256-pixel grid the triangle setup uses (and llvmpipe's).
-  WinVert a = a_in, b = b_in;
-  a.x = std::nearbyint(a.x * 256) / 256, a.y = std::nearbyint(a.y * 256) / 256;
-  b.x = std::nearbyint(b.x * 256) / 256, b.y = std::nearbyint(b.y * 256) / 256;
-  double dx = b.x - a.x, dy = b.y - a.y;
-  if (dx == 0 && dy == 0) return;
-  const bool xmajor = std::abs(dx) >= std::abs(dy);
-  const double s0 = xmajor ? a.x : a.y, s1 = xmajor ? b.x : b.y;
-  const double len = s1 - s0;
-  // Centres c with s0 <= c < s1 (or s1 < c <= s0): the diamond-exit rule along the major axis.
-  int first, last;
-  if (len > 0) first = int(std::ceil(s0 - 0.5)), last = int(std::ceil(s1 - 0.5)) - 1;
-  else first = int(std::floor(s1 - 0.5)) + 1, last = int(std::floor(s0 - 0.5));
+  const float ax = float(a.x), ay = float(height - a.y), bx = float(b.x), by = float(height - b.y);
+  if (ax == bx && ay == by) return;
+  const LineEnds q = line_ends(ax, ay, bx, by);
+  // The quad's ends on the 1/256-pixel grid (window y up again).
+  const std::int64_t X0 = std::llrint(q.x0 * 256), X1 = std::llrint(q.x1 * 256);
+  const std::int64_t Y0 = std::int64_t(height) * 256 - std::llrint(q.y0 * 256);
+  const std::int64_t Y1 = std::int64_t(height) * 256 - std::llrint(q.y1 * 256);
+  const bool xmajor = std::fabs(bx - ax) >= std::fabs(by - ay);
+  // Major axis M, minor axis m (x and y for an x-major line).
+  const std::int64_t M0 = xmajor ? X0 : Y0, M1 = xmajor ? X1 : Y1, m0 = xmajor ? Y0 : X0, m1 = xmajor ? Y1 : X1;
+  if (M0 == M1) return;
+  const std::int64_t dM = M1 - M0, dm = m1 - m0;
   const int w = std::max(1, int(std::lround(s.line_width)));
+  // Centres 256 i + 128 in [min M, max M): the left (bottom) end of the quad is included.
+  const int first = int(ceil_div(std::min(M0, M1) - 128, 256)), last = int(ceil_div(std::max(M0, M1) - 128, 256)) - 1;
+  // A tie (a centre exactly on a long edge) goes as llvmpipe's fill rule for the quad's edges:
+  // across an x-major line rising to the right the upper edge is included, the lower one
+  // otherwise (and always the left edge of a y-major line).
+  const bool rising = xmajor && dm != 0 && (dm > 0) == (dM > 0);
+  const double s0 = xmajor ? a.x : a.y, len = (xmajor ? b.x : b.y) - s0;
   float attrs[kAttrs] = {};
-  // One column (x-major) or row (y-major) of w fragments at parameter t; `major`/`minor0` are
-  // the pixel indices along the axes.
-  auto column = [&](int major, int minor0, double t) __attribute__((always_inline)) {
+  for (int i = first; i <= last; ++i) {
+    // The line's minor coordinate at the centre: m0 + (C - M0) dm / dM; the w pixels whose
+    // centres lie within w/2 of it.
+    const std::int64_t C = std::int64_t(i) * 256 + 128;
+    const std::int64_t sgn = dM > 0 ? 1 : -1;
+    const std::int64_t num = (m0 - 128 * w - 128) * dM * sgn + (C - M0) * dm * sgn;
+    const int j0 = int(rising ? floor_div(num, 256 * dM * sgn) + 1 : ceil_div(num, 256 * dM * sgn));
+    const double t = std::clamp((i + 0.5 - s0) / len, 0.0, 1.0);
     double z = a.z + t * (b.z - a.z);
     double wa = (1 - t) * a.inv_w, wb = t * b.inv_w;
-    double sum = wa + wb;
+    const double sum = wa + wb;
     wa /= sum, wb /= sum;
     // Only the attributes this state reads (each one by the same expression).
     auto interp = [&](int k0, int k1) {
@@ -58,37 +144,12 @@ void Raster::line(const WinVert& a_in, const WinVert& b_in, int side, const floa
     } else {
       cc = Vec4f(attrs[col], attrs[col + 1], attrs[col + 2], attrs[col + 3]);
     }
-    for (int j = minor0; j < minor0 + w; ++j) {
-      int px = xmajor ? major : j, py = xmajor ? j : major;
+    for (int j = j0; j < j0 + w; ++j) {
+      const int px = xmajor ? i : j, py = xmajor ? j : i;
       if (px < x0 || px >= x1 || py < y0 || py >= y1) continue;
       if (!depth_stage(px, py, float(z))) continue;
       shade_fragment(px, py, cc, texturing ? attrs + kTex : nullptr, 0, attrs[kFog]);
     }
-  };
-  // The diamond-exit rule at the ends of a line (GL 1.5, 3.4.1): the pixel whose diamond holds
-  // the start point is drawn (the line leaves it), the one holding the end point is not (the
-  // line never leaves it). llvmpipe applies it to wide lines too, a whole column of w pixels
-  // centred on that pixel.
-  auto diamond = [](double x, double y, int& px, int& py) {
-    px = int(std::floor(x)), py = int(std::floor(y));
-    return std::abs(x - (px + 0.5)) + std::abs(y - (py + 0.5)) <= 0.5;
-  };
-  int spx = 0, spy = 0, epx = 0, epy = 0;
-  const bool start_in = diamond(a.x, a.y, spx, spy);
-  const bool end_in = diamond(b.x, b.y, epx, epy);
-  auto minor_at = [&](int i) {
-    double t = (i + 0.5 - s0) / len;
-    return int(std::floor(xmajor ? a.y + t * dy : a.x + t * dx));
-  };
-  if (start_in) {
-    const int si = xmajor ? spx : spy, sm = xmajor ? spy : spx;
-    if (si < first || si > last || minor_at(si) != sm) column(si, sm - (w - 1) / 2, 0.0);
-  }
-  for (int i = first; i <= last; ++i) {
-    const double t = (i + 0.5 - s0) / len;
-    const int m = minor_at(i);
-    if (end_in && i == (xmajor ? epx : epy) && m == (xmajor ? epy : epx)) continue;
-    column(i, m - (w - 1) / 2, t);
   }
 }
 
