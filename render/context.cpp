@@ -151,6 +151,8 @@ void Context::threads(int n) {
   s_->threads = n;
 }
 int Context::threads() const { return s_->threads; }
+void Context::simd(Simd s) { s_->simd = s; }
+Simd Context::simd() const { return s_->simd; }
 
 void Context::enable(Cap cap) { s_->enabled.set(static_cast<int>(cap)); }
 void Context::disable(Cap cap) { s_->enabled.reset(static_cast<int>(cap)); }

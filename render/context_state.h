@@ -1,7 +1,6 @@
 // The state of a render::Context: OpenGL 1.x's state vector, with GL's initial values.
 // Private to render/ (not installed).
 #pragma once
-#include <atomic>
 #include <bitset>
 
 #include "render/render.h"
@@ -55,6 +54,7 @@ struct Context::State {
   float fog_start = 0, fog_end = 1, fog_density = 1;
 
   int threads = 1;  // rasterisation threads (bands of rows)
+  Simd simd = Simd::Auto;  // the vector code (Raster::avx2)
 
   bool in_begin = false;
   Primitive prim = Primitive::Points;
@@ -84,10 +84,6 @@ inline InVertex fetch_vertex(const Context::State& s, const VertexArrays& a, std
   return v;
 }
 
-// For tests: when set, code paths chosen at run time for the CPU (AVX2) give way to the
-// default build's (SSE2 on x86-64), which must draw the same images.
-extern std::atomic<bool> simd_fallback;
-
 // For tests: the lighting equation's x^y (x >= 0, y > 0) on n values, by the vector code the
 // lighting runs (8 lanes when `avx2` and the CPU has AVX2, else 4) and the scalar one (gl_pow).
 void lighting_pow(const float* x, std::size_t n, float y, float* out, bool avx2);
@@ -95,7 +91,7 @@ float lighting_pow(float x, float y);
 // For tests: the vertex lighting's eye normals (3 doubles each), as vertex_attrs computes them.
 void lighting_normals(const Mat3& nmat, const double* n, std::size_t count, bool normalize, double* out);
 
-// Runs a batch of vertices as one primitive through the pipeline (pipeline.cpp).
+// Runs a batch of vertices as one primitive through the pipeline (assembly.cpp).
 void run_primitive(Context::State& s, int width, int height, std::uint8_t* color, float* depth, Primitive p,
                    const std::vector<InVertex>& verts);
 // Independent triangles (count vertices) straight from client arrays: element first + i, or

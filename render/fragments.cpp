@@ -509,7 +509,7 @@ template <bool Phong, bool Smooth, bool Tex, bool Fog, bool Depth, bool Avx2>
               if (!(m >> l & 1)) S[l] = S[l0], T[l] = T[l0];
           }
           alignas(16) float texel[16];
-          texture->sample4(S, T, lambda, texel);
+          texture->sample4(S, T, lambda, texel, avx2 ? Simd::Auto : Simd::Sse2);
           __m128 tr = _mm_load_ps(texel), tg = _mm_load_ps(texel + 4), tb = _mm_load_ps(texel + 8),
                  ta = _mm_load_ps(texel + 12);
           _MM_TRANSPOSE4_PS(tr, tg, tb, ta);

@@ -195,7 +195,7 @@ __attribute__((target("avx2"))) void Raster::quad_loop8(const Quad8Setup& q) {
             for (int l = 0; l < 4; ++l)
               if (!(mh >> l & 1)) Sh[l] = Sh[l0], Th[l] = Th[l0];
           }
-          q.texture->sample4(Sh, Th, lambda, texel + 16 * h);
+          q.texture->sample4(Sh, Th, lambda, texel + 16 * h, Simd::Auto);
         }
         __m128 a0 = _mm_load_ps(texel), a1 = _mm_load_ps(texel + 4), a2 = _mm_load_ps(texel + 8),
                a3 = _mm_load_ps(texel + 12);

@@ -1,12 +1,19 @@
 // The state of one draw (Raster) made from the context's state, and the SIMD choice.
 
-#include <cstdlib>
-#include <cstring>
-
 #include "render/raster.h"
 
 namespace wedge::render {
-std::atomic<bool> simd_fallback{false};
+bool cpu_has_avx2() {
+#if defined(__SSE2__) && defined(__GNUC__)
+  static const bool has = [] {
+    __builtin_cpu_init();
+    return __builtin_cpu_supports("avx2") != 0;
+  }();
+  return has;
+#else
+  return false;
+#endif
+}
 }  // namespace wedge::render
 
 namespace wedge::render::raster {
@@ -27,11 +34,7 @@ Raster::Raster(Context::State& st, int w, int h, std::uint8_t* c, float* d)
   blend = s.on(Cap::Blend);
   depth_test = s.on(Cap::DepthTest);
   all_mask = s.color_mask[0] && s.color_mask[1] && s.color_mask[2] && s.color_mask[3];
-#if defined(__SSE2__)
-  static const bool cpu_avx2 = __builtin_cpu_supports("avx2");
-  const char* simd = std::getenv("WEDGE_RENDER_SIMD");  // read per draw: tests switch it
-  avx2 = cpu_avx2 && !(simd && std::strcmp(simd, "sse2") == 0) && !simd_fallback.load(std::memory_order_relaxed);
-#endif
+  avx2 = s.simd == Simd::Auto && cpu_has_avx2();
 }
 
 }  // namespace wedge::render::raster

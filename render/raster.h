@@ -322,8 +322,8 @@ struct Raster {
   // Clip planes: 6 frustum planes then the enabled user planes (as eye-space planes).
   std::vector<Vec4> user_planes;
   int x0, y0, x1, y1;  // pixel bounds (framebuffer ∩ scissor), half open
-  // The AVX2 builds (vertex stage, run setup, fragment loops) for this draw: the CPU has AVX2,
-  // WEDGE_RENDER_SIMD is not "sse2" and simd_fallback is not set (one choice for all of them).
+  // The AVX2 builds (vertex stage, run setup, fragment loops, texture sampling) for this draw:
+  // the Context's Simd choice is Auto and the CPU has AVX2 (one choice for all of them).
   bool avx2 = false;
   bool phong, lighting, texturing, fog, blend, depth_test, all_mask;
   Queue* sink = nullptr;  // when set, primitives are queued instead of drawn

@@ -43,6 +43,12 @@ enum class TexWrap { Repeat, Clamp, ClampToEdge };
 enum class TexEnvMode { Modulate, Replace, Decal, Blend };
 enum class TexGenMode { ObjectLinear, EyeLinear, SphereMap };
 enum class TexFormat { Luminance, RGB, RGBA };
+// The rasteriser's vector code, chosen per Context: Auto takes AVX2 where the CPU has it (else
+// SSE2), Sse2 keeps to SSE2. Both draw the same bits (tests/render/test_fragment_paths.cpp);
+// Sse2 is there for those tests and for benchmarks.
+enum class Simd { Auto, Sse2 };
+// Whether this CPU runs AVX2 code (x86-64 with AVX2); what Simd::Auto asks.
+bool cpu_has_avx2();
 
 // An 8-bit RGBA image, row 0 at the TOP (as in PNG files).
 struct Image {
@@ -81,10 +87,8 @@ struct Texture {
   Vec4f sample(float s, float t, float lambda) const;
   // Four fragments sharing one level of detail (a 2x2 quad, as GPUs take derivatives). s, t: 4 each
   // (already divided by q); out: 4 RGBA colours, 16 floats, bit-identical to four calls of sample().
-  void sample4(const float* s, const float* t, float lambda, float* out) const;
-  // Whether sample4 may take its AVX2 path when the CPU has AVX2 (the default) or keeps to SSE2;
-  // both give the same bits. Returns whether the AVX2 path is now in use. For tests and benchmarks.
-  static bool allow_avx2(bool allow);
+  // `simd`: the vector code (the rasteriser passes its Context's choice); both give the same bits.
+  void sample4(const float* s, const float* t, float lambda, float* out, Simd simd = Simd::Auto) const;
 };
 
 struct Light {
@@ -140,6 +144,9 @@ class Context {
   // parallel (same image as one thread). Default 1.
   void threads(int n);
   int threads() const;
+  // The vector code this context draws with (Auto: AVX2 where the CPU has it). Default Auto.
+  void simd(Simd s);
+  Simd simd() const;
 
   // --- state switches ---
   void enable(Cap cap);
@@ -332,6 +339,7 @@ struct RenderOptions {
   Vec4f background{1, 1, 1, 1};
   Visibility visibility = Visibility::ZBuffer;
   int threads = 0;  // rasterisation threads; 0 = all cores
+  Simd simd = Simd::Auto;  // the vector code (the same image either way)
 };
 
 struct DrawItem {

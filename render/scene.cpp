@@ -327,6 +327,7 @@ Image render_scene(const std::vector<DrawItem>& items, const RenderOptions& o, s
   const int aa = o.antialias, W = o.width * aa, H = o.height * aa;
   Context g(W, H);
   g.threads(o.threads > 0 ? o.threads : std::max(1, int(std::thread::hardware_concurrency())));
+  g.simd(o.simd);
   g.clear_color(o.background[0], o.background[1], o.background[2], o.background[3]);
   g.clear();
   Box3 bounds;

@@ -16,7 +16,6 @@
 // operations lane for lane (no FMA), so the results do not depend on the CPU either. GL_CLAMP
 // (border colour) and images of 32768 texels or more a side take a per-fragment general path in
 // float.
-#include <atomic>
 #include <cmath>
 #include <cstring>
 
@@ -585,13 +584,6 @@ __attribute__((target("avx2"))) void sample4_avx2(const Texture& t, const float*
   else bilinear_avx2<false>(t, p, s, tt, out);
 }
 
-bool cpu_has_avx2() {
-  __builtin_cpu_init();
-  return __builtin_cpu_supports("avx2");
-}
-
-std::atomic<bool> g_avx2{cpu_has_avx2()};
-
 }  // namespace
 
 void Texture::build_mipmaps() {
@@ -661,17 +653,11 @@ Vec4f Texture::sample(float s, float t, float lambda) const {
   return c;
 }
 
-void Texture::sample4(const float* s, const float* t, float lambda, float* out) const {
-  if (g_avx2.load(std::memory_order_relaxed)) return sample4_avx2(*this, s, t, lambda, out);
+void Texture::sample4(const float* s, const float* t, float lambda, float* out, Simd simd) const {
+  if (simd == Simd::Auto && cpu_has_avx2()) return sample4_avx2(*this, s, t, lambda, out);
   const Plan p = make_plan(*this, lambda);
   if (!fast_ok(*this, p)) return sample4_general(*this, p, s, t, out);
   sample_sse(*this, p, s, t, out);
-}
-
-bool Texture::allow_avx2(bool allow) {
-  const bool on = allow && cpu_has_avx2();
-  g_avx2.store(on);
-  return on;
 }
 
 }  // namespace wedge::render

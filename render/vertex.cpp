@@ -584,7 +584,7 @@ __attribute__((target("avx2"))) void pow_lanes8(const float* x, std::size_t n, f
 
 void lighting_pow(const float* x, std::size_t n, float y, float* out, bool avx2) {
 #if defined(__x86_64__) && defined(__GNUC__)
-  if (avx2 && __builtin_cpu_supports("avx2")) return pow_lanes8(x, n, y, out);
+  if (avx2 && cpu_has_avx2()) return pow_lanes8(x, n, y, out);
 #endif
   (void)avx2;
   pow_lanes4(x, n, y, out);

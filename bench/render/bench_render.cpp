@@ -160,6 +160,7 @@ Times best_ms(int frames, const std::function<void()>& frame) {
 int g_threads = 1;
 const char* g_only = nullptr;  // run only the scenes whose name contains this
 int g_profile = 0;             // WEDGE_BENCH_PROFILE=N: wedge alone, N frames (for perf record)
+Simd g_simd = Simd::Auto;      // WEDGE_RENDER_SIMD=sse2: wedge's SSE2 code (Context::simd)
 
 template <class Scene>
 void run(const char* name, int w, int h, int frames, Scene scene) {
@@ -168,6 +169,7 @@ void run(const char* name, int w, int h, int frames, Scene scene) {
   {
     Context c(w, h);
     c.threads(g_threads);
+    c.simd(g_simd);
     ours = best_ms(g_profile ? g_profile : frames, [&] { scene(c); });
     // WEDGE_BENCH_DUMP=dir: wedge's last frame as dir/<first word of the scene>.png (to compare
     // images across changes).
@@ -196,6 +198,7 @@ void run(const char* name, int w, int h, int frames, Scene scene) {
 int main(int argc, char** argv) {
   if (argc > 1) g_only = argv[1];
   if (const char* p = std::getenv("WEDGE_BENCH_PROFILE")) g_profile = std::max(0, std::atoi(p));
+  if (const char* s = std::getenv("WEDGE_RENDER_SIMD")) g_simd = std::strcmp(s, "sse2") == 0 ? Simd::Sse2 : Simd::Auto;
   const char* threads = std::getenv("LP_NUM_THREADS");
   g_threads = threads ? std::max(1, std::atoi(threads)) : 1;
   std::printf("threads: wedge %d, llvmpipe (LP_NUM_THREADS) %s\n", g_threads, threads ? threads : "default");

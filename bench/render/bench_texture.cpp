@@ -68,7 +68,7 @@ std::vector<Quad> plane_quads(int size) {
 int main(int argc, char** argv) {
   const int passes = argc > 1 ? std::max(1, std::atoi(argv[1])) : 20;
   const char* only = argc > 2 && std::strcmp(argv[2], "all") != 0 ? argv[2] : nullptr;
-  if (argc > 3 && std::strcmp(argv[3], "sse2") == 0) Texture::allow_avx2(false);
+  const Simd simd = argc > 3 && std::strcmp(argv[3], "sse2") == 0 ? Simd::Sse2 : Simd::Auto;
   auto tex = Texture::checker(256, 16, Vec4f(1, 1, 1, 1), Vec4f(0.2f, 0.3f, 0.6f, 1));
   tex->min_filter = TexFilter::LinearMipmapLinear;
   const std::vector<Quad> quads = plane_quads(256);
@@ -104,7 +104,7 @@ int main(int argc, char** argv) {
     float out[16];
     for (std::size_t i = b; i < e; ++i) {
       const Quad& q = quads[i];
-      tex->sample4(q.s, q.t, q.lambda, out);
+      tex->sample4(q.s, q.t, q.lambda, out, simd);
       sink += out[0] + out[5] + out[10] + out[15];
     }
   });

@@ -1,7 +1,7 @@
 // The triangle fragment loop has three builds: 2x2 quads in SSE2 (the base x86-64), the same
 // quads compiled for AVX2 (chosen at run time when the CPU has it), and a pixel-at-a-time
 // loop with 64-bit edge functions for triangles too large for 32-bit ones. The two quad builds
-// must give the same bits (WEDGE_RENDER_SIMD=sse2 forces the SSE2 one); the large-triangle loop
+// must give the same bits (Context::simd(Simd::Sse2) forces the SSE2 one); the large-triangle loop
 // is checked against OpenGL.
 #include <catch2/catch.hpp>
 
@@ -26,11 +26,10 @@ struct Frame {
 
 template <class Scene>
 Frame draw(const Scene& scene, int threads, bool sse2) {
-  if (sse2) setenv("WEDGE_RENDER_SIMD", "sse2", 1);
   Context c(W, H);
   c.threads(threads);
+  if (sse2) c.simd(Simd::Sse2);
   scene(c);
-  if (sse2) unsetenv("WEDGE_RENDER_SIMD");
   return {c.image(), c.depth_buffer()};
 }
 
@@ -163,16 +162,15 @@ std::vector<Frame> check_runs(const char* what, const VertexArrays& va, int coun
   for (bool sse2 : {false, true})
     for (int threads : {1, 2}) {
       auto draw = [&](bool general) {
-        if (sse2) setenv("WEDGE_RENDER_SIMD", "sse2", 1);
         Context c(W, H);
         c.threads(threads);
+        if (sse2) c.simd(Simd::Sse2);
         setup(c);
         if (general) {
           c.clip_plane(0, Vec4(0, 0, 1, 100));
           c.enable(Cap::ClipPlane0);
         }
         c.draw_arrays(Primitive::Triangles, va, 0, count);
-        if (sse2) unsetenv("WEDGE_RENDER_SIMD");
         return Frame{c.image(), c.depth_buffer()};
       };
       Frame runs = draw(false);

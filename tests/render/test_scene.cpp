@@ -9,7 +9,6 @@
 #include <thread>
 
 #include "simd_skip.h"
-#include "render/context_state.h"  // simd_fallback
 #include "render/render.h"
 
 using namespace wedge;
@@ -696,8 +695,8 @@ TEST_CASE("the default build's vertex code draws what the run-time-selected (AVX
   VertexArrays va;
   va.positions = pos.data(), va.normals = pos.data();
   auto draw = [&](bool fallback, int threads) {
-    render::simd_fallback = fallback;
     Context c(120, 90);
+    if (fallback) c.simd(Simd::Sse2);
     c.threads(threads);
     c.clear();
     c.matrix_mode(MatrixMode::Projection);
@@ -712,7 +711,6 @@ TEST_CASE("the default build's vertex code draws what the run-time-selected (AVX
     c.material_specular(Face::FrontAndBack, Vec4f(0.5f, 0.5f, 0.5f, 1));
     c.material_shininess(Face::FrontAndBack, 30);
     c.draw_arrays(Primitive::Triangles, va, 0, int(pos.size() / 3));
-    render::simd_fallback = false;
     return c.image();
   };
   const Image ref = draw(false, 1);
@@ -733,8 +731,8 @@ TEST_CASE("batches of every small size draw alike in the default and the AVX2 ve
     VertexArrays va;
     va.positions = pos.data();
     auto draw = [&](bool fallback) {
-      render::simd_fallback = fallback;
       Context c(64, 48);
+      if (fallback) c.simd(Simd::Sse2);
       c.clear();
       c.matrix_mode(MatrixMode::Projection);
       c.perspective(50, 64.0 / 48, 0.5, 10);
@@ -743,7 +741,6 @@ TEST_CASE("batches of every small size draw alike in the default and the AVX2 ve
       c.enable(Cap::DepthTest);
       c.color(0.2f, 0.7f, 0.4f);
       c.draw_arrays(Primitive::Triangles, va, 0, 3 * tris);
-      render::simd_fallback = false;
       return c.image();
     };
     const Image a = draw(false), b = draw(true);

@@ -57,7 +57,7 @@ float random_lambda(std::mt19937& rng) {
 }
 
 // Compares sample4 with four sample() calls for `n` random quads; returns the number of mismatches.
-int mismatches(const Texture& t, std::mt19937& rng, int n) {
+int mismatches(const Texture& t, std::mt19937& rng, int n, Simd simd) {
   int bad = 0;
   const int size = t.levels[0].width;
   for (int q = 0; q < n; ++q) {
@@ -72,7 +72,7 @@ int mismatches(const Texture& t, std::mt19937& rng, int n) {
     }
     const float lambda = random_lambda(rng);
     float out[16];
-    t.sample4(s, tt, lambda, out);
+    t.sample4(s, tt, lambda, out, simd);
     for (int k = 0; k < 16; ++k)
       if (!(out[k] >= 0.0f && out[k] <= 1.0f)) ++bad;  // in [0, 1] (the border colour is too)
     for (int k = 0; k < 4; ++k) {
@@ -93,7 +93,7 @@ int mismatches(const Texture& t, std::mt19937& rng, int n) {
 // Every format, wrap pair, filter and shape through sample4 and sample, once on each SIMD path
 // (AVX2 when the CPU has it, and the SSE2 fallback forced).
 void check_all_paths(bool avx2) {
-  const bool on = Texture::allow_avx2(avx2);
+  const bool on = avx2 && cpu_has_avx2();
   INFO("AVX2 path " << (on ? "on" : "off"));
   std::mt19937 rng(12345);
   const int shapes[][2] = {{256, 256}, {64, 32}, {16, 64}, {17, 9}, {1, 1}, {3, 1}, {8, 8}};
@@ -111,10 +111,9 @@ void check_all_paths(bool avx2) {
                 t->mag_filter = static_cast<TexFilter>(magf);
                 INFO("texture " << sh[0] << "x" << sh[1] << " format " << fmt << " mipmaps " << mip << " wrap "
                                 << int(ws) << "/" << int(wt) << " min " << minf << " mag " << magf);
-                CHECK(mismatches(*t, rng, 60) == 0);
+                CHECK(mismatches(*t, rng, 60, avx2 ? Simd::Auto : Simd::Sse2) == 0);
               }
       }
-  Texture::allow_avx2(true);
 }
 
 }  // namespace
@@ -137,13 +136,10 @@ TEST_CASE("the AVX2 and SSE2 paths of sample4 give the same bits", "[render][tex
         float s[4], tt[4], a[16], b[16];
         for (int k = 0; k < 4; ++k) s[k] = random_coord(rng, 64), tt[k] = random_coord(rng, 128);
         const float lambda = random_lambda(rng);
-        Texture::allow_avx2(true);
-        t->sample4(s, tt, lambda, a);
-        Texture::allow_avx2(false);
-        t->sample4(s, tt, lambda, b);
+        t->sample4(s, tt, lambda, a, Simd::Auto);
+        t->sample4(s, tt, lambda, b, Simd::Sse2);
         bad += std::memcmp(a, b, sizeof a) != 0;
       }
-      Texture::allow_avx2(true);
       CHECK(bad == 0);
     }
   }
@@ -180,7 +176,6 @@ static Vec4f reference_level(const Texture& t, int level, double s, double tc, b
 TEST_CASE("sampling follows the GL formulas (every filter and wrap mode)", "[render][texture]") {
   std::mt19937 rng(99);
   for (bool avx2 : {true, false}) {
-    Texture::allow_avx2(avx2);
     for (int fmt = 0; fmt < 3; ++fmt) {
       auto t = random_texture(rng, 32, 16, static_cast<TexFormat>(fmt), true);
       for (TexWrap w : {TexWrap::Repeat, TexWrap::Clamp, TexWrap::ClampToEdge})
@@ -198,7 +193,7 @@ TEST_CASE("sampling follows the GL formulas (every filter and wrap mode)", "[ren
             }
             // Minified, between levels 1 and 2 (f away from 0 and 1).
             const float lambda = 1.1f + 0.8f * std::uniform_real_distribution<float>()(rng);
-            t->sample4(s, tt, lambda, out);
+            t->sample4(s, tt, lambda, out, avx2 ? Simd::Auto : Simd::Sse2);
             for (int k = 0; k < 4; ++k) {
               Vec4f ref;
               if (minf == 0 || minf == 1) ref = reference_level(*t, 0, s[k], tt[k], lin);
@@ -215,7 +210,6 @@ TEST_CASE("sampling follows the GL formulas (every filter and wrap mode)", "[ren
         }
     }
   }
-  Texture::allow_avx2(true);
 }
 
 TEST_CASE("nearest samples are exactly texel / 255, constant textures filter to their colour", "[render][texture]") {
@@ -235,11 +229,10 @@ TEST_CASE("nearest samples are exactly texel / 255, constant textures filter to 
   auto u = Texture::from_image(im, TexFormat::RGBA, true);
   u->min_filter = TexFilter::LinearMipmapLinear;
   for (bool avx2 : {true, false}) {
-    Texture::allow_avx2(avx2);
     for (int q = 0; q < 1000; ++q) {
       float s[4], tt[4], out[16];
       for (int k = 0; k < 4; ++k) s[k] = random_coord(rng, 64), tt[k] = random_coord(rng, 64);
-      u->sample4(s, tt, random_lambda(rng), out);
+      u->sample4(s, tt, random_lambda(rng), out, avx2 ? Simd::Auto : Simd::Sse2);
       for (int k = 0; k < 4; ++k) {
         CHECK(out[4 * k] == 1.0f);
         CHECK(out[4 * k + 1] == 128 * (1.0f / 255.0f));
@@ -248,5 +241,4 @@ TEST_CASE("nearest samples are exactly texel / 255, constant textures filter to 
       }
     }
   }
-  Texture::allow_avx2(true);
 }
