@@ -20,9 +20,7 @@ namespace wedge::render::raster {
 // A filled triangle wholly inside the clip volume, in window coordinates: facing, culling,
 // then the fill (polygon modes both Fill).
 void Raster::draw_inside_triangle(const WinVert* w, const PVert& provoking) {
-  double area = 0;
-  for (int i = 0; i < 3; ++i) area += w[i].x * w[(i + 1) % 3].y - w[(i + 1) % 3].x * w[i].y;
-  const bool front = (area > 0) == (s.front_face == FrontFace::CCW);
+  const bool front = (facing_area(w, 3) > 0) == (s.front_face == FrontFace::CCW);
   if (s.on(Cap::CullFace)) {
     if (s.cull_face == Face::FrontAndBack) return;
     if ((s.cull_face == Face::Front) == front) return;
@@ -54,13 +52,7 @@ void Raster::draw_triangle(const PVert& a, const PVert& b, const PVert& c, const
   std::vector<WinVert>& w = win_scratch;
   w.resize(poly.size());
   for (std::size_t i = 0; i < poly.size(); ++i) w[i] = to_window(poly[i]);
-  double area = 0;
-  for (std::size_t i = 0, n = w.size(); i < n; ++i) {
-    const WinVert& a = w[i];
-    const WinVert& b = w[(i + 1) % n];
-    area += a.x * b.y - b.x * a.y;
-  }
-  bool front = (area > 0) == (s.front_face == FrontFace::CCW);
+  const bool front = (facing_area(w.data(), w.size()) > 0) == (s.front_face == FrontFace::CCW);
   if (s.on(Cap::CullFace)) {
     if (s.cull_face == Face::FrontAndBack) return;
     if ((s.cull_face == Face::Front) == front) return;
@@ -130,9 +122,7 @@ void run_primitive(Context::State& s, int width, int height, std::uint8_t* color
       }
       if (inside) {
         const WinVert w[3] = {r.to_window(c[0]), r.to_window(c[1]), r.to_window(c[2])};
-        double area = 0;
-        for (int i = 0; i < 3; ++i) area += w[i].x * w[(i + 1) % 3].y - w[(i + 1) % 3].x * w[i].y;
-        const bool front = (area > 0) == (s.front_face == FrontFace::CCW);
+        const bool front = (facing_area(w, 3) > 0) == (s.front_face == FrontFace::CCW);
         if (s.cull_face == Face::FrontAndBack || (s.cull_face == Face::Front) == front) {
           culled[u] = 1;
           continue;

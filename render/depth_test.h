@@ -7,26 +7,42 @@
 // the quotient, while k / (2^24 - 1) lies at least about 2^-50 (relative) from any float rounding
 // boundary, so the float is the same; checked for all 2^24 values). The comparison is the state's
 // depth function; the write happens when the test passes and the depth mask is on.
-//   quantise_depth, depth_pass   one fragment (Raster::depth_stage_t: lines, points, the
-//                                one-pixel-at-a-time triangle loop)
-//   quantise_depth4, depth_cmp4  four lanes (the SSE2 quad loop, fragments.cpp)
-// The AVX2 two-quad loop (fragments_avx2.cpp) and the small-triangle pixels (Raster::tiny_pixel)
-// apply the same quantisation to their own lanes, operation for operation.
+//   quantise_depth_lanes   the quantisation, written once for lanes of any width; through it
+//     quantise_depth       one fragment (Raster::depth_stage_t: lines, points, the one-pixel
+//                          triangle loop; Raster::tiny_pixel)
+//     quantise_depth4      four lanes (the SSE2 quad loop, fragments.cpp)
+//     quantise_depth8      eight lanes (the AVX2 two-quad loop, fragments_avx2.cpp)
+//   depth_pass, depth_cmp4 the comparison, one fragment / four lanes
 #pragma once
-#include <algorithm>
+#include <type_traits>
 
 #include "render/simd.h"
 
 namespace wedge::render::raster {
 
-// z quantised as the depth buffer holds it.
-[[gnu::always_inline]] inline float quantise_depth(float z) {
-  constexpr double kRound = 0x1p52;  // not folded: no -ffast-math (no reassociation)
-  double zr = double(std::clamp(z, 0.0f, 1.0f)) * 16777215.0;
-  zr = (zr + kRound) - kRound;
-  constexpr double kInvMax = 1.0 / 16777215.0;
-  return float(zr * kInvMax);
+// Lanes of one type converted to another of the same count (a scalar is one lane).
+template <class To, class From>
+[[gnu::always_inline]] inline To lanes_as(From v) {
+  if constexpr (std::is_arithmetic_v<From>) return To(v);
+  else return __builtin_convertvector(v, To);
 }
+
+// z quantised as the depth buffer holds it, on lanes: F floats (float, F4, F8), D the doubles of
+// the same count (double, D4, D8). Clamped by z > 0 ? z : 0, then z < 1 ? z : 1 (SSE's max and
+// min: a NaN becomes 0), then rounded in double and converted back.
+template <class F, class D>
+[[gnu::always_inline]] inline F quantise_depth_lanes(F z) {
+  z = z > 0.0f ? z : F{};
+  z = z < 1.0f ? z : F{} + 1.0f;
+  constexpr double kRound = 0x1p52;  // not folded: no -ffast-math (no reassociation)
+  constexpr double kInvMax = 1.0 / 16777215.0;
+  D d = lanes_as<D>(z) * 16777215.0;
+  d = (d + kRound) - kRound;
+  return lanes_as<F>(d * kInvMax);
+}
+
+// One fragment's z, quantised.
+[[gnu::always_inline]] inline float quantise_depth(float z) { return quantise_depth_lanes<float, double>(z); }
 
 // Whether a fragment at (quantised) depth z passes against the stored d.
 [[gnu::always_inline]] inline bool depth_pass(DepthFunc f, float z, float d) {
@@ -58,16 +74,16 @@ namespace wedge::render::raster {
   }
   return 0;
 }
-// Window depth (lanes 0-1 in lo, 2-3 in hi, double) rounded to float, clamped to [0, 1] and
-// quantised to 24 bits as Raster::depth_stage_t does (round to nearest even by adding and
-// removing 2^52, times 1/(2^24 - 1)).
+// Window depth (lanes 0-1 in lo, 2-3 in hi, double) rounded to float, then quantised.
 [[gnu::always_inline]] inline __m128 quantise_depth4(__m128d lo, __m128d hi) {
-  __m128 z = _mm_movelh_ps(_mm_cvtpd_ps(lo), _mm_cvtpd_ps(hi));
-  z = _mm_min_ps(_mm_max_ps(z, _mm_setzero_ps()), _mm_set1_ps(1.0f));
-  const __m128d k = _mm_set1_pd(16777215.0), r = _mm_set1_pd(0x1p52), inv = _mm_set1_pd(1.0 / 16777215.0);
-  __m128d a = _mm_mul_pd(_mm_cvtps_pd(z), k), b = _mm_mul_pd(_mm_cvtps_pd(_mm_movehl_ps(z, z)), k);
-  a = _mm_sub_pd(_mm_add_pd(a, r), r), b = _mm_sub_pd(_mm_add_pd(b, r), r);
-  return _mm_movelh_ps(_mm_cvtpd_ps(_mm_mul_pd(a, inv)), _mm_cvtpd_ps(_mm_mul_pd(b, inv)));
+  const __m128 z = _mm_movelh_ps(_mm_cvtpd_ps(lo), _mm_cvtpd_ps(hi));
+  return __m128(quantise_depth_lanes<F4, D4>(F4(z)));
+}
+// Window depth (lanes 0-3 in lo, 4-7 in hi, double) rounded to float, then quantised (AVX2).
+typedef double D8 __attribute__((vector_size(64)));
+__attribute__((target("avx2"), always_inline)) inline __m256 quantise_depth8(__m256d lo, __m256d hi) {
+  const __m256 z = _mm256_set_m128(_mm256_cvtpd_ps(hi), _mm256_cvtpd_ps(lo));
+  return __m256(quantise_depth_lanes<F8, D8>(F8(z)));
 }
 #endif
 

@@ -23,7 +23,8 @@ namespace {
 // coordinates up to a few 1/256 texel off on steep, distant triangles. False when the unsnapped
 // area is not positive (a sliver that snapping turned over): the caller keeps snapped weights.
 inline bool float_barycentrics(const WinVert* const v[3], double fa[3], double fb[3], double fc[3]) {
-  const double area = (v[1]->x - v[0]->x) * (v[2]->y - v[0]->y) - (v[2]->x - v[0]->x) * (v[1]->y - v[0]->y);
+  const double x[3] = {v[0]->x, v[1]->x, v[2]->x}, y[3] = {v[0]->y, v[1]->y, v[2]->y};
+  const double area = setup_area(x, y);
   if (!(area > 0) || !std::isfinite(area)) return false;
   const double inv = 1.0 / area;
   for (int i = 0; i < 3; ++i) {
@@ -64,7 +65,7 @@ void Raster::triangle_scalar(const WinVert& v0, const WinVert& v1in, const WinVe
   const WinVert* v[3] = {&v0, &v1in, &v2in};
   std::int64_t X[3], Y[3];
   for (int i = 0; i < 3; ++i) X[i] = std::llround(v[i]->x * kSub), Y[i] = std::llround(v[i]->y * kSub);
-  std::int64_t area = (X[1] - X[0]) * (Y[2] - Y[0]) - (X[2] - X[0]) * (Y[1] - Y[0]);
+  std::int64_t area = setup_area(X, Y);
   if (area == 0) return;
   if (area < 0) {
     std::swap(v[1], v[2]), std::swap(X[1], X[2]), std::swap(Y[1], Y[2]);
@@ -173,10 +174,7 @@ void Raster::triangle_scalar(const WinVert& v0, const WinVert& v1in, const WinVe
           uv_at(qx, qy, u0, v0_);
           uv_at(qx + 1, qy, ux, vx);
           uv_at(qx, qy - 1, uy, vy);
-          float rx2 = (ux - u0) * (ux - u0) + (vx - v0_) * (vx - v0_);
-          float ry2 = (uy - u0) * (uy - u0) + (vy - v0_) * (vy - v0_);
-          float rho2 = std::max(rx2, ry2);
-          quad_lambda = rho2 > 0 ? 0.5f * fast_log2(rho2) : -100.0f;
+          quad_lambda = quad_lod(ux - u0, vx - v0_, uy - u0, vy - v0_);
           quad_x = qkx, quad_y = qky;
         }
         lambda = quad_lambda;
@@ -223,7 +221,7 @@ template <bool Phong, bool Smooth, bool Tex, bool Fog, bool Depth, bool Avx2>
   const WinVert* v[3] = {&v0, &v1in, &v2in};
   std::int64_t X[3], Y[3];
   for (int i = 0; i < 3; ++i) X[i] = round_half_away(v[i]->x * kSub), Y[i] = round_half_away(v[i]->y * kSub);
-  std::int64_t area = (X[1] - X[0]) * (Y[2] - Y[0]) - (X[2] - X[0]) * (Y[1] - Y[0]);
+  std::int64_t area = setup_area(X, Y);
   if (area == 0) return;
   if (area < 0) {
     std::swap(v[1], v[2]), std::swap(X[1], X[2]), std::swap(Y[1], Y[2]);
@@ -496,10 +494,7 @@ template <bool Phong, bool Smooth, bool Tex, bool Fog, bool Depth, bool Avx2>
           alignas(16) float S[4], T[4], U[4], V[4];
           _mm_store_ps(U, _mm_mul_ps(ts, _mm_set1_ps(tex_w)));
           _mm_store_ps(V, _mm_mul_ps(tt, _mm_set1_ps(tex_h)));
-          const float dux = U[3] - U[2], dvx = V[3] - V[2], duy = U[0] - U[2], dvy = V[0] - V[2];
-          const float rho2 = std::max(dux * dux + dvx * dvx, duy * duy + dvy * dvy);
-          float lambda = rho2 > 0 ? 0.5f * fast_log2(rho2) : -100.0f;
-          if (!(lambda <= 1000.0f)) lambda = 1000.0f;  // extrapolated helper lanes gone astray (inf, NaN)
+          const float lambda = quad_lod(U[3] - U[2], V[3] - V[2], U[0] - U[2], V[0] - V[2]);
           _mm_store_ps(S, ts), _mm_store_ps(T, tt);
           if (m != 15) {
             // Lanes outside the triangle may hold extrapolated coordinates (even infinite):

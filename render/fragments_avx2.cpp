@@ -112,13 +112,7 @@ __attribute__((target("avx2"))) void Raster::quad_loop8(const Quad8Setup& q) {
         const __m256d zx = _mm256_set1_pd(q.zdx);
         const __m256d za = _mm256_add_pd(zrow, _mm256_mul_pd(_mm256_set_pd(dx + 1, dx, dx + 1, dx), zx));
         const __m256d zb = _mm256_add_pd(zrow, _mm256_mul_pd(_mm256_set_pd(dx + 3, dx + 2, dx + 3, dx + 2), zx));
-        __m256 z = _mm256_set_m128(_mm256_cvtpd_ps(zb), _mm256_cvtpd_ps(za));
-        z = _mm256_min_ps(_mm256_max_ps(z, zero), one);
-        const __m256d k = _mm256_set1_pd(16777215.0), r = _mm256_set1_pd(0x1p52), inv = _mm256_set1_pd(1.0 / 16777215.0);
-        __m256d a = _mm256_mul_pd(_mm256_cvtps_pd(_mm256_castps256_ps128(z)), k);
-        __m256d b = _mm256_mul_pd(_mm256_cvtps_pd(_mm256_extractf128_ps(z, 1)), k);
-        a = _mm256_sub_pd(_mm256_add_pd(a, r), r), b = _mm256_sub_pd(_mm256_add_pd(b, r), r);
-        const __m256 zq = _mm256_set_m128(_mm256_cvtpd_ps(_mm256_mul_pd(b, inv)), _mm256_cvtpd_ps(_mm256_mul_pd(a, inv)));
+        const __m256 zq = quantise_depth8(za, zb);
         __m256 d;
         if (m == 0xff || inb) {
           const __m128 lo = _mm_loadu_ps(depth + i0), hi = _mm_loadu_ps(depth + i1);
@@ -186,10 +180,7 @@ __attribute__((target("avx2"))) void Raster::quad_loop8(const Quad8Setup& q) {
             continue;
           }
           // Per quad, as the 4-lane loop: level of detail from its top row and left column.
-          const float dux = Uh[3] - Uh[2], dvx = Vh[3] - Vh[2], duy = Uh[0] - Uh[2], dvy = Vh[0] - Vh[2];
-          const float rho2 = std::max(dux * dux + dvx * dvx, duy * duy + dvy * dvy);
-          float lambda = rho2 > 0 ? 0.5f * fast_log2(rho2) : -100.0f;
-          if (!(lambda <= 1000.0f)) lambda = 1000.0f;
+          const float lambda = quad_lod(Uh[3] - Uh[2], Vh[3] - Vh[2], Uh[0] - Uh[2], Vh[0] - Vh[2]);
           if (mh != 15) {
             const int l0 = __builtin_ctz(unsigned(mh));
             for (int l = 0; l < 4; ++l)

@@ -66,6 +66,27 @@ struct WinVert {
   const float* a;
 };
 
+// Twice a window triangle's signed area, positive counterclockwise. Two roundings of it are in
+// use, and both stay (each decides bits that the tests pin):
+//   facing_area  the shoelace sum in vertex order, (x0 y1 - x1 y0) + (x1 y2 - x2 y1) + ..., GL's
+//                formula for a polygon's facing (2.14.1, 3.5.1): face culling, on doubles (any
+//                polygon) or on lanes of triangles (triangles.cpp's cull rows)
+//   setup_area   (x1 - x0)(y2 - y0) - (x2 - x0)(y1 - y0): triangle setup, on the 1/256-pixel
+//                grid (int64, exact) or on the unsnapped positions (doubles, lanes)
+template <class T>
+[[gnu::always_inline]] inline T facing_area(const T* x, const T* y) {
+  return ((x[0] * y[1] - x[1] * y[0]) + (x[1] * y[2] - x[2] * y[1])) + (x[2] * y[0] - x[0] * y[2]);
+}
+inline double facing_area(const WinVert* w, std::size_t n) {
+  double area = 0;
+  for (std::size_t i = 0; i < n; ++i) area += w[i].x * w[(i + 1) % n].y - w[(i + 1) % n].x * w[i].y;
+  return area;
+}
+template <class T>
+[[gnu::always_inline]] inline T setup_area(const T* x, const T* y) {
+  return (x[1] - x[0]) * (y[2] - y[0]) - (x[2] - x[0]) * (y[1] - y[0]);
+}
+
 constexpr int kRunMax = 64;  // triangles per run of Raster::triangle_run
 
 // --- runs of small triangles: the setup of several triangles at once ---
@@ -563,9 +584,7 @@ struct Raster {
     auto at = [&](int k) { return (pl[k][0] + Y * pl[k][2]) + X * pl[k][1]; };
     const std::size_t idx = std::size_t(py) * width + px;
     if constexpr (Depth) {
-      const float zf = clamp01(float((zc + double(Y) * zdy) + double(X) * zdx));
-      const double zr = (double(zf) * 16777215.0 + 0x1p52) - 0x1p52;
-      const float zq = float(zr * (1.0 / 16777215.0));
+      const float zq = quantise_depth(float((zc + double(Y) * zdy) + double(X) * zdx));
       const float d = depth[idx];
       if (!depth_pass(dfunc, zq, d)) return;
       if (dmask) depth[idx] = zq;

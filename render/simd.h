@@ -11,6 +11,7 @@
 // Comparisons give masks (all ones per true lane); sel(m, a, b) and vsel pick per lane. No FMA in
 // either build (the AVX2 target does not include it), so both give the same bits.
 #pragma once
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -51,6 +52,17 @@ namespace wedge::render::raster {
   int e = 0;
   float m = std::frexp(x, &e);  // x = m 2^e, m in [0.5, 1)
   return float(e - 2) + 2 * m;
+}
+
+// The level of detail of a 2x2 quad (GL 1.5, 3.8.8, as llvmpipe takes it): from the differences
+// of (u, v) = (s W, t H) across the quad in x and in y, lambda = log2 of the longer one
+// (fast_log2 of its square, halved); -100 (magnified) when (u, v) does not change; at most 1000
+// (extrapolated lanes outside a triangle gone astray: inf, NaN). The one formula of the 4- and
+// 8-lane quad loops and the one-pixel loop.
+[[gnu::always_inline]] inline float quad_lod(float dux, float dvx, float duy, float dvy) {
+  const float rho2 = std::max(dux * dux + dvx * dvx, duy * duy + dvy * dvy);
+  const float lambda = rho2 > 0 ? 0.5f * fast_log2(rho2) : -100.0f;
+  return lambda <= 1000.0f ? lambda : 1000.0f;
 }
 
 // Vectors of doubles: SSE2 pairs, AVX2 quadruples.

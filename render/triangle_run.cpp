@@ -36,7 +36,7 @@ template <class V>
       ok &= (vabs(sx) < 0x1p25) & (vabs(sy) < 0x1p25);
       X[i] = vhalf_away(vsel(ok, sx, V{})), Y[i] = vhalf_away(vsel(ok, sy, V{}));
     }
-    V area = (X[1] - X[0]) * (Y[2] - Y[0]) - (X[2] - X[0]) * (Y[1] - Y[0]);
+    V area = setup_area(X, Y);
     const L none = area == 0.0;
     const L flip = area < 0.0;
     auto swap12 = [&](V* a) {
@@ -132,7 +132,7 @@ template <class V>
     const V ox = vload<V>(r.oxd + t), oy = vload<V>(r.oyd + t);
     // Barycentric planes from the unsnapped positions (float_barycentrics); a sliver that
     // snapping turned over goes to triangle().
-    const V area2 = (x[1] - x[0]) * (y[2] - y[0]) - (x[2] - x[0]) * (y[1] - y[0]);
+    const V area2 = setup_area(x, y);
     const L bary = (area2 > 0.0) & (area2 < __builtin_inf());
     const V inv = 1.0 / vsel(bary, area2, V{} + 1.0);
     V l0[3], gx[3], gy[3];

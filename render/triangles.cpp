@@ -187,7 +187,7 @@ template <class V>
   for (std::size_t j = 0; j < nt; j += kW) {
     V x[3], y[3];
     rows_xyz(wx + 3 * j, x), rows_xyz(wy + 3 * j, y);  // (three vertices per triangle, by lanes)
-    const V area = ((x[0] * y[1] - x[1] * y[0]) + (x[1] * y[2] - x[2] * y[1])) + (x[2] * y[0] - x[0] * y[2]);
+    const V area = facing_area(x, y);
     const auto pos = area > 0.0;
     const auto front = cb.ccw ? pos : ~pos;
     const V xmin = vmin(vmin(x[0], x[1]), x[2]), xmax = vmax(vmax(x[0], x[1]), x[2]);
