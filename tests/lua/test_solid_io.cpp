@@ -1,5 +1,7 @@
 #include <catch2/catch.hpp>
 
+#include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -135,13 +137,30 @@ TEST_CASE("render{} takes a named view at the top level or as camera=", "[lua][r
   Fixture f;
   auto ok = run(f.lua_dir() + R"(
     local b = box(1, 2, 3)
-    render{b, out = dir .. "/front.png", size = {32, 32}, view = "front"}
-    render{b, out = dir .. "/top.png", size = {32, 32}, camera = "top"}
+    render{b, out = dir .. "/front.png", size = {64, 64}, view = "front"}
+    render{b, out = dir .. "/top.png", size = {64, 64}, camera = "top"}
   )");
   INFO(ok.err);
-  CHECK(ok.status == 0);
-  CHECK(fs::exists(f.dir / "front.png"));
-  CHECK(fs::exists(f.dir / "top.png"));
+  REQUIRE(ok.status == 0);
+  // The images, not only the files: a 1 x 2 x 3 box seen along +Y (front: picture x = world X,
+  // y = world Z) is a 1 x 3 rectangle, seen from above (top: x = X, y = Y) a 1 x 2 one. The
+  // pixels unlike the background's corner span a box of those proportions, filling most of the
+  // image along its longer side (the view is fitted around the part).
+  auto extent = [](const fs::path& path) {
+    const wedge::render::Image im = wedge::render::read_png(path.string());
+    int x0 = im.width, x1 = -1, y0 = im.height, y1 = -1;
+    for (int y = 0; y < im.height; ++y)
+      for (int x = 0; x < im.width; ++x)
+        if (im.pixel(x, y) != im.pixel(0, 0)) x0 = std::min(x0, x), x1 = std::max(x1, x), y0 = std::min(y0, y), y1 = std::max(y1, y);
+    return std::pair<int, int>(x1 - x0 + 1, y1 - y0 + 1);
+  };
+  const auto [fw, fh] = extent(f.dir / "front.png");
+  const auto [tw, th] = extent(f.dir / "top.png");
+  INFO("front " << fw << " x " << fh << ", top " << tw << " x " << th);
+  CHECK(fh >= 48);
+  CHECK(th >= 48);
+  CHECK(std::abs(3.0 * fw / fh - 1) < 0.12);
+  CHECK(std::abs(2.0 * tw / th - 1) < 0.08);
   auto both = run(f.lua_dir() + "render{box(1,1,1), out = dir .. '/x.png', view = 'iso', camera = {eye = {1,1,1}}}\n", "@v.lua");
   CHECK_THAT(both.err, Catch::Contains("either camera={...} or view="));
   auto bad = run(f.lua_dir() + "render{box(1,1,1), out = dir .. '/x.png', camera = 42}\n", "@v.lua");
