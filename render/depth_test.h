@@ -12,7 +12,8 @@
 //                          triangle loop; Raster::tiny_pixel)
 //     quantise_depth4      four lanes (the SSE2 quad loop, fragments.cpp)
 //     quantise_depth8      eight lanes (the AVX2 two-quad loop, fragments_avx2.cpp)
-//   depth_pass, depth_cmp4 the comparison, one fragment / four lanes
+//   depth_pass             the comparison, one fragment; through depth_cmp_lanes (the same on
+//     depth_cmp4, depth_cmp8  lanes) four (SSE2) and eight (AVX2) lanes
 #pragma once
 #include <type_traits>
 
@@ -59,20 +60,31 @@ template <class F, class D>
   return false;
 }
 
+// The depth test on lanes (F4, F8), as depth_pass lane by lane: all ones in the passing lanes.
+template <class F>
+[[gnu::always_inline]] inline auto depth_cmp_lanes(DepthFunc f, F z, F d) {
+  using M = decltype(z < d);
+  switch (f) {
+    case DepthFunc::Never: return M{};
+    case DepthFunc::Less: return z < d;
+    case DepthFunc::Equal: return z == d;
+    case DepthFunc::LessEqual: return z <= d;
+    case DepthFunc::Greater: return z > d;
+    case DepthFunc::NotEqual: return z != d;
+    case DepthFunc::GreaterEqual: return z >= d;
+    case DepthFunc::Always: return M{} == M{};
+  }
+  return M{};
+}
+
 #if defined(__SSE2__)
 // The depth test on four lanes: a bit per passing lane.
 [[gnu::always_inline]] inline int depth_cmp4(DepthFunc f, __m128 z, __m128 d) {
-  switch (f) {
-    case DepthFunc::Never: return 0;
-    case DepthFunc::Less: return _mm_movemask_ps(_mm_cmplt_ps(z, d));
-    case DepthFunc::Equal: return _mm_movemask_ps(_mm_cmpeq_ps(z, d));
-    case DepthFunc::LessEqual: return _mm_movemask_ps(_mm_cmple_ps(z, d));
-    case DepthFunc::Greater: return _mm_movemask_ps(_mm_cmpgt_ps(z, d));
-    case DepthFunc::NotEqual: return _mm_movemask_ps(_mm_cmpneq_ps(z, d));
-    case DepthFunc::GreaterEqual: return _mm_movemask_ps(_mm_cmpge_ps(z, d));
-    case DepthFunc::Always: return 15;
-  }
-  return 0;
+  return _mm_movemask_ps(__m128(depth_cmp_lanes(f, F4(z), F4(d))));
+}
+// The same on eight lanes (AVX2).
+__attribute__((target("avx2"), always_inline)) inline int depth_cmp8(DepthFunc f, __m256 z, __m256 d) {
+  return _mm256_movemask_ps(__m256(depth_cmp_lanes(f, F8(z), F8(d))));
 }
 // Window depth (lanes 0-1 in lo, 2-3 in hi, double) rounded to float, then quantised.
 [[gnu::always_inline]] inline __m128 quantise_depth4(__m128d lo, __m128d hi) {

@@ -123,18 +123,7 @@ __attribute__((target("avx2"))) void Raster::quad_loop8(const Quad8Setup& q) {
             if (m >> l & 1) t[l] = depth[index(l)];
           d = _mm256_load_ps(t);
         }
-        __m256 pass;
-        switch (q.dfunc) {
-          case DepthFunc::Never: pass = zero; break;
-          case DepthFunc::Less: pass = _mm256_cmp_ps(zq, d, _CMP_LT_OQ); break;
-          case DepthFunc::Equal: pass = _mm256_cmp_ps(zq, d, _CMP_EQ_OQ); break;
-          case DepthFunc::LessEqual: pass = _mm256_cmp_ps(zq, d, _CMP_LE_OQ); break;
-          case DepthFunc::Greater: pass = _mm256_cmp_ps(zq, d, _CMP_GT_OQ); break;
-          case DepthFunc::NotEqual: pass = _mm256_cmp_ps(zq, d, _CMP_NEQ_UQ); break;
-          case DepthFunc::GreaterEqual: pass = _mm256_cmp_ps(zq, d, _CMP_GE_OQ); break;
-          default: pass = _mm256_castsi256_ps(_mm256_set1_epi32(-1)); break;
-        }
-        m &= _mm256_movemask_ps(pass);
+        m &= depth_cmp8(q.dfunc, zq, d);
         if (!m) continue;
         if (q.dmask) {
           if (m == 0xff || inb) {

@@ -7,6 +7,7 @@
 
 #include <cstdlib>
 #include <cstring>
+#include <string>
 
 #include "simd_skip.h"
 #include "scenes.h"
@@ -123,6 +124,39 @@ TEST_CASE("the SSE2 and AVX2 builds of the quad fragment loop give the same bits
     g.vertex(-2, 2, 0.5), g.vertex(-1.5, -2, -0.5), g.vertex(2, 0.5, 0);
     g.end();
   });
+}
+
+// Each depth function on the loops' common state (no blending, all channels written: the AVX2
+// two-quad loop where the CPU has it): the same bits in both builds, and OpenGL's image.
+TEST_CASE("every depth function gives the same bits in both builds and matches OpenGL", "[render][simd][gl]") {
+  const DepthFunc funcs[] = {DepthFunc::Never,   DepthFunc::Less,     DepthFunc::Equal,        DepthFunc::LessEqual,
+                             DepthFunc::Greater, DepthFunc::NotEqual, DepthFunc::GreaterEqual, DepthFunc::Always};
+  for (DepthFunc f : funcs) {
+    auto scene = [f](auto& g) {
+      g.clear_color(0, 0, 0, 1);
+      g.clear();
+      camera(g, W, H);
+      g.enable(Cap::DepthTest);
+      g.color(0.8f, 0.3f, 0.2f);
+      sphere(g, 1, 12, 8);
+      g.depth_func(f);
+      // A slanted triangle through the sphere, and one at the sphere's own depths (its second
+      // copy: Equal passes where the depths agree).
+      g.color(0.2f, 0.6f, 0.9f);
+      g.begin(Primitive::Triangles);
+      g.vertex(-2, -2, 0.3), g.vertex(2, -1.5, -0.3), g.vertex(0, 2, 0);
+      g.end();
+      g.color(0.9f, 0.9f, 0.1f);
+      sphere(g, 1, 12, 8);
+    };
+    INFO("depth function " << int(f));
+    if (!test::cpu_has_avx2()) WARN("no AVX2 on this CPU: the SSE2 build is compared with itself");
+    check_same_bits("depth function", [&](Context& g) { scene(g); });
+    const Diff d = WEDGE_BOTH("depthfunc" + std::to_string(int(f)), W, H, scene);
+    INFO("covered " << d.covered << ", outliers " << d.outliers << ", max diff " << d.max_diff);
+    CHECK(d.covered > 1000);
+    CHECK(d.outliers <= d.covered / 1000);
+  }
 }
 
 // A viewport much larger than the framebuffer makes window coordinates thousands of pixels
