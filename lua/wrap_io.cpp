@@ -17,14 +17,14 @@ namespace {
 // in traversal order, the symbol's characters outside [A-Za-z0-9_-] as "_"); returns the list of
 // paths written.
 int export_split(lua_State* L, const std::string& path, const Tolerance& tol, const MeshWriteOptions& options) {
-  const SceneNode* scene = test_scene(L, 1);
-  if (!scene) throw ArgError{3, "field 'split' needs a scene group to split, got " + type_name(L, 1)};
+  const SceneNode* root = test_scene(L, 1);
+  if (!root) throw ArgError{3, "field 'split' needs a scene group to split, got " + type_name(L, 1)};
   const std::size_t dot = path.find_last_of('.');  // mesh_format() has checked the extension
   const std::string stem = path.substr(0, dot), ext = path.substr(dot);
   std::vector<std::pair<std::string, Mesh>> files;
   {
     Stage stage(L, "mesh");
-    const auto occs = flatten(*scene);
+    const auto occs = scene::flatten(*root);
     Progress progress(L, "meshing the scene's parts", occs.size());
     for (std::size_t k = 0; k < occs.size(); ++k) {
       progress.step();
@@ -32,7 +32,7 @@ int export_split(lua_State* L, const std::string& path, const Tolerance& tol, co
       for (char& c : symbol)
         if (!std::isalnum(static_cast<unsigned char>(c)) && c != '_' && c != '-') c = '_';
       files.emplace_back(stem + "-" + std::to_string(k + 1) + "-" + symbol + ext,
-                         leaf_mesh(*occs[k].leaf, tol, false).transformed(occs[k].world));
+                         scene::leaf_mesh(*occs[k].leaf, tol, false).transformed(occs[k].world));
     }
   }
   Stage stage(L, "write");

@@ -366,30 +366,13 @@ void read_drawn(lua_State* L, const char* fn, Drawn& drawn) {
     lua_pop(L, 1);
     return;
   }
-  if (const SceneNode* scene = test_scene(L, obj)) {
+  if (const SceneNode* root = test_scene(L, obj)) {
     Stage stage(L, "mesh");
-    const Tolerance tol = current_tolerance(L);
-    std::vector<std::tuple<const SceneLeaf*, bool, const Mesh*>> made;
-    const auto occs = flatten(*scene);
-    Progress progress(L, "meshing the scene's parts", occs.size());
-    for (const SceneOccurrence& occ : occs) {
-      progress.step();
-      const bool textured = occ.texture != nullptr;
-      const Mesh* mesh = nullptr;
-      for (const auto& [leaf, tex, m] : made)
-        if (leaf == occ.leaf && tex == textured) mesh = m;
-      if (!mesh) {
-        drawn.meshes.push_back(with_uvs_if_textured(leaf_mesh(*occ.leaf, tol, true), textured));
-        mesh = &drawn.meshes.back();
-        made.emplace_back(occ.leaf, textured, mesh);
-      }
-      render::DrawItem item;
-      item.mesh = mesh;
-      item.material = occ.material;
-      item.texture = occ.texture;
-      item.transform = occ.world;
-      drawn.items.push_back(std::move(item));
-    }
+    Progress progress(L, "meshing the scene's parts", scene::flatten(*root).size());
+    scene::Drawable d = scene::draw_items(*root, current_tolerance(L), [&] { progress.step(); });
+    // `drawn` is still empty here; swap keeps the items' pointers into the meshes valid.
+    drawn.meshes.swap(d.meshes);
+    drawn.items.swap(d.items);
     lua_pop(L, 1);
     return;
   }

@@ -1,12 +1,9 @@
 // Lua bindings of scenes (API.md "Scenes"): group{}, g:add(), instance(), array{}, radial_array{},
 // g:copy(), g:bounds(), g:table(); a group exports and renders as the meshes of its leaves placed
-// by their world matrices (see wrap_scene.h for the model and the traversal).
+// by their world matrices. The model, the traversal and the instance table are scene/scene.h's.
 #include "lua/wrap_scene.h"
 
-#include <cmath>
-#include <functional>
 #include <sstream>
-#include <unordered_set>
 
 #include "lua/lua_util.h"
 #include "lua/wedge_lua.h"
@@ -21,9 +18,6 @@ namespace {
 constexpr const char* kKey = "wedge.Group";
 using NodePtr = std::shared_ptr<SceneNode>;
 
-constexpr std::size_t kMaxLeaves = 1000000;
-constexpr std::size_t kMaxDepth = 1000;
-
 NodePtr& self(lua_State* L) { return check_object<NodePtr>(L, 1, kKey, "Group"); }
 NodePtr* test_group(lua_State* L, int idx) { return test_object<NodePtr>(L, idx, kKey); }
 
@@ -31,12 +25,7 @@ void push_group(lua_State* L, NodePtr node) { push_object(L, kKey, std::move(nod
 
 // A transform for a scene node: a finite, affine, invertible Matrix.
 Mat4 checked_transform(const Mat4& m, int arg, const std::string& what) {
-  if (!m.allFinite()) throw ArgError{arg, what + " must be finite"};
-  if (m(3, 0) != 0 || m(3, 1) != 0 || m(3, 2) != 0 || m(3, 3) != 1)
-    throw ArgError{arg, what + " must be affine (last row 0 0 0 1); a projection cannot place a part"};
-  const double det = m.block<3, 3>(0, 0).determinant();
-  if (!(std::abs(det) > 1e-300)) throw ArgError{arg, what + " is singular (it flattens the part)"};
-  return m;
+  return as_arg(arg, [&] { return scene::checked_transform(m, what); });
 }
 
 // The value at idx as a child node: a group as itself (shared), anything drawable as a new leaf.
@@ -69,23 +58,8 @@ NodePtr child_node(lua_State* L, int idx, int arg) {
   return node;
 }
 
-// Whether `target` is `from` or lies under it.
-bool reaches(const SceneNode* from, const SceneNode* target) {
-  std::vector<const SceneNode*> todo{from};
-  std::unordered_set<const SceneNode*> seen;
-  while (!todo.empty()) {
-    const SceneNode* n = todo.back();
-    todo.pop_back();
-    if (n == target) return true;
-    if (!seen.insert(n).second) continue;
-    for (const auto& c : n->children) todo.push_back(c.get());
-  }
-  return false;
-}
-
 void add_child(SceneNode& parent, NodePtr child, int arg) {
-  if (reaches(child.get(), &parent)) throw ArgError{arg, "the group would contain itself (a scene must have no cycle)"};
-  parent.children.push_back(std::move(child));
+  as_arg(arg, [&] { scene::add(parent, std::move(child)); });
 }
 
 // Reads transform=, name=, material= from the options into a node.
@@ -141,17 +115,10 @@ int add_m(lua_State* L) {
   });
 }
 
-NodePtr deep_copy(const NodePtr& n, std::size_t depth = 0) {
-  if (depth > kMaxDepth) fail("copy: the scene is deeper than ", kMaxDepth, " levels");
-  auto c = std::make_shared<SceneNode>(*n);
-  for (auto& child : c->children) child = deep_copy(child, depth + 1);
-  return c;  // leaves (immutable geometry) are shared by the copy
-}
-
 // g:copy(): a new tree equal to g now; later changes to g or its parts do not reach it.
 int copy_m(lua_State* L) {
   return guarded(L, [&] {
-    push_group(L, deep_copy(self(L)));
+    push_group(L, scene::copy(self(L)));
     return 1;
   });
 }
@@ -197,12 +164,8 @@ int array_fn(lua_State* L) {
     lua_rawgeti(L, 1, 1);
     NodePtr proto = child_node(L, -1, 1);
     lua_pop(L, 1);
-    for (int k = 0; k < count; ++k) {
-      auto inst = std::make_shared<SceneNode>();
-      inst->transform = translate(double(k) * *step);
-      inst->children.push_back(proto);
-      node->children.push_back(std::move(inst));
-    }
+    NodePtr copies = as_arg(1, [&] { return scene::array(proto, count, *step); });
+    node->children = std::move(copies->children);
     push_group(L, std::move(node));
     return 1;
   });
@@ -233,48 +196,22 @@ int radial_array_fn(lua_State* L) {
     lua_rawgeti(L, 1, 1);
     NodePtr proto = child_node(L, -1, 1);
     lua_pop(L, 1);
-    const Vec3 a = axis.normalized();
-    Vec3 out = Vec3::UnitX() - a.x() * a;
-    if (out.norm() < 1e-9) out = Vec3::UnitY() - a.y() * a;
-    out.normalize();
-    const double step = angle >= 360 ? 360.0 / count : count > 1 ? angle / (count - 1) : 0;
-    for (int k = 0; k < count; ++k) {
-      auto inst = std::make_shared<SceneNode>();
-      inst->transform = rotate(k * step, a, Point3(center)) * translate(center + radius * out);
-      inst->children.push_back(proto);
-      node->children.push_back(std::move(inst));
-    }
+    NodePtr copies = as_arg(1, [&] { return scene::radial_array(proto, count, radius, axis, Point3(center), angle); });
+    node->children = std::move(copies->children);
     push_group(L, std::move(node));
     return 1;
   });
 }
 
-// The merged mesh of every leaf in world coordinates (what export and to_mesh see).
-Mesh scene_mesh(const SceneNode& root, const Tolerance& tol) {
-  Mesh all;
-  std::vector<std::pair<const SceneLeaf*, Mesh>> cache;
-  for (const auto& occ : flatten(root)) {
-    const Mesh* m = nullptr;
-    for (const auto& [leaf, mesh] : cache)
-      if (leaf == occ.leaf) m = &mesh;
-    if (!m) {
-      cache.emplace_back(occ.leaf, leaf_mesh(*occ.leaf, tol, false));
-      m = &cache.back().second;
-    }
-    all.append(m->transformed(occ.world));
-  }
-  return all;
-}
-
 std::optional<Mesh> scene_to_mesh(lua_State* L, int idx, const Tolerance& tol) {
-  if (const SceneNode* n = test_scene(L, idx)) return scene_mesh(*n, tol);
+  if (const SceneNode* n = test_scene(L, idx)) return scene::mesh(*n, tol);
   return std::nullopt;
 }
 
 // g:bounds(): {min=, max=} of the leaves' meshes in world coordinates.
 int bounds_m(lua_State* L) {
   return guarded(L, [&] {
-    const Box3 b = scene_mesh(*self(L), current_tolerance(L)).bounds();
+    const Box3 b = scene::bounds(*self(L), current_tolerance(L));
     lua_createtable(L, 0, 2);
     push_vec3(L, b.min);
     lua_setfield(L, -2, "min");
@@ -284,47 +221,19 @@ int bounds_m(lua_State* L) {
   });
 }
 
-// The world matrix as translation * rotation * scale: scale from the column lengths (one made
-// negative for a mirror), rotation as the angles of matrix.euler (Rz * Ry * Rx), and whether the
-// matrix holds a shear that the three do not show.
-struct Decomposed {
-  Vec3 translation, scale, rotation;
-  bool shear;
-};
-Decomposed decompose(const Mat4& m) {
-  Decomposed d;
-  d.translation = m.block<3, 1>(0, 3);
-  Mat3 a = m.block<3, 3>(0, 0);
-  d.scale = Vec3(a.col(0).norm(), a.col(1).norm(), a.col(2).norm());
-  if (a.determinant() < 0) d.scale.x() = -d.scale.x();
-  Mat3 r = a;
-  for (int k = 0; k < 3; ++k) r.col(k) /= d.scale[k];
-  d.shear = (r.transpose() * r - Mat3::Identity()).cwiseAbs().maxCoeff() > 1e-9;
-  constexpr double deg = 180.0 / 3.14159265358979323846;
-  const double sy = std::clamp(-r(2, 0), -1.0, 1.0);
-  if (std::abs(sy) < 1 - 1e-12) {
-    d.rotation = Vec3(std::atan2(r(2, 1), r(2, 2)), std::asin(sy), std::atan2(r(1, 0), r(0, 0))) * deg;
-  } else {  // gimbal lock: y = +-90; put the whole turn in x
-    d.rotation = Vec3(std::atan2(-r(1, 2), r(1, 1)), std::asin(sy), 0) * deg;
-  }
-  for (int k = 0; k < 3; ++k)
-    if (std::abs(d.rotation[k]) < 1e-12) d.rotation[k] = 0;
-  return d;
-}
-
 // g:table(): the instance table, one row per leaf in traversal order:
 // {symbol=, path=, translation={x,y,z}, rotation={x,y,z} (degrees, matrix.euler's order),
 //  scale={sx,sy,sz}, shear=false, matrix=M_world}
 int table_m(lua_State* L) {
   return guarded(L, [&] {
-    const auto occs = flatten(*self(L));
-    lua_createtable(L, int(occs.size()), 0);
-    for (std::size_t i = 0; i < occs.size(); ++i) {
-      const Decomposed d = decompose(occs[i].world);
+    const auto rows = scene::instance_table(*self(L));
+    lua_createtable(L, int(rows.size()), 0);
+    for (std::size_t i = 0; i < rows.size(); ++i) {
+      const scene::InstanceRow& d = rows[i];
       lua_createtable(L, 0, 7);
-      lua_pushstring(L, occs[i].symbol.c_str());
+      lua_pushstring(L, d.symbol.c_str());
       lua_setfield(L, -2, "symbol");
-      lua_pushstring(L, occs[i].path.c_str());
+      lua_pushstring(L, d.path.c_str());
       lua_setfield(L, -2, "path");
       push_vec3(L, d.translation);
       lua_setfield(L, -2, "translation");
@@ -334,7 +243,7 @@ int table_m(lua_State* L) {
       lua_setfield(L, -2, "scale");
       lua_pushboolean(L, d.shear);
       lua_setfield(L, -2, "shear");
-      push_matrix_value(L, occs[i].world);
+      push_matrix_value(L, d.world);
       lua_setfield(L, -2, "matrix");
       lua_rawseti(L, -2, lua_Integer(i + 1));
     }
@@ -427,64 +336,6 @@ const luaL_Reg kFunctions[] = {{"group", group_fn},
 const SceneNode* test_scene(lua_State* L, int idx) {
   NodePtr* g = test_group(L, idx);
   return g ? g->get() : nullptr;
-}
-
-std::vector<SceneOccurrence> flatten(const SceneNode& root) {
-  std::vector<SceneOccurrence> out;
-  // The traversal's stacks, one entry per node on the way down: the node and the next child to
-  // visit, its world matrix (the matrix stack), its material and its path.
-  struct Frame {
-    const SceneNode* node;
-    std::size_t next;
-    Mat4 world;
-    const render::Material* material;
-    std::shared_ptr<const render::Texture> texture;
-    std::string path, symbol;
-  };
-  auto enter = [](const SceneNode& n, const Frame* parent) {
-    Frame f{&n, 0, n.transform, nullptr, nullptr, "", ""};
-    if (parent) f.world = parent->world * n.transform;  // M_world = M_parent * M_local
-    f.material = n.material ? &*n.material : parent ? parent->material : nullptr;
-    f.texture = n.material ? n.texture : parent ? parent->texture : nullptr;
-    const std::string parent_path = parent ? parent->path : "";
-    f.path = n.name.empty() ? parent_path : parent_path.empty() ? n.name : parent_path + "/" + n.name;
-    f.symbol = n.name.empty() ? (parent ? parent->symbol : "") : n.name;
-    return f;
-  };
-  std::vector<Frame> stack;
-  stack.push_back(enter(root, nullptr));
-  while (!stack.empty()) {
-    Frame& top = stack.back();
-    if (const SceneLeaf* leaf = top.node->leaf.get()) {
-      SceneOccurrence o;
-      o.leaf = leaf;
-      o.world = top.world;
-      o.path = top.path;
-      o.symbol = !top.symbol.empty() ? top.symbol : leaf->solid ? "solid" : "mesh";
-      if (leaf->material) o.material = *leaf->material, o.texture = leaf->texture;
-      else if (top.material) o.material = *top.material, o.texture = top.texture;
-      out.push_back(std::move(o));
-      if (out.size() > kMaxLeaves) fail("the scene has more than ", kMaxLeaves, " parts");
-      stack.pop_back();
-      continue;
-    }
-    if (top.next == top.node->children.size()) {
-      stack.pop_back();  // leaving the node: pop its matrix
-      continue;
-    }
-    const SceneNode& child = *top.node->children[top.next++];
-    if (stack.size() >= kMaxDepth) fail("the scene is deeper than ", kMaxDepth, " levels");
-    Frame f = enter(child, &stack.back());
-    stack.push_back(std::move(f));
-  }
-  if (out.empty()) fail("the scene is empty: add a solid to a group first");
-  return out;
-}
-
-Mesh leaf_mesh(const SceneLeaf& leaf, const Tolerance& tol, bool for_render) {
-  if (!leaf.solid) return leaf.mesh;
-  Mesh m = leaf.solid->mesh(tol);
-  return for_render ? m.with_face_normals() : m;
 }
 
 void register_scene(lua_State* L) {

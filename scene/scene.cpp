@@ -1,0 +1,273 @@
+// Scenes: building, the depth-first traversal with a matrix stack, the instance table and the draw
+// items (see scene.h for the model).
+#include "scene/scene.h"
+
+#include <algorithm>
+#include <cmath>
+#include <unordered_set>
+
+namespace wedge::scene {
+
+namespace {
+constexpr std::size_t kMaxLeaves = 1000000;
+constexpr std::size_t kMaxDepth = 1000;
+constexpr int kMaxCount = 100000;
+
+// Whether `target` is `from` or lies under it.
+bool reaches(const Node* from, const Node* target) {
+  std::vector<const Node*> todo{from};
+  std::unordered_set<const Node*> seen;
+  while (!todo.empty()) {
+    const Node* n = todo.back();
+    todo.pop_back();
+    if (n == target) return true;
+    if (!seen.insert(n).second) continue;
+    for (const auto& c : n->children) todo.push_back(c.get());
+  }
+  return false;
+}
+
+void check_count(int count, const char* fn) {
+  if (count < 1 || count > kMaxCount) fail(fn, ": count must be within 1..", kMaxCount, ", got ", count);
+}
+
+NodePtr deep_copy(const NodePtr& n, std::size_t depth) {
+  if (depth > kMaxDepth) fail("copy: the scene is deeper than ", kMaxDepth, " levels");
+  auto c = std::make_shared<Node>(*n);
+  for (auto& child : c->children) child = deep_copy(child, depth + 1);
+  return c;
+}
+}  // namespace
+
+Mat4 checked_transform(const Mat4& m, const std::string& what) {
+  if (!m.allFinite()) fail(what, " must be finite");
+  if (m(3, 0) != 0 || m(3, 1) != 0 || m(3, 2) != 0 || m(3, 3) != 1)
+    fail(what, " must be affine (last row 0 0 0 1); a projection cannot place a part");
+  const double det = m.block<3, 3>(0, 0).determinant();
+  if (!(std::abs(det) > 1e-300)) fail(what, " is singular (it flattens the part)");
+  return m;
+}
+
+NodePtr group(const Mat4& transform, std::string name) {
+  auto node = std::make_shared<Node>();
+  node->transform = checked_transform(transform);
+  node->name = std::move(name);
+  return node;
+}
+
+NodePtr group(std::string name) { return group(Mat4::Identity(), std::move(name)); }
+
+NodePtr part(Solid solid, std::optional<render::Material> material, std::shared_ptr<const render::Texture> texture) {
+  if (solid.empty()) fail("the empty solid cannot be part of a scene");
+  auto leaf = std::make_shared<Leaf>();
+  leaf->solid = std::move(solid);
+  leaf->material = std::move(material);
+  leaf->texture = std::move(texture);
+  auto node = std::make_shared<Node>();
+  node->leaf = std::move(leaf);
+  return node;
+}
+
+NodePtr part(Mesh mesh, std::optional<render::Material> material, std::shared_ptr<const render::Texture> texture) {
+  if (mesh.empty()) fail("a scene part needs triangles; this mesh has none");
+  auto leaf = std::make_shared<Leaf>();
+  leaf->mesh = std::move(mesh);
+  leaf->material = std::move(material);
+  leaf->texture = std::move(texture);
+  auto node = std::make_shared<Node>();
+  node->leaf = std::move(leaf);
+  return node;
+}
+
+void add(Node& parent, NodePtr child) {
+  if (!child) fail("add: the child is null");
+  if (parent.leaf) fail("add: a part (leaf) cannot hold children; put both in a group");
+  if (reaches(child.get(), &parent)) fail("the group would contain itself (a scene must have no cycle)");
+  parent.children.push_back(std::move(child));
+}
+
+NodePtr instance(NodePtr prototype, const Mat4& transform, std::string name) {
+  if (!prototype) fail("instance: the prototype is null");
+  auto node = group(transform, std::move(name));
+  node->children.push_back(std::move(prototype));
+  return node;
+}
+
+NodePtr array(NodePtr prototype, int count, const Vec3& step) {
+  if (!prototype) fail("array: the prototype is null");
+  check_count(count, "array");
+  if (!step.allFinite()) fail("array: step must be finite");
+  auto node = std::make_shared<Node>();
+  for (int k = 0; k < count; ++k) {
+    auto inst = std::make_shared<Node>();
+    inst->transform = translate(double(k) * step);
+    inst->children.push_back(prototype);
+    node->children.push_back(std::move(inst));
+  }
+  return node;
+}
+
+NodePtr radial_array(NodePtr prototype, int count, double radius, const Vec3& axis, const Point3& center, double angle) {
+  if (!prototype) fail("radial_array: the prototype is null");
+  check_count(count, "radial_array");
+  if (!(radius >= 0) || !std::isfinite(radius)) fail("radial_array: radius must be finite and not negative, got ", radius);
+  if (!axis.allFinite() || axis.norm() == 0) fail("radial_array: axis must be finite and non-zero");
+  if (!center.allFinite()) fail("radial_array: center must be finite");
+  if (!(angle > 0) || angle > 360) fail("radial_array: angle must be within 0..360 (above 0), got ", angle);
+  const Vec3 a = axis.normalized();
+  Vec3 out = Vec3::UnitX() - a.x() * a;
+  if (out.norm() < 1e-9) out = Vec3::UnitY() - a.y() * a;
+  out.normalize();
+  const double step = angle >= 360 ? 360.0 / count : count > 1 ? angle / (count - 1) : 0;
+  auto node = std::make_shared<Node>();
+  for (int k = 0; k < count; ++k) {
+    auto inst = std::make_shared<Node>();
+    inst->transform = rotate(k * step, a, center) * translate(Vec3(center) + radius * out);
+    inst->children.push_back(prototype);
+    node->children.push_back(std::move(inst));
+  }
+  return node;
+}
+
+NodePtr copy(const NodePtr& root) {
+  if (!root) fail("copy: the scene is null");
+  return deep_copy(root, 0);
+}
+
+std::vector<Occurrence> flatten(const Node& root) {
+  std::vector<Occurrence> out;
+  // The traversal's stacks, one entry per node on the way down: the node and the next child to
+  // visit, its world matrix (the matrix stack), its material and its path.
+  struct Frame {
+    const Node* node;
+    std::size_t next;
+    Mat4 world;
+    const render::Material* material;
+    std::shared_ptr<const render::Texture> texture;
+    std::string path, symbol;
+  };
+  auto enter = [](const Node& n, const Frame* parent) {
+    Frame f{&n, 0, n.transform, nullptr, nullptr, "", ""};
+    if (parent) f.world = parent->world * n.transform;  // M_world = M_parent * M_local
+    f.material = n.material ? &*n.material : parent ? parent->material : nullptr;
+    f.texture = n.material ? n.texture : parent ? parent->texture : nullptr;
+    const std::string parent_path = parent ? parent->path : "";
+    f.path = n.name.empty() ? parent_path : parent_path.empty() ? n.name : parent_path + "/" + n.name;
+    f.symbol = n.name.empty() ? (parent ? parent->symbol : "") : n.name;
+    return f;
+  };
+  std::vector<Frame> stack;
+  stack.push_back(enter(root, nullptr));
+  while (!stack.empty()) {
+    Frame& top = stack.back();
+    if (const Leaf* leaf = top.node->leaf.get()) {
+      Occurrence o;
+      o.leaf = leaf;
+      o.world = top.world;
+      o.path = top.path;
+      o.symbol = !top.symbol.empty() ? top.symbol : leaf->solid ? "solid" : "mesh";
+      if (leaf->material) o.material = *leaf->material, o.texture = leaf->texture;
+      else if (top.material) o.material = *top.material, o.texture = top.texture;
+      out.push_back(std::move(o));
+      if (out.size() > kMaxLeaves) fail("the scene has more than ", kMaxLeaves, " parts");
+      stack.pop_back();
+      continue;
+    }
+    if (top.next == top.node->children.size()) {
+      stack.pop_back();  // leaving the node: pop its matrix
+      continue;
+    }
+    const Node& child = *top.node->children[top.next++];
+    if (stack.size() >= kMaxDepth) fail("the scene is deeper than ", kMaxDepth, " levels");
+    Frame f = enter(child, &stack.back());
+    stack.push_back(std::move(f));
+  }
+  if (out.empty()) fail("the scene is empty: add a solid to a group first");
+  return out;
+}
+
+Mesh leaf_mesh(const Leaf& leaf, const Tolerance& tol, bool for_render) {
+  if (!leaf.solid) return leaf.mesh;
+  Mesh m = leaf.solid->mesh(tol);
+  return for_render ? m.with_face_normals() : m;
+}
+
+Mesh mesh(const Node& root, const Tolerance& tol) {
+  Mesh all;
+  std::vector<std::pair<const Leaf*, Mesh>> cache;
+  for (const auto& occ : flatten(root)) {
+    const Mesh* m = nullptr;
+    for (const auto& [leaf, leaf_m] : cache)
+      if (leaf == occ.leaf) m = &leaf_m;
+    if (!m) {
+      cache.emplace_back(occ.leaf, leaf_mesh(*occ.leaf, tol, false));
+      m = &cache.back().second;
+    }
+    all.append(m->transformed(occ.world));
+  }
+  return all;
+}
+
+Box3 bounds(const Node& root, const Tolerance& tol) { return mesh(root, tol).bounds(); }
+
+std::vector<InstanceRow> instance_table(const Node& root) {
+  std::vector<InstanceRow> rows;
+  for (const Occurrence& occ : flatten(root)) {
+    InstanceRow row;
+    row.symbol = occ.symbol;
+    row.path = occ.path;
+    row.world = occ.world;
+    const Mat4& m = occ.world;
+    row.translation = m.block<3, 1>(0, 3);
+    const Mat3 a = m.block<3, 3>(0, 0);
+    row.scale = Vec3(a.col(0).norm(), a.col(1).norm(), a.col(2).norm());
+    if (a.determinant() < 0) row.scale.x() = -row.scale.x();
+    Mat3 r = a;
+    for (int k = 0; k < 3; ++k) r.col(k) /= row.scale[k];
+    row.shear = (r.transpose() * r - Mat3::Identity()).cwiseAbs().maxCoeff() > 1e-9;
+    constexpr double deg = 180.0 / 3.14159265358979323846;
+    const double sy = std::clamp(-r(2, 0), -1.0, 1.0);
+    if (std::abs(sy) < 1 - 1e-12) {
+      row.rotation = Vec3(std::atan2(r(2, 1), r(2, 2)), std::asin(sy), std::atan2(r(1, 0), r(0, 0))) * deg;
+    } else {  // gimbal lock: y = +-90; put the whole turn in x
+      row.rotation = Vec3(std::atan2(-r(1, 2), r(1, 1)), std::asin(sy), 0) * deg;
+    }
+    for (int k = 0; k < 3; ++k)
+      if (std::abs(row.rotation[k]) < 1e-12) row.rotation[k] = 0;
+    rows.push_back(std::move(row));
+  }
+  return rows;
+}
+
+Drawable draw_items(const Node& root, const Tolerance& tol, const std::function<void()>& step) {
+  Drawable d;
+  std::vector<std::tuple<const Leaf*, bool, const Mesh*>> made;
+  for (const Occurrence& occ : flatten(root)) {
+    if (step) step();
+    const bool textured = occ.texture != nullptr;
+    const Mesh* m = nullptr;
+    for (const auto& [leaf, tex, mm] : made)
+      if (leaf == occ.leaf && tex == textured) m = mm;
+    if (!m) {
+      Mesh lm = leaf_mesh(*occ.leaf, tol, true);
+      if (textured && lm.uvs.empty()) lm = render::with_uv_mapping(lm, render::UvMapping::Box);
+      d.meshes.push_back(std::move(lm));
+      m = &d.meshes.back();
+      made.emplace_back(occ.leaf, textured, m);
+    }
+    render::DrawItem item;
+    item.mesh = m;
+    item.material = occ.material;
+    item.texture = occ.texture;
+    item.transform = occ.world;
+    d.items.push_back(std::move(item));
+  }
+  return d;
+}
+
+render::Image picture(const Node& root, const render::RenderOptions& options, const Tolerance& tol) {
+  const Drawable d = draw_items(root, tol);
+  return render::render_scene(d.items, options);
+}
+
+}  // namespace wedge::scene
