@@ -2,6 +2,7 @@
 // "file:line: message" and a non-zero exit on error.
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cerrno>
 #include <csignal>
@@ -15,6 +16,7 @@
 #include <sstream>
 
 #include "csg/solid.h"
+#include "tessellate/progress.h"
 
 #include "lua/lua_util.h"
 #include "lua/wedge_lua.h"
@@ -82,42 +84,50 @@ extern "C" void on_sigint(int) {
   if (g_state) lua_sethook(g_state, interrupt_hook, LUA_MASKCALL | LUA_MASKRET | LUA_MASKCOUNT, 1);
 }
 
-// The progress bar of a CSG evaluation on stderr ("\r[#####     ] evaluating the CSG tree 3/8"):
-// shown when stderr is a terminal (or WEDGE_PROGRESS=always) and not --quiet, after half a second
-// of work (at once with WEDGE_PROGRESS=always), erased when the last node is done. Called from
-// any of TBB's threads.
+// A progress bar on stderr ("\r[#####     ] evaluating the CSG tree 3/8"): shown when stderr is a
+// terminal (or WEDGE_PROGRESS=always) and not --quiet, after half a second of work (at once with
+// WEDGE_PROGRESS=always), erased when the work ends. Called from any of TBB's threads.
 class EvalBar {
  public:
-  explicit EvalBar(bool quiet) {
+  EvalBar(bool quiet, std::string what) : what_(std::move(what)) {
     const char* mode = std::getenv("WEDGE_PROGRESS");
     const std::string m = mode ? mode : "";
     always_ = m == "always";
     enabled_ = !quiet && m != "never" && (always_ || ::isatty(2));
   }
+  // `done` of `total` steps; the bar is erased when done reaches total.
   void update(std::size_t done, std::size_t total) {
     if (!enabled_ || total == 0) return;
+    if (done >= total) return clear();
+    draw(double(done) / double(total), what_ + " " + std::to_string(done) + "/" + std::to_string(total));
+  }
+  // A fraction done (0..1) and the text after the bar.
+  void draw(double fraction, const std::string& text) {
+    if (!enabled_) return;
     std::lock_guard<std::mutex> lock(mutex_);
-    if (done == 1 || start_ == 0) start_ = RunStats::now();
-    if (done >= total) {
-      if (shown_) std::fprintf(stderr, "\r%60s\r", "");
-      shown_ = false;
-      start_ = 0;
-      std::fflush(stderr);
-      return;
-    }
+    if (start_ == 0) start_ = RunStats::now();
     if (!always_ && RunStats::now() - start_ < 0.5) return;
     constexpr int kWidth = 30;
-    const int filled = int(kWidth * done / total);
-    std::fprintf(stderr, "\r[%s%s] evaluating the CSG tree %zu/%zu", std::string(std::size_t(filled), '#').c_str(),
-                 std::string(std::size_t(kWidth - filled), ' ').c_str(), done, total);
+    const int filled = std::clamp(int(kWidth * fraction), 0, kWidth);
+    std::fprintf(stderr, "\r[%s%s] %s", std::string(std::size_t(filled), '#').c_str(),
+                 std::string(std::size_t(kWidth - filled), ' ').c_str(), text.c_str());
     std::fflush(stderr);
     shown_ = true;
   }
+  void clear() {
+    if (!enabled_) return;
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (shown_) std::fprintf(stderr, "\r%80s\r", "");
+    std::fflush(stderr);
+    shown_ = false;
+    start_ = 0;
+  }
   ~EvalBar() {
-    if (shown_) std::fprintf(stderr, "\r%60s\r", "");
+    if (shown_) std::fprintf(stderr, "\r%80s\r", "");
   }
 
  private:
+  std::string what_;
   std::mutex mutex_;
   bool enabled_ = false, always_ = false, shown_ = false;
   double start_ = 0;
@@ -199,7 +209,18 @@ int run_file(const std::string& path, const std::vector<std::string>& args, std:
   if (options.stats) install_stats(L, &stats);
   // CSG evaluations of this run: progress bar, Ctrl-C, time per stage.
   EvalStats eval_stats;
-  EvalBar bar(options.quiet);
+  EvalBar bar(options.quiet, "evaluating the CSG tree");
+  // A tessellation at a fine tolerance shows the points made against the size estimate's count
+  // (those of this thread only: a CSG tree's operands tessellated in parallel do not report).
+  EvalBar mesh_bar(options.quiet, "tessellating");
+  const TessellateProgress mesh_progress = [&mesh_bar](std::size_t done, std::size_t expected, bool finished) {
+    if (finished) return mesh_bar.clear();
+    // The estimate is a guide (within about 1/8 to 4 times the real count): the bar stops short
+    // of full when the count passes it, and the text says both.
+    mesh_bar.draw(std::min(0.99, double(done) / double(expected)),
+                  "tessellating: " + std::to_string(done) + " points, about " + std::to_string(expected) + " expected");
+  };
+  set_tessellate_progress(&mesh_progress);
   EvalControl control;
   control.progress = [&bar](std::size_t done, std::size_t total) { bar.update(done, total); };
   control.cancelled = [] { return g_interrupted.load(); };
@@ -236,6 +257,7 @@ int run_file(const std::string& path, const std::vector<std::string>& args, std:
   sigaction(SIGINT, &previous, nullptr);
   g_state = nullptr;
   set_eval_control(nullptr);
+  set_tessellate_progress(nullptr);
   if (options.stats) {
     install_stats(L, nullptr);
     report_stats(stats, RunStats::now() - start, path, err);

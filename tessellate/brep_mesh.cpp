@@ -28,6 +28,7 @@
 #include <unordered_map>
 
 #include "tessellate/planar.h"
+#include "tessellate/progress.h"
 
 namespace wedge {
 
@@ -228,16 +229,46 @@ std::vector<double> edge_parameters(const Curve& c, const Tolerance& tol, const 
 }
 }  // namespace
 
+namespace {
+thread_local const TessellateProgress* t_progress = nullptr;
+
+// Reports the points made against the estimate, and the end when it goes out of scope (also when
+// the tessellation fails; `out` may then be moved from, which only makes the last count wrong).
+class ProgressReport {
+ public:
+  ProgressReport(const Mesh& out, double estimated_triangles)
+      : progress_(t_progress), out_(out),
+        expected_(std::max<std::size_t>(1, std::size_t(std::min(estimated_triangles, 1e15) / 2))) {}
+  ~ProgressReport() {
+    if (progress_) (*progress_)(out_.positions.size(), expected_, true);
+  }
+  ProgressReport(const ProgressReport&) = delete;
+  ProgressReport& operator=(const ProgressReport&) = delete;
+  void operator()() const {
+    if (progress_) (*progress_)(out_.positions.size(), expected_, false);
+  }
+
+ private:
+  const TessellateProgress* progress_;
+  const Mesh& out_;
+  std::size_t expected_;
+};
+}  // namespace
+
+void set_tessellate_progress(const TessellateProgress* progress) { t_progress = progress; }
+
 Mesh tessellate(const Model& m, const Tolerance& tol_in) {
   Tolerance tol = tol_in;
   if (!(tol.chordal > 0)) fail("tessellate: the chordal tolerance must be positive");
   if (!(tol.angular > 0)) tol.angular = 180;
   // The budget is checked on an estimate first, so that a tolerance far too fine fails at once
   // instead of after minutes of refinement (and gigabytes); the refinement below checks it again.
-  if (const double estimate = estimate_triangles(m, tol); !(estimate <= double(tol.max_triangles)))
+  const double estimate = estimate_triangles(m, tol);
+  if (!(estimate <= double(tol.max_triangles)))
     fail("tessellate: tolerance ", tol.chordal, " would need about ", std::llround(std::min(estimate, 1e18)),
          " triangles, more than the budget of ", tol.max_triangles, ": use a larger tolerance or raise max_triangles");
   Mesh out;
+  const ProgressReport report(out, estimate);
   std::unordered_map<std::int32_t, std::uint32_t> vindex;
   m.vertices().for_each([&](VertexId v, const BrepVertex&) { vindex[v.value] = out.add_vertex(m.point(v)); });
   std::unordered_map<std::int32_t, EdgeSamples> samples;
@@ -338,6 +369,7 @@ Mesh tessellate(const Model& m, const Tolerance& tol_in) {
   std::vector<std::uint32_t> idx;
   std::vector<double> fr;
   m.faces().for_each([&](FaceId f, const BrepFace& face) {
+    report();
     std::vector<LoopId> ls{face.outer};
     ls.insert(ls.end(), face.rings.begin(), face.rings.end());
     const FaceSurface& fs = m.surface(f);
@@ -564,6 +596,7 @@ Mesh tessellate(const Model& m, const Tolerance& tol_in) {
         }
       }
       if (add.empty()) break;
+      report();
       if (out.positions.size() + add.size() > budget)
         fail("tessellate: face ", f.value, " needs more than ", budget, " points at tolerance ", tol.chordal,
              ", more than the budget of ", tol.max_triangles, " triangles allows: use a larger tolerance or raise max_triangles");
