@@ -83,23 +83,30 @@ std::vector<Vec2> curve_ring(lua_State* L, const Curve& c, int arg, const std::s
   return ring;
 }
 
-// polygon{{x,y}, ...} | polygon{outer={...}, holes={{...}, ...}}
+// polygon{{x,y}, ...} | polygon{points={...}} | polygon{outer={...}, holes={{...}, ...}}
 int polygon_fn(lua_State* L) {
   return guarded(L, [&] {
     check_table(L, 1);
     Profile p;
     std::vector<CurvePtr> curves;
     lua_pushstring(L, "outer");
-    bool has_outer = lua_rawget(L, 1) != LUA_TNIL;
+    const bool has_outer = lua_rawget(L, 1) != LUA_TNIL;
     lua_pop(L, 1);
-    if (!has_outer) {
+    // points= is the long form of the bare list (API.md: "a bare list of points is the shorthand
+    // for points="), and may have holes as outer= does.
+    lua_pushstring(L, "points");
+    const bool has_points = lua_rawget(L, 1) != LUA_TNIL;
+    lua_pop(L, 1);
+    if (has_outer && has_points) throw ArgError{1, "give the outer ring as points= or as outer=, not both"};
+    const char* outer_key = has_points ? "points" : "outer";
+    if (!has_outer && !has_points) {
       p.outer = read_ring(L, 1, 1, "polygon");
     } else {
       Options o(L, 1);
-      o.push("outer");
+      o.push(outer_key);
       std::string err;
       try {
-        p.outer = read_ring(L, -1, 1, "field 'outer'");
+        p.outer = read_ring(L, -1, 1, std::string("field '") + outer_key + "'");
       } catch (const ArgError& e) {
         err = e.message;
       }

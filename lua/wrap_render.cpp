@@ -70,6 +70,32 @@ void check_pixel_budget(Options& o, const char* fn, int width, int height, int a
                           number_text(budget) + " (raise it with max_pixels=)"};
 }
 
+// render{} and drawing{} take one table, so a bad option is named by its field path rather than
+// by an argument number: "render: lights[2].position must be a point {x, y, z}, got string",
+// "render: camera.near must be below camera.far", at the caller's line. The checks below throw
+// ArgError on argument 1 with "field 'path' ..." messages (as every table option of the API does);
+// options_call turns them into plain errors whose message starts with the path.
+std::string field_message(const std::string& m) {
+  static const std::string kField = "field '";
+  if (m.rfind(kField, 0) == 0) {
+    const std::size_t end = m.find('\'', kField.size());
+    if (end != std::string::npos) return m.substr(kField.size(), end - kField.size()) + m.substr(end + 1);
+  }
+  return m;
+}
+
+template <class F>
+int options_call(lua_State* L, F&& body) {
+  return guarded(L, [&] {
+    try {
+      return body();
+    } catch (const ArgError& e) {
+      if (e.arg != 1) throw;
+      throw Error(field_message(e.message));
+    }
+  });
+}
+
 Vec4f opt_color(Options& o, const char* key, const Vec4f& fallback) {
   lua_State* L = o.state();
   int t = o.push(key);
@@ -154,7 +180,7 @@ Mesh read_mesh(lua_State* L, int idx, render::Material& material, std::shared_pt
     for (int k = 0; k < 3; ++k) {
       double v = t[k];
       if (v != std::floor(v) || v < 1 || v > double(m.vertex_count()))
-        throw ArgError{1, "triangle " + std::to_string(i) + " refers to vertex " + std::to_string(v) + ", not in 1.." +
+        throw ArgError{1, "triangle " + std::to_string(i) + " refers to vertex " + number_text(v) + ", not in 1.." +
                               std::to_string(m.vertex_count())};
       ids[k] = std::uint32_t(v) - 1;
     }
@@ -357,7 +383,7 @@ bool draw_by_face_tags(lua_State* L, int obj, const Solid& s, Drawn& drawn) {
 void read_drawn(lua_State* L, const char* fn, Drawn& drawn) {
   lua_geti(L, 1, 1);
   const int obj = lua_gettop(L);
-  if (lua_isnil(L, obj)) throw ArgError{1, std::string(fn) + "{} needs the thing to draw as its first element"};
+  if (lua_isnil(L, obj)) throw ArgError{1, "needs the thing to draw as its first element, as " + std::string(fn) + "{s, out=...}"};
   if (const Wireframe* w = test_wireframe(L, obj)) {
     render::DrawItem item;
     item.lines = &w->lines;  // the Wireframe stays on the stack (t[1]) while it is drawn
@@ -404,7 +430,7 @@ void read_drawn(lua_State* L, const char* fn, Drawn& drawn) {
 }
 
 int render_fn(lua_State* L) {
-  return guarded(L, [&] {
+  return options_call(L, [&] {
     check_table(L, 1);
     Options o(L, 1);
     o.allow_positional();
@@ -414,7 +440,7 @@ int render_fn(lua_State* L) {
 
     render::RenderOptions ro;
     std::string out = o.string("out", "");
-    if (out.empty()) throw ArgError{1, "render{} needs out=\"file.png\""};
+    if (out.empty()) throw ArgError{1, "field 'out' is missing (the .png file to write)"};
     check_png_name(out);
     sandbox_check_path(L, out, true);
     Vec2 size = o.vec2("size", Vec2(800, 600));
@@ -514,7 +540,7 @@ int render_fn(lua_State* L) {
 // a sheet of views (any named view, or {name, options}), each titled, with the solid's edges drawn
 // over its shaded faces and the hidden ones left out or dashed.
 int drawing_fn(lua_State* L) {
-  return guarded(L, [&] {
+  return options_call(L, [&] {
     check_table(L, 1);
     Options o(L, 1);
     o.allow_positional();
@@ -523,7 +549,7 @@ int drawing_fn(lua_State* L) {
     const Box3 bounds = drawn.bounds();
     render::DrawingOptions d;
     std::string out = o.string("out", "");
-    if (out.empty()) throw ArgError{1, "drawing{} needs out=\"file.png\""};
+    if (out.empty()) throw ArgError{1, "field 'out' is missing (the .png file to write)"};
     check_png_name(out);
     sandbox_check_path(L, out, true);
     int views_type = o.push("views");

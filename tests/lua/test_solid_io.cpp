@@ -164,6 +164,6 @@ TEST_CASE("render{} takes a named view at the top level or as camera=", "[lua][r
   auto both = run(f.lua_dir() + "render{box(1,1,1), out = dir .. '/x.png', view = 'iso', camera = {eye = {1,1,1}}}\n", "@v.lua");
   CHECK_THAT(both.err, Catch::Contains("either camera={...} or view="));
   auto bad = run(f.lua_dir() + "render{box(1,1,1), out = dir .. '/x.png', camera = 42}\n", "@v.lua");
-  CHECK_THAT(bad.err, Catch::Contains("field 'camera' must be a table or a view name, got number"));
+  CHECK_THAT(bad.err, Catch::Contains("render: camera must be a table or a view name, got number"));
   CHECK_FALSE(fs::exists(f.dir / "x.png"));
 }
