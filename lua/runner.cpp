@@ -99,6 +99,12 @@ class EvalBar {
   void update(std::size_t done, std::size_t total) {
     if (!enabled_ || total == 0) return;
     if (done >= total) return clear();
+    {
+      // Reports from several threads may arrive out of order: the bar never goes back.
+      std::lock_guard<std::mutex> lock(mutex_);
+      if (done < last_done_) return;
+      last_done_ = done;
+    }
     draw(double(done) / double(total), what_ + " " + std::to_string(done) + "/" + std::to_string(total));
   }
   // A fraction done (0..1) and the text after the bar.
@@ -121,6 +127,7 @@ class EvalBar {
     std::fflush(stderr);
     shown_ = false;
     start_ = 0;
+    last_done_ = 0;
   }
   ~EvalBar() {
     if (shown_) std::fprintf(stderr, "\r%80s\r", "");
@@ -131,6 +138,7 @@ class EvalBar {
   std::mutex mutex_;
   bool enabled_ = false, always_ = false, shown_ = false;
   double start_ = 0;
+  std::size_t last_done_ = 0;
 };
 
 void report_eval_stats(const EvalStats& s, std::ostream& err) {

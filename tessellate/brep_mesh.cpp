@@ -236,9 +236,13 @@ thread_local const TessellateProgress* t_progress = nullptr;
 // the tessellation fails; `out` may then be moved from, which only makes the last count wrong).
 class ProgressReport {
  public:
+  // Only a tessellation the estimate calls large reports (fewer points take well under a second).
+  static constexpr std::size_t kLarge = 10000;
   ProgressReport(const Mesh& out, double estimated_triangles)
       : progress_(t_progress), out_(out),
-        expected_(std::max<std::size_t>(1, std::size_t(std::min(estimated_triangles, 1e15) / 2))) {}
+        expected_(std::max<std::size_t>(1, std::size_t(std::min(estimated_triangles, 1e15) / 2))) {
+    if (expected_ < kLarge) progress_ = nullptr;
+  }
   ~ProgressReport() {
     if (progress_) (*progress_)(out_.positions.size(), expected_, true);
   }
