@@ -1,7 +1,9 @@
 -- The winged-edge B-Rep from Lua: a block built one Euler operator at a time, its counts checked
 -- against V - E + F - R + 2H - 2S = 0 after every step, then handed over as a Solid; and the
 -- primitives built the same way inside (box, cube, polyhedron).
--- Run: wedge run examples/euler.lua
+-- Run: wedge run examples/euler.lua [out=directory]
+local out = params.out or "out"
+os.execute("mkdir -p '" .. out .. "'")
 local function show(b, what)
   local c = b:counts()
   local chi = c.V - c.E + c.F - c.R + 2 * c.H - 2 * c.S
@@ -43,3 +45,9 @@ print(string.format("tetrahedron: volume %.6f (1/6 = %.6f), centroid (%.3f, %.3f
 local ok, err = pcall(b.kemr, b, 999)
 print("kemr on a missing edge: " .. tostring(err))
 show(b, "unchanged after the failed kemr")
+
+-- The block as the Euler operators left it, drawn as a sheet: three views and an isometric one,
+-- each with its edges.
+drawing{s:material{diffuse = {0.55, 0.7, 0.85}}, out = out .. "/euler-block.png", size = {480, 360},
+        views = {"front", "top", "side", "iso"}, hidden = "dashed"}
+print("wrote " .. out .. "/euler-block.png")

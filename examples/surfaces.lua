@@ -1,6 +1,6 @@
 -- wedge curves and free-form surfaces: every constructor of API.md's "Profiles, curves and sweeps"
 -- and "Free-form surfaces" sections, with a number printed for each.
--- Run: wedge run examples/surfaces.lua
+-- Run: wedge run examples/surfaces.lua [out=directory]
 local function fmt(p) return string.format("(%.4f, %.4f%s)", p[1], p[2], p[3] and string.format(", %.4f", p[3]) or "") end
 
 -- Curves: parameters run over [0, 1] for every kind.
@@ -28,3 +28,15 @@ local pot = teapot()
 local pm = pot:mesh{tolerance = 0.01}
 print("teapot: " .. pot:patches() .. " patches, " .. #pm.triangles .. " triangles at tolerance 0.01")
 print("  lid knob top " .. fmt(pot:eval(0, 0, 21)) .. ", normal there " .. fmt(pot:normal(0, 0, 21)))
+
+-- The vase, the tube along its helix and the teapot side by side, as one scene.
+local out = params.out or "out"
+os.execute("mkdir -p '" .. out .. "'")
+local shelf = group{
+  group{vase, material = {diffuse = {0.55, 0.7, 0.9}, specular = {0.5, 0.5, 0.5}, shininess = 30}},
+  group{tube, transform = matrix.translate(3.5, 0, 0), material = {diffuse = {0.85, 0.55, 0.2}}},
+  group{pot, transform = matrix.translate(8, 0, 0) * matrix.scale(0.6, 0.6, 0.6), material = {diffuse = {0.8, 0.3, 0.3}}},
+}
+render{shelf, out = out .. "/surfaces.png", size = {640, 280}, shading = "phong", two_side = true, cull = "none",
+       camera = {eye = {4.5, -13, 6}, center = {4.5, 0, 1.4}, up = {0, 0, 1}, fovy = 30}}
+print("wrote " .. out .. "/surfaces.png")

@@ -27,7 +27,13 @@ end
 assert(s:is_valid(), "the worked example does not validate")
 print(string.format("valid: yes   volume: %.6g   area: %.6g", s:volume(), s:area()))
 
-if arg[1] then
+-- A mesh file when the first argument names one; the picture in out=directory (default "out").
+if arg[1] and not arg[1]:find("=") then
   export(s, arg[1])
   print("wrote " .. arg[1])
 end
+local out = params.out or "out"
+os.execute("mkdir -p '" .. out .. "'")
+render{s:material{diffuse = {0.8, 0.6, 0.35}}, out = out .. "/worked-example.png", size = {480, 360}, view = "iso",
+       shading = "flat", lights = {{type = "directional", direction = {-0.3, 0.5, -1}}, {type = "directional", direction = {0.6, 0.4, -0.3}, diffuse = {0.4, 0.4, 0.4}}}}
+print("wrote " .. out .. "/worked-example.png")
