@@ -345,26 +345,10 @@ Mesh with_uvs_if_textured(Mesh mesh, bool textured) {
 // from. Adds nothing and returns false when the faces carry at most one material.
 bool draw_by_face_tags(lua_State* L, int obj, const Solid& s, Drawn& drawn) {
   const Tolerance tol = current_tolerance(L);
-  std::vector<int> tags;
-  Mesh mesh;
+  std::map<int, Mesh> parts;
   {
     Stage stage(L, "mesh");
-    mesh = s.tagged_mesh(tol);
-    tags = s.face_tags(tol);
-  }
-  std::map<int, Mesh> parts;
-  std::map<int, std::unordered_map<std::uint32_t, std::uint32_t>> index;
-  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
-    const int tag = tags.at(static_cast<std::size_t>(mesh.face_ids[t]));
-    Mesh& part = parts[tag];
-    auto& ix = index[tag];
-    std::uint32_t v[3];
-    for (int k = 0; k < 3; ++k) {
-      auto [it, fresh] = ix.emplace(mesh.triangles[t][k], static_cast<std::uint32_t>(part.positions.size()));
-      if (fresh) part.positions.push_back(mesh.positions[mesh.triangles[t][k]]);
-      v[k] = it->second;
-    }
-    part.add_triangle(v[0], v[1], v[2], mesh.face_ids[t]);
+    parts = scene::split_by_tags(s, tol);
   }
   if (parts.size() < 2) return false;
   for (auto& [tag, part] : parts) {
@@ -395,7 +379,23 @@ void read_drawn(lua_State* L, const char* fn, Drawn& drawn) {
   if (const SceneNode* root = test_scene(L, obj)) {
     Stage stage(L, "mesh");
     Progress progress(L, "meshing the scene's parts", scene::flatten(*root).size());
-    scene::Drawable d = scene::draw_items(*root, current_tolerance(L), [&] { progress.step(); });
+    // A part that is a boolean of solids with their own materials shows each face in its solid's.
+    const scene::TagMaterial tag_material = [L](int tag) -> std::optional<scene::OwnMaterial> {
+      const int top = lua_gettop(L);
+      std::optional<scene::OwnMaterial> own;
+      if (push_tag_material(L, tag) == LUA_TTABLE) {
+        own.emplace();
+        try {
+          own->first = read_material(L, lua_gettop(L), 1, own->second);
+        } catch (...) {
+          lua_settop(L, top);
+          throw;
+        }
+      }
+      lua_settop(L, top);
+      return own;
+    };
+    scene::Drawable d = scene::draw_items(*root, current_tolerance(L), [&] { progress.step(); }, tag_material);
     // `drawn` is still empty here; swap keeps the items' pointers into the meshes valid.
     drawn.meshes.swap(d.meshes);
     drawn.items.swap(d.items);

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <unordered_map>
 #include <unordered_set>
 
 namespace wedge::scene {
@@ -239,28 +240,79 @@ std::vector<InstanceRow> instance_table(const Node& root) {
   return rows;
 }
 
-Drawable draw_items(const Node& root, const Tolerance& tol, const std::function<void()>& step) {
+std::map<int, Mesh> split_by_tags(const Solid& solid, const Tolerance& tol) {
+  const Mesh mesh = solid.tagged_mesh(tol);
+  const std::vector<int> tags = solid.face_tags(tol);
+  std::map<int, Mesh> parts;
+  std::map<int, std::unordered_map<std::uint32_t, std::uint32_t>> index;
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+    const int tag = tags.at(static_cast<std::size_t>(mesh.face_ids[t]));
+    Mesh& part = parts[tag];
+    auto& ix = index[tag];
+    std::uint32_t v[3];
+    for (int k = 0; k < 3; ++k) {
+      auto [it, fresh] = ix.emplace(mesh.triangles[t][k], static_cast<std::uint32_t>(part.positions.size()));
+      if (fresh) part.positions.push_back(mesh.positions[mesh.triangles[t][k]]);
+      v[k] = it->second;
+    }
+    part.add_triangle(v[0], v[1], v[2], mesh.face_ids[t]);
+  }
+  return parts;
+}
+
+Drawable draw_items(const Node& root, const Tolerance& tol, const std::function<void()>& step, const TagMaterial& tag_material) {
   Drawable d;
-  std::vector<std::tuple<const Leaf*, bool, const Mesh*>> made;
+  // A leaf's pieces: its whole mesh, or one mesh per face tag with the tag's own material.
+  struct Piece {
+    const Mesh* mesh;
+    const OwnMaterial* own;  // nullptr: the occurrence's material
+  };
+  struct Made {
+    const Leaf* leaf;
+    bool textured;
+    std::vector<Piece> pieces;
+  };
+  std::deque<Made> made;
+  std::deque<OwnMaterial> owns;
+  auto add_mesh = [&](Mesh m, bool textured) {
+    if (textured && m.uvs.empty()) m = render::with_uv_mapping(m, render::UvMapping::Box);
+    d.meshes.push_back(std::move(m));
+    return &d.meshes.back();
+  };
   for (const Occurrence& occ : flatten(root)) {
     if (step) step();
     const bool textured = occ.texture != nullptr;
-    const Mesh* m = nullptr;
-    for (const auto& [leaf, tex, mm] : made)
-      if (leaf == occ.leaf && tex == textured) m = mm;
-    if (!m) {
-      Mesh lm = leaf_mesh(*occ.leaf, tol, true);
-      if (textured && lm.uvs.empty()) lm = render::with_uv_mapping(lm, render::UvMapping::Box);
-      d.meshes.push_back(std::move(lm));
-      m = &d.meshes.back();
-      made.emplace_back(occ.leaf, textured, m);
+    const Made* found = nullptr;
+    for (const Made& m : made)
+      if (m.leaf == occ.leaf && m.textured == textured) found = &m;
+    if (!found) {
+      Made m{occ.leaf, textured, {}};
+      std::map<int, Mesh> parts;
+      if (occ.leaf->solid && tag_material) {
+        parts = split_by_tags(*occ.leaf->solid, tol);
+        if (parts.size() < 2) parts.clear();
+      }
+      for (auto& [tag, part] : parts) {
+        const OwnMaterial* own = nullptr;
+        if (tag >= 0)
+          if (std::optional<OwnMaterial> o = tag_material(tag)) {
+            owns.push_back(std::move(*o));
+            own = &owns.back();
+          }
+        m.pieces.push_back({add_mesh(part.with_face_normals(), own ? own->second != nullptr : textured), own});
+      }
+      if (m.pieces.empty()) m.pieces.push_back({add_mesh(leaf_mesh(*occ.leaf, tol, true), textured), nullptr});
+      made.push_back(std::move(m));
+      found = &made.back();
     }
-    render::DrawItem item;
-    item.mesh = m;
-    item.material = occ.material;
-    item.texture = occ.texture;
-    item.transform = occ.world;
-    d.items.push_back(std::move(item));
+    for (const Piece& p : found->pieces) {
+      render::DrawItem item;
+      item.mesh = p.mesh;
+      item.material = p.own ? p.own->first : occ.material;
+      item.texture = p.own ? p.own->second : occ.texture;
+      item.transform = occ.world;
+      d.items.push_back(std::move(item));
+    }
   }
   return d;
 }

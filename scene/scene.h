@@ -15,8 +15,9 @@
 // Bad input (a cycle, a singular or projective transform, an empty scene, a count of 0) throws
 // wedge::Error with a message naming it.
 #pragma once
-#include <functional>
 #include <deque>
+#include <functional>
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -108,11 +109,21 @@ std::vector<InstanceRow> instance_table(const Node& root);
 // placed by its world matrix, each distinct leaf meshed once (textured leaves get box uvs if
 // their mesh has none). The items point into `meshes`. `step` is called once per occurrence
 // (a progress hook).
+//
+// A solid whose faces carry tags of several solids (Solid::tagged: a boolean of solids with
+// materials of their own) is drawn in pieces, one per tag, each in tag_material(tag) where that
+// gives one (else in the leaf's material), when `tag_material` is set.
 struct Drawable {
   std::deque<Mesh> meshes;
   std::vector<render::DrawItem> items;
 };
-Drawable draw_items(const Node& root, const Tolerance& tol, const std::function<void()>& step = {});
+using OwnMaterial = std::pair<render::Material, std::shared_ptr<const render::Texture>>;
+using TagMaterial = std::function<std::optional<OwnMaterial>(int tag)>;
+Drawable draw_items(const Node& root, const Tolerance& tol, const std::function<void()>& step = {},
+                    const TagMaterial& tag_material = {});
+// A solid's tagged mesh split by face tag (Solid::face_tags): one mesh per tag, -1 for untagged
+// faces, each with its own vertices.
+std::map<int, Mesh> split_by_tags(const Solid& solid, const Tolerance& tol);
 // The scene drawn with `options` (options.camera as given; render::named_view(..., bounds) fits one).
 render::Image picture(const Node& root, const render::RenderOptions& options, const Tolerance& tol);
 

@@ -278,3 +278,36 @@ TEST_CASE("render{} draws each face of a boolean in the material of the solid it
   CHECK(reds > 300);
   CHECK(blues > 100);
 }
+
+TEST_CASE("a boolean placed in a scene keeps the material of the solid each face came from", "[lua][render][scene]") {
+  // The same picture as above, with the boolean as an instance in a group that has a material of
+  // its own (green): the faces keep red and blue, the group's green reaches none of them.
+  std::string out = std::string(WEDGE_BINARY_DIR) + "/lua_render_scene_colours.png";
+  std::filesystem::remove(out);
+  std::string err;
+  int status = run(R"(
+      local red = sphere(1):material{diffuse = {0.9, 0.1, 0.1}}
+      local blue = cube(2):material{diffuse = {0.1, 0.1, 0.9}}
+      local scene = group{material = {diffuse = {0.1, 0.9, 0.1}}}
+      scene:add(instance(red - blue, {transform = matrix.translate(0, 0, 0)}))
+      render{scene, out = ')" + out + R"(', size = {80, 80}, background = {1, 1, 1},
+        camera = {eye = {4, 4, 4}, center = {0, 0, 0}, up = {0, 0, 1}, fovy = 40},
+        lights = {{type = 'directional', direction = {-1, -1, -1}}}})",
+                   err);
+  INFO(err);
+  REQUIRE(status == 0);
+  render::Image im = render::read_png(out);
+  int reds = 0, blues = 0, greens = 0;
+  for (int y = 0; y < 80; ++y)
+    for (int x = 0; x < 80; ++x) {
+      auto p = im.pixel(x, y);
+      if (p[0] > p[2] + 60 && p[0] > 60) ++reds;
+      if (p[2] > p[0] + 60 && p[2] > 60) ++blues;
+      if (p[1] > p[0] + 60 && p[1] > p[2] + 60) ++greens;
+    }
+  auto mid = im.pixel(40, 40);
+  CHECK(mid[2] > mid[0] + 60);
+  CHECK(reds > 300);
+  CHECK(blues > 100);
+  CHECK(greens == 0);
+}

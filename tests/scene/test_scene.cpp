@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "brep/brep.h"
+#include "csg/boolean.h"
 #include "csg/brep_leaf.h"
 #include "scene/scene.h"
 
@@ -122,6 +123,31 @@ TEST_CASE("a group's material reaches the parts without one, and the picture sho
   CHECK(int(right[0]) < 30);
   CHECK(int(corner[0]) == 255);  // the white background
   CHECK(int(corner[2]) == 255);
+}
+
+TEST_CASE("a boolean part is drawn in the materials of the solids its faces came from", "[scene]") {
+  // [0,2]^3 minus the same block moved 1 along x: [0,1] x [0,2] x [0,2]. Its cut face x = 1
+  // (area 4) comes from the second block, the other five (4 + 2 + 2 + 2 + 2 = 12) from the first.
+  const Solid a = block(2, 2, 2).tagged(0), b = block(2, 2, 2).transformed(translate(Vec3(1, 0, 0))).tagged(1);
+  auto root = scene::group();
+  scene::add(*root, scene::instance(scene::part(Solid::boolean(BooleanOp::Difference, {a, b})), translate(Vec3(5, 0, 0))));
+  render::Material red, blue;
+  red.diffuse = render::Vec4f(1, 0, 0, 1);
+  blue.diffuse = render::Vec4f(0, 0, 1, 1);
+  const scene::TagMaterial by_tag = [&](int tag) -> std::optional<scene::OwnMaterial> {
+    return scene::OwnMaterial{tag == 0 ? red : blue, nullptr};
+  };
+  const scene::Drawable d = scene::draw_items(*root, Tolerance{}, {}, by_tag);
+  REQUIRE(d.items.size() == 2);
+  double red_area = 0, blue_area = 0;
+  for (const render::DrawItem& item : d.items) {
+    CHECK(item.transform(0, 3) == 5);
+    (item.material.diffuse == red.diffuse ? red_area : blue_area) += item.mesh->area();
+  }
+  CHECK(red_area == Approx(12));
+  CHECK(blue_area == Approx(4));
+  // Without a tag resolver the part is one piece in the scene's material.
+  CHECK(scene::draw_items(*root, Tolerance{}).items.size() == 1);
 }
 
 TEST_CASE("bad scenes are errors naming what is wrong", "[scene][errors]") {
