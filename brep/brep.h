@@ -91,6 +91,21 @@ struct ParamSurface {
 };
 using FaceSurface = std::variant<NoSurface, PlaneSurface, CylinderSurface, ParamSurface>;
 
+// A face's surface moved by the affine map m, as Model::transform moves it (a mirror reverses a
+// ParamSurface). A CylinderSurface stays one under a similarity; under any other map it becomes
+// the exact elliptic cylinder, a ParamSurface over the part of it inside `extent` (a box that
+// holds the face before the map; surface_patch's extruded circle).
+FaceSurface transformed_surface(const FaceSurface& s, const Mat4& m, const Box3& extent = Box3());
+// The same surface with the solid on its other side (a plane's normal negated, a cylinder's
+// `outward` and a ParamSurface's `reversed` toggled): a subtracted operand's face in a difference.
+FaceSurface flipped_surface(const FaceSurface& s);
+// The face's surface as a bounded surface of surfaces/ covering the part of it inside `extent` (a
+// box that holds the face): a Plane for a plane, the circle extruded along the axis for a cylinder,
+// a ParamSurface's own surface. `reversed` is set when the solid's outward normal is -(Su x Sv).
+// nullptr for NoSurface (it has no plane until fitted to a loop) or an empty extent for a plane or
+// cylinder.
+SurfacePtr surface_patch(const FaceSurface& s, const Box3& extent, bool& reversed);
+
 // The image of an edge in the (u, v) domain of the face on one of its sides: the straight segment
 // from `start` (at the curve's t0, the point of v[0]) to `end` (at t1), linear in t. A seam edge
 // has two (one per side, on the two borders of the domain); a pole is where consecutive sides'

@@ -232,19 +232,7 @@ void Model::transform(const Mat4& m) {
       a->axis = apply_vector(m, a->axis).normalized();
       a->radius *= s;
     }
-  for (auto [id, f] : surfaces_) {
-    if (auto* ps = std::get_if<ParamSurface>(&f)) {
-      ps->surface = std::make_shared<const TransformedSurface>(ps->surface, m);
-      if (det < 0) ps->reversed = !ps->reversed;  // a mirror turns Su x Sv inward
-    } else if (auto* p = std::get_if<PlaneSurface>(&f)) {
-      p->point = apply_point(m, p->point);
-      p->normal = apply_normal(m, p->normal);
-    } else if (auto* c = std::get_if<CylinderSurface>(&f)) {
-      c->origin = apply_point(m, c->origin);
-      c->axis = apply_vector(m, c->axis).normalized();
-      c->radius *= s;
-    }
-  }
+  for (auto [id, f] : surfaces_) f = transformed_surface(f, m);
   if (det < 0) {
     // A mirror: reverse every loop so outer loops stay counter-clockwise seen from outside.
     edges_.for_each([&](EdgeId e, const BrepEdge&) {
@@ -257,6 +245,88 @@ void Model::transform(const Mat4& m) {
       if (vx.out.valid()) vx.out = vx.out.mate();
     });
   }
+}
+
+namespace {
+// A unit vector perpendicular to the unit vector n.
+Vec3 perpendicular(const Vec3& n) {
+  Vec3 a = std::abs(n.x()) < 0.9 ? Vec3::UnitX() : Vec3::UnitY();
+  return (a - a.dot(n) * n).normalized();
+}
+}  // namespace
+
+SurfacePtr surface_patch(const FaceSurface& fs, const Box3& extent, bool& reversed) {
+  reversed = false;
+  if (auto* ps = std::get_if<ParamSurface>(&fs)) {
+    reversed = ps->reversed;
+    return ps->surface;
+  }
+  if (extent.empty()) return nullptr;
+  auto range = [&](const Point3& o, const Vec3& d) {
+    double lo = 1e300, hi = -1e300;
+    for (int i = 0; i < 8; ++i) {
+      const Vec3 c((i & 1) ? extent.max.x() : extent.min.x(), (i & 2) ? extent.max.y() : extent.min.y(),
+                   (i & 4) ? extent.max.z() : extent.min.z());
+      const double t = (c - o).dot(d);
+      lo = std::min(lo, t);
+      hi = std::max(hi, t);
+    }
+    if (!(hi > lo)) hi = lo + 1;  // a flat box along d: any positive range
+    return std::make_pair(lo, hi);
+  };
+  if (auto* pl = std::get_if<PlaneSurface>(&fs)) {
+    // x cross y = n: the plane's parameters run so that Su x Sv is the outward normal.
+    const Vec3 x = perpendicular(pl->normal), y = pl->normal.cross(x);
+    auto [u0, u1] = range(pl->point, x);
+    auto [v0, v1] = range(pl->point, y);
+    return std::make_shared<const Plane>(pl->point, x, y, u0, u1, v0, v1);
+  }
+  if (auto* cy = std::get_if<CylinderSurface>(&fs)) {
+    // The circle runs counter-clockwise about the axis and is extruded along it: Su x Sv points
+    // away from the axis.
+    reversed = !cy->outward;
+    auto [h0, h1] = range(cy->origin, cy->axis);
+    auto circle = std::make_shared<const CircularArc>(Point3(cy->origin + h0 * cy->axis), cy->radius, 0.0, 2 * kPi, cy->axis,
+                                                      perpendicular(cy->axis));
+    return std::make_shared<const ExtrudedSurface>(circle, (h1 - h0) * cy->axis);
+  }
+  return nullptr;
+}
+
+FaceSurface flipped_surface(const FaceSurface& fs) {
+  FaceSurface f = fs;
+  if (auto* ps = std::get_if<ParamSurface>(&f)) ps->reversed = !ps->reversed;
+  else if (auto* p = std::get_if<PlaneSurface>(&f)) p->normal = -p->normal;
+  else if (auto* c = std::get_if<CylinderSurface>(&f)) c->outward = !c->outward;
+  return f;
+}
+
+FaceSurface transformed_surface(const FaceSurface& fs, const Mat4& m, const Box3& extent) {
+  const Mat3 lin = m.block<3, 3>(0, 0);
+  const double det = lin.determinant();
+  FaceSurface f = fs;
+  if (auto* c = std::get_if<CylinderSurface>(&f)) {
+    const double s = std::cbrt(std::abs(det));
+    if (!(lin.transpose() * lin).isApprox(s * s * Mat3::Identity(), 1e-9)) {
+      bool reversed = false;
+      SurfacePtr patch = surface_patch(fs, extent, reversed);
+      if (!patch) fail("transform: a cylinder face under a non-uniform scale needs the box that holds it");
+      f = ParamSurface{patch, reversed, "cylinder"};
+    } else {
+      c->origin = apply_point(m, c->origin);
+      c->axis = apply_vector(m, c->axis).normalized();
+      c->radius *= s;
+      return f;
+    }
+  }
+  if (auto* ps = std::get_if<ParamSurface>(&f)) {
+    ps->surface = std::make_shared<const TransformedSurface>(ps->surface, m);
+    if (det < 0) ps->reversed = !ps->reversed;  // a mirror turns Su x Sv inward
+  } else if (auto* p = std::get_if<PlaneSurface>(&f)) {
+    p->point = apply_point(m, p->point);
+    p->normal = apply_normal(m, p->normal);
+  }
+  return f;
 }
 
 Validation Model::validate(bool geometry) const {

@@ -45,6 +45,10 @@ std::shared_ptr<const SolidLeaf> BrepLeaf::transformed(const Mat4& m) const {
 
 Mesh BrepLeaf::mesh(const Tolerance& tol) const { return tessellate(*model_, tol); }
 
+Mesh BrepLeaf::parametrised_mesh(const Tolerance& tol, CornerUvs& corner_uv) const {
+  return tessellate(*model_, tol, &corner_uv);
+}
+
 // The surface kind of a B-Rep face, as s:faces() names it.
 std::string surface_kind(const FaceSurface& fs) {
   if (std::holds_alternative<CylinderSurface>(fs)) return "cylinder";
@@ -61,6 +65,19 @@ std::vector<std::string> BrepLeaf::face_kinds() const {
   std::vector<std::string> kinds(model_->faces().capacity(), "plane");
   model_->faces().for_each([&](FaceId f, const BrepFace&) { kinds[static_cast<std::size_t>(f.value)] = surface_kind(model_->surface(f)); });
   return kinds;
+}
+
+FaceSurface face_surface(const Model& m, FaceId f) {
+  const FaceSurface& s = m.surface(f);
+  if (!std::holds_alternative<NoSurface>(s)) return s;
+  const auto vs = m.loop_vertices(m.faces()[f].outer);
+  return PlaneSurface{vs.empty() ? Point3::Zero() : m.point(vs.front()), m.face_normal(f)};
+}
+
+std::vector<FaceSurface> BrepLeaf::face_surfaces() const {
+  std::vector<FaceSurface> out(model_->faces().capacity());
+  model_->faces().for_each([&](FaceId f, const BrepFace&) { out[static_cast<std::size_t>(f.value)] = face_surface(*model_, f); });
+  return out;
 }
 
 }  // namespace wedge

@@ -16,12 +16,14 @@ class BrepLeaf final : public SolidLeaf {
   // tessellate/brep_mesh.h: each edge sampled once for both faces, faces triangulated in their
   // plane or parameter domain and refined to the tolerance.
   Mesh mesh(const Tolerance& tol) const override;
+  Mesh parametrised_mesh(const Tolerance& tol, CornerUvs& corner_uv) const override;
   Box3 bounds() const override { return model_->bounds(); }
   std::optional<MassProperties> mass_properties() const override;
   std::optional<EulerCounts> euler() const override { return model_->counts(); }
   std::string validate() const override { return model_->validate().message; }
   std::shared_ptr<const SolidLeaf> transformed(const Mat4& m) const override;
   std::vector<std::string> face_kinds() const override;
+  std::vector<FaceSurface> face_surfaces() const override;
   bool polyhedral() const override { return model_->all_planar() && !model_->has_param_faces(); }
   const Model& model() const { return *model_; }
 
@@ -32,6 +34,10 @@ class BrepLeaf final : public SolidLeaf {
 // The kind of a face's surface as s:faces() names it: "plane", "cylinder", or a curved builder's
 // name ("sphere", "torus", "revolved", ...); "nurbs" for an unnamed NURBS patch.
 std::string surface_kind(const FaceSurface& surface);
+
+// The face's surface with a NoSurface given as its plane (through the outer loop's first vertex,
+// normal from face_normal).
+FaceSurface face_surface(const Model& m, FaceId f);
 
 // A Solid whose leaf is the model (validated).
 Solid brep_solid(Model model);

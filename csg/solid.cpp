@@ -15,6 +15,7 @@
 #include "csg/brep_leaf.h"
 #include "kernel/parallel.h"
 #include "kernel/predicates.h"
+#include <limits>
 #include <numeric>
 
 #include <Eigen/Eigenvalues>
@@ -175,8 +176,9 @@ EvalOptions options() {
 }
 
 // Face ids for a mesh without its own: the connected regions of exactly coplanar, like-facing
-// triangles (orient3d of the neighbour's far corner is zero). Returns the region count.
-std::size_t planar_regions(Mesh& mesh) {
+// triangles (orient3d of the neighbour's far corner is zero). Returns the region count; `planes`
+// gets each region's plane (its first triangle's).
+std::size_t planar_regions(Mesh& mesh, std::vector<FaceSurface>& planes) {
   Mesh w = mesh.welded();
   const std::size_t n = w.triangles.size();
   std::unordered_map<std::uint64_t, std::uint32_t> edge_tri;  // directed edge -> triangle
@@ -192,6 +194,7 @@ std::size_t planar_regions(Mesh& mesh) {
     const auto& S = w.triangles[seed];
     const Point3 &a = w.positions[S[0]], &b = w.positions[S[1]], &c = w.positions[S[2]];
     const Vec3 ns = (b - a).cross(c - a);
+    planes.push_back(PlaneSurface{a, ns.normalized()});
     while (!stack.empty()) {
       std::uint32_t t = stack.back();
       stack.pop_back();
@@ -231,8 +234,12 @@ struct Evaluated {
   Mesh mesh;                       // face_ids index kinds
   std::vector<std::string> kinds;  // surface kind per face id
   std::vector<int> tags;           // tag per face id (-1: none)
+  std::vector<FaceSurface> surfaces;  // surface per face id, in this node's coordinates
+  CornerUvs corner_uv;                // per triangle: its corners' parameters (or empty)
   std::mutex rebuild_mutex;
   std::shared_ptr<const RebuiltSolid> rebuilt;
+  std::mutex shaded_mutex;
+  std::shared_ptr<const Mesh> shaded;
 };
 
 struct Solid::Node {
@@ -327,14 +334,23 @@ bool boxes_apart(const Box3& a, const Box3& b) {
   return false;
 }
 
+constexpr double kNan = std::numeric_limits<double>::quiet_NaN();
+const std::array<Vec2, 3> kNoUv{Vec2(kNan, kNan), Vec2(kNan, kNan), Vec2(kNan, kNan)};
+
 // Appends b's mesh and faces to a (face ids of b offset past a's).
 void append_evaluated(Evaluated& a, const Evaluated& b) {
   const std::int32_t offset = static_cast<std::int32_t>(a.kinds.size());
   const std::size_t t0 = a.mesh.triangles.size();
+  if (!a.corner_uv.empty() || !b.corner_uv.empty()) {
+    a.corner_uv.resize(t0, kNoUv);
+    if (b.corner_uv.empty()) a.corner_uv.resize(t0 + b.mesh.triangles.size(), kNoUv);
+    else a.corner_uv.insert(a.corner_uv.end(), b.corner_uv.begin(), b.corner_uv.end());
+  }
   a.mesh.append(b.mesh);
   for (std::size_t t = t0; t < a.mesh.face_ids.size(); ++t) a.mesh.face_ids[t] += offset;
   a.kinds.insert(a.kinds.end(), b.kinds.begin(), b.kinds.end());
   a.tags.insert(a.tags.end(), b.tags.begin(), b.tags.end());
+  a.surfaces.insert(a.surfaces.end(), b.surfaces.begin(), b.surfaces.end());
 }
 
 // The engine on some operands; the result's face ids number the operands' faces in turn.
@@ -344,6 +360,8 @@ std::shared_ptr<Evaluated> engine(BooleanOp op, const std::vector<std::shared_pt
     out->mesh = in[0]->mesh;
     out->kinds = in[0]->kinds;
     out->tags = in[0]->tags;
+    out->surfaces = in[0]->surfaces;
+    out->corner_uv = in[0]->corner_uv;
     return out;
   }
   std::vector<const Mesh*> ptrs;
@@ -353,6 +371,10 @@ std::shared_ptr<Evaluated> engine(BooleanOp op, const std::vector<std::shared_pt
     offset.push_back(static_cast<std::int32_t>(out->kinds.size()));
     out->kinds.insert(out->kinds.end(), e->kinds.begin(), e->kinds.end());
     out->tags.insert(out->tags.end(), e->tags.begin(), e->tags.end());
+    // A difference keeps the later operands' faces turned inside out (they bound the hole): their
+    // surfaces' outward side flips with them.
+    for (const FaceSurface& f : e->surfaces)
+      out->surfaces.push_back(op == BooleanOp::Difference && ptrs.size() > 1 ? flipped_surface(f) : f);
   }
   BooleanStats st;
   BooleanResult r = wedge::boolean(op, ptrs, &st, &run.cancel);
@@ -364,9 +386,15 @@ std::shared_ptr<Evaluated> engine(BooleanOp op, const std::vector<std::shared_pt
   run.count(&EvalStats::booleans);
   out->mesh = std::move(r.mesh);
   out->mesh.face_ids.resize(out->mesh.triangles.size());
+  bool any_uv = false;
+  for (const auto& e : in) any_uv = any_uv || !e->corner_uv.empty();
+  if (any_uv) out->corner_uv.assign(out->mesh.triangles.size(), kNoUv);
   for (std::size_t t = 0; t < out->mesh.triangles.size(); ++t) {
     const std::size_t o = static_cast<std::size_t>(r.operand[t]);
     out->mesh.face_ids[t] = offset[o] + in[o]->mesh.face_ids[static_cast<std::size_t>(r.source[t])];
+    // Where the triangle lies in its source triangle: the guess for its corners' parameters.
+    if (!in[o]->corner_uv.empty())
+      out->corner_uv[t] = interpolated_uv(in[o]->mesh, in[o]->corner_uv, static_cast<std::size_t>(r.source[t]), out->mesh, t);
   }
   return out;
 }
@@ -461,11 +489,13 @@ std::shared_ptr<Evaluated> compute_untagged(const Solid::Node& n, const Toleranc
     case Solid::Node::Kind::Leaf: {
       auto t0 = std::chrono::steady_clock::now();
       auto out = std::make_shared<Evaluated>();
-      out->mesh = n.leaf->mesh(tol);
+      out->mesh = n.leaf->parametrised_mesh(tol, out->corner_uv);
       out->kinds = n.leaf->face_kinds();
       if (out->kinds.empty()) {
-        out->kinds.assign(planar_regions(out->mesh), "plane");
+        out->kinds.assign(planar_regions(out->mesh, out->surfaces), "plane");
       } else {
+        out->surfaces = n.leaf->face_surfaces();
+        if (out->surfaces.size() != out->kinds.size()) fail("a leaf gives ", out->surfaces.size(), " face surfaces for ", out->kinds.size(), " faces");
         for (auto& id : out->mesh.face_ids)
           if (id < 0 || static_cast<std::size_t>(id) >= out->kinds.size()) fail("a leaf's mesh names face ", id, ", which it has not");
       }
@@ -479,6 +509,12 @@ std::shared_ptr<Evaluated> compute_untagged(const Solid::Node& n, const Toleranc
       out->mesh = c->mesh.transformed(n.matrix);
       out->kinds = c->kinds;
       out->tags = c->tags;
+      out->corner_uv = c->corner_uv;
+      if (reverses_orientation(n.matrix))  // Mesh::transformed swapped corners 1 and 2
+        for (auto& uv : out->corner_uv) std::swap(uv[1], uv[2]);
+      const Box3 extent = mesh_box(c->mesh);
+      out->surfaces.reserve(c->surfaces.size());
+      for (const FaceSurface& f : c->surfaces) out->surfaces.push_back(transformed_surface(f, n.matrix, extent));
       return out;
     }
     case Solid::Node::Kind::Boolean: {
@@ -643,6 +679,23 @@ std::vector<std::string> Solid::face_kinds(const Tolerance& tol) const { return 
 
 std::vector<int> Solid::face_tags(const Tolerance& tol) const { return evaluate_root(node_, tol)->tags; }
 
+std::vector<FaceSurface> Solid::face_surfaces(const Tolerance& tol) const { return evaluate_root(node_, tol)->surfaces; }
+
+Mesh Solid::shaded_mesh(const Tolerance& tol) const {
+  if (empty()) return Mesh();
+  if (node_->kind == Node::Kind::Leaf && node_->leaf->kind() == "mesh") {
+    Mesh m = node_->leaf->mesh(tol);
+    if (!m.normals.empty()) {
+      m.face_ids = evaluate_root(node_, tol)->mesh.face_ids;  // the same triangles, in order
+      return m;
+    }
+  }
+  auto e = evaluate_root(node_, tol);
+  std::lock_guard<std::mutex> lock(e->shaded_mutex);
+  if (!e->shaded) e->shaded = std::make_shared<const Mesh>(wedge::shaded_mesh(e->mesh, e->surfaces, e->corner_uv));
+  return *e->shaded;
+}
+
 Solid Solid::tagged(int tag) const {
   if (tag < 0) fail("tagged: a tag is a number >= 0, got ", tag);
   auto n = std::make_shared<Node>(*node_);
@@ -655,7 +708,13 @@ std::shared_ptr<const RebuiltSolid> Solid::rebuilt(const Tolerance& tol) const {
   std::lock_guard<std::mutex> lock(e->rebuild_mutex);
   if (!e->rebuilt) {
     auto t0 = std::chrono::steady_clock::now();
-    e->rebuilt = std::make_shared<const RebuiltSolid>(rebuild_brep(e->mesh.welded()));
+    auto r = std::make_shared<RebuiltSolid>(rebuild_brep(e->mesh.welded()));
+    // Each face carries the surface of the source face its triangles came from.
+    r->model.faces().for_each([&](FaceId f, const BrepFace&) {
+      const std::int32_t src = r->source.at(f.value);
+      if (src >= 0 && static_cast<std::size_t>(src) < e->surfaces.size()) r->model.set_surface(f, e->surfaces[static_cast<std::size_t>(src)]);
+    });
+    e->rebuilt = std::move(r);
     if (const EvalControl* c = g_control.load(); c && c->stats) c->stats->rebuild += elapsed_ms(t0);
   }
   return e->rebuilt;
@@ -669,13 +728,15 @@ std::vector<SolidFace> Solid::faces(const Tolerance& tol) const {
       const Model& m = b->model();
       Mesh mesh = b->mesh(tol);
       std::unordered_map<std::int32_t, double> area;
+      std::unordered_map<std::int32_t, Box3> box;
       for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
         const auto& T = mesh.triangles[t];
         area[mesh.face_ids[t]] +=
             0.5 * (mesh.positions[T[1]] - mesh.positions[T[0]]).cross(mesh.positions[T[2]] - mesh.positions[T[0]]).norm();
+        for (int k = 0; k < 3; ++k) box[mesh.face_ids[t]].extend(mesh.positions[T[k]]);
       }
       m.faces().for_each([&](FaceId f, const BrepFace& face) {
-        out.push_back({surface_kind(m.surface(f)), area[f.value], 1 + static_cast<int>(face.rings.size())});
+        out.push_back({surface_kind(m.surface(f)), area[f.value], 1 + static_cast<int>(face.rings.size()), face_surface(m, f), box[f.value]});
       });
       return out;
     }
@@ -684,7 +745,11 @@ std::vector<SolidFace> Solid::faces(const Tolerance& tol) const {
   r->model.faces().for_each([&](FaceId f, const BrepFace& face) {
     std::int32_t src = r->source.at(f.value);
     std::string kind = src >= 0 && static_cast<std::size_t>(src) < e->kinds.size() ? e->kinds[static_cast<std::size_t>(src)] : "plane";
-    out.push_back({kind, r->area.at(f.value), 1 + static_cast<int>(face.rings.size())});
+    Box3 box;
+    for (VertexId v : r->model.loop_vertices(face.outer)) box.extend(r->model.point(v));
+    FaceSurface geometry = r->model.surface(f);
+    if (std::holds_alternative<NoSurface>(geometry)) geometry = face_surface(r->model, f);
+    out.push_back({kind, r->area.at(f.value), 1 + static_cast<int>(face.rings.size()), std::move(geometry), box});
   });
   return out;
 }

@@ -17,6 +17,7 @@
 #include "csg/boolean.h"
 #include "csg/membership.h"
 #include "csg/rebuild.h"
+#include "csg/shading.h"
 #include "kernel/kernel.h"
 
 namespace wedge {
@@ -35,6 +36,12 @@ class SolidLeaf {
   virtual std::string kind() const = 0;                   // "brep", "mesh", ...
   // A closed, outward-oriented triangle mesh within `tol` of the exact boundary.
   virtual Mesh mesh(const Tolerance& tol) const = 0;
+  // As mesh(tol), and for each triangle the (u, v) of its corners on its face's ParamSurface
+  // (csg/shading.h); a leaf without parametrised faces leaves `corner_uv` empty.
+  virtual Mesh parametrised_mesh(const Tolerance& tol, CornerUvs& corner_uv) const {
+    corner_uv.clear();
+    return mesh(tol);
+  }
   virtual Box3 bounds() const = 0;
   // Exact answers where the leaf has them; nullopt means "ask the mesh".
   virtual std::optional<MassProperties> mass_properties() const { return std::nullopt; }
@@ -50,6 +57,9 @@ class SolidLeaf {
   // indexed by the id; empty when the mesh carries no face ids of its own (its coplanar regions
   // are then its faces).
   virtual std::vector<std::string> face_kinds() const { return {}; }
+  // The surface of each face id that mesh() puts on its triangles, indexed like face_kinds()
+  // (a plane's NoSurface given as its PlaneSurface); empty when face_kinds() is.
+  virtual std::vector<FaceSurface> face_surfaces() const { return {}; }
 };
 
 // A face of a solid as s:faces() lists it.
@@ -57,6 +67,10 @@ struct SolidFace {
   std::string surface;  // "plane", "cylinder", "cone", "sphere", "torus", "nurbs", "revolved", ...
   double area = 0;      // of its triangles at the tolerance asked
   int loops = 0;        // 1 + its rings
+  // The surface itself, in the solid's coordinates: for a boolean result, the surface of the
+  // source face its triangles came from (a sphere's face of `sphere(1) - cube(1)` is the sphere).
+  FaceSurface geometry;
+  Box3 bounds;  // of the face's triangles (surface_patch's extent for planes and cylinders)
 };
 
 // Progress and cancel for the evaluation of CSG trees. `progress` is called after each boolean
@@ -135,6 +149,13 @@ class Solid {
   // The mesh with face ids that index face_kinds(tol) (a boolean's faces numbered across its operands).
   Mesh tagged_mesh(const Tolerance& tol) const;
   std::vector<std::string> face_kinds(const Tolerance& tol) const;
+  // The surface of each face id of tagged_mesh(tol), in the solid's coordinates.
+  std::vector<FaceSurface> face_surfaces(const Tolerance& tol) const;
+  // The mesh for rendering and export (csg/shading.h): vertices split per face, each vertex's
+  // normal the outward normal of its face's surface there (for a boolean result, the source
+  // surface: never averaged from triangles) and its uv that surface's parameters; face ids as in
+  // tagged_mesh(tol). An imported mesh that has its own normals is given as it is.
+  Mesh shaded_mesh(const Tolerance& tol) const;
   // A copy whose faces carry `tag` (a material, a colour: the caller's number) wherever no tag
   // from further down the tree is on them; booleans keep each face's tag, so every face of a
   // result keeps the tag of the solid it came from. face_tags(tol)[id] is the tag of face id of

@@ -340,6 +340,16 @@ Mesh with_uvs_if_textured(Mesh mesh, bool textured) {
   return mesh;
 }
 
+// A solid's mesh for drawing: normals from its faces' surfaces (Solid::shaded_mesh). Its uvs (the
+// surfaces' parameters, in each surface's own units) are dropped: a texture on a solid is laid
+// on by the box mapping, the same on every face.
+Mesh shading_mesh(const Solid& s, const Tolerance& tol) {
+  Mesh m = s.shaded_mesh(tol);
+  m.uvs.clear();
+  if (m.normals.empty()) m = m.with_face_normals();
+  return m;
+}
+
 // A solid whose faces carry the materials of several solids (a boolean of solids with
 // s:material{}): one item per material, each face drawn in the material of the solid it came
 // from. Adds nothing and returns false when the faces carry at most one material.
@@ -357,7 +367,7 @@ bool draw_by_face_tags(lua_State* L, int obj, const Solid& s, Drawn& drawn) {
     const int type = tag >= 0 ? push_tag_material(L, tag) : push_material(L, obj);
     if (type == LUA_TTABLE) item.material = read_material(L, lua_gettop(L), 1, item.texture);
     lua_settop(L, top);
-    drawn.meshes.push_back(with_uvs_if_textured(part.with_face_normals(), item.texture != nullptr));
+    drawn.meshes.push_back(with_uvs_if_textured(std::move(part), item.texture != nullptr));
     item.mesh = &drawn.meshes.back();
     drawn.items.push_back(std::move(item));
   }
@@ -415,10 +425,11 @@ void read_drawn(lua_State* L, const char* fn, Drawn& drawn) {
     if (lua_istable(L, obj)) lua_pop(L, 1);
     {
       Stage stage(L, "mesh");
-      mesh = to_mesh(L, obj, 1, current_tolerance(L));
+      // A solid shades flat across its faces' edges and smooth within a curved face, with the
+      // normals of its surfaces.
+      const Solid* s = test_solid(L, obj);
+      mesh = s ? shading_mesh(*s, current_tolerance(L)) : to_mesh(L, obj, 1, current_tolerance(L));
     }
-    // A solid shades flat across its faces' edges and smooth within a curved face.
-    if (test_solid(L, obj)) mesh = mesh.with_face_normals();
     if (test_solid(L, obj) && push_material(L, obj) == LUA_TTABLE) item.material = read_material(L, lua_gettop(L), 1, item.texture);
     else if (lua_gettop(L) > obj) lua_pop(L, 1);
     lua_settop(L, obj);

@@ -6,6 +6,7 @@
 
 #include "lua/lua_util.h"
 #include "lua/wedge_lua.h"
+#include "lua/wrap_curve.h"
 #include "lua/wrap_matrix.h"
 #include "lua/wrap_render.h"
 
@@ -209,7 +210,9 @@ int cells_m(lua_State* L) {
   });
 }
 
-// s:faces() -> { {surface=, area=, loops=}, ... }
+// s:faces() -> { {surface=, area=, loops=, geometry=, reversed=}, ... }: geometry is the face's
+// surface as a Surface (S:eval, S:normal over (u, v) in [0, 1]^2; a plane or cylinder bounded to
+// the face's box), reversed true when the outward normal is -S:normal.
 int faces_m(lua_State* L) {
   return guarded(L, [&] {
     std::vector<SolidFace> faces = self(L).faces(current_tolerance(L));
@@ -222,6 +225,13 @@ int faces_m(lua_State* L) {
       lua_setfield(L, -2, "area");
       lua_pushinteger(L, faces[i].loops);
       lua_setfield(L, -2, "loops");
+      bool reversed = false;
+      if (SurfacePtr patch = surface_patch(faces[i].geometry, faces[i].bounds, reversed)) {
+        push_surface(L, LuaSurface{{patch}});
+        lua_setfield(L, -2, "geometry");
+        lua_pushboolean(L, reversed);
+        lua_setfield(L, -2, "reversed");
+      }
       lua_rawseti(L, -2, static_cast<lua_Integer>(i + 1));
     }
     return 1;

@@ -12,11 +12,12 @@
 namespace wedge::lua {
 
 namespace {
-
 constexpr const char* kKey = "wedge.Surface";
-
+}  // namespace
 
 void push_surface(lua_State* L, LuaSurface s) { push_object(L, kKey, std::move(s)); }
+
+namespace {
 
 // Depth of nesting of tables at the top of the stack along t[1][1]...: 1 for {1, 2}, 2 for a list
 // of points, 3 for a grid of points.

@@ -241,7 +241,9 @@ std::vector<InstanceRow> instance_table(const Node& root) {
 }
 
 std::map<int, Mesh> split_by_tags(const Solid& solid, const Tolerance& tol) {
-  const Mesh mesh = solid.tagged_mesh(tol);
+  // The shading mesh (normals from the faces' surfaces; face ids as tagged_mesh's).
+  const Mesh mesh = solid.shaded_mesh(tol);
+  const bool normals = mesh.normals.size() == mesh.positions.size();
   const std::vector<int> tags = solid.face_tags(tol);
   std::map<int, Mesh> parts;
   std::map<int, std::unordered_map<std::uint32_t, std::uint32_t>> index;
@@ -252,7 +254,10 @@ std::map<int, Mesh> split_by_tags(const Solid& solid, const Tolerance& tol) {
     std::uint32_t v[3];
     for (int k = 0; k < 3; ++k) {
       auto [it, fresh] = ix.emplace(mesh.triangles[t][k], static_cast<std::uint32_t>(part.positions.size()));
-      if (fresh) part.positions.push_back(mesh.positions[mesh.triangles[t][k]]);
+      if (fresh) {
+        part.positions.push_back(mesh.positions[mesh.triangles[t][k]]);
+        if (normals) part.normals.push_back(mesh.normals[mesh.triangles[t][k]]);
+      }
       v[k] = it->second;
     }
     part.add_triangle(v[0], v[1], v[2], mesh.face_ids[t]);

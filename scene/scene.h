@@ -121,8 +121,8 @@ using OwnMaterial = std::pair<render::Material, std::shared_ptr<const render::Te
 using TagMaterial = std::function<std::optional<OwnMaterial>(int tag)>;
 Drawable draw_items(const Node& root, const Tolerance& tol, const std::function<void()>& step = {},
                     const TagMaterial& tag_material = {});
-// A solid's tagged mesh split by face tag (Solid::face_tags): one mesh per tag, -1 for untagged
-// faces, each with its own vertices.
+// A solid's shading mesh (Solid::shaded_mesh: normals from its faces' surfaces) split by face tag
+// (Solid::face_tags): one mesh per tag, -1 for untagged faces, each with its own vertices.
 std::map<int, Mesh> split_by_tags(const Solid& solid, const Tolerance& tol);
 // The scene drawn with `options` (options.camera as given; render::named_view(..., bounds) fits one).
 render::Image picture(const Node& root, const render::RenderOptions& options, const Tolerance& tol);

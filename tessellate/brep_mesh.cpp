@@ -261,7 +261,10 @@ class ProgressReport {
 
 void set_tessellate_progress(const TessellateProgress* progress) { t_progress = progress; }
 
-Mesh tessellate(const Model& m, const Tolerance& tol_in) {
+Mesh tessellate(const Model& m, const Tolerance& tol_in, std::vector<std::array<Vec2, 3>>* corner_uv) {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const std::array<Vec2, 3> no_uv{Vec2(nan, nan), Vec2(nan, nan), Vec2(nan, nan)};
+  if (corner_uv) corner_uv->clear();
   Tolerance tol = tol_in;
   if (!(tol.chordal > 0)) fail("tessellate: the chordal tolerance must be positive");
   if (!(tol.angular > 0)) tol.angular = 180;
@@ -657,8 +660,24 @@ Mesh tessellate(const Model& m, const Tolerance& tol_in) {
       if (a == b || b == c || a == c) continue;
       if (sign > 0) out.add_triangle(a, b, c, f.value);
       else out.add_triangle(a, c, b, f.value);
+      if (corner_uv) {
+        // A pole's point stands for the whole collapsed row: each triangle takes it at the middle
+        // of its other corners along the free axis (where its own limit normal is).
+        std::array<Vec2, 3> uv;
+        for (int k = 0; k < 3; ++k) {
+          const VInfo& vi = fh->vertex(k)->info();
+          uv[static_cast<std::size_t>(k)] = vi.uv;
+          if (vi.free_axis >= 0)
+            uv[static_cast<std::size_t>(k)][vi.free_axis] =
+                (fh->vertex((k + 1) % 3)->info().uv[vi.free_axis] + fh->vertex((k + 2) % 3)->info().uv[vi.free_axis]) / 2;
+        }
+        if (sign <= 0) std::swap(uv[1], uv[2]);
+        corner_uv->resize(out.triangles.size(), no_uv);
+        corner_uv->back() = uv;
+      }
     }
   });
+  if (corner_uv) corner_uv->resize(out.triangles.size(), no_uv);
   return out;
 }
 

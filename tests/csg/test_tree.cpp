@@ -80,6 +80,242 @@ TEST_CASE("rebuild: a sphere minus a cube keeps one spherical face and three pla
   }
 }
 
+namespace {
+// The outward unit normal of a face's surface at (u, v) of its patch, and the point there.
+struct Sample {
+  Point3 p;
+  Vec3 n;
+};
+std::vector<Sample> samples(const SolidFace& f, int k = 7) {
+  bool reversed = false;
+  SurfacePtr S = surface_patch(f.geometry, f.bounds, reversed);
+  REQUIRE(S);
+  std::vector<Sample> out;
+  auto [u0, u1] = S->u_domain();
+  auto [v0, v1] = S->v_domain();
+  for (int i = 1; i < k; ++i)
+    for (int j = 1; j < k; ++j) {
+      const double u = u0 + (u1 - u0) * i / k, v = v0 + (v1 - v0) * j / k;
+      out.push_back({S->eval(u, v), reversed ? Vec3(-S->normal(u, v)) : S->normal(u, v)});
+    }
+  return out;
+}
+}  // namespace
+
+TEST_CASE("rebuild: the faces of a result carry their source surfaces, not only their names", "[tree][rebuild]") {
+  // sphere(1) at c minus the cube [c, c + 2]^3: the spherical face is the sphere itself (every
+  // point at distance 1 from c, outward normal (p - c)); the three cut faces are the planes
+  // x = c.x, y = c.y, z = c.z with outward normals +x, +y, +z (the solid is on their low side).
+  Tolerance tol;
+  tol.chordal = 1e-2;
+  const Point3 c(0.1, -0.2, 0.3);
+  Solid d = Solid::boolean(BooleanOp::Difference, {brep_solid(sphere(1, c)), box_solid(Vec3(2, 2, 2), c)});
+  int planes = 0, spheres = 0;
+  for (const auto& f : d.faces(tol)) {
+    if (f.surface == "sphere") {
+      ++spheres;
+      REQUIRE(std::holds_alternative<ParamSurface>(f.geometry));
+      for (const auto& s : samples(f)) {
+        CHECK((s.p - c).norm() == Approx(1).epsilon(1e-12));
+        CHECK(s.n.dot(s.p - c) == Approx(1).epsilon(1e-9));
+      }
+    } else {
+      ++planes;
+      REQUIRE(std::holds_alternative<PlaneSurface>(f.geometry));
+      const auto& pl = std::get<PlaneSurface>(f.geometry);
+      int axis = -1;
+      for (int a = 0; a < 3; ++a)
+        if (std::abs(pl.normal[a]) > 0.5) axis = a;
+      REQUIRE(axis >= 0);
+      CHECK(pl.normal[axis] == Approx(1).epsilon(1e-12));
+      for (const auto& s : samples(f, 3)) {
+        CHECK(s.p[axis] == Approx(c[axis]).margin(1e-12));
+        CHECK((s.n - Vec3::Unit(axis)).norm() < 1e-12);
+      }
+    }
+  }
+  CHECK(spheres == 1);
+  CHECK(planes == 3);
+}
+
+TEST_CASE("rebuild: a drilled box stretched by a transform keeps the exact elliptic bore", "[tree][rebuild]") {
+  // [0,4]^2 x [0,1] minus the cylinder of radius 1 about x = y = 2, then scaled by (2, 1, 1): the
+  // bore becomes the elliptic cylinder ((x - 4) / 2)^2 + (y - 2)^2 = 1, and the solid's outward
+  // normal there points into the bore, against the gradient ((x - 4) / 4, y - 2, 0).
+  Tolerance tol;
+  tol.chordal = 1e-2;
+  Solid d = Solid::boolean(BooleanOp::Difference, {box_solid(Vec3(4, 4, 1)), brep_solid(cylinder(1, 3, Point3(2, 2, -1)))})
+                .transformed(scale(Vec3(2, 1, 1)));
+  int bores = 0;
+  for (const auto& f : d.faces(tol)) {
+    if (f.surface != "cylinder") continue;
+    ++bores;
+    REQUIRE(std::holds_alternative<ParamSurface>(f.geometry));
+    for (const auto& s : samples(f)) {
+      const double x = s.p.x() - 4, y = s.p.y() - 2;
+      CHECK(x * x / 4 + y * y == Approx(1).epsilon(1e-12));
+      const Vec3 grad = Vec3(x / 4, y, 0).normalized();
+      CHECK((s.n + grad).norm() < 1e-9);
+    }
+  }
+  CHECK(bores >= 1);
+}
+
+TEST_CASE("rebuild: a planar builder's cylinder face is its exact cylinder, also after a stretch", "[tree][rebuild]") {
+  // surface_patch of a CylinderSurface (axis +z through (1, 2, 0), radius 0.5, solid outside):
+  // points at distance 0.5 from the axis, outward normal pointing to the axis.
+  CylinderSurface cy{Point3(1, 2, 0), Vec3::UnitZ(), 0.5, false};
+  SolidFace f;
+  f.geometry = cy;
+  f.bounds.extend(Point3(0.5, 1.5, -1));
+  f.bounds.extend(Point3(1.5, 2.5, 3));
+  for (const auto& s : samples(f)) {
+    const Vec3 r(s.p.x() - 1, s.p.y() - 2, 0);
+    CHECK(r.norm() == Approx(0.5).epsilon(1e-12));
+    CHECK(s.p.z() >= -1 - 1e-12);
+    CHECK(s.p.z() <= 3 + 1e-12);
+    CHECK((s.n + r / 0.5).norm() < 1e-12);
+  }
+  // Stretched by 3 along x: the elliptic cylinder ((x - 3) / 1.5)^2 + ((y - 2) / 0.5)^2 = 1.
+  f.geometry = transformed_surface(cy, scale(Vec3(3, 1, 1)), f.bounds);
+  REQUIRE(std::holds_alternative<ParamSurface>(f.geometry));
+  f.bounds = Box3();
+  f.bounds.extend(Point3(1.5, 1.5, -1));
+  f.bounds.extend(Point3(4.5, 2.5, 3));
+  for (const auto& s : samples(f)) {
+    const double x = s.p.x() - 3, y = s.p.y() - 2;
+    CHECK(x * x / 2.25 + y * y / 0.25 == Approx(1).epsilon(1e-12));
+    CHECK((s.n + Vec3(x / 2.25, y / 0.25, 0).normalized()).norm() < 1e-9);
+  }
+}
+
+namespace {
+// The largest angle (radians) between a shaded mesh's vertex normals and `exact` at the vertices
+// of the faces `on` accepts (by surface kind); counts those vertices in `n`.
+template <class Exact>
+double worst_angle(const Mesh& m, const std::vector<std::string>& kinds, const std::string& on, Exact exact, int& n) {
+  double worst = 0;
+  n = 0;
+  std::vector<bool> seen(m.positions.size(), false);
+  for (std::size_t t = 0; t < m.triangles.size(); ++t) {
+    if (kinds.at(static_cast<std::size_t>(m.face_ids[t])) != on) continue;
+    for (std::uint32_t i : m.triangles[t]) {
+      if (seen[i]) continue;
+      seen[i] = true;
+      ++n;
+      const Vec3 e = exact(m.positions[i]);
+      worst = std::max(worst, std::atan2(m.normals[i].cross(e).norm(), m.normals[i].dot(e)));
+    }
+  }
+  return worst;
+}
+}  // namespace
+
+TEST_CASE("shading: normals of a sphere minus a cube are the sphere's and the planes' exact normals", "[tree][shading]") {
+  // At every vertex of the spherical face, new vertices on the cut circles included, the normal is
+  // the radial direction (p - c) / |p - c| (the sphere's normal at the point nearest p); on the
+  // cut faces +x, +y, +z. Facet averaging misses the first by about the chord angle.
+  Tolerance tol;
+  tol.chordal = 1e-3;
+  const Point3 c(0.1, -0.2, 0.3);
+  Solid d = Solid::boolean(BooleanOp::Difference, {brep_solid(sphere(1, c)), box_solid(Vec3(2, 2, 2), c)});
+  const Mesh m = d.shaded_mesh(tol);
+  const auto kinds = d.face_kinds(tol);
+  REQUIRE(m.normals.size() == m.positions.size());
+  REQUIRE(m.uvs.size() == m.positions.size());
+  int n = 0;
+  CHECK(worst_angle(m, kinds, "sphere", [&](const Point3& p) { return Vec3((p - c).normalized()); }, n) < 1e-9);
+  CHECK(n > 100);
+  // The cut faces: the normal is the axis the face is perpendicular to (the plane's coordinate
+  // equals c's there).
+  double worst = 0;
+  for (std::size_t t = 0; t < m.triangles.size(); ++t) {
+    if (kinds.at(static_cast<std::size_t>(m.face_ids[t])) != "plane") continue;
+    // The triangle's plane: the axis along which all three corners have c's coordinate.
+    int axis = -1;
+    for (int a = 0; a < 3; ++a) {
+      bool on = true;
+      for (std::uint32_t i : m.triangles[t]) on = on && m.positions[i][a] == c[a];
+      if (on) axis = a;
+    }
+    REQUIRE(axis >= 0);
+    for (std::uint32_t i : m.triangles[t]) worst = std::max(worst, (m.normals[i] - Vec3::Unit(axis)).norm());
+  }
+  CHECK(worst < 1e-12);
+  // The facet-averaged normals of the same mesh are off by far more: the test can tell them apart.
+  Mesh averaged = d.tagged_mesh(tol).with_face_normals();
+  CHECK(worst_angle(averaged, kinds, "sphere", [&](const Point3& p) { return Vec3((p - c).normalized()); }, n) > 1e-3);
+  // uv: the surface's parameters at the point nearest each vertex, which lies on the sphere along
+  // the vertex's radial direction.
+  const auto surfaces = d.face_surfaces(tol);
+  double off = 0;
+  for (std::size_t t = 0; t < m.triangles.size(); ++t) {
+    const auto* ps = std::get_if<ParamSurface>(&surfaces.at(static_cast<std::size_t>(m.face_ids[t])));
+    if (!ps) continue;
+    for (std::uint32_t i : m.triangles[t]) {
+      const Point3 q = ps->surface->eval(m.uvs[i].x(), m.uvs[i].y());
+      off = std::max(off, (q - (c + (m.positions[i] - c).normalized())).norm());
+    }
+  }
+  CHECK(off < 1e-9);
+}
+
+TEST_CASE("shading: a cylinder drilled through a box has the bore's exact normals", "[tree][shading]") {
+  // [0,4]^2 x [0,2] minus the cylinder of radius 1 about x = y = 2: on the bore the solid's
+  // outward normal points to the axis, -(x - 2, y - 2, 0) / r; the drill's vertices were cut at
+  // z = 0 and z = 2, where the boolean made new ones.
+  Tolerance tol;
+  tol.chordal = 1e-3;
+  Solid d = Solid::boolean(BooleanOp::Difference, {box_solid(Vec3(4, 4, 2)), brep_solid(cylinder(1, 4, Point3(2, 2, -1)))});
+  const Mesh m = d.shaded_mesh(tol);
+  const auto kinds = d.face_kinds(tol);
+  int n = 0;
+  CHECK(worst_angle(m, kinds, "cylinder", [](const Point3& p) { return Vec3(-Vec3(p.x() - 2, p.y() - 2, 0).normalized()); }, n) < 1e-9);
+  CHECK(n > 50);
+  // The same after a rotation and a mirror of the result (a transform node over the boolean).
+  const Mat4 mm = scale(Vec3(-1, 1, 1)) * rotate(30, Vec3(1, 1, 0).normalized());
+  Solid t = d.transformed(mm);
+  const Mesh tm = t.shaded_mesh(tol);
+  const Mat3 inv = mm.block<3, 3>(0, 0).inverse();
+  const Vec3 axis_point = apply_point(mm, Point3(2, 2, 0));
+  const Vec3 axis_dir = (mm.block<3, 3>(0, 0) * Vec3::UnitZ()).normalized();
+  (void)inv;
+  CHECK(worst_angle(tm, t.face_kinds(tol), "cylinder",
+                    [&](const Point3& p) {
+                      Vec3 r = p - axis_point;
+                      return Vec3(-(r - r.dot(axis_dir) * axis_dir).normalized());
+                    },
+                    n) < 1e-9);
+  CHECK(n > 50);
+  // Every triangle is counter-clockwise about its vertices' normals (the mirror kept them outward).
+  int against = 0;
+  for (std::size_t i = 0; i < tm.triangles.size(); ++i)
+    against += tm.triangle_normal(i).dot(tm.normals[tm.triangles[i][0]]) < 0;
+  CHECK(against == 0);
+}
+
+TEST_CASE("shading: a tessellated sphere and torus have their closed-form normals at every vertex", "[tree][shading]") {
+  Tolerance tol;
+  tol.chordal = 1e-3;
+  const Point3 c(1, 2, 3);
+  Solid s = brep_solid(sphere(2, c));
+  const Mesh m = s.shaded_mesh(tol);
+  int n = 0;
+  CHECK(worst_angle(m, s.face_kinds(tol), "sphere", [&](const Point3& p) { return Vec3((p - c).normalized()); }, n) < 1e-9);
+  CHECK(n > 100);
+  // Torus R = 2, r = 0.5 about +z through the origin: the normal is from the nearest point of the
+  // core circle to p.
+  Solid tor = brep_solid(torus(2, 0.5));
+  const Mesh tm = tor.shaded_mesh(tol);
+  CHECK(worst_angle(tm, tor.face_kinds(tol), "torus",
+                    [](const Point3& p) {
+                      const Vec3 core = 2 * Vec3(p.x(), p.y(), 0).normalized();
+                      return Vec3((p - core).normalized());
+                    },
+                    n) < 1e-9);
+  CHECK(n > 100);
+}
+
 TEST_CASE("rebuild: a sphere drilled through keeps an annular spherical face", "[tree][rebuild]") {
   Tolerance tol;
   tol.chordal = 2e-3;

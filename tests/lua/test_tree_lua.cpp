@@ -88,6 +88,35 @@ TEST_CASE("s:faces lists the faces a boolean kept, with their surfaces", "[lua][
   CHECK(r.status == 0);
 }
 
+TEST_CASE("s:faces gives each face its surface as a Surface with its outward side", "[lua][tree]") {
+  // sphere(1) minus cube(2): the spherical face's geometry is the unit sphere (points at distance
+  // 1 from the origin, outward normal equal to the point); the cut planes x = 0, y = 0, z = 0
+  // have outward normals +x, +y, +z.
+  auto r = run(R"(
+    local d = sphere(1) - cube(2)
+    local spheres, planes = 0, 0
+    for _, f in ipairs(d:faces()) do
+      local S = f.geometry
+      assert(S, "face without geometry")
+      for _, uv in ipairs{{0.2, 0.3}, {0.5, 0.5}, {0.8, 0.6}} do
+        local p, n = S:eval(uv[1], uv[2]), S:normal(uv[1], uv[2])
+        if f.reversed then n = {-n[1], -n[2], -n[3]} end
+        if f.surface == "sphere" then
+          assert(math.abs(math.sqrt(p[1]^2 + p[2]^2 + p[3]^2) - 1) < 1e-12)
+          assert(math.abs(n[1] * p[1] + n[2] * p[2] + n[3] * p[3] - 1) < 1e-9)
+        else
+          local a = math.abs(n[1]) > 0.5 and 1 or math.abs(n[2]) > 0.5 and 2 or 3
+          assert(math.abs(p[a]) < 1e-12 and math.abs(n[a] - 1) < 1e-12, "plane " .. a)
+        end
+      end
+      if f.surface == "sphere" then spheres = spheres + 1 else planes = planes + 1 end
+    end
+    assert(spheres == 1 and planes == 3)
+  )");
+  INFO(r.err);
+  CHECK(r.status == 0);
+}
+
 TEST_CASE("s:contains and s:cells name a bad argument", "[lua][tree]") {
   auto bad = [](const std::string& code) { return run(code).err; };
   CHECK_THAT(bad("box(1,1,1):contains(3)"), Catch::Contains("tree.lua:1:") && Catch::Contains("contains"));
