@@ -1,9 +1,11 @@
 // Lua bindings of mesh files: export(value, path [, {ascii=, tolerance=}]) and import(path).
 #include <cctype>
+#include <map>
 
 #include "lua/lua_util.h"
 #include "lua/wedge_lua.h"
 #include "lua/wrap_curve.h"
+#include "lua/wrap_render.h"
 #include "lua/wrap_scene.h"
 #include "lua/wrap_solid.h"
 #include "lua/wrap_wireframe.h"
@@ -47,6 +49,35 @@ int export_split(lua_State* L, const std::string& path, const Tolerance& tol, co
   return 1;
 }
 
+// The colour of each triangle of a solid's mesh (face ids indexing `tags`): the diffuse colour of
+// the material its face came from (s:material{} on an operand of a boolean), else of the solid's
+// own material, else OpenGL's default; empty when no face has a material.
+std::vector<Vec3> triangle_colours(lua_State* L, int obj, const Mesh& mesh, const std::vector<int>& tags) {
+  std::map<int, Vec3> colour;  // by tag; -1: the solid's own material
+  bool any = false;
+  auto of = [&](int tag) {
+    auto it = colour.find(tag);
+    if (it != colour.end()) return it->second;
+    const int top = lua_gettop(L);
+    const int type = tag >= 0 ? push_tag_material(L, tag) : push_material(L, obj);
+    render::Material m;
+    std::shared_ptr<const render::Texture> texture;
+    if (type == LUA_TTABLE) {
+      m = read_material(L, lua_gettop(L), 1, texture);
+      any = true;
+    }
+    lua_settop(L, top);
+    return colour[tag] = Vec3(m.diffuse[0], m.diffuse[1], m.diffuse[2]);
+  };
+  std::vector<Vec3> out(mesh.triangles.size());
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+    const std::int32_t f = mesh.face_ids.empty() ? -1 : mesh.face_ids[t];
+    out[t] = of(f >= 0 && static_cast<std::size_t>(f) < tags.size() ? tags[static_cast<std::size_t>(f)] : -1);
+  }
+  if (!any) out.clear();
+  return out;
+}
+
 int export_fn(lua_State* L) {
   return guarded(L, [&] {
     std::string path = check_string(L, 2);
@@ -80,7 +111,18 @@ int export_fn(lua_State* L) {
     Mesh mesh;
     {
       Stage stage(L, "mesh");
-      mesh = surface && surface->patches.size() == 1 ? surface_mesh(*surface, tol.chordal, true) : to_mesh(L, 1, 1, tol);
+      const std::string format = mesh_format(path);
+      const Solid* solid = test_solid(L, 1);
+      if (solid && (format == "obj" || format == "ply")) {
+        // OBJ: each vertex's normal from its face's surface and its uv from the parameters
+        // (vertices split per face; a reader welds them back by position). PLY: the shared
+        // vertices that MeshLab checks for a 2-manifold. Both: a colour per face from the
+        // materials of the solids the faces came from.
+        mesh = format == "obj" ? solid->shaded_mesh(tol) : solid->tagged_mesh(tol);
+        options.triangle_colors = triangle_colours(L, 1, mesh, solid->face_tags(tol));
+      } else {
+        mesh = surface && surface->patches.size() == 1 ? surface_mesh(*surface, tol.chordal, true) : to_mesh(L, 1, 1, tol);
+      }
     }
     Stage stage(L, "write");
     write_mesh(mesh, path, options);

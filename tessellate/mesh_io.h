@@ -10,6 +10,7 @@
 #pragma once
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "kernel/mesh.h"
 
@@ -17,6 +18,11 @@ namespace wedge {
 
 struct MeshWriteOptions {
   bool ascii = false;  // STL and PLY: ASCII instead of binary (OBJ and OFF are always ASCII)
+  // Empty, or one RGB colour (components in 0..1) per triangle. PLY: the face element gets the
+  // properties `uchar red, green, blue` (MeshLab's and Blender's names). OBJ: a material library
+  // beside the file (same name, .mtl) with one material per colour (its Kd), named by `mtllib`,
+  // and `usemtl` before each run of triangles of one colour. STL and OFF: ignored.
+  std::vector<Vec3> triangle_colors;
 };
 
 // The format from the file name's extension (case-insensitive): .obj .stl .ply .off. Throws

@@ -135,15 +135,42 @@ void write_stl(const Mesh& mesh, AtomicFile& file, bool ascii) {
   file.write(out);
 }
 
-void write_obj(const Mesh& mesh, AtomicFile& file, bool normals, bool uvs) {
+// A colour component in 0..1 as a byte (rounded, clamped).
+std::uint8_t colour_byte(double c) { return static_cast<std::uint8_t>(std::lround(std::clamp(c, 0.0, 1.0) * 255)); }
+
+// The distinct colours in order of first use, and each triangle's index among them.
+std::vector<Vec3> palette(const std::vector<Vec3>& colours, std::vector<std::size_t>& index) {
+  std::vector<Vec3> out;
+  index.resize(colours.size());
+  for (std::size_t t = 0; t < colours.size(); ++t) {
+    auto it = std::find(out.begin(), out.end(), colours[t]);
+    index[t] = static_cast<std::size_t>(it - out.begin());
+    if (it == out.end()) out.push_back(colours[t]);
+  }
+  return out;
+}
+
+void write_obj(const Mesh& mesh, AtomicFile& file, bool normals, bool uvs, const std::vector<Vec3>& colours,
+               const std::string& mtl_name) {
   TextOut out(file);
   out << "# written by wedge " << version() << '\n';
+  std::vector<std::size_t> index;
+  if (!colours.empty()) {
+    palette(colours, index);
+    out << "mtllib " << mtl_name << '\n';
+  }
   for (const auto& p : mesh.positions) out << "v " << p.x() << ' ' << p.y() << ' ' << p.z() << '\n';
   if (uvs)
     for (const auto& t : mesh.uvs) out << "vt " << t.x() << ' ' << t.y() << '\n';
   if (normals)
     for (const auto& n : mesh.normals) out << "vn " << n.x() << ' ' << n.y() << ' ' << n.z() << '\n';
-  for (const auto& t : mesh.triangles) {
+  std::size_t current = SIZE_MAX;
+  for (std::size_t ti = 0; ti < mesh.triangles.size(); ++ti) {
+    const auto& t = mesh.triangles[ti];
+    if (!index.empty() && index[ti] != current) {
+      current = index[ti];
+      out << "usemtl wedge_" << std::uint64_t(current) << '\n';
+    }
     out << 'f';
     for (auto v : t) {
       const std::uint64_t i = std::uint64_t(v) + 1;
@@ -174,14 +201,28 @@ void write_off(const Mesh& mesh, AtomicFile& file, bool normals, bool uvs) {
   out.flush();
 }
 
-void write_ply(const Mesh& mesh, AtomicFile& file, bool ascii, bool normals, bool uvs) {
+// The .mtl of write_obj: material wedge_k has the k-th distinct colour as its diffuse colour.
+void write_mtl(const std::vector<Vec3>& colours, AtomicFile& file) {
+  TextOut out(file);
+  out << "# written by wedge " << version() << '\n';
+  std::vector<std::size_t> index;
+  const std::vector<Vec3> p = palette(colours, index);
+  for (std::size_t k = 0; k < p.size(); ++k)
+    out << "newmtl wedge_" << std::uint64_t(k) << "\nKd " << p[k].x() << ' ' << p[k].y() << ' ' << p[k].z() << '\n';
+  out.flush();
+}
+
+void write_ply(const Mesh& mesh, AtomicFile& file, bool ascii, bool normals, bool uvs, const std::vector<Vec3>& colours) {
+  const bool coloured = !colours.empty();
   TextOut head(file);
   head << "ply\nformat " << (ascii ? "ascii" : "binary_little_endian") << " 1.0\ncomment written by wedge "
        << version() << "\nelement vertex " << std::uint64_t(mesh.positions.size())
        << "\nproperty double x\nproperty double y\nproperty double z\n";
   if (normals) head << "property double nx\nproperty double ny\nproperty double nz\n";
   if (uvs) head << "property double u\nproperty double v\n";
-  head << "element face " << std::uint64_t(mesh.triangles.size()) << "\nproperty list uchar uint vertex_indices\nend_header\n";
+  head << "element face " << std::uint64_t(mesh.triangles.size()) << "\nproperty list uchar uint vertex_indices\n";
+  if (coloured) head << "property uchar red\nproperty uchar green\nproperty uchar blue\n";
+  head << "end_header\n";
   if (ascii) {
     for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
       const Point3& p = mesh.positions[i];
@@ -190,7 +231,13 @@ void write_ply(const Mesh& mesh, AtomicFile& file, bool ascii, bool normals, boo
       if (uvs) head << ' ' << mesh.uvs[i].x() << ' ' << mesh.uvs[i].y();
       head << '\n';
     }
-    for (const auto& t : mesh.triangles) head << "3 " << t[0] << ' ' << t[1] << ' ' << t[2] << '\n';
+    for (std::size_t ti = 0; ti < mesh.triangles.size(); ++ti) {
+      const auto& t = mesh.triangles[ti];
+      head << "3 " << t[0] << ' ' << t[1] << ' ' << t[2];
+      if (coloured)
+        for (int k = 0; k < 3; ++k) head << ' ' << std::uint32_t(colour_byte(colours[ti][k]));
+      head << '\n';
+    }
     head.flush();
     return;
   }
@@ -211,9 +258,11 @@ void write_ply(const Mesh& mesh, AtomicFile& file, bool ascii, bool normals, boo
       for (int k = 0; k < 2; ++k) put_f64le(out, mesh.uvs[i][k]);
     spill();
   }
-  for (const auto& t : mesh.triangles) {
+  for (std::size_t ti = 0; ti < mesh.triangles.size(); ++ti) {
     out.push_back(3);
-    for (auto v : t) put_u32le(out, v);
+    for (auto v : mesh.triangles[ti]) put_u32le(out, v);
+    if (coloured)
+      for (int k = 0; k < 3; ++k) out.push_back(static_cast<char>(colour_byte(colours[ti][k])));
     spill();
   }
   file.write(out);
@@ -240,11 +289,28 @@ void write_mesh(const Mesh& mesh, const std::string& path, const MeshWriteOption
   if ((normals && !finite(mesh.normals)) || (uvs && !finite(mesh.uvs)))
     fail("cannot write '", path, "': the mesh has a non-finite normal or texture coordinate");
 
+  const auto& colours = options.triangle_colors;
+  if (!colours.empty() && colours.size() != mesh.triangles.size())
+    fail("cannot write '", path, "': ", colours.size(), " triangle colours for ", mesh.triangles.size(), " triangles");
+  if (!finite(colours)) fail("cannot write '", path, "': a triangle colour is not a finite number");
+
+  // OBJ's colours go to a material library beside it, written (and committed) first, so that the
+  // OBJ never names a library that is not there.
+  const bool mtl = format == "obj" && !colours.empty();
+  std::string mtl_path, mtl_name;
+  if (mtl) {
+    const std::size_t slash = path.find_last_of('/'), dot = path.find_last_of('.');
+    mtl_path = path.substr(0, dot) + ".mtl";
+    mtl_name = mtl_path.substr(slash == std::string::npos ? 0 : slash + 1);
+    AtomicFile lib(mtl_path);
+    write_mtl(colours, lib);
+    lib.commit();
+  }
   AtomicFile file(path);
   if (format == "stl") write_stl(mesh, file, options.ascii);
-  else if (format == "obj") write_obj(mesh, file, normals, uvs);
+  else if (format == "obj") write_obj(mesh, file, normals, uvs, colours, mtl_name);
   else if (format == "off") write_off(mesh, file, normals, uvs);
-  else write_ply(mesh, file, options.ascii, normals, uvs);
+  else write_ply(mesh, file, options.ascii, normals, uvs, colours);
   file.commit();
 }
 
