@@ -399,6 +399,70 @@ std::shared_ptr<Evaluated> engine(BooleanOp op, const std::vector<std::shared_pt
   return out;
 }
 
+std::shared_ptr<Evaluated> union_of(const std::vector<std::shared_ptr<Evaluated>>& in, Run& run);
+
+// The union of operands whose boxes overlap one another (transitively). Up to the fan-in, one
+// engine pass over all of them (the engine is n-ary); beyond it, a balanced tree: the operands
+// (in the order of their boxes along x, so that neighbours are near) are cut into fan-in runs of
+// near-equal length, each run's union is made the same way (in parallel), and one engine pass
+// joins the runs' results. Each engine call then stays small, so a cancel is seen soon and the
+// two threads have independent work; the depth grows as log(n) / log(fan-in).
+std::shared_ptr<Evaluated> balanced_union(const std::vector<std::shared_ptr<Evaluated>>& group, Run& run) {
+  const std::size_t k = run.options.union_fan_in;
+  if (k < 2 || group.size() <= k) return engine(BooleanOp::Union, group, run);
+  std::vector<std::vector<std::shared_ptr<Evaluated>>> runs(k);
+  for (std::size_t i = 0; i < k; ++i)
+    runs[i].assign(group.begin() + long(group.size() * i / k), group.begin() + long(group.size() * (i + 1) / k));
+  std::vector<std::shared_ptr<Evaluated>> parts(k);
+  auto one = [&](std::size_t i) {
+    run.check();
+    parts[i] = run.options.prune ? union_of(runs[i], run) : balanced_union(runs[i], run);
+  };
+  if (run.options.parallel) parallel_for(0, k, one);
+  else
+    for (std::size_t i = 0; i < k; ++i) one(i);
+  run.check();
+  parts.erase(std::remove_if(parts.begin(), parts.end(), [](const auto& p) { return p->mesh.empty(); }), parts.end());
+  if (parts.empty()) return std::make_shared<Evaluated>();
+  return engine(BooleanOp::Union, parts, run);
+}
+
+std::shared_ptr<Evaluated> union_of(const std::vector<std::shared_ptr<Evaluated>>& in, Run& run) {
+  // Operands in groups whose boxes overlap (transitively); a group of one needs no engine, and
+  // groups far apart are put side by side as separate shells.
+  std::vector<Box3> box(in.size());
+  for (std::size_t i = 0; i < in.size(); ++i) box[i] = mesh_box(in[i]->mesh);
+  std::vector<std::size_t> parent(in.size());
+  std::iota(parent.begin(), parent.end(), 0);
+  auto find = [&](std::size_t x) {
+    while (parent[x] != x) x = parent[x] = parent[parent[x]];
+    return x;
+  };
+  std::vector<std::size_t> order;
+  for (std::size_t i = 0; i < in.size(); ++i)
+    if (!in[i]->mesh.empty()) order.push_back(i);
+  // Sweep along x: only boxes whose x-ranges overlap can touch.
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return box[a].min.x() < box[b].min.x(); });
+  for (std::size_t a = 0; a < order.size(); ++a)
+    for (std::size_t b = a + 1; b < order.size() && box[order[b]].min.x() <= box[order[a]].max.x(); ++b)
+      if (!boxes_apart(box[order[a]], box[order[b]])) parent[find(order[a])] = find(order[b]);
+  std::map<std::size_t, std::vector<std::shared_ptr<Evaluated>>> groups;
+  for (std::size_t i : order) groups[find(i)].push_back(in[i]);
+  std::vector<std::vector<std::shared_ptr<Evaluated>>> list;
+  for (auto& [root, g] : groups) list.push_back(std::move(g));
+  if (list.empty()) return std::make_shared<Evaluated>();
+  if (list.size() > 1) run.count(&EvalStats::pruned);
+  std::vector<std::shared_ptr<Evaluated>> parts(list.size());
+  auto part = [&](std::size_t i) { parts[i] = balanced_union(list[i], run); };
+  if (run.options.parallel && list.size() > 1) parallel_for(0, list.size(), part);
+  else
+    for (std::size_t i = 0; i < list.size(); ++i) part(i);
+  if (parts.size() == 1) return parts[0];
+  auto out = std::make_shared<Evaluated>();
+  for (const auto& p : parts) append_evaluated(*out, *p);
+  return out;
+}
+
 std::shared_ptr<Evaluated> evaluate_boolean(const Solid::Node& n, const Tolerance& tol, Run& run) {
   std::vector<std::shared_ptr<Evaluated>> in(n.operands.size());
   auto one = [&](std::size_t i) { in[i] = evaluate(n.operands[i], tol, run); };
@@ -416,7 +480,7 @@ std::shared_ptr<Evaluated> evaluate_boolean(const Solid::Node& n, const Toleranc
     if (all.empty() || (n.op == BooleanOp::Difference && in[0]->mesh.empty()) ||
         (n.op == BooleanOp::Intersection && all.size() != in.size()))
       return std::make_shared<Evaluated>();
-    return engine(n.op, all, run);
+    return n.op == BooleanOp::Union ? balanced_union(all, run) : engine(n.op, all, run);
   }
   switch (n.op) {
     case BooleanOp::Difference: {
@@ -437,38 +501,7 @@ std::shared_ptr<Evaluated> evaluate_boolean(const Solid::Node& n, const Toleranc
           }
       return engine(BooleanOp::Intersection, in, run);
     }
-    case BooleanOp::Union: {
-      // Operands in groups whose boxes overlap (transitively); a group of one needs no engine,
-      // and groups far apart are put side by side as separate shells.
-      std::vector<std::size_t> parent(in.size());
-      std::iota(parent.begin(), parent.end(), 0);
-      auto find = [&](std::size_t x) {
-        while (parent[x] != x) x = parent[x] = parent[parent[x]];
-        return x;
-      };
-      std::vector<std::size_t> order;
-      for (std::size_t i = 0; i < in.size(); ++i)
-        if (!in[i]->mesh.empty()) order.push_back(i);
-      // Sweep along x: only boxes whose x-ranges overlap can touch.
-      std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return box[a].min.x() < box[b].min.x(); });
-      for (std::size_t a = 0; a < order.size(); ++a)
-        for (std::size_t b = a + 1; b < order.size() && box[order[b]].min.x() <= box[order[a]].max.x(); ++b)
-          if (!boxes_apart(box[order[a]], box[order[b]])) parent[find(order[a])] = find(order[b]);
-      std::map<std::size_t, std::vector<std::shared_ptr<Evaluated>>> groups;
-      for (std::size_t i : order) groups[find(i)].push_back(in[i]);
-      std::vector<std::vector<std::shared_ptr<Evaluated>>> list;
-      for (auto& [root, g] : groups) list.push_back(std::move(g));
-      if (list.size() > 1) run.count(&EvalStats::pruned);
-      std::vector<std::shared_ptr<Evaluated>> parts(list.size());
-      auto part = [&](std::size_t i) { parts[i] = engine(BooleanOp::Union, list[i], run); };
-      if (run.options.parallel && list.size() > 1) parallel_for(0, list.size(), part);
-      else
-        for (std::size_t i = 0; i < list.size(); ++i) part(i);
-      if (parts.size() == 1) return parts[0];
-      auto out = std::make_shared<Evaluated>();
-      for (const auto& p : parts) append_evaluated(*out, *p);
-      return out;
-    }
+    case BooleanOp::Union: return union_of(in, run);
   }
   return std::make_shared<Evaluated>();
 }
@@ -593,15 +626,17 @@ Solid Solid::boolean(BooleanOp op, std::vector<Solid> operands) {
   auto n = std::make_shared<Node>();
   n->kind = Node::Kind::Boolean;
   n->op = op;
-  for (auto& s : operands) {
-    // Nested unions (a + b + c + ... builds a chain) become one n-ary union: one engine pass over
-    // all operands, grouped by their boxes, instead of a chain of growing intermediate results.
-    const Node& o = *s.node_;
-    if (op == BooleanOp::Union && o.kind == Node::Kind::Boolean && o.op == BooleanOp::Union && o.tag < 0 &&
-        !cached(o, Tolerance{}))
-      n->operands.insert(n->operands.end(), o.operands.begin(), o.operands.end());
-    else
-      n->operands.push_back(s.node_);
+  for (std::size_t i = 0; i < operands.size(); ++i) {
+    // Chains become one n-ary node: a + b + c + ... one union (one engine pass over all operands,
+    // grouped by their boxes, balanced when large), a * b * c one intersection, and a - b - c
+    // (a script drilling holes one by one) a minus all of b, c, ...: never a chain of growing
+    // intermediate results. A tagged node keeps its own (its tag colours its faces), and so does
+    // one already evaluated (its result is reused).
+    const Node& o = *operands[i].node_;
+    const bool flat = o.kind == Node::Kind::Boolean && o.op == op && o.tag < 0 && !cached(o, Tolerance{}) &&
+                      (op != BooleanOp::Difference || i == 0);
+    if (flat) n->operands.insert(n->operands.end(), o.operands.begin(), o.operands.end());
+    else n->operands.push_back(operands[i].node_);
   }
   return Solid(std::shared_ptr<const Node>(n));
 }

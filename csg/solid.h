@@ -94,6 +94,9 @@ struct EvalOptions {
   bool cache = true;     // shared subtrees once, results kept per tolerance
   bool prune = true;     // bounding-box pruning and disjoint unions without the engine
   bool parallel = true;  // independent operands evaluated in parallel
+  // The most operands one engine pass of a union takes; a larger group of overlapping operands
+  // is evaluated as a balanced tree of unions of at most this many (csg/solid.cpp). 0: all in one.
+  std::size_t union_fan_in = 32;
 };
 void set_eval_options(const EvalOptions& options);
 

@@ -509,3 +509,67 @@ TEST_CASE("tree: a finer tolerance re-evaluates the boolean from the tree and co
     last_count = m.triangles.size();
   }
 }
+
+TEST_CASE("tree: a large union is evaluated as a balanced tree of n-ary engine passes", "[tree][balanced]") {
+  // 100 unit boxes in a row along x, each overlapping the next by a half ([i, i + 1.5] x [0, 1]^2,
+  // all one group of overlapping operands): the union is [0, 100.5] x [0, 1]^2, volume 100.5
+  // exactly (every vertex is an input coordinate).
+  auto row = [] {
+    std::vector<Solid> boxes;
+    for (int i = 0; i < 100; ++i) boxes.push_back(box_solid(Vec3(1.5, 1, 1), Point3(i, 0, 0)));
+    return Solid::boolean(BooleanOp::Union, boxes);
+  };
+  Tolerance tol;
+  EvalStats one, balanced;
+  EvalControl control;
+  Installed on(control);
+  // All in one engine pass (fan-in 0).
+  EvalOptions o;
+  o.union_fan_in = 0;
+  set_eval_options(o);
+  control.stats = &one;
+  Solid a = row();
+  CHECK(a.mass_properties(tol).volume == Approx(100.5).epsilon(1e-12));
+  CHECK(one.booleans == 1);
+  // Fan-in 8: 8 runs of 12 or 13 boxes, each again 8 runs of 1 or 2; every engine call takes at
+  // most 8 operands, so there are many calls (1 root, 8 runs, and one per run of 2 boxes).
+  o.union_fan_in = 8;
+  set_eval_options(o);
+  control.stats = &balanced;
+  Solid b = row();
+  CHECK(b.mass_properties(tol).volume == Approx(100.5).epsilon(1e-12));
+  CHECK(balanced.booleans > 8);
+  CHECK(b.validate(tol) == "");
+  // The same bits at 1 and 2 threads.
+  Mesh two = b.mesh(tol);
+  {
+    tbb::global_control g(tbb::global_control::max_allowed_parallelism, 1);
+    Solid c = row();
+    Mesh single = c.mesh(tol);
+    CHECK(single.positions == two.positions);
+    CHECK(single.triangles == two.triangles);
+  }
+  set_eval_options({});
+}
+
+TEST_CASE("tree: holes drilled one by one (a - b - c - ...) are one n-ary difference", "[tree][balanced]") {
+  // A script that drills in a loop builds a chain of differences; the tree makes it one node, so
+  // the engine runs once over the plate and all drills, not once per hole on a growing result.
+  Tolerance tol;
+  tol.chordal = 0.05;
+  Solid s = box_solid(Vec3(11, 11, 1));
+  for (int i = 0; i < 10; ++i)
+    for (int j = 0; j < 10; ++j) s = Solid::boolean(BooleanOp::Difference, {s, brep_solid(cylinder(0.3, 3, Point3(1 + i, 1 + j, -1)))});
+  EvalStats stats;
+  EvalControl control;
+  control.stats = &stats;
+  Installed on(control);
+  EulerCounts c = s.euler(tol);
+  CHECK(stats.booleans == 1);
+  CHECK(c.H == 100);
+  CHECK(c.S == 1);
+  // a - (b - c) is not a - b - c: the inner difference stays a node of its own.
+  Solid inner = Solid::boolean(BooleanOp::Difference, {box_solid(Vec3(2, 2, 2)), box_solid(Vec3(1, 1, 1))});
+  Solid outer = Solid::boolean(BooleanOp::Difference, {box_solid(Vec3(4, 4, 4), Point3(-1, -1, -1)), inner});
+  CHECK(outer.mass_properties(tol).volume == Approx(64 - 7).epsilon(1e-12));
+}
