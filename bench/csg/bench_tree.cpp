@@ -1,7 +1,10 @@
 // Issue 16's benchmark: CSG trees of a CAD kind, evaluated with and without the evaluator's cache
 // and bounding-box pruning, at 1 and 2 threads; and how long a cancel takes to stop an evaluation.
 //
-//   bench_tree [repeats] [bosses per side, default 20]
+//   bench_tree [repeats] [bosses per side, default 20] [threads, default "12"] [evaluators, default "012"]
+//
+// threads: the thread counts to run, as digits ("2": two threads only); evaluators: which of the
+// three evaluator settings below to run, by index ("0": balanced unions with cache and pruning).
 //
 // Models (fresh trees for every run, so nothing is cached across runs):
 //   plate: a 42 x 42 x 2 plate with 400 instances (20 x 20) of one drilled boss (a cylinder r 0.6,
@@ -11,6 +14,7 @@
 #include <atomic>
 #include <chrono>
 #include <cstdio>
+#include <iterator>
 #include <string>
 #include <thread>
 #include <vector>
@@ -61,6 +65,7 @@ Solid gear_model() {
 struct Row {
   double seconds;
   double volume;
+  std::size_t triangles;
   EvalStats stats;
 };
 
@@ -76,9 +81,10 @@ Row run(Solid (*make)(), const EvalOptions& o, int threads) {
   double t0 = now();
   double v = s.mass_properties(tol).volume;
   double t = now() - t0;
+  const std::size_t triangles = s.mesh(tol).triangle_count();  // cached: no second evaluation
   set_eval_control(nullptr);
   set_eval_options({});
-  return {t, v, stats};
+  return {t, v, triangles, stats};
 }
 
 }  // namespace
@@ -86,6 +92,7 @@ Row run(Solid (*make)(), const EvalOptions& o, int threads) {
 int main(int argc, char** argv) {
   int repeats = argc > 1 ? std::max(1, std::atoi(argv[1])) : 3;
   if (argc > 2) g_n = std::max(1, std::atoi(argv[2]));
+  const std::string threads_list = argc > 3 ? argv[3] : "12", config_list = argc > 4 ? argv[4] : "012";
   struct Model {
     const char* name;
     Solid (*make)();
@@ -94,11 +101,16 @@ int main(int argc, char** argv) {
   struct Config {
     const char* name;
     EvalOptions o;
-  } configs[] = {{"cache+prune", {true, true, true}}, {"no cache, no prune", {false, false, true}}};
-  std::printf("| model | evaluator | threads | median s | engine calls | tessellation, broad, intersection, classification, output ms (summed) | volume |\n|---|---|---|---|---|---|---|\n");
+  } configs[] = {{"cache+prune, unions balanced (fan-in 32)", {true, true, true, 32}},
+                 {"cache+prune, each union one engine pass", {true, true, true, 0}},
+                 {"no cache, no prune (fan-in 32)", {false, false, true, 32}}};
+  std::printf("| model | evaluator | threads | median s | engine calls | tessellation, broad, intersection, classification, output ms (summed) | volume | triangles |\n|---|---|---|---|---|---|---|---|\n");
   for (const auto& m : models)
-    for (const auto& c : configs)
-      for (int threads : {1, 2}) {
+    for (std::size_t ci = 0; ci < std::size(configs); ++ci)
+      for (char tc : threads_list) {
+        const auto& c = configs[ci];
+        const int threads = tc - '0';
+        if (config_list.find(char('0' + ci)) == std::string::npos || threads < 1) continue;
         std::vector<double> times;
         Row last{};
         for (int r = 0; r < repeats; ++r) {
@@ -107,13 +119,18 @@ int main(int argc, char** argv) {
         }
         std::sort(times.begin(), times.end());
         const EvalStats& st = last.stats;
-        std::printf("| %s | %s | %d | %.3f | %ld | %.0f, %.0f, %.0f, %.0f, %.0f | %.6f |\n", m.name, c.name, threads,
-                    times[times.size() / 2], st.booleans, st.tessellate, st.broad, st.arrange, st.classify, st.output, last.volume);
+        std::printf("| %s | %s | %d | %.3f | %ld | %.0f, %.0f, %.0f, %.0f, %.0f | %.6f | %zu |\n", m.name, c.name, threads,
+                    times[times.size() / 2], st.booleans, st.tessellate, st.broad, st.arrange, st.classify, st.output, last.volume,
+                    last.triangles);
         std::fflush(stdout);
       }
   // Cancel latency: a flag raised part-way through the plate; the time until evaluation returns.
-  std::printf("\ncancel latency (plate, 2 threads):");
-  for (double after : {0.2, 0.5, 1.0}) {
+  for (std::size_t fan_in : {std::size_t(32), std::size_t(0)}) {
+  EvalOptions o;
+  o.union_fan_in = fan_in;
+  set_eval_options(o);
+  std::printf("\ncancel latency (plate, 2 threads, union fan-in %zu):", fan_in);
+  for (double after : {0.2, 0.5, 1.0, 3.0}) {
     std::atomic<bool> stop{false};
     std::atomic<double> raised{0};
     EvalControl c;
@@ -138,6 +155,8 @@ int main(int argc, char** argv) {
     if (cancelled) std::printf(" %.0f ms (raised at %.1f s);", 1e3 * (end - raised.load()), after);
     else std::printf(" finished before %.1f s;", after);
   }
+  }
+  set_eval_options({});
   std::printf("\n");
   return 0;
 }
