@@ -262,6 +262,37 @@ std::string defect(const Mesh& m, const std::string& name, bool self) {
   return "";
 }
 
+// Re-resolves a rounded result that crosses itself: the exact arrangement of its own triangles,
+// the region where its winding number is at least 1 kept, rounded again. Provenance (operand,
+// source triangle, face id) is carried through from `prev`.
+BooleanResult resolve(const BooleanResult& prev, std::size_t* collapses, bool* unresolved) {
+  // Zero-area triangles (rounding can flatten one) bound nothing and are left out; where their
+  // vertices lie on a neighbour's edge the arrangement splits that edge.
+  Mesh m;
+  m.positions = prev.mesh.positions;
+  std::vector<std::size_t> from;
+  for (std::size_t t = 0; t < prev.mesh.triangles.size(); ++t) {
+    const auto& T = prev.mesh.triangles[t];
+    if (collinear(m.positions[T[0]], m.positions[T[1]], m.positions[T[2]])) continue;
+    m.triangles.push_back(T);
+    m.face_ids.push_back(prev.mesh.face_ids[t]);
+    from.push_back(t);
+  }
+  std::vector<const Mesh*> one{&m};
+  Soup soup = make_soup(one);
+  Points pts(soup);
+  auto pairs = candidate_pairs(soup, nullptr, true);
+  Arrangement arr = arrange(pts, pairs);
+  auto keep = classify(pts, arr, BooleanOp::Union, true);
+  BooleanResult r = assemble(pts, arr, keep, collapses, unresolved);
+  for (std::size_t t = 0; t < r.mesh.triangles.size(); ++t) {
+    const std::size_t orig = from[static_cast<std::size_t>(r.source[t])];
+    r.operand[t] = prev.operand[orig];
+    r.source[t] = prev.source[orig];
+  }
+  return r;
+}
+
 std::string operand_name(std::size_t i, std::size_t n) {
   if (n == 2) return i == 0 ? "the first operand" : "the second operand";
   return "operand " + std::to_string(i + 1);
@@ -310,12 +341,25 @@ BooleanResult boolean(BooleanOp op, const std::vector<const Mesh*>& operands, Bo
   lap(&BooleanStats::arrange);
   auto keep = classify(pts, arr, op);
   lap(&BooleanStats::classify);
-  std::size_t collapses = 0;
-  BooleanResult r = assemble(pts, arr, keep, &collapses);
+  std::size_t collapses = 0, resolutions = 0;
+  bool unresolved = false;
+  BooleanResult r = assemble(pts, arr, keep, &collapses, &unresolved);
+  // Rounding that leaves crossings (sheets a few ulps apart) is resolved again, exactly, on the
+  // rounded result; each pass works at a finer scale than the one before.
+  for (; unresolved && resolutions < 4; ++resolutions) {
+    if (cancel && *cancel && (*cancel)()) throw Cancelled();
+    r = resolve(r, &collapses, &unresolved);
+  }
+  if (unresolved) {
+    const Vec3& p = r.mesh.positions.empty() ? Vec3(0, 0, 0) : r.mesh.positions[0];
+    fail("boolean: the result cannot be rounded to doubles without a self-intersection (", resolutions,
+         " re-resolutions tried; first vertex (", p.x(), ", ", p.y(), ", ", p.z(), "))");
+  }
   lap(&BooleanStats::output);
   if (stats) {
     stats->pairs = pairs.size();
     stats->collapses = collapses;
+    stats->resolutions = resolutions;
     stats->pieces = arr.pieces.size();
   }
   return r;

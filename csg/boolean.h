@@ -35,6 +35,7 @@ struct BooleanStats {
   double check = 0, broad = 0, arrange = 0, classify = 0, output = 0;
   std::size_t pairs = 0, pieces = 0;
   std::size_t collapses = 0;  // edges the rounding repair collapsed (0 on most inputs)
+  std::size_t resolutions = 0;  // passes that re-resolved a rounded result crossing itself (0 on most)
 };
 
 // Thrown when an evaluation is cancelled (boolean()'s `cancel`, Solid evaluation's EvalControl).

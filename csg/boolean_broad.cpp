@@ -128,7 +128,7 @@ Bvh::Bvh(const Soup& soup, std::vector<u32> ids, int d) : items(std::move(ids)),
 // from position p skips every subtree whose items all sit at positions <= p (a node covers a
 // contiguous range of positions). Pairs are sorted at the end, so the order is the same at any
 // thread count.
-std::vector<std::array<u32, 2>> candidate_pairs(const Soup& soup, std::array<u32, 2>* clash) {
+std::vector<std::array<u32, 2>> candidate_pairs(const Soup& soup, std::array<u32, 2>* clash, bool self) {
   std::size_t n = soup.tris.size();
   std::vector<u32> all(n);
   for (std::size_t i = 0; i < n; ++i) all[i] = static_cast<u32>(i);
@@ -173,7 +173,7 @@ std::vector<std::array<u32, 2>> candidate_pairs(const Soup& soup, std::array<u32
           for (int a = 0; a < 3; ++a)
             if (ulo[a] > hi[a] || uhi[a] < lo[a]) apart = true;
           if (apart) continue;
-          if (soup.operand[u] != soup.operand[t]) {
+          if (soup.operand[u] != soup.operand[t] || (self && triangles_clash(soup, t, u))) {
             res.push_back({std::min(t, u), std::max(t, u)});
           } else if (clash && clashes[b][0] == kNone && triangles_clash(soup, t, u)) {
             clashes[b] = {std::min(t, u), std::max(t, u)};

@@ -56,7 +56,7 @@ bool membership(BooleanOp op, const std::vector<char>& m) {
 
 }  // namespace
 
-std::vector<std::int8_t> classify(const Points& pts, const Arrangement& arr, BooleanOp op) {
+std::vector<std::int8_t> classify(const Points& pts, const Arrangement& arr, BooleanOp op, bool self) {
   const Soup& soup = pts.soup();
   const auto& pieces = arr.pieces;
   const std::size_t np = pieces.size();
@@ -183,6 +183,60 @@ std::vector<std::int8_t> classify(const Points& pts, const Arrangement& arr, Boo
     };
     // The ray goes up: triangles wholly below the centroid's box cannot be above it.
     hi[2] = INFINITY;
+    if (self) {
+      // One operand that may cross itself (a rounded result being re-resolved): the result is
+      // where its winding number is at least 1. w counts every sheet but the piece's own and the
+      // coplanar ones over it; those add 1 behind the piece (same orientation) or in front.
+      std::vector<std::pair<u32, int>> cover;
+      for (u32 u : arr.coplanar[t]) {
+        const auto& U = soup.tris[u];
+        const int o = pts.orient2d(U[0], U[1], U[2], k);
+        bool inside = true;
+        for (int e = 0; e < 3 && inside; ++e) {
+          int f = edge_side(soup.verts[U[e]], soup.verts[U[(e + 1) % 3]], k);
+          if (f == 0) f = pts.orient2d_centroid(U[e], U[(e + 1) % 3], piece.v, k);
+          if (f * o <= 0) inside = false;
+        }
+        if (inside) cover.push_back({u, (o > 0) == (soup.axis_sign[t] > 0) ? 1 : -1});
+      }
+      int w = 0;
+      trees[0].query(lo, hi, [&](u32 u) {
+        if (u == t || std::any_of(cover.begin(), cover.end(), [&](const auto& c) { return c.first == u; })) return;
+        double ulo[3], uhi[3];
+        triangle_box(soup, u, ulo, uhi);
+        if (uhi[0] < clo[0] || ulo[0] > chi[0] || uhi[1] < clo[1] || ulo[1] > chi[1] || uhi[2] < clo[2]) return;
+        const auto& U = soup.tris[u];
+        const int o = orient2d_xy(soup, U[0], U[1], U[2]);
+        if (o == 0) return;
+        for (int e = 0; e < 3; ++e) {
+          const int f = edge_side(soup.verts[U[e]], soup.verts[U[(e + 1) % 3]], 2);
+          if (f != 0 ? f != o : orient_sos(pts, U[e], U[(e + 1) % 3], piece.v) != o) return;
+        }
+        int side = cb_ok ? plane_side(soup.verts[U[0]], soup.verts[U[1]], soup.verts[U[2]]) : 0;
+        if (side == 0) side = pts.side_centroid(Plane::of_triangle(U), piece.v);
+        if (side == 0) fail("boolean: internal error: a piece's centroid lies on a crossing triangle");
+        if (side * o < 0) w += o;
+      });
+      // w is the winding number where the ray starts: just above the piece's plane, or, for a
+      // vertical plane, on the side the perturbation (eps, eps^2) in x and y moves to. Crossing
+      // the sheets in the plane from the piece's front to its back adds S.
+      int S = 1;
+      for (const auto& c : cover) S += c.second;
+      const auto& T = soup.tris[t];
+      int up = orient2d_xy(soup, T[0], T[1], T[2]);  // sign of the normal's z
+      if (up == 0) {
+        const Vec3 &A = soup.verts[T[0]], &B = soup.verts[T[1]], &C = soup.verts[T[2]];
+        up = orient2d_fast(A.y(), A.z(), B.y(), B.z(), C.y(), C.z());  // sign of n_x
+        if (up == 0) up = orient2d_fast(A.z(), A.x(), B.z(), B.x(), C.z(), C.x());  // sign of n_y
+      }
+      const int front = up > 0 ? w : w - S, back = up > 0 ? w + S : w;
+      std::int8_t keep = (back >= 1 && front < 1) ? 1 : (front >= 1 && back < 1) ? -1 : 0;
+      // Coplanar sheets kept here give the same triangle: the lowest one keeps it.
+      for (const auto& c : cover)
+        if (c.first < t) keep = 0;
+      patch_keep[pi] = keep;
+      return;
+    }
     auto hit = [&](u32 u) {
       const int j = soup.operand[u];
       double ulo[3], uhi[3];

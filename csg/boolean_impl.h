@@ -194,7 +194,9 @@ int orient3d_v(const Soup& s, u32 a, u32 b, u32 c, u32 d);
 // Pairs (T, U), T < U, of triangles of different operands whose boxes overlap, sorted. With
 // `clash`, also checks the pairs of one operand exactly and reports the first two triangles that
 // meet beyond their shared vertices (or {kNone, kNone}).
-std::vector<std::array<u32, 2>> candidate_pairs(const Soup& soup, std::array<u32, 2>* clash = nullptr);
+// With `self`, pairs of one operand that clash are candidates too (no clash is reported).
+std::vector<std::array<u32, 2>> candidate_pairs(const Soup& soup, std::array<u32, 2>* clash = nullptr,
+                                                bool self = false);
 
 // An axis-aligned box tree over triangles, for point and vertical-line queries.
 class Bvh {
@@ -280,11 +282,15 @@ Arrangement arrange(Points& pts, const std::vector<std::array<u32, 2>>& pairs);
 
 // --- classification (boolean_classify.cpp) ---
 // For each piece: 0 drop, +1 keep, -1 keep reversed.
-std::vector<std::int8_t> classify(const Points& pts, const Arrangement& arr, BooleanOp op);
+// With `self`, the soup is one mesh that may cross itself, and the result is the region where its
+// winding number is at least 1 (op is not used).
+std::vector<std::int8_t> classify(const Points& pts, const Arrangement& arr, BooleanOp op, bool self = false);
 
 // --- output and rounding (boolean_output.cpp) ---
 // `collapses` (if given) receives the number of edges the rounding repair collapsed.
+// Where rounding leaves crossings that collapsing short edges cannot remove: with `unresolved`,
+// *unresolved is set and the rounded mesh returned as it is; without, an error is thrown.
 BooleanResult assemble(const Points& pts, const Arrangement& arr, const std::vector<std::int8_t>& keep,
-                       std::size_t* collapses = nullptr);
+                       std::size_t* collapses = nullptr, bool* unresolved = nullptr);
 
 }  // namespace wedge::boolean_detail

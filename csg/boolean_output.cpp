@@ -189,7 +189,7 @@ double plane_gap(const Soup& s, u32 t, const Vec3& p) {
 // condition). Of the two directions the one that keeps the surviving triangles closest to their
 // source planes is taken, and an input vertex never moves. Repeated until the exact check finds
 // nothing.
-void repair_rounding(BooleanResult& r, Rounding& rd) {
+bool repair_rounding(BooleanResult& r, Rounding& rd) {
   // Only edges that rounding itself could have made (a billionth of the model's size) are
   // collapsed: collapsing a longer one would move the surface by more than rounding did.
   Box3 bounds = r.mesh.bounds();
@@ -197,7 +197,7 @@ void repair_rounding(BooleanResult& r, Rounding& rd) {
   double limit2 = limit * limit;
   for (int round = 0; round < 16; ++round) {
     std::vector<u32> bad = rounding_defects(r.mesh, rd);
-    if (bad.empty()) return;
+    if (bad.empty()) return true;
     // What the next round checks: the triangles still bad and those a collapse changes.
     std::fill(rd.recheck.begin(), rd.recheck.end(), 0);
     for (u32 t : bad) rd.recheck[t] = 1;
@@ -269,18 +269,13 @@ void repair_rounding(BooleanResult& r, Rounding& rd) {
     if (!changed) break;
     compact(r, rd);
   }
-  std::vector<u32> bad = rounding_defects(r.mesh, rd);
-  if (!bad.empty()) {
-    const Vec3& p = r.mesh.positions[r.mesh.triangles[bad[0]][0]];
-    fail("boolean: the result cannot be rounded to doubles without a self-intersection near (", p.x(), ", ", p.y(),
-         ", ", p.z(), ")");
-  }
+  return rounding_defects(r.mesh, rd).empty();
 }
 
 }  // namespace
 
 BooleanResult assemble(const Points& pts, const Arrangement& arr, const std::vector<std::int8_t>& keep,
-                       std::size_t* collapses) {
+                       std::size_t* collapses, bool* unresolved) {
   const Soup& soup = pts.soup();
   std::vector<std::array<u32, 3>> tris;
   std::vector<u32> src;
@@ -421,8 +416,15 @@ BooleanResult assemble(const Points& pts, const Arrangement& arr, const std::vec
   for (std::size_t t = 0; t < nt; ++t)
     for (u32 v : r.mesh.triangles[t])
       if (rd.moved[v]) rd.recheck[t] = 1;
-  repair_rounding(r, rd);
-  if (collapses) *collapses = rd.collapses;
+  const bool ok = repair_rounding(r, rd);
+  if (collapses) *collapses += rd.collapses;
+  if (unresolved) *unresolved = !ok;
+  if (!ok && !unresolved) {
+    std::vector<u32> bad = rounding_defects(r.mesh, rd);
+    const Vec3& p = r.mesh.positions[r.mesh.triangles[bad.empty() ? 0 : bad[0]][0]];
+    fail("boolean: the result cannot be rounded to doubles without a self-intersection near (", p.x(), ", ", p.y(),
+         ", ", p.z(), ")");
+  }
   return r;
 }
 
