@@ -220,23 +220,13 @@ class Bvh {
 
 template <class F>
 void Bvh::query(const double lo[3], const double hi[3], F&& f) const {
-  if (nodes.empty()) return;
-  u32 stack[128];
-  int top = 0;
-  stack[top++] = 0;
-  while (top) {
-    const Node& n = nodes[stack[--top]];
-    bool miss = false;
-    for (int d = 0; d < dims; ++d)
-      if (n.lo[d] > hi[d] || n.hi[d] < lo[d]) miss = true;
-    if (miss) continue;
-    if (n.count) {
-      for (u32 i = n.first; i < n.first + n.count; ++i) f(items[i]);
-    } else {
-      stack[top++] = n.left;
-      stack[top++] = n.right;
-    }
-  }
+  query_if(
+      [&](const float nlo[3], const float nhi[3]) {
+        for (int d = 0; d < dims; ++d)
+          if (nlo[d] > hi[d] || nhi[d] < lo[d]) return false;
+        return true;
+      },
+      f);
 }
 
 template <class Enter, class F>
