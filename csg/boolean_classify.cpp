@@ -143,18 +143,22 @@ std::vector<std::int8_t> classify(const Points& pts, const Arrangement& arr, Boo
         if (c.first == j) return &c;
       return nullptr;
     };
-    for (u32 u : arr.coplanar[t]) {
-      int j = soup.operand[u];
-      if (j == i || coplanar_with(j)) continue;
+    // Coplanar triangle u over the centroid: +1 same orientation as the piece, -1 opposite; 0 if
+    // the centroid is not strictly inside it.
+    auto cover_sign = [&](u32 u) {
       const auto& U = soup.tris[u];
-      int o = pts.orient2d(U[0], U[1], U[2], k);  // U's orientation seen along k
-      bool inside = true;
-      for (int e = 0; e < 3 && inside; ++e) {
+      const int o = pts.orient2d(U[0], U[1], U[2], k);  // U's orientation seen along k
+      for (int e = 0; e < 3; ++e) {
         int f = edge_side(soup.verts[U[e]], soup.verts[U[(e + 1) % 3]], k);
         if (f == 0) f = pts.orient2d_centroid(U[e], U[(e + 1) % 3], piece.v, k);
-        if (f * o <= 0) inside = false;
+        if (f * o <= 0) return 0;
       }
-      if (inside) coplanar.push_back({j, (o > 0) == (soup.axis_sign[t] > 0) ? 1 : -1});
+      return (o > 0) == (soup.axis_sign[t] > 0) ? 1 : -1;
+    };
+    for (u32 u : arr.coplanar[t]) {
+      const int j = soup.operand[u];
+      if (j == i || coplanar_with(j)) continue;
+      if (const int c = cover_sign(u)) coplanar.push_back({j, c});
     }
     std::sort(coplanar.begin(), coplanar.end());
     // Winding numbers of the centroid with respect to every other operand.
@@ -183,39 +187,35 @@ std::vector<std::int8_t> classify(const Points& pts, const Arrangement& arr, Boo
     };
     // The ray goes up: triangles wholly below the centroid's box cannot be above it.
     hi[2] = INFINITY;
+    // What triangle u adds to the winding number along the ray: +-1 where the ray crosses it
+    // above the centroid, 0 where it misses.
+    auto crossing = [&](u32 u) {
+      double ulo[3], uhi[3];
+      triangle_box(soup, u, ulo, uhi);
+      if (uhi[0] < clo[0] || ulo[0] > chi[0] || uhi[1] < clo[1] || ulo[1] > chi[1] || uhi[2] < clo[2]) return 0;
+      const auto& U = soup.tris[u];
+      const int o = orient2d_xy(soup, U[0], U[1], U[2]);
+      if (o == 0) return 0;  // vertical: the perturbed ray misses it
+      for (int e = 0; e < 3; ++e) {
+        const int f = edge_side(soup.verts[U[e]], soup.verts[U[(e + 1) % 3]], 2);
+        if (f != 0 ? f != o : orient_sos(pts, U[e], U[(e + 1) % 3], piece.v) != o) return 0;
+      }
+      int side = cb_ok ? plane_side(soup.verts[U[0]], soup.verts[U[1]], soup.verts[U[2]]) : 0;
+      if (side == 0) side = pts.side_centroid(Plane::of_triangle(U), piece.v);
+      if (side == 0) fail("boolean: internal error: a piece's centroid lies on a triangle of operand ", soup.operand[u] + 1);
+      return side * o < 0 ? o : 0;
+    };
     if (self) {
       // One operand that may cross itself (a rounded result being re-resolved): the result is
       // where its winding number is at least 1. w counts every sheet but the piece's own and the
       // coplanar ones over it; those add 1 behind the piece (same orientation) or in front.
       std::vector<std::pair<u32, int>> cover;
-      for (u32 u : arr.coplanar[t]) {
-        const auto& U = soup.tris[u];
-        const int o = pts.orient2d(U[0], U[1], U[2], k);
-        bool inside = true;
-        for (int e = 0; e < 3 && inside; ++e) {
-          int f = edge_side(soup.verts[U[e]], soup.verts[U[(e + 1) % 3]], k);
-          if (f == 0) f = pts.orient2d_centroid(U[e], U[(e + 1) % 3], piece.v, k);
-          if (f * o <= 0) inside = false;
-        }
-        if (inside) cover.push_back({u, (o > 0) == (soup.axis_sign[t] > 0) ? 1 : -1});
-      }
+      for (u32 u : arr.coplanar[t])
+        if (const int c = cover_sign(u)) cover.push_back({u, c});
       int w = 0;
       trees[0].query(lo, hi, [&](u32 u) {
         if (u == t || std::any_of(cover.begin(), cover.end(), [&](const auto& c) { return c.first == u; })) return;
-        double ulo[3], uhi[3];
-        triangle_box(soup, u, ulo, uhi);
-        if (uhi[0] < clo[0] || ulo[0] > chi[0] || uhi[1] < clo[1] || ulo[1] > chi[1] || uhi[2] < clo[2]) return;
-        const auto& U = soup.tris[u];
-        const int o = orient2d_xy(soup, U[0], U[1], U[2]);
-        if (o == 0) return;
-        for (int e = 0; e < 3; ++e) {
-          const int f = edge_side(soup.verts[U[e]], soup.verts[U[(e + 1) % 3]], 2);
-          if (f != 0 ? f != o : orient_sos(pts, U[e], U[(e + 1) % 3], piece.v) != o) return;
-        }
-        int side = cb_ok ? plane_side(soup.verts[U[0]], soup.verts[U[1]], soup.verts[U[2]]) : 0;
-        if (side == 0) side = pts.side_centroid(Plane::of_triangle(U), piece.v);
-        if (side == 0) fail("boolean: internal error: a piece's centroid lies on a crossing triangle");
-        if (side * o < 0) w += o;
+        w += crossing(u);
       });
       // w is the winding number where the ray starts: just above the piece's plane, or, for a
       // vertical plane, on the side the perturbation (eps, eps^2) in x and y moves to. Crossing
@@ -238,25 +238,12 @@ std::vector<std::int8_t> classify(const Points& pts, const Arrangement& arr, Boo
       return;
     }
     auto hit = [&](u32 u) {
+      const int o = crossing(u);
+      if (o == 0) return;
       const int j = soup.operand[u];
-      double ulo[3], uhi[3];
-      triangle_box(soup, u, ulo, uhi);
-      if (uhi[0] < clo[0] || ulo[0] > chi[0] || uhi[1] < clo[1] || ulo[1] > chi[1] || uhi[2] < clo[2]) return;
-      const auto& U = soup.tris[u];
-      int o = orient2d_xy(soup, U[0], U[1], U[2]);
-      if (o == 0) return;  // vertical: the perturbed ray misses it
-      for (int e = 0; e < 3; ++e) {
-        const int f = edge_side(soup.verts[U[e]], soup.verts[U[(e + 1) % 3]], 2);
-        if (f != 0 ? f != o : orient_sos(pts, U[e], U[(e + 1) % 3], piece.v) != o) return;
-      }
-      int side = cb_ok ? plane_side(soup.verts[U[0]], soup.verts[U[1]], soup.verts[U[2]]) : 0;
-      if (side == 0) side = pts.side_centroid(Plane::of_triangle(U), piece.v);
-      if (side == 0) fail("boolean: internal error: a piece's centroid lies on a triangle of operand ", j + 1);
-      if (side * o < 0) {
-        auto w = std::find_if(winding.begin(), winding.end(), [&](const auto& x) { return x.first == j; });
-        if (w == winding.end()) winding.push_back({j, o});
-        else w->second += o;
-      }
+      auto w = std::find_if(winding.begin(), winding.end(), [&](const auto& x) { return x.first == j; });
+      if (w == winding.end()) winding.push_back({j, o});
+      else w->second += o;
     };
     for (int j = 0; j < nops; ++j)
       if (j != i && near(j) && !coplanar_with(j)) trees[j].query(lo, hi, hit);
