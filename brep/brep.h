@@ -33,17 +33,6 @@ using LoopId = Id<struct LoopTag>;
 using FaceId = Id<struct FaceTag>;
 using ShellId = Id<struct ShellTag>;
 
-// The element counts of a model, as the Euler–Poincaré formula uses them:
-// V - E + F - R + 2H - 2S = 0, with R the inner loops (rings) and H the through-holes (genus).
-struct EulerCounts {
-  long V = 0, E = 0, F = 0, R = 0, H = 0, S = 0;
-  long characteristic() const { return V - E + F - R + 2 * H - 2 * S; }
-  bool operator==(const EulerCounts&) const = default;
-  EulerCounts operator-(const EulerCounts& o) const {
-    return {V - o.V, E - o.E, F - o.F, R - o.R, H - o.H, S - o.S};
-  }
-};
-
 // One side of an edge: the edge traversed v[0]→v[1] (side 0) or v[1]→v[0] (side 1).
 struct EdgeSide {
   EdgeId edge;
@@ -149,13 +138,6 @@ struct Validation {
   bool ok = true;
   std::string message;
   explicit operator bool() const { return ok; }
-};
-
-struct BrepMass {
-  double volume = 0;
-  double area = 0;
-  Point3 centroid = Point3::Zero();
-  Mat3 inertia = Mat3::Zero();  // about the centroid, density 1
 };
 
 // A corner of a loop at vertex v: the side `out` leaving v in that loop (invalid when v is the
@@ -290,7 +272,7 @@ class Model {
   // Gauss-Legendre quadrature of the divergence-theorem integrands over each ParamSurface face's
   // parameter rectangle and, on planar faces, of Green's theorem along their (curved) edges.
   // Throws for a CylinderSurface face or a trimmed ParamSurface face.
-  BrepMass mass_properties() const;
+  MassProperties mass_properties() const;
   // The signed volume enclosed by the boundary polylines (arcs sampled), for any faces.
   double approximate_volume() const;
 
@@ -327,7 +309,7 @@ class Model {
   Arena<BrepFace, FaceId> faces_;
   Arena<BrepShell, ShellId> shells_;
   long holes_ = 0;
-  BrepMass exact_mass() const;  // brep/mass.cpp
+  MassProperties exact_mass() const;  // brep/mass.cpp
   // Geometry, attached by id.
   IdMap<VertexId, Point3> points_;
   IdMap<EdgeId, EdgeCurve> curves_;

@@ -485,13 +485,13 @@ Model build_polyhedron(const std::vector<Point3>& points, const std::vector<std:
     FaceId face = m.loops()[l].face;
     if (m.faces()[face].outer != l || m.loop_sides(l).size() != f.size())
       fail("polyhedron: face ", fi + 1, " does not close into a single loop");
-    Vec3 n = Vec3::Zero();
+    std::vector<Point3> corners;
     Point3 c = Point3::Zero();
-    for (std::size_t k = 0; k < f.size(); ++k) {
-      const Point3& p = points[static_cast<std::size_t>(f[k])];
-      n += p.cross(points[static_cast<std::size_t>(f[(k + 1) % f.size()])]);
-      c += p;
+    for (int k : f) {
+      corners.push_back(points[static_cast<std::size_t>(k)]);
+      c += corners.back();
     }
+    Vec3 n = newell_normal(corners);
     if (n.norm() == 0) {
       if (geometry) fail("polyhedron: face ", fi + 1, " has zero area");
     } else {

@@ -344,8 +344,7 @@ Model sweep_raw(const std::vector<std::vector<SurfacePtr>>& sides, bool closed) 
         loop_sides(k);
         L.emplace_back(br, 1);
       }
-      Vec3 nrm = Vec3::Zero();
-      for (std::size_t i = 0; i < pts.size(); ++i) nrm += pts[i].cross(pts[(i + 1) % pts.size()]);
+      Vec3 nrm = newell_normal(pts);
       if (!(nrm.norm() > 0)) fail("sweep: an end section has no area");
       sp.faces.push_back(std::move(L));
       face_geo.push_back(PlaneSurface{pts[0], nrm.normalized()});

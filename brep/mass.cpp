@@ -85,7 +85,7 @@ std::vector<double> panels(std::vector<double> breaks, double a, double b, int p
 
 }  // namespace
 
-BrepMass Model::exact_mass() const {
+MassProperties Model::exact_mass() const {
   Point3 ref = Point3::Zero();
   {
     Box3 b;
@@ -172,7 +172,7 @@ BrepMass Model::exact_mass() const {
         }
       }
   });
-  BrepMass mp;
+  MassProperties mp;
   mp.volume = mo.vol;
   mp.area = mo.area;
   if (!(mp.volume > 0)) return mp;  // inside out or flat: mass_properties() reports it

@@ -41,15 +41,6 @@ bool may_cross(const Point2& p, const Point2& q, const Point2& a, const Point2& 
   return true;
 }
 
-Vec3 newell(const std::vector<Point3>& pts) {
-  Vec3 n = Vec3::Zero();
-  for (std::size_t i = 0; i < pts.size(); ++i) {
-    const Point3& a = pts[i];
-    const Point3& b = pts[(i + 1) % pts.size()];
-    n += a.cross(b);
-  }
-  return 0.5 * n;
-}
 }  // namespace
 
 void Model::append_arc_interior(EdgeSide s, int arc_segments, std::vector<Point3>& out) const {
@@ -98,7 +89,7 @@ std::vector<Point3> Model::loop_polyline(LoopId l, int arc_segments) const {
 Vec3 Model::face_normal(FaceId f) const {
   const FaceSurface& s = surface(f);
   if (auto* pl = std::get_if<PlaneSurface>(&s)) return pl->normal;
-  Vec3 n = newell(loop_polyline(faces_[f].outer));
+  Vec3 n = newell_normal(loop_polyline(faces_[f].outer));
   double len = n.norm();
   return len > 0 ? Vec3(n / len) : Vec3::Zero();
 }
@@ -170,13 +161,13 @@ double Model::approximate_volume() const {
   return vol;
 }
 
-BrepMass Model::mass_properties() const {
+MassProperties Model::mass_properties() const {
   if (!all_planar()) {
-    BrepMass e = exact_mass();
+    MassProperties e = exact_mass();
     if (!(e.volume > 0)) fail("mass properties: the model encloses no positive volume (", e.volume, ")");
     return e;
   }
-  BrepMass mp;
+  MassProperties mp;
   Point3 ref = bounds().center();
   Vec3 first = Vec3::Zero();
   Mat3 second = Mat3::Zero();
@@ -617,7 +608,7 @@ Validation Model::validate(bool geometry) const {
             return bad(name + "'s loop " + std::to_string(l.value) + " intersects itself (segments " + std::to_string(i) + " and " +
                        std::to_string(j) + ")");
         }
-      Vec3 nl = newell(pts);
+      Vec3 nl = newell_normal(pts);
       bool outer = l == face.outer;
       if (outer && nl.dot(n) <= 0) return bad(name + "'s outer loop " + std::to_string(l.value) + " is not counter-clockwise seen from outside");
       if (!outer && nl.dot(n) >= 0) return bad(name + "'s inner loop " + std::to_string(l.value) + " is not clockwise seen from outside");

@@ -24,13 +24,7 @@ std::optional<MassProperties> BrepLeaf::mass_properties() const {
     cylinders = cylinders || std::holds_alternative<CylinderSurface>(model_->surface(f));
   });
   if (cylinders) return std::nullopt;
-  BrepMass b = model_->mass_properties();
-  MassProperties mp;
-  mp.volume = b.volume;
-  mp.area = b.area;
-  mp.centroid = b.centroid;
-  mp.inertia = b.inertia;
-  return mp;
+  return model_->mass_properties();
 }
 
 std::shared_ptr<const SolidLeaf> BrepLeaf::transformed(const Mat4& m) const {

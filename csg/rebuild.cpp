@@ -11,15 +11,12 @@ namespace wedge {
 
 namespace {
 
-// Newell's vector of the closed polygon through the origins of `sides`.
+// Newell's normal of the closed polygon through the origins of `sides`.
 Vec3 newell(const Model& m, const std::vector<EdgeSide>& sides) {
-  Vec3 n = Vec3::Zero();
-  for (std::size_t i = 0; i < sides.size(); ++i) {
-    const Point3& a = m.point(m.origin(sides[i]));
-    const Point3& b = m.point(m.origin(sides[(i + 1) % sides.size()]));
-    n += a.cross(b);
-  }
-  return n;
+  std::vector<Point3> pts;
+  pts.reserve(sides.size());
+  for (const EdgeSide& s : sides) pts.push_back(m.point(m.origin(s)));
+  return newell_normal(pts);
 }
 
 }  // namespace

@@ -22,14 +22,6 @@
 
 namespace wedge {
 
-// Volume, area, centroid and inertia tensor (about the centroid, density 1) of a solid.
-struct MassProperties {
-  double volume = 0;
-  double area = 0;
-  Vec3 centroid = Vec3::Zero();
-  Mat3 inertia = Mat3::Zero();
-};
-
 class SolidLeaf {
  public:
   virtual ~SolidLeaf() = default;
@@ -181,12 +173,5 @@ class Solid {
   explicit Solid(std::shared_ptr<const Node> node);
   std::shared_ptr<const Node> node_;
 };
-
-// Mass properties of a closed, outward-oriented triangle mesh by the divergence theorem over
-// signed tetrahedra from the origin (exact for the polyhedron the mesh describes).
-MassProperties mass_properties(const Mesh& mesh);
-// V, E, F (triangles), S (connected components) of a closed triangle mesh, R = 0 and H from
-// Euler–Poincaré per component. Throws if an edge is not shared by exactly two triangles.
-EulerCounts euler_counts(const Mesh& mesh);
 
 }  // namespace wedge

@@ -1,6 +1,9 @@
 #include "kernel/mesh.h"
 
+#include <algorithm>
+#include <array>
 #include <map>
+#include <numeric>
 #include <tuple>
 #include <unordered_map>
 
@@ -155,6 +158,113 @@ void Mesh::check() const {
     for (auto v : triangles[i])
       if (v >= positions.size())
         fail("mesh triangle ", i, " refers to vertex ", v, " but there are only ", positions.size());
+}
+
+// --- measures of a mesh alone ---
+
+Vec3 newell_normal(const std::vector<Point3>& loop) {
+  Vec3 n = Vec3::Zero();
+  for (std::size_t i = 0; i < loop.size(); ++i) {
+    const Point3& a = loop[i];
+    const Point3& b = loop[(i + 1) % loop.size()];
+    n.x() += (a.y() - b.y()) * (a.z() + b.z());
+    n.y() += (a.z() - b.z()) * (a.x() + b.x());
+    n.z() += (a.x() - b.x()) * (a.y() + b.y());
+  }
+  return n;
+}
+
+MassProperties mass_properties(const Mesh& mesh) {
+  // For each triangle (a, b, c) the signed tetrahedron (0, a, b, c) contributes its volume
+  // det/6, its first moment vol*(a+b+c)/4 and its second moments
+  // vol/20 * (sum_i x_i x_i^T + (sum_i x_i)(sum_i x_i)^T) (Tonon 2004, covariance of a tetrahedron
+  // with one vertex at the origin).
+  MassProperties mp;
+  Vec3 first = Vec3::Zero();
+  Mat3 second = Mat3::Zero();  // integral of x x^T over the solid
+  for (const auto& t : mesh.triangles) {
+    const Vec3& a = mesh.positions[t[0]];
+    const Vec3& b = mesh.positions[t[1]];
+    const Vec3& c = mesh.positions[t[2]];
+    double v = a.dot(b.cross(c)) / 6.0;
+    mp.volume += v;
+    mp.area += 0.5 * (b - a).cross(c - a).norm();
+    Vec3 s = a + b + c;
+    first += v * s / 4.0;
+    second += v / 20.0 * (a * a.transpose() + b * b.transpose() + c * c.transpose() + s * s.transpose());
+  }
+  if (mp.volume != 0) mp.centroid = first / mp.volume;
+  // Second moment about the centroid, then the inertia tensor I = trace(C) Id - C.
+  Mat3 c = second - mp.volume * mp.centroid * mp.centroid.transpose();
+  mp.inertia = c.trace() * Mat3::Identity() - c;
+  return mp;
+}
+
+EulerCounts euler_counts(const Mesh& mesh) {
+  std::map<std::pair<std::uint32_t, std::uint32_t>, int> directed;
+  for (std::size_t i = 0; i < mesh.triangles.size(); ++i) {
+    const auto& t = mesh.triangles[i];
+    for (int k = 0; k < 3; ++k) {
+      auto key = std::make_pair(t[k], t[(k + 1) % 3]);
+      if (++directed[key] > 1)
+        fail("mesh is not 2-manifold: edge ", key.first, "-", key.second, " is used twice in the same direction");
+    }
+  }
+  for (const auto& [e, n] : directed)
+    if (!directed.count({e.second, e.first}))
+      fail("mesh is not closed: edge ", e.first, "-", e.second, " has only one triangle");
+  // Every vertex must be one fan of triangles: around v, each triangle (v, u, w) links u to w, and
+  // the links must close into a single cycle. Two parts that touch at one point give two cycles
+  // (the mesh is closed but not a 2-manifold there; its Euler counts would say nothing true).
+  {
+    std::vector<std::array<std::uint32_t, 3>> corners;  // (v, u, w)
+    corners.reserve(mesh.triangles.size() * 3);
+    for (const auto& t : mesh.triangles)
+      for (int k = 0; k < 3; ++k) corners.push_back({t[k], t[(k + 1) % 3], t[(k + 2) % 3]});
+    std::sort(corners.begin(), corners.end());
+    for (std::size_t i = 0; i < corners.size();) {
+      std::size_t j = i;
+      while (j < corners.size() && corners[j][0] == corners[i][0]) ++j;
+      // corners[i..j) are sorted by u: follow u -> w from the first until the cycle closes.
+      auto next = [&](std::uint32_t u) {
+        auto it = std::lower_bound(corners.begin() + long(i), corners.begin() + long(j), u,
+                                   [](const std::array<std::uint32_t, 3>& c, std::uint32_t x) { return c[1] < x; });
+        return (*it)[2];
+      };
+      std::size_t steps = 1;
+      for (std::uint32_t u = next(corners[i][1]); u != corners[i][1]; u = next(u)) ++steps;
+      if (steps != j - i) {
+        const Point3& p = mesh.positions[corners[i][0]];
+        fail("mesh is not 2-manifold: vertex ", corners[i][0], " at (", p.x(), ", ", p.y(), ", ", p.z(),
+             ") joins separate fans of triangles (parts that touch at one point)");
+      }
+      i = j;
+    }
+  }
+  // Components by union-find over vertices used by triangles.
+  std::vector<std::uint32_t> parent(mesh.positions.size());
+  std::iota(parent.begin(), parent.end(), 0u);
+  auto find = [&](std::uint32_t x) {
+    while (parent[x] != x) x = parent[x] = parent[parent[x]];
+    return x;
+  };
+  std::vector<bool> used(mesh.positions.size(), false);
+  for (const auto& t : mesh.triangles)
+    for (int k = 0; k < 3; ++k) {
+      used[t[k]] = true;
+      parent[find(t[k])] = find(t[(k + 1) % 3]);
+    }
+  EulerCounts c;
+  for (std::size_t v = 0; v < used.size(); ++v)
+    if (used[v]) {
+      ++c.V;
+      if (find(static_cast<std::uint32_t>(v)) == v) ++c.S;
+    }
+  c.E = static_cast<long>(directed.size() / 2);
+  c.F = static_cast<long>(mesh.triangles.size());
+  long chi = c.V - c.E + c.F;  // = 2S - 2H
+  c.H = (2 * c.S - chi) / 2;
+  return c;
 }
 
 }  // namespace wedge

@@ -11,6 +11,26 @@
 
 namespace wedge {
 
+// Volume, area, centroid and inertia tensor (about the centroid, density 1) of a solid: what
+// mass_properties(Mesh) measures on triangles and the B-Rep computes from its exact geometry.
+struct MassProperties {
+  double volume = 0;
+  double area = 0;
+  Point3 centroid = Point3::Zero();
+  Mat3 inertia = Mat3::Zero();
+};
+
+// The element counts of a solid, as the Euler–Poincaré formula uses them:
+// V - E + F - R + 2H - 2S = 0, with R the inner loops (rings) and H the through-holes (genus).
+struct EulerCounts {
+  long V = 0, E = 0, F = 0, R = 0, H = 0, S = 0;
+  long characteristic() const { return V - E + F - R + 2 * H - 2 * S; }
+  bool operator==(const EulerCounts&) const = default;
+  EulerCounts operator-(const EulerCounts& o) const {
+    return {V - o.V, E - o.E, F - o.F, R - o.R, H - o.H, S - o.S};
+  }
+};
+
 struct Mesh {
   using Triangle = std::array<std::uint32_t, 3>;  // counter-clockwise seen from outside
 
@@ -61,5 +81,19 @@ struct Mesh {
   // range, a non-finite coordinate.
   void check() const;
 };
+
+// Newell's method (Newell, Newell & Sancha 1972; Sutherland et al.): the normal of a closed polygon,
+// possibly non-convex and slightly non-planar, as the sum over its edges (a, b) of
+// ((ay - by)(az + bz), (az - bz)(ax + bx), (ax - bx)(ay + by)). Its length is twice the polygon's
+// area; it points to where the polygon runs counter-clockwise. The one Newell normal of the project.
+Vec3 newell_normal(const std::vector<Point3>& loop);
+
+// Mass properties of a closed, outward-oriented triangle mesh by the divergence theorem over
+// signed tetrahedra from the origin (exact for the polyhedron the mesh describes).
+MassProperties mass_properties(const Mesh& mesh);
+// V, E, F (triangles), S (connected components) of a closed triangle mesh, R = 0 and H from
+// Euler–Poincaré per component. Throws if an edge is not shared by exactly two triangles, or a
+// vertex joins separate fans of triangles.
+EulerCounts euler_counts(const Mesh& mesh);
 
 }  // namespace wedge

@@ -28,18 +28,6 @@ using CDT = CGAL::Constrained_Delaunay_triangulation_2<K, Tds, Itag>;
 
 }  // namespace
 
-Vec3 newell_normal(const std::vector<Point3>& positions, const std::vector<std::uint32_t>& loop) {
-  Vec3 n = Vec3::Zero();
-  for (std::size_t i = 0; i < loop.size(); ++i) {
-    const Point3& a = positions[loop[i]];
-    const Point3& b = positions[loop[(i + 1) % loop.size()]];
-    n.x() += (a.y() - b.y()) * (a.z() + b.z());
-    n.y() += (a.z() - b.z()) * (a.x() + b.x());
-    n.z() += (a.x() - b.x()) * (a.y() + b.y());
-  }
-  return n;
-}
-
 std::vector<Triangle> triangulate_face(const std::vector<Point3>& positions,
                                        const std::vector<std::vector<std::uint32_t>>& loops, const Vec3& normal) {
   if (!normal.allFinite() || !(normal.norm() > 0)) fail("triangulate_face: the face normal is zero or not finite");

@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "kernel/mesh.h"
 #include "kernel/types.h"
 
 namespace wedge {
@@ -21,8 +22,6 @@ using Triangle = std::array<std::uint32_t, 3>;
 std::vector<Triangle> triangulate_face(const std::vector<Point3>& positions,
                                        const std::vector<std::vector<std::uint32_t>>& loops, const Vec3& normal);
 
-// Newell's method: the area-weighted normal of a (possibly non-convex, slightly non-planar) polygon;
-// its length is twice the polygon's area.
-Vec3 newell_normal(const std::vector<Point3>& positions, const std::vector<std::uint32_t>& loop);
+// (Newell's normal of a loop, newell_normal, is in kernel/mesh.h.)
 
 }  // namespace wedge

@@ -36,7 +36,7 @@ TEST_CASE("twisted extrusion keeps the cross-section area: the prism's volume, e
   // Every z-section of a twisted extrusion is the profile turned: area A at every height.
   Model m = extrude(square(2), 3, radians(90));
   check_valid(m, EulerCounts{8, 12, 6, 0, 0, 1});  // a box's counts: 4 helicoidal sides, 2 caps
-  BrepMass mp = m.mass_properties();
+  MassProperties mp = m.mass_properties();
   CHECK(mp.volume == Approx(4 * 3).epsilon(1e-9));
   CHECK((mp.centroid - Point3(0, 0, 1.5)).norm() < 1e-9);
   // Izz: every section is a square of side 2 turned about its centre: A (a^2 + a^2) / 12 per
@@ -56,7 +56,7 @@ TEST_CASE("scaled extrusion is the frustum: V = h A (1 + k + k^2) / 3, with or w
     INFO("twist " << twist);
     Model m = extrude(square(2), h, twist, k);
     check_valid(m, EulerCounts{8, 12, 6, 0, 0, 1});
-    BrepMass mp = m.mass_properties();
+    MassProperties mp = m.mass_properties();
     CHECK(mp.volume == Approx(h * A * (1 + k + k * k) / 3).epsilon(1e-9));
     // Centroid of a frustum of areas A1, A2: z = h (A1 + 2 sqrt(A1 A2) + 3 A2) / (4 (A1 + sqrt(A1 A2) + A2)).
     double A2 = A * k * k, s = std::sqrt(A * A2);
@@ -81,7 +81,7 @@ TEST_CASE("full revolve: a ring of genus 1 whose volume and area follow Pappus",
   // Per profile vertex two vertices (start and half-way) and two edges; per piece one seam edge
   // and one face.
   check_valid(m, EulerCounts{8, 12, 4, 0, 1, 1});
-  BrepMass mp = m.mass_properties();
+  MassProperties mp = m.mass_properties();
   CHECK(mp.volume == Approx(2 * pi * 1.5 * 1.5).epsilon(1e-9));
   CHECK(mp.area == Approx(2 * pi * 1.5 * 5).epsilon(1e-9));
   CHECK((mp.centroid - Point3(0, 0, 0.75)).norm() < 1e-9);
@@ -93,7 +93,7 @@ TEST_CASE("partial revolve gets planar end caps; Pappus on the swept fraction", 
   double angle = radians(90);
   Model m = revolve(rect_section(1, 0, 2, 1.5), angle);
   check_valid(m, EulerCounts{8, 12, 6, 0, 0, 1});
-  BrepMass mp = m.mass_properties();
+  MassProperties mp = m.mass_properties();
   CHECK(mp.volume == Approx(angle * 1.5 * 1.5).epsilon(1e-9));
   CHECK(mp.area == Approx(2 * 1.5 + angle * 1.5 * 5).epsilon(1e-9));
   // The centroid of an annular sector of angle a: radius (2 sin(a/2) / a) * (2/3)(R^3 - r^3)/(R^2 - r^2),
@@ -151,7 +151,7 @@ TEST_CASE("sweep along an open path: volume A L and lateral area P L for a centr
   auto arc = std::make_shared<const CircularArc>(Point3::Zero(), R, 0.0, pi / 2, Vec3::UnitY());
   Model m = sweep_along(disc(r), arc);
   check_valid(m, EulerCounts{4, 6, 4, 0, 0, 1});
-  BrepMass mp = m.mass_properties();
+  MassProperties mp = m.mass_properties();
   double L = R * pi / 2;
   CHECK(mp.volume == Approx(pi * r * r * L).epsilon(1e-7));
   CHECK(mp.area == Approx(2 * pi * r * L + 2 * pi * r * r).epsilon(1e-7));
@@ -177,7 +177,7 @@ TEST_CASE("sweep along a closed path is a ring of genus 1 (the torus for a circl
   auto path = std::make_shared<const CircularArc>(Point3::Zero(), R, 0.0, 2 * pi);
   Model m = sweep_along(disc(r), path);
   check_valid(m, EulerCounts{4, 6, 2, 0, 1, 1});
-  BrepMass mp = m.mass_properties();
+  MassProperties mp = m.mass_properties();
   CHECK(mp.volume == Approx(2 * pi * pi * R * r * r).epsilon(1e-7));
   CHECK(mp.area == Approx(4 * pi * pi * R * r).epsilon(1e-7));
   CHECK(mp.centroid.norm() < 1e-7);

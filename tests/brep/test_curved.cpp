@@ -25,7 +25,7 @@ TEST_CASE("sphere: V 2 E 1 F 1, volume, area and inertia in closed form", "[brep
   Model m = sphere(r, Point3(1, 2, 3));
   REQUIRE(m.validate().ok);
   CHECK(m.counts() == EulerCounts{2, 1, 1, 0, 0, 1});
-  BrepMass mp = m.mass_properties();
+  MassProperties mp = m.mass_properties();
   CHECK(mp.volume == Approx(4.0 / 3 * pi * r * r * r).epsilon(1e-12));
   CHECK(mp.area == Approx(4 * pi * r * r).epsilon(1e-12));
   CHECK((mp.centroid - Point3(1, 2, 3)).norm() < 1e-12);
@@ -38,7 +38,7 @@ TEST_CASE("cylinder: V 4 E 6 F 4, exact volume and inertia", "[brep][curved]") {
   Model m = cylinder(r, h);
   REQUIRE(m.validate().ok);
   CHECK(m.counts() == EulerCounts{4, 6, 4, 0, 0, 1});
-  BrepMass mp = m.mass_properties();
+  MassProperties mp = m.mass_properties();
   double V = pi * r * r * h;
   CHECK(mp.volume == Approx(V).epsilon(1e-12));
   CHECK(mp.area == Approx(2 * pi * r * r + 2 * pi * r * h).epsilon(1e-12));
@@ -58,7 +58,7 @@ TEST_CASE("cone: frustum V 4 E 6 F 4 and apex V 3 E 4 F 3, volumes in closed for
   Model a = cone(r1, 0, h);
   REQUIRE(a.validate().ok);
   CHECK(a.counts() == EulerCounts{3, 4, 3, 0, 0, 1});
-  BrepMass ma = a.mass_properties();
+  MassProperties ma = a.mass_properties();
   CHECK(ma.volume == Approx(pi * r1 * r1 * h / 3).epsilon(1e-12));
   CHECK((ma.centroid - Point3(0, 0, h / 4)).norm() < 1e-12);
   Model b = cone(0, r1, h);  // apex at the bottom
@@ -72,7 +72,7 @@ TEST_CASE("torus: V 4 E 6 F 2 H 1, Pappus's volume and area", "[brep][curved]") 
   Model m = torus(R, r);
   REQUIRE(m.validate().ok);
   CHECK(m.counts() == EulerCounts{4, 6, 2, 0, 1, 1});
-  BrepMass mp = m.mass_properties();
+  MassProperties mp = m.mass_properties();
   CHECK(mp.volume == Approx(2 * pi * pi * R * r * r).epsilon(1e-12));
   CHECK(mp.area == Approx(4 * pi * pi * R * r).epsilon(1e-12));
   double V = mp.volume;

@@ -36,7 +36,7 @@ std::vector<Point3> cube_points() {
 
 TEST_CASE("a box's mass properties are exact", "[brep][mass]") {
   Model m = box(Vec3(2, 3, 4), Point3(1, 2, 3));
-  BrepMass mp = m.mass_properties();
+  MassProperties mp = m.mass_properties();
   CHECK(mp.volume == Approx(24).epsilon(1e-14));
   CHECK(mp.area == Approx(52).epsilon(1e-14));
   CHECK(mp.centroid.x() == Approx(2));
@@ -52,7 +52,7 @@ TEST_CASE("an L-shaped prism matches the sum of its two boxes", "[brep][mass]") 
   Model m = prism({{{0, 0}, {3, 0}, {3, 1}, {1, 1}, {1, 2}, {0, 2}}, {}}, 2);
   CHECK(m.counts() == EulerCounts{12, 18, 8, 0, 0, 1});
   REQUIRE(m.validate().ok);
-  BrepMass mp = m.mass_properties();
+  MassProperties mp = m.mass_properties();
   CHECK(mp.volume == Approx(8));
   CHECK(mp.area == Approx(2 * 4 + 2 * 10));
   Point3 c(1.25, 0.75, 1);
@@ -65,7 +65,7 @@ TEST_CASE("a prism with a hole: the hole's volume and area are taken out", "[bre
   Model m = prism({{{0, 0}, {4, 0}, {4, 4}, {0, 4}}, {{{1, 1}, {1, 3}, {3, 3}, {3, 1}}}}, 1);
   CHECK(m.counts() == EulerCounts{16, 24, 10, 2, 1, 1});
   REQUIRE(m.validate().ok);
-  BrepMass mp = m.mass_properties();
+  MassProperties mp = m.mass_properties();
   CHECK(mp.volume == Approx(12));
   CHECK(mp.area == Approx(2 * 12 + 16 + 8));
   CHECK((mp.centroid - Point3(2, 2, 0.5)).norm() < 1e-12);
@@ -78,7 +78,7 @@ TEST_CASE("pyramids and frusta match their closed forms", "[brep][mass]") {
   SECTION("square pyramid, side 2, height 3") {
     Model m = frustum(sq, 3, 0, Vec2(0, 0));
     CHECK(m.counts() == EulerCounts{5, 8, 5, 0, 0, 1});
-    BrepMass mp = m.mass_properties();
+    MassProperties mp = m.mass_properties();
     double a = 2, h = 3, V = a * a * h / 3;
     CHECK(mp.volume == Approx(V));
     CHECK((mp.centroid - Point3(0, 0, h / 4)).norm() < 1e-12);
@@ -163,7 +163,7 @@ TEST_CASE("polyhedron rejects open, non-manifold and inconsistent input", "[brep
 
 TEST_CASE("transforms move the geometry; a mirror keeps faces pointing out", "[brep][transform]") {
   Model m = prism({{{0, 0}, {3, 0}, {3, 1}, {1, 1}, {1, 2}, {0, 2}}, {}}, 2);
-  BrepMass before = m.mass_properties();
+  MassProperties before = m.mass_properties();
   SECTION("rotation and translation") {
     m.transform(translate(Vec3(1, 2, 3)) * rotate(30, Vec3(1, 1, 0)));
     CHECK(m.validate().ok);
@@ -174,7 +174,7 @@ TEST_CASE("transforms move the geometry; a mirror keeps faces pointing out", "[b
     Validation v = m.validate();
     INFO(v.message);
     CHECK(v.ok);
-    BrepMass after = m.mass_properties();
+    MassProperties after = m.mass_properties();
     CHECK(after.volume == Approx(before.volume));
     CHECK(after.centroid.x() == Approx(-before.centroid.x()));
     CHECK(m.counts() == EulerCounts{12, 18, 8, 0, 0, 1});
