@@ -26,7 +26,7 @@ const LuaSurface* test_surface(lua_State* L, int idx);
 const LuaSurface& check_surface(lua_State* L, int idx);
 void push_surface(lua_State* L, LuaSurface s);
 // All patches meshed to `tolerance`; face_ids are the 0-based patch numbers.
-// welded: Surface::welded_mesh (seams merged, poles collapsed); single-patch surfaces only.
+// welded: tessellate_welded (seams merged, poles collapsed); single-patch surfaces only.
 Mesh surface_mesh(const LuaSurface& s, double tolerance, bool welded = false);
 
 }  // namespace wedge::lua

@@ -8,6 +8,7 @@
 #include "lua/lua_util.h"
 #include "lua/wedge_lua.h"
 #include "lua/wrap_curve.h"
+#include "tessellate/surface_mesh.h"
 
 namespace wedge::lua {
 
@@ -381,47 +382,9 @@ Mesh surface_mesh(const LuaSurface& s, double tolerance, bool welded) {
   if (welded) {
     if (s.patches.size() != 1)
       fail("welded=true needs a single-patch surface (this one has ", s.patches.size(), " patches)");
-    return s.patches[0]->welded_mesh(tolerance, 0);
+    return tessellate_welded(*s.patches[0], tolerance, 0);
   }
-  if (s.patches.size() == 1) return s.patches[0]->mesh(tolerance, 0);
-  // Several patches (the teapot): patches meshed independently would sample a shared edge at
-  // different points and leave cracks (T-junctions). Instead every patch gets the same uniform
-  // grid, as fine as the most demanding patch needs, so shared edges get the same points.
-  std::size_t n = 1;
-  bool trimmed = false;
-  for (const auto& p : s.patches) {
-    trimmed = trimmed || !p->trims.empty();
-    Mesh m = p->mesh(tolerance);
-    std::vector<double> us, vs;
-    for (const auto& uv : m.uvs) {
-      us.push_back(uv.x());
-      vs.push_back(uv.y());
-    }
-    for (auto* t : {&us, &vs}) {
-      std::sort(t->begin(), t->end());
-      n = std::max(n, std::size_t(std::unique(t->begin(), t->end()) - t->begin()) - 1);
-    }
-  }
-  Mesh all;
-  for (std::size_t i = 0; i < s.patches.size(); ++i) {
-    const auto& p = *s.patches[i];
-    Mesh m;
-    if (trimmed) {
-      m = p.mesh(tolerance, int(i));
-    } else {
-      auto [u0, u1] = p.u_domain();
-      auto [v0, v1] = p.v_domain();
-      std::vector<double> us(n + 1), vs(n + 1);
-      for (std::size_t k = 0; k <= n; ++k) {
-        us[k] = k == n ? u1 : u0 + (u1 - u0) * double(k) / double(n);
-        vs[k] = k == n ? v1 : v0 + (v1 - v0) * double(k) / double(n);
-      }
-      m = p.mesh_grid(us, vs, int(i));
-    }
-    if (i == 0) all = std::move(m);
-    else all.append(m);
-  }
-  return all;
+  return tessellate_patches(s.patches, tolerance);
 }
 
 void register_surfaces(lua_State* L) {

@@ -70,36 +70,7 @@ class Surface {
   // rule over all loops). No loops: the whole domain.
   std::vector<TrimLoop> trims;
   bool inside_trim(double u, double v) const;
-
-  // A triangle mesh whose chordal error (distance between a triangle and the surface at the same
-  // parameters) stays below `tolerance`: a grid refined until midpoint samples of every cell agree.
-  // This is the render mesh: vertices along a closed seam or a pole are not merged, so each keeps
-  // its own uv (a texture wraps without a jump). Throws if the tolerance would need more than 4M
-  // vertices. Positions, normals and uvs (the surface parameters) are filled; face_ids = face_id.
-  Mesh mesh(double tolerance, int face_id = -1) const;
-  // The same grid welded for solids and export: where the first and last rows in u (or v) coincide
-  // (within 1e-9 of the surface's size, found by evaluation) they become one row, and a row that
-  // maps to one point (a pole) becomes one vertex that its triangles fan into (no degenerate
-  // triangles). A closed surface (sphere, torus, full revolution of a closed profile) gives a closed
-  // 2-manifold. A seam vertex keeps the uv of the first row (uvs jump across the seam: use mesh()
-  // for texturing); a pole vertex has the middle of the collapsed row's parameter range and the
-  // pole's limit normal (the mean of the normals taken just inside the pole from each grid point).
-  // A closed result is oriented outward (triangles and normals reversed if Su x Sv points in).
-  Mesh welded_mesh(double tolerance, int face_id = -1) const;
-  // The mesh of the grid us x vs (parameters increasing; trims applied as in mesh()). Patches that
-  // share an edge and are meshed with the same parameters along it get the same edge points,
-  // which is how multi-patch surfaces are tessellated without cracks. `points`, if given, holds
-  // the already evaluated grid (row-major, us outer).
-  Mesh mesh_grid(const std::vector<double>& us, const std::vector<double>& vs, int face_id = -1,
-                 const std::vector<Point3>* points = nullptr) const;
-  // welded_mesh() of the grid us x vs.
-  Mesh welded_grid(const std::vector<double>& us, const std::vector<double>& vs, int face_id = -1,
-                   const std::vector<Point3>* points = nullptr) const;
-
- private:
-  // The refined parameter grid of mesh() and its evaluated points.
-  void refine_grid(double tolerance, std::vector<double>& us, std::vector<double>& vs,
-                   std::vector<Point3>& grid) const;
+  // (Its meshes are made by tessellate/surface_mesh.h.)
 };
 
 using SurfacePtr = std::shared_ptr<const Surface>;

@@ -7,7 +7,7 @@
 #include <memory>
 #include <set>
 
-#include "csg/solid.h"
+#include "tessellate/surface_mesh.h"
 #include "surfaces/surfaces.h"
 
 using namespace wedge;
@@ -217,7 +217,7 @@ TEST_CASE("mesh chordal error is below the requested tolerance", "[mesh]") {
   surfaces.push_back(std::make_unique<Plane>(Point3(0, 0, 0), Vec3::UnitX(), Vec3::UnitY()));
   for (const auto& s : surfaces)
     for (double tol : {0.05, 0.005}) {
-      Mesh m = s->mesh(tol, 7);
+      Mesh m = tessellate(*s, tol, 7);
       REQUIRE_NOTHROW(m.check());
       REQUIRE(m.uvs.size() == m.positions.size());
       REQUIRE(m.normals.size() == m.positions.size());
@@ -226,9 +226,9 @@ TEST_CASE("mesh chordal error is below the requested tolerance", "[mesh]") {
       CHECK(err <= tol);
       if (s.get() != surfaces[3].get()) CHECK(err > tol / 50);  // and not absurdly fine (a plane is exact)
     }
-  Mesh plane = surfaces[3]->mesh(0.01);
+  Mesh plane = tessellate(*surfaces[3], 0.01);
   CHECK(plane.area() == Approx(1).epsilon(1e-14));
-  Mesh sphere = surfaces[0]->mesh(0.001);
+  Mesh sphere = tessellate(*surfaces[0], 0.001);
   CHECK(sphere.area() == Approx(16 * kPi).epsilon(2e-3));
   CHECK(std::abs(sphere.volume()) == Approx(32 * kPi / 3).epsilon(3e-3));
   CHECK(sphere.volume() > 0);  // outward orientation
@@ -241,7 +241,7 @@ TEST_CASE("trimming loops remove the outside of the parameter domain", "[trim]")
   p.trims.push_back({{{0.25, 0.25}, {0.25, 0.75}, {0.75, 0.75}, {0.75, 0.25}}});  // a hole
   CHECK(p.inside_trim(0.1, 0.1));
   CHECK_FALSE(p.inside_trim(0.5, 0.5));
-  Mesh m = p.mesh(0.01);
+  Mesh m = tessellate(p, 0.01);
   CHECK(m.area() == Approx(0.75).epsilon(1e-12));
   // A hole off any grid line: the mesh follows the loop to within about the tolerance, so the
   // area converges to 1 - 0.4^2 as the tolerance falls (perimeter 1.6 x band of one cell).
@@ -249,7 +249,7 @@ TEST_CASE("trimming loops remove the outside of the parameter domain", "[trim]")
   q.trims.push_back({{{0, 0}, {1, 0}, {1, 1}, {0, 1}}});
   q.trims.push_back({{{0.3, 0.3}, {0.3, 0.7}, {0.7, 0.7}, {0.7, 0.3}}});
   for (double tol : {0.02, 0.005}) {
-    Mesh mq = q.mesh(tol);
+    Mesh mq = tessellate(q, tol);
     INFO("tolerance " << tol << ", area " << mq.area());
     CHECK(std::abs(mq.area() - 0.84) <= 1.6 * tol);
     for (const auto& t : mq.triangles) {  // no triangle lies in the hole
@@ -281,7 +281,7 @@ TEST_CASE("Newell's teapot: 32 patches, outward, watertight where patches meet",
   }
   // The pot fits its classic bounding box.
   Mesh all;
-  for (std::size_t i = 0; i < pot.size(); ++i) all.append(pot[i].mesh(0.01, int(i)));
+  for (std::size_t i = 0; i < pot.size(); ++i) all.append(tessellate(pot[i], 0.01, int(i)));
   Box3 b = all.bounds();
   CHECK(b.min.z() == Approx(0).margin(1e-12));
   CHECK(b.max.z() == Approx(3.15).margin(1e-3));
@@ -317,7 +317,7 @@ TEST_CASE("welded mesh of the NURBS sphere is a closed genus-0 surface with the 
   const double r = 2, tol = 1e-3;
   Point3 c(1, -2, 0.5);
   NurbsSurface s = nurbs_sphere(c, r);
-  Mesh m = s.welded_mesh(tol);
+  Mesh m = tessellate_welded(s, tol);
   check_welded(m);
   EulerCounts e = euler_counts(m);
   CHECK(e.V - e.E + e.F == 2);
@@ -342,14 +342,14 @@ TEST_CASE("welded mesh of the NURBS sphere is a closed genus-0 surface with the 
   CHECK(worst > 1 - 1e-6);
   CHECK(poles == 2);
   // The render mesh keeps the seam and pole rows: it has more vertices and is open.
-  Mesh render = s.mesh(tol);
+  Mesh render = tessellate(s, tol);
   CHECK(render.positions.size() > m.positions.size());
   CHECK_THROWS_AS(euler_counts(render), Error);
 }
 
 TEST_CASE("welded mesh of the NURBS torus is closed with genus 1", "[surfaces][mesh]") {
   const double R = 3, r = 1, tol = 1e-3;
-  Mesh m = nurbs_torus(Point3(0, 0, 1), R, r).welded_mesh(tol);
+  Mesh m = tessellate_welded(nurbs_torus(Point3(0, 0, 1), R, r), tol);
   check_welded(m);
   EulerCounts e = euler_counts(m);
   CHECK(e.V - e.E + e.F == 0);
@@ -365,7 +365,7 @@ TEST_CASE("welded meshes of revolved closed profiles are closed and outward", "[
     for (double sign : {1.0, -1.0}) {
       auto circle = std::make_shared<CircularArc>(Point3(2.5, 0, 0), 0.75, 0, 2 * M_PI, sign * Vec3::UnitY());
       RevolvedSurface s(circle, Point3(0, 0, 0), Vec3::UnitZ(), 2 * M_PI);
-      Mesh m = s.welded_mesh(tol);
+      Mesh m = tessellate_welded(s, tol);
       check_welded(m);
       EulerCounts e = euler_counts(m);
       CHECK(e.V - e.E + e.F == 0);
@@ -380,7 +380,7 @@ TEST_CASE("welded meshes of revolved closed profiles are closed and outward", "[
     auto profile = std::make_shared<NurbsCurve>(interpolate_nurbs(
         {Point3(0, 0, 0), Point3(1, 0, 0.3), Point3(1.2, 0, 1), Point3(0.6, 0, 1.8), Point3(0, 0, 2)}, 3));
     RevolvedSurface s(profile, Point3(0, 0, 0), Vec3::UnitZ(), 2 * M_PI);
-    Mesh m = s.welded_mesh(tol);
+    Mesh m = tessellate_welded(s, tol);
     check_welded(m);
     EulerCounts e = euler_counts(m);
     CHECK(e.V - e.E + e.F == 2);
@@ -400,13 +400,13 @@ TEST_CASE("welded meshes of revolved closed profiles are closed and outward", "[
 
 TEST_CASE("welded mesh leaves an open surface open and merges nothing on a plane", "[surfaces][mesh]") {
   Plane p(Point3(0, 0, 0), Vec3::UnitX(), Vec3::UnitY());
-  Mesh a = p.mesh(0.01), b = p.welded_mesh(0.01);
+  Mesh a = tessellate(p, 0.01), b = tessellate_welded(p, 0.01);
   CHECK(a.positions.size() == b.positions.size());
   CHECK(a.triangles.size() == b.triangles.size());
   // A half cylinder (open in u): no seam, the ends stay open.
   auto half = std::make_shared<CircularArc>(Point3(0, 0, 0), 1, 0, M_PI);
   ExtrudedSurface e(half, Vec3(0, 0, 1));
-  CHECK_THROWS_AS(euler_counts(e.welded_mesh(1e-3)), Error);
+  CHECK_THROWS_AS(euler_counts(tessellate_welded(e, 1e-3)), Error);
 }
 
 TEST_CASE("swept surface v-derivatives are analytic and agree with differences of eval", "[swept]") {
@@ -450,7 +450,7 @@ TEST_CASE("welded mesh of a swept tube merges the profile's seam and leaves the 
   auto circle = std::make_shared<CircularArc>(Point3(0, 0, 0), 0.3, 0, 2 * M_PI);
   auto path = std::make_shared<BezierCurve>(std::vector<Point3>{{0, 0, 0}, {4, 0, 0}, {0, 4, 0}, {4, 4, 0}});
   SweptSurface tube(circle, path);
-  Mesh m = tube.welded_mesh(2e-3);
+  Mesh m = tessellate_welded(tube, 2e-3);
   check_welded(m);
   // Every edge has two triangles except those of the two end circles: one boundary loop per end.
   std::map<std::pair<std::uint32_t, std::uint32_t>, int> edges;
@@ -473,5 +473,5 @@ TEST_CASE("welded mesh of a swept tube merges the profile's seam and leaves the 
     double d0 = (m.positions[v] - path->eval(0)).norm(), d1 = (m.positions[v] - path->eval(1)).norm();
     CHECK(std::min(d0, d1) == Approx(0.3).epsilon(1e-9));
   }
-  CHECK(m.positions.size() < tube.mesh(2e-3).positions.size());
+  CHECK(m.positions.size() < tessellate(tube, 2e-3).positions.size());
 }
