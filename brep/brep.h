@@ -411,6 +411,17 @@ Model sweep_along(const Section& s, const CurvePtr& path);
 // Every section needs the same number of loops and pieces.
 Model loft(const std::vector<Section>& sections, const std::vector<double>& heights);
 
+// A closed set of surface patches as a solid (Newell's teapot body or lid, or a user's patches):
+// patches that share a boundary curve (same points at the same fractions of their parameter
+// ranges, run in opposite directions) are joined along it, sides that collapse to a point are
+// poles, and every loop of the boundary left open must be planar and is closed by a planar cap.
+// Each patch is one face over its whole parameter rectangle, of surface kind `kind`; all patches
+// must be oriented alike (the solid is turned outward if they all point in). V, E, F: the distinct
+// patch corners, the joined sides (a closed side counts twice: it is split in two), the patches
+// plus one cap per open loop. Throws, naming the patch or the place, when the boundary does not
+// close, branches, is not planar where open, or the result is not a valid solid.
+Model patch_solid(const std::vector<SurfacePtr>& patches, const std::string& kind = "nurbs");
+
 // The seed's worked example: a block with a protrusion, a sharp-cornered depression, a round-
 // cornered depression and a round through-hole. `rows` receives each feature's own counts
 // (block, protrusion, sharp depression, round depression, hole), in that order.

@@ -445,6 +445,198 @@ Model named(Model m, const char* kind) {
 
 }  // namespace
 
+// --- a closed set of patches ---------------------------------------------------------------------
+//
+// patch_solid(): each patch's domain [u0, u1] x [v0, v1] has four boundary sides, counter-clockwise
+// in (u, v): v = v0 (u rising), u = u1 (v rising), v = v1 (u falling), u = u0 (v falling). A side
+// that maps to one point is a pole (no edge); a side whose two ends meet (a full circle) is split at
+// its middle parameter. Corners closer than eps are one vertex. Two sides join into one edge when
+// they run between the same two vertices in opposite directions and agree at interior samples (at
+// the same fraction of their parameter segments); the sides left over form the open boundary, which
+// is cut into loops, and each loop, if planar, is closed by a planar cap.
+
+namespace {
+
+struct PatchSide {
+  std::size_t patch;
+  Vec2 from, to;  // parameters, in the patch loop's direction
+  int a = -1, b = -1;  // vertices at from and to
+  int edge = -1, side = -1;
+};
+
+Model patch_solid_raw(const std::vector<SurfacePtr>& patches, const std::string& kind, bool flip, double eps) {
+  const char* what = "patch_solid";
+  std::vector<Point3> points;
+  auto vertex = [&](const Point3& p) {
+    for (std::size_t i = 0; i < points.size(); ++i)
+      if ((points[i] - p).norm() <= eps) return static_cast<int>(i);
+    points.push_back(p);
+    return static_cast<int>(points.size()) - 1;
+  };
+  auto at = [&](const PatchSide& sd, double f) { return patches[sd.patch]->eval(sd.from.x() + f * (sd.to.x() - sd.from.x()), sd.from.y() + f * (sd.to.y() - sd.from.y())); };
+  static const double kSamples[] = {0.125, 0.25, 0.375, 0.5, 0.625, 0.75, 0.875};
+  std::vector<std::vector<PatchSide>> loops(patches.size());
+  for (std::size_t i = 0; i < patches.size(); ++i) {
+    auto [u0, u1] = patches[i]->u_domain();
+    auto [v0, v1] = patches[i]->v_domain();
+    Vec2 c[4] = {{u0, v0}, {u1, v0}, {u1, v1}, {u0, v1}};
+    for (int k = 0; k < 4; ++k) {
+      PatchSide sd{i, c[k], c[(k + 1) % 4]};
+      Point3 pa = at(sd, 0), pb = at(sd, 1);
+      bool pole = (pa - pb).norm() <= eps;
+      for (double f : kSamples) pole = pole && (at(sd, f) - pa).norm() <= eps;
+      if (pole) continue;
+      if ((pa - pb).norm() <= eps) {  // a closed side: two halves
+        Vec2 mid = 0.5 * (sd.from + sd.to);
+        loops[i].push_back(PatchSide{i, sd.from, mid});
+        loops[i].push_back(PatchSide{i, mid, sd.to});
+      } else {
+        loops[i].push_back(sd);
+      }
+    }
+    if (loops[i].size() < 2) fail(what, ": patch ", i + 1, " has fewer than two sides that are not poles (it is a point or a curve)");
+    if (flip) {
+      std::reverse(loops[i].begin(), loops[i].end());
+      for (auto& sd : loops[i]) std::swap(sd.from, sd.to);
+    }
+    for (auto& sd : loops[i]) {
+      sd.a = vertex(at(sd, 0));
+      sd.b = vertex(at(sd, 1));
+    }
+  }
+  // Join the sides into edges.
+  LoopsSpec sp;
+  std::vector<Geo> geo;
+  std::vector<PatchSide*> all;
+  for (auto& l : loops)
+    for (auto& sd : l) all.push_back(&sd);
+  auto same_points = [&](const PatchSide& x, const PatchSide& y, bool reversed) {
+    for (double f : kSamples)
+      if ((at(x, f) - at(y, reversed ? 1 - f : f)).norm() > eps) return false;
+    return true;
+  };
+  auto new_edge = [&](PatchSide& x) {  // an edge along x, v[0] at x's start, x on side 0
+    sp.edges.push_back({x.a, x.b});
+    bool along_u = x.from.y() == x.to.y();
+    double lo = along_u ? x.from.x() : x.from.y(), hi = along_u ? x.to.x() : x.to.y();
+    double value = along_u ? x.from.y() : x.from.x();
+    CurvePtr c = std::make_shared<const IsoCurve>(patches[x.patch], along_u, value, std::min(lo, hi), std::max(lo, hi));
+    if (hi < lo) c = std::make_shared<const ReversedCurve>(c);
+    geo.push_back(Geo{c, {}});
+    geo.back().pc[0] = PCurve{x.from, x.to};
+    x.edge = static_cast<int>(sp.edges.size()) - 1;
+    x.side = 0;
+  };
+  for (std::size_t i = 0; i < all.size(); ++i) {
+    PatchSide& x = *all[i];
+    if (x.edge >= 0) continue;
+    new_edge(x);
+    for (std::size_t j = i + 1; j < all.size(); ++j) {
+      PatchSide& y = *all[j];
+      if (y.edge >= 0) continue;
+      if (y.a == x.a && y.b == x.b && same_points(x, y, false))
+        fail(what, ": patches ", x.patch + 1, " and ", y.patch + 1,
+             " share an edge that runs the same way in both (the patches are not oriented alike)");
+      if (y.a == x.b && y.b == x.a && same_points(x, y, true)) {
+        y.edge = x.edge;
+        y.side = 1;
+        geo[static_cast<std::size_t>(x.edge)].pc[1] = PCurve{y.to, y.from};
+        break;
+      }
+    }
+  }
+  // Faces: the patches, then a cap per loop of the open boundary.
+  std::vector<FaceSurface> face_geo;
+  for (std::size_t i = 0; i < patches.size(); ++i) {
+    std::vector<std::pair<int, int>> L;
+    for (const auto& sd : loops[i]) L.emplace_back(sd.edge, sd.side);
+    sp.faces.push_back(std::move(L));
+    face_geo.push_back(ParamSurface{patches[i], flip, kind});
+  }
+  std::vector<PatchSide*> open;
+  for (PatchSide* x : all)
+    if (geo[static_cast<std::size_t>(x->edge)].pc[1] == std::nullopt) open.push_back(x);
+  // A cap runs each open side backwards (b -> a); after x comes the open side that ends at x.a.
+  std::vector<char> capped(open.size(), 0);
+  for (std::size_t i = 0; i < open.size(); ++i) {
+    if (capped[i]) continue;
+    std::vector<std::pair<int, int>> L;
+    std::vector<Point3> pts;
+    for (std::size_t k = i;;) {
+      capped[k] = 1;
+      const PatchSide& x = *open[k];
+      L.emplace_back(x.edge, 1);
+      for (int s = 0; s < 8; ++s) pts.push_back(at(x, 1 - s / 8.0));
+      std::size_t next = open.size();
+      for (std::size_t j = 0; j < open.size(); ++j)
+        if (open[j]->b == x.a) {
+          if (next != open.size()) fail(what, ": the patches' open boundary branches at (", points[x.a].x(), ", ", points[x.a].y(), ", ", points[x.a].z(), ")");
+          next = j;
+        }
+      if (next == open.size()) fail(what, ": the patches' open boundary stops at (", points[x.a].x(), ", ", points[x.a].y(), ", ", points[x.a].z(), ")");
+      if (next == i) break;
+      if (capped[next]) fail(what, ": the patches' open boundary crosses itself at (", points[x.a].x(), ", ", points[x.a].y(), ", ", points[x.a].z(), ")");
+      k = next;
+    }
+    Vec3 n = newell_normal(pts);
+    if (!(n.norm() > 0)) fail(what, ": a loop of the patches' open boundary encloses no area");
+    n.normalize();
+    double off = 0;
+    for (const Point3& p : pts) off = std::max(off, std::abs((p - pts[0]).dot(n)));
+    if (off > 1e3 * eps)
+      fail(what, ": the patches leave an open boundary of ", L.size(), " edges that is not planar (", off,
+           " off its plane), so it cannot be closed by a cap");
+    sp.faces.push_back(std::move(L));
+    face_geo.push_back(PlaneSurface{pts[0], n});
+  }
+  sp.points = points;
+  Built B;
+  try {
+    B = build_from_loops(sp);
+  } catch (const Error& e) {
+    fail(what, ": the patches and caps do not form a closed 2-manifold boundary (", e.what(), ")");
+  }
+  Model& m = B.m;
+  for (std::size_t e = 0; e < geo.size(); ++e) {
+    EdgeId id = B.edges[e];
+    m.set_curve(id, ParamCurve{geo[e].curve});
+    for (int s = 0; s < 2; ++s)
+      if (geo[e].pc[s]) m.set_pcurve(EdgeSide{id, s}, *geo[e].pc[s]);
+  }
+  for (std::size_t f = 0; f < face_geo.size(); ++f) m.set_surface(B.faces[f], face_geo[f]);
+  return m;
+}
+
+}  // namespace
+
+Model patch_solid(const std::vector<SurfacePtr>& patches, const std::string& kind) {
+  if (patches.empty()) fail("patch_solid: no patches");
+  Box3 box;
+  for (std::size_t i = 0; i < patches.size(); ++i) {
+    if (!patches[i]) fail("patch_solid: patch ", i + 1, " is missing");
+    if (!patches[i]->trims.empty()) fail("patch_solid: patch ", i + 1, " is trimmed (only whole patches can bound a solid yet)");
+    auto [u0, u1] = patches[i]->u_domain();
+    auto [v0, v1] = patches[i]->v_domain();
+    for (int a = 0; a <= 4; ++a)
+      for (int b = 0; b <= 4; ++b) {
+        Point3 p = patches[i]->eval(u0 + (u1 - u0) * a / 4, v0 + (v1 - v0) * b / 4);
+        if (!p.allFinite() || p.cwiseAbs().maxCoeff() > kMaxCoordinate)
+          fail("patch_solid: patch ", i + 1, " has a point that is not finite or beyond +-", kMaxCoordinate);
+        box.extend(p);
+      }
+  }
+  double eps = 1e-9 * std::max(box.diagonal(), 1e-300);
+  for (bool flip : {false, true}) {
+    Model m = patch_solid_raw(patches, kind, flip, eps);
+    if (m.approximate_volume() > 0) {
+      Validation v = m.validate();
+      if (!v) fail("patch_solid: the patches do not bound a valid solid: ", v.message);
+      return m;
+    }
+  }
+  fail("patch_solid: the patches enclose no volume");
+}
+
 Model sweep_sides(const std::vector<std::vector<SurfacePtr>>& sides, bool closed) {
   Model m = sweep_raw(sides, closed);
   Validation v = m.validate();

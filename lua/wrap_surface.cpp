@@ -5,9 +5,11 @@
 #include <cmath>
 #include <sstream>
 
+#include "csg/brep_leaf.h"
 #include "lua/lua_util.h"
 #include "lua/wedge_lua.h"
 #include "lua/wrap_curve.h"
+#include "lua/wrap_solid.h"
 #include "tessellate/surface_mesh.h"
 
 namespace wedge::lua {
@@ -248,7 +250,47 @@ int teapot_fn(lua_State* L) {
   });
 }
 
+// patch_solid(S1, S2, ...) or patch_solid{S1, S2, ...}: every patch of the surfaces, joined where
+// they share boundary curves and capped where a loop of their boundary is left open and planar.
+int patch_solid_fn(lua_State* L) {
+  return guarded(L, [&] {
+    std::vector<SurfacePtr> patches;
+    int n = lua_gettop(L);
+    auto take = [&](int idx, int arg) {
+      const LuaSurface* s = test_surface(L, idx);
+      if (!s) throw ArgError{arg, "expected a Surface, got " + type_name(L, idx)};
+      patches.insert(patches.end(), s->patches.begin(), s->patches.end());
+    };
+    if (n == 1 && lua_type(L, 1) == LUA_TTABLE) {
+      for (lua_Integer i = 1, m = static_cast<lua_Integer>(lua_rawlen(L, 1)); i <= m; ++i) {
+        lua_rawgeti(L, 1, i);
+        take(lua_gettop(L), 1);
+        lua_pop(L, 1);
+      }
+    } else {
+      for (int i = 1; i <= n; ++i) take(i, i);
+    }
+    if (patches.empty()) throw ArgError{1, "expected surfaces with at least one patch"};
+    push_solid(L, brep_solid(as_arg(1, [&] { return patch_solid(patches, "nurbs"); })));
+    return 1;
+  });
+}
+
 // --- methods ---
+
+// S:patch(i) -> the surface of patch i alone (1-based).
+int patch_fn(lua_State* L) {
+  return guarded(L, [&] {
+    const LuaSurface& s = check_surface(L, 1);
+    lua_Integer i = luaL_checkinteger(L, 2);
+    if (i < 1 || i > lua_Integer(s.patches.size()))
+      throw ArgError{2, "patch index must be in 1.." + std::to_string(s.patches.size()) + ", got " + std::to_string(i)};
+    LuaSurface one;
+    one.patches.push_back(s.patches[static_cast<std::size_t>(i - 1)]);
+    push_surface(L, std::move(one));
+    return 1;
+  });
+}
 
 // (u, v [, patch]) at idx, idx+1, idx+2 -> the patch and its own parameters.
 const Surface& locate(lua_State* L, const LuaSurface& s, int idx, double& u, double& v) {
@@ -365,10 +407,11 @@ const luaL_Reg kFunctions[] = {
     {"swept_surface", swept_surface_fn},
     {"lofted_surface", lofted_surface_fn},
     {"teapot", teapot_fn},
+    {"patch_solid", patch_solid_fn},
     {nullptr, nullptr}};
 
 const luaL_Reg kMethods[] = {
-    {"eval", eval_fn}, {"normal", normal_fn}, {"mesh", mesh_fn}, {"patches", patches_fn}, {nullptr, nullptr}};
+    {"eval", eval_fn}, {"normal", normal_fn}, {"mesh", mesh_fn}, {"patches", patches_fn}, {"patch", patch_fn}, {nullptr, nullptr}};
 
 const luaL_Reg kMeta[] = {{"__tostring", tostring_fn}, {nullptr, nullptr}};
 

@@ -101,3 +101,28 @@ TEST_CASE("curved solid arguments are checked", "[lua][curved][errors]") {
   CHECK_THAT(run("tube{r_outer=1, r_inner=1}\n", "@e.lua").err, Catch::Contains("must be less than outer radius"));
   CHECK_THAT(run("sphere(0/0)\n", "@e.lua").err, Catch::Contains("bad argument #1 to 'sphere'"));
 }
+
+TEST_CASE("patch_solid closes the teapot's body and lid from Lua; bad input is named", "[lua][curved][patches]") {
+  auto r = run(R"(
+    local pot = teapot()
+    local body = {}
+    for i = 1, 12 do body[#body + 1] = pot:patch(i) end
+    for i = 29, 32 do body[#body + 1] = pot:patch(i) end
+    local b = patch_solid(body)
+    assert(b:is_valid())
+    local e = b:euler()
+    assert(e.V == 17 and e.E == 32 and e.F == 17 and e.H == 0 and e.S == 1)
+    local lid = patch_solid(pot:patch(21), pot:patch(22), pot:patch(23), pot:patch(24),
+                            pot:patch(25), pot:patch(26), pot:patch(27), pot:patch(28))
+    assert(lid:is_valid() and lid:euler().F == 9)
+    -- The whole pot is open at its spout and handle: an error, not a solid.
+    local ok, msg = pcall(patch_solid, pot)
+    assert(not ok and msg:find("patch_solid"), msg)
+    ok, msg = pcall(pot.patch, pot, 33)
+    assert(not ok and msg:find("1..32"), msg)
+    ok, msg = pcall(patch_solid, {1})
+    assert(not ok and msg:find("Surface"), msg)
+  )");
+  INFO(r.err);
+  CHECK(r.status == 0);
+}

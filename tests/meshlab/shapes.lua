@@ -5,6 +5,14 @@ local out = arg[1]
 local square = polygon{{-1, -1}, {1, -1}, {1, 1}, {-1, 1}}
 local holed = polygon{outer = {{-2, -2}, {2, -2}, {2, 2}, {-2, 2}}, holes = {{{-1, -1}, {-1, 1}, {1, 1}, {1, -1}}}}
 local rect = polygon{{1, 0}, {2, 0}, {2, 1}, {1, 1}}
+local pot = teapot()
+local function pot_patches(ranges)
+  local out = {}
+  for _, r in ipairs(ranges) do
+    for i = r[1], r[2] do out[#out + 1] = pot:patch(i) end
+  end
+  return out
+end
 local shapes = {
   {"box", box(1, 2, 3), 1, 0},
   {"polyhedron", polyhedron{points = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}}, faces = {{1, 3, 2}, {1, 2, 4}, {1, 4, 3}, {2, 3, 4}}}, 1, 0},
@@ -27,6 +35,8 @@ local shapes = {
   {"swept", sweep(circle(0.3), bezier{{0, 0, 0}, {1, 0, 1}, {2, 1, 1}, {3, 1, 2}}), 1, 0},
   {"swept_closed", sweep(circle(0.5), circle(2)), 1, 1},
   {"lofted", loft{profiles = {circle(1), circle(2), circle(1)}, heights = {0, 1, 2}}, 1, 0},
+  {"teapot_body", patch_solid(pot_patches{{1, 12}, {29, 32}}), 1, 0},
+  {"teapot_lid", patch_solid(pot_patches{{21, 28}}), 1, 0},
   {"lofted_squares", loft{profiles = {square, polygon{{-0.5, -0.5}, {0.5, -0.5}, {0.5, 0.5}, {-0.5, 0.5}}}, heights = {0, 2}}, 1, 0},
 }
 tolerance(0.01)
