@@ -1,11 +1,12 @@
 // Triangle setup and the fragment loops (GL 1.x section 3.5). Setup snaps the window vertices
 // to the 1/256-pixel grid and forms the edge functions E_i (exact integers) with a top-left tie
 // rule, and the planes of depth (double) and of the perspective-divided attributes a/w and 1/w
-// (float) from the unsnapped positions; the fragment loops then step them: 2x2 quads of four
-// lanes (SSE2: triangle_q), two quads at once (AVX2: fragments_avx2.cpp), or one pixel at a time
-// with 64-bit edge functions (triangles too large for 32-bit ones, builds without SSE2:
-// triangle_scalar). Each loop is specialised on the state that changes its work per fragment
-// (Phong, smooth colour, texturing, fog, depth test), chosen once per triangle.
+// (float) from the unsnapped positions; the fragment loops then step them: the quad loop
+// (quad_loop.cpp: one 2x2 quad per block with SSE2, two with AVX2), the covered pixels of tiny
+// triangles one by one (tiny_pixel), or one pixel at a time with 64-bit edge functions
+// (triangles too large for 32-bit ones, builds without SSE2: triangle_scalar). Each loop is
+// specialised on the state that changes its work per fragment (Phong, smooth colour, texturing,
+// fog, depth test), chosen once per triangle.
 
 #include <algorithm>
 #include <cmath>
@@ -187,12 +188,9 @@ void Raster::triangle_scalar(const WinVert& v0, const WinVert& v1in, const WinVe
 }
 
 #if defined(__SSE2__)
-// --- the 2x2-quad fragment loop (SSE2) ---
-// Four fragments at once, a 2x2 quad at even (x, y) as GPUs (and llvmpipe) take them: lane 0
-// is (x, y), 1 (x + 1, y), 2 (x, y + 1), 3 (x + 1, y + 1) (window y up). Coverage by exact
-// 32-bit edge functions stepped per quad; depth by a plane in double; the perspective-divided
-// attributes (a/w and 1/w) by planes in float; texture level of detail from the differences
-// of the quad's (u, v) across its top row and left column.
+// --- triangle setup for the quad loop ---
+// Coverage by exact 32-bit edge functions stepped per block of quads; depth by a plane in
+// double; the perspective-divided attributes (a/w and 1/w) by planes in float (quad_loop.cpp).
 // The AVX2 build where the CPU has it (Phong excepted: its per-fragment lighting is scalar, the
 // AVX2 copy would only add compile time and code).
 template <bool Phong, bool Smooth, bool Tex, bool Fog, bool Depth>
@@ -201,10 +199,9 @@ void Raster::triangle_isa(const WinVert& v0, const WinVert& v1, const WinVert& v
     if (avx2) return triangle_t_avx2<Phong, Smooth, Tex, Fog, Depth>(v0, v1, v2, side, flat);
   triangle_t<Phong, Smooth, Tex, Fog, Depth>(v0, v1, v2, side, flat);
 }
-// Two builds of triangle_q: for the base x86-64 (SSE2: the 4-lane loop), and with AVX2 enabled,
-// chosen at run time (the same setup, then the 8-lane quad_loop8, or the SSE2 build for the
-// states quad_loop8 does not take). FMA is left off so that no multiply-add is contracted:
-// both builds give the same bits.
+// Two builds of triangle_q: for the base x86-64 (SSE2: then the 4-lane quad loop), and with
+// AVX2 enabled, chosen at run time (the same setup, then the 8-lane quad loop). FMA is left off
+// so that no multiply-add is contracted: both builds give the same bits.
 template <bool Phong, bool Smooth, bool Tex, bool Fog, bool Depth>
 void Raster::triangle_t(const WinVert& v0, const WinVert& v1, const WinVert& v2, int side, const float* flat) {
   triangle_q<Phong, Smooth, Tex, Fog, Depth, false>(v0, v1, v2, side, flat);
@@ -247,7 +244,7 @@ template <bool Phong, bool Smooth, bool Tex, bool Fog, bool Depth, bool Avx2>
   // E >= 0  <=>  A px + B py + floor(K / 256) >= 0: the same test on integers 256 times
   // smaller, e(px, py) = A (px - ox) + B (py - oy) + c, which fits in 32 bits unless the
   // triangle is huge.
-  Quad8Setup qs;  // the setup, as the AVX2 two-quad loop takes it
+  QuadSetup qs;  // the setup, as the quad loop takes it
   std::int64_t* const A = qs.A;
   std::int64_t* const B = qs.B;
   std::int64_t* const c = qs.c;
@@ -307,8 +304,8 @@ template <bool Phong, bool Smooth, bool Tex, bool Fog, bool Depth, bool Avx2>
     const __m128d cd = _mm_add_pd(_mm_add_pd(_mm_mul_pd(lg[0], _mm_set1_pd(f0)), _mm_mul_pd(lg[1], _mm_set1_pd(f1))),
                                   _mm_mul_pd(lg[2], _mm_set1_pd(f2)));
     const __m128 cdf = _mm_cvtpd_ps(cd);
-    return QPlane{_mm_shuffle_ps(cdf, cdf, 0), _mm_shuffle_ps(cdf, cdf, 0x55),
-                  _mm_set1_ps(float(gly[0] * f0 + gly[1] * f1 + gly[2] * f2))};
+    return QPlane{_mm_cvtss_f32(cdf), _mm_cvtss_f32(_mm_shuffle_ps(cdf, cdf, 0x55)),
+                  float(gly[0] * f0 + gly[1] * f1 + gly[2] * f2)};
   };
   // a/w for attribute k (divided by the 1/w plane per fragment: perspective-correct).
   auto persp = [&](int k) {
@@ -316,14 +313,13 @@ template <bool Phong, bool Smooth, bool Tex, bool Fog, bool Depth, bool Avx2>
   };
   const QPlane pw = qs.pw = plane(v[0]->inv_w, v[1]->inv_w, v[2]->inv_w);
   const int col = side ? kBack : kFront;
-  const QPlane none{_mm_setzero_ps(), _mm_setzero_ps(), _mm_setzero_ps()};
+  const QPlane none{0, 0, 0};
   QPlane* const pc = qs.pc;
   QPlane* const pt = qs.pt;
   QPlane& pf = qs.pf;
   for (int k = 0; k < 4; ++k) pc[k] = none;
   for (int k = 0; k < 3; ++k) pt[k] = none;
   pf = none;
-  QPlane pa[Phong ? kAttrs : 1];
   bool tex_q = false;
   if constexpr (Smooth && !Phong)
     for (int k = 0; k < 4; ++k) pc[k] = persp(col + k);
@@ -335,7 +331,7 @@ template <bool Phong, bool Smooth, bool Tex, bool Fog, bool Depth, bool Avx2>
   }
   if constexpr (Fog) pf = persp(kFog);
   if constexpr (Phong)
-    for (int k = 0; k < kAttrs; ++k) pa[k] = persp(k);
+    for (int k = 0; k < kAttrs; ++k) qs.pa[k] = persp(k);
   double zc = 0, zdx = 0, zdy = 0;
   if constexpr (Depth) {
     for (int i = 0; i < 3; ++i) {
@@ -343,230 +339,35 @@ template <bool Phong, bool Smooth, bool Tex, bool Fog, bool Depth, bool Avx2>
       zc += l0[i] * zi, zdx += glx[i] * zi, zdy += gly[i] * zi;
     }
   }
-  const Texture* texture = Tex ? s.texture.get() : nullptr;
-  const float tex_w = Tex ? float(texture->levels[0].width) : 0;
-  const float tex_h = Tex ? float(texture->levels[0].height) : 0;
-  const TexEnvMode env = s.env_mode;
-  const TexFormat fmt = Tex ? texture->format : TexFormat::RGBA;
-  const FogMode fog_mode = s.fog_mode;
-  const float fog_end = s.fog_end, fog_range = s.fog_end - s.fog_start, fog_density = s.fog_density;
-  const __m128 fog_r = _mm_set1_ps(s.fog_color[0]), fog_g = _mm_set1_ps(s.fog_color[1]),
-               fog_b = _mm_set1_ps(s.fog_color[2]);
-  const __m128 env_r = _mm_set1_ps(s.env_color[0]), env_g = _mm_set1_ps(s.env_color[1]),
-               env_b = _mm_set1_ps(s.env_color[2]);
   const DepthFunc dfunc = s.depth_func;
   const bool dmask = s.depth_mask;
   const bool fast_write = !blend && all_mask;
   if constexpr (!Phong && !Tex && !Fog) {
-    // Tiny triangles in the common state: the covered pixels one by one, with the quad loops'
-    // operations per lane in the same order (the same bits), without their setup and blocks.
+    // Tiny triangles in the common state: the covered pixels one by one, with the quad loop's
+    // operations per lane in the same order (the same bits), without its setup and blocks.
     if (tiny && fast_write) {
       float pl[5][3];
       const QPlane* src[5] = {&pw, &pc[0], &pc[1], &pc[2], &pc[3]};
-      for (int k = 0; k < 5; ++k)
-        pl[k][0] = _mm_cvtss_f32(src[k]->c), pl[k][1] = _mm_cvtss_f32(src[k]->dx), pl[k][2] = _mm_cvtss_f32(src[k]->dy);
+      for (int k = 0; k < 5; ++k) pl[k][0] = src[k]->c, pl[k][1] = src[k]->dx, pl[k][2] = src[k]->dy;
       for (int n = 0; n < cov_n; ++n)
         tiny_pixel<Smooth, Depth>(ox + cov_x[n], oy + cov_y[n], float(cov_x[n]), float(cov_y[n]), zc, zdx, zdy, pl,
                                   Smooth ? nullptr : flat + col, dfunc, dmask);
       return;
     }
   }
+  QuadSetup& q = qs;
+  q.ox = ox, q.oy = oy, q.bx0 = bx0, q.bx1 = bx1, q.by0 = by0, q.by1 = by1, q.col = col, q.side = side;
+  q.tex_q = tex_q, q.dmask = dmask, q.fast_write = fast_write, q.zc = zc, q.zdx = zdx, q.zdy = zdy;
+  q.texture = Tex ? s.texture.get() : nullptr;
+  q.tex_w = Tex ? float(q.texture->levels[0].width) : 0;
+  q.tex_h = Tex ? float(q.texture->levels[0].height) : 0;
+  q.fog_mode = s.fog_mode, q.fog_end = s.fog_end, q.fog_range = s.fog_end - s.fog_start, q.fog_density = s.fog_density;
+  q.env = s.env_mode, q.fmt = Tex ? q.texture->format : TexFormat::RGBA, q.flat = flat, q.dfunc = dfunc;
   if constexpr (Avx2) {
     static_assert(!Phong, "the AVX2 build takes no Phong triangles (triangle_isa)");
-    // The states the two-quad loop takes; the rare others go to the SSE2 build of the 4-lane
-    // loop (no AVX2 copy of it: less code and compile time, the same bits).
-    if (!(fast_write && (!Fog || fog_mode == FogMode::Linear)))
-      return triangle_t<Phong, Smooth, Tex, Fog, Depth>(v0, v1in, v2in, side, flat);
-    Quad8Setup& q = qs;
-    q.ox = ox, q.oy = oy, q.bx0 = bx0, q.bx1 = bx1, q.by0 = by0, q.by1 = by1, q.col = col;
-    q.tex_q = tex_q, q.dmask = dmask, q.zc = zc, q.zdx = zdx, q.zdy = zdy;
-    q.texture = texture, q.tex_w = tex_w, q.tex_h = tex_h, q.fog_end = fog_end, q.fog_range = fog_range;
-    q.env = env, q.fmt = fmt, q.flat = flat, q.dfunc = dfunc;
-    return quad_loop8<Smooth, Tex, Fog, Depth>(q);
+    quad_loop8<Smooth, Tex, Fog, Depth>(q);
   } else {
-    const __m128 zero = _mm_setzero_ps(), one = _mm_set1_ps(1.0f);
-    const __m128 lane_dx = _mm_set_ps(1, 0, 1, 0), lane_dy = _mm_set_ps(1, 1, 0, 0);
-    __m128i estep[3], erow[3], estepy[3];
-    for (int i = 0; i < 3; ++i) {
-      estep[i] = _mm_set1_epi32(int(2 * A[i]));
-      estepy[i] = _mm_set1_epi32(int(2 * B[i]));
-      erow[i] = _mm_add_epi32(_mm_set1_epi32(int(c[i])), _mm_set_epi32(int(A[i] + B[i]), int(B[i]), int(A[i]), 0));
-    }
-    // A plane's row part c + y dy for the quad row, then + x dx per quad.
-    auto row = [](const QPlane& p, __m128 Y4) { return _mm_add_ps(p.c, _mm_mul_ps(Y4, p.dy)); };
-    auto at = [](__m128 r, const QPlane& p, __m128 X4) { return _mm_add_ps(r, _mm_mul_ps(X4, p.dx)); };
-    __m128 c_row[4] = {zero, zero, zero, zero}, t_row[3] = {zero, zero, zero}, f_row = zero;
-
-    for (int qy = oy; qy <= by1; qy += 2) {
-      int rowm = 15;
-      if (qy < by0) rowm &= ~3;
-      if (qy + 1 > by1) rowm &= ~12;
-      __m128i e[3] = {erow[0], erow[1], erow[2]};
-      for (int i = 0; i < 3; ++i) erow[i] = _mm_add_epi32(erow[i], estepy[i]);
-      const float fy = float(qy - oy);
-      const __m128 Y4 = _mm_add_ps(_mm_set1_ps(fy), lane_dy);
-      const __m128 rw_row = row(pw, Y4);
-      if constexpr (Smooth && !Phong)
-        for (int k = 0; k < 4; ++k) c_row[k] = row(pc[k], Y4);
-      if constexpr (Tex) {
-        t_row[0] = row(pt[0], Y4), t_row[1] = row(pt[1], Y4);
-        if (tex_q) t_row[2] = row(pt[2], Y4);
-      }
-      if constexpr (Fog) f_row = row(pf, Y4);
-      const double zrow_lo = zc + double(fy) * zdy, zrow_hi = zc + double(fy + 1) * zdy;
-      for (int qx = ox; qx <= bx1;
-           qx += 2, e[0] = _mm_add_epi32(e[0], estep[0]), e[1] = _mm_add_epi32(e[1], estep[1]),
-               e[2] = _mm_add_epi32(e[2], estep[2])) {
-        // A lane is covered when no edge function is negative (sign bits).
-        const __m128i out = _mm_or_si128(_mm_or_si128(e[0], e[1]), e[2]);
-        int m = ~_mm_movemask_ps(_mm_castsi128_ps(out)) & rowm;
-        if (qx < bx0) m &= ~5;
-        if (qx + 1 > bx1) m &= ~10;
-        if (!m) continue;
-        // Partial quads at the edge of the drawable bounds are read and written lane by lane.
-        auto inb = [&] { return qx >= x0 && qx + 1 < x1 && qy >= y0 && qy + 1 < y1; };
-        const std::size_t i0 = std::size_t(qy) * width + qx, i1 = i0 + width;
-        auto index = [&](int l) { return (l & 2 ? i1 : i0) + (l & 1); };
-        const float fx = float(qx - ox);
-        const __m128 X4 = _mm_add_ps(_mm_set1_ps(fx), lane_dx);
-        if constexpr (Depth) {
-          const __m128d xs = _mm_mul_pd(_mm_add_pd(_mm_set1_pd(fx), _mm_set_pd(1, 0)), _mm_set1_pd(zdx));
-          const __m128 zq = quantise_depth4(_mm_add_pd(_mm_set1_pd(zrow_lo), xs), _mm_add_pd(_mm_set1_pd(zrow_hi), xs));
-          __m128 d;
-          if (m == 15 || inb()) {
-            d = _mm_movelh_ps(_mm_loadl_pi(zero, reinterpret_cast<const __m64*>(depth + i0)),
-                              _mm_loadl_pi(zero, reinterpret_cast<const __m64*>(depth + i1)));
-          } else {
-            alignas(16) float t[4] = {0, 0, 0, 0};
-            for (int l = 0; l < 4; ++l)
-              if (m >> l & 1) t[l] = depth[index(l)];
-            d = _mm_load_ps(t);
-          }
-          m &= depth_cmp4(dfunc, zq, d);
-          if (!m) continue;
-          if (dmask) {
-            if (m == 15 || inb()) {
-              const __m128 nd = sel(lane_mask(m), zq, d);
-              _mm_storel_pi(reinterpret_cast<__m64*>(depth + i0), nd);
-              _mm_storeh_pi(reinterpret_cast<__m64*>(depth + i1), nd);
-            } else {
-              alignas(16) float t[4];
-              _mm_store_ps(t, zq);
-              for (int l = 0; l < 4; ++l)
-                if (m >> l & 1) depth[index(l)] = t[l];
-            }
-          }
-        }
-        const __m128 rw = _mm_div_ps(one, at(rw_row, pw, X4));
-        __m128 cr, cg, cb, ca;
-        if constexpr (Phong) {
-          alignas(16) float pc4[4][4] = {};
-          alignas(16) float rw4[4];
-          _mm_store_ps(rw4, rw);
-          for (int l = 0; l < 4; ++l) {
-            if (!(m >> l & 1)) continue;
-            const float lx = fx + float(l & 1), ly = fy + float(l >> 1);
-            float attrs[kAttrs];
-            for (int k = 0; k < kAttrs; ++k)
-              attrs[k] = (_mm_cvtss_f32(pa[k].c) + ly * _mm_cvtss_f32(pa[k].dy) + lx * _mm_cvtss_f32(pa[k].dx)) * rw4[l];
-            if constexpr (!Smooth)
-              for (int k = 0; k < 4; ++k) attrs[kFront + k] = flat[kFront + k];
-            const Vec4f pcol = phong_color(attrs, side);
-            for (int k = 0; k < 4; ++k) pc4[k][l] = pcol[k];
-          }
-          cr = _mm_load_ps(pc4[0]), cg = _mm_load_ps(pc4[1]), cb = _mm_load_ps(pc4[2]), ca = _mm_load_ps(pc4[3]);
-        } else if constexpr (Smooth) {
-          cr = _mm_mul_ps(at(c_row[0], pc[0], X4), rw), cg = _mm_mul_ps(at(c_row[1], pc[1], X4), rw);
-          cb = _mm_mul_ps(at(c_row[2], pc[2], X4), rw), ca = _mm_mul_ps(at(c_row[3], pc[3], X4), rw);
-        } else {
-          cr = _mm_set1_ps(flat[col]), cg = _mm_set1_ps(flat[col + 1]);
-          cb = _mm_set1_ps(flat[col + 2]), ca = _mm_set1_ps(flat[col + 3]);
-        }
-        if constexpr (Tex) {
-          __m128 ts = _mm_mul_ps(at(t_row[0], pt[0], X4), rw), tt = _mm_mul_ps(at(t_row[1], pt[1], X4), rw);
-          if (tex_q) {
-            __m128 tq = _mm_mul_ps(at(t_row[2], pt[2], X4), rw);
-            tq = sel(_mm_cmpneq_ps(tq, zero), tq, one);
-            ts = _mm_div_ps(ts, tq), tt = _mm_div_ps(tt, tq);
-          }
-          // Level of detail from the quad's (u, v) = (s W, t H): x differences along its upper
-          // row, y differences down its left column (reference: the top-left pixel).
-          alignas(16) float S[4], T[4], U[4], V[4];
-          _mm_store_ps(U, _mm_mul_ps(ts, _mm_set1_ps(tex_w)));
-          _mm_store_ps(V, _mm_mul_ps(tt, _mm_set1_ps(tex_h)));
-          const float lambda = quad_lod(U[3] - U[2], V[3] - V[2], U[0] - U[2], V[0] - V[2]);
-          _mm_store_ps(S, ts), _mm_store_ps(T, tt);
-          if (m != 15) {
-            // Lanes outside the triangle may hold extrapolated coordinates (even infinite):
-            // sample a covered lane's instead.
-            const int l0 = __builtin_ctz(unsigned(m));
-            for (int l = 0; l < 4; ++l)
-              if (!(m >> l & 1)) S[l] = S[l0], T[l] = T[l0];
-          }
-          alignas(16) float texel[16];
-          texture->sample4(S, T, lambda, texel, avx2 ? Simd::Auto : Simd::Sse2);
-          __m128 tr = _mm_load_ps(texel), tg = _mm_load_ps(texel + 4), tb = _mm_load_ps(texel + 8),
-                 ta = _mm_load_ps(texel + 12);
-          _MM_TRANSPOSE4_PS(tr, tg, tb, ta);
-          const __m128 t[4] = {tr, tg, tb, ta}, env_c[3] = {env_r, env_g, env_b};
-          __m128 c[4] = {cr, cg, cb, ca};
-          tex_env(env, fmt, t, env_c, one, c);
-          cr = c[0], cg = c[1], cb = c[2], ca = c[3];
-        }
-        if constexpr (Fog) {
-          const __m128 fz = _mm_mul_ps(at(f_row, pf, X4), rw);
-          __m128 f = one;
-          if (fog_mode == FogMode::Linear) {
-            if (fog_range != 0) f = _mm_div_ps(_mm_sub_ps(_mm_set1_ps(fog_end), fz), _mm_set1_ps(fog_range));
-          } else {
-            alignas(16) float z4[4], f4[4];
-            _mm_store_ps(z4, fz);
-            for (int l = 0; l < 4; ++l) {
-              const float dz = fog_density * z4[l];
-              f4[l] = std::exp(fog_mode == FogMode::Exp ? -dz : -dz * dz);
-            }
-            f = _mm_load_ps(f4);
-          }
-          f = _mm_min_ps(_mm_max_ps(f, zero), one);
-          const __m128 g = _mm_sub_ps(one, f);
-          cr = _mm_add_ps(_mm_mul_ps(f, cr), _mm_mul_ps(g, fog_r));
-          cg = _mm_add_ps(_mm_mul_ps(f, cg), _mm_mul_ps(g, fog_g));
-          cb = _mm_add_ps(_mm_mul_ps(f, cb), _mm_mul_ps(g, fog_b));
-        }
-        cr = _mm_min_ps(_mm_max_ps(cr, zero), one), cg = _mm_min_ps(_mm_max_ps(cg, zero), one);
-        cb = _mm_min_ps(_mm_max_ps(cb, zero), one), ca = _mm_min_ps(_mm_max_ps(ca, zero), one);
-        if (fast_write) {
-          // The colour write's rounding (c 255 + 1/2, truncated) for the four lanes, packed RGBA8.
-          const __m128 k255 = _mm_set1_ps(255.0f), half = _mm_set1_ps(0.5f);
-          auto q8 = [&](__m128 x) { return _mm_cvttps_epi32(_mm_add_ps(_mm_mul_ps(x, k255), half)); };
-          const __m128i px = _mm_or_si128(_mm_or_si128(q8(cr), _mm_slli_epi32(q8(cg), 8)),
-                                          _mm_or_si128(_mm_slli_epi32(q8(cb), 16), _mm_slli_epi32(q8(ca), 24)));
-          std::uint8_t* p0 = color + i0 * 4;
-          std::uint8_t* p1 = color + i1 * 4;
-          if (m == 15) {
-            _mm_storel_epi64(reinterpret_cast<__m128i*>(p0), px);
-            _mm_storel_epi64(reinterpret_cast<__m128i*>(p1), _mm_srli_si128(px, 8));
-          } else if (inb()) {
-            const __m128i old = _mm_unpacklo_epi64(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(p0)),
-                                                   _mm_loadl_epi64(reinterpret_cast<const __m128i*>(p1)));
-            const __m128i mk = _mm_castps_si128(lane_mask(m));
-            const __m128i nw = _mm_or_si128(_mm_and_si128(mk, px), _mm_andnot_si128(mk, old));
-            _mm_storel_epi64(reinterpret_cast<__m128i*>(p0), nw);
-            _mm_storel_epi64(reinterpret_cast<__m128i*>(p1), _mm_srli_si128(nw, 8));
-          } else {
-            alignas(16) std::uint32_t P[4];
-            _mm_store_si128(reinterpret_cast<__m128i*>(P), px);
-            for (int l = 0; l < 4; ++l)
-              if (m >> l & 1) std::memcpy(color + index(l) * 4, &P[l], 4);
-          }
-        } else {
-          alignas(16) float C[4][4];
-          _mm_store_ps(C[0], cr), _mm_store_ps(C[1], cg), _mm_store_ps(C[2], cb), _mm_store_ps(C[3], ca);
-          for (int l = 0; l < 4; ++l)
-            if (m >> l & 1) write_color(qx + (l & 1), qy + (l >> 1), Vec4f(C[0][l], C[1][l], C[2][l], C[3][l]));
-        }
-      }
-    }
+    quad_loop4<Phong, Smooth, Tex, Fog, Depth>(q);
   }
 }
 #else

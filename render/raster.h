@@ -13,9 +13,10 @@
 //                       that polygon-mode lines skip the edges clipping made; lines parametrically
 //   fragments.cpp       triangle setup (edge functions in 24.8 fixed point with a top-left tie
 //                       rule, perspective-correct attribute planes: a/w and 1/w interpolated
-//                       linearly, 3.5) and the fragment loops: 2x2 quads of 4 lanes (SSE2), one
+//                       linearly, 3.5), small triangles pixel by pixel, and the fragment loop one
 //                       pixel at a time (huge triangles, no SSE2)
-//   fragments_avx2.cpp  the fragment loop 8 lanes wide (two quads; AVX2)
+//   quad_loop.cpp       the quad fragment loop, written once for 4 lanes (one 2x2 quad; SSE2)
+//                       and 8 lanes (two quads side by side; AVX2)
 //   triangle_run.cpp    runs of small triangles set up several at once
 //   depth_test.h        the depth test (z-buffer): 24-bit quantisation, the depth function
 //   lines.cpp           lines (a diamond-exit DDA) and points (squares)
@@ -34,7 +35,8 @@
 //                llvmpipe); pixel (px, py) has its centre at (px + 1/2, py + 1/2), window y up
 //   E_i, A, B    edge function of the edge opposite vertex i, and its steps per pixel in x and y
 //   quad         a 2x2 block of pixels at even (x, y): lane 0 (x, y), 1 (x+1, y), 2 (x, y+1), 3
-//                (x+1, y+1); the AVX2 loop takes two quads side by side (lanes 4-7 at x + 2)
+//                (x+1, y+1); the 8-lane (AVX2) loop takes two quads side by side (lanes 4-7 at
+//                x + 2)
 //   lanes        F4/F8/D2/D4/X2: see simd.h
 //   side         0 front, 1 back (the colour set two-sided lighting uses)
 #pragma once
@@ -550,27 +552,33 @@ struct Raster {
   template <bool Phong, bool Smooth, bool Tex, bool Fog, bool Depth, bool Avx2>
   void triangle_q(const WinVert& v0, const WinVert& v1in, const WinVert& v2in, int side, const float* flat);
 
-  // --- two quads at once (AVX2) ---
-  // The common states (no Phong, no blending, all channels written, linear fog or none) of the
-  // quad loop, 8 lanes wide: the quad at x in lanes 0-3 and the one at x + 2 in lanes 4-7, each
-  // in the 4-lane order above, with the same operations per lane in the same order (the same
-  // bits as the 4-lane loop; tests/render/test_fragment_paths.cpp checks it).
-  struct Quad8Setup {
-    int ox, oy, bx0, bx1, by0, by1, col;
+  // --- the quad fragment loop (quad_loop.cpp) ---
+  // A triangle after triangle_q's setup, as the quad loop takes it: the first quad (ox, oy), the
+  // pixel bounds, the edge functions e_i = A_i (x - ox) + B_i (y - oy) + c_i, the float planes of
+  // 1/w and a/w (colours, texture s t q, fog distance; all kAttrs attributes for Phong), the
+  // depth plane in double, and the state the loop reads.
+  struct QuadSetup {
+    int ox, oy, bx0, bx1, by0, by1, col, side;
     std::int64_t c[3], A[3], B[3];
-    QPlane pw, pc[4], pt[3], pf;
-    bool tex_q, dmask;
+    QPlane pw, pc[4], pt[3], pf, pa[kAttrs];
+    bool tex_q, dmask, fast_write;  // q not 1 at some vertex; depth mask; no blending, all channels
     double zc, zdx, zdy;
     const Texture* texture;
-    float tex_w, tex_h, fog_end, fog_range;
+    float tex_w, tex_h, fog_end, fog_range, fog_density;
+    FogMode fog_mode;
     TexEnvMode env;
     TexFormat fmt;
     const float* flat;
     DepthFunc dfunc;
   };
-  // fragments_avx2.cpp
+  // The loop on lanes V (F4 or F8), and its two builds: 4 lanes (the default target: every
+  // state) and 8 lanes (AVX2: every state but Phong, which triangle_isa sends to the 4 lanes).
+  template <class V, bool Phong, bool Smooth, bool Tex, bool Fog, bool Depth>
+  [[gnu::always_inline]] inline void quad_loop(const QuadSetup& q);
+  template <bool Phong, bool Smooth, bool Tex, bool Fog, bool Depth>
+  void quad_loop4(const QuadSetup& q);
   template <bool Smooth, bool Tex, bool Fog, bool Depth>
-  __attribute__((target("avx2"))) void quad_loop8(const Quad8Setup& q);
+  __attribute__((target("avx2"))) void quad_loop8(const QuadSetup& q);
 
   // One covered pixel of a small triangle in the common state (triangle_q's tiny path and
   // triangle_run): depth from its double plane, colour from the float planes pl (c, dx, dy of 1/w

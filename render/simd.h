@@ -5,7 +5,7 @@
 // default x86-64 build (SSE2) and the AVX2 build (functions compiled with target("avx2"), chosen
 // at run time per draw: Raster::avx2):
 //   F4, I4, U4   4 floats / ints / unsigneds (SSE2: one register)   F8, I8, U8  8 of them (AVX2)
-//   D2, D4       2 / 4 doubles (a register of each build)           X2<T>       two T as one (F16
+//   D2, D4, D8   2 / 4 / 8 doubles (D2, D4: a register of each build) X2<T>     two T as one (F16
 //   = X2<F8>: the AVX2 lighting's 16 lanes, two independent groups whose operations interleave)
 //   Lanes<V>     V's mask type I, unsigned type U, the register-wide double type D, width W
 // Comparisons give masks (all ones per true lane); sel(m, a, b) and vsel pick per lane. No FMA in
@@ -65,15 +65,26 @@ namespace wedge::render::raster {
   return lambda <= 1000.0f ? lambda : 1000.0f;
 }
 
-// Vectors of doubles: SSE2 pairs, AVX2 quadruples.
+// Vectors of doubles: SSE2 pairs, AVX2 quadruples, and eight (the AVX2 quad loop's depth lanes).
 typedef double D2 __attribute__((vector_size(16)));
 typedef double D4 __attribute__((vector_size(32)));
+typedef double D8 __attribute__((vector_size(64)));
+
+// min(max(x, 0), 1) on lanes (or one float) as SSE's maxps then minps: a NaN becomes 0 (Eigen's
+// cwiseMax / cwiseMin keep it: vclamp01 below).
+template <class V>
+[[gnu::always_inline]] inline V clamp01_sse(V x) {
+  x = x > 0.0f ? x : V{};
+  return x < 1.0f ? x : V{} + 1.0f;
+}
+
+// A float plane of the quad fragment loop (quad_loop.cpp): its value at the centre of the first
+// quad's first pixel, and its steps per pixel in x and y.
+struct QPlane {
+  float c, dx, dy;
+};
 
 #if defined(__SSE2__)
-// Helpers of the 2x2-quad fragment loop (Raster::triangle_t).
-struct QPlane {
-  __m128 c, dx, dy;  // value at the centre of the first quad's first pixel; steps per pixel in x, y
-};
 // llround (half away from zero) without a library call, for |x| < 2^52 (window coordinates
 // times 256); beyond that x is an integer and is returned as it is.
 [[gnu::always_inline]] inline std::int64_t round_half_away(double x) {
@@ -81,18 +92,10 @@ struct QPlane {
   const double f = x - double(i);
   return i + (f >= 0.5) - (f <= -0.5);
 }
-[[gnu::always_inline]] inline __m128 sel(__m128 m, __m128 a, __m128 b) {
-  return _mm_or_ps(_mm_and_ps(m, a), _mm_andnot_ps(m, b));
-}
-// All ones in the lanes whose bit is set in m.
-[[gnu::always_inline]] inline __m128 lane_mask(int m) {
-  const __m128i bits = _mm_set_epi32(8, 4, 2, 1);
-  return _mm_castsi128_ps(_mm_cmpeq_epi32(_mm_and_si128(_mm_set1_epi32(m), bits), bits));
-}
 // The texture environment (GL 1.x, table 3.22) on lanes: the fragment colours c (r, g, b, a) by
 // the texels t (r, g, b, a) of a texture of format fmt, env the environment colour (r, g, b).
 // For __m128 and __m256 alike through GCC's vector operators: the same multiplies and adds in the
-// same order in the SSE2 and AVX2 loops (no FMA in either build: the same bits).
+// same order in the quad loop's 4- and 8-lane builds (no FMA in either build: the same bits).
 template <class V>
 [[gnu::always_inline]] inline void tex_env(TexEnvMode mode, TexFormat fmt, const V* t, const V* env, V one, V* c) {
   const bool rgba = fmt == TexFormat::RGBA;

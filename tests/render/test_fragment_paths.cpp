@@ -1,5 +1,6 @@
-// The triangle fragment loop has three builds: 2x2 quads in SSE2 (the base x86-64), the same
-// quads compiled for AVX2 (chosen at run time when the CPU has it), and a pixel-at-a-time
+// The triangle fragment loop has three builds: the quad loop (render/quad_loop.cpp) 4 lanes wide
+// in SSE2 (the base x86-64, one 2x2 quad per block) and 8 lanes wide for AVX2 (two quads per
+// block, chosen at run time when the CPU has it; every state but Phong), and a pixel-at-a-time
 // loop with 64-bit edge functions for triangles too large for 32-bit ones. The two quad builds
 // must give the same bits (Context::simd(Simd::Sse2) forces the SSE2 one); the large-triangle loop
 // is checked against OpenGL.
@@ -126,8 +127,8 @@ TEST_CASE("the SSE2 and AVX2 builds of the quad fragment loop give the same bits
   });
 }
 
-// Each depth function on the loops' common state (no blending, all channels written: the AVX2
-// two-quad loop where the CPU has it): the same bits in both builds, and OpenGL's image.
+// Each depth function on the loops' common state (no blending, all channels written): the same
+// bits in both builds (8 lanes where the CPU has AVX2, else 4), and OpenGL's image.
 TEST_CASE("every depth function gives the same bits in both builds and matches OpenGL", "[render][simd][gl]") {
   const DepthFunc funcs[] = {DepthFunc::Never,   DepthFunc::Less,     DepthFunc::Equal,        DepthFunc::LessEqual,
                              DepthFunc::Greater, DepthFunc::NotEqual, DepthFunc::GreaterEqual, DepthFunc::Always};
