@@ -88,19 +88,16 @@ void run_primitive(Context::State& s, int width, int height, std::uint8_t* color
   const Mat4& mv = s.top(MatrixMode::ModelView);
   const Mat3 nmat = mv.topLeftCorner<3, 3>().inverse().transpose();
   const Mat4& proj = s.top(MatrixMode::Projection);
-  // Kept between calls (per thread): a fresh megabyte-sized vector per batch costs page faults.
-  // (Named through a reference: TBB workers in the lambdas below must see the caller's vector.)
-  static thread_local std::vector<PVert> tl_verts;
-  std::vector<PVert>& v = tl_verts;
-  v.resize(in.size());
   Raster r(s, width, height, color, depth);
+  // Kept between calls (the Context's): a fresh megabyte-sized vector per batch costs page faults.
+  std::vector<PVert>& v = r.scratch->verts;
+  v.resize(in.size());
   const LightSetup& lights = r.lights;
   // Independent triangles with face culling: a triangle wholly inside the clip volume that the
   // cull test removes (decided exactly as draw_triangle would, on the same window coordinates)
   // is marked here and its vertices are never lit. Every vertex of a non-indexed batch belongs
   // to one triangle, so a closed lit mesh lights about half of its vertices.
-  static thread_local std::vector<std::uint8_t> tl_culled;
-  std::vector<std::uint8_t>& culled = tl_culled;
+  std::vector<std::uint8_t>& culled = r.scratch->culled;
   const bool precull = p == Primitive::Triangles && s.on(Cap::CullFace) && r.user_planes.empty();
   const std::size_t units = precull ? in.size() / 3 : in.size();
   if (precull) culled.assign(units, 0);
@@ -133,7 +130,7 @@ void run_primitive(Context::State& s, int width, int height, std::uint8_t* color
   };
   if (s.threads > 1 && in.size() >= 1024) {
     // The vertex stage is independent per vertex.
-    tbb::task_arena& arena = arena_for(s.threads);
+    tbb::task_arena& arena = r.scratch->arena(s.threads);
     arena.execute([&] {
       tbb::parallel_for(tbb::blocked_range<std::size_t>(0, units, 256),
                         [&](const tbb::blocked_range<std::size_t>& br) { stage(br.begin(), br.end()); });
@@ -141,8 +138,7 @@ void run_primitive(Context::State& s, int width, int height, std::uint8_t* color
   } else {
     stage(0, units);
   }
-  static thread_local Queue tl_queue;
-  Queue& jobs = tl_queue;
+  Queue& jobs = r.scratch->queue;
   jobs.clear();
   std::vector<Queue*> queues;  // queued primitives, in order
   // Bands pay for many primitives, or for few on a large framebuffer (a couple of big textured
@@ -201,12 +197,11 @@ void run_primitive(Context::State& s, int width, int height, std::uint8_t* color
         // Clipping and setup in parallel over chunks of triangles, each into its own queue;
         // the queues are joined in chunk order, so submission order is kept.
         const std::size_t tris = n / 3, chunk = 256, chunks = (tris + chunk - 1) / chunk;
-        // Kept between batches (per calling thread): fresh 100 kB queues cost page faults.
-        static thread_local std::vector<std::unique_ptr<Queue>> tl_queues;
-        std::vector<std::unique_ptr<Queue>>& cq = tl_queues;
+        // Kept between batches (the Context's): fresh 100 kB queues cost page faults.
+        std::vector<std::unique_ptr<Queue>>& cq = r.scratch->chunk_queues;
         while (cq.size() < chunks) cq.push_back(std::make_unique<Queue>());
         const int bands = (height + kBandRows - 1) / kBandRows;
-        tbb::task_arena& arena = arena_for(s.threads);
+        tbb::task_arena& arena = r.scratch->arena(s.threads);
         arena.execute([&] {
           tbb::parallel_for(std::size_t(0), chunks, [&](std::size_t c) {
             Raster rc = r;

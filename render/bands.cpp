@@ -68,24 +68,21 @@ void Raster::exec(const Job& j) {
   else point(j.v[0], j.side);
 }
 
-// One arena per calling thread and thread count, kept between batches: constructing an arena
-// for each stage of each batch (a 1M-triangle draw has hundreds of batches) cost more than
-// the second thread gained.
-tbb::task_arena& arena_for(int threads) {
-  static thread_local std::unique_ptr<tbb::task_arena> arena;
-  static thread_local int arena_threads = 0;
-  if (!arena || arena_threads != threads) {
-    arena = std::make_unique<tbb::task_arena>(threads);
-    arena_threads = threads;
+// One arena per Context, kept between batches: constructing an arena for each stage of each
+// batch (a 1M-triangle draw has hundreds of batches) cost more than the second thread gained.
+tbb::task_arena& Scratch::arena(int threads) {
+  if (!arena_ || arena_threads_ != threads) {
+    arena_ = std::make_unique<tbb::task_arena>(threads);
+    arena_threads_ = threads;
   }
-  return *arena;
+  return *arena_;
 }
 
 // Draws queued primitives by bands of rows in parallel: each band owns its pixels and draws its
 // primitives queue by queue, each in submission order (queues already binned).
 void draw_bands(const Raster& r, Queue* const* queues, std::size_t nq) {
   const int bands = (r.height + kBandRows - 1) / kBandRows;
-  tbb::task_arena& arena = arena_for(r.s.threads);
+  tbb::task_arena& arena = r.scratch->arena(r.s.threads);
   arena.execute([&] {
     tbb::parallel_for(0, bands, [&](int b) {
       bool any = false;
@@ -98,7 +95,7 @@ void draw_bands(const Raster& r, Queue* const* queues, std::size_t nq) {
       // Consecutive triangles by runs (Raster::triangle_run), lines and points one by one.
       Raster::RunTri run[kRunMax];
       std::size_t n = 0;
-      RunSetup& rs = run_scratch();
+      RunSetup rs;  // (the band's own, on its thread's stack)
       for (std::size_t q = 0; q < nq; ++q) {
         const Queue& qu = *queues[q];
         for (std::uint32_t k = qu.band_start[b]; k < qu.band_start[b + 1]; ++k) {

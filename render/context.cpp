@@ -316,7 +316,7 @@ void Context::draw_arrays(Primitive p, const VertexArrays& a, int first, int cou
   const int group = p == Primitive::Triangles ? 3 : p == Primitive::Lines ? 2 : p == Primitive::Points ? 1
                   : p == Primitive::Quads ? 4 : 0;
   const int batch = group ? group * 4096 : count;
-  static thread_local std::vector<InVertex> v;  // reused: no page faults per frame
+  std::vector<InVertex>& v = s_->batch;  // kept between draws: no page faults per frame
   for (int start = 0; start < count; start += batch) {
     const int n = std::min(batch, count - start);
     v.resize(n);
@@ -334,7 +334,7 @@ void Context::draw_elements(Primitive p, const VertexArrays& a, const std::uint3
   const int group = p == Primitive::Triangles ? 3 : p == Primitive::Lines ? 2 : p == Primitive::Points ? 1
                   : p == Primitive::Quads ? 4 : 0;
   const int batch = group ? group * 4096 : count;
-  static thread_local std::vector<InVertex> v;  // reused: no page faults per frame
+  std::vector<InVertex>& v = s_->batch;  // kept between draws: no page faults per frame
   for (int start = 0; start < count; start += batch) {
     const int n = std::min(batch, count - start);
     v.resize(n);

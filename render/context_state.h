@@ -7,6 +7,10 @@
 
 namespace wedge::render {
 
+namespace raster {
+struct Scratch;  // raster.h
+}
+
 struct InVertex {
   Vec4 position;       // object coordinates
   Vec3 normal;
@@ -55,6 +59,10 @@ struct Context::State {
 
   int threads = 1;  // rasterisation threads (bands of rows)
   Simd simd = Simd::Auto;  // the vector code (Raster::avx2)
+  // The rasteriser's buffers kept between draws and its task arena (made by the first draw),
+  // and draw_arrays' and draw_elements' batch of fetched vertices: this Context's alone.
+  std::shared_ptr<raster::Scratch> scratch;
+  std::vector<InVertex> batch;
 
   bool in_begin = false;
   Primitive prim = Primitive::Points;

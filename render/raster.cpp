@@ -20,6 +20,8 @@ namespace wedge::render::raster {
 
 Raster::Raster(Context::State& st, int w, int h, std::uint8_t* c, float* d)
     : s(st), width(w), height(h), color(c), depth(d), lights(st) {
+  if (!st.scratch) st.scratch = std::make_shared<Scratch>();
+  scratch = st.scratch.get();
   for (int i = 0; i < 6; ++i)
     if (s.on(clip_plane_cap(i))) user_planes.push_back(s.clip_planes[i]);
   x0 = 0, y0 = 0, x1 = w, y1 = h;

@@ -115,8 +115,6 @@ struct RunSetup {
   double zc[kMax], zdx[kMax], zdy[kMax];
   float pl[5][3][kMax];
 };
-// The calling or worker thread's run setup (triangle_run.cpp).
-RunSetup& run_scratch();
 
 // A set-up primitive waiting for rasterisation (binned to bands of rows, then drawn by bands in
 // parallel; within a band the primitives keep their submission order, so the image is the same
@@ -181,6 +179,35 @@ struct Queue {
 
  private:
   std::vector<std::uint32_t> cursor_;
+};
+
+struct TriChunk;  // triangles.cpp
+struct ChunkOut;
+// A Context's rasteriser buffers, kept between draws (fresh megabyte-sized buffers for each
+// batch cost page faults), and its task arena. The draws of one Context run one at a time; the
+// buffers that workers fill at once are one per worker, indexed by its slot in the arena
+// (tbb::this_task_arena::current_thread_index(), below the arena's concurrency). Made by the
+// Context's first draw (Raster's constructor).
+struct Scratch {
+  // bands.cpp: the arena of `threads` threads (made again when the count changes).
+  tbb::task_arena& arena(int threads);
+  // assembly.cpp (run_primitive): vertices after the vertex stage, culled triangles, the
+  // queue of primitives and the queues of the parallel triangle chunks.
+  std::vector<PVert> verts;
+  std::vector<std::uint8_t> culled;
+  Queue queue;
+  std::vector<std::unique_ptr<Queue>> chunk_queues;
+  // triangles.cpp (draw_triangles): each chunk's output, each worker's chunk buffers, and the
+  // list of queues handed to the bands.
+  std::vector<std::unique_ptr<ChunkOut>> chunk_outs;
+  std::vector<std::unique_ptr<TriChunk>> chunks;
+  std::vector<Queue*> queue_list;
+  Scratch();
+  ~Scratch();  // (triangles.cpp, where TriChunk and ChunkOut are complete)
+
+ private:
+  std::unique_ptr<tbb::task_arena> arena_;
+  int arena_threads_ = 0;
 };
 
 [[gnu::always_inline]] inline Vec4f clamp01(const Vec4f& c) { return c.cwiseMax(0.0f).cwiseMin(1.0f); }
@@ -328,7 +355,6 @@ void light_needed_vertices(const DrawLights& dl, const Context::State& s, const 
                            std::size_t astride);
 
 // bands.cpp: threads.
-tbb::task_arena& arena_for(int threads);
 struct Raster;
 void draw_bands(const Raster& r, Queue* const* queues, std::size_t nq);
 
@@ -350,6 +376,7 @@ struct Raster {
   bool avx2 = false;
   bool phong, lighting, texturing, fog, blend, depth_test, all_mask;
   Queue* sink = nullptr;  // when set, primitives are queued instead of drawn
+  Scratch* scratch;       // the Context's buffers and arena (Context::State::scratch)
   std::vector<PVert> poly_scratch, clip_scratch;
   std::vector<WinVert> win_scratch;
 

@@ -11,13 +11,6 @@
 
 namespace wedge::render::raster {
 
-// The calling or worker thread's run setup (the one-thread chunk path and the bands use it in
-// turn, never at once on one thread).
-RunSetup& run_scratch() {
-  static thread_local RunSetup scratch;
-  return scratch;
-}
-
 namespace {
 #if defined(__SSE2__)
 template <class V>

@@ -26,10 +26,9 @@ bool fast_triangles_ok(const Context::State& s) {
   return true;
 }
 
-namespace {
 constexpr std::size_t kChunk = 256;  // triangles
 
-// One chunk's buffers, kept between batches. Queued triangles point into `win`/`attrs`.
+// One chunk's buffers, kept between batches (one per worker: Scratch::chunks).
 struct TriChunk {
   enum : std::uint8_t { kSkip, kDraw, kClip };
   // Per vertex, by rows (SoA): object position x y z w, eye x y z w, clip x y z w, window
@@ -52,12 +51,10 @@ struct ChunkOut {
   Queue queue;
 };
 
-// The calling or worker thread's chunk scratch (the position rows are not needed once the
-// chunk's triangles are set up).
-TriChunk& chunk_scratch() {
-  static thread_local TriChunk scratch;
-  return scratch;
-}
+Scratch::Scratch() = default;
+Scratch::~Scratch() = default;
+
+namespace {
 
 // The position stage of a chunk, four vertices at a time by rows: eye = mv p, clip = proj eye
 // (Eigen's operation order per element: ((c0 x + c1 y) + c2 z) + c3 w), the clip-volume test, and window
@@ -207,7 +204,7 @@ void cull_rows_default(const CullBox& cb, TriChunk& ck, std::size_t nt) { cull_r
 
 template <class Src>
 void run_chunk(Raster& rc, const Src& src, const Mat3& nmat, const DrawLights& dl, TriChunk& ck, ChunkOut& co,
-               std::size_t t0, std::size_t t1) {
+               RunSetup& rs, std::size_t t0, std::size_t t1) {
   const Context::State& s = rc.s;
   const std::size_t nt = t1 - t0, nv = 3 * nt, v0 = 3 * t0;
   ck.stride = (nv + 3) & ~std::size_t(3);
@@ -296,7 +293,6 @@ void run_chunk(Raster& rc, const Src& src, const Mat3& nmat, const DrawLights& d
   std::vector<WinVert>& run_v = ck.run_v;
   std::vector<Raster::RunTri>& run = ck.run;
   run_v.resize(3 * nt), run.clear();
-  RunSetup& rs = run_scratch();
   auto flush = [&] {
     rc.triangle_run(run.data(), run.size(), rs);
     run.clear();
@@ -339,32 +335,36 @@ void draw_triangles(Raster& r, const Src& src, std::size_t tris) {
   const Mat3 nmat = s.top(MatrixMode::ModelView).topLeftCorner<3, 3>().inverse().transpose();
   const DrawLights dl(s, r.lights, r.avx2);
   const std::size_t chunks = (tris + kChunk - 1) / kChunk;
-  // Kept between batches (per calling thread): fresh buffers would cost page faults.
-  static thread_local std::vector<std::unique_ptr<ChunkOut>> tl_chunks;
-  std::vector<std::unique_ptr<ChunkOut>>& ck = tl_chunks;
+  // Kept between batches (the Context's): fresh buffers would cost page faults.
+  Scratch& sc = *r.scratch;
+  std::vector<std::unique_ptr<ChunkOut>>& ck = sc.chunk_outs;
   const bool banded = s.threads > 1 && (3 * tris >= 64 || std::int64_t(r.width) * r.height >= 512 * 512);
   const std::size_t need = banded ? chunks : 1;
   while (ck.size() < need) ck.push_back(std::make_unique<ChunkOut>());
   if (!banded) {
     r.sink = nullptr;
+    if (sc.chunks.empty()) sc.chunks.push_back(std::make_unique<TriChunk>());
+    RunSetup rs;
     for (std::size_t c = 0; c < chunks; ++c)
-      run_chunk(r, src, nmat, dl, chunk_scratch(), *ck[0], c * kChunk, std::min(tris, (c + 1) * kChunk));
+      run_chunk(r, src, nmat, dl, *sc.chunks[0], *ck[0], rs, c * kChunk, std::min(tris, (c + 1) * kChunk));
     return;
   }
   const int bands = (r.height + kBandRows - 1) / kBandRows;
-  tbb::task_arena& arena = arena_for(s.threads);
+  tbb::task_arena& arena = sc.arena(s.threads);
+  while (sc.chunks.size() < std::size_t(arena.max_concurrency())) sc.chunks.push_back(std::make_unique<TriChunk>());
   arena.execute([&] {
     tbb::parallel_for(std::size_t(0), chunks, [&](std::size_t c) {
       Raster rc = r;
       ChunkOut& k = *ck[c];
       k.queue.clear();
       rc.sink = &k.queue;
-      run_chunk(rc, src, nmat, dl, chunk_scratch(), k, c * kChunk, std::min(tris, (c + 1) * kChunk));
+      RunSetup rs;  // (unused when queueing: the chunk's triangles go to the queue)
+      TriChunk& buffers = *sc.chunks[std::size_t(tbb::this_task_arena::current_thread_index())];
+      run_chunk(rc, src, nmat, dl, buffers, k, rs, c * kChunk, std::min(tris, (c + 1) * kChunk));
       k.queue.bin(bands);
     });
   });
-  static thread_local std::vector<Queue*> tl_queues;
-  std::vector<Queue*>& queues = tl_queues;
+  std::vector<Queue*>& queues = sc.queue_list;
   queues.clear();
   for (std::size_t c = 0; c < chunks; ++c) queues.push_back(&ck[c]->queue);
   draw_bands(r, queues.data(), queues.size());
