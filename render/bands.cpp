@@ -30,26 +30,31 @@ Job& Raster::new_job(Job::Kind k, int side, const float* flat) {
 void Raster::emit_triangle(const WinVert& a, const WinVert& b, const WinVert& c, int side, const float* flat) {
   if (!sink) return triangle(a, b, c, side, flat);
   Job& j = new_job(Job::Tri, side, flat);
-  copy_vert(j.v[0], a), copy_vert(j.v[1], b), copy_vert(j.v[2], c);
+  WinVert* v = sink->verts.add(3);
+  copy_vert(v[0], a), copy_vert(v[1], b), copy_vert(v[2], c);
+  j.v = v;
   j.row0 = int(std::floor(std::min({a.y, b.y, c.y}))) - 1;
   j.row1 = int(std::floor(std::max({a.y, b.y, c.y}))) + 1;
 }
-// A triangle whose attribute sets outlive the queue (the triangle path's chunk buffers): the
-// job points at them, no copies.
-void Raster::emit_triangle_direct(const WinVert& a, const WinVert& b, const WinVert& c, int side, const float* flat) {
+// A triangle whose window vertices w[0..2] and attribute sets outlive the queue (the triangle
+// path's chunk outputs): the job points at them, no copies.
+void Raster::emit_triangle_direct(const WinVert* w, int side, const float* flat) {
+  const WinVert &a = w[0], &b = w[1], &c = w[2];
   if (!sink) return triangle(a, b, c, side, flat);
   Job& j = sink->jobs.emplace_back();
   j.kind = Job::Tri;
   j.side = std::uint8_t(side);
   j.flat = flat;
-  j.v[0] = a, j.v[1] = b, j.v[2] = c;
+  j.v = w;
   j.row0 = int(std::floor(std::min({a.y, b.y, c.y}))) - 1;
   j.row1 = int(std::floor(std::max({a.y, b.y, c.y}))) + 1;
 }
 void Raster::emit_line(const WinVert& a, const WinVert& b, int side, const float* flat) {
   if (!sink) return line(a, b, side, flat);
   Job& j = new_job(Job::Line, side, flat);
-  copy_vert(j.v[0], a), copy_vert(j.v[1], b);
+  WinVert* v = sink->verts.add(2);
+  copy_vert(v[0], a), copy_vert(v[1], b);
+  j.v = v;
   const int pad = int(std::ceil(s.line_width)) + 1;
   j.row0 = int(std::floor(std::min(a.y, b.y))) - pad;
   j.row1 = int(std::floor(std::max(a.y, b.y))) + pad;
@@ -57,7 +62,9 @@ void Raster::emit_line(const WinVert& a, const WinVert& b, int side, const float
 void Raster::emit_point(const WinVert& p, int side) {
   if (!sink) return point(p, side);
   Job& j = new_job(Job::Point, side, nullptr);
-  copy_vert(j.v[0], p);
+  WinVert* v = sink->verts.add(1);
+  copy_vert(v[0], p);
+  j.v = v;
   const int pad = int(std::ceil(s.point_size)) + 1;
   j.row0 = int(std::floor(p.y)) - pad;
   j.row1 = int(std::floor(p.y)) + pad;

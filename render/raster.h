@@ -118,13 +118,14 @@ struct RunSetup {
 
 // A set-up primitive waiting for rasterisation (binned to bands of rows, then drawn by bands in
 // parallel; within a band the primitives keep their submission order, so the image is the same
-// as drawing them one by one). Compact: window coordinates and pointers to the attribute sets
-// (owned by the queue or by the batch's vertex buffer, alive until the bands are drawn).
+// as drawing them one by one). Compact (32 bytes: the bands read each of the batch's jobs): a
+// pointer to its window vertices and one to the flat attributes (owned by the queue, or by the
+// chunk output of the batched triangle path, alive until the bands are drawn).
 struct Job {
   enum Kind : std::uint8_t { Tri, Line, Point } kind = Tri;
   std::uint8_t side = 0;
-  int row0 = 0, row1 = 0;  // rows the primitive may touch
-  WinVert v[3];
+  int row0 = 0, row1 = 0;       // rows the primitive may touch
+  const WinVert* v = nullptr;   // its 3, 2 or 1 window vertices, consecutive
   const float* flat = nullptr;  // the provoking vertex's attributes for flat shading
 };
 constexpr int kBandRows = 32;
@@ -149,14 +150,34 @@ class AttrStore {
   std::size_t used_ = 0;
 };
 
+// Window vertices copied for queued primitives, n (at most 3) consecutive ones at a time, in
+// blocks that never move; clear() keeps the blocks.
+class WinStore {
+ public:
+  WinVert* add(std::size_t n) {
+    if (used_ + n > kBlock) ++block_, used_ = 0;
+    if (block_ == blocks_.size()) blocks_.push_back(std::make_unique<WinVert[]>(kBlock));
+    WinVert* d = blocks_[block_].get() + used_;
+    used_ += n;
+    return d;
+  }
+  void clear() { block_ = 0, used_ = 0; }
+
+ private:
+  static constexpr std::size_t kBlock = 768;
+  std::vector<std::unique_ptr<WinVert[]>> blocks_;
+  std::size_t block_ = 0, used_ = 0;
+};
+
 // Queued primitives of one stretch of a batch, in submission order, with their own binning by
 // band (a counting sort), so that queues are filled and binned in parallel and the bands read
 // them in queue order without a serial merge.
 struct Queue {
   std::vector<Job> jobs;
   AttrStore store;
+  WinStore verts;
   std::vector<std::uint32_t> band_start, band_jobs;  // jobs of band b: band_jobs[band_start[b] .. band_start[b + 1])
-  void clear() { jobs.clear(), store.clear(); }
+  void clear() { jobs.clear(), store.clear(), verts.clear(); }
   void bin(int bands) {
     band_start.assign(std::size_t(bands) + 1, 0);
     auto range = [bands](const Job& j, int& b0, int& b1) {
@@ -428,7 +449,7 @@ struct Raster {
   void copy_vert(WinVert& d, const WinVert& w);
   Job& new_job(Job::Kind k, int side, const float* flat);
   void emit_triangle(const WinVert& a, const WinVert& b, const WinVert& c, int side, const float* flat);
-  void emit_triangle_direct(const WinVert& a, const WinVert& b, const WinVert& c, int side, const float* flat);
+  void emit_triangle_direct(const WinVert* w, int side, const float* flat);
   void emit_line(const WinVert& a, const WinVert& b, int side, const float* flat);
   void emit_point(const WinVert& p, int side);
   void exec(const Job& j);

@@ -45,9 +45,10 @@ struct TriChunk {
 };
 
 // What a chunk hands to the bands: the attribute sets of its needed vertices (in `need`
-// order) and its queue, whose jobs point into them.
+// order), the window vertices of its triangles, and its queue, whose jobs point into them.
 struct ChunkOut {
   std::vector<float> attrs;
+  std::vector<WinVert> win;
   Queue queue;
 };
 
@@ -290,7 +291,8 @@ void run_chunk(Raster& rc, const Src& src, const Mat3& nmat, const DrawLights& d
   const double *cx = ck.row(TriChunk::kCx), *cy = ck.row(TriChunk::kCy), *cz = ck.row(TriChunk::kCz),
                *cw = ck.row(TriChunk::kCw);
   // Drawn now (no bands): by runs (Raster::triangle_run), cut at each clipped triangle.
-  std::vector<WinVert>& run_v = ck.run_v;
+  // (Queued triangles point at theirs: the chunk output's, not the worker's buffers.)
+  std::vector<WinVert>& run_v = rc.sink ? co.win : ck.run_v;
   std::vector<Raster::RunTri>& run = ck.run;
   run_v.resize(3 * nt), run.clear();
   auto flush = [&] {
@@ -307,7 +309,7 @@ void run_chunk(Raster& rc, const Src& src, const Mat3& nmat, const DrawLights& d
         const std::size_t i = 3 * j + k;
         w[k] = WinVert{wx[i], wy[i], wz[i], iw[i], a + k * astride};
       }
-      if (rc.sink) rc.emit_triangle_direct(w[0], w[1], w[2], ck.side[j], flat ? w[2].a : nullptr);
+      if (rc.sink) rc.emit_triangle_direct(w, ck.side[j], flat ? w[2].a : nullptr);
       else run.push_back(Raster::RunTri{w, ck.side[j], flat ? w[2].a : nullptr});
       continue;
     }
