@@ -284,6 +284,22 @@ void check_table(lua_State* L, int idx) {
   if (lua_type(L, idx) != LUA_TTABLE) throw ArgError{idx, "table expected, got " + type_name(L, idx)};
 }
 
+std::string element_name(const std::string& what, long long k, const char* noun) {
+  static const std::string kField = "field '";
+  if (what.size() > kField.size() && what.rfind(kField, 0) == 0 && what.back() == '\'')
+    return what.substr(0, what.size() - 1) + "[" + std::to_string(k) + "]'";
+  return what + " " + noun + " " + std::to_string(k);
+}
+
+std::string field_message(const std::string& m) {
+  static const std::string kField = "field '";
+  if (m.rfind(kField, 0) == 0) {
+    const std::size_t end = m.find('\'', kField.size());
+    if (end != std::string::npos) return m.substr(kField.size(), end - kField.size()) + m.substr(end + 1);
+  }
+  return m;
+}
+
 template <int N>
 static Eigen::Matrix<double, N, 1> read_vector(lua_State* L, int idx, int arg, const std::string& what, bool allow_shorter) {
   idx = lua_absindex(L, idx);
@@ -297,11 +313,11 @@ static Eigen::Matrix<double, N, 1> read_vector(lua_State* L, int idx, int arg, c
   for (lua_Integer i = 1; i <= n; ++i) {
     int t = lua_rawgeti(L, idx, i);
     double x = lua_tonumber(L, -1);
+    const std::string got = t == LUA_TNUMBER ? "" : type_name(L, -1);
     lua_pop(L, 1);
-    if (t != LUA_TNUMBER)
-      throw ArgError{arg, what + " coordinate " + std::to_string(i) + " must be a number"};
+    if (t != LUA_TNUMBER) throw ArgError{arg, element_name(what, i, "coordinate") + " must be a number, got " + got};
     if (!std::isfinite(x))
-      throw ArgError{arg, what + " coordinate " + std::to_string(i) + " must be finite, got " + format_number(x)};
+      throw ArgError{arg, element_name(what, i, "coordinate") + " must be finite, got " + format_number(x)};
     v[static_cast<int>(i - 1)] = x;
   }
   return v;

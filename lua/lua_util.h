@@ -109,6 +109,26 @@ int guarded(lua_State* L, F&& body) {
   return raise_pending(L, arg);
 }
 
+// "field 'size'" and element 2 -> "field 'size[2]'"; "point" -> "point coordinate 2" (noun).
+std::string element_name(const std::string& what, long long k, const char* noun);
+// "field 'camera.near' must be ..." -> "camera.near must be ..."; other messages unchanged.
+std::string field_message(const std::string& m);
+
+// For functions that take one table of options (box{...}, array{...}, s:material{...}, render{...}):
+// like guarded(), but an error in that table (argument `arg`) is named by its field path and the
+// function rather than by an argument number: "box: size[2] must be a number, got string".
+template <class F>
+int table_call(lua_State* L, int arg, F&& body) {
+  return guarded(L, [&] {
+    try {
+      return body();
+    } catch (const ArgError& e) {
+      if (e.arg != arg || lua_type(L, arg) != LUA_TTABLE) throw;
+      throw Error(field_message(e.message));
+    }
+  });
+}
+
 // Runs f, turning a wedge::Error it throws into an ArgError on argument `arg` (for kernel
 // constructors whose message is about one argument).
 template <class F>

@@ -290,7 +290,7 @@ Vec3 positive_size(const Vec3& s, int arg, bool positional = false) {
 
 // box(x, y, z) | box{size={x,y,z}, center=false}
 int box_fn(lua_State* L) {
-  return guarded(L, [&] {
+  return table_call(L, 1, [&] {
     Vec3 size;
     bool center = false;
     if (lua_type(L, 1) == LUA_TTABLE) {
@@ -315,7 +315,7 @@ int box_fn(lua_State* L) {
 
 // cube(s) | cube{size=s, center=false}
 int cube_fn(lua_State* L) {
-  return guarded(L, [&] {
+  return table_call(L, 1, [&] {
     double s;
     bool center = false;
     if (lua_type(L, 1) == LUA_TTABLE) {
@@ -334,7 +334,7 @@ int cube_fn(lua_State* L) {
 
 // polyhedron{points={{x,y,z},...}, faces={{1,2,3,...},...}}: 1-based, counter-clockwise from outside.
 int polyhedron_fn(lua_State* L) {
-  return guarded(L, [&] {
+  return table_call(L, 1, [&] {
     Options o(L, 1);
     std::vector<Point3> pts;
     std::vector<std::vector<int>> faces;

@@ -39,11 +39,12 @@ Vec4f to_color(lua_State* L, int idx, int arg, const std::string& what) {
     lua_geti(L, idx, k);
     const bool number = lua_type(L, -1) == LUA_TNUMBER;
     const double x = lua_tonumber(L, -1);
+    const std::string got = number ? "" : type_name(L, -1);
     lua_pop(L, 1);
-    if (!number) throw ArgError{arg, what + " component " + std::to_string(k) + " must be a number"};
+    if (!number) throw ArgError{arg, element_name(what, k, "component") + " must be a number, got " + got};
     // Colours are 0..1 (API.md); NaN or 7 would be drawn as some clamped colour without a word.
     if (!(x >= 0 && x <= 1))
-      throw ArgError{arg, what + " component " + std::to_string(k) + " must be within 0..1, got " + number_text(x)};
+      throw ArgError{arg, element_name(what, k, "component") + " must be within 0..1, got " + number_text(x)};
     c[k - 1] = float(x);
   }
   return c;
@@ -75,25 +76,9 @@ void check_pixel_budget(Options& o, const char* fn, int width, int height, int a
 // "render: camera.near must be below camera.far", at the caller's line. The checks below throw
 // ArgError on argument 1 with "field 'path' ..." messages (as every table option of the API does);
 // options_call turns them into plain errors whose message starts with the path.
-std::string field_message(const std::string& m) {
-  static const std::string kField = "field '";
-  if (m.rfind(kField, 0) == 0) {
-    const std::size_t end = m.find('\'', kField.size());
-    if (end != std::string::npos) return m.substr(kField.size(), end - kField.size()) + m.substr(end + 1);
-  }
-  return m;
-}
-
 template <class F>
 int options_call(lua_State* L, F&& body) {
-  return guarded(L, [&] {
-    try {
-      return body();
-    } catch (const ArgError& e) {
-      if (e.arg != 1) throw;
-      throw Error(field_message(e.message));
-    }
-  });
+  return table_call(L, 1, std::forward<F>(body));
 }
 
 Vec4f opt_color(Options& o, const char* key, const Vec4f& fallback) {

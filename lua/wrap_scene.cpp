@@ -150,7 +150,7 @@ int required_count(Options& o) {
 // array{x, count=, step={dx, dy, dz}, transform=, name=}: count instances of x, the k-th (from 0)
 // translated by k * step.
 int array_fn(lua_State* L) {
-  return guarded(L, [&] {
+  return table_call(L, 1, [&] {
     check_table(L, 1);
     Options o(L, 1);
     o.allow_positional();
@@ -176,7 +176,7 @@ int array_fn(lua_State* L) {
 // perpendicular to the axis, or y if the axis is x) and turned about the axis through `center` by
 // k * angle / count (k * angle / (count - 1) when angle < 360, so that both ends are used).
 int radial_array_fn(lua_State* L) {
-  return guarded(L, [&] {
+  return table_call(L, 1, [&] {
     check_table(L, 1);
     Options o(L, 1);
     o.allow_positional();

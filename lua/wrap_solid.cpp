@@ -255,7 +255,7 @@ int triangles_m(lua_State* L) {
 
 // s:material{ambient=, diffuse=, specular=, shininess=, emission=, texture=} -> a copy carrying it.
 int material_m(lua_State* L) {
-  return guarded(L, [&] {
+  return table_call(L, 2, [&] {
     const Solid& s = self(L);
     // Read as render{} will read it, so that a bad value is reported on the line that made it.
     std::shared_ptr<const render::Texture> texture;
