@@ -78,6 +78,7 @@ Bvh::Bvh(const Soup& soup, std::vector<u32> ids, int d) : items(std::move(ids)),
     sbox[i] = box[order[i].second];
   }
   items.swap(sorted);
+  boxes.swap(sbox);
   nodes.reserve(2 * (n / 4 + 1) + 1);
   // Build top-down by halving ranges; fill boxes bottom-up afterwards (children follow parents).
   struct Task { u32 node, first, count; };
@@ -97,8 +98,8 @@ Bvh::Bvh(const Soup& soup, std::vector<u32> ids, int d) : items(std::move(ids)),
       }
       for (u32 i = t.first; i < t.first + t.count; ++i)
         for (int a = 0; a < 3; ++a) {
-          nd.lo[a] = std::min(nd.lo[a], sbox[i][a]);
-          nd.hi[a] = std::max(nd.hi[a], sbox[i][a + 3]);
+          nd.lo[a] = std::min(nd.lo[a], boxes[i][a]);
+          nd.hi[a] = std::max(nd.hi[a], boxes[i][a + 3]);
         }
       continue;
     }
@@ -124,61 +125,118 @@ Bvh::Bvh(const Soup& soup, std::vector<u32> ids, int d) : items(std::move(ids)),
   }
 }
 
-// Each pair is found once: the triangles are visited in the tree's (Morton) order, and a visit
-// from position p skips every subtree whose items all sit at positions <= p (a node covers a
-// contiguous range of positions). Pairs are sorted at the end, so the order is the same at any
-// thread count.
+std::vector<std::array<u32, 2>> Bvh::self_pairs(const std::vector<char>* active) const {
+  if (nodes.empty()) return {};
+  // Whether a subtree holds an active triangle (children follow their parent).
+  std::vector<char> act(nodes.size(), 1);
+  if (active)
+    for (std::size_t i = nodes.size(); i-- > 0;) {
+      const Node& nd = nodes[i];
+      if (!nd.count) {
+        act[i] = act[nd.left] | act[nd.right];
+        continue;
+      }
+      act[i] = 0;
+      for (u32 k = nd.first; k < nd.first + nd.count; ++k) act[i] |= (*active)[items[k]];
+    }
+  auto meet = [](const float* alo, const float* ahi, const float* blo, const float* bhi) {
+    return alo[0] <= bhi[0] && blo[0] <= ahi[0] && alo[1] <= bhi[1] && blo[1] <= ahi[1] && alo[2] <= bhi[2] &&
+           blo[2] <= ahi[2];
+  };
+  using Pair = std::array<u32, 2>;  // node ids; a == b: pairs within one subtree
+  // The node pairs one step below (a, b), those worth a look.
+  auto expand = [&](Pair p, std::vector<Pair>& out) {
+    const Node &A = nodes[p[0]], &B = nodes[p[1]];
+    auto push = [&](u32 a, u32 b) {
+      if (a == b ? act[a] : (act[a] | act[b]) && meet(nodes[a].lo, nodes[a].hi, nodes[b].lo, nodes[b].hi))
+        out.push_back({a, b});
+    };
+    if (p[0] == p[1]) {
+      push(A.left, A.left);
+      push(A.right, A.right);
+      push(A.left, A.right);
+      return;
+    }
+    auto size = [](const Node& n) { return (n.hi[0] - n.lo[0]) + (n.hi[1] - n.lo[1]) + (n.hi[2] - n.lo[2]); };
+    if (B.count || (!A.count && size(A) >= size(B))) {
+      push(A.left, p[1]);
+      push(A.right, p[1]);
+    } else {
+      push(p[0], B.left);
+      push(p[0], B.right);
+    }
+  };
+  auto leaves = [&](Pair p) { return nodes[p[0]].count && nodes[p[1]].count; };
+  // Breadth first to enough independent node pairs for the threads, then one depth-first walk each.
+  std::vector<Pair> tasks;
+  if (act[0]) tasks.push_back({0, 0});
+  for (int round = 0; round < 12 && !tasks.empty() && tasks.size() < 512; ++round) {
+    std::vector<Pair> next;
+    for (Pair p : tasks) {
+      if (leaves(p) || (p[0] == p[1] && nodes[p[0]].count)) next.push_back(p);
+      else expand(p, next);
+    }
+    tasks.swap(next);
+  }
+  std::vector<std::vector<std::array<u32, 2>>> found(tasks.size());
+  parallel_for(0, tasks.size(), [&](std::size_t k) {
+    auto& res = found[k];
+    std::vector<Pair> stack{tasks[k]};
+    auto emit = [&](u32 i, u32 j) {
+      const u32 t = items[i], u = items[j];
+      if (active && !(*active)[t] && !(*active)[u]) return;
+      if (!meet(boxes[i].data(), boxes[i].data() + 3, boxes[j].data(), boxes[j].data() + 3)) return;
+      res.push_back({std::min(t, u), std::max(t, u)});
+    };
+    while (!stack.empty()) {
+      const Pair p = stack.back();
+      stack.pop_back();
+      const Node &A = nodes[p[0]], &B = nodes[p[1]];
+      if (p[0] == p[1] && A.count) {
+        for (u32 i = A.first; i < A.first + A.count; ++i)
+          for (u32 j = i + 1; j < A.first + A.count; ++j) emit(i, j);
+      } else if (p[0] != p[1] && A.count && B.count) {
+        for (u32 i = A.first; i < A.first + A.count; ++i)
+          for (u32 j = B.first; j < B.first + B.count; ++j) emit(i, j);
+      } else {
+        expand(p, stack);
+      }
+    }
+  });
+  std::size_t total = 0;
+  for (const auto& f : found) total += f.size();
+  std::vector<std::array<u32, 2>> pairs;
+  pairs.reserve(total);
+  for (const auto& f : found) pairs.insert(pairs.end(), f.begin(), f.end());
+  return pairs;
+}
+
+// The tree's self-join gives the pairs of overlapping float boxes; they are then tested on double
+// boxes (and exactly, where asked) in fixed blocks, so the result is the same at any thread count.
 std::vector<std::array<u32, 2>> candidate_pairs(const Soup& soup, std::array<u32, 2>* clash, bool self) {
   std::size_t n = soup.tris.size();
   std::vector<u32> all(n);
   for (std::size_t i = 0; i < n; ++i) all[i] = static_cast<u32>(i);
-  Bvh bvh(soup, all, 3);
-  // One past the last item position under each node (children follow their parent).
-  std::vector<u32> end(bvh.nodes.size());
-  for (std::size_t i = bvh.nodes.size(); i-- > 0;) {
-    const Bvh::Node& nd = bvh.nodes[i];
-    end[i] = nd.count ? nd.first + nd.count : end[nd.right];
-  }
-  constexpr std::size_t kBlock = 2048;
-  std::size_t blocks = (n + kBlock - 1) / kBlock;
+  const auto near = Bvh(soup, all, 3).self_pairs();
+  constexpr std::size_t kBlock = 4096;
+  std::size_t blocks = (near.size() + kBlock - 1) / kBlock;
   std::vector<std::vector<std::array<u32, 2>>> out(blocks);
   std::vector<std::array<u32, 2>> clashes(blocks, {kNone, kNone});
   parallel_for(0, blocks, [&](std::size_t b) {
     auto& res = out[b];
-    u32 stack[128];
-    for (std::size_t p = b * kBlock; p < std::min(n, (b + 1) * kBlock); ++p) {
-      const u32 t = bvh.items[p];
-      double lo[3], hi[3];
+    for (std::size_t k = b * kBlock; k < std::min(near.size(), (b + 1) * kBlock); ++k) {
+      const u32 t = near[k][0], u = near[k][1];
+      double lo[3], hi[3], ulo[3], uhi[3];
       tri_box(soup, t, lo, hi);
-      int top = 0;
-      stack[top++] = 0;
-      while (top) {
-        const u32 id = stack[--top];
-        if (end[id] <= p + 1) continue;  // every item below sits at or before p
-        const Bvh::Node& nd = bvh.nodes[id];
-        bool miss = false;
-        for (int d = 0; d < 3; ++d)
-          if (nd.lo[d] > hi[d] || nd.hi[d] < lo[d]) miss = true;
-        if (miss) continue;
-        if (!nd.count) {
-          stack[top++] = nd.left;
-          stack[top++] = nd.right;
-          continue;
-        }
-        for (u32 i = std::max<u32>(nd.first, static_cast<u32>(p + 1)); i < nd.first + nd.count; ++i) {
-          const u32 u = bvh.items[i];
-          double ulo[3], uhi[3];
-          tri_box(soup, u, ulo, uhi);
-          bool apart = false;
-          for (int a = 0; a < 3; ++a)
-            if (ulo[a] > hi[a] || uhi[a] < lo[a]) apart = true;
-          if (apart) continue;
-          if (soup.operand[u] != soup.operand[t] || (self && triangles_clash(soup, t, u))) {
-            res.push_back({std::min(t, u), std::max(t, u)});
-          } else if (clash && clashes[b][0] == kNone && triangles_clash(soup, t, u)) {
-            clashes[b] = {std::min(t, u), std::max(t, u)};
-          }
-        }
+      tri_box(soup, u, ulo, uhi);
+      bool apart = false;
+      for (int a = 0; a < 3; ++a)
+        if (ulo[a] > hi[a] || uhi[a] < lo[a]) apart = true;
+      if (apart) continue;
+      if (soup.operand[u] != soup.operand[t] || (self && triangles_clash(soup, t, u))) {
+        res.push_back({t, u});
+      } else if (clash && clashes[b][0] == kNone && triangles_clash(soup, t, u)) {
+        clashes[b] = {t, u};
       }
     }
   });

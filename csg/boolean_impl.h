@@ -212,9 +212,17 @@ class Bvh {
   template <class Enter, class F>
   void query_if(Enter&& enter, F&& f) const;
 
+  // Every unordered pair of distinct triangles whose boxes (float, rounded outward) overlap, as
+  // {smaller id, larger id}, of which at least one is active (active[triangle id] != 0; every
+  // triangle when `active` is null). One traversal of the tree against itself instead of a query
+  // per triangle: each pair of subtrees is looked at once. The order is the same at any thread
+  // count.
+  std::vector<std::array<u32, 2>> self_pairs(const std::vector<char>* active = nullptr) const;
+
   struct Node { float lo[3], hi[3]; u32 first, count; u32 left, right; };  // leaf: count > 0
   std::vector<Node> nodes;
   std::vector<u32> items;
+  std::vector<std::array<float, 6>> boxes;  // items[i]'s box (lo, hi), by position i
   int dims = 3;
 };
 

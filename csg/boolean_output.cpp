@@ -9,6 +9,7 @@
 // Rounding happens here, once: each vertex becomes the double nearest (within an ulp) to its
 // exact position. A triangle whose rounded normal turns against its source plane is reported.
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <numeric>
 
@@ -79,100 +80,95 @@ int projected_sign(const Mesh& m, const Rounding& rd, std::size_t t) {
   return orient2d(p2(0), p2(1), p2(2));
 }
 
-// A triangle's separating-axis data, for box tests during a tree descent.
-struct TriSat {
-  double v[3][3];  // vertices
-  double ax[10][3];  // the normal, then e_k x edge_j
-  double lo[10], hi[10], wt[10];  // the triangle's extent on each axis; margin weight
-  int n = 0;
-  TriSat(const Vec3& a, const Vec3& b, const Vec3& c) {
-    const Vec3* p[3] = {&a, &b, &c};
-    for (int i = 0; i < 3; ++i)
-      for (int d = 0; d < 3; ++d) v[i][d] = (*p[i])[d];
-    double e[3][3];
-    for (int j = 0; j < 3; ++j)
-      for (int d = 0; d < 3; ++d) e[j][d] = v[(j + 1) % 3][d] - v[j][d];
-    auto add = [&](double x, double y, double z) {
-      ax[n][0] = x, ax[n][1] = y, ax[n][2] = z;
-      double p0 = x * v[0][0] + y * v[0][1] + z * v[0][2], p1 = x * v[1][0] + y * v[1][1] + z * v[1][2],
-             p2 = x * v[2][0] + y * v[2][1] + z * v[2][2];
-      lo[n] = std::min({p0, p1, p2});
-      hi[n] = std::max({p0, p1, p2});
-      wt[n] = std::abs(x) + std::abs(y) + std::abs(z);
-      ++n;
-    };
-    add(e[0][1] * e[1][2] - e[0][2] * e[1][1], e[0][2] * e[1][0] - e[0][0] * e[1][2], e[0][0] * e[1][1] - e[0][1] * e[1][0]);
-    for (int j = 0; j < 3; ++j) {
-      add(0, -e[j][2], e[j][1]);  // e_x x e_j
-      add(e[j][2], 0, -e[j][0]);  // e_y x e_j
-      add(-e[j][1], e[j][0], 0);  // e_z x e_j
+// The triangles `ids` of m (in that order) with the positions they use.
+Mesh sub_mesh(const Mesh& m, const std::vector<u32>& ids) {
+  Mesh out;
+  std::vector<u32> index(m.positions.size(), kNone);
+  for (u32 t : ids) {
+    std::array<u32, 3> T;
+    for (int k = 0; k < 3; ++k) {
+      u32& i = index[m.triangles[t][k]];
+      if (i == kNone) {
+        i = static_cast<u32>(out.positions.size());
+        out.positions.push_back(m.positions[m.triangles[t][k]]);
+      }
+      T[k] = i;
     }
+    out.triangles.push_back(T);
   }
-  // Whether the triangle certainly misses the box [lo, hi]: a separating axis among its normal and
-  // the nine cross products of its edges with the coordinate axes (the box's own axes are the box
-  // test the caller makes), with a margin far above this double arithmetic's rounding error, so
-  // that a triangle that touches the box is never said to miss it.
-  bool misses(const float blo[3], const float bhi[3]) const {
-    double c[3], h[3], scale = 0;
-    for (int d = 0; d < 3; ++d) {
-      c[d] = 0.5 * (double(blo[d]) + bhi[d]);
-      h[d] = 0.5 * (double(bhi[d]) - blo[d]);
-      scale = std::max({scale, std::abs(double(blo[d])), std::abs(double(bhi[d]))});
-    }
-    for (int i = 0; i < 3; ++i)
-      for (int d = 0; d < 3; ++d) scale = std::max(scale, std::abs(v[i][d]));
-    for (int k = 0; k < n; ++k) {
-      const double* a = ax[k];
-      const double pc = a[0] * c[0] + a[1] * c[1] + a[2] * c[2];
-      const double r = h[0] * std::abs(a[0]) + h[1] * std::abs(a[1]) + h[2] * std::abs(a[2]);
-      const double margin = 1e-9 * wt[k] * scale;
-      if (lo[k] > pc + r + margin || hi[k] < pc - r - margin) return true;
-    }
-    return false;
-  }
-};
+  return out;
+}
 
 // Triangles to recheck (rd.recheck) that are degenerate, turned over in their source's
 // projection, or meet another triangle beyond their shared vertices, decided exactly on the
 // rounded doubles. Pairs of triangles neither of which is to be rechecked are not looked at: they
 // were found apart by an earlier check and have not changed since.
 std::vector<u32> rounding_defects(const Mesh& m, const Rounding& rd) {
+  const std::size_t nt = m.triangles.size();
   std::vector<u32> check;
-  for (std::size_t t = 0; t < m.triangles.size(); ++t)
+  for (std::size_t t = 0; t < nt; ++t)
     if (rd.recheck[t]) check.push_back(static_cast<u32>(t));
   if (check.empty()) return {};
-  std::vector<const Mesh*> one{&m};
-  Soup s = make_soup(one);
-  std::vector<u32> all(s.tris.size());
-  std::iota(all.begin(), all.end(), 0u);
-  std::vector<char> bad(s.tris.size(), 0);
-  const Bvh bvh(s, std::move(all), 3);
-  parallel_for(0, check.size(), [&](std::size_t i) {
-    u32 t = check[i];
-    if (s.axis[t] < 0 || projected_sign(m, rd, t) != rd.sign[t]) {
-      bad[t] = 1;
-      return;
-    }
-    double lo[3], hi[3];
-    triangle_box(s, static_cast<u32>(t), lo, hi);
-    const TriSat sat(s.verts[s.tris[t][0]], s.verts[s.tris[t][1]], s.verts[s.tris[t][2]]);
-    auto enter = [&](const float nlo[3], const float nhi[3]) {
-      for (int d = 0; d < 3; ++d)
-        if (nlo[d] > hi[d] || nhi[d] < lo[d]) return false;
-      return !sat.misses(nlo, nhi);
-    };
-    bvh.query_if(enter, [&](u32 u) {
-      if (u == t || bad[t]) return;
-      double ulo[3], uhi[3];
-      triangle_box(s, u, ulo, uhi);
-      for (int d = 0; d < 3; ++d)
-        if (ulo[d] > hi[d] || uhi[d] < lo[d]) return;
-      if (triangles_clash(s, t, u)) bad[t] = 1;
+  // The triangles looked at: all of them, or (a few to recheck, as after a repair round) those
+  // whose boxes meet a rechecked one's, found through a tree over the rechecked ones alone.
+  Mesh part_mesh;
+  const Mesh* mesh = &m;
+  std::vector<u32> part;  // soup triangle -> mesh triangle, when a part is taken
+  if (check.size() * 32 < nt) {
+    const Mesh few = sub_mesh(m, check);
+    std::vector<const Mesh*> one{&few};
+    const Soup fs = make_soup(one);
+    std::vector<u32> ids(check.size());
+    std::iota(ids.begin(), ids.end(), 0u);
+    const Bvh near(fs, std::move(ids), 3);
+    std::vector<char> take(nt, 0);
+    parallel_for(0, nt, [&](std::size_t u) {
+      if (rd.recheck[u]) {
+        take[u] = 1;
+        return;
+      }
+      double lo[3], hi[3];
+      for (int d = 0; d < 3; ++d) {
+        lo[d] = hi[d] = m.positions[m.triangles[u][0]][d];
+        for (int k = 1; k < 3; ++k) {
+          lo[d] = std::min(lo[d], m.positions[m.triangles[u][k]][d]);
+          hi[d] = std::max(hi[d], m.positions[m.triangles[u][k]][d]);
+        }
+      }
+      near.query(lo, hi, [&](u32) { take[u] = 1; });
     });
+    for (std::size_t t = 0; t < nt; ++t)
+      if (take[t]) part.push_back(static_cast<u32>(t));
+    part_mesh = sub_mesh(m, part);
+    mesh = &part_mesh;
+  }
+  auto orig = [&](u32 i) { return part.empty() ? i : part[i]; };
+  std::vector<const Mesh*> one{mesh};
+  const Soup s = make_soup(one);
+  const std::size_t n = s.tris.size();
+  std::vector<char> active(n);
+  for (std::size_t i = 0; i < n; ++i) active[i] = rd.recheck[orig(static_cast<u32>(i))];
+  std::vector<std::atomic<char>> bad(n);
+  parallel_for(0, n, [&](std::size_t i) {
+    const u32 t = orig(static_cast<u32>(i));
+    if (active[i] && (s.axis[i] < 0 || projected_sign(m, rd, t) != rd.sign[t])) bad[i] = 1;
+  });
+  std::vector<u32> all(n);
+  std::iota(all.begin(), all.end(), 0u);
+  const Bvh bvh(s, std::move(all), 3);
+  const auto pairs = bvh.self_pairs(&active);
+  parallel_for(0, pairs.size(), [&](std::size_t i) {
+    const u32 t = pairs[i][0], u = pairs[i][1];
+    const bool want_t = active[t] && !bad[t].load(std::memory_order_relaxed);
+    const bool want_u = active[u] && !bad[u].load(std::memory_order_relaxed);
+    if ((want_t || want_u) && triangles_clash(s, t, u)) {
+      if (active[t]) bad[t] = 1;
+      if (active[u]) bad[u] = 1;
+    }
   });
   std::vector<u32> out;
-  for (u32 t : check)
-    if (bad[t]) out.push_back(t);
+  for (std::size_t i = 0; i < n; ++i)
+    if (bad[i]) out.push_back(orig(static_cast<u32>(i)));
   return out;
 }
 
@@ -202,9 +198,14 @@ bool repair_rounding(BooleanResult& r, Rounding& rd) {
     std::fill(rd.recheck.begin(), rd.recheck.end(), 0);
     for (u32 t : bad) rd.recheck[t] = 1;
     auto& tris = r.mesh.triangles;
+    // The triangles around each vertex of a bad triangle (the only vertices a collapse moves).
+    std::vector<char> wanted(r.mesh.positions.size(), 0);
+    for (u32 t : bad)
+      for (u32 v : tris[t]) wanted[v] = 1;
     std::vector<std::vector<u32>> around(r.mesh.positions.size());
     for (std::size_t t = 0; t < tris.size(); ++t)
-      for (u32 v : tris[t]) around[v].push_back(static_cast<u32>(t));
+      for (u32 v : tris[t])
+        if (wanted[v]) around[v].push_back(static_cast<u32>(t));
     std::vector<char> touched(r.mesh.positions.size(), 0);
     bool changed = false;
     auto neighbours = [&](u32 a) {
