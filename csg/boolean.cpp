@@ -6,7 +6,6 @@
 #include <chrono>
 #include <cstring>
 #include <sstream>
-#include <unordered_map>
 
 #include "csg/boolean_impl.h"
 #include "kernel/error.h"
@@ -19,21 +18,18 @@ using namespace boolean_detail;
 
 namespace {
 
-struct PosHash {
-  std::size_t operator()(const Vec3& p) const {
-    std::size_t h = 0;
-    for (int i = 0; i < 3; ++i) {
-      double x = p[i] == 0 ? 0.0 : p[i];  // -0 and +0 are one position
-      std::uint64_t b;
-      std::memcpy(&b, &x, sizeof b);
-      h = (h ^ b) * 0x100000001b3ull + 0x9e3779b97f4a7c15ull;
-    }
-    return h;
+// A position's hash; -0 and +0 are one position (make_soup maps -0 to +0 before hashing).
+std::uint64_t pos_hash(const Vec3& p) {
+  std::uint64_t h = 0x9e3779b97f4a7c15ull;
+  for (int i = 0; i < 3; ++i) {
+    std::uint64_t b;
+    const double x = p[i];
+    std::memcpy(&b, &x, sizeof b);
+    h = (h ^ b) * 0xff51afd7ed558ccdull;
+    h ^= h >> 32;
   }
-};
-struct PosEq {
-  bool operator()(const Vec3& a, const Vec3& b) const { return a == b; }
-};
+  return h;
+}
 
 std::string at(const Vec3& p) {
   std::ostringstream o;
@@ -48,7 +44,14 @@ std::string at(const Vec3& p) {
 Soup boolean_detail::make_soup(const std::vector<const Mesh*>& operands) {
   Soup s;
   s.operands = static_cast<int>(operands.size());
-  std::unordered_map<Vec3, u32, PosHash, PosEq> ids;
+  // Equal positions become one vertex: an open-addressing table of vertex ids (linear probing).
+  std::size_t positions = 0;
+  for (const Mesh* m : operands) positions += m->positions.size();
+  int bits = 4;
+  while ((std::size_t(1) << bits) < 2 * positions) ++bits;
+  std::vector<u32> table(std::size_t(1) << bits, kNone);
+  const std::size_t mask = table.size() - 1;
+  s.verts.reserve(positions);
   for (std::size_t o = 0; o < operands.size(); ++o) {
     const Mesh& m = *operands[o];
     std::vector<u32> map(m.positions.size());
@@ -56,9 +59,13 @@ Soup boolean_detail::make_soup(const std::vector<const Mesh*>& operands) {
       Vec3 p = m.positions[v];
       for (int i = 0; i < 3; ++i)
         if (p[i] == 0) p[i] = 0.0;
-      auto [it, ins] = ids.try_emplace(p, static_cast<u32>(s.verts.size()));
-      if (ins) s.verts.push_back(p);
-      map[v] = it->second;
+      std::size_t slot = pos_hash(p) >> (64 - bits);
+      while (table[slot] != kNone && s.verts[table[slot]] != p) slot = (slot + 1) & mask;
+      if (table[slot] == kNone) {
+        table[slot] = static_cast<u32>(s.verts.size());
+        s.verts.push_back(p);
+      }
+      map[v] = table[slot];
     }
     for (std::size_t t = 0; t < m.triangles.size(); ++t) {
       const auto& tr = m.triangles[t];
