@@ -66,6 +66,20 @@ void plane_eval(const Soup& s, const Plane& P, NT n[3], NT& d) {
   d = -(n[0] * ax + n[1] * ay + n[2] * az);
 }
 
+// Whether plane P is x_i = c for a double c (then set).
+bool fixes_coordinate(const Soup& s, const Plane& P, int i, double& c) {
+  const Vec3& a = s.verts[P.a];
+  const Vec3& b = s.verts[P.b];
+  if (a[i] != b[i]) return false;
+  if (P.axis < 0) {
+    if (s.verts[P.c][i] != a[i]) return false;
+  } else if (P.axis == i) {
+    return false;  // a wall contains e_axis, so it is never x_axis = c
+  }
+  c = a[i] == 0 ? 0.0 : a[i];
+  return true;
+}
+
 template <class NT>
 H<NT> point_eval(const Soup& s, const PointDef& def) {
   H<NT> h;
@@ -78,10 +92,21 @@ H<NT> point_eval(const Soup& s, const PointDef& def) {
     return h;
   }
   if (def.kind == PointDef::Lpi) {
-    NT n[3], d;
-    plane_eval(s, def.P[0], n, d);
     const Vec3& p = s.verts[def.p];
     const Vec3& q = s.verts[def.q];
+    double c = 0;
+    for (int k = 0; k < 3; ++k)
+      if (fixes_coordinate(s, def.P[0], k, c)) {
+        // The plane x_k = c: p + t (q - p) with t = (c - p_k) / (q_k - p_k), scaled by W = q_k - p_k:
+        // coordinates of degree 2 instead of 4 (the general plane's normal and offset), so that
+        // the filter is tighter and the exact path works on shorter numbers.
+        const NT pk = lift<NT>(p[k]) - lift<NT>(c), qk = lift<NT>(q[k]) - lift<NT>(c);
+        for (int i = 0; i < 3; ++i) h.c[i] = i == k ? lift<NT>(c) * (qk - pk) : lift<NT>(p[i]) * qk - lift<NT>(q[i]) * pk;
+        h.c[3] = qk - pk;
+        return h;
+      }
+    NT n[3], d;
+    plane_eval(s, def.P[0], n, d);
     NT P[3] = {lift<NT>(p.x()), lift<NT>(p.y()), lift<NT>(p.z())};
     NT Q[3] = {lift<NT>(q.x()), lift<NT>(q.y()), lift<NT>(q.z())};
     NT dp = n[0] * P[0] + n[1] * P[1] + n[2] * P[2] + d;
@@ -183,18 +208,37 @@ int incircle_sign(const H<NT>& a, const H<NT>& b, const H<NT>& c, const H<NT>& d
   return sign_of(det);
 }
 
-// Whether plane P is x_i = c for a double c (then set).
-bool fixes_coordinate(const Soup& s, const Plane& P, int i, double& c) {
-  const Vec3& a = s.verts[P.a];
-  const Vec3& b = s.verts[P.b];
-  if (a[i] != b[i]) return false;
-  if (P.axis < 0) {
-    if (s.verts[P.c][i] != a[i]) return false;
-  } else if (P.axis == i) {
-    return false;  // a wall contains e_axis, so it is never x_axis = c
+// The exact quotient x = X / W (W of sign ws) between two adjacent doubles: lo <= x <= hi, with
+// lo == hi when x is a double. Found from a double guess (the filter's interval midpoint, or
+// the doubles' quotient) by the exact sign of X - g W (a double times an Mpzf is exact), stepping
+// an ulp at a time. False if the guess is not finite or more than a few ulps off.
+bool faithful(const EX& X, const EX& W, int ws, double mid, double ilo, double ihi, double& lo, double& hi) {
+  double g = mid;
+  if (!(std::isfinite(ilo) && std::isfinite(ihi) && std::isfinite(g))) g = CGAL::to_double(X) / CGAL::to_double(W);
+  if (!std::isfinite(g)) return false;
+  auto above = [&](double y) { return sign_of(X - EX(y) * W) * ws; };  // sign of x - y
+  int s = above(g);
+  if (s == 0) {
+    lo = hi = g;
+    return true;
   }
-  c = a[i] == 0 ? 0.0 : a[i];
-  return true;
+  const double dir = s > 0 ? INFINITY : -INFINITY;
+  for (int step = 0; step < 64; ++step) {
+    const double h = std::nextafter(g, dir);
+    if (!std::isfinite(h)) return false;
+    const int t = above(h);
+    if (t == 0) {
+      lo = hi = h;
+      return true;
+    }
+    if (t != s) {
+      lo = std::min(g, h);
+      hi = std::max(g, h);
+      return true;
+    }
+    g = h;
+  }
+  return false;
 }
 
 }  // namespace
@@ -243,9 +287,21 @@ u32 Points::add(const PointDef& d) {
       tight = false;
   if (!tight) {
     H<EX> e = point_eval<EX>(*soup_, d);
-    if (sign_of(e.c[3]) == 0) fail("boolean: internal error: a constructed point has W = 0");
-    CGAL::Gmpq w = static_cast<CGAL::Gmpq>(e.c[3]);
+    const int ws = sign_of(e.c[3]);
+    if (ws == 0) fail("boolean: internal error: a constructed point has W = 0");
     for (int i = 0; i < 3; ++i) {
+      double lo = 0, hi = 0;
+      if (faithful(e.c[i], e.c[3], ws, ap[i], bx[i], bx[i + 3], lo, hi)) {
+        // Toward zero, as the exact rational quotient's conversion (mpq_get_d) rounded before:
+        // the engine's results on near-coincident input depend on it (test_boolean_oracle's
+        // sheets an ulp apart resolve with it, and not with round-to-nearest).
+        ap[i] = lo >= 0 ? lo : hi;
+        bx[i] = lo;
+        bx[i + 3] = hi;
+        continue;
+      }
+      // Far from any double guess (huge or tiny magnitudes): the exact rational quotient.
+      const CGAL::Gmpq w = static_cast<CGAL::Gmpq>(e.c[3]);
       ap[i] = CGAL::to_double(static_cast<CGAL::Gmpq>(e.c[i]) / w);
       if (!std::isfinite(bx[i]) || !std::isfinite(bx[i + 3]) || !(bx[i] <= ap[i] && ap[i] <= bx[i + 3])) {
         bx[i] = -INFINITY;
@@ -283,6 +339,25 @@ u32 Points::add(const PointDef& d) {
 // Fast paths: where every coordinate a predicate reads is known exactly (fixed), the predicate
 // is the double one on approx(), itself exact (static filter, then CGAL's exact arithmetic).
 
+// Whether three points are known to lie on one line without arithmetic: each is a cut point of
+// the same segment p q (an LPI) or one of its end points, and at least one is a cut point.
+bool Points::on_one_segment(u32 a, u32 b, u32 c) const {
+  std::uint64_t line = 0;
+  for (u32 x : {a, b, c}) {
+    const PointDef& d = defs_[x];
+    if (d.kind == PointDef::Lpi) line = static_cast<std::uint64_t>(std::min(d.p, d.q)) << 32 | std::max(d.p, d.q);
+  }
+  if (!line) return false;
+  const u32 p = static_cast<u32>(line >> 32), q = static_cast<u32>(line);
+  for (u32 x : {a, b, c}) {
+    const PointDef& d = defs_[x];
+    if (d.kind == PointDef::Tpi) return false;
+    if (d.kind == PointDef::Explicit ? (d.p != p && d.p != q) : (std::min(d.p, d.q) != p || std::max(d.p, d.q) != q))
+      return false;
+  }
+  return true;
+}
+
 int Points::orient2d(u32 a, u32 b, u32 c, int k) const {
   const int i = (k + 1) % 3, j = (k + 2) % 3;
   const std::uint8_t m = static_cast<std::uint8_t>(1u << i | 1u << j);
@@ -292,9 +367,24 @@ int Points::orient2d(u32 a, u32 b, u32 c, int k) const {
   }
   {
     Filter guard;
+    // First on the coordinate boxes (each an ulp or two wide), then on the homogeneous intervals.
+    IA x[3], y[3];
+    bool boxed = true;
+    const u32 id[3] = {a, b, c};
+    for (int r = 0; r < 3; ++r) {
+      const auto& bx = box_[id[r]];
+      x[r] = IA(bx[i], bx[i + 3]);
+      y[r] = IA(bx[j], bx[j + 3]);
+      boxed = boxed && std::isfinite(bx[i]) && std::isfinite(bx[i + 3]) && std::isfinite(bx[j]) && std::isfinite(bx[j + 3]);
+    }
+    if (boxed) {
+      int s = sign_of((x[1] - x[0]) * (y[2] - y[0]) - (y[1] - y[0]) * (x[2] - x[0]));
+      if (s != 2) return s;
+    }
     int s = orient2d_sign(to_ia(ih_[a]), to_ia(ih_[b]), to_ia(ih_[c]), k);
     if (s != 2) return s;
   }
+  if (on_one_segment(a, b, c)) return 0;
   return orient2d_sign(point_eval<EX>(*soup_, defs_[a]), point_eval<EX>(*soup_, defs_[b]),
                        point_eval<EX>(*soup_, defs_[c]), k);
 }
@@ -353,6 +443,23 @@ int Points::incircle(u32 a, u32 b, u32 c, u32 d, int k) const {
   }
   {
     Filter guard;
+    // First on the coordinate boxes, relative to d (the classic 3x3 form), then homogeneously.
+    const u32 id[3] = {a, b, c};
+    const auto& bd = box_[d];
+    bool boxed = std::isfinite(bd[i]) && std::isfinite(bd[i + 3]) && std::isfinite(bd[j]) && std::isfinite(bd[j + 3]);
+    IA r[3][3];
+    for (int q = 0; q < 3 && boxed; ++q) {
+      const auto& bx = box_[id[q]];
+      boxed = std::isfinite(bx[i]) && std::isfinite(bx[i + 3]) && std::isfinite(bx[j]) && std::isfinite(bx[j + 3]);
+      const IA dx = IA(bx[i], bx[i + 3]) - IA(bd[i], bd[i + 3]), dy = IA(bx[j], bx[j + 3]) - IA(bd[j], bd[j + 3]);
+      r[q][0] = dx;
+      r[q][1] = dy;
+      r[q][2] = dx * dx + dy * dy;
+    }
+    if (boxed) {
+      int s = sign_of(det3(r[0][0], r[0][1], r[0][2], r[1][0], r[1][1], r[1][2], r[2][0], r[2][1], r[2][2]));
+      if (s != 2) return s;
+    }
     int s = incircle_sign(to_ia(ih_[a]), to_ia(ih_[b]), to_ia(ih_[c]), to_ia(ih_[d]), k);
     if (s != 2) return s;
   }

@@ -177,6 +177,7 @@ class Points {
   int compare_def(const PointDef& a, const PointDef& b, int axis) const;
   // A box that holds the point exactly: lo[0..2], hi[0..2].
   const std::array<double, 6>& box(u32 p) const { return box_[p]; }
+  bool on_one_segment(u32 a, u32 b, u32 c) const;
 
  private:
   const Soup* soup_;

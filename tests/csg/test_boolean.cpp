@@ -1,6 +1,7 @@
 // The boolean engine on cases with hand-worked answers: boxes (exact volumes), the degenerate
 // configurations of issue 11, provenance and operand errors. The CGAL oracle tests are in
 // test_boolean_oracle.cpp.
+#include <CGAL/Gmpq.h>
 #include <catch2/catch.hpp>
 
 #include <cmath>
@@ -438,4 +439,123 @@ TEST_CASE("boolean: points with coordinates fixed by their definition are exact 
   }
   CHECK(doubles > 150);
   CHECK(sides > 3000);
+}
+
+TEST_CASE("boolean: cut points round within an ulp, and the predicates on them (collinear, "
+          "near-cocircular) agree with exact rational arithmetic",
+          "[boolean]") {
+  // Segments cut by axis planes (z = c: the short formula) and by generic triangle planes; their
+  // points' exact coordinates computed here in rationals (GMP), independently of the engine.
+  // Several cuts of one segment are collinear with its end points (answered without arithmetic
+  // by the engine); cuts of a polygon's chords by one plane are nearly cocircular.
+  using Q = CGAL::Gmpq;
+  using boolean_detail::u32;
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> u(-2, 2);
+  Mesh m;
+  for (int i = 0; i < 24; ++i) {  // a 24-gon's vertical edges, bottom and top turned by a step
+    const double a = 2 * kPi * i / 24, b = 2 * kPi * (i + 1) / 24;
+    m.add_vertex(Vec3(0.6 * std::cos(a) + 3, 0.6 * std::sin(a) - 1, -1.25));
+    m.add_vertex(Vec3(0.6 * std::cos(b) + 3, 0.6 * std::sin(b) - 1, 2.5));
+  }
+  for (int i = 0; i < 30; ++i) m.add_vertex(Vec3(3 + u(rng), u(rng) - 1, 0.6 + u(rng)));
+  m.add_vertex(Vec3(-5, -5, 0.7));  // an axis plane z = 0.7 (a triangle whose vertices share z)
+  m.add_vertex(Vec3(5, -5, 0.7));
+  m.add_vertex(Vec3(0, 5, 0.7));
+  std::vector<const Mesh*> one{&m};
+  boolean_detail::Soup soup = boolean_detail::make_soup(one);
+  REQUIRE(soup.verts.size() == m.positions.size());
+  boolean_detail::Points pts(soup);
+  const auto nv = static_cast<u32>(soup.verts.size());
+  const boolean_detail::Plane zplane = boolean_detail::Plane::of_triangle({nv - 3, nv - 2, nv - 1});
+  auto qv = [&](u32 v) { return std::array<Q, 3>{Q(soup.verts[v].x()), Q(soup.verts[v].y()), Q(soup.verts[v].z())}; };
+  std::vector<u32> ids;
+  std::vector<std::array<Q, 3>> exact;
+  std::vector<std::size_t> zcuts;
+  auto add_cut = [&](u32 p, u32 q, const boolean_detail::Plane& P) {
+    if (pts.side(P, p) * pts.side(P, q) >= 0) return false;
+    boolean_detail::PointDef d;
+    d.kind = boolean_detail::PointDef::Lpi;
+    d.p = p;
+    d.q = q;
+    d.P[0] = P;
+    const auto A = qv(P.a), B = qv(P.b), C = qv(P.c), X = qv(p), Y = qv(q);
+    std::array<Q, 3> e1, e2, n;
+    for (int i = 0; i < 3; ++i) e1[i] = B[i] - A[i], e2[i] = C[i] - A[i];
+    n = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
+    Q num = 0, den = 0;
+    for (int i = 0; i < 3; ++i) num += n[i] * (A[i] - X[i]), den += n[i] * (Y[i] - X[i]);
+    const Q t = num / den;
+    std::array<Q, 3> x;
+    for (int i = 0; i < 3; ++i) x[i] = X[i] + t * (Y[i] - X[i]);
+    ids.push_back(pts.add(d));
+    exact.push_back(x);
+    return true;
+  };
+  for (u32 i = 0; i < 24; ++i) {
+    REQUIRE(add_cut(2 * i, 2 * i + 1, zplane));  // the chords' cuts by z = 0.7: nearly cocircular
+    zcuts.push_back(ids.size() - 1);
+    for (int k = 0; k < 3; ++k) {  // the same segment cut by generic planes: collinear cuts
+      const u32 a = 48 + static_cast<u32>(rng() % 30), b = 48 + static_cast<u32>(rng() % 30), c = 48 + static_cast<u32>(rng() % 30);
+      if (a != b && b != c && a != c && !collinear(soup.verts[a], soup.verts[b], soup.verts[c]))
+        add_cut(2 * i, 2 * i + 1, boolean_detail::Plane::of_triangle({a, b, c}));
+    }
+  }
+  REQUIRE(ids.size() > 50);
+  // Rounding: within an ulp; the box holds the exact coordinate.
+  for (std::size_t n = 0; n < ids.size(); ++n)
+    for (int i = 0; i < 3; ++i) {
+      const double x = pts.approx(ids[n])[i];
+      const Q& e = exact[n][i];
+      INFO("point " << n << " coordinate " << i);
+      REQUIRE(Q(pts.box(ids[n])[i]) <= e);
+      REQUIRE(e <= Q(pts.box(ids[n])[i + 3]));
+      REQUIRE((Q(std::nextafter(x, -INFINITY)) < e && e < Q(std::nextafter(x, INFINITY))));
+    }
+  // Every point: the cuts, then the segments' end points.
+  std::vector<u32> all = ids;
+  std::vector<std::array<Q, 3>> ex = exact;
+  for (u32 v = 0; v < 48; ++v) {
+    all.push_back(v);
+    ex.push_back(qv(v));
+  }
+  auto sgn = [](const Q& x) { return x > 0 ? 1 : (x < 0 ? -1 : 0); };
+  std::uniform_int_distribution<std::size_t> pick(0, all.size() - 1);
+  int zeros = 0, near_cocircular = 0;
+  for (int n = 0; n < 20000; ++n) {
+    int k = static_cast<int>(rng() % 3);
+    std::size_t a = pick(rng), b = pick(rng), c = pick(rng), d = pick(rng);
+    if (n % 4 == 0) {  // two cuts of one segment and an end point, or three cuts of it
+      const u32 seg = static_cast<u32>(rng() % 24);
+      std::vector<std::size_t> on;
+      for (std::size_t x = 0; x < all.size(); ++x) {
+        const auto& D = pts.def(all[x]);
+        if ((D.kind == boolean_detail::PointDef::Lpi && D.p == 2 * seg) || all[x] == 2 * seg || all[x] == 2 * seg + 1)
+          on.push_back(x);
+      }
+      a = on[rng() % on.size()], b = on[rng() % on.size()], c = on[rng() % on.size()];
+    }
+    if (n % 4 == 1) {  // four cuts of the chords by z = 0.7, seen along z
+      a = zcuts[rng() % 24], b = zcuts[rng() % 24], c = zcuts[rng() % 24], d = zcuts[rng() % 24];
+      k = 2;
+    }
+    const int i = (k + 1) % 3, j = (k + 2) % 3;
+    const auto &A = ex[a], &B = ex[b], &C = ex[c], &D = ex[d];
+    const int o = sgn((B[i] - A[i]) * (C[j] - A[j]) - (B[j] - A[j]) * (C[i] - A[i]));
+    zeros += o == 0 && a != b && b != c && a != c;
+    REQUIRE(pts.orient2d(all[a], all[b], all[c], k) == o);
+    Q r[3][3];
+    const std::array<Q, 3>* P3[3] = {&A, &B, &C};
+    for (int q = 0; q < 3; ++q) {
+      r[q][0] = (*P3[q])[i] - D[i];
+      r[q][1] = (*P3[q])[j] - D[j];
+      r[q][2] = r[q][0] * r[q][0] + r[q][1] * r[q][1];
+    }
+    const Q det = r[0][0] * (r[1][1] * r[2][2] - r[1][2] * r[2][1]) - r[0][1] * (r[1][0] * r[2][2] - r[1][2] * r[2][0]) +
+                  r[0][2] * (r[1][0] * r[2][1] - r[1][1] * r[2][0]);
+    near_cocircular += n % 4 == 1 && a != b && a != c && a != d && b != c && b != d && c != d;
+    REQUIRE(pts.incircle(all[a], all[b], all[c], all[d], k) == sgn(det));
+  }
+  CHECK(zeros > 1000);
+  CHECK(near_cocircular > 1000);
 }
