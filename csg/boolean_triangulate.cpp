@@ -131,7 +131,6 @@ using Cdt = CGAL::Constrained_Delaunay_triangulation_2<IdTraits, Tds, CGAL::No_c
 
 struct DefKey {
   std::uint64_t h[5];
-  bool operator==(const DefKey& o) const { return std::equal(h, h + 5, o.h); }
 };
 struct DefKeyHash {
   std::size_t operator()(const DefKey& k) const {
@@ -181,35 +180,43 @@ PointDef canonical(PointDef d) {
 
 class Interner {
  public:
-  explicit Interner(Points& pts) : pts_(pts) {}
+  explicit Interner(Points& pts) : pts_(pts), table_(1024, kNone) {}
   u32 operator()(const PointDef& raw) {
     if (raw.kind == PointDef::Explicit) return raw.p;
-    PointDef d = canonical(raw);
-    // The key holds every field exactly (collisions are resolved by comparing the fields).
-    DefKey key{{static_cast<std::uint64_t>(d.kind) << 32 | d.p, d.q, pack(d.P[0]),
-                d.kind == PointDef::Tpi ? pack(d.P[1]) : 0, d.kind == PointDef::Tpi ? pack(d.P[2]) : 0}};
-    auto [it, inserted] = map_.try_emplace(key, kNone);
-    if (!inserted) {
-      for (u32 id = it->second; id != kNone; id = next_[id - base()]) {
-        const PointDef& e = pts_.def(id);
-        if (e.kind == d.kind && e.p == d.p && e.q == d.q && e.P[0] == d.P[0] && e.P[1] == d.P[1] && e.P[2] == d.P[2])
-          return id;
-      }
+    const PointDef d = canonical(raw);
+    // Open addressing over point ids, equal definitions compared field by field.
+    const std::uint64_t h = DefKeyHash()({{static_cast<std::uint64_t>(d.kind) << 32 | d.p, d.q, pack(d.P[0]),
+                                           d.kind == PointDef::Tpi ? pack(d.P[1]) : 0,
+                                           d.kind == PointDef::Tpi ? pack(d.P[2]) : 0}});
+    std::size_t mask = table_.size() - 1, slot = h & mask;
+    for (; table_[slot] != kNone; slot = (slot + 1) & mask) {
+      const PointDef& e = pts_.def(table_[slot]);
+      if (e.kind == d.kind && e.p == d.p && e.q == d.q && e.P[0] == d.P[0] && e.P[1] == d.P[1] && e.P[2] == d.P[2])
+        return table_[slot];
     }
-    u32 id = pts_.add(d);
-    if (first_ == kNone) first_ = id;
-    next_.resize(id - base() + 1, kNone);
-    next_[id - base()] = it->second;
-    it->second = id;
+    const u32 id = pts_.add(d);
+    table_[slot] = id;
+    hashes_.push_back(h);
+    ids_.push_back(id);
+    if (2 * ids_.size() > table_.size()) grow();
     return id;
   }
 
  private:
-  u32 base() const { return first_ == kNone ? 0 : first_; }
+  void grow() {
+    std::vector<u32> t(table_.size() * 2, kNone);
+    const std::size_t mask = t.size() - 1;
+    for (std::size_t i = 0; i < ids_.size(); ++i) {
+      std::size_t slot = hashes_[i] & mask;
+      while (t[slot] != kNone) slot = (slot + 1) & mask;
+      t[slot] = ids_[i];
+    }
+    table_.swap(t);
+  }
   Points& pts_;
-  std::unordered_map<DefKey, u32, DefKeyHash> map_;
-  std::vector<u32> next_;  // chain of ids sharing a hash key
-  u32 first_ = kNone;
+  std::vector<u32> table_;             // point ids, kNone where empty
+  std::vector<std::uint64_t> hashes_;  // of each interned point, in order
+  std::vector<u32> ids_;
 };
 
 // --- union-find over point ids (the representative is the smallest id) ---
