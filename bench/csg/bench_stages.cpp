@@ -1,0 +1,92 @@
+// The engine's stages on the cases where its time goes, as CPU time of the whole process (so that
+// a loaded machine inflates it less than wall time) and wall time per stage (BooleanStats).
+//
+//   bench_stages [case] [threads, default 1] [repeats, default 3]
+//
+// Cases: plate (a plate minus 400 cylinders of 32 sides), menger (the level-3 sponge), sph65
+// (two overlapping 65k-triangle spheres, union), bosses (issue 16's plate as meshes: a 42 x 42 x 2
+// plate united with 400 bored bosses of 24 sides in one pass, then minus 400 drills), or all.
+// Each line gives the minimum over the repeats of the CPU time and of each stage.
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+#include <ctime>
+#include <string>
+#include <vector>
+
+#include <tbb/global_control.h>
+
+#include "csg/boolean.h"
+#include "kernel/transform.h"
+#include "tests/support/boolean_cases.h"
+
+using namespace wedge;
+using namespace wedge::testing;
+
+namespace {
+
+int g_repeats = 3;
+
+Mesh run(const char* name, BooleanOp op, const std::vector<Mesh>& ops) {
+  std::vector<const Mesh*> p;
+  for (const auto& m : ops) p.push_back(&m);
+  BooleanStats best;
+  best.check = best.broad = best.arrange = best.classify = best.output = 1e300;
+  double cpu = 1e300;
+  BooleanResult r;
+  for (int i = 0; i < g_repeats; ++i) {
+    BooleanStats st;
+    const std::clock_t c0 = std::clock();
+    r = boolean(op, p, &st);
+    cpu = std::min(cpu, 1000.0 * static_cast<double>(std::clock() - c0) / CLOCKS_PER_SEC);
+    best.check = std::min(best.check, st.check);
+    best.broad = std::min(best.broad, st.broad);
+    best.arrange = std::min(best.arrange, st.arrange);
+    best.classify = std::min(best.classify, st.classify);
+    best.output = std::min(best.output, st.output);
+    best.pairs = st.pairs;
+    best.collapses = st.collapses;
+    best.resolutions = st.resolutions;
+  }
+  std::printf("| %s | %.0f | %.0f, %.0f, %.0f, %.0f, %.0f | %zu | %.9f | %zu / %zu |\n", name, cpu, best.check, best.broad,
+              best.arrange, best.classify, best.output, r.mesh.triangles.size(), r.mesh.volume(), best.collapses,
+              best.resolutions);
+  std::fflush(stdout);
+  return r.mesh;
+}
+
+void bosses() {
+  const int n = 20, sides = 24;
+  const Mesh boss = run("boss (cylinder minus bore)", BooleanOp::Difference,
+                        {cylinder_mesh(0.6, 0.5, 2.5, sides), cylinder_mesh(0.3, -0.5, 3.0, sides)});
+  std::vector<Mesh> parts{box_mesh(Point3(0, 0, 0), Vec3(2 * n + 2, 2 * n + 2, 2))}, drills;
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) {
+      const Mat4 m = translate(Vec3(2 + 2 * i, 2 + 2 * j, 0));
+      Mesh b = boss;
+      for (auto& q : b.positions) q = apply_point(m, q);
+      parts.push_back(std::move(b));
+      drills.push_back(cylinder_mesh(0.2, -1, 4, sides, m));
+    }
+  std::vector<Mesh> d{run("plate + 400 bosses, union", BooleanOp::Union, parts)};
+  d.insert(d.end(), drills.begin(), drills.end());
+  run("... minus 400 drills", BooleanOp::Difference, d);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const std::string which = argc > 1 ? argv[1] : "all";
+  const int threads = argc > 2 ? std::max(1, std::atoi(argv[2])) : 1;
+  g_repeats = argc > 3 ? std::max(1, std::atoi(argv[3])) : 3;
+  tbb::global_control gc(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
+  std::printf("threads %d, minimum of %d runs\n\n| case | CPU ms | check, broad, arrange, classify, output ms (wall) | "
+              "triangles | volume | collapses / resolutions |\n|---|---|---|---|---|---|\n",
+              threads, g_repeats);
+  const bool all = which == "all";
+  if (all || which == "plate") run("plate minus 400 cylinders", BooleanOp::Difference, plate_and_cylinders(20, 32));
+  if (all || which == "menger") run("Menger sponge, level 3", BooleanOp::Difference, menger_operands(3));
+  if (all || which == "sph65") run("spheres 65k, union", BooleanOp::Union, overlapping_spheres(65536));
+  if (all || which == "bosses") bosses();
+  return 0;
+}
