@@ -208,6 +208,15 @@ int incircle_sign(const H<NT>& a, const H<NT>& b, const H<NT>& c, const H<NT>& d
   return sign_of(det);
 }
 
+// A point's coordinate box on axes i and j as intervals; false if the box is unbounded (a point
+// whose rounding fell back to the rational quotient outside its filter's interval).
+bool box_ia(const std::array<double, 6>& b, int i, int j, IA& x, IA& y) {
+  if (!(std::isfinite(b[i]) && std::isfinite(b[i + 3]) && std::isfinite(b[j]) && std::isfinite(b[j + 3]))) return false;
+  x = IA(b[i], b[i + 3]);
+  y = IA(b[j], b[j + 3]);
+  return true;
+}
+
 // The exact quotient x = X / W (W of sign ws) between two adjacent doubles: lo <= x <= hi, with
 // lo == hi when x is a double. Found from a double guess (the filter's interval midpoint, or
 // the doubles' quotient) by the exact sign of X - g W (a double times an Mpzf is exact), stepping
@@ -369,15 +378,7 @@ int Points::orient2d(u32 a, u32 b, u32 c, int k) const {
     Filter guard;
     // First on the coordinate boxes (each an ulp or two wide), then on the homogeneous intervals.
     IA x[3], y[3];
-    bool boxed = true;
-    const u32 id[3] = {a, b, c};
-    for (int r = 0; r < 3; ++r) {
-      const auto& bx = box_[id[r]];
-      x[r] = IA(bx[i], bx[i + 3]);
-      y[r] = IA(bx[j], bx[j + 3]);
-      boxed = boxed && std::isfinite(bx[i]) && std::isfinite(bx[i + 3]) && std::isfinite(bx[j]) && std::isfinite(bx[j + 3]);
-    }
-    if (boxed) {
+    if (box_ia(box_[a], i, j, x[0], y[0]) && box_ia(box_[b], i, j, x[1], y[1]) && box_ia(box_[c], i, j, x[2], y[2])) {
       int s = sign_of((x[1] - x[0]) * (y[2] - y[0]) - (y[1] - y[0]) * (x[2] - x[0]));
       if (s != 2) return s;
     }
@@ -445,16 +446,14 @@ int Points::incircle(u32 a, u32 b, u32 c, u32 d, int k) const {
     Filter guard;
     // First on the coordinate boxes, relative to d (the classic 3x3 form), then homogeneously.
     const u32 id[3] = {a, b, c};
-    const auto& bd = box_[d];
-    bool boxed = std::isfinite(bd[i]) && std::isfinite(bd[i + 3]) && std::isfinite(bd[j]) && std::isfinite(bd[j + 3]);
-    IA r[3][3];
+    IA dx0, dy0, r[3][3];
+    bool boxed = box_ia(box_[d], i, j, dx0, dy0);
     for (int q = 0; q < 3 && boxed; ++q) {
-      const auto& bx = box_[id[q]];
-      boxed = std::isfinite(bx[i]) && std::isfinite(bx[i + 3]) && std::isfinite(bx[j]) && std::isfinite(bx[j + 3]);
-      const IA dx = IA(bx[i], bx[i + 3]) - IA(bd[i], bd[i + 3]), dy = IA(bx[j], bx[j + 3]) - IA(bd[j], bd[j + 3]);
-      r[q][0] = dx;
-      r[q][1] = dy;
-      r[q][2] = dx * dx + dy * dy;
+      IA x, y;
+      boxed = box_ia(box_[id[q]], i, j, x, y);
+      r[q][0] = x - dx0;
+      r[q][1] = y - dy0;
+      r[q][2] = r[q][0] * r[q][0] + r[q][1] * r[q][1];
     }
     if (boxed) {
       int s = sign_of(det3(r[0][0], r[0][1], r[0][2], r[1][0], r[1][1], r[1][2], r[2][0], r[2][1], r[2][2]));
