@@ -64,11 +64,14 @@ std::int32_t colour(Options& o, const char* key, std::int32_t fallback) {
   for (int k = 0; k < n; ++k) {
     lua_rawgeti(L, idx, k + 1);
     const bool ok = lua_type(L, -1) == LUA_TNUMBER;
+    const std::string got = ok ? "" : type_name(L, -1);
     c[k] = ok ? lua_tonumber(L, -1) : 0;
     lua_pop(L, 1);
     if (!ok || !(c[k] >= 0 && c[k] <= 1)) {
       lua_pop(L, 1);
-      throw ArgError{o.arg(), what + ": component " + std::to_string(k + 1) + " must be a number in [0, 1]"};
+      const std::string element = element_name(what, k + 1, "component");
+      if (!ok) throw ArgError{o.arg(), element + " must be a number, got " + got};
+      throw ArgError{o.arg(), element + " must be within 0..1, got " + number_text(c[k])};
     }
   }
   lua_pop(L, 1);
@@ -103,13 +106,23 @@ void set(Canvas& c, int x, int y, std::int32_t value) {
   if (c.grid.inside(x, y)) c.grid.at(x, y) = value;
 }
 
+// canvas{width=, height=, background=, max_pixels=}: a canvas of more than max_pixels pixels (by
+// default 2^26, 256 MiB of RGBA8, as render{}'s sample budget) is an error giving its size.
 int canvas_fn(lua_State* L) {
-  return guarded(L, [&] {
+  return table_call(L, 1, [&] {
     Options o(L, 1);
+    if (!o.has("width") || !o.has("height")) throw ArgError{1, "fields 'width' and 'height' are required (the size in pixels)"};
     const int w = o.integer("width", 0), h = o.integer("height", 0);
     if (w < 1 || h < 1 || w > 16384 || h > 16384)
       throw ArgError{1, "width and height must be whole numbers in 1..16384, got " + std::to_string(w) + " x " +
                             std::to_string(h)};
+    const double budget = o.number("max_pixels").value_or(double(1 << 26));
+    if (!(budget >= 1 && budget <= 1e12 && budget == std::floor(budget)))
+      throw ArgError{1, "field 'max_pixels' must be a whole number in 1..1e12, got " + number_text(budget)};
+    if (double(w) * h > budget)
+      throw ArgError{1, "a canvas of " + std::to_string(w) + " x " + std::to_string(h) + " needs " +
+                            number_text(double(w) * h) + " pixels, more than the budget of " + number_text(budget) +
+                            " (raise it with max_pixels=)"};
     const std::int32_t bg = colour(o, "background", pack(Vec3(1, 1, 1), 1));
     o.finish();
     push_object(L, kKey, Canvas{render::Grid(w, h, bg), std::nullopt, "cohen_sutherland"});
@@ -118,7 +131,7 @@ int canvas_fn(lua_State* L) {
 }
 
 int line_m(lua_State* L) {
-  return guarded(L, [&] {
+  return table_call(L, 2, [&] {
     Canvas& c = check_canvas(L);
     Options o(L, 2);
     o.allow_positional();
@@ -146,7 +159,7 @@ int line_m(lua_State* L) {
 }
 
 int circle_m(lua_State* L) {
-  return guarded(L, [&] {
+  return table_call(L, 2, [&] {
     Canvas& c = check_canvas(L);
     Options o(L, 2);
     const Vec2 centre = o.vec2("center", Vec2(0, 0));
@@ -167,7 +180,7 @@ int circle_m(lua_State* L) {
 }
 
 int polygon_m(lua_State* L) {
-  return guarded(L, [&] {
+  return table_call(L, 2, [&] {
     Canvas& c = check_canvas(L);
     Options o(L, 2);
     o.allow_positional();
@@ -190,7 +203,7 @@ int polygon_m(lua_State* L) {
 }
 
 int flood_fill_m(lua_State* L) {
-  return guarded(L, [&] {
+  return table_call(L, 2, [&] {
     Canvas& c = check_canvas(L);
     Options o(L, 2);
     o.allow_positional();
@@ -208,7 +221,7 @@ int flood_fill_m(lua_State* L) {
 }
 
 int clip_m(lua_State* L) {
-  return guarded(L, [&] {
+  return table_call(L, 2, [&] {
     Canvas& c = check_canvas(L);
     Options o(L, 2);
     const std::string algorithm = o.string("algorithm", "cohen_sutherland");
@@ -219,16 +232,24 @@ int clip_m(lua_State* L) {
     if (o.push("window") != LUA_TNIL) {
       double v[4];
       const int idx = lua_gettop(L);
-      const bool table = lua_istable(L, idx) && lua_rawlen(L, idx) == 4;
-      for (int k = 0; k < 4 && table; ++k) {
-        lua_rawgeti(L, idx, k + 1);
-        v[k] = lua_type(L, -1) == LUA_TNUMBER ? lua_tonumber(L, -1) : NAN;
+      std::string err;
+      if (!lua_istable(L, idx) || lua_rawlen(L, idx) != 4) {
+        err = "field 'window' must be {xmin, ymin, xmax, ymax}, got " +
+              (lua_istable(L, idx) ? "a table of " + std::to_string(lua_rawlen(L, idx)) + " numbers" : describe(L, idx));
+      }
+      for (int k = 0; k < 4 && err.empty(); ++k) {
+        const bool number = lua_rawgeti(L, idx, k + 1) == LUA_TNUMBER;
+        v[k] = lua_tonumber(L, -1);
+        const std::string element = element_name("field 'window'", k + 1, "");
+        if (!number) err = element + " must be a number, got " + type_name(L, -1);
+        else if (!std::isfinite(v[k])) err = element + " must be finite, got " + number_text(v[k]);
         lua_pop(L, 1);
       }
       lua_pop(L, 1);
-      if (!table || !std::isfinite(v[0]) || !std::isfinite(v[1]) || !std::isfinite(v[2]) || !std::isfinite(v[3]) ||
-          !(v[0] < v[2] && v[1] < v[3]))
-        throw ArgError{2, "field 'window' must be {xmin, ymin, xmax, ymax} with xmin < xmax and ymin < ymax"};
+      if (!err.empty()) throw ArgError{2, err};
+      if (!(v[0] < v[2] && v[1] < v[3]))
+        throw ArgError{2, "field 'window' must have xmin < xmax and ymin < ymax, got {" + number_text(v[0]) + ", " +
+                              number_text(v[1]) + ", " + number_text(v[2]) + ", " + number_text(v[3]) + "}"};
       window = Box2{Point2(v[0], v[1]), Point2(v[2], v[3])};
     } else {
       lua_pop(L, 1);

@@ -15,21 +15,25 @@ namespace {
 constexpr const char* kKey = "wedge.Curve";
 
 
-// Reads the list of points at the top of the stack (value of argument `arg`).
+// Reads the list of points at the top of the stack (value of argument `arg`). `what` is the field
+// ("field 'points'"), whose elements are named by path ("field 'points[2]'"), or empty for the
+// bare list, whose elements are "point 2".
 std::vector<Point3> read_points_top(lua_State* L, int arg, const std::string& what, bool& planar,
                                     const std::string& item = "point") {
-  if (lua_type(L, -1) != LUA_TTABLE) throw ArgError{arg, what + " must be a list of " + item + "s, got " + type_name(L, -1)};
+  if (lua_type(L, -1) != LUA_TTABLE)
+    throw ArgError{arg, (what.empty() ? "the list of " + item + "s" : what) + " must be a list of " + item + "s, got " + type_name(L, -1)};
   std::vector<Point3> pts;
   lua_Integer n = lua_Integer(lua_rawlen(L, -1));
   for (lua_Integer i = 1; i <= n; ++i) {
     lua_rawgeti(L, -1, i);
     std::string err;
     Point3 p;
-    if (lua_type(L, -1) != LUA_TTABLE) err = what + ": " + item + " " + std::to_string(i) + " must be {x, y} or {x, y, z}, got " + type_name(L, -1);
+    const std::string name = what.empty() ? item + " " + std::to_string(i) : element_name(what, i, item.c_str());
+    if (lua_type(L, -1) != LUA_TTABLE) err = name + " must be {x, y} or {x, y, z}, got " + type_name(L, -1);
     else {
       if (lua_Integer(lua_rawlen(L, -1)) >= 3) planar = false;
       try {
-        p = to_vec3(L, -1, arg, what + ": " + item + " " + std::to_string(i), true);
+        p = to_vec3(L, -1, arg, name, true);
       } catch (const ArgError& e) {
         err = e.message;
       }
@@ -47,7 +51,7 @@ std::vector<Point3> read_points(lua_State* L, Options& o, bool& planar) {
   planar = true;
   if (o.has("points")) {
     o.push("points");
-    auto pts = read_points_top(L, o.arg(), "points", planar);
+    auto pts = read_points_top(L, o.arg(), "field 'points'", planar);
     lua_pop(L, 1);
     return pts;
   }
@@ -63,12 +67,12 @@ std::vector<Point3> read_points(lua_State* L, Options& o, bool& planar) {
   lua_pop(L, 1);
   if (nested) {
     lua_rawgeti(L, idx, 1);
-    auto pts = read_points_top(L, o.arg(), "points", planar);
+    auto pts = read_points_top(L, o.arg(), "", planar);
     lua_pop(L, 1);
     return pts;
   }
   lua_pushvalue(L, idx);
-  auto pts = read_points_top(L, o.arg(), "points", planar);
+  auto pts = read_points_top(L, o.arg(), "", planar);
   lua_pop(L, 1);
   return pts;
 }
@@ -77,14 +81,16 @@ std::vector<double> read_numbers(lua_State* L, Options& o, const char* key) {
   std::vector<double> out;
   int t = o.push(key);
   std::string err;
-  if (t != LUA_TTABLE) err = std::string("field '") + key + "' must be a list of numbers, got " + type_name(L, -1);
+  const std::string name = "field '" + o.field(key) + "'";
+  if (t != LUA_TTABLE) err = name + " must be a list of numbers, got " + type_name(L, -1);
   else {
     lua_Integer n = lua_Integer(lua_rawlen(L, -1));
     for (lua_Integer i = 1; i <= n && err.empty(); ++i) {
       int ti = lua_rawgeti(L, -1, i);
       double x = lua_tonumber(L, -1);
-      if (ti != LUA_TNUMBER) err = std::string("field '") + key + "': entry " + std::to_string(i) + " must be a number";
-      else if (!std::isfinite(x)) err = std::string("field '") + key + "': entry " + std::to_string(i) + " must be finite, got " + number_text(x);
+      const std::string entry = element_name(name, i, "entry");
+      if (ti != LUA_TNUMBER) err = entry + " must be a number, got " + type_name(L, -1);
+      else if (!std::isfinite(x)) err = entry + " must be finite, got " + number_text(x);
       lua_pop(L, 1);
       out.push_back(x);
     }
@@ -108,7 +114,7 @@ double curve_param(lua_State* L, const Curve& c, int idx) {
 }
 
 int bezier_fn(lua_State* L) {
-  return guarded(L, [&] {
+  return table_call(L, 1, [&] {
     Options o(L, 1);
     bool planar;
     auto pts = read_points(L, o, planar);
@@ -119,7 +125,7 @@ int bezier_fn(lua_State* L) {
 }
 
 int bspline_fn(lua_State* L) {
-  return guarded(L, [&] {
+  return table_call(L, 1, [&] {
     Options o(L, 1);
     bool planar;
     auto pts = read_points(L, o, planar);
@@ -139,7 +145,7 @@ int bspline_fn(lua_State* L) {
 }
 
 int interpolate_fn(lua_State* L) {
-  return guarded(L, [&] {
+  return table_call(L, 1, [&] {
     Options o(L, 1);
     bool planar;
     auto pts = read_points(L, o, planar);
@@ -151,7 +157,7 @@ int interpolate_fn(lua_State* L) {
 }
 
 int catmull_rom_fn(lua_State* L) {
-  return guarded(L, [&] {
+  return table_call(L, 1, [&] {
     Options o(L, 1);
     bool planar;
     auto pts = read_points(L, o, planar);
@@ -164,7 +170,7 @@ int catmull_rom_fn(lua_State* L) {
 }
 
 int natural_spline_fn(lua_State* L) {
-  return guarded(L, [&] {
+  return table_call(L, 1, [&] {
     Options o(L, 1);
     bool planar;
     auto pts = read_points(L, o, planar);
@@ -177,23 +183,23 @@ int natural_spline_fn(lua_State* L) {
 // hermite{points=, tangents=[, params=]}: the cubic Hermite spline through the points with the
 // given derivatives (at parameters 0, 1, ..., n-1 unless params= gives increasing ones).
 int hermite_fn(lua_State* L) {
-  return guarded(L, [&] {
+  return table_call(L, 1, [&] {
     Options o(L, 1);
     bool planar;
     auto pts = read_points(L, o, planar);
     if (!o.has("tangents")) throw ArgError{o.arg(), "field 'tangents' is required: one tangent per point"};
     o.push("tangents");
     bool tangents_planar = true;
-    auto tangents = read_points_top(L, o.arg(), "tangents", tangents_planar, "tangent");
+    auto tangents = read_points_top(L, o.arg(), "field 'tangents'", tangents_planar, "tangent");
     lua_pop(L, 1);
     std::vector<double> params;
     if (o.has("params")) params = read_numbers(L, o, "params");
     o.finish();
-    if (pts.size() < 2) throw ArgError{o.arg(), "points: a Hermite spline needs at least 2 points, got " + std::to_string(pts.size())};
+    if (pts.size() < 2) throw ArgError{o.arg(), "a Hermite spline needs at least 2 points, got " + std::to_string(pts.size())};
     if (tangents.size() != pts.size())
-      throw ArgError{o.arg(), "tangents: need one per point (" + std::to_string(pts.size()) + " points), got " + std::to_string(tangents.size())};
+      throw ArgError{o.arg(), "field 'tangents' needs one per point (" + std::to_string(pts.size()) + " points), got " + std::to_string(tangents.size())};
     if (!params.empty() && params.size() != pts.size())
-      throw ArgError{o.arg(), "params: need one per point (" + std::to_string(pts.size()) + " points), got " + std::to_string(params.size())};
+      throw ArgError{o.arg(), "field 'params' needs one per point (" + std::to_string(pts.size()) + " points), got " + std::to_string(params.size())};
     if (params.empty())
       for (std::size_t i = 0; i < pts.size(); ++i) params.push_back(double(i));
     std::vector<Vec3> d(tangents.begin(), tangents.end());
@@ -204,7 +210,7 @@ int hermite_fn(lua_State* L) {
 
 // polynomial{points}: the interpolating polynomial of degree n-1 (Neville), to show Runge's wiggles.
 int polynomial_fn(lua_State* L) {
-  return guarded(L, [&] {
+  return table_call(L, 1, [&] {
     Options o(L, 1);
     bool planar;
     auto pts = read_points(L, o, planar);
@@ -216,13 +222,13 @@ int polynomial_fn(lua_State* L) {
 
 // circle(r) | circle{r=1, center={0,0}}: the exact rational circle in the XY plane.
 int circle_fn(lua_State* L) {
-  return guarded(L, [&] {
+  return table_call(L, 1, [&] {
     double r;
     Vec3 center = Vec3::Zero();
     bool planar = true;
     if (lua_type(L, 1) == LUA_TTABLE) {
       Options o(L, 1);
-      r = o.number("r", 1);
+      r = o.positive("r", 1);
       if (auto c = o.vec3("center", true)) {
         center = *c;
         planar = center.z() == 0;
@@ -285,7 +291,7 @@ int closed_fn(lua_State* L) {
 // c:points{tolerance=0.01}: a polyline within the chordal tolerance (a closed curve repeats its
 // first point last).
 int points_fn(lua_State* L) {
-  return guarded(L, [&] {
+  return table_call(L, 2, [&] {
     const LuaCurve& c = check_curve(L, 1);
     double tol = 0.01;
     if (!lua_isnoneornil(L, 2)) {

@@ -115,7 +115,7 @@ int mirror_fn(lua_State* L) {
 
 // matrix.shear{xy=, xz=, yx=, yz=, zx=, zy=}
 int shear_fn(lua_State* L) {
-  return guarded(L, [&] {
+  return table_call(L, 1, [&] {
     push_matrix(L, shear(check_shear(L, 1)));
     return 1;
   });
@@ -161,9 +161,10 @@ std::pair<double, double> two_numbers(lua_State* L, const char* ka, double da, c
 // matrix.oblique{angle=45, ratio=0.5} or matrix.oblique(angle, ratio): the oblique parallel
 // projection's shear in the view frame (render/camera.cpp): ratio 1 cavalier, 1/2 cabinet.
 int oblique_fn(lua_State* L) {
-  return guarded(L, [&] {
+  return table_call(L, 1, [&] {
     auto [angle, ratio] = two_numbers(L, "angle", 45, "ratio", 0.5);
-    if (!(ratio > 0)) throw ArgError{1, "ratio must be positive, got " + number_text(ratio)};
+    if (!(ratio > 0))
+      throw ArgError{lua_type(L, 1) == LUA_TTABLE ? 1 : 2, "ratio must be positive, got " + number_text(ratio)};
     push_matrix(L, render::oblique(angle, ratio));
     return 1;
   });
@@ -172,7 +173,7 @@ int oblique_fn(lua_State* L) {
 // matrix.axonometric{rx=, ry=} or matrix.axonometric(rx, ry): Rx(rx) * Ry(ry); by default the
 // isometric rx = asin(tan 30) = 35.264..., ry = -45.
 int axonometric_fn(lua_State* L) {
-  return guarded(L, [&] {
+  return table_call(L, 1, [&] {
     auto [rx, ry] = two_numbers(L, "rx", std::asin(std::tan(M_PI / 6)) * 180 / M_PI, "ry", -45);
     push_matrix(L, render::axonometric(rx, ry));
     return 1;

@@ -6,6 +6,7 @@
 // prism of brep/build.cpp.
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 #include "csg/brep_leaf.h"
 #include "lua/lua_util.h"
@@ -30,16 +31,19 @@ double signed_area(const std::vector<Vec2>& p) {
 }
 
 // A list of {x, y} points at stack index idx (argument `arg`), at least three, not all collinear.
+// `what` names the ring in messages about the whole ring ("field 'outer'", "the outer ring"); its
+// points are named by path when `what` is a field ("field 'outer[2]'"), else "point 2".
 std::vector<Vec2> read_ring(lua_State* L, int idx, int arg, const std::string& what) {
   idx = lua_absindex(L, idx);
   if (lua_type(L, idx) != LUA_TTABLE) throw ArgError{arg, what + " must be a list of points {x, y}, got " + type_name(L, idx)};
+  const bool field = what.rfind("field '", 0) == 0;
   std::vector<Vec2> ring;
   lua_Integer n = static_cast<lua_Integer>(lua_rawlen(L, idx));
   for (lua_Integer i = 1; i <= n; ++i) {
     lua_rawgeti(L, idx, i);
     std::string err;
     try {
-      ring.push_back(to_vec2(L, -1, arg, what + " point " + std::to_string(i)));
+      ring.push_back(to_vec2(L, -1, arg, field ? element_name(what, i, "point") : "point " + std::to_string(i)));
     } catch (const ArgError& e) {
       err = e.message;
     }
@@ -83,28 +87,27 @@ std::vector<Vec2> curve_ring(lua_State* L, const Curve& c, int arg, const std::s
   return ring;
 }
 
-// polygon{{x,y}, ...} | polygon{points={...}} | polygon{outer={...}, holes={{...}, ...}}
+// polygon{{x,y}, ...} | polygon{points={...}} | polygon{outer={...}, holes={{...}, ...}}; the bare
+// list may have holes= too. A bad field is named by its path: "polygon: holes[1][2][2] must be a
+// number, got boolean".
 int polygon_fn(lua_State* L) {
-  return guarded(L, [&] {
+  return table_call(L, 1, [&] {
     check_table(L, 1);
     Profile p;
     std::vector<CurvePtr> curves;
-    lua_pushstring(L, "outer");
-    const bool has_outer = lua_rawget(L, 1) != LUA_TNIL;
-    lua_pop(L, 1);
+    Options o(L, 1);
     // points= is the long form of the bare list (API.md: "a bare list of points is the shorthand
     // for points="), and may have holes as outer= does.
-    lua_pushstring(L, "points");
-    const bool has_points = lua_rawget(L, 1) != LUA_TNIL;
-    lua_pop(L, 1);
+    const bool has_outer = o.has("outer"), has_points = o.has("points");
     if (has_outer && has_points) throw ArgError{1, "give the outer ring as points= or as outer=, not both"};
-    const char* outer_key = has_points ? "points" : "outer";
+    std::string err;
     if (!has_outer && !has_points) {
-      p.outer = read_ring(L, 1, 1, "polygon");
+      o.allow_positional();
+      p.outer = read_ring(L, 1, 1, "the outer ring");
     } else {
-      Options o(L, 1);
+      const char* outer_key = has_points ? "points" : "outer";
+      if (lua_rawlen(L, 1) > 0) throw ArgError{1, std::string("give the outer ring as a bare list or as ") + outer_key + "=, not both"};
       o.push(outer_key);
-      std::string err;
       try {
         p.outer = read_ring(L, -1, 1, std::string("field '") + outer_key + "'");
       } catch (const ArgError& e) {
@@ -112,32 +115,34 @@ int polygon_fn(lua_State* L) {
       }
       lua_pop(L, 1);
       if (!err.empty()) throw ArgError{1, err};
-      if (o.push("holes") != LUA_TNIL) {
-        int holes = lua_gettop(L);
-        try {
-          if (lua_type(L, holes) != LUA_TTABLE) throw ArgError{1, "field 'holes' must be a list of polygons or closed curves"};
-          lua_Integer n = static_cast<lua_Integer>(lua_rawlen(L, holes));
-          std::vector<std::vector<Vec2>> curve_rings;
-          for (lua_Integer i = 1; i <= n; ++i) {
-            lua_rawgeti(L, holes, i);
-            if (const LuaCurve* c = test_curve(L, -1)) {
-              curve_rings.push_back(curve_ring(L, *c->curve, 1, "hole " + std::to_string(i)));
-              curves.push_back(c->curve);
-            } else {
-              p.holes.push_back(read_ring(L, -1, 1, "hole " + std::to_string(i)));
-            }
-            lua_pop(L, 1);
-          }
-          p.holes.insert(p.holes.end(), curve_rings.begin(), curve_rings.end());
-        } catch (const ArgError& e) {
-          err = e.message;
-        }
-        lua_settop(L, holes);
-      }
-      lua_pop(L, 1);
-      if (!err.empty()) throw ArgError{1, err};
-      o.finish();
     }
+    if (o.push("holes") != LUA_TNIL) {
+      int holes = lua_gettop(L);
+      try {
+        if (lua_type(L, holes) != LUA_TTABLE)
+          throw ArgError{1, "field 'holes' must be a list of polygons or closed curves, got " + type_name(L, holes)};
+        lua_Integer n = static_cast<lua_Integer>(lua_rawlen(L, holes));
+        std::vector<std::vector<Vec2>> curve_rings;
+        for (lua_Integer i = 1; i <= n; ++i) {
+          lua_rawgeti(L, holes, i);
+          const std::string name = "field 'holes[" + std::to_string(i) + "]'";
+          if (const LuaCurve* c = test_curve(L, -1)) {
+            curve_rings.push_back(curve_ring(L, *c->curve, 1, name));
+            curves.push_back(c->curve);
+          } else {
+            p.holes.push_back(read_ring(L, -1, 1, name));
+          }
+          lua_pop(L, 1);
+        }
+        p.holes.insert(p.holes.end(), curve_rings.begin(), curve_rings.end());
+      } catch (const ArgError& e) {
+        err = e.message;
+      }
+      lua_settop(L, holes);
+    }
+    lua_pop(L, 1);
+    if (!err.empty()) throw ArgError{1, err};
+    o.finish();
     push_profile(L, std::move(p), std::move(curves));
     return 1;
   });
@@ -147,8 +152,8 @@ int polygon_fn(lua_State* L) {
 int rect_fn(lua_State* L) {
   return guarded(L, [&] {
     double w = check_number(L, 1), h = check_number(L, 2);
-    if (!(w > 0)) throw ArgError{1, "width must be positive, got " + std::to_string(w)};
-    if (!(h > 0)) throw ArgError{2, "height must be positive, got " + std::to_string(h)};
+    if (!(w > 0)) throw ArgError{1, "width must be positive, got " + number_text(w)};
+    if (!(h > 0)) throw ArgError{2, "height must be positive, got " + number_text(h)};
     bool center = lua_isnoneornil(L, 3) ? false : check_boolean(L, 3);
     Vec2 o = center ? Vec2(-w / 2, -h / 2) : Vec2(0, 0);
     push_profile(L, Profile{{o, o + Vec2(w, 0), o + Vec2(w, h), o + Vec2(0, h)}, {}});
@@ -202,10 +207,10 @@ Model build(int arg, F&& f) {
 
 // extrude(profile, h [, {twist=0, scale=1}])
 int extrude_fn(lua_State* L) {
-  return guarded(L, [&] {
+  return table_call(L, 3, [&] {
     Profile p = check_profile(L, 1);
     double h = check_number(L, 2);
-    if (!(h > 0)) throw ArgError{2, "height must be positive, got " + std::to_string(h)};
+    if (!(h > 0)) throw ArgError{2, "height must be positive, got " + number_text(h)};
     double twist = 0, k = 1;
     if (!lua_isnoneornil(L, 3)) {
       Options o(L, 3);
@@ -213,8 +218,7 @@ int extrude_fn(lua_State* L) {
       k = o.number("scale", 1);
       o.finish();
     }
-    if (!std::isfinite(twist)) throw ArgError{3, "field 'twist' must be a finite angle in degrees"};
-    if (!(k >= 0) || !std::isfinite(k)) throw ArgError{3, "field 'scale' must be zero or positive, got " + std::to_string(k)};
+    if (!(k >= 0)) throw ArgError{3, "field 'scale' must be zero or positive, got " + number_text(k)};
     // A polygon (no curve holes) extruded straight stays the planar prism or frustum.
     const LuaProfile* lp = test_object<LuaProfile>(L, 1, kKey);
     bool polygon = lp != nullptr && lp->curve_holes.empty();
@@ -257,7 +261,7 @@ int tostring_m(lua_State* L) {
 
 // revolve(profile [, {angle=360}]): OpenSCAD's rotate_extrude (x the radius, y becomes z).
 int revolve_fn(lua_State* L) {
-  return guarded(L, [&] {
+  return table_call(L, 2, [&] {
     Section s = check_section(L, 1);
     double angle = 360;
     if (!lua_isnoneornil(L, 2)) {
@@ -283,24 +287,37 @@ int sweep_fn(lua_State* L) {
 
 // loft{profiles={p1, p2, ...}, heights={z1, z2, ...}}
 int loft_fn(lua_State* L) {
-  return guarded(L, [&] {
+  return table_call(L, 1, [&] {
     Options o(L, 1);
     std::vector<Section> sections;
     std::vector<double> heights;
-    if (o.push("profiles") != LUA_TTABLE) throw ArgError{1, "field 'profiles' must be a list of profiles"};
+    if (o.push("profiles") != LUA_TTABLE)
+      throw ArgError{1, "field 'profiles' must be a list of profiles (polygon, rect or closed curve), got " + type_name(L, -1)};
     int t = lua_gettop(L);
     for (lua_Integer i = 1, n = static_cast<lua_Integer>(lua_rawlen(L, t)); i <= n; ++i) {
       lua_rawgeti(L, t, i);
-      sections.push_back(check_section(L, lua_gettop(L)));
+      try {
+        sections.push_back(check_section(L, lua_gettop(L)));
+      } catch (const ArgError& e) {
+        // check_section names the stack slot; the profile is element i of field 'profiles'.
+        std::string m = e.message;
+        if (m.rfind("profile (", 0) == 0) m = "must be a profile (polygon, rect or closed curve), got " + type_name(L, -1);
+        else if (m.rfind("the curve ", 0) == 0) m = m.substr(4);
+        throw ArgError{1, "field 'profiles[" + std::to_string(i) + "]' " + m};
+      }
       lua_pop(L, 1);
     }
     lua_pop(L, 1);
-    if (o.push("heights") != LUA_TTABLE) throw ArgError{1, "field 'heights' must be a list of numbers"};
+    if (o.push("heights") != LUA_TTABLE) throw ArgError{1, "field 'heights' must be a list of numbers, got " + type_name(L, -1)};
     t = lua_gettop(L);
     for (lua_Integer i = 1, n = static_cast<lua_Integer>(lua_rawlen(L, t)); i <= n; ++i) {
-      lua_rawgeti(L, t, i);
-      if (!lua_isnumber(L, -1)) throw ArgError{1, "heights[" + std::to_string(i) + "] must be a number"};
-      heights.push_back(lua_tonumber(L, -1));
+      const std::string name = "field 'heights[" + std::to_string(i) + "]'";
+      if (lua_rawgeti(L, t, i) != LUA_TNUMBER) throw ArgError{1, name + " must be a number, got " + type_name(L, -1)};
+      const double z = lua_tonumber(L, -1);
+      if (!std::isfinite(z)) throw ArgError{1, name + " must be finite, got " + number_text(z)};
+      if (std::abs(z) > kMaxCoordinate)
+        throw ArgError{1, name + " is " + number_text(z) + ", beyond +-" + number_text(kMaxCoordinate)};
+      heights.push_back(z);
       lua_pop(L, 1);
     }
     lua_pop(L, 1);
@@ -316,20 +333,42 @@ double positive_arg(double x, int arg, const char* what) {
   return x;
 }
 
+// The curved primitives take numbers or one table. In the table form a bad field is named by its
+// key ("sphere: r must be positive, got -1", "torus: r must be less than R (1), got 2"); in the
+// positional form by its argument number and what it is ("bad argument #1 to 'sphere' (radius r
+// must be positive, got -1)").
+struct Sizes {
+  lua_State* L;
+  std::optional<Options> o;
+  explicit Sizes(lua_State* L) : L(L) {
+    if (lua_type(L, 1) == LUA_TTABLE) o.emplace(L, 1);
+  }
+  bool table() const { return o.has_value(); }
+  // Field `key` (table form) or argument `arg` (positional; absent when arg is 0), > 0.
+  double positive(const char* key, int arg, double fallback, const char* what) {
+    if (o) return o->positive(key, fallback);
+    return positive_arg(arg ? check_number(L, arg) : fallback, arg ? arg : 1, what);
+  }
+  double non_negative(const char* key, int arg, double fallback, const char* what) {
+    const double x = o ? o->number(key, fallback) : check_number(L, arg);
+    if (!(x >= 0))
+      throw ArgError{o ? 1 : arg, (o ? "field '" + std::string(key) + "'" : std::string(what)) + " must be >= 0, got " + number_text(x)};
+    return x;
+  }
+  // "r" or "minor radius r", as the message names it.
+  std::string name(const char* key, const char* what) const { return o ? key : what; }
+  void finish() {
+    if (o) o->finish();
+  }
+};
+
 // sphere(r) | sphere{r=1, center={0,0,0}}
 int sphere_fn(lua_State* L) {
-  return guarded(L, [&] {
-    double r = 1;
-    Vec3 c = Vec3::Zero();
-    if (lua_type(L, 1) == LUA_TTABLE) {
-      Options o(L, 1);
-      r = o.number("r", 1);
-      c = o.vec3("center", Vec3::Zero(), true);
-      o.finish();
-    } else {
-      r = check_number(L, 1);
-    }
-    positive_arg(r, 1, "radius r");
+  return table_call(L, 1, [&] {
+    Sizes z(L);
+    const double r = z.positive("r", 1, 1, "radius r");
+    const Vec3 c = z.table() ? z.o->vec3("center", Vec3::Zero(), true) : Vec3::Zero();
+    z.finish();
     push_solid(L, brep_solid(build(1, [&] { return sphere(r, c); })));
     return 1;
   });
@@ -337,22 +376,12 @@ int sphere_fn(lua_State* L) {
 
 // cylinder(r, h) | cylinder{r=1, h=1, center=false}: axis +Z, base at z = 0 unless center.
 int cylinder_fn(lua_State* L) {
-  return guarded(L, [&] {
-    double r = 1, h = 1;
-    bool center = false;
-    if (lua_type(L, 1) == LUA_TTABLE) {
-      Options o(L, 1);
-      r = o.number("r", 1);
-      h = o.number("h", 1);
-      center = o.boolean("center", false);
-      o.finish();
-    } else {
-      r = check_number(L, 1);
-      h = check_number(L, 2);
-      positive_arg(h, 2, "height h");
-    }
-    positive_arg(r, 1, "radius r");
-    positive_arg(h, 1, "height h");
+  return table_call(L, 1, [&] {
+    Sizes z(L);
+    const double r = z.positive("r", 1, 1, "radius r");
+    const double h = z.positive("h", 2, 1, "height h");
+    const bool center = z.table() && z.o->boolean("center", false);
+    z.finish();
     push_solid(L, brep_solid(build(1, [&] { return cylinder(r, h, Point3(0, 0, center ? -h / 2 : 0)); })));
     return 1;
   });
@@ -360,24 +389,14 @@ int cylinder_fn(lua_State* L) {
 
 // cone{r1=1, r2=0, h=1, center=false} | cone(r1, r2, h)
 int cone_fn(lua_State* L) {
-  return guarded(L, [&] {
-    double r1 = 1, r2 = 0, h = 1;
-    bool center = false;
-    if (lua_type(L, 1) == LUA_TTABLE) {
-      Options o(L, 1);
-      r1 = o.number("r1", 1);
-      r2 = o.number("r2", 0);
-      h = o.number("h", 1);
-      center = o.boolean("center", false);
-      o.finish();
-    } else {
-      r1 = check_number(L, 1);
-      r2 = check_number(L, 2);
-      h = check_number(L, 3);
-    }
-    if (!(r1 >= 0) || !(r2 >= 0) || !std::isfinite(r1) || !std::isfinite(r2) || (r1 == 0 && r2 == 0))
-      throw ArgError{1, "radii r1 and r2 must be >= 0 and not both 0, got " + number_text(r1) + " and " + number_text(r2)};
-    positive_arg(h, 1, "height h");
+  return table_call(L, 1, [&] {
+    Sizes z(L);
+    const double r1 = z.non_negative("r1", 1, 1, "radius r1");
+    const double r2 = z.non_negative("r2", 2, 0, "radius r2");
+    const double h = z.positive("h", 3, 1, "height h");
+    const bool center = z.table() && z.o->boolean("center", false);
+    z.finish();
+    if (r1 == 0 && r2 == 0) throw ArgError{1, "radii r1 and r2 must not both be 0"};
     push_solid(L, brep_solid(build(1, [&] { return cone(r1, r2, h, Point3(0, 0, center ? -h / 2 : 0)); })));
     return 1;
   });
@@ -385,22 +404,15 @@ int cone_fn(lua_State* L) {
 
 // torus{R=2, r=0.5, center={0,0,0}} | torus(R, r): in the XY plane.
 int torus_fn(lua_State* L) {
-  return guarded(L, [&] {
-    double R = 2, r = 0.5;
-    Vec3 c = Vec3::Zero();
-    if (lua_type(L, 1) == LUA_TTABLE) {
-      Options o(L, 1);
-      R = o.number("R", 2);
-      r = o.number("r", 0.5);
-      c = o.vec3("center", Vec3::Zero(), true);
-      o.finish();
-    } else {
-      R = check_number(L, 1);
-      r = check_number(L, 2);
-    }
-    positive_arg(R, 1, "major radius R");
-    positive_arg(r, 1, "minor radius r");
-    if (!(r < R)) throw ArgError{1, "minor radius r (" + number_text(r) + ") must be less than major radius R (" + number_text(R) + ")"};
+  return table_call(L, 1, [&] {
+    Sizes z(L);
+    const double R = z.positive("R", 1, 2, "major radius R");
+    const double r = z.positive("r", 2, 0.5, "minor radius r");
+    const Vec3 c = z.table() ? z.o->vec3("center", Vec3::Zero(), true) : Vec3::Zero();
+    z.finish();
+    if (!(r < R))
+      throw ArgError{z.table() ? 1 : 2, z.name("r", "minor radius r") + " must be less than " + z.name("R", "major radius R") + " (" +
+                                            number_text(R) + "), got " + number_text(r)};
     push_solid(L, brep_solid(build(1, [&] { return torus(R, r, c); })));
     return 1;
   });
@@ -408,26 +420,17 @@ int torus_fn(lua_State* L) {
 
 // tube{r_outer=2, r_inner=1, h=1, center=false} | tube(r_outer, r_inner, h)
 int tube_fn(lua_State* L) {
-  return guarded(L, [&] {
-    double ro = 2, ri = 1, h = 1;
-    bool center = false;
-    if (lua_type(L, 1) == LUA_TTABLE) {
-      Options o(L, 1);
-      ro = o.number("r_outer", 2);
-      ri = o.number("r_inner", 1);
-      h = o.number("h", 1);
-      center = o.boolean("center", false);
-      o.finish();
-    } else {
-      ro = check_number(L, 1);
-      ri = check_number(L, 2);
-      h = check_number(L, 3);
-    }
-    positive_arg(ro, 1, "outer radius r_outer");
-    positive_arg(ri, 1, "inner radius r_inner");
-    positive_arg(h, 1, "height h");
+  return table_call(L, 1, [&] {
+    Sizes z(L);
+    const double ro = z.positive("r_outer", 1, 2, "outer radius r_outer");
+    const double ri = z.positive("r_inner", 2, 1, "inner radius r_inner");
+    const double h = z.positive("h", 3, 1, "height h");
+    const bool center = z.table() && z.o->boolean("center", false);
+    z.finish();
     if (!(ri < ro))
-      throw ArgError{1, "inner radius r_inner (" + number_text(ri) + ") must be less than outer radius r_outer (" + number_text(ro) + ")"};
+      throw ArgError{z.table() ? 1 : 2, z.name("r_inner", "inner radius r_inner") + " must be less than " +
+                                            z.name("r_outer", "outer radius r_outer") + " (" + number_text(ro) + "), got " +
+                                            number_text(ri)};
     push_solid(L, brep_solid(build(1, [&] { return tube(ro, ri, h, Point3(0, 0, center ? -h / 2 : 0)); })));
     return 1;
   });

@@ -618,26 +618,31 @@ int drawing_fn(lua_State* L) {
 
 // checker{n=8, size=256, colors={{1,1,1},{0,0,0}}}: an n x n checkerboard texture.
 int checker_fn(lua_State* L) {
-  return guarded(L, [&] {
+  return table_call(L, 1, [&] {
     int n = 8, size = 256;
     Vec4f a(1, 1, 1, 1), b(0, 0, 0, 1);
     if (!lua_isnoneornil(L, 1)) {
       Options o(L, 1);
       n = o.integer("n", 8);
       size = o.integer("size", 256);
-      if (o.push("colors") == LUA_TTABLE) {
+      const int type = o.push("colors");
+      if (type == LUA_TTABLE) {
         int t = lua_gettop(L);
-        lua_geti(L, t, 1);
-        a = to_color(L, lua_gettop(L), 1, "colors[1]");
+        if (lua_rawlen(L, t) != 2) throw ArgError{1, "field 'colors' must hold two colours, got " + std::to_string(lua_rawlen(L, t))};
+        lua_rawgeti(L, t, 1);
+        a = to_color(L, lua_gettop(L), 1, "field 'colors[1]'");
         lua_pop(L, 1);
-        lua_geti(L, t, 2);
-        b = to_color(L, lua_gettop(L), 1, "colors[2]");
+        lua_rawgeti(L, t, 2);
+        b = to_color(L, lua_gettop(L), 1, "field 'colors[2]'");
         lua_pop(L, 1);
+      } else if (type != LUA_TNIL) {
+        throw ArgError{1, "field 'colors' must be two colours {{r,g,b}, {r,g,b}}, got " + type_name(L, -1)};
       }
       lua_pop(L, 1);
       o.finish();
     }
-    if (n < 1 || size < 1 || size > 4096 || n > size) throw ArgError{1, "checker needs 1 <= n <= size <= 4096"};
+    if (n < 1 || size < 1 || size > 4096 || n > size)
+      throw ArgError{1, "checker needs 1 <= n <= size <= 4096, got n = " + std::to_string(n) + ", size = " + std::to_string(size)};
     push_object<TexturePtr>(L, kTextureKey, render::Texture::checker(size, n, a, b));
     return 1;
   });

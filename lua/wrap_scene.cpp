@@ -81,7 +81,7 @@ void read_node_options(lua_State* L, Options& o, SceneNode& node) {
 
 // group() | group{child, ..., transform=, name=, material=}
 int group_fn(lua_State* L) {
-  return guarded(L, [&] {
+  return table_call(L, 1, [&] {
     auto node = std::make_shared<SceneNode>();
     if (!lua_isnoneornil(L, 1)) {
       Options o(L, 1);
@@ -92,7 +92,13 @@ int group_fn(lua_State* L) {
       for (lua_Integer i = 1; i <= n; ++i) {
         lua_rawgeti(L, 1, i);
         if (lua_isnil(L, -1)) throw ArgError{1, "element " + std::to_string(i) + " is nil"};
-        add_child(*node, child_node(L, -1, 1), 1);
+        NodePtr child;
+        try {
+          child = child_node(L, -1, 1);
+        } catch (const ArgError& e) {
+          throw ArgError{1, "element " + std::to_string(i) + ": " + e.message};
+        }
+        add_child(*node, std::move(child), 1);
         lua_pop(L, 1);
       }
     }
@@ -126,7 +132,7 @@ int copy_m(lua_State* L) {
 // instance(x [, {transform=, name=, material=}]): a node that shares x (a Group: every change to it
 // shows in every instance) under a transform of its own.
 int instance_fn(lua_State* L) {
-  return guarded(L, [&] {
+  return table_call(L, 2, [&] {
     auto node = std::make_shared<SceneNode>();
     NodePtr proto = child_node(L, 1, 1);
     if (!lua_isnoneornil(L, 2)) {

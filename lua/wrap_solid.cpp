@@ -69,7 +69,7 @@ int mirror_m(lua_State* L) {
 }
 
 int shear_m(lua_State* L) {
-  return guarded(L, [&] {
+  return table_call(L, 2, [&] {
     return push_transformed(L, shear(check_shear(L, 2)));
   });
 }
@@ -168,7 +168,7 @@ int contains_m(lua_State* L) {
 // s:cells{size=, boxes=false} | s:cells(size) -> {inside=, boundary=, outside=, volume_min=,
 // volume_max=} (counts of octree leaf cells; with boxes=true also boxes={{min=, max=, state=}, ...})
 int cells_m(lua_State* L) {
-  return guarded(L, [&] {
+  return table_call(L, 2, [&] {
     double size = 0;
     bool boxes = false;
     if (lua_type(L, 2) == LUA_TNUMBER) {
@@ -240,7 +240,7 @@ int faces_m(lua_State* L) {
 
 // s:triangles{tolerance=} -> the triangle count after tessellation
 int triangles_m(lua_State* L) {
-  return guarded(L, [&] {
+  return table_call(L, 2, [&] {
     Tolerance tol = current_tolerance(L);
     if (!lua_isnoneornil(L, 2)) {
       Options o(L, 2);
@@ -301,7 +301,7 @@ int tostring_m(lua_State* L) {
 // tessellation (default 10 million); returns the chordal and the angular tolerance and the budget
 // now in force.
 int tolerance_fn(lua_State* L) {
-  return guarded(L, [&] {
+  return table_call(L, 1, [&] {
     if (lua_type(L, 1) == LUA_TTABLE) {
       Options o(L, 1);
       auto chordal = o.number("chordal");
@@ -315,7 +315,7 @@ int tolerance_fn(lua_State* L) {
       if (angle) lua_pushnumber(L, *angle), lua_setfield(L, LUA_REGISTRYINDEX, kAngleKey);
     } else if (!lua_isnoneornil(L, 1)) {
       double t = check_number(L, 1);
-      if (!(t > 0)) throw ArgError{1, "tolerance must be positive, got " + std::to_string(t)};
+      if (!(t > 0)) throw ArgError{1, "tolerance must be positive, got " + number_text(t)};
       lua_pushnumber(L, t);
       lua_setfield(L, LUA_REGISTRYINDEX, kToleranceKey);
     }

@@ -37,20 +37,21 @@ int nesting(lua_State* L) {
 
 // A grid at the top of the stack: grid[i][j] = {x, y, z}.
 std::vector<std::vector<Point3>> read_grid_top(lua_State* L, int arg, const std::string& what) {
-  if (lua_type(L, -1) != LUA_TTABLE) throw ArgError{arg, what + " must be a grid of points, got " + type_name(L, -1)};
+  if (lua_type(L, -1) != LUA_TTABLE) throw ArgError{arg, "field '" + what + "' must be a grid of points, got " + type_name(L, -1)};
   std::vector<std::vector<Point3>> grid;
   lua_Integer rows = lua_Integer(lua_rawlen(L, -1));
   for (lua_Integer i = 1; i <= rows; ++i) {
     lua_rawgeti(L, -1, i);
     std::string err;
     std::vector<Point3> row;
-    if (lua_type(L, -1) != LUA_TTABLE) err = what + ": row " + std::to_string(i) + " must be a list of points";
+    if (lua_type(L, -1) != LUA_TTABLE)
+      err = "field '" + what + "[" + std::to_string(i) + "]' must be a list of points (a row), got " + type_name(L, -1);
     else {
       lua_Integer cols = lua_Integer(lua_rawlen(L, -1));
       for (lua_Integer j = 1; j <= cols && err.empty(); ++j) {
         lua_rawgeti(L, -1, j);
-        std::string name = what + "[" + std::to_string(i) + "][" + std::to_string(j) + "]";
-        if (lua_type(L, -1) != LUA_TTABLE) err = name + " must be a point {x, y, z}";
+        std::string name = "field '" + what + "[" + std::to_string(i) + "][" + std::to_string(j) + "]'";
+        if (lua_type(L, -1) != LUA_TTABLE) err = name + " must be a point {x, y, z}, got " + type_name(L, -1);
         else {
           try {
             row.push_back(to_vec3(L, -1, arg, name, true));
@@ -72,18 +73,20 @@ std::vector<std::vector<double>> read_number_grid(lua_State* L, Options& o, cons
   o.push(key);
   std::vector<std::vector<double>> out;
   std::string err;
-  if (lua_type(L, -1) != LUA_TTABLE) err = std::string("field '") + key + "' must be a grid of numbers";
+  if (lua_type(L, -1) != LUA_TTABLE) err = std::string("field '") + key + "' must be a grid of numbers, got " + type_name(L, -1);
   else
     for (lua_Integer i = 1; i <= lua_Integer(lua_rawlen(L, -1)) && err.empty(); ++i) {
       lua_rawgeti(L, -1, i);
       std::vector<double> row;
-      if (lua_type(L, -1) != LUA_TTABLE) err = std::string("field '") + key + "': row " + std::to_string(i) + " must be a list of numbers";
+      if (lua_type(L, -1) != LUA_TTABLE)
+        err = std::string("field '") + key + "[" + std::to_string(i) + "]' must be a list of numbers (a row), got " + type_name(L, -1);
       else
         for (lua_Integer j = 1; j <= lua_Integer(lua_rawlen(L, -1)) && err.empty(); ++j) {
           int t = lua_rawgeti(L, -1, j);
           double x = lua_tonumber(L, -1);
-          if (t != LUA_TNUMBER || !std::isfinite(x))
-            err = std::string("field '") + key + "': entry [" + std::to_string(i) + "][" + std::to_string(j) + "] must be a finite number";
+          const std::string name = std::string("field '") + key + "[" + std::to_string(i) + "][" + std::to_string(j) + "]'";
+          if (t != LUA_TNUMBER) err = name + " must be a number, got " + type_name(L, -1);
+          else if (!std::isfinite(x)) err = name + " must be finite, got " + number_text(x);
           row.push_back(x);
           lua_pop(L, 1);
         }
@@ -99,12 +102,14 @@ std::vector<double> read_number_list(lua_State* L, Options& o, const char* key) 
   o.push(key);
   std::vector<double> out;
   std::string err;
-  if (lua_type(L, -1) != LUA_TTABLE) err = std::string("field '") + key + "' must be a list of numbers";
+  if (lua_type(L, -1) != LUA_TTABLE) err = std::string("field '") + key + "' must be a list of numbers, got " + type_name(L, -1);
   else
     for (lua_Integer i = 1; i <= lua_Integer(lua_rawlen(L, -1)) && err.empty(); ++i) {
       int t = lua_rawgeti(L, -1, i);
       double x = lua_tonumber(L, -1);
-      if (t != LUA_TNUMBER || !std::isfinite(x)) err = std::string("field '") + key + "': entry " + std::to_string(i) + " must be a finite number";
+      const std::string name = std::string("field '") + key + "[" + std::to_string(i) + "]'";
+      if (t != LUA_TNUMBER) err = name + " must be a number, got " + type_name(L, -1);
+      else if (!std::isfinite(x)) err = name + " must be finite, got " + number_text(x);
       out.push_back(x);
       lua_pop(L, 1);
     }
@@ -115,7 +120,7 @@ std::vector<double> read_number_list(lua_State* L, Options& o, const char* key) 
 
 // bezier_surface{grid} | bezier_surface{grid=...} | bezier_surface{{p11, p12, ...}, ...}
 int bezier_surface_fn(lua_State* L) {
-  return guarded(L, [&] {
+  return table_call(L, 1, [&] {
     Options o(L, 1);
     std::vector<std::vector<Point3>> grid;
     if (o.has("grid")) {
@@ -146,7 +151,7 @@ int bezier_surface_fn(lua_State* L) {
 
 // nurbs_surface{points=grid, weights=, uknots=, vknots=, udegree=3, vdegree=3}
 int nurbs_surface_fn(lua_State* L) {
-  return guarded(L, [&] {
+  return table_call(L, 1, [&] {
     Options o(L, 1);
     if (!o.has("points")) throw ArgError{1, "field 'points' (a grid of points) is required"};
     o.push("points");
@@ -187,7 +192,7 @@ class StoodUp : public Curve {
 // revolved_surface(curve [, {angle=360}]): a 2D curve follows OpenSCAD (x is the radius, y becomes
 // z); a 3D curve is revolved about the Z axis as it stands.
 int revolved_surface_fn(lua_State* L) {
-  return guarded(L, [&] {
+  return table_call(L, 2, [&] {
     const LuaCurve& c = check_curve(L, 1);
     double angle = 360;
     if (!lua_isnoneornil(L, 2)) {
@@ -195,7 +200,7 @@ int revolved_surface_fn(lua_State* L) {
       angle = o.number("angle", 360);
       o.finish();
     }
-    if (!(angle > 0 && angle <= 360)) throw ArgError{2, "angle must be in (0, 360], got " + number_text(angle)};
+    if (!(angle > 0 && angle <= 360)) throw ArgError{2, "field 'angle' must be in (0, 360], got " + number_text(angle)};
     CurvePtr curve = c.planar ? CurvePtr(std::make_shared<StoodUp>(c.curve)) : c.curve;
     push_surface(L, {{as_arg(1, [&] { return std::make_shared<const RevolvedSurface>(curve, Point3::Zero(), Vec3::UnitZ(), radians(angle)); })}});
     return 1;
@@ -348,7 +353,7 @@ void push_points(lua_State* L, const std::vector<Vec3>& pts) {
 // welded=true: closed seams merged and poles collapsed (a closed surface gives a closed mesh, oriented
 // outward; uvs jump across the seam).
 int mesh_fn(lua_State* L) {
-  return guarded(L, [&] {
+  return table_call(L, 2, [&] {
     const LuaSurface& s = check_surface(L, 1);
     double tol = 0.01;
     bool welded = false;

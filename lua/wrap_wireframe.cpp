@@ -30,7 +30,7 @@ double length(const Wireframe& w) {
 // wireframe(x [, {crease=30, color={r,g,b}}]): the edges of x's mesh between different faces (or,
 // for a mesh without faces, meeting at more than `crease` degrees), and its boundary.
 int wireframe_fn(lua_State* L) {
-  return guarded(L, [&] {
+  return table_call(L, 2, [&] {
     double crease = 30;
     Wireframe w;
     w.color = render::Vec4f(0.1f, 0.1f, 0.1f, 1);
@@ -39,7 +39,9 @@ int wireframe_fn(lua_State* L) {
       crease = o.number("crease", 30);
       if (!(crease > 0 && crease < 180)) throw ArgError{2, "field 'crease' must be within 0..180 degrees, got " + number_text(crease)};
       if (auto c = o.vec3("color")) {
-        if ((c->array() < 0).any() || (c->array() > 1).any()) throw ArgError{2, "field 'color' components must be within 0..1"};
+        for (int k = 0; k < 3; ++k)
+          if (!((*c)[k] >= 0 && (*c)[k] <= 1))
+            throw ArgError{2, "field 'color[" + std::to_string(k + 1) + "]' must be within 0..1, got " + number_text((*c)[k])};
         w.color = render::Vec4f(float(c->x()), float(c->y()), float(c->z()), 1);
       }
       o.finish();

@@ -181,11 +181,11 @@ TEST_CASE("tolerance takes its positional and its table form", "[lua][contract]"
     c, a = tolerance{angle = 20}
     assert(c == 0.05 and a == 20)
     local ok, err = pcall(tolerance, {angle = 0})
-    assert(err:find("field 'angle' must be within 0..90"), err)
+    assert(err:find("tolerance: angle must be within 0..90", 1, true), err)
     ok, err = pcall(tolerance, {chordal = -1})
-    assert(err:find("field 'chordal' must be positive"), err)
+    assert(err:find("tolerance: chordal must be positive, got -1", 1, true), err)
     ok, err = pcall(tolerance, {chord = 1})
-    assert(err:find("unknown field 'chord'"), err)
+    assert(err:find("tolerance: unknown field 'chord'", 1, true), err)
   )LUA");
   INFO(r.err);
   CHECK(r.status == 0);

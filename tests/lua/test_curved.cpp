@@ -96,9 +96,9 @@ TEST_CASE("curved solid arguments are checked", "[lua][curved][errors]") {
   CHECK_THAT(run("sphere(-1)\n", "@e.lua").err, Catch::StartsWith("e.lua:1: bad argument #1 to 'sphere' (radius r must be positive"));
   CHECK_THAT(run("sphere{r=1, centre={0,0,0}}\n", "@e.lua").err, Catch::Contains("unknown field 'centre'"));
   CHECK_THAT(run("cylinder(1, 0)\n", "@e.lua").err, Catch::Contains("bad argument #2 to 'cylinder' (height h must be positive"));
-  CHECK_THAT(run("cone{r1=0, r2=0}\n", "@e.lua").err, Catch::Contains("not both 0"));
-  CHECK_THAT(run("torus{R=1, r=2}\n", "@e.lua").err, Catch::Contains("must be less than major radius"));
-  CHECK_THAT(run("tube{r_outer=1, r_inner=1}\n", "@e.lua").err, Catch::Contains("must be less than outer radius"));
+  CHECK_THAT(run("cone{r1=0, r2=0}\n", "@e.lua").err, Catch::Contains("e.lua:1: cone: radii r1 and r2 must not both be 0"));
+  CHECK_THAT(run("torus{R=1, r=2}\n", "@e.lua").err, Catch::Contains("e.lua:1: torus: r must be less than R (1), got 2"));
+  CHECK_THAT(run("tube{r_outer=1, r_inner=1}\n", "@e.lua").err, Catch::Contains("e.lua:1: tube: r_inner must be less than r_outer (1), got 1"));
   CHECK_THAT(run("sphere(0/0)\n", "@e.lua").err, Catch::Contains("bad argument #1 to 'sphere'"));
 }
 

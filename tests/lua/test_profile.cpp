@@ -54,14 +54,14 @@ TEST_CASE("extrude builds prisms, frusta and pyramids from profiles", "[lua][pro
 
 TEST_CASE("bad profiles and extrude arguments are errors naming the argument", "[lua][profile][errors]") {
   CHECK_THAT(run("rect(-1, 2)\n", "@r.lua").err, Catch::StartsWith("r.lua:1: bad argument #1 to 'rect' (width must be positive"));
-  CHECK_THAT(run("polygon{{0,0},{1,1}}\n", "@p.lua").err, Catch::Contains("polygon needs at least 3 points, got 2"));
+  CHECK_THAT(run("polygon{{0,0},{1,1}}\n", "@p.lua").err, Catch::Contains("p.lua:1: polygon: the outer ring needs at least 3 points, got 2"));
   CHECK_THAT(run("polygon{{0,0},{1,1},{2,2}}\n", "@p.lua").err, Catch::Contains("zero area"));
-  CHECK_THAT(run("polygon{{0,0},{1,'x'},{2,2}}\n", "@p.lua").err, Catch::Contains("polygon point 2 coordinate 2 must be a number"));
+  CHECK_THAT(run("polygon{{0,0},{1,'x'},{2,2}}\n", "@p.lua").err, Catch::Contains("p.lua:1: polygon: point 2 coordinate 2 must be a number, got string"));
   CHECK_THAT(run("extrude(42, 1)\n", "@e.lua").err,
              Catch::StartsWith("e.lua:1: bad argument #1 to 'extrude' (profile (polygon, rect or closed curve) expected, got number)"));
   CHECK_THAT(run("extrude(rect(1,1), 0)\n", "@e.lua").err, Catch::Contains("height must be positive"));
-  CHECK_THAT(run("extrude(rect(1,1), 1, {scale = -1})\n", "@e.lua").err, Catch::Contains("field 'scale' must be zero or positive"));
+  CHECK_THAT(run("extrude(rect(1,1), 1, {scale = -1})\n", "@e.lua").err, Catch::Contains("e.lua:1: extrude: scale must be zero or positive, got -1"));
   CHECK_THAT(run("extrude(rect(1,1), 1, {scael = 2})\n", "@e.lua").err, Catch::Contains("unknown field 'scael'"));
   CHECK_THAT(run("extrude(bezier{{0,0},{1,1},{2,0}}, 1)\n", "@e.lua").err, Catch::Contains("the curve is open"));
-  CHECK_THAT(run("polygon{outer={{0,0},{1,0},{1,1}}, holes=5}\n", "@h.lua").err, Catch::Contains("field 'holes' must be a list"));
+  CHECK_THAT(run("polygon{outer={{0,0},{1,0},{1,1}}, holes=5}\n", "@h.lua").err, Catch::Contains("h.lua:1: polygon: holes must be a list of polygons or closed curves, got number"));
 }

@@ -121,7 +121,7 @@ TEST_CASE("s:contains and s:cells name a bad argument", "[lua][tree]") {
   auto bad = [](const std::string& code) { return run(code).err; };
   CHECK_THAT(bad("box(1,1,1):contains(3)"), Catch::Contains("tree.lua:1:") && Catch::Contains("contains"));
   CHECK_THAT(bad("box(1,1,1):contains{0/0, 0, 0}"), Catch::Contains("tree.lua:1:"));
-  CHECK_THAT(bad("box(1,1,1):cells{}"), Catch::Contains("field 'size' is required"));
+  CHECK_THAT(bad("box(1,1,1):cells{}"), Catch::Contains("tree.lua:1: cells: size is required"));
   CHECK_THAT(bad("box(1,1,1):cells{size = -1}"), Catch::Contains("size"));
   CHECK_THAT(bad("box(1,1,1):cells{size = 1, bogus = 2}"), Catch::Contains("bogus"));
   CHECK_THAT(bad("box(1,1,1):cells(0)"), Catch::Contains("size must be positive"));

@@ -79,11 +79,11 @@ TEST_CASE("bad wireframe calls name the problem and the line", "[lua][wireframe]
   } bad[] = {
       {"wireframe()", "bad argument #1 to 'wireframe' (Solid or surface expected, got no value)"},
       {"wireframe(5)", "bad argument #1 to 'wireframe' (Solid or mesh expected, got number)"},
-      {"wireframe(box(1, 1, 1), {crease = 0})", "field 'crease' must be within 0..180"},
-      {"wireframe(box(1, 1, 1), {color = {2, 0, 0}})", "field 'color' components must be within 0..1"},
+      {"wireframe(box(1, 1, 1), {crease = 0})", "wireframe: crease must be within 0..180 degrees, got 0"},
+      {"wireframe(box(1, 1, 1), {color = {2, 0, 0}})", "wireframe: color[1] must be within 0..1, got 2"},
       {"wireframe(box(1, 1, 1), {colour = {1, 0, 0}})", "unknown field 'colour'"},
       {"export(wireframe(box(1, 1, 1)), 'w.stl')", "a wireframe has no faces; export it as .obj"},
-      {"export(wireframe(box(1, 1, 1)), 'w.obj', {split = true})", "field 'split' needs a scene group"},
+      {"export(wireframe(box(1, 1, 1)), 'w.obj', {split = true})", "export: split needs a scene group to split, got Wireframe"},
       {"export(wireframe(box(1, 1, 1)), '/nonexistent/w.obj')", "export: cannot write '/nonexistent/w.obj': folder '/nonexistent' does not exist"},
   };
   for (const auto& b : bad) {
