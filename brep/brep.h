@@ -8,9 +8,9 @@
 // loop and has the four wings of Baumgart's edge: the predecessor and successor edge on that side.
 // A wing is stored as an EdgeSide (edge id + side bit) rather than a bare edge id, so that an edge
 // with the same loop on both sides (a "strut", which mev makes) is never ambiguous. A loop with no
-// edge holds a lone vertex (the state mvfs makes). Geometry is attached by id in parallel tables:
-// a point per vertex, a curve (line or circular arc) per edge, a surface (plane or cylinder, or
-// "none" = the plane fitted to the outer loop) per face.
+// edge holds a lone vertex (the state mvfs makes). Geometry, all of it from surfaces/, is attached by
+// id in IdMaps that follow the arenas: a point per vertex, a curve per edge (none: straight), a
+// surface per face, and a curve in the face's (u, v) domain per side of a parametric face.
 //
 // Counts: V, E, F, S are the live vertices, edges, faces, shells; R = loops − faces (the rings);
 // H, the through-holes (genus), is counted by the operators (kfmrh/mfkrh) and checked by
@@ -19,7 +19,6 @@
 #include <array>
 #include <optional>
 #include <string>
-#include <variant>
 #include <vector>
 
 #include "kernel/kernel.h"
@@ -43,56 +42,48 @@ struct EdgeSide {
 };
 
 // --- geometry -----------------------------------------------------------------------------
-struct LineCurve {};
-// A circular arc from v[0] to v[1], counter-clockwise about `axis` (unit) around `center`.
-struct ArcCurve {
-  Point3 center;
-  Vec3 axis;
-  double radius = 0;
-};
-// An edge on a curve of surfaces/: C(t0) is the point of v[0], C(t1) that of v[1].
-struct ParamCurve {
-  CurvePtr curve;
-};
-using EdgeCurve = std::variant<LineCurve, ArcCurve, ParamCurve>;
-
-struct NoSurface {};  // a plane, fitted to the outer loop when asked
-struct PlaneSurface {
-  Point3 point;
-  Vec3 normal;  // unit, pointing out of the solid
-};
-struct CylinderSurface {
-  Point3 origin;
-  Vec3 axis;  // unit
-  double radius = 0;
-  bool outward = true;  // the solid's outward normal points away from the axis
-};
-// A face on a surface of surfaces/: the outward normal is Su x Sv, or its negative when
-// `reversed`. Each side of the face's loops carries a PCurve, so the face's region in the (u, v)
-// domain is known exactly (curved faces of the builders cover a whole parameter rectangle, with
-// seams and poles on its border).
-struct ParamSurface {
+// Every curve and surface is one of surfaces/. An edge carries a CurvePtr running from the point
+// of v[0] to that of v[1] over its domain, or nullptr for the straight segment between them (its
+// vertices are then its whole geometry, so moving a vertex moves it). The planar builders' arcs
+// are CircularArcs; the curved builders attach any curve.
+//
+// A face carries a FaceSurface: its surface, which side the solid is on, and how the face bounds
+// it. A planar face's surface is a Plane whose unit_normal() points out of the solid; a side wall
+// of the planar sweep of an arc is a Cylinder (solid outside it unless `reversed`); both are
+// bounded by the face's loops in space. A `parametric` face is bounded in the surface's (u, v)
+// domain by the PCurves of its sides (curved builders' faces cover a whole parameter rectangle,
+// with seams and poles on its border). No surface: the plane fitted to the outer loop.
+struct FaceSurface {
   SurfacePtr surface;
+  // The outward normal is -(Su x Sv) (planes are always stored with Su x Sv outward).
   bool reversed = false;
+  bool parametric = false;
   // What the surface is, in the words of s:faces(): "sphere", "cylinder", "cone", "torus",
   // "revolved", "extruded", "swept", "lofted", "nurbs" (set by the builder that made the face).
   std::string kind;
+
+  // The face's plane or cylinder when it is bounded in space (not parametric), else nullptr.
+  const Plane* plane() const;
+  const Cylinder* cylinder() const;
 };
-using FaceSurface = std::variant<NoSurface, PlaneSurface, CylinderSurface, ParamSurface>;
+// The three kinds of face, made.
+FaceSurface plane_face(const Point3& point, const Vec3& unit_outward_normal);
+FaceSurface cylinder_face(const Point3& origin, const Vec3& unit_axis, double radius, bool solid_outside);
+FaceSurface parametric_face(SurfacePtr surface, bool reversed = false, std::string kind = {});
 
 // A face's surface moved by the affine map m, as Model::transform moves it (a mirror reverses a
-// ParamSurface). A CylinderSurface stays one under a similarity; under any other map it becomes
-// the exact elliptic cylinder, a ParamSurface over the part of it inside `extent` (a box that
+// parametric face). A cylinder stays one under a similarity; under any other map it becomes the
+// exact elliptic cylinder, a parametric face over the part of it inside `extent` (a box that
 // holds the face before the map; surface_patch's extruded circle).
 FaceSurface transformed_surface(const FaceSurface& s, const Mat4& m, const Box3& extent = Box3());
-// The same surface with the solid on its other side (a plane's normal negated, a cylinder's
-// `outward` and a ParamSurface's `reversed` toggled): a subtracted operand's face in a difference.
+// The same surface with the solid on its other side (a plane's normal negated, a cylinder's or a
+// parametric face's `reversed` toggled): a subtracted operand's face in a difference.
 FaceSurface flipped_surface(const FaceSurface& s);
 // The face's surface as a bounded surface of surfaces/ covering the part of it inside `extent` (a
 // box that holds the face): a Plane for a plane, the circle extruded along the axis for a cylinder,
-// a ParamSurface's own surface. `reversed` is set when the solid's outward normal is -(Su x Sv).
-// nullptr for NoSurface (it has no plane until fitted to a loop) or an empty extent for a plane or
-// cylinder.
+// a parametric face's own surface. `reversed` is set when the solid's outward normal is -(Su x Sv).
+// nullptr when there is no surface (no plane until fitted to a loop) or an empty extent for a
+// plane or cylinder.
 SurfacePtr surface_patch(const FaceSurface& s, const Box3& extent, bool& reversed);
 
 // The image of an edge in the (u, v) domain of the face on one of its sides: the straight segment
@@ -103,9 +94,6 @@ struct PCurve {
   Vec2 start, end;
   Vec2 at(double s) const { return start + s * (end - start); }  // s in [0, 1]
 };
-
-// The arc from a through m to b (three distinct, non-collinear points).
-ArcCurve arc_through(const Point3& a, const Point3& m, const Point3& b);
 
 // --- topology records ---------------------------------------------------------------------
 struct BrepVertex {
@@ -167,9 +155,9 @@ class Model {
   // Make edge and vertex: a new edge from v (e.v[0] = v) to a new vertex at p, inside face f.
   // Precondition: v lies on a loop of f. The edge is inserted at v's first corner in that loop
   // (see mev_at for a chosen corner). Effect V+1 E+1. Inverse: kev(e, new v).
-  Mev mev(FaceId f, VertexId v, const Point3& p, EdgeCurve curve = LineCurve{});
+  Mev mev(FaceId f, VertexId v, const Point3& p, CurvePtr curve = nullptr);
   // As mev, at a chosen corner: the new edge goes in just before side c.out.
-  Mev mev_at(Corner c, const Point3& p, EdgeCurve curve = LineCurve{});
+  Mev mev_at(Corner c, const Point3& p, CurvePtr curve = nullptr);
   // Kill edge and vertex. Precondition: v is an end of e and e is the only edge at v.
   // Effect V−1 E−1. Inverse: mev(f, other end, point of v).
   void kev(EdgeId e, VertexId v);
@@ -178,9 +166,9 @@ class Model {
   // Make edge and face: split face f by a new edge v1→v2 (e.v[0] = v1). Precondition: v1 ≠ v2
   // lie on the same loop of f. The new face gets the part of the loop from v1 to v2 closed by the
   // new edge back to v1; f keeps the rest and its rings. Effect E+1 F+1. Inverse: kef(e, new f).
-  Mef mef(FaceId f, VertexId v1, VertexId v2, EdgeCurve curve = LineCurve{});
+  Mef mef(FaceId f, VertexId v1, VertexId v2, CurvePtr curve = nullptr);
   // As mef, at chosen corners: c1 and c2 are sides of one loop starting at v1 and v2.
-  Mef mef_at(EdgeSide c1, EdgeSide c2, EdgeCurve curve = LineCurve{});
+  Mef mef_at(EdgeSide c1, EdgeSide c2, CurvePtr curve = nullptr);
   // Kill edge and face: remove e and merge face f into the face g on e's other side (f's rings
   // move to g). Precondition: e's sides lie in two different faces, one of them f, on f's outer
   // loop. Effect E−1 F−1. Inverse: mef(g, ...).
@@ -194,8 +182,8 @@ class Model {
   // Make edge, kill ring: a new edge v1→v2 joining two loops of one face; the loop of v2 is
   // killed if it is a ring, else the loop of v1. Precondition: v1, v2 on two different loops of
   // one face, at least one of them a ring. Effect E+1 R−1. Inverse: kemr(e).
-  EdgeId mekr(VertexId v1, VertexId v2, EdgeCurve curve = LineCurve{});
-  EdgeId mekr_at(Corner c1, Corner c2, EdgeCurve curve = LineCurve{});
+  EdgeId mekr(VertexId v1, VertexId v2, CurvePtr curve = nullptr);
+  EdgeId mekr_at(Corner c1, Corner c2, CurvePtr curve = nullptr);
 
   // Kill face, make ring and hole: the single loop of face `hole` becomes a ring of face f.
   // Precondition: hole ≠ f, hole has no rings. Effect F−1 R+1 and H+1 when both faces are in
@@ -235,19 +223,20 @@ class Model {
   long holes() const { return holes_; }
 
   const Point3& point(VertexId v) const;
-  const EdgeCurve& curve(EdgeId e) const;
+  // The edge's curve (nullptr: straight), running from v[0] to v[1].
+  const CurvePtr& curve(EdgeId e) const;
   const FaceSurface& surface(FaceId f) const;
   void set_point(VertexId v, const Point3& p);
-  void set_curve(EdgeId e, EdgeCurve c);
+  void set_curve(EdgeId e, CurvePtr c);
   void set_surface(FaceId f, FaceSurface s);
   // The pcurve of one side of an edge on its face, or nullptr (planar faces need none).
   const PCurve* pcurve(EdgeSide s) const;
   void set_pcurve(EdgeSide s, const PCurve& p);
   // The point of edge e at fraction s in [0, 1] of its parameter range (any curve kind).
   Point3 edge_point(EdgeId e, double s) const;
-  // The edge's curve as a surfaces/ Curve running v[0] -> v[1] (lines and arcs converted).
+  // The edge's curve, a LineSegment for a straight edge: a Curve running v[0] -> v[1].
   CurvePtr edge_curve(EdgeId e) const;
-  // True when some face is a ParamSurface (the model has free-form or quadric faces).
+  // True when some face is parametric (the model has free-form or quadric faces).
   bool has_param_faces() const;
 
   // The first corner of v in loop l (throws if v is not on l).
@@ -262,31 +251,30 @@ class Model {
   std::vector<Point3> loop_polyline(LoopId l, int arc_segments = 16) const;
   // One side as points from its start to its end inclusive (arcs sampled).
   std::vector<Point3> side_polyline(EdgeSide s, int arc_segments = 16) const;
-  // The outward unit normal of a face at its loop (plane normal; fitted for NoSurface).
+  // The outward unit normal of a face at its loop (plane normal; fitted to the outer loop when the face has no surface).
   Vec3 face_normal(FaceId f) const;
   Box3 bounds() const;
   bool all_planar() const;  // every face a plane (or none) and every edge a line
 
   // Mass properties of a closed solid from its exact geometry (brep/mass.cpp): with planar faces
   // and straight edges, the divergence theorem over the faces' fan triangles (exact); otherwise
-  // Gauss-Legendre quadrature of the divergence-theorem integrands over each ParamSurface face's
+  // Gauss-Legendre quadrature of the divergence-theorem integrands over each parametric face's
   // parameter rectangle and, on planar faces, of Green's theorem along their (curved) edges.
-  // Throws for a CylinderSurface face or a trimmed ParamSurface face.
+  // Throws for a cylinder face of the planar builders or a trimmed parametric face.
   MassProperties mass_properties() const;
   // The signed volume enclosed by the boundary polylines (arcs sampled), for any faces.
   double approximate_volume() const;
 
   // Applies m to the geometry. A mirror (negative determinant) reverses every loop so that outer
-  // loops stay counter-clockwise seen from outside. Throws for a non-similarity on curved geometry.
+  // loops stay counter-clockwise seen from outside. Arcs become ellipses (TransformedCurves) under
+  // a non-similarity; throws for one when the model has cylinder faces of the planar builders.
   void transform(const Mat4& m);
 
 
  private:
-  // validate()'s tests break a model on purpose (tests/brep/test_euler.cpp defines this friend);
-  // nothing else changes topology except through the Euler operators.
+  // validate()'s tests break a model on purpose (tests/brep/test_euler.cpp defines this friend,
+  // writing the arenas directly); nothing else changes topology except through the Euler operators.
   friend struct ModelCorruptor;
-  BrepEdge& raw_edge(EdgeId e) { return edges_[e]; }
-  EdgeId raw_add_edge(BrepEdge e);
 
   BrepSide& side_mut(EdgeSide s) { return edges_[s.edge].side[s.side]; }
   // link(a, b): next(a) = b, prev(b) = a
@@ -298,7 +286,7 @@ class Model {
   void require_vertex(VertexId v, const char* op, const char* what) const;
   void require_edge(EdgeId e, const char* op) const;
   void require_face(FaceId f, const char* op) const;
-  EdgeId new_edge(VertexId a, VertexId b, EdgeCurve c);
+  EdgeId new_edge(VertexId a, VertexId b, CurvePtr c);
   VertexId new_vertex(const Point3& p);
   FaceId new_face(ShellId s);
   void kill_face(FaceId f);
@@ -312,7 +300,7 @@ class Model {
   MassProperties exact_mass() const;  // brep/mass.cpp
   // Geometry, attached by id.
   IdMap<VertexId, Point3> points_;
-  IdMap<EdgeId, EdgeCurve> curves_;
+  IdMap<EdgeId, CurvePtr> curves_;
   IdMap<FaceId, FaceSurface> surfaces_;
   IdMap<EdgeId, std::array<std::optional<PCurve>, 2>> pcurves_;
 };

@@ -36,9 +36,9 @@ struct Ring {
     }
     return r;
   }
-  EdgeCurve curve(std::size_t i) const {
-    if (!mids[i]) return LineCurve{};
-    return arc_through(pts[i], *mids[i], pts[(i + 1) % pts.size()]);
+  CurvePtr curve(std::size_t i) const {
+    if (!mids[i]) return nullptr;
+    return std::make_shared<const CircularArc>(arc_through(pts[i], *mids[i], pts[(i + 1) % pts.size()]));
   }
   // Twice the signed area about +z of the straight polygon (arcs by their midpoints).
   double area_z() const {
@@ -90,24 +90,21 @@ std::pair<FaceId, LoopId> add_ring(Model& m, FaceId f, VertexId anchor, const Ri
 
 // The outward normal of the side wall swept from side s (running a→b) of a face moved by d.
 FaceSurface wall_surface(const Model& m, EdgeSide s, const Vec3& d, const Point3& a, const Point3& b) {
-  const EdgeCurve& c = m.curve(s.edge);
-  if (auto* arc = std::get_if<ArcCurve>(&c)) {
+  if (auto* arc = dynamic_cast<const CircularArc*>(m.curve(s.edge).get())) {
     Vec3 ax = d.normalized();
-    if (std::abs(std::abs(arc->axis.dot(ax)) - 1) > 1e-9) fail("sweep: an arc's plane is not perpendicular to the sweep direction");
+    const Vec3 axis = arc->normal();
+    if (std::abs(std::abs(axis.dot(ax)) - 1) > 1e-9) fail("sweep: an arc's plane is not perpendicular to the sweep direction");
     double sign_side = s.side == 0 ? 1.0 : -1.0;
-    // CCW about axis from v[0] to v[1]; the short or long way decides where the midpoint is.
-    Vec3 x0 = (m.point(m.edges()[s.edge].v[0]) - arc->center).normalized();
-    Vec3 y0 = arc->axis.cross(x0);
-    Vec3 x1 = m.point(m.edges()[s.edge].v[1]) - arc->center;
-    double sweep = std::atan2(x1.dot(y0), x1.dot(x0));
-    if (sweep <= 1e-12) sweep += 2 * kPi;
-    Vec3 mid = std::cos(sweep / 2) * x0 + std::sin(sweep / 2) * y0;
-    Vec3 tangent = sign_side * arc->axis.cross(mid);
+    // The arc runs counter-clockwise about its normal from v[0] to v[1]: its tangent at the
+    // middle, in the side's direction, crossed with d points out of the wall's solid side.
+    auto [t0, t1] = arc->domain();
+    Vec3 mid = (arc->eval((t0 + t1) / 2) - arc->center()).normalized();
+    Vec3 tangent = sign_side * axis.cross(mid);
     Vec3 out = tangent.cross(d);
-    return CylinderSurface{arc->center, ax, arc->radius, out.dot(mid) > 0};
+    return cylinder_face(arc->center(), ax, arc->radius(), !(out.dot(mid) > 0));
   }
   Vec3 n = (b - a).cross(d);
-  return PlaneSurface{a, n.normalized()};
+  return plane_face(a, n.normalized());
 }
 
 }  // namespace
@@ -123,7 +120,7 @@ void sweep(Model& m, FaceId f, const Vec3& d) {
     std::size_t n = sides.size();
     if (n < 2) fail("sweep: loop ", l.value, " of face ", f.value, " has fewer than two edges");
     std::vector<Point3> base(n);
-    std::vector<EdgeCurve> curves(n);
+    std::vector<CurvePtr> curves(n);
     for (std::size_t i = 0; i < n; ++i) {
       base[i] = m.point(m.origin(sides[i]));
       curves[i] = m.curve(sides[i].edge);
@@ -135,17 +132,17 @@ void sweep(Model& m, FaceId f, const Vec3& d) {
       EdgeSide c1{struts[i], 1};
       EdgeSide c2 = i + 1 < n ? EdgeSide{struts[i + 1], 1} : first_top;
       // The top edge copies the side's curve, moved by d and run in the loop's direction.
-      EdgeCurve top = curves[i];
-      if (auto* arc = std::get_if<ArcCurve>(&top)) {
-        arc->center += d;
-        if (sides[i].side == 1) arc->axis = -arc->axis;
+      CurvePtr top = curves[i];
+      if (top) {
+        top = transformed_curve(top, translate(d));
+        if (sides[i].side == 1) top = reversed_curve(top);
       }
       auto wall = m.mef_at(c1, c2, top);
       if (i == 0) first_top = EdgeSide{wall.e, 0};
       m.set_surface(wall.f, wall_surface(m, sides[i], d, base[i], base[(i + 1) % n]));
     }
   }
-  if (auto* pl = std::get_if<PlaneSurface>(&m.surface(f))) m.set_surface(f, PlaneSurface{pl->point + d, pl->normal});
+  if (const Plane* pl = m.surface(f).plane()) m.set_surface(f, plane_face(pl->origin() + d, pl->unit_normal()));
 }
 
 namespace {
@@ -166,8 +163,8 @@ Lamina lamina(const Ring& outer_in, const std::vector<Ring>& holes_in, double z)
   auto back = L.m.mef(s.f, prev, first, outer.curve(n - 1));
   L.top = s.f;
   L.bottom = back.f;
-  L.m.set_surface(L.top, PlaneSurface{Point3(0, 0, z), Vec3::UnitZ()});
-  L.m.set_surface(L.bottom, PlaneSurface{Point3(0, 0, z), -Vec3::UnitZ()});
+  L.m.set_surface(L.top, plane_face(Point3(0, 0, z), Vec3::UnitZ()));
+  L.m.set_surface(L.bottom, plane_face(Point3(0, 0, z), -Vec3::UnitZ()));
   for (const Ring& h : holes_in) {
     Ring cw = h.area_z() > 0 ? h.reversed() : h;
     auto [plug, ring] = add_ring(L.m, L.top, first, cw);
@@ -495,7 +492,7 @@ Model build_polyhedron(const std::vector<Point3>& points, const std::vector<std:
     if (n.norm() == 0) {
       if (geometry) fail("polyhedron: face ", fi + 1, " has zero area");
     } else {
-      m.set_surface(face, PlaneSurface{c / static_cast<double>(f.size()), n.normalized()});
+      m.set_surface(face, plane_face(c / static_cast<double>(f.size()), n.normalized()));
     }
     if (face_of) face_of->push_back(face);
   }

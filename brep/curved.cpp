@@ -312,7 +312,7 @@ Model sweep_raw(const std::vector<std::vector<SurfacePtr>>& sides, bool closed) 
       }
       sidef[k][j] = static_cast<int>(sp.faces.size());
       sp.faces.push_back(std::move(L));
-      face_geo.push_back(ParamSurface{sides[k][j], false, {}});
+      face_geo.push_back(parametric_face(sides[k][j]));
     }
   }
   if (!closed) {
@@ -347,7 +347,7 @@ Model sweep_raw(const std::vector<std::vector<SurfacePtr>>& sides, bool closed) 
       Vec3 nrm = newell_normal(pts);
       if (!(nrm.norm() > 0)) fail("sweep: an end section has no area");
       sp.faces.push_back(std::move(L));
-      face_geo.push_back(PlaneSurface{pts[0], nrm.normalized()});
+      face_geo.push_back(plane_face(pts[0], nrm.normalized()));
     };
     cap(false);
     if (!apex) cap(true);
@@ -356,7 +356,7 @@ Model sweep_raw(const std::vector<std::vector<SurfacePtr>>& sides, bool closed) 
   Model& m = B.m;
   for (std::size_t e = 0; e < geo.size(); ++e) {
     EdgeId id = B.edges[e];
-    if (geo[e].curve) m.set_curve(id, ParamCurve{geo[e].curve});
+    if (geo[e].curve) m.set_curve(id, geo[e].curve);
     for (int s = 0; s < 2; ++s)
       if (geo[e].pc[s]) m.set_pcurve(EdgeSide{id, s}, *geo[e].pc[s]);
   }
@@ -435,8 +435,8 @@ Model oriented_sweep(const Section& s0, bool closed, MakeSide make, const char* 
 // Names every curved face of m as s:faces() reports it.
 Model named(Model m, const char* kind) {
   for (FaceId f : m.faces().ids())
-    if (auto* ps = std::get_if<ParamSurface>(&m.surface(f))) {
-      ParamSurface named_surface = *ps;
+    if (m.surface(f).parametric) {
+      FaceSurface named_surface = m.surface(f);
       named_surface.kind = kind;
       m.set_surface(f, named_surface);
     }
@@ -551,7 +551,7 @@ Model patch_solid_raw(const std::vector<SurfacePtr>& patches, const std::string&
     std::vector<std::pair<int, int>> L;
     for (const auto& sd : loops[i]) L.emplace_back(sd.edge, sd.side);
     sp.faces.push_back(std::move(L));
-    face_geo.push_back(ParamSurface{patches[i], flip, kind});
+    face_geo.push_back(parametric_face(patches[i], flip, kind));
   }
   std::vector<PatchSide*> open;
   for (PatchSide* x : all)
@@ -587,7 +587,7 @@ Model patch_solid_raw(const std::vector<SurfacePtr>& patches, const std::string&
       fail(what, ": the patches leave an open boundary of ", L.size(), " edges that is not planar (", off,
            " off its plane), so it cannot be closed by a cap");
     sp.faces.push_back(std::move(L));
-    face_geo.push_back(PlaneSurface{pts[0], n});
+    face_geo.push_back(plane_face(pts[0], n));
   }
   sp.points = points;
   Built B;
@@ -599,7 +599,7 @@ Model patch_solid_raw(const std::vector<SurfacePtr>& patches, const std::string&
   Model& m = B.m;
   for (std::size_t e = 0; e < geo.size(); ++e) {
     EdgeId id = B.edges[e];
-    m.set_curve(id, ParamCurve{geo[e].curve});
+    m.set_curve(id, geo[e].curve);
     for (int s = 0; s < 2; ++s)
       if (geo[e].pc[s]) m.set_pcurve(EdgeSide{id, s}, *geo[e].pc[s]);
   }

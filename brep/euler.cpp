@@ -7,22 +7,12 @@
 // precondition is checked before the first write, so a failed operator leaves the model as it was.
 #include <algorithm>
 #include <cmath>
+#include <tuple>
 #include <unordered_set>
 
 #include "brep/brep.h"
 
 namespace wedge {
-
-ArcCurve arc_through(const Point3& a, const Point3& m, const Point3& b) {
-  Vec3 u = m - a, w = b - a;
-  Vec3 n = u.cross(w);
-  double n2 = n.squaredNorm();
-  if (!(n2 > 1e-30)) fail("arc_through: the three points are collinear or coincide");
-  // Circumcentre of triangle a, m, b.
-  Point3 c = a + (w.squaredNorm() * n.cross(u) + u.squaredNorm() * w.cross(n)) / (2 * n2);
-  // a → m → b turns counter-clockwise about n.
-  return ArcCurve{c, n.normalized(), (a - c).norm()};
-}
 
 // --- element helpers -------------------------------------------------------------------------
 VertexId Model::new_vertex(const Point3& p) {
@@ -30,7 +20,7 @@ VertexId Model::new_vertex(const Point3& p) {
   points_[v] = p;
   return v;
 }
-EdgeId Model::new_edge(VertexId a, VertexId b, EdgeCurve c) {
+EdgeId Model::new_edge(VertexId a, VertexId b, CurvePtr c) {
   BrepEdge e;
   e.v[0] = a;
   e.v[1] = b;
@@ -42,18 +32,13 @@ FaceId Model::new_face(ShellId s) {
   BrepFace f;
   f.shell = s;
   FaceId id = faces_.add(f);
-  surfaces_[id] = FaceSurface{NoSurface{}};
+  surfaces_[id] = FaceSurface{};
   shells_[s].faces++;
   return id;
 }
 void Model::kill_face(FaceId f) {
   shells_[faces_[f].shell].faces--;
   faces_.remove(f);
-}
-EdgeId Model::raw_add_edge(BrepEdge e) {
-  EdgeId id = edges_.add(e);
-  curves_[id] = EdgeCurve{LineCurve{}};
-  return id;
 }
 
 void Model::link(EdgeSide a, EdgeSide b) {
@@ -72,7 +57,7 @@ const Point3& Model::point(VertexId v) const {
   if (!vertices_.contains(v)) fail("no vertex ", v.value);
   return points_[v];
 }
-const EdgeCurve& Model::curve(EdgeId e) const {
+const CurvePtr& Model::curve(EdgeId e) const {
   if (!edges_.contains(e)) fail("no edge ", e.value);
   return curves_[e];
 }
@@ -85,7 +70,7 @@ void Model::set_point(VertexId v, const Point3& p) {
   if (!p.allFinite()) fail("set_point: the point of vertex ", v.value, " is not finite");
   points_[v] = p;
 }
-void Model::set_curve(EdgeId e, EdgeCurve c) {
+void Model::set_curve(EdgeId e, CurvePtr c) {
   if (!edges_.contains(e)) fail("set_curve: no edge ", e.value);
   curves_[e] = std::move(c);
 }
@@ -100,33 +85,21 @@ void Model::set_pcurve(EdgeSide s, const PCurve& p) {
 }
 bool Model::has_param_faces() const {
   bool any = false;
-  faces_.for_each([&](FaceId f, const BrepFace&) { any = any || std::holds_alternative<ParamSurface>(surface(f)); });
+  faces_.for_each([&](FaceId f, const BrepFace&) { any = any || surface(f).parametric; });
   return any;
 }
 CurvePtr Model::edge_curve(EdgeId e) const {
-  const EdgeCurve& c = curve(e);
-  Point3 a = point(edges_[e].v[0]), b = point(edges_[e].v[1]);
-  if (auto* pc = std::get_if<ParamCurve>(&c)) return pc->curve;
-  if (auto* arc = std::get_if<ArcCurve>(&c)) {
-    Vec3 x = (a - arc->center).normalized();
-    Vec3 y = arc->axis.cross(x);
-    Vec3 d = b - arc->center;
-    double sweep = std::atan2(d.dot(y), d.dot(x));
-    if (sweep <= 1e-12) sweep += 2 * kPi;
-    // CircularArc measures from its x axis toward normal x x_axis... build from the frame directly.
-    return std::make_shared<const CircularArc>(arc->center, arc->radius, 0.0, sweep, arc->axis, x);
-  }
-  return std::make_shared<const LineSegment>(a, b);
+  if (const CurvePtr& c = curve(e)) return c;
+  return std::make_shared<const LineSegment>(point(edges_[e].v[0]), point(edges_[e].v[1]));
 }
 Point3 Model::edge_point(EdgeId e, double s) const {
-  const EdgeCurve& c = curve(e);
-  if (std::holds_alternative<LineCurve>(c)) {
+  const CurvePtr& c = curve(e);
+  if (!c) {
     Point3 a = point(edges_[e].v[0]), b = point(edges_[e].v[1]);
     return a + s * (b - a);
   }
-  CurvePtr cv = edge_curve(e);
-  auto [t0, t1] = cv->domain();
-  return cv->eval(t0 + s * (t1 - t0));
+  auto [t0, t1] = c->domain();
+  return c->eval(t0 + s * (t1 - t0));
 }
 
 void Model::set_surface(FaceId f, FaceSurface s) {
@@ -226,7 +199,7 @@ void Model::kvfs(VertexId v) {
 }
 
 // --- mev / kev -------------------------------------------------------------------------------
-Model::Mev Model::mev(FaceId f, VertexId v, const Point3& p, EdgeCurve curve) {
+Model::Mev Model::mev(FaceId f, VertexId v, const Point3& p, CurvePtr curve) {
   require_face(f, "mev");
   require_vertex(v, "mev", "vertex");
   Corner c;
@@ -234,7 +207,7 @@ Model::Mev Model::mev(FaceId f, VertexId v, const Point3& p, EdgeCurve curve) {
   return mev_at(c, p, std::move(curve));
 }
 
-Model::Mev Model::mev_at(Corner c, const Point3& p, EdgeCurve curve) {
+Model::Mev Model::mev_at(Corner c, const Point3& p, CurvePtr curve) {
   if (!p.allFinite()) fail("mev: the new point is not finite");
   if (!loops_.contains(c.loop)) fail("mev: ", c.loop.value, " is not a loop of this model");
   BrepLoop& lp0 = loops_[c.loop];
@@ -295,7 +268,7 @@ void Model::kev(EdgeId e, VertexId v) {
 }
 
 // --- mef / kef -------------------------------------------------------------------------------
-Model::Mef Model::mef(FaceId f, VertexId v1, VertexId v2, EdgeCurve curve) {
+Model::Mef Model::mef(FaceId f, VertexId v1, VertexId v2, CurvePtr curve) {
   require_face(f, "mef");
   require_vertex(v1, "mef", "vertex");
   require_vertex(v2, "mef", "vertex");
@@ -317,7 +290,7 @@ Model::Mef Model::mef(FaceId f, VertexId v1, VertexId v2, EdgeCurve curve) {
   return mef_at(c1, c2, std::move(curve));
 }
 
-Model::Mef Model::mef_at(EdgeSide c1, EdgeSide c2, EdgeCurve curve) {
+Model::Mef Model::mef_at(EdgeSide c1, EdgeSide c2, CurvePtr curve) {
   if (!edges_.contains(c1.edge) || !edges_.contains(c2.edge)) fail("mef: a corner names no edge of this model");
   if (side(c1).loop != side(c2).loop) fail("mef: the two corners are not on one loop");
   VertexId v1 = origin(c1), v2 = origin(c2);
@@ -412,7 +385,7 @@ LoopId Model::kemr(EdgeId e) {
   return r;
 }
 
-EdgeId Model::mekr(VertexId v1, VertexId v2, EdgeCurve curve) {
+EdgeId Model::mekr(VertexId v1, VertexId v2, CurvePtr curve) {
   require_vertex(v1, "mekr", "vertex");
   require_vertex(v2, "mekr", "vertex");
   if (v1 == v2) fail("mekr: the two vertices must differ (both are ", v1.value, ")");
@@ -439,7 +412,7 @@ EdgeId Model::mekr(VertexId v1, VertexId v2, EdgeCurve curve) {
   return mekr_at(c1, c2, std::move(curve));
 }
 
-EdgeId Model::mekr_at(Corner a, Corner b, EdgeCurve curve) {
+EdgeId Model::mekr_at(Corner a, Corner b, CurvePtr curve) {
   if (!loops_.contains(a.loop) || !loops_.contains(b.loop)) fail("mekr: a corner names no loop of this model");
   if (a.loop == b.loop) fail("mekr: both corners are on loop ", a.loop.value, " (precondition: two different loops; use mef)");
   FaceId f = loops_[a.loop].face;
@@ -559,8 +532,7 @@ FaceId Model::mfkrh(FaceId f, LoopId ring) {
   faces_[f2].outer = ring;
   loops_[ring].face = f2;
   // The new face lies in the plane of f, facing the other way.
-  if (auto* pl = std::get_if<PlaneSurface>(&surfaces_[f]))
-    surfaces_[f2] = PlaneSurface{pl->point, -pl->normal};
+  if (const Plane* pl = surfaces_[f].plane()) surfaces_[f2] = plane_face(pl->origin(), -pl->unit_normal());
   return f2;
 }
 
@@ -568,9 +540,20 @@ FaceId Model::mfkrh(FaceId f, LoopId ring) {
 Model::Mev Model::semv(EdgeId e, const Point3& p) {
   require_edge(e, "semv");
   if (!p.allFinite()) fail("semv: the new point is not finite");
+  // A curved edge is cut where its curve passes p (which must lie on it).
+  CurvePtr first, second;
+  if (const CurvePtr& c = curves_[e]) {
+    double t = closest_parameter(*c, p);
+    auto [t0, t1] = c->domain();
+    double size = (c->eval(t0) - c->eval((t0 + t1) / 2)).norm() + (c->eval(t1) - c->eval((t0 + t1) / 2)).norm();
+    if ((c->eval(t) - p).norm() > 1e-9 * std::max(size, 1e-300) || !(t > t0 && t < t1))
+      fail("semv: the new point is not inside edge ", e.value, "'s curve (precondition: p on the curve, not at its ends)");
+    std::tie(first, second) = split_curve(c, t);
+  }
   VertexId v1 = edges_[e].v[1];
   VertexId w = new_vertex(p);
-  EdgeId e2 = new_edge(w, v1, curves_[e]);
+  EdgeId e2 = new_edge(w, v1, second);
+  curves_[e] = first;
   edges_[e].v[1] = w;
   EdgeSide e0{e, 0}, e1{e, 1}, f0{e2, 0}, f1{e2, 1};
   side_mut(f0).loop = side(e0).loop;
@@ -612,8 +595,7 @@ void Model::reverse_edge(EdgeId e) {
     if (vertices_[v].out.edge == e) vertices_[v].out = vertices_[v].out.mate();
   for (const BrepSide& sd : ed2.side)
     if (loops_[sd.loop].first.edge == e) loops_[sd.loop].first = loops_[sd.loop].first.mate();
-  if (auto* arc = std::get_if<ArcCurve>(&curves_[e])) arc->axis = -arc->axis;
-  if (auto* pc = std::get_if<ParamCurve>(&curves_[e])) pc->curve = std::make_shared<const ReversedCurve>(pc->curve);
+  if (CurvePtr& c = curves_[e]) c = reversed_curve(c);
   if (pcurves_.contains(e)) {
     // Side k (on face A) becomes side 1 - k; the curve's parameter now runs from the old end.
     auto old = pcurves_[e];
@@ -639,6 +621,19 @@ void Model::jekv(EdgeId e2, VertexId v) {
   if (edges_[in.edge].v[in.side] == edges_[e2].v[1 - f0.side])
     fail("jekv: edges ", in.edge.value, " and ", e2.value, " join the same two vertices; joining them would make an edge "
          "from a vertex to itself (precondition: the two edges at v lead to different vertices)");
+  // The joined edge's curve: none for two straight edges, else the one curve of which the two are
+  // consecutive pieces (semv's split undone).
+  CurvePtr joined;
+  {
+    const CurvePtr& ci = curves_[in.edge];
+    const CurvePtr& co = curves_[e2];
+    if (ci || co) {
+      joined = joined_curve(ci && in.side == 1 ? reversed_curve(ci) : ci, co && f0.side == 1 ? reversed_curve(co) : co);
+      if (!joined)
+        fail("jekv: edges ", in.edge.value, " and ", e2.value, " are not consecutive pieces of one curve (precondition: "
+             "both straight, or cut from one curve by semv)");
+    }
+  }
   if (f0.side == 1) reverse_edge(e2);
   if (in.side == 1) reverse_edge(in.edge);
   EdgeId e = in.edge;
@@ -654,6 +649,7 @@ void Model::jekv(EdgeId e2, VertexId v) {
     link(p, e1);
   }
   edges_[e].v[1] = v1;
+  curves_[e] = joined;
   if (vertices_[v1].out == f1) vertices_[v1].out = e1;
   if (loops_[side(e0).loop].first == f0) loops_[side(e0).loop].first = e0;
   if (loops_[side(e1).loop].first == f1) loops_[side(e1).loop].first = e1;

@@ -3,8 +3,8 @@
 // Method: the divergence theorem turns each volume integral into a surface integral,
 //   V = 1/3 ∮ x·n dA,  ∫ x_i dV = 1/2 ∮ x_i² n_i dA,  ∫ x_i² dV = 1/3 ∮ x_i³ n_i dA,
 //   ∫ x_i x_j dV = 1/2 ∮ x_i² x_j n_i dA (i ≠ j),
-// with x measured from a reference point near the solid (less cancellation). A face on a
-// ParamSurface covers its whole parameter rectangle, so its integral is a tensor Gauss-Legendre
+// with x measured from a reference point near the solid (less cancellation). A parametric
+// face covers its whole parameter rectangle, so its integral is a tensor Gauss-Legendre
 // rule over the rectangle (split at the surface's breaks, then into panels), with n dA = ±Su x Sv
 // du dv. A planar face is any region bounded by its edges' curves: Green's theorem in the plane's
 // frame (s, t), ∫∫ h ds dt = ∮ P dt with P(s, t) = ∫_0^s h(σ, t) dσ, and P itself is a 3-point
@@ -98,7 +98,7 @@ MassProperties Model::exact_mass() const {
     const FaceSurface& fs = surface(f);
     std::vector<LoopId> ls{face.outer};
     ls.insert(ls.end(), face.rings.begin(), face.rings.end());
-    if (auto* ps = std::get_if<ParamSurface>(&fs)) {
+    if (const FaceSurface* ps = &fs; ps->parametric) {
       const Surface& S = *ps->surface;
       auto [u0, u1] = S.u_domain();
       auto [v0, v1] = S.v_domain();
@@ -137,12 +137,12 @@ MassProperties Model::exact_mass() const {
         }
       return;
     }
-    if (std::holds_alternative<CylinderSurface>(fs))
+    if (fs.cylinder())
       fail("mass properties: face ", f.value, " is a cylinder patch of the planar builders (not integrated exactly)");
     // A planar face: frame (o; e1, e2, n) with e1 x e2 = n outward.
     Vec3 n = face_normal(f);
     Point3 o = point(loops_[face.outer].first.valid() ? origin(loops_[face.outer].first) : loops_[face.outer].lone);
-    if (auto* pl = std::get_if<PlaneSurface>(&fs)) o = pl->point;
+    if (const Plane* pl = fs.plane()) o = pl->origin();
     Vec3 helper = std::abs(n.x()) < 0.9 ? Vec3::UnitX() : Vec3::UnitY();
     Vec3 e1 = helper.cross(n).normalized();
     e1 = n.cross(e1).cross(n).normalized();
@@ -153,7 +153,7 @@ MassProperties Model::exact_mass() const {
       for (EdgeSide sd : loop_sides(l)) {
         CurvePtr C = edge_curve(sd.edge);
         auto [t0, t1] = C->domain();
-        bool straight = std::holds_alternative<LineCurve>(curve(sd.edge));
+        bool straight = !curve(sd.edge);
         std::vector<double> ts = panels(C->breaks(), t0, t1, straight ? 1 : 8);
         double dir = sd.side == 0 ? 1.0 : -1.0;
         for (std::size_t i = 0; i + 1 < ts.size(); ++i) {

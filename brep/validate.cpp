@@ -44,24 +44,8 @@ bool may_cross(const Point2& p, const Point2& q, const Point2& a, const Point2& 
 }  // namespace
 
 void Model::append_arc_interior(EdgeSide s, int arc_segments, std::vector<Point3>& out) const {
-  if (std::holds_alternative<ParamCurve>(curves_[s.edge])) {
-    for (int k = 1; k < arc_segments; ++k)
-      out.push_back(edge_point(s.edge, double(s.side == 0 ? k : arc_segments - k) / arc_segments));
-    return;
-  }
-  auto* arc = std::get_if<ArcCurve>(&curves_[s.edge]);
-  if (!arc) return;
-  // The arc runs counter-clockwise about its axis from v[0] to v[1].
-  Point3 p0 = point(edges_[s.edge].v[0]), p1 = point(edges_[s.edge].v[1]);
-  Vec3 x = (p0 - arc->center).normalized();
-  Vec3 y = arc->axis.cross(x);
-  Vec3 d1 = p1 - arc->center;
-  double sweep = std::atan2(d1.dot(y), d1.dot(x));
-  if (sweep <= 1e-12) sweep += 2 * kPi;
-  for (int k = 1; k < arc_segments; ++k) {
-    double t = sweep * (s.side == 0 ? k : arc_segments - k) / arc_segments;
-    out.push_back(arc->center + arc->radius * (std::cos(t) * x + std::sin(t) * y));
-  }
+  if (!curves_[s.edge]) return;
+  for (int k = 1; k < arc_segments; ++k) out.push_back(edge_point(s.edge, double(s.side == 0 ? k : arc_segments - k) / arc_segments));
 }
 
 std::vector<Point3> Model::side_polyline(EdgeSide s, int arc_segments) const {
@@ -87,8 +71,7 @@ std::vector<Point3> Model::loop_polyline(LoopId l, int arc_segments) const {
 }
 
 Vec3 Model::face_normal(FaceId f) const {
-  const FaceSurface& s = surface(f);
-  if (auto* pl = std::get_if<PlaneSurface>(&s)) return pl->normal;
+  if (const Plane* pl = surface(f).plane()) return pl->unit_normal();
   Vec3 n = newell_normal(loop_polyline(faces_[f].outer));
   double len = n.norm();
   return len > 0 ? Vec3(n / len) : Vec3::Zero();
@@ -99,15 +82,15 @@ Box3 Model::bounds() const {
   vertices_.for_each([&](VertexId v, const BrepVertex&) { b.extend(point(v)); });
   // Arcs bulge past their ends: include their sampled points.
   edges_.for_each([&](EdgeId e, const BrepEdge& ed) {
-    if (std::holds_alternative<LineCurve>(curve(e))) return;
+    if (!curve(e)) return;
     LoopId l = ed.side[0].loop;
     if (loops_.contains(l))
       for (const Point3& p : loop_polyline(l, 64)) b.extend(p);
   });
   // Curved faces bulge past their edges: a grid of samples (a box within the sampling's sag).
   faces_.for_each([&](FaceId f, const BrepFace&) {
-    auto* ps = std::get_if<ParamSurface>(&surface(f));
-    if (!ps) return;
+    const FaceSurface* ps = &surface(f);
+    if (!ps->parametric) return;
     auto [u0, u1] = ps->surface->u_domain();
     auto [v0, v1] = ps->surface->v_domain();
     const int n = 48;
@@ -120,10 +103,10 @@ Box3 Model::bounds() const {
 bool Model::all_planar() const {
   bool ok = true;
   faces_.for_each([&](FaceId f, const BrepFace&) {
-    if (!std::holds_alternative<PlaneSurface>(surface(f)) && !std::holds_alternative<NoSurface>(surface(f))) ok = false;
+    if (surface(f).surface && !surface(f).plane()) ok = false;
   });
   edges_.for_each([&](EdgeId e, const BrepEdge&) {
-    if (!std::holds_alternative<LineCurve>(curve(e))) ok = false;
+    if (curve(e)) ok = false;
   });
   return ok;
 }
@@ -135,10 +118,10 @@ double Model::approximate_volume() const {
   auto tri = [&](const Point3& a, const Point3& b, const Point3& c) { vol += (a - ref).dot((b - ref).cross(c - ref)) / 6.0; };
   faces_.for_each([&](FaceId f, const BrepFace& face) {
     // A cylinder patch bounded by arc, line, arc, line: a strip of quads between the two arcs.
-    if (std::holds_alternative<CylinderSurface>(surface(f)) && face.rings.empty()) {
+    if (surface(f).cylinder() && face.rings.empty()) {
       std::vector<EdgeSide> sides = loop_sides(face.outer);
       if (sides.size() == 4) {
-        int k = std::holds_alternative<ArcCurve>(curve(sides[0].edge)) ? 0 : 1;
+        int k = curve(sides[0].edge) ? 0 : 1;
         std::vector<Point3> a = side_polyline(sides[static_cast<std::size_t>(k)]);
         std::vector<Point3> b = side_polyline(sides[static_cast<std::size_t>(k + 2)]);
         if (a.size() == b.size()) {
@@ -204,24 +187,19 @@ void Model::transform(const Mat4& m) {
   if (!std::isfinite(det) || std::abs(det) < 1e-300) fail("transform: the matrix is singular");
   if (m.row(3) != Eigen::RowVector4d(0, 0, 0, 1)) fail("transform: a projective matrix cannot move a solid");
   double s = std::cbrt(std::abs(det));
-  bool circular = false;  // arcs and cylinders stay circular only under similarities
-  for (auto [e, c] : curves_) circular = circular || (edges_.contains(e) && std::holds_alternative<ArcCurve>(c));
-  for (auto [f, c] : surfaces_) circular = circular || (faces_.contains(f) && std::holds_alternative<CylinderSurface>(c));
-  if (circular && !(lin.transpose() * lin).isApprox(s * s * Mat3::Identity(), 1e-9))
+  bool cylinders = false;  // the planar builders' cylinder faces stay circular only under similarities
+  for (auto [f, c] : surfaces_) cylinders = cylinders || (faces_.contains(f) && c.cylinder());
+  if (cylinders && !(lin.transpose() * lin).isApprox(s * s * Mat3::Identity(), 1e-9))
     fail("transform: a non-uniform scale or shear would turn arcs into ellipses; this model has circular edges");
   for (auto [v, p] : points_) p = apply_point(m, p);
   for (auto [e, c] : curves_)
-    if (auto* pc = std::get_if<ParamCurve>(&c)) {
-      pc->curve = std::make_shared<const TransformedCurve>(pc->curve, m);
+    if (c) {
+      c = transformed_curve(c, m);
       // A mirror swaps every edge's ends below: the curve then runs the other way.
-      if (det < 0) pc->curve = std::make_shared<const ReversedCurve>(pc->curve);
+      if (det < 0) c = reversed_curve(c);
       if (det < 0 && pcurves_.contains(e))
         for (auto& pcv : pcurves_[e])
           if (pcv) std::swap(pcv->start, pcv->end);
-    } else if (auto* a = std::get_if<ArcCurve>(&c)) {
-      a->center = apply_point(m, a->center);
-      a->axis = apply_vector(m, a->axis).normalized();
-      a->radius *= s;
     }
   for (auto [id, f] : surfaces_) f = transformed_surface(f, m);
   if (det < 0) {
@@ -238,19 +216,24 @@ void Model::transform(const Mat4& m) {
   }
 }
 
-namespace {
-// A unit vector perpendicular to the unit vector n.
-Vec3 perpendicular(const Vec3& n) {
-  Vec3 a = std::abs(n.x()) < 0.9 ? Vec3::UnitX() : Vec3::UnitY();
-  return (a - a.dot(n) * n).normalized();
+const Plane* FaceSurface::plane() const { return parametric ? nullptr : dynamic_cast<const Plane*>(surface.get()); }
+const Cylinder* FaceSurface::cylinder() const { return parametric ? nullptr : dynamic_cast<const Cylinder*>(surface.get()); }
+
+FaceSurface plane_face(const Point3& point, const Vec3& unit_outward_normal) {
+  return FaceSurface{std::make_shared<const Plane>(point, unit_outward_normal), false, false, "plane"};
 }
-}  // namespace
+FaceSurface cylinder_face(const Point3& origin, const Vec3& unit_axis, double radius, bool solid_outside) {
+  return FaceSurface{std::make_shared<const Cylinder>(origin, unit_axis, radius), solid_outside, false, "cylinder"};
+}
+FaceSurface parametric_face(SurfacePtr surface, bool reversed, std::string kind) {
+  return FaceSurface{std::move(surface), reversed, true, std::move(kind)};
+}
 
 SurfacePtr surface_patch(const FaceSurface& fs, const Box3& extent, bool& reversed) {
   reversed = false;
-  if (auto* ps = std::get_if<ParamSurface>(&fs)) {
-    reversed = ps->reversed;
-    return ps->surface;
+  if (fs.parametric) {
+    reversed = fs.reversed;
+    return fs.surface;
   }
   if (extent.empty()) return nullptr;
   auto range = [&](const Point3& o, const Vec3& d) {
@@ -265,30 +248,28 @@ SurfacePtr surface_patch(const FaceSurface& fs, const Box3& extent, bool& revers
     if (!(hi > lo)) hi = lo + 1;  // a flat box along d: any positive range
     return std::make_pair(lo, hi);
   };
-  if (auto* pl = std::get_if<PlaneSurface>(&fs)) {
+  if (const Plane* pl = fs.plane()) {
     // x cross y = n: the plane's parameters run so that Su x Sv is the outward normal.
-    const Vec3 x = perpendicular(pl->normal), y = pl->normal.cross(x);
-    auto [u0, u1] = range(pl->point, x);
-    auto [v0, v1] = range(pl->point, y);
-    return std::make_shared<const Plane>(pl->point, x, y, u0, u1, v0, v1);
+    auto [u0, u1] = range(pl->origin(), pl->x_axis());
+    auto [v0, v1] = range(pl->origin(), pl->y_axis());
+    return std::make_shared<const Plane>(pl->origin(), pl->x_axis(), pl->y_axis(), u0, u1, v0, v1);
   }
-  if (auto* cy = std::get_if<CylinderSurface>(&fs)) {
+  if (const Cylinder* cy = fs.cylinder()) {
     // The circle runs counter-clockwise about the axis and is extruded along it: Su x Sv points
     // away from the axis.
-    reversed = !cy->outward;
-    auto [h0, h1] = range(cy->origin, cy->axis);
-    auto circle = std::make_shared<const CircularArc>(Point3(cy->origin + h0 * cy->axis), cy->radius, 0.0, 2 * kPi, cy->axis,
-                                                      perpendicular(cy->axis));
-    return std::make_shared<const ExtrudedSurface>(circle, (h1 - h0) * cy->axis);
+    reversed = fs.reversed;
+    auto [h0, h1] = range(cy->origin(), cy->axis());
+    auto circle = std::make_shared<const CircularArc>(Point3(cy->origin() + h0 * cy->axis()), cy->radius(), 0.0, 2 * kPi,
+                                                      cy->axis(), perpendicular(cy->axis()));
+    return std::make_shared<const ExtrudedSurface>(circle, (h1 - h0) * cy->axis());
   }
   return nullptr;
 }
 
 FaceSurface flipped_surface(const FaceSurface& fs) {
   FaceSurface f = fs;
-  if (auto* ps = std::get_if<ParamSurface>(&f)) ps->reversed = !ps->reversed;
-  else if (auto* p = std::get_if<PlaneSurface>(&f)) p->normal = -p->normal;
-  else if (auto* c = std::get_if<CylinderSurface>(&f)) c->outward = !c->outward;
+  if (const Plane* p = fs.plane()) f.surface = std::make_shared<const Plane>(p->origin(), Vec3(-p->unit_normal()));
+  else if (f.surface) f.reversed = !f.reversed;
   return f;
 }
 
@@ -296,26 +277,24 @@ FaceSurface transformed_surface(const FaceSurface& fs, const Mat4& m, const Box3
   const Mat3 lin = m.block<3, 3>(0, 0);
   const double det = lin.determinant();
   FaceSurface f = fs;
-  if (auto* c = std::get_if<CylinderSurface>(&f)) {
+  if (const Cylinder* c = fs.cylinder()) {
     const double s = std::cbrt(std::abs(det));
     if (!(lin.transpose() * lin).isApprox(s * s * Mat3::Identity(), 1e-9)) {
       bool reversed = false;
       SurfacePtr patch = surface_patch(fs, extent, reversed);
       if (!patch) fail("transform: a cylinder face under a non-uniform scale needs the box that holds it");
-      f = ParamSurface{patch, reversed, "cylinder"};
+      f = parametric_face(patch, reversed, "cylinder");
     } else {
-      c->origin = apply_point(m, c->origin);
-      c->axis = apply_vector(m, c->axis).normalized();
-      c->radius *= s;
+      f.surface = std::make_shared<const Cylinder>(apply_point(m, c->origin()), apply_vector(m, c->axis()).normalized(),
+                                                   c->radius() * s);
       return f;
     }
   }
-  if (auto* ps = std::get_if<ParamSurface>(&f)) {
-    ps->surface = std::make_shared<const TransformedSurface>(ps->surface, m);
-    if (det < 0) ps->reversed = !ps->reversed;  // a mirror turns Su x Sv inward
-  } else if (auto* p = std::get_if<PlaneSurface>(&f)) {
-    p->point = apply_point(m, p->point);
-    p->normal = apply_normal(m, p->normal);
+  if (f.parametric) {
+    f.surface = std::make_shared<const TransformedSurface>(f.surface, m);
+    if (det < 0) f.reversed = !f.reversed;  // a mirror turns Su x Sv inward
+  } else if (const Plane* p = f.plane()) {
+    f.surface = std::make_shared<const Plane>(apply_point(m, p->origin()), apply_normal(m, p->unit_normal()));
   }
   return f;
 }
@@ -557,8 +536,8 @@ Validation Model::validate(bool geometry) const {
   for (FaceId f : faces_.ids()) {
     const BrepFace& face = faces_[f];
     std::string name = "face " + std::to_string(f.value);
-    if (std::holds_alternative<CylinderSurface>(surface(f))) continue;
-    if (auto* ps = std::get_if<ParamSurface>(&surface(f))) {
+    if (surface(f).cylinder()) continue;
+    if (const FaceSurface* ps = &surface(f); ps->parametric) {
       // Every side carries its image in the face's domain, the images of consecutive sides meet
       // or are joined by a pole (a stretch of the domain's border that maps to the shared
       // vertex), and the ends of each image map onto the side's vertices.
@@ -583,7 +562,7 @@ Validation Model::validate(bool geometry) const {
     if (n.norm() < 0.5) return bad(name + " has no normal: its outer loop encloses no area");
     const BrepLoop& outer_loop = loops_[face.outer];
     Point3 p0 = point(outer_loop.first.valid() ? origin(outer_loop.first) : outer_loop.lone);
-    if (auto* pl = std::get_if<PlaneSurface>(&surface(f))) p0 = pl->point;
+    if (const Plane* pl = surface(f).plane()) p0 = pl->origin();
     std::vector<LoopId> ls{face.outer};
     ls.insert(ls.end(), face.rings.begin(), face.rings.end());
     // 2D projection: drop the dominant axis of n, keeping counter-clockwise about n.

@@ -17,11 +17,11 @@ BrepLeaf::BrepLeaf(Model model) {
 Solid brep_solid(Model model) { return Solid(std::make_shared<const BrepLeaf>(std::move(model))); }
 
 std::optional<MassProperties> BrepLeaf::mass_properties() const {
-  // Exact for planar models and for models on ParamSurfaces; the planar builders' cylinder
+  // Exact for planar models and for models of parametric faces; the planar builders' cylinder
   // patches are left to the mesh.
   bool cylinders = false;
   model_->faces().for_each([&](FaceId f, const BrepFace&) {
-    cylinders = cylinders || std::holds_alternative<CylinderSurface>(model_->surface(f));
+    cylinders = cylinders || model_->surface(f).cylinder();
   });
   if (cylinders) return std::nullopt;
   return model_->mass_properties();
@@ -45,8 +45,8 @@ Mesh BrepLeaf::parametrised_mesh(const Tolerance& tol, CornerUvs& corner_uv) con
 
 // The surface kind of a B-Rep face, as s:faces() names it.
 std::string surface_kind(const FaceSurface& fs) {
-  if (std::holds_alternative<CylinderSurface>(fs)) return "cylinder";
-  if (auto* ps = std::get_if<ParamSurface>(&fs)) {
+  if (fs.cylinder()) return "cylinder";
+  if (const FaceSurface* ps = &fs; ps->parametric) {
     if (!ps->kind.empty()) return ps->kind;
     if (dynamic_cast<const NurbsSurface*>(ps->surface.get())) return "nurbs";
     if (dynamic_cast<const Plane*>(ps->surface.get())) return "plane";
@@ -63,9 +63,11 @@ std::vector<std::string> BrepLeaf::face_kinds() const {
 
 FaceSurface face_surface(const Model& m, FaceId f) {
   const FaceSurface& s = m.surface(f);
-  if (!std::holds_alternative<NoSurface>(s)) return s;
+  if (s.surface) return s;
   const auto vs = m.loop_vertices(m.faces()[f].outer);
-  return PlaneSurface{vs.empty() ? Point3::Zero() : m.point(vs.front()), m.face_normal(f)};
+  const Vec3 n = m.face_normal(f);
+  if (!(n.norm() > 0)) return s;  // no area, no plane
+  return plane_face(vs.empty() ? Point3::Zero() : m.point(vs.front()), n);
 }
 
 std::vector<FaceSurface> BrepLeaf::face_surfaces() const {

@@ -35,7 +35,7 @@ class BrepLeaf final : public SolidLeaf {
 // name ("sphere", "torus", "revolved", ...); "nurbs" for an unnamed NURBS patch.
 std::string surface_kind(const FaceSurface& surface);
 
-// The face's surface with a NoSurface given as its plane (through the outer loop's first vertex,
+// The face's surface, a face without one given its plane (through the outer loop's first vertex,
 // normal from face_normal).
 FaceSurface face_surface(const Model& m, FaceId f);
 

@@ -186,12 +186,12 @@ RebuiltSolid rebuild_brep(const Mesh& mesh) {
     knots.push_back(1);
     knots.push_back(1);
     if (std::adjacent_find(knots.begin() + 1, knots.end() - 1, std::greater_equal<double>()) != knots.end() - 1) continue;
-    m.set_curve(EdgeId(id), ParamCurve{std::make_shared<const NurbsCurve>(1, pts, knots)});
+    m.set_curve(EdgeId(id), std::make_shared<const NurbsCurve>(1, pts, knots));
   }
 
   for (const auto& [id, d] : data) {
     FaceId f(id);
-    m.set_surface(f, NoSurface{});
+    m.set_surface(f, FaceSurface{});
     r.source[id] = d.source;
     r.area[id] = d.area;
   }

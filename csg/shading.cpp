@@ -10,10 +10,6 @@ namespace wedge {
 namespace {
 bool finite(const Vec2& uv) { return std::isfinite(uv.x()) && std::isfinite(uv.y()); }
 
-Vec3 perpendicular(const Vec3& n) {
-  Vec3 a = std::abs(n.x()) < 0.9 ? Vec3::UnitX() : Vec3::UnitY();
-  return (a - a.dot(n) * n).normalized();
-}
 // The unit normal Su x Sv at (u, v); at a pole (Su or Sv zero there) its limit, from the first
 // order expansion Su(u, v + h) = h Suv (or Sv(u + h, v) = h Suv): the direction Suv x Sv (or
 // Su x Suv), oriented as Surface::normal's step inside the domain says.
@@ -102,7 +98,7 @@ Mesh shaded_mesh(const Mesh& mesh, const std::vector<FaceSurface>& surfaces, con
     const std::int32_t f = mesh.face_ids.empty() ? -1 : mesh.face_ids[t];
     const FaceSurface* fs =
         f >= 0 && static_cast<std::size_t>(f) < surfaces.size() ? &surfaces[static_cast<std::size_t>(f)] : nullptr;
-    const auto* ps = fs ? std::get_if<ParamSurface>(fs) : nullptr;
+    const FaceSurface* ps = fs && fs->parametric ? fs : nullptr;
     double su = 1, sv = 1;  // the parameter ranges, for comparing (u, v)
     if (ps) {
       auto [u0, u1] = ps->surface->u_domain();
@@ -121,17 +117,15 @@ Mesh shaded_mesh(const Mesh& mesh, const std::vector<FaceSurface>& surfaces, con
         uv = closest_parameters(*ps->surface, p, guess);
         n = surface_normal(*ps->surface, uv);
         if (ps->reversed) n = -n;
-      } else if (fs && std::holds_alternative<PlaneSurface>(*fs)) {
-        const auto& pl = std::get<PlaneSurface>(*fs);
-        n = pl.normal;
-        const Vec3 x = perpendicular(n), y = n.cross(x);
-        uv = Vec2((p - pl.point).dot(x), (p - pl.point).dot(y));
-      } else if (fs && std::holds_alternative<CylinderSurface>(*fs)) {
-        const auto& cy = std::get<CylinderSurface>(*fs);
-        const Vec3 d = p - cy.origin, x = perpendicular(cy.axis), y = cy.axis.cross(x);
-        const double h = d.dot(cy.axis);
-        n = (d - h * cy.axis).normalized();
-        if (!cy.outward) n = -n;
+      } else if (const Plane* pl = fs ? fs->plane() : nullptr) {
+        n = pl->unit_normal();
+        const Vec3 &x = pl->x_axis(), &y = pl->y_axis();
+        uv = Vec2((p - pl->origin()).dot(x), (p - pl->origin()).dot(y));
+      } else if (const Cylinder* cy = fs ? fs->cylinder() : nullptr) {
+        const Vec3 d = p - cy->origin(), x = perpendicular(cy->axis()), y = cy->axis().cross(x);
+        const double h = d.dot(cy->axis());
+        n = (d - h * cy->axis()).normalized();
+        if (fs->reversed) n = -n;
         uv = Vec2(std::atan2(d.dot(y), d.dot(x)), h);
       } else {
         n = mesh.triangle_normal(t);

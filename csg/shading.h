@@ -4,8 +4,8 @@
 // surface's parameters.
 //
 // Method. Vertices are split per face (a box's corner is three vertices, one per face), and on a
-// ParamSurface also where the parameters jump (a seam, a pole). The parameters of a vertex on a
-// ParamSurface start from a guess (the tessellator's own (u, v) for a leaf's vertex; for a vertex
+// parametric face also where the parameters jump (a seam, a pole). The parameters of a vertex on a
+// parametric face start from a guess (the tessellator's own (u, v) for a leaf's vertex; for a vertex
 // a boolean made, the guess interpolated in the source triangle it lies in) and are refined by
 // Gauss-Newton steps to the closest point of the surface: a boolean's new vertex lies on a facet,
 // within the tolerance of the surface, and the normal at its closest point is the exact one (for a
@@ -20,7 +20,7 @@
 
 namespace wedge {
 
-// Per triangle, the (u, v) of its three corners on its face's ParamSurface; NaN where unknown.
+// Per triangle, the (u, v) of its three corners on its parametric face's surface; NaN where unknown.
 using CornerUvs = std::vector<std::array<Vec2, 3>>;
 
 // The parameters of the point of S closest to p, from `guess` (clamped to the domain); without a

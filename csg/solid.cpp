@@ -99,7 +99,7 @@ std::size_t planar_regions(Mesh& mesh, std::vector<FaceSurface>& planes) {
     const auto& S = w.triangles[seed];
     const Point3 &a = w.positions[S[0]], &b = w.positions[S[1]], &c = w.positions[S[2]];
     const Vec3 ns = (b - a).cross(c - a);
-    planes.push_back(PlaneSurface{a, ns.normalized()});
+    planes.push_back(ns.norm() > 0 ? plane_face(a, ns.normalized()) : FaceSurface{});
     while (!stack.empty()) {
       std::uint32_t t = stack.back();
       stack.pop_back();
@@ -688,7 +688,7 @@ std::vector<SolidFace> Solid::faces(const Tolerance& tol) const {
     Box3 box;
     for (VertexId v : r->model.loop_vertices(face.outer)) box.extend(r->model.point(v));
     FaceSurface geometry = r->model.surface(f);
-    if (std::holds_alternative<NoSurface>(geometry)) geometry = face_surface(r->model, f);
+    if (!geometry.surface) geometry = face_surface(r->model, f);
     out.push_back({kind, r->area.at(f.value), 1 + static_cast<int>(face.rings.size()), std::move(geometry), box});
   });
   return out;

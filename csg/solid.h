@@ -28,7 +28,7 @@ class SolidLeaf {
   virtual std::string kind() const = 0;                   // "brep", "mesh", ...
   // A closed, outward-oriented triangle mesh within `tol` of the exact boundary.
   virtual Mesh mesh(const Tolerance& tol) const = 0;
-  // As mesh(tol), and for each triangle the (u, v) of its corners on its face's ParamSurface
+  // As mesh(tol), and for each triangle the (u, v) of its corners on its parametric face's surface
   // (csg/shading.h); a leaf without parametrised faces leaves `corner_uv` empty.
   virtual Mesh parametrised_mesh(const Tolerance& tol, CornerUvs& corner_uv) const {
     corner_uv.clear();
@@ -50,7 +50,7 @@ class SolidLeaf {
   // are then its faces).
   virtual std::vector<std::string> face_kinds() const { return {}; }
   // The surface of each face id that mesh() puts on its triangles, indexed like face_kinds()
-  // (a plane's NoSurface given as its PlaneSurface); empty when face_kinds() is.
+  // (a planar face without a surface given its Plane); empty when face_kinds() is.
   virtual std::vector<FaceSurface> face_surfaces() const { return {}; }
 };
 

@@ -189,6 +189,35 @@ Vec3 CircularArc::derivative(double t, int k) const {
 
 bool CircularArc::closed() const { return end_ - start_ >= 2 * kPi - 1e-12; }
 
+CircularArc CircularArc::reversed() const {
+  // With normal -n the second axis is -y: c + r (cos t x - sin t y) at t = -s is C(s).
+  return CircularArc(center_, radius_, -end_, -start_, -normal(), x_);
+}
+
+CircularArc CircularArc::transformed(const Mat4& m) const {
+  // A similarity maps x, y to s Q x, s Q y; the image's normal is their cross product, which a
+  // mirror (det Q = -1) turns against Q n.
+  Vec3 x = apply_vector(m, x_), y = apply_vector(m, y_);
+  double s = x.norm();
+  return CircularArc(apply_point(m, center_), radius_ * s, start_, end_, x.cross(y), x / s);
+}
+
+CircularArc arc_through(const Point3& a, const Point3& m, const Point3& b) {
+  Vec3 u = m - a, w = b - a;
+  Vec3 n = u.cross(w);
+  double n2 = n.squaredNorm();
+  if (!(n2 > 1e-30)) fail("arc_through: the three points are collinear or coincide");
+  // Circumcentre of triangle a, m, b; a -> m -> b turns counter-clockwise about n.
+  Point3 c = a + (w.squaredNorm() * n.cross(u) + u.squaredNorm() * w.cross(n)) / (2 * n2);
+  Vec3 axis = n.normalized();
+  Vec3 x = (a - c).normalized();
+  Vec3 y = axis.cross(x);
+  Vec3 d = b - c;
+  double sweep = std::atan2(d.dot(y), d.dot(x));
+  if (sweep <= 1e-12) sweep += 2 * kPi;
+  return CircularArc(c, (a - c).norm(), 0.0, sweep, axis, x);
+}
+
 // --- Bezier ---
 
 BezierCurve::BezierCurve(std::vector<Point3> points) : points_(std::move(points)) {

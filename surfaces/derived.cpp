@@ -68,6 +68,84 @@ std::vector<double> IsoCurve::breaks() const {
   return out;
 }
 
+CurvePtr reversed_curve(const CurvePtr& c) {
+  if (auto* arc = dynamic_cast<const CircularArc*>(c.get())) return std::make_shared<const CircularArc>(arc->reversed());
+  return std::make_shared<const ReversedCurve>(c);
+}
+
+CurvePtr transformed_curve(const CurvePtr& c, const Mat4& m) {
+  if (auto* arc = dynamic_cast<const CircularArc*>(c.get())) {
+    const Mat3 lin = m.block<3, 3>(0, 0);
+    const double s = std::cbrt(std::abs(lin.determinant()));
+    if ((lin.transpose() * lin).isApprox(s * s * Mat3::Identity(), 1e-9))
+      return std::make_shared<const CircularArc>(arc->transformed(m));
+  }
+  return std::make_shared<const TransformedCurve>(c, m);
+}
+
+double closest_parameter(const Curve& c, const Point3& p) {
+  std::vector<double> br = c.breaks();
+  double best = br.front(), best_d = (c.eval(best) - p).squaredNorm(), step = 0;
+  for (std::size_t i = 0; i + 1 < br.size(); ++i) {
+    const int n = 32;
+    for (int k = 0; k <= n; ++k) {
+      double t = br[i] + (br[i + 1] - br[i]) * k / n;
+      double d = (c.eval(t) - p).squaredNorm();
+      if (d < best_d) {
+        best_d = d;
+        best = t;
+        step = (br[i + 1] - br[i]) / n;
+      }
+    }
+  }
+  if (step == 0) return best;
+  auto [t0, t1] = c.domain();
+  double a = std::max(t0, best - step), b = std::min(t1, best + step);
+  const double g = (std::sqrt(5.0) - 1) / 2;
+  for (int it = 0; it < 80 && b - a > 1e-15 * std::max(1.0, std::abs(a)); ++it) {
+    double x1 = b - g * (b - a), x2 = a + g * (b - a);
+    if ((c.eval(x1) - p).squaredNorm() < (c.eval(x2) - p).squaredNorm()) b = x2;
+    else a = x1;
+  }
+  return (a + b) / 2;
+}
+
+std::pair<CurvePtr, CurvePtr> split_curve(const CurvePtr& c, double t) {
+  auto [t0, t1] = c->domain();
+  if (!(t > t0 && t < t1)) fail("split_curve: parameter ", t, " is not inside the domain [", t0, ", ", t1, "]");
+  if (auto* arc = dynamic_cast<const CircularArc*>(c.get()))
+    return {std::make_shared<const CircularArc>(arc->center(), arc->radius(), t0, t, arc->normal(), arc->x_axis()),
+            std::make_shared<const CircularArc>(arc->center(), arc->radius(), t, t1, arc->normal(), arc->x_axis())};
+  CurvePtr base = c;
+  if (auto* sub = dynamic_cast<const SubCurve*>(c.get())) base = sub->source();
+  return {std::make_shared<const SubCurve>(base, t0, t), std::make_shared<const SubCurve>(base, t, t1)};
+}
+
+CurvePtr joined_curve(const CurvePtr& a, const CurvePtr& b) {
+  if (!a || !b) return nullptr;
+  auto [a0, a1] = a->domain();
+  auto [b0, b1] = b->domain();
+  if ((a->eval(a1) - b->eval(b0)).norm() > 1e-9 * (1 + a->eval(a1).norm())) return nullptr;
+  auto* p = dynamic_cast<const CircularArc*>(a.get());
+  auto* q = dynamic_cast<const CircularArc*>(b.get());
+  if (p && q) {
+    double r = p->radius();
+    if ((p->center() - q->center()).norm() > 1e-9 * r || std::abs(p->radius() - q->radius()) > 1e-9 * r ||
+        (p->normal() - q->normal()).norm() > 1e-9)
+      return nullptr;
+    return std::make_shared<const CircularArc>(p->center(), r, a0, a1 + (b1 - b0), p->normal(), p->x_axis());
+  }
+  auto* sa = dynamic_cast<const SubCurve*>(a.get());
+  auto* sb = dynamic_cast<const SubCurve*>(b.get());
+  const Curve* base_a = sa ? sa->source().get() : a.get();
+  const Curve* base_b = sb ? sb->source().get() : b.get();
+  if (base_a != base_b || a1 != b0) return nullptr;
+  CurvePtr base = sa ? sa->source() : a;
+  auto [t0, t1] = base->domain();
+  if (a0 == t0 && b1 == t1) return base;
+  return std::make_shared<const SubCurve>(base, a0, b1);
+}
+
 TransformedCurve::TransformedCurve(CurvePtr c, const Mat4& m) : curve_(std::move(c)), m_(m) {
   if (!curve_) fail("TransformedCurve: no curve");
 }

@@ -83,6 +83,47 @@ Plane::Plane(const Point3& origin, const Vec3& x_axis, const Vec3& y_axis, doubl
   if (!origin.allFinite() || !x_axis.allFinite() || !y_axis.allFinite()) fail("plane: origin and axes must be finite");
   if (!(x_axis.cross(y_axis).norm() > 0)) fail("plane: the two axes must be non-zero and not parallel");
   if (!(u1 > u0) || !(v1 > v0)) fail("plane: the parameter ranges must be non-empty");
+  n_ = x_.cross(y_).normalized();
+}
+
+Plane::Plane(const Point3& origin, const Vec3& unit_normal)
+    : origin_(origin), n_(unit_normal), u0_(0), u1_(1), v0_(0), v1_(1) {
+  if (!origin.allFinite() || !unit_normal.allFinite()) fail("plane: origin and normal must be finite");
+  if (std::abs(n_.norm() - 1) > 1e-9) {
+    if (!(n_.norm() > 0)) fail("plane: the normal must be non-zero");
+    n_.normalize();
+  }
+  x_ = perpendicular(n_);
+  y_ = n_.cross(x_);
+}
+
+Vec3 perpendicular(const Vec3& n) {
+  Vec3 a = std::abs(n.x()) < 0.9 ? Vec3::UnitX() : Vec3::UnitY();
+  return (a - a.dot(n) * n).normalized();
+}
+
+// --- Cylinder ---
+
+Cylinder::Cylinder(const Point3& origin, const Vec3& unit_axis, double radius, double v0, double v1)
+    : origin_(origin), axis_(unit_axis), radius_(radius), v0_(v0), v1_(v1) {
+  if (!origin.allFinite() || !unit_axis.allFinite() || !(unit_axis.norm() > 0)) fail("cylinder: origin and axis must be finite, the axis non-zero");
+  if (!(radius > 0) || !std::isfinite(radius)) fail("cylinder: the radius must be positive and finite, got ", radius);
+  if (!(v1 > v0)) fail("cylinder: the parameter range along the axis must be non-empty");
+  if (std::abs(axis_.norm() - 1) > 1e-9) axis_.normalize();
+  x_ = perpendicular(axis_);
+  y_ = axis_.cross(x_);
+}
+
+Point3 Cylinder::eval(double u, double v) const {
+  return origin_ + radius_ * (std::cos(u) * x_ + std::sin(u) * y_) + v * axis_;
+}
+
+Vec3 Cylinder::derivative(double u, double v, int ku, int kv) const {
+  if (ku == 0 && kv == 0) return eval(u, v);
+  if (kv > 1 || (kv == 1 && ku > 0)) return Vec3::Zero();
+  if (kv == 1) return axis_;
+  double s = u + ku * kPi / 2;  // d^k/du^k (cos u, sin u) = (cos(u + k pi/2), sin(u + k pi/2))
+  return radius_ * (std::cos(s) * x_ + std::sin(s) * y_);
 }
 
 Vec3 Plane::derivative(double u, double v, int ku, int kv) const {

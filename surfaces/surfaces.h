@@ -117,11 +117,25 @@ class CircularArc : public Curve {
   Vec3 derivative(double t, int k) const override;
   bool closed() const override;
 
+  const Point3& center() const { return center_; }
+  double radius() const { return radius_; }
+  Vec3 normal() const { return x_.cross(y_); }  // the arc runs counter-clockwise about it
+  const Vec3& x_axis() const { return x_; }
+  // The same points run the other way (C'(t) = C(-t) about the negated normal, over [-end, -start]).
+  CircularArc reversed() const;
+  // The image under m, run in the same direction. m must be a similarity (a mirror included):
+  // anything else turns the circle into an ellipse (a TransformedCurve then).
+  CircularArc transformed(const Mat4& m) const;
+
  private:
   Point3 center_;
   double radius_, start_, end_;
   Vec3 x_, y_;
 };
+
+// The arc from a through m to b (three distinct, non-collinear points): angle 0 at a, counter-
+// clockwise about the normal of a, m, b, ending at b.
+CircularArc arc_through(const Point3& a, const Point3& m, const Point3& b);
 
 // A Bezier curve of any degree, evaluated by de Casteljau over [0, 1].
 class BezierCurve : public Curve {
@@ -249,15 +263,46 @@ class Plane : public Surface {
  public:
   Plane(const Point3& origin, const Vec3& x_axis, const Vec3& y_axis, double u0 = 0, double u1 = 1, double v0 = 0,
         double v1 = 1);
+  // The plane through origin with this unit normal, x_axis = perpendicular(normal) and
+  // y_axis = normal x x_axis (so Su x Sv = normal), over [0, 1]^2: a B-Rep face's plane, bounded by
+  // the face's loops rather than by the domain.
+  Plane(const Point3& origin, const Vec3& unit_normal);
   std::pair<double, double> u_domain() const override { return {u0_, u1_}; }
   std::pair<double, double> v_domain() const override { return {v0_, v1_}; }
   Point3 eval(double u, double v) const override { return origin_ + u * x_ + v * y_; }
   Vec3 derivative(double u, double v, int ku, int kv) const override;
+  const Point3& origin() const { return origin_; }
+  const Vec3& x_axis() const { return x_; }
+  const Vec3& y_axis() const { return y_; }
+  const Vec3& unit_normal() const { return n_; }  // x_axis x y_axis, normalised
 
  private:
   Point3 origin_;
-  Vec3 x_, y_;
+  Vec3 x_, y_, n_;
   double u0_, u1_, v0_, v1_;
+};
+
+// A unit vector perpendicular to the unit vector n (x, or y when n is near x, made perpendicular).
+Vec3 perpendicular(const Vec3& n);
+
+// The circular cylinder S(u, v) = origin + radius (cos u x + sin u y) + v axis, with
+// x = perpendicular(axis), y = axis x x; u in [0, 2 pi], v in [v0, v1] (default [0, 1]; a B-Rep
+// face bounds it by its loops). Su x Sv points away from the axis.
+class Cylinder : public Surface {
+ public:
+  Cylinder(const Point3& origin, const Vec3& unit_axis, double radius, double v0 = 0, double v1 = 1);
+  std::pair<double, double> u_domain() const override { return {0.0, 2 * kPi}; }
+  std::pair<double, double> v_domain() const override { return {v0_, v1_}; }
+  Point3 eval(double u, double v) const override;
+  Vec3 derivative(double u, double v, int ku, int kv) const override;
+  const Point3& origin() const { return origin_; }
+  const Vec3& axis() const { return axis_; }
+  double radius() const { return radius_; }
+
+ private:
+  Point3 origin_;
+  Vec3 axis_, x_, y_;
+  double radius_, v0_, v1_;
 };
 
 // A NURBS tensor-product surface: points[i][j] with i along u, j along v. Evaluation and
@@ -417,6 +462,7 @@ class SubCurve : public Curve {
   Point3 eval(double t) const override { return curve_->eval(t); }
   Vec3 derivative(double t, int k) const override { return curve_->derivative(t, k); }
   std::vector<double> breaks() const override;
+  const CurvePtr& source() const { return curve_; }
 
  private:
   CurvePtr curve_;
@@ -466,6 +512,22 @@ class TransformedSurface : public Surface {
   SurfacePtr surface_;
   Mat4 m_;
 };
+
+// What the B-Rep does to the curve of an edge (surfaces/derived.cpp). A CircularArc stays one
+// wherever it can (reversed, moved by a similarity, split, joined), so that an arc edge is still
+// known as an arc; other curves are wrapped.
+// c run the other way over a domain of the same length (a ReversedCurve unless c is an arc).
+CurvePtr reversed_curve(const CurvePtr& c);
+// c moved by the affine map m (a TransformedCurve unless c is an arc and m a similarity).
+CurvePtr transformed_curve(const CurvePtr& c, const Mat4& m);
+// The parameter of c nearest p (32 samples per piece between breaks, then golden-section search).
+double closest_parameter(const Curve& c, const Point3& p);
+// c cut at parameter t inside its domain into the pieces before and after t (arcs stay arcs,
+// other curves become SubCurves of the curve that c is a piece of).
+std::pair<CurvePtr, CurvePtr> split_curve(const CurvePtr& c, double t);
+// The inverse of split_curve: a followed by b as one curve, when they are consecutive pieces of
+// one circle or one curve (a's end is b's start); nullptr otherwise.
+CurvePtr joined_curve(const CurvePtr& a, const CurvePtr& b);
 
 // OpenSCAD's revolve of a profile curve in the XY plane (x the radius, y the height):
 // S(u, v) = (x(u) cos v, x(u) sin v, y(u)), u along the profile, v in [0, angle] (radians).

@@ -128,7 +128,7 @@ double estimate_triangles(const Model& m, const Tolerance& tol) {
   const double t = tol.chordal, a = radians(tol.angular);
   double total = 0;
   m.edges().for_each([&](EdgeId e, const BrepEdge&) {
-    if (std::holds_alternative<LineCurve>(m.curve(e))) return;
+    if (!m.curve(e)) return;
     CurvePtr c = m.edge_curve(e);
     auto [t0, t1] = c->domain();
     constexpr int n = 32;
@@ -142,8 +142,8 @@ double estimate_triangles(const Model& m, const Tolerance& tol) {
     }
   });
   m.faces().for_each([&](FaceId f, const BrepFace&) {
-    auto* ps = std::get_if<ParamSurface>(&m.surface(f));
-    if (!ps) return;
+    const FaceSurface* ps = &m.surface(f);
+    if (!ps->parametric) return;
     const Surface& S = *ps->surface;
     // A ruled face (cylinder, cone) gets no points inside: its strips are counted by its edges.
     if (straight_axis(S) >= 0) return;
@@ -281,17 +281,17 @@ Mesh tessellate(const Model& m, const Tolerance& tol_in, std::vector<std::array<
   std::unordered_map<std::int32_t, EdgeSamples> samples;
   std::unordered_map<std::int32_t, std::vector<double>> fractions;  // interior points of curved edges
   m.edges().for_each([&](EdgeId e, const BrepEdge&) {
-    if (std::holds_alternative<LineCurve>(m.curve(e))) return;
+    if (!m.curve(e)) return;
     CurvePtr c = m.edge_curve(e);
     auto [t0, t1] = c->domain();
-    // The faces on a ParamSurface along the edge: their normals must not turn by more than the
+    // The faces on a parametric surface along the edge: their normals must not turn by more than the
     // angular tolerance between neighbouring points (a twisted face turns along a straight edge).
-    std::vector<std::pair<const ParamSurface*, const PCurve*>> along;
+    std::vector<std::pair<const FaceSurface*, const PCurve*>> along;
     for (int side = 0; side < 2; ++side) {
       EdgeSide es{e, side};
       FaceId f = m.loops()[m.side(es).loop].face;
       const PCurve* pc = m.pcurve(es);
-      if (auto* ps = std::get_if<ParamSurface>(&m.surface(f)); ps && pc) along.emplace_back(ps, pc);
+      if (const FaceSurface* ps = &m.surface(f); ps->parametric && pc) along.emplace_back(ps, pc);
     }
     double ang = radians(tol.angular);
     auto turns = [&](double a, double b) {
@@ -310,8 +310,8 @@ Mesh tessellate(const Model& m, const Tolerance& tol_in, std::vector<std::array<
   // them follow the rulings and need no points inside (otherwise a chord between points at
   // different u cuts across the face and the refinement fills the face).
   m.faces().for_each([&](FaceId f, const BrepFace& face) {
-    auto* ps = std::get_if<ParamSurface>(&m.surface(f));
-    if (!ps || !face.rings.empty()) return;
+    const FaceSurface* ps = &m.surface(f);
+    if (!ps->parametric || !face.rings.empty()) return;
     int straight = straight_axis(*ps->surface);
     if (straight < 0) return;
     int along = 1 - straight;  // the curved borders run along this parameter
@@ -380,12 +380,11 @@ Mesh tessellate(const Model& m, const Tolerance& tol_in, std::vector<std::array<
     std::vector<LoopId> ls{face.outer};
     ls.insert(ls.end(), face.rings.begin(), face.rings.end());
     const FaceSurface& fs = m.surface(f);
-    if (auto* cyl = std::get_if<CylinderSurface>(&fs)) {
-      (void)cyl;
+    if (fs.cylinder()) {
       // The planar builders' cylinder patch: arc, line, arc, line, as a strip between the arcs.
       auto sides = m.loop_sides(face.outer);
       if (sides.size() != 4 || !face.rings.empty()) fail("tessellate: cylinder face ", f.value, " is not bounded by two arcs and two lines");
-      int k = std::holds_alternative<ArcCurve>(m.curve(sides[0].edge)) ? 0 : 1;
+      int k = m.curve(sides[0].edge) ? 0 : 1;
       std::vector<std::uint32_t> a, b;
       side_points(sides[static_cast<std::size_t>(k)], a, fr);
       a.push_back(vindex.at(m.dest(sides[static_cast<std::size_t>(k)]).value));
@@ -399,8 +398,8 @@ Mesh tessellate(const Model& m, const Tolerance& tol_in, std::vector<std::array<
       }
       return;
     }
-    auto* ps = std::get_if<ParamSurface>(&fs);
-    if (!ps) {
+    const FaceSurface* ps = &fs;
+    if (!ps->parametric) {
       std::vector<std::vector<std::uint32_t>> loops;
       for (LoopId l : ls) {
         std::vector<std::uint32_t> loop;

@@ -200,7 +200,7 @@ int main() {
         std::vector<Tri> out;
         for (std::size_t i = 0; i < mm.triangles.size(); ++i) {
           const FaceSurface& fs = s.wedge_model.surface(FaceId{mm.face_ids[i]});
-          if (!std::holds_alternative<ParamSurface>(fs)) continue;
+          if (!fs.parametric) continue;
           const auto& tr = mm.triangles[i];
           out.push_back({mm.positions[tr[0]], mm.positions[tr[1]], mm.positions[tr[2]]});
         }

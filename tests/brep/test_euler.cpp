@@ -133,6 +133,37 @@ TEST_CASE("semv and jekv are inverses", "[brep][euler]") {
   require_same(before, state(m));
 }
 
+TEST_CASE("semv cuts an arc edge into two arcs of its circle and jekv joins them back", "[brep][euler]") {
+  Model m = worked_example();
+  State before = state(m);
+  EdgeId e;
+  for (EdgeId x : m.edges().ids())
+    if (dynamic_cast<const CircularArc*>(m.curve(x).get())) e = x;
+  REQUIRE(e.valid());
+  const auto& arc = dynamic_cast<const CircularArc&>(*m.curve(e));
+  const Point3 c = arc.center();
+  const double r = arc.radius();
+  std::vector<Point3> along;
+  for (int i = 0; i <= 8; ++i) along.push_back(m.edge_point(e, i / 8.0));
+  const Point3 mid = m.edge_point(e, 0.5);
+  CHECK_THROWS_WITH(m.semv(e, Point3(mid + 0.1 * (mid - c))), Catch::Contains("not inside edge"));
+  auto sv = m.semv(e, mid);
+  CHECK(m.counts() - before.counts == EulerCounts{1, 1, 0, 0, 0, 0});
+  CHECK(m.validate().ok);
+  for (EdgeId half : {e, sv.e}) {
+    auto* h = dynamic_cast<const CircularArc*>(m.curve(half).get());
+    REQUIRE(h);
+    CHECK((h->center() - c).norm() < 1e-12);
+    CHECK(h->radius() == Approx(r).epsilon(1e-12));
+    for (int i = 0; i <= 4; ++i) CHECK((m.edge_point(half, i / 4.0) - c).norm() == Approx(r).epsilon(1e-12));
+  }
+  CHECK((m.edge_point(e, 1) - mid).norm() < 1e-12);
+  CHECK((m.edge_point(sv.e, 0) - mid).norm() < 1e-12);
+  m.jekv(sv.e, sv.v);
+  require_same(before, state(m));
+  for (int i = 0; i <= 8; ++i) CHECK((m.edge_point(e, i / 8.0) - along[static_cast<std::size_t>(i)]).norm() < 1e-12);
+}
+
 TEST_CASE("jekv refuses to join the two edges of a two-edge loop", "[brep][euler]") {
   // Two edges between the same two vertices (a lamina split by mef): joining them at v1 would
   // leave an edge from v0 to itself.
@@ -191,7 +222,7 @@ TEST_CASE("the seed's worked example: 44/66/27/5/1/1 with each feature's own row
   CHECK(v.ok);
   // Four quarter cylinders and two half cylinders.
   int cylinders = 0;
-  m.faces().for_each([&](FaceId f, const BrepFace&) { cylinders += std::holds_alternative<CylinderSurface>(m.surface(f)); });
+  m.faces().for_each([&](FaceId f, const BrepFace&) { cylinders += m.surface(f).cylinder() != nullptr; });
   CHECK(cylinders == 6);
   // Block 320 + protrusion 8 - sharp pocket 4 - round pocket (10 - (4 - pi) r^2) - hole 4 pi.
   double expected = 320 + 8 - 4 - (4 * 2.5 - (4 - kPi) * 0.25) - 4 * kPi;
@@ -228,8 +259,12 @@ TEST_CASE("two disjoint boxes are two shells", "[brep]") {
 namespace wedge {
 // Direct access past the Euler operators, to break a model on purpose (a friend of Model).
 struct ModelCorruptor {
-  static BrepEdge& edge(Model& m, EdgeId e) { return m.raw_edge(e); }
-  static EdgeId add_edge(Model& m, BrepEdge e) { return m.raw_add_edge(e); }
+  static BrepEdge& edge(Model& m, EdgeId e) { return m.edges_[e]; }
+  static EdgeId add_edge(Model& m, BrepEdge e) {
+    EdgeId id = m.edges_.add(e);
+    m.curves_[id] = nullptr;
+    return id;
+  }
 };
 }  // namespace wedge
 
@@ -453,7 +488,7 @@ TEST_CASE("validate() checks the geometry of plane faces", "[brep][validate]") {
     CHECK_THAT(v.message, Catch::Contains("face " + std::to_string(top.value) + "'s loop") && Catch::Contains("intersects itself"));
   }
   SECTION("an outer loop clockwise seen from outside") {
-    m.set_surface(top, PlaneSurface{Point3(0, 0, 1), -Vec3::UnitZ()});
+    m.set_surface(top, plane_face(Point3(0, 0, 1), -Vec3::UnitZ()));
     CHECK_THAT(m.validate().message, Catch::EndsWith("is not counter-clockwise seen from outside"));
   }
   SECTION("a face that is not flat") {

@@ -114,20 +114,20 @@ TEST_CASE("rebuild: the faces of a result carry their source surfaces, not only 
   for (const auto& f : d.faces(tol)) {
     if (f.surface == "sphere") {
       ++spheres;
-      REQUIRE(std::holds_alternative<ParamSurface>(f.geometry));
+      REQUIRE(f.geometry.parametric);
       for (const auto& s : samples(f)) {
         CHECK((s.p - c).norm() == Approx(1).epsilon(1e-12));
         CHECK(s.n.dot(s.p - c) == Approx(1).epsilon(1e-9));
       }
     } else {
       ++planes;
-      REQUIRE(std::holds_alternative<PlaneSurface>(f.geometry));
-      const auto& pl = std::get<PlaneSurface>(f.geometry);
+      REQUIRE(f.geometry.plane());
+      const Vec3 normal = f.geometry.plane()->unit_normal();
       int axis = -1;
       for (int a = 0; a < 3; ++a)
-        if (std::abs(pl.normal[a]) > 0.5) axis = a;
+        if (std::abs(normal[a]) > 0.5) axis = a;
       REQUIRE(axis >= 0);
-      CHECK(pl.normal[axis] == Approx(1).epsilon(1e-12));
+      CHECK(normal[axis] == Approx(1).epsilon(1e-12));
       for (const auto& s : samples(f, 3)) {
         CHECK(s.p[axis] == Approx(c[axis]).margin(1e-12));
         CHECK((s.n - Vec3::Unit(axis)).norm() < 1e-12);
@@ -150,7 +150,7 @@ TEST_CASE("rebuild: a drilled box stretched by a transform keeps the exact ellip
   for (const auto& f : d.faces(tol)) {
     if (f.surface != "cylinder") continue;
     ++bores;
-    REQUIRE(std::holds_alternative<ParamSurface>(f.geometry));
+    REQUIRE(f.geometry.parametric);
     for (const auto& s : samples(f)) {
       const double x = s.p.x() - 4, y = s.p.y() - 2;
       CHECK(x * x / 4 + y * y == Approx(1).epsilon(1e-12));
@@ -162,9 +162,9 @@ TEST_CASE("rebuild: a drilled box stretched by a transform keeps the exact ellip
 }
 
 TEST_CASE("rebuild: a planar builder's cylinder face is its exact cylinder, also after a stretch", "[tree][rebuild]") {
-  // surface_patch of a CylinderSurface (axis +z through (1, 2, 0), radius 0.5, solid outside):
+  // surface_patch of a cylinder face (axis +z through (1, 2, 0), radius 0.5, solid outside):
   // points at distance 0.5 from the axis, outward normal pointing to the axis.
-  CylinderSurface cy{Point3(1, 2, 0), Vec3::UnitZ(), 0.5, false};
+  const FaceSurface cy = cylinder_face(Point3(1, 2, 0), Vec3::UnitZ(), 0.5, true);
   SolidFace f;
   f.geometry = cy;
   f.bounds.extend(Point3(0.5, 1.5, -1));
@@ -178,7 +178,7 @@ TEST_CASE("rebuild: a planar builder's cylinder face is its exact cylinder, also
   }
   // Stretched by 3 along x: the elliptic cylinder ((x - 3) / 1.5)^2 + ((y - 2) / 0.5)^2 = 1.
   f.geometry = transformed_surface(cy, scale(Vec3(3, 1, 1)), f.bounds);
-  REQUIRE(std::holds_alternative<ParamSurface>(f.geometry));
+  REQUIRE(f.geometry.parametric);
   f.bounds = Box3();
   f.bounds.extend(Point3(1.5, 1.5, -1));
   f.bounds.extend(Point3(4.5, 2.5, 3));
@@ -250,8 +250,8 @@ TEST_CASE("shading: normals of a sphere minus a cube are the sphere's and the pl
   const auto surfaces = d.face_surfaces(tol);
   double off = 0;
   for (std::size_t t = 0; t < m.triangles.size(); ++t) {
-    const auto* ps = std::get_if<ParamSurface>(&surfaces.at(static_cast<std::size_t>(m.face_ids[t])));
-    if (!ps) continue;
+    const FaceSurface* ps = &surfaces.at(static_cast<std::size_t>(m.face_ids[t]));
+    if (!ps->parametric) continue;
     for (std::uint32_t i : m.triangles[t]) {
       const Point3 q = ps->surface->eval(m.uvs[i].x(), m.uvs[i].y());
       off = std::max(off, (q - (c + (m.positions[i] - c).normalized())).norm());

@@ -475,3 +475,85 @@ TEST_CASE("welded mesh of a swept tube merges the profile's seam and leaves the 
   }
   CHECK(m.positions.size() < tessellate(tube, 2e-3).positions.size());
 }
+
+TEST_CASE("the cylinder: points at its radius, Su x Sv away from the axis, derivatives", "[quadrics][cylinder]") {
+  const Point3 o(1, -2, 0.5);
+  const Vec3 axis = Vec3(1, 2, 2) / 3;
+  Cylinder c(o, axis, 0.75, -1, 2);
+  for (int i = 0; i < 12; ++i)
+    for (int j = 0; j < 5; ++j) {
+      const double u = 2 * kPi * (i + 0.3) / 12, v = -1 + 3.0 * j / 4;
+      const Vec3 d = c.eval(u, v) - o;
+      const Vec3 radial = d - d.dot(axis) * axis;
+      CHECK(radial.norm() == Approx(0.75).epsilon(1e-14));
+      CHECK(d.dot(axis) == Approx(v).margin(1e-14));
+      CHECK((c.normal(u, v) - radial / 0.75).norm() < 1e-14);
+    }
+  check_surface_derivatives(c, 1e-6, 3);
+}
+
+TEST_CASE("the plane of a face: its normal as given, axes from it", "[plane]") {
+  const Vec3 n = Vec3(0.2, -0.4, 1).normalized();
+  Plane p(Point3(1, 2, 3), n);
+  CHECK(p.unit_normal() == n);  // bit for bit: the B-Rep keeps a face's normal as it was given
+  CHECK(std::abs(p.x_axis().dot(n)) < 1e-15);
+  CHECK((p.x_axis().cross(p.y_axis()) - n).norm() < 1e-15);
+  CHECK((p.normal(0.3, 0.7) - n).norm() < 1e-15);
+}
+
+TEST_CASE("arcs stay arcs: through three points, reversed, moved, split and joined", "[curves][arc]") {
+  const Point3 a(2, 0, 1), m(0, 2, 1), b(-2, 0, 1);  // half of the circle of radius 2 about (0, 0, 1)
+  CircularArc arc = arc_through(a, m, b);
+  CHECK((arc.center() - Point3(0, 0, 1)).norm() < 1e-14);
+  CHECK(arc.radius() == Approx(2).epsilon(1e-15));
+  auto [t0, t1] = arc.domain();
+  CHECK((arc.eval(t0) - a).norm() < 1e-14);
+  CHECK((arc.eval((t0 + t1) / 2) - m).norm() < 1e-14);
+  CHECK((arc.eval(t1) - b).norm() < 1e-14);
+
+  CircularArc rev = arc.reversed();
+  auto [r0, r1] = rev.domain();
+  for (int i = 0; i <= 8; ++i) {
+    const double s = i / 8.0;
+    CHECK((rev.eval(r0 + s * (r1 - r0)) - arc.eval(t1 - s * (t1 - t0))).norm() < 1e-14);
+  }
+  // A mirror with scale 3 and a shift: the image runs the same way, still a circle.
+  const Mat4 mm = translate(Vec3(1, 1, 1)) * scale(Vec3(3, 3, 3)) * reflect(Vec3(1, 1, 0).normalized());
+  CircularArc moved = arc.transformed(mm);
+  CHECK(moved.radius() == Approx(6).epsilon(1e-14));
+  for (int i = 0; i <= 8; ++i) {
+    const double t = t0 + (t1 - t0) * i / 8;
+    CHECK((moved.eval(t) - apply_point(mm, arc.eval(t))).norm() < 1e-13);
+  }
+  CurvePtr stretched = transformed_curve(std::make_shared<const CircularArc>(arc), scale(Vec3(2, 1, 1)));
+  CHECK(dynamic_cast<const CircularArc*>(stretched.get()) == nullptr);  // an ellipse now
+  CHECK((stretched->eval(t0) - Point3(4, 0, 1)).norm() < 1e-14);
+
+  CurvePtr whole = std::make_shared<const CircularArc>(arc);
+  auto [p, q] = split_curve(whole, 1.0);
+  REQUIRE(dynamic_cast<const CircularArc*>(p.get()));
+  REQUIRE(dynamic_cast<const CircularArc*>(q.get()));
+  CHECK((p->eval(p->domain().second) - arc.eval(1.0)).norm() < 1e-14);
+  CHECK((q->eval(q->domain().first) - arc.eval(1.0)).norm() < 1e-14);
+  CurvePtr back = joined_curve(p, q);
+  REQUIRE(back);
+  CHECK(back->domain() == arc.domain());
+  for (int i = 0; i <= 8; ++i) {
+    const double t = t0 + (t1 - t0) * i / 8;
+    CHECK((back->eval(t) - arc.eval(t)).norm() < 1e-14);
+  }
+  CHECK_FALSE(joined_curve(q, p));  // not in that order
+}
+
+TEST_CASE("a free-form curve split and joined again is the same curve", "[curves]") {
+  std::vector<Point3> P{{0, 0, 0}, {1, 2, 0}, {3, 3, 1}, {4, 0, 2}, {6, 1, 0}};
+  CurvePtr c = std::make_shared<const NurbsCurve>(interpolate_nurbs(P, 3));
+  const Point3 x = c->eval(0.37);
+  const double t = closest_parameter(*c, x);
+  CHECK(t == Approx(0.37).margin(1e-9));
+  auto [a, b] = split_curve(c, t);
+  auto [a1, a2] = split_curve(a, 0.2);  // a piece of a piece is a piece of the curve
+  CHECK(joined_curve(a1, a2)->domain() == a->domain());
+  CHECK(joined_curve(joined_curve(a1, a2), b) == c);
+  CHECK_FALSE(joined_curve(b, a));
+}
