@@ -1,18 +1,22 @@
 // The B-Rep tessellator (tessellate/brep_mesh.h).
 //
-// Edges: recursive bisection of the parameter interval from the curve's breaks, until the
-// polyline's chord stays within the chordal tolerance of the curve at three interior samples and
-// the tangent turns by less than the angular tolerance over each segment.
+// Edges: the number of chords a smooth stretch needs is the integral of its curvature's need
+// (chordal sagitta kappa h^2 / 8 and turn kappa h); the points go at equal steps of that integral,
+// then each chord is checked at three interior samples (and the tangent's turn) and bisected while
+// it is over the tolerance.
 //
 // Curved faces: the face's loops are mapped into (u, v) through the PCurves of their sides; where
 // the image of one side ends away from the start of the next, the stretch between them is a pole
-// (it maps to the one shared vertex) and gets points of its own that all carry that vertex. The
-// (u, v) plane is scaled by the surface's mean |Su| and |Sv| so that Delaunay's angles mean
-// something in 3D. Refinement: each triangle inside the face is checked at its centroid and at the
-// midpoints of its free edges (distance between the surface at those parameters and the flat
-// triangle's point) and by the angle between the surface normals at its corners; the worst place
-// of a triangle over the tolerance gets a new point; repeat until none does. A triangle whose
-// corners include one vertex twice (at a pole) is dropped: its neighbours close the fan.
+// (it maps to the one shared vertex) and gets points of its own that all carry that vertex. Each
+// parameter is stretched, piecewise linearly, by the chords per unit parameter that the surface's
+// normal curvature along it needs there, so that Delaunay's triangles in the stretched plane are
+// about as long as the tolerance allows in each direction. Seeding puts rows of points at that
+// spacing inside the face (rows along v with the local need of each row). Refinement: each
+// triangle inside the face is checked at its centroid and at the midpoints of its free edges
+// (distance between the surface at those parameters and the flat triangle's point) and by the
+// angle between the surface normals at its corners; the worst place of a triangle over the
+// tolerance gets a new point; repeat until none does. A triangle whose corners include one vertex
+// twice (at a pole) is dropped: its neighbours close the fan.
 #include "tessellate/brep_mesh.h"
 
 #include <CGAL/Constrained_Delaunay_triangulation_2.h>
@@ -222,8 +226,44 @@ std::vector<double> edge_parameters(const Curve& c, const Tolerance& tol, const 
       out.push_back(cuts[i + 1]);
       continue;
     }
-    rec(cuts[i], m, a, pm, 1);
-    rec(m, cuts[i + 1], pm, b, 1);
+    // Curvature-adaptive: a chord of length h where the curvature is kappa deviates by about
+    // kappa h^2 / 8 and turns by kappa h, so the stretch needs about the integral of
+    // max(sqrt(kappa / (8 tol)), kappa / angle) ds chords. Its points go at equal steps of that
+    // integral (trapezoid rule over kSamples pieces, a margin of 5 % for the curvature's variation
+    // within a chord); each chord is then checked as above and bisected if it is still over.
+    constexpr int kSamples = 48;
+    const double lo = cuts[i], hi = cuts[i + 1];
+    std::array<double, kSamples + 1> cum{};
+    double prev = 0;
+    for (int k = 0; k <= kSamples; ++k) {
+      double t = lo + (hi - lo) * k / kSamples;
+      Vec3 d1 = c.derivative(t, 1), d2 = c.derivative(t, 2);
+      double speed = d1.norm();
+      double kappa = speed > 0 ? d1.cross(d2).norm() / (speed * speed * speed) : 0;
+      double rho = speed * std::max(std::sqrt(kappa / (8 * 0.95 * tol.chordal)), ang > 0 ? kappa / ang : 0.0);
+      if (k > 0) cum[static_cast<std::size_t>(k)] = cum[static_cast<std::size_t>(k) - 1] + 0.5 * (prev + rho) * (hi - lo) / kSamples;
+      prev = rho;
+    }
+    const double total = cum[kSamples];
+    const int n = std::isfinite(total) ? std::clamp(static_cast<int>(std::ceil(total)), 2, 1 << 20) : 2;
+    double ta = lo;
+    Point3 pa = a;
+    std::size_t piece = 0;
+    for (int j = 1; j <= n; ++j) {
+      double tb = hi;
+      if (j < n) {
+        double target = total * j / n;
+        while (piece + 1 < kSamples && cum[piece + 1] < target) ++piece;
+        double c0 = cum[piece], c1 = cum[piece + 1];
+        double w = c1 > c0 ? (target - c0) / (c1 - c0) : 0.5;
+        tb = lo + (hi - lo) * (static_cast<double>(piece) + std::clamp(w, 0.0, 1.0)) / kSamples;
+        if (!(tb > ta) || !(tb < hi)) continue;
+      }
+      Point3 pb = j < n ? c.eval(tb) : b;
+      rec(ta, tb, pa, pb, 1);
+      ta = tb;
+      pa = pb;
+    }
   }
   return out;
 }
@@ -415,19 +455,31 @@ Mesh tessellate(const Model& m, const Tolerance& tol_in, std::vector<std::array<
     const Surface& S = *ps->surface;
     auto [u0, u1] = S.u_domain();
     auto [v0, v1] = S.v_domain();
-    // The metric of (u, v): each axis is scaled by the number of chords per unit parameter that
-    // the tolerance needs along it, sqrt(k / (8 tol)) with k the largest normal curvature term
-    // (|Suu.n|, |Svv.n|, and |Suv.n| for twisted patches) over a grid of samples: a chord of
-    // parameter length d then deviates by about k d^2 / 8. A straight direction (a cylinder's or
-    // cone's rulings) needs no points inside, so its scale falls to the floor (one chord over the
-    // face's size) and Delaunay gives long triangles across it: counts then grow as 1/sqrt(tol)
-    // per curved edge, not 1/tol. Where neither direction bends (a flat patch), the mean speeds
-    // |Su|, |Sv| keep the plane isometric.
-    double su = 0, sv = 0, kuu = 0, kvv = 0, kuv = 0;
+    // The metric of (u, v): each parameter is stretched by the number of chords per unit parameter
+    // that the tolerance needs along it, sqrt(k / (8 tol)) with k the largest normal curvature
+    // term (|Suu.n|, |Svv.n|, and |Suv.n| for twisted patches): a chord of parameter length d then
+    // deviates by about k d^2 / 8. The stretch varies along each parameter (k is the largest over
+    // a column of samples across it, for each of kCells columns), so that where a revolved
+    // profile is nearly flat the triangles grow long along it instead of staying as short as at
+    // its tightest bend. A straight direction (a cylinder's or cone's rulings) needs no points
+    // inside, so its stretch falls to the floor (one chord over the face's size) and Delaunay
+    // gives long triangles across it: counts then grow as 1/sqrt(tol) per curved edge, not 1/tol.
+    // Where neither direction bends (a flat patch), the mean speeds |Su|, |Sv| keep the plane
+    // isometric.
+    const double ang_tol = radians(tol.angular);
+    // Chords per unit parameter that the tolerances need where the normal curvature term along the
+    // parameter is k (|Suu.n|) and the speed |Su|: the chord's deviation k d^2 / 8 and its turn
+    // k d / |Su|.
+    auto need = [&](double k, double speed) {
+      return std::max(std::sqrt(k / (8 * tol.chordal)), speed > 0 ? k / (speed * ang_tol) : 0.0);
+    };
+    constexpr int kCells = 16;
+    double su = 0, sv = 0;
+    std::array<double, kCells> ku{}, kv{};  // per column: the chords per unit u (v) needed
     Box3 fbox;
-    for (int i = 0; i <= 8; ++i)
-      for (int j = 0; j <= 8; ++j) {
-        double u = u0 + (u1 - u0) * (i + 0.5) / 9.0, v = v0 + (v1 - v0) * (j + 0.5) / 9.0;
+    for (int i = 0; i < kCells; ++i)
+      for (int j = 0; j < kCells; ++j) {
+        double u = u0 + (u1 - u0) * (i + 0.5) / kCells, v = v0 + (v1 - v0) * (j + 0.5) / kCells;
         Vec3 Su = S.derivative(u, v, 1, 0), Sv = S.derivative(u, v, 0, 1);
         su += Su.norm();
         sv += Sv.norm();
@@ -435,21 +487,46 @@ Mesh tessellate(const Model& m, const Tolerance& tol_in, std::vector<std::array<
         Vec3 n = Su.cross(Sv);
         if (!(n.norm() > 0)) continue;
         n.normalize();
-        kuu = std::max(kuu, std::abs(S.derivative(u, v, 2, 0).dot(n)));
-        kvv = std::max(kvv, std::abs(S.derivative(u, v, 0, 2).dot(n)));
-        kuv = std::max(kuv, std::abs(S.derivative(u, v, 1, 1).dot(n)));
+        const double kuv = std::abs(S.derivative(u, v, 1, 1).dot(n));
+        ku[i] = std::max(ku[i], need(std::max(std::abs(S.derivative(u, v, 2, 0).dot(n)), kuv), Su.norm()));
+        kv[j] = std::max(kv[j], need(std::max(std::abs(S.derivative(u, v, 0, 2).dot(n)), kuv), Sv.norm()));
       }
-    su = su > 0 ? su / 81 : 1;
-    sv = sv > 0 ? sv / 81 : 1;
+    su = su > 0 ? su / (kCells * kCells) : 1;
+    sv = sv > 0 ? sv / (kCells * kCells) : 1;
+    // The stretched coordinate of each parameter: piecewise linear over the cells, slope = the
+    // cell's chords per unit parameter.
+    struct Stretch {
+      double p0 = 0, step = 1;
+      std::array<double, kCells> slope{};
+      std::array<double, kCells + 1> at{};
+      double operator()(double p) const {
+        int i = std::clamp(static_cast<int>(std::floor((p - p0) / step)), 0, kCells - 1);
+        return at[static_cast<std::size_t>(i)] + slope[static_cast<std::size_t>(i)] * (p - (p0 + step * i));
+      }
+      // The parameter whose stretched coordinate is x (inside the range).
+      double inverse(double x) const {
+        std::size_t i = 0;
+        while (i + 1 < kCells && at[i + 1] < x) ++i;
+        return p0 + step * (static_cast<double>(i) + (slope[i] > 0 ? (x - at[i]) / (slope[i] * step) : 0.5));
+      }
+    } stretch_u, stretch_v;
     {
       double size = std::max(fbox.diagonal(), 1e-300);
-      double gu = std::sqrt(std::max(kuu, kuv) / (8 * tol.chordal)), gv = std::sqrt(std::max(kvv, kuv) / (8 * tol.chordal));
-      if (gu > 0 || gv > 0) {
-        su = std::max(gu, su / size);
-        sv = std::max(gv, sv / size);
-      }
+      double kmax = std::max(*std::max_element(ku.begin(), ku.end()), *std::max_element(kv.begin(), kv.end()));
+      auto fill = [&](Stretch& st, double p0, double p1, const std::array<double, kCells>& k, double speed) {
+        st.p0 = p0;
+        st.step = (p1 - p0) / kCells;
+        for (int i = 0; i < kCells; ++i) {
+          st.slope[static_cast<std::size_t>(i)] =
+              kmax > 0 ? std::max(k[static_cast<std::size_t>(i)], speed / size) : speed;
+          st.at[static_cast<std::size_t>(i) + 1] = st.at[static_cast<std::size_t>(i)] + st.slope[static_cast<std::size_t>(i)] * st.step;
+        }
+      };
+      fill(stretch_u, u0, u1, ku, su);
+      fill(stretch_v, v0, v1, kv, sv);
     }
-    auto to_plane = [&](const Vec2& uv) { return K::Point_2(uv.x() * su, uv.y() * sv); };
+    auto stretched = [&](const Vec2& uv) { return Vec2(stretch_u(uv.x()), stretch_v(uv.y())); };
+    auto to_plane = [&](const Vec2& uv) { return K::Point_2(stretch_u(uv.x()), stretch_v(uv.y())); };
 
     CDT cdt;
     // The mesh vertices that are poles of this face, and the parameter along which each does not
@@ -480,7 +557,7 @@ Mesh tessellate(const Model& m, const Tolerance& tol_in, std::vector<std::array<
         const auto& sp = per_side[i];
         for (std::size_t k = 0; k < sp.size(); ++k) {
           Vec2 a = sp[k].uv, b = k + 1 < sp.size() ? sp[k + 1].uv : ends[i].second;
-          spacing += Vec2((b - a).x() * su, (b - a).y() * sv).norm();
+          spacing += (stretched(b) - stretched(a)).norm();
           ++count;
         }
       }
@@ -488,7 +565,7 @@ Mesh tessellate(const Model& m, const Tolerance& tol_in, std::vector<std::array<
       for (std::size_t i = 0; i < per_side.size(); ++i) {
         pts.insert(pts.end(), per_side[i].begin(), per_side[i].end());
         Vec2 a = ends[i].second, b = ends[(i + 1) % ends.size()].first;
-        Vec2 d(( b - a).x() * su, (b - a).y() * sv);
+        Vec2 d = stretched(b) - stretched(a);
         if (d.norm() > 1e-12 * (1 + spacing)) {
           // A pole: the vertex between the two sides, along the domain's border.
           std::uint32_t pole = per_side[(i + 1) % per_side.size()][0].index;
@@ -509,6 +586,71 @@ Mesh tessellate(const Model& m, const Tolerance& tol_in, std::vector<std::array<
       }
       for (std::size_t i = 0; i < hs.size(); ++i)
         if (hs[i] != hs[(i + 1) % hs.size()]) cdt.insert_constraint(hs[i], hs[(i + 1) % hs.size()]);
+    }
+    // Seeding: rows of points across the face, so that refinement starts from nearly the
+    // triangles the tolerance needs instead of growing them one worst point at a time (which
+    // leaves most triangles well below the tolerance: about twice the count). Rows run along v at
+    // steps of the u-stretch of sqrt(3)/2 kSeed; along each row the points are kSeed apart in the
+    // row's own need (the local |Svv.n| and |Suv.n|, so that rows near a pole get few points),
+    // shifted by half a step on every other row: Delaunay then gives nearly equilateral triangles
+    // in the stretched plane, whose flat centroid lies (4/3) kSeed^2 tol from a quadric's surface.
+    // A face straight along one parameter needs no points inside.
+    mark_depth(cdt);
+    if (straight_axis(S) < 0) {
+      constexpr double kSeed = 0.75;
+      const double a0 = stretch_u(u0), a1 = stretch_u(u1);
+      const int rows = static_cast<int>(std::floor((a1 - a0) / (kSeed * std::sqrt(3.0) / 2)));
+      const double b0 = stretch_v(v0), b1 = stretch_v(v1);
+      const double size = std::max(fbox.diagonal(), 1e-300);
+      constexpr int kRow = 2 * kCells;
+      std::array<double, kRow + 1> cum{};
+      CDT::Face_handle hint;
+      for (int r = 1; r < rows; ++r) {
+        const double u = stretch_u.inverse(a0 + (a1 - a0) * r / rows);
+        double prev = 0;
+        for (int j = 0; j <= kRow; ++j) {
+          double v = v0 + (v1 - v0) * j / kRow;
+          Vec3 Su = S.derivative(u, v, 1, 0), Sv = S.derivative(u, v, 0, 1), n = Su.cross(Sv);
+          double d = sv / size;
+          if (n.norm() > 0) {
+            n.normalize();
+            d = std::max(d, need(std::max(std::abs(S.derivative(u, v, 0, 2).dot(n)), std::abs(S.derivative(u, v, 1, 1).dot(n))), Sv.norm()));
+          }
+          if (j > 0) cum[static_cast<std::size_t>(j)] = cum[static_cast<std::size_t>(j) - 1] + 0.5 * (prev + d) * (v1 - v0) / kRow;
+          prev = d;
+        }
+        const int count = static_cast<int>(std::lround(cum[kRow] / kSeed));
+        if (count < 2) continue;
+        const double shift = r % 2 ? 0.5 : 0.0;
+        std::size_t piece = 0;
+        for (int k = 0; k < count; ++k) {
+          const double target = cum[kRow] * (k + shift) / count;
+          if (k == 0 && shift == 0) continue;
+          while (piece + 1 < kRow && cum[piece + 1] < target) ++piece;
+          const double c0 = cum[piece], c1 = cum[piece + 1];
+          const double v = v0 + (v1 - v0) * (static_cast<double>(piece) + (c1 > c0 ? (target - c0) / (c1 - c0) : 0.5)) / kRow;
+          const Vec2 uv(u, v);
+          const Vec2 at = stretched(uv);
+          // Half a step clear of the domain's border (where the loops' own points are).
+          if (at.y() - b0 < 0.5 * kSeed || b1 - at.y() < 0.5 * kSeed) continue;
+          const auto loc = to_plane(uv);
+          CDT::Locate_type lt;
+          int li;
+          auto fh = cdt.locate(loc, lt, li, hint);
+          if (lt != CDT::FACE || fh->info().depth % 2 != 1) continue;
+          double nearest = 1e300;
+          for (int q = 0; q < 3; ++q) nearest = std::min(nearest, CGAL::squared_distance(loc, fh->vertex(q)->point()));
+          if (nearest < 0.25 * kSeed * kSeed) continue;
+          const int depth = fh->info().depth;
+          auto h = cdt.insert(loc, fh);
+          h->info() = VInfo{out.add_vertex(S.eval(u, v)), uv};
+          auto fc = cdt.incident_faces(h), done = fc;
+          do {
+            fc->info().depth = depth;
+          } while (++fc != done);
+          hint = fc;
+        }
+      }
     }
     double sign = ps->reversed ? -1.0 : 1.0;
     const double margin = straight_axis(S) >= 0 ? 1.0 : 0.8;

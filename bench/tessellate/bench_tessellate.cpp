@@ -34,6 +34,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <functional>
 #include <string>
 #include <vector>
@@ -120,8 +121,14 @@ std::vector<Tri> occt_curved_triangles(const TopoDS_Shape& s, long* total) {
 
 }  // namespace
 
-int main() {
+int main(int argc, char** argv) {
   const double pi = kPi;
+  // Optional: the tolerances to run (default 1e-2 1e-3 1e-4).
+  std::vector<double> tolerances{1e-2, 1e-3, 1e-4};
+  if (argc > 1) {
+    tolerances.clear();
+    for (int i = 1; i < argc; ++i) tolerances.push_back(std::atof(argv[i]));
+  }
   std::vector<Shape> shapes;
   // Sphere r = 1 and torus R = 2, r = 0.5.
   shapes.push_back({"sphere r=1", sphere(1), BRepPrimAPI_MakeSphere(1.0).Shape(), [](const Point3& p) { return std::abs(p.norm() - 1); }});
@@ -173,7 +180,7 @@ int main() {
               "| wedge at OCCT's error: triangles, error |\n");
   std::printf("|---|---|---|---|---|---|---|---|---|---|\n");
   for (Shape& s : shapes)
-    for (double tol : {1e-2, 1e-3, 1e-4}) {
+    for (double tol : tolerances) {
       Tolerance t;
       t.chordal = tol;
       t.angular = 0.5 * 180 / pi;
