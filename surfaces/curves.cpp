@@ -54,24 +54,33 @@ double gauss5(const std::function<double(double)>& f, double a, double b) {
   return s * h;
 }
 
-// Adaptive Gauss-Legendre on [a, b]. `budget` counts the panels left for the whole integral, so
-// an integrand that never settles (rounding noise above the tolerance at huge coordinates) costs a
-// bounded time and gives the best estimate so far, instead of 2^depth panels.
-double adaptive(const std::function<double(double)>& f, double a, double b, double whole, double tol, int depth,
-                long& budget) {
-  double m = 0.5 * (a + b);
-  double left = gauss5(f, a, m), right = gauss5(f, m, b);
-  budget -= 2;
-  if (depth <= 0 || budget <= 0 || !std::isfinite(left + right) || std::abs(left + right - whole) <= tol) return left + right;
-  return adaptive(f, a, m, left, tol / 2, depth - 1, budget) + adaptive(f, m, b, right, tol / 2, depth - 1, budget);
-}
-
 // |v| without overflow or underflow in the squares (coordinates near 1e200 are finite, their
 // squares are not).
 double safe_norm(const Vec3& v) {
   const double s = v.cwiseAbs().maxCoeff();
   if (!(s > 0) || !std::isfinite(s)) return s;
   return s * (v / s).norm();
+}
+
+// Adaptive Gauss-Legendre on [a, b] (pa, pb the curve's points there). `budget` counts the panels
+// left for the whole integral, so an integrand that never settles (rounding noise above the
+// tolerance at huge coordinates) costs a bounded time and gives the best estimate so far, instead
+// of 2^depth panels. An arc is never shorter than its chord: halves that agree on less than the
+// chord have missed where the curve moves (a NURBS weight of 1e50 puts the whole way to its control
+// point in a parameter interval of 1e-50, where no Gauss point falls), so they are split further,
+// and a panel that cannot be split counts at least its chord.
+double adaptive(const Curve& c, const std::function<double(double)>& f, double a, double b, const Point3& pa,
+                const Point3& pb, double whole, double tol, int depth, long& budget) {
+  double m = 0.5 * (a + b);
+  double left = gauss5(f, a, m), right = gauss5(f, m, b);
+  budget -= 2;
+  const double chord = safe_norm(pb - pa);
+  const bool short_of_chord = left + right < chord - tol;
+  if (depth <= 0 || budget <= 0 || !std::isfinite(left + right) || (std::abs(left + right - whole) <= tol && !short_of_chord))
+    return std::max(left + right, chord);
+  const Point3 pm = c.eval(m);
+  return adaptive(c, f, a, m, pa, pm, left, tol / 2, depth - 1, budget) +
+         adaptive(c, f, m, b, pm, pb, right, tol / 2, depth - 1, budget);
 }
 
 double point_segment_distance(const Point3& p, const Point3& a, const Point3& b) {
@@ -98,7 +107,8 @@ double Curve::length(double a, double b) const {
   for (std::size_t i = 0; i + 1 < cuts.size(); ++i) {
     double whole = gauss5(f, cuts[i], cuts[i + 1]);
     long budget = per_span;
-    total += adaptive(f, cuts[i], cuts[i + 1], whole, 1e-13 * (1 + std::abs(whole)), 30, budget);
+    total += adaptive(*this, f, cuts[i], cuts[i + 1], eval(cuts[i]), eval(cuts[i + 1]), whole, 1e-13 * (1 + std::abs(whole)),
+                      30, budget);
   }
   if (!std::isfinite(total))
     fail("the curve's length overflows (", total, "): its coordinates or tangents are too large");

@@ -110,6 +110,21 @@ TEST_CASE("surface constructors and methods", "[lua][surfaces]") {
   CHECK(r.status == 0);
 }
 
+// A weight of 1e10 or 1e50 on the middle control point of a quadratic pulls the curve to it in a
+// parameter interval of about 1/w, where no quadrature point falls: the length must still be the
+// control polygon's, 2 sqrt 2 (the curve runs within about 1/w of it), not 0 as it once was.
+TEST_CASE("the length of a NURBS curve with an extreme weight is its control polygon's", "[lua][curves]") {
+  auto r = run_lua(R"LUA(
+    for _, w in ipairs{1e10, 1e50, 1e100} do
+      local c = nurbs{points = {{0, 0}, {1, 1}, {2, 0}}, weights = {1, w, 1}, knots = {0, 0, 0, 1, 1, 1}, degree = 2}
+      local l = c:length()
+      assert(math.abs(l - 2 * math.sqrt(2)) < 1e-6, w .. ": " .. l)
+    end
+  )LUA");
+  INFO(r.err);
+  CHECK(r.status == 0);
+}
+
 TEST_CASE("bad curve and surface input is an error naming the argument, at the script's line", "[lua][errors]") {
   auto few = run_lua("\nlocal c = bspline{{{0, 0}, {1, 1}}, degree = 3}\n", "@few.lua");
   CHECK_THAT(few.err, Catch::StartsWith("few.lua:2: bspline: a curve of degree 3 needs at least 4 control points, got 2"));
