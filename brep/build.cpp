@@ -183,6 +183,7 @@ void require_polygon(const std::vector<Vec2>& p, const char* what) {
 void require_size(double x, const char* what) {
   require_positive(x, what);
   if (x > kMaxCoordinate) fail(what, " ", x, " is beyond ", kMaxCoordinate, " (volumes and normals would overflow)");
+  if (x < 1 / kMaxCoordinate) fail(what, " ", x, " is below ", 1 / kMaxCoordinate, " (areas and volumes would underflow to zero)");
 }
 
 }  // namespace

@@ -678,6 +678,9 @@ Model extrude(const Section& s, double h, double twist, double scale) {
   require_extent(h, "extrude height");
   if (scale > kMaxCoordinate) fail("extrude: scale ", scale, " is beyond ", kMaxCoordinate);
   if (!std::isfinite(twist)) fail("extrude: twist is not finite");
+  // Beyond a hundred turns the twisted surface's tessellation (and its arc lengths) lose their
+  // precision: a rectangle twisted 1e300 degrees had a volume of 1.7e281.
+  if (!(std::abs(twist) <= 200 * kPi)) fail("extrude: twist ", degrees(twist), " degrees is beyond +-36000 (100 turns)");
   if (!(scale >= 0) || !std::isfinite(scale)) fail("extrude: scale must be >= 0, got ", scale);
   return named(oriented_sweep(s, false, [&](const CurvePtr& c) -> SurfacePtr {
     return std::make_shared<const TwistedExtrusionSurface>(c, h, twist, scale);

@@ -193,7 +193,9 @@ struct Decomposer {
       return;
     }
     Vec3 sz = b.size();
-    if (sz.maxCoeff() <= size) {
+    // A side too short for its centre to differ from its ends in doubles cannot be halved.
+    const bool halvable = (c.array() > b.min.array() && c.array() < b.max.array()).all();
+    if (sz.maxCoeff() <= size || !halvable) {
       leaf(b, Membership::Boundary);
       return;
     }
@@ -241,6 +243,21 @@ CellDecomposition decompose_cells(const Mesh& mesh, double size, double margin, 
   double pad = std::max(margin, 1e-9 * d.bounds.diagonal()) + 1e-3 * size;
   // A relative floor on the margin keeps the double-precision touch test conservative.
   d.margin = std::max(margin, 1e-9 * d.bounds.diagonal());
+  // Every leaf has its sides within (size/2, size] and the surface meets at least area / (sqrt 2
+  // size^2) of them (a plane cuts at most sqrt 2 size^2 from a cube; a surface folded within one
+  // cell meets fewer, hence the further factor 2): refused before the work when that is too many.
+  double area = 0;
+  for (std::uint32_t t = 0; t < mesh.triangles.size(); ++t) {
+    Tri x = tri(mesh, t);
+    area += 0.5 * (*x.b - *x.a).cross(*x.c - *x.a).norm();
+  }
+  const double estimate = area / size / size / (2 * std::sqrt(2.0));
+  if (!std::isfinite(estimate))
+    fail("cells: size ", size, " would need more than 1e308 cells on the surface (its area ", area, " / size^2), more than ",
+         max_cells, " (choose a larger size)");
+  if (!(estimate <= double(max_cells)))
+    fail("cells: size ", size, " would need about ", estimate, " cells on the surface (its area ", area,
+         " / size^2), more than ", max_cells, " (choose a larger size)");
   TriList all(mesh.triangles.size());
   for (std::uint32_t i = 0; i < all.size(); ++i) all[i] = i;
   d.split(d.bounds.inflated(pad), all, nullptr, Membership::Outside);

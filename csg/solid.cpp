@@ -155,6 +155,9 @@ struct Solid::Node {
   BooleanOp op = BooleanOp::Union;
   std::vector<std::shared_ptr<const Node>> operands;
   int tag = -1;  // Solid::tagged
+  // Levels from this node down to its deepest leaf (1 for a leaf). Evaluation, bounds and the
+  // traversals recurse over the tree, so its depth is bounded where the tree is made.
+  int depth = 1;
   // The evaluated results by (chordal, angular) tolerance. A slot's own mutex is held while it is
   // computed, so a second caller waits for the first instead of computing it again.
   struct Slot {
@@ -166,8 +169,20 @@ struct Solid::Node {
 
   Node() = default;
   Node(const Node& o)
-      : kind(o.kind), leaf(o.leaf), matrix(o.matrix), child(o.child), op(o.op), operands(o.operands), tag(o.tag) {}
+      : kind(o.kind), leaf(o.leaf), matrix(o.matrix), child(o.child), op(o.op), operands(o.operands), tag(o.tag),
+        depth(o.depth) {}
 };
+
+namespace {
+// Alternating unions and differences (s = s + a; s = s - b; ...) nest one level per operation; a
+// tree 20000 levels deep overflowed the stack of the recursive evaluation.
+constexpr int kMaxTreeDepth = 1000;
+void check_tree_depth(int depth, const char* what) {
+  if (depth > kMaxTreeDepth)
+    fail(what, ": the CSG tree would be ", depth, " levels deep, beyond ", kMaxTreeDepth,
+         " (alternating unions and differences nest; gather operands: union(a, b, c), s - union(h1, h2, ...))");
+}
+}  // namespace
 
 namespace {
 
@@ -543,6 +558,8 @@ Solid Solid::boolean(BooleanOp op, std::vector<Solid> operands) {
     if (flat) n->operands.insert(n->operands.end(), o.operands.begin(), o.operands.end());
     else n->operands.push_back(operands[i].node_);
   }
+  for (const auto& o : n->operands) n->depth = std::max(n->depth, o->depth + 1);
+  check_tree_depth(n->depth, op == BooleanOp::Union ? "union" : op == BooleanOp::Difference ? "difference" : "intersection");
   return Solid(std::shared_ptr<const Node>(n));
 }
 
@@ -572,13 +589,24 @@ Solid Solid::transformed(const Mat4& m) const {
   // A result beyond the coordinates a solid may have is an error here, not a nan volume later.
   if (const Box3 b = loose_bounds(node_); !b.empty()) {
     double reach = 0;
+    Box3 moved;
     for (int i = 0; i < 8; ++i) {
       const Vec3 corner((i & 1) ? b.max.x() : b.min.x(), (i & 2) ? b.max.y() : b.min.y(), (i & 4) ? b.max.z() : b.min.z());
-      reach = std::max(reach, apply_point(m, corner).cwiseAbs().maxCoeff());
+      const Point3 p = apply_point(m, corner);
+      reach = std::max(reach, p.cwiseAbs().maxCoeff());
+      moved.extend(p);
     }
     if (!(reach <= kMaxCoordinate))
       fail("the transform overflows: the solid would reach coordinate ", reach, ", beyond +-", kMaxCoordinate,
            " (its volume and normals would not be finite numbers)");
+    // Far from the origin doubles are far apart (16384 at 1e20): a solid whose size is below
+    // 1e-12 of its distance from the origin spans too few of them to keep its shape (a unit sphere
+    // moved to 1e20 had a volume of 2.79, a unit box moved to 1e16 crossed itself).
+    const double size = moved.size().maxCoeff();
+    if (size < 1e-12 * reach)
+      fail("the transform moves the solid to coordinate ", reach, ", where doubles are ",
+           std::nextafter(reach, 2 * reach) - reach, " apart: a solid of size ", size,
+           " there would lose its shape (keep its size above 1e-12 of its distance from the origin)");
   }
   switch (node_->kind) {
     case Node::Kind::Empty: return *this;
@@ -597,6 +625,8 @@ Solid Solid::transformed(const Mat4& m) const {
   n->kind = Node::Kind::Transform;
   n->matrix = m;
   n->child = node_;
+  n->depth = node_->depth + 1;
+  check_tree_depth(n->depth, "transform");
   return Solid(std::shared_ptr<const Node>(n));
 }
 

@@ -96,9 +96,13 @@ std::vector<Point2> points(lua_State* L, int arg) {
 }
 
 // A pixel position: a point whose coordinates are whole numbers.
+// Positions and radii stay within +-32768 (twice the largest canvas): a line or circle is rasterised
+// whole before the canvas drops what falls outside it, and a line from -1e9 to 1e9 asked for 16 GB.
+constexpr double kMaxPixel = 32768;
+
 int whole(double v, int arg, const std::string& what) {
-  if (v != std::floor(v) || std::abs(v) > 1e9)
-    throw ArgError{arg, what + " must be a whole number (a pixel position), got " + number_text(v)};
+  if (v != std::floor(v) || std::abs(v) > kMaxPixel)
+    throw ArgError{arg, what + " must be a whole number within -32768..32768 (a pixel position), got " + number_text(v)};
   return int(v);
 }
 
@@ -167,8 +171,8 @@ int circle_m(lua_State* L) {
     const std::int32_t col = colour(o, "color", pack(Vec3(0, 0, 0), 1));
     o.finish();
     const int cx = whole(centre.x(), 2, "center's x"), cy = whole(centre.y(), 2, "center's y");
-    if (r < 0 || r != std::floor(r) || r > 1e6)
-      throw ArgError{2, "field 'radius' must be a whole number >= 0, got " + number_text(r)};
+    if (r < 0 || r != std::floor(r) || r > kMaxPixel)
+      throw ArgError{2, "field 'radius' must be a whole number within 0..32768, got " + number_text(r)};
     for (const render::Pixel& q : render::circle_midpoint(cx, cy, int(r))) {
       if (c.window && !(q.x >= c.window->min.x() && q.x <= c.window->max.x() && q.y >= c.window->min.y() &&
                         q.y <= c.window->max.y()))

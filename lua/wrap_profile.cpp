@@ -154,6 +154,9 @@ int rect_fn(lua_State* L) {
     double w = check_number(L, 1), h = check_number(L, 2);
     if (!(w > 0)) throw ArgError{1, "width must be positive, got " + number_text(w)};
     if (!(h > 0)) throw ArgError{2, "height must be positive, got " + number_text(h)};
+    // As box(): within 1e-100..1e100, so that the area neither underflows nor overflows.
+    if (w < 1 / kMaxCoordinate) throw ArgError{1, "width " + number_text(w) + " is below 1e-100 (the area would underflow to zero)"};
+    if (h < 1 / kMaxCoordinate) throw ArgError{2, "height " + number_text(h) + " is below 1e-100 (the area would underflow to zero)"};
     bool center = lua_isnoneornil(L, 3) ? false : check_boolean(L, 3);
     Vec2 o = center ? Vec2(-w / 2, -h / 2) : Vec2(0, 0);
     push_profile(L, Profile{{o, o + Vec2(w, 0), o + Vec2(w, h), o + Vec2(0, h)}, {}});
@@ -219,6 +222,8 @@ int extrude_fn(lua_State* L) {
       o.finish();
     }
     if (!(k >= 0)) throw ArgError{3, "field 'scale' must be zero or positive, got " + number_text(k)};
+    if (!(std::abs(twist) <= 36000))
+      throw ArgError{3, "field 'twist' must be within -36000..36000 degrees (100 turns), got " + number_text(twist)};
     // A polygon (no curve holes) extruded straight stays the planar prism or frustum.
     const LuaProfile* lp = test_object<LuaProfile>(L, 1, kKey);
     bool polygon = lp != nullptr && lp->curve_holes.empty();

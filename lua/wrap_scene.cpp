@@ -140,7 +140,7 @@ int instance_fn(lua_State* L) {
       read_node_options(L, o, *node);
       o.finish();
     }
-    node->children.push_back(std::move(proto));
+    add_child(*node, std::move(proto), 1);
     push_group(L, std::move(node));
     return 1;
   });

@@ -28,6 +28,25 @@ bool reaches(const Node* from, const Node* target) {
   return false;
 }
 
+// Whether `from` has more than kMaxDepth levels (itself and its descendants), by a traversal that
+// visits each node once with its deepest level seen so far.
+bool too_deep(const Node* from) {
+  std::vector<std::pair<const Node*, std::size_t>> todo{{from, 1}};
+  std::unordered_map<const Node*, std::size_t> level;
+  while (!todo.empty()) {
+    auto [n, depth] = todo.back();
+    todo.pop_back();
+    if (depth > kMaxDepth) return true;
+    auto [it, fresh] = level.try_emplace(n, depth);
+    if (!fresh) {
+      if (it->second >= depth) continue;
+      it->second = depth;
+    }
+    for (const auto& c : n->children) todo.emplace_back(c.get(), depth + 1);
+  }
+  return false;
+}
+
 void check_count(int count, const char* fn) {
   if (count < 1 || count > kMaxCount) fail(fn, ": count must be within 1..", kMaxCount, ", got ", count);
 }
@@ -84,18 +103,31 @@ void add(Node& parent, NodePtr child) {
   if (!child) fail("add: the child is null");
   if (parent.leaf) fail("add: a part (leaf) cannot hold children; put both in a group");
   if (reaches(child.get(), &parent)) fail("the group would contain itself (a scene must have no cycle)");
+  if (too_deep(child.get())) fail("the scene would be deeper than ", kMaxDepth, " levels");
   parent.children.push_back(std::move(child));
+}
+
+Node::~Node() {
+  std::vector<NodePtr> pending = std::move(children);
+  while (!pending.empty()) {
+    NodePtr n = std::move(pending.back());
+    pending.pop_back();
+    // The last owner of n takes its children over, so n dies with none.
+    if (n.use_count() == 1)
+      for (auto& c : n->children) pending.push_back(std::move(c));
+  }
 }
 
 NodePtr instance(NodePtr prototype, const Mat4& transform, std::string name) {
   if (!prototype) fail("instance: the prototype is null");
   auto node = group(transform, std::move(name));
-  node->children.push_back(std::move(prototype));
+  add(*node, std::move(prototype));
   return node;
 }
 
 NodePtr array(NodePtr prototype, int count, const Vec3& step) {
   if (!prototype) fail("array: the prototype is null");
+  if (too_deep(prototype.get())) fail("array: the scene would be deeper than ", kMaxDepth, " levels");
   check_count(count, "array");
   if (!step.allFinite()) fail("array: step must be finite");
   auto node = std::make_shared<Node>();
@@ -110,6 +142,7 @@ NodePtr array(NodePtr prototype, int count, const Vec3& step) {
 
 NodePtr radial_array(NodePtr prototype, int count, double radius, const Vec3& axis, const Point3& center, double angle) {
   if (!prototype) fail("radial_array: the prototype is null");
+  if (too_deep(prototype.get())) fail("radial_array: the scene would be deeper than ", kMaxDepth, " levels");
   check_count(count, "radial_array");
   if (!(radius >= 0) || !std::isfinite(radius)) fail("radial_array: radius must be finite and not negative, got ", radius);
   if (!axis.allFinite() || axis.norm() == 0) fail("radial_array: axis must be finite and non-zero");

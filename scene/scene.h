@@ -44,6 +44,13 @@ struct Node {
   std::shared_ptr<const render::Texture> texture;
   std::vector<std::shared_ptr<Node>> children;
   std::shared_ptr<const Leaf> leaf;  // set on leaf nodes only (no children)
+
+  Node() = default;
+  Node(const Node&) = default;
+  Node& operator=(const Node&) = default;
+  // Releases the children without recursion, so that a chain of a million nested groups (which
+  // add() alone cannot see: it is built from the bottom) does not overflow the stack when it dies.
+  ~Node();
 };
 using NodePtr = std::shared_ptr<Node>;
 
@@ -58,7 +65,7 @@ NodePtr part(Solid solid, std::optional<render::Material> material = std::nullop
 NodePtr part(Mesh mesh, std::optional<render::Material> material = std::nullopt,
              std::shared_ptr<const render::Texture> texture = nullptr);
 // Adds `child` under `parent` (shared, not copied); a child that reaches `parent` would make a
-// cycle and is refused.
+// cycle and is refused, as is a child more than 1000 levels deep.
 void add(Node& parent, NodePtr child);
 // A node that shares `prototype` under a transform of its own.
 NodePtr instance(NodePtr prototype, const Mat4& transform = Mat4::Identity(), std::string name = {});
