@@ -146,6 +146,11 @@ void disable(lua_State* L, int t, const char* table, const char* name) {
 }  // namespace
 
 void sandbox_check_path(lua_State* L, const std::string& path, bool write) {
+  // A Lua string may hold a NUL byte; the file functions would stop there and use another file
+  // than the one named (export(s, "a\0b.stl") wrote "a"), and than the one checked below.
+  if (const std::size_t nul = path.find('\0'); nul != std::string::npos)
+    fail("cannot ", write ? "write" : "read", " '", path.substr(0, nul), "\\0", path.substr(nul + 1),
+         "': a file name cannot hold a NUL byte");
   if (lua_getfield(L, LUA_REGISTRYINDEX, kRootsKey) != LUA_TTABLE) {
     lua_pop(L, 1);
     return;  // not sandboxed
@@ -172,13 +177,16 @@ void apply_sandbox(lua_State* L, const std::string& script_path) {
   lua_createtable(L, 2, 0);
   lua_pushstring(L, script_dir.string().c_str());
   lua_rawseti(L, -2, 1);
-  if (lua_getglobal(L, "params") == LUA_TTABLE && lua_getfield(L, -1, "out") == LUA_TSTRING) {
+  // Without out= the params table stayed on the stack and became the list of allowed folders (an
+  // empty one: a sandboxed script could write nowhere, not even beside itself).
+  const bool has_params = lua_getglobal(L, "params") == LUA_TTABLE;
+  if (has_params && lua_getfield(L, -1, "out") == LUA_TSTRING) {
     const fs::path out = resolved(lua_tostring(L, -1));
     lua_pop(L, 2);
     lua_pushstring(L, out.string().c_str());
     lua_rawseti(L, -2, 2);
   } else {
-    lua_pop(L, lua_istable(L, -1) ? 2 : 1);
+    lua_pop(L, has_params ? 2 : 1);
   }
   lua_setfield(L, LUA_REGISTRYINDEX, kRootsKey);
 

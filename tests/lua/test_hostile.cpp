@@ -271,6 +271,8 @@ const Case kCases[] = {
     {"export(box(1,1,1), '$/x.stl', {asci = true})", "unknown field 'asci'"},
     {"export(box(1,1,1), '$/x.stl', {tolerance = 0})", "hostile.lua:2: export: tolerance must be positive, got 0"},
     {"export(42, '$/x.stl')", "bad argument #1 to 'export' (Solid or mesh expected, got number)"},
+    {"export(box(1,1,1), '$/a\\0b.stl')", "hostile.lua:2: export: cannot write '$/a\\0b.stl': a file name cannot hold a NUL byte"},
+    {"canvas{width = 2, height = 2}:save('$/c\\0.png')", "a file name cannot hold a NUL byte"},
     {"import('$/none.stl')", "cannot read '$/none.stl': No such file or directory"},
     {"import('$')", "unknown mesh format"},
     {"import('$/x.gltf')", "unknown mesh format '.gltf'"},

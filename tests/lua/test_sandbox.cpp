@@ -111,3 +111,27 @@ TEST_CASE("wedge run with the sandbox flag refuses every escape and keeps what a
   CHECK_THAT(free.output, Catch::Contains("ESCAPED io.open outside for reading"));
   fs::remove_all(root);
 }
+
+// Without out= the script's own folder is the one allowed (it was none: the params table was
+// taken for the list of folders), and a path with a NUL byte is refused, not cut short: the file
+// functions would stop at the NUL and write "evil.stl" outside while the check saw a path inside.
+TEST_CASE("wedge run --sandbox without out= writes beside the script; a NUL in a path is refused", "[lua][sandbox]") {
+  const fs::path root = fs::temp_directory_path() / ("wedge-sandbox-noout-" + std::to_string(::getpid()));
+  const fs::path dir = root / "model", outside = root / "outside";
+  for (const auto& d : {dir, outside}) fs::create_directories(d);
+  std::ofstream(dir / "s.lua") << "assert(export(box(1, 1, 1), '" << (dir / "here.stl").string() << "') == 12)\n"
+                               << "local ok, err = pcall(export, box(1, 1, 1), '" << outside.string()
+                               << "/evil.stl\\0/../../model/x.stl')\n"
+                               << "print(ok, err)\n"
+                               << "local ok2, err2 = pcall(export, box(1, 1, 1), '" << outside.string() << "/x.stl')\n"
+                               << "print(ok2, err2)\n";
+  Result r = run(std::string(WEDGE_EXE) + " run --sandbox " + (dir / "s.lua").string());
+  INFO(r.output);
+  CHECK(r.status == 0);
+  CHECK(fs::exists(dir / "here.stl"));
+  CHECK_THAT(r.output, Catch::Contains("false\texport: cannot write '" + outside.string() +
+                                       "/evil.stl\\0/../../model/x.stl': a file name cannot hold a NUL byte"));
+  CHECK_THAT(r.output, Catch::Contains("under --sandbox a script may use files in '" + dir.string() + "' only"));
+  CHECK(fs::is_empty(outside));
+  fs::remove_all(root);
+}
