@@ -255,7 +255,13 @@ render::Camera read_camera(lua_State* L, int idx, const Box3& bounds) {
     } else {
       throw ArgError{1, "field 'camera.projection' must be \"perspective\" or \"ortho\", got '" + proj + "'"};
     }
-    // What OpenGL would take without complaint and draw as nothing, or as nonsense.
+    // What OpenGL would take without complaint and draw as nothing, or as nonsense. An eye at
+    // 1e300 made the view matrix overflow and was blamed on camera.up.
+    for (const auto& [name, p] : {std::pair<const char*, const Vec3&>{"eye", c.eye}, {"center", c.center}})
+      for (int k = 0; k < 3; ++k)
+        if (std::abs(p[k]) > 1e100)
+          throw ArgError{1, std::string("field 'camera.") + name + "[" + std::to_string(k + 1) + "]' is " + number_text(p[k]) +
+                                ", beyond +-1e100"};
     if (c.fovy >= 180) throw ArgError{1, "field 'camera.fovy' must be below 180, got " + number_text(c.fovy)};
     if (!(c.near < c.far))
       throw ArgError{1, "camera.near must be below camera.far, got " + number_text(c.near) + " and " + number_text(c.far)};

@@ -84,6 +84,8 @@ const Case kCases[] = {
     {"render{box(1,1,1), out = '$/a.png', camera = {projection = 'ortho', bottom = 2, top = 1}}", "camera.bottom must be below camera.top"},
     {"render{box(1,1,1), out = '$/a.png', camera = {eye = {1,1,1}, center = {1,1,1}}}", "camera.eye and camera.center must differ"},
     {"render{box(1,1,1), out = '$/a.png', camera = {eye = {0,0,5}, up = {0,0,1}}}", "camera.up must be a non-zero vector not along the line of sight"},
+    {"render{box(1,1,1), out = '$/a.png', camera = {eye = {1e300, 0, 0}, up = {0, 0, 1}}}", "hostile.lua:2: render: camera.eye[1] is 1e+300, beyond +-1e100"},
+    {"render{box(1,1,1), out = '$/a.png', camera = {projection = 'ortho', center = {0, -1e200, 0}}}", "hostile.lua:2: render: camera.center[2] is -1e+200, beyond +-1e100"},
     {"render{box(1,1,1), out = '$/a.png', camera = {fovy = 200}}", "camera.fovy must be below 180, got 200"},
     {"render{box(1,1,1), out = '$/a.png', camera = {near = 'x'}}", "camera.near must be a number, got string"},
     {"render{box(1,1,1), out = '$/a.png', camera = {projection = 'fisheye'}}", "camera.projection must be \"perspective\" or \"ortho\""},
