@@ -126,7 +126,14 @@ bool boolean_detail::triangles_clash(const Soup& s, u32 t, u32 u) {
     }
     return true;
   };
-  if (shared < 3 && (apart(T, U) || apart(U, T))) return false;
+  // Both on one plane x_k = c (faces of boxes, plates, cylinder caps): certainly coplanar, and the
+  // side tests below would each take the exact predicate's slowest path to say so.
+  bool flat = false;
+  for (int k = 0; k < 3 && !flat; ++k) {
+    const double c = (*A)[k];
+    flat = (*B)[k] == c && (*C)[k] == c && (*D)[k] == c && (*E)[k] == c && (*F)[k] == c;
+  }
+  if (shared < 3 && !flat && (apart(T, U) || apart(U, T))) return false;
   // Quick exact rejection in a projection (along t's axis): an edge line of one triangle with the
   // other triangle strictly on its far side, shared vertices aside (on the line they span only
   // what the two triangles share). Decides most coplanar pairs, where the test above cannot.

@@ -52,6 +52,8 @@ inline int orient2d_fast(double ax, double ay, double bx, double by, double cx, 
     if (det > bound) return 1;
     if (-det > bound) return -1;
   }
+  // Three points on one axis-parallel line (common in CAD input) are exactly collinear.
+  if ((ax == bx && bx == cx) || (ay == by && by == cy)) return 0;
   return wedge::orient2d(Point2(ax, ay), Point2(bx, by), Point2(cx, cy));
 }
 // sign det[b - a, c - a, d - a], as wedge::orient3d.
@@ -68,6 +70,10 @@ inline int orient3d_fast(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3
     if (det > bound) return 1;
     if (-det > bound) return -1;
   }
+  // Four points on one axis-parallel plane (the faces of boxes, plates and cylinder caps) are
+  // exactly coplanar; the exact predicate would take its slowest path to say so.
+  for (int k = 0; k < 3; ++k)
+    if (a[k] == b[k] && b[k] == c[k] && c[k] == d[k]) return 0;
   return wedge::orient3d(a, b, c, d);
 }
 
