@@ -417,6 +417,33 @@ int Points::compare_def(const PointDef& a, const PointDef& b, int axis) const {
   return compare_sign(point_eval<EX>(*soup_, a), point_eval<EX>(*soup_, b), axis);
 }
 
+void Points::coord_bounds(const PointDef& d, int axis, double& lo, double& hi) const {
+  const Soup& s = *soup_;
+  double c = 0;
+  bool known = d.kind == PointDef::Explicit;
+  if (known) c = s.verts[d.p][axis];
+  if (!known && d.kind == PointDef::Lpi && s.verts[d.p][axis] == s.verts[d.q][axis]) {
+    c = s.verts[d.p][axis];
+    known = true;
+  }
+  const int planes = d.kind == PointDef::Tpi ? 3 : (d.kind == PointDef::Lpi ? 1 : 0);
+  for (int k = 0; k < planes && !known; ++k) known = fixes_coordinate(s, d.P[k], axis, c);
+  if (known) {
+    lo = hi = c;
+    return;
+  }
+  Filter guard;
+  const H<IA> h = point_eval<IA>(s, d);
+  if (h.c[3].inf() > 0 || h.c[3].sup() < 0) {
+    const IA q = h.c[axis] / h.c[3];
+    lo = q.inf();
+    hi = q.sup();
+  } else {
+    lo = -INFINITY;
+    hi = INFINITY;
+  }
+}
+
 int Points::side(const Plane& P, u32 p) const {
   if (fixed_[p] == 7) {
     const Vec3& a = soup_->verts[P.a];

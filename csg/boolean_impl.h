@@ -181,6 +181,16 @@ class Points {
   int cross_sign(const Plane& P, const Plane& Q, int axis) const;
   // compare() on points not (yet) in the table.
   int compare_def(const PointDef& a, const PointDef& b, int axis) const;
+  // An interval [lo, hi] that holds coordinate `axis` of the point d (lo == hi: exactly that
+  // double), for ordering points not in the table without evaluating them again per comparison.
+  void coord_bounds(const PointDef& d, int axis, double& lo, double& hi) const;
+  // compare_def() given the two points' coord_bounds() on `axis`.
+  int compare_def(const PointDef& a, const double ab[2], const PointDef& b, const double bb[2], int axis) const {
+    if (ab[1] < bb[0]) return -1;
+    if (ab[0] > bb[1]) return 1;
+    if (ab[0] == ab[1] && bb[0] == bb[1]) return 0;  // both exact and equal
+    return compare_def(a, b, axis);
+  }
   // A box that holds the point exactly: lo[0..2], hi[0..2].
   const std::array<double, 6>& box(u32 p) const { return box_[p]; }
   bool on_one_segment(u32 a, u32 b, u32 c) const;

@@ -58,9 +58,26 @@ std::vector<PointDef> on_plane(const std::array<u32, 3>& tri, const int side[3],
   return out;
 }
 
+// Points with their coordinate bounds along one axis (evaluated once, compared many times).
+struct Keyed {
+  PointDef d;
+  double b[2];
+};
+std::vector<Keyed> keyed(const Points& pts, const std::vector<PointDef>& v, int axis) {
+  std::vector<Keyed> out(v.size());
+  for (std::size_t i = 0; i < v.size(); ++i) {
+    out[i].d = v[i];
+    pts.coord_bounds(v[i], axis, out[i].b[0], out[i].b[1]);
+  }
+  return out;
+}
+int cmp(const Points& pts, const Keyed& x, const Keyed& y, int axis) {
+  return pts.compare_def(x.d, x.b, y.d, y.b, axis);
+}
+
 // Sorts two points along `axis` (exact).
-void order2(const Points& pts, std::vector<PointDef>& s, int axis) {
-  if (s.size() == 2 && pts.compare_def(s[0], s[1], axis) > 0) std::swap(s[0], s[1]);
+void order2(const Points& pts, std::vector<Keyed>& s, int axis) {
+  if (s.size() == 2 && cmp(pts, s[0], s[1], axis) > 0) std::swap(s[0], s[1]);
 }
 
 int orient2d_v(const Soup& s, u32 a, u32 b, u32 c, int k) {
@@ -109,12 +126,13 @@ std::vector<PointDef> clip_edge(const Points& pts, u32 p, u32 q, const std::arra
   }
   if (cand.empty()) return {};
   // The extreme two along the edge.
+  const std::vector<Keyed> kc = keyed(pts, cand, axis);
   std::size_t lo = 0, hi = 0;
-  for (std::size_t i = 1; i < cand.size(); ++i) {
-    if (pts.compare_def(cand[i], cand[lo], axis) < 0) lo = i;
-    if (pts.compare_def(cand[i], cand[hi], axis) > 0) hi = i;
+  for (std::size_t i = 1; i < kc.size(); ++i) {
+    if (cmp(pts, kc[i], kc[lo], axis) < 0) lo = i;
+    if (cmp(pts, kc[i], kc[hi], axis) > 0) hi = i;
   }
-  if (pts.compare_def(cand[lo], cand[hi], axis) == 0) return {cand[lo]};
+  if (cmp(pts, kc[lo], kc[hi], axis) == 0) return {cand[lo]};
   return {cand[lo], cand[hi]};
 }
 
@@ -174,20 +192,21 @@ PairCut intersect_pair(const Points& pts, u32 t, u32 u) {
       }
   }
   if (axis < 0) return {};  // parallel planes that are not the same: cannot meet
-  order2(pts, a, axis);
-  order2(pts, b, axis);
+  std::vector<Keyed> ka = keyed(pts, a, axis), kb = keyed(pts, b, axis);
+  order2(pts, ka, axis);
+  order2(pts, kb, axis);
   // Overlap [max(lo), min(hi)].
-  const PointDef& lo = pts.compare_def(a.front(), b.front(), axis) >= 0 ? a.front() : b.front();
-  const PointDef& hi = pts.compare_def(a.back(), b.back(), axis) <= 0 ? a.back() : b.back();
-  int c = pts.compare_def(lo, hi, axis);
+  const Keyed& lo = cmp(pts, ka.front(), kb.front(), axis) >= 0 ? ka.front() : kb.front();
+  const Keyed& hi = cmp(pts, ka.back(), kb.back(), axis) <= 0 ? ka.back() : kb.back();
+  int c = cmp(pts, lo, hi, axis);
   PairCut cut;
   if (c > 0) return cut;
   if (c == 0) {
-    cut.points.push_back(lo);
+    cut.points.push_back(lo.d);
     return cut;
   }
-  cut.segs_t.push_back({lo, hi, pu});
-  cut.segs_u.push_back({lo, hi, pt});
+  cut.segs_t.push_back({lo.d, hi.d, pu});
+  cut.segs_u.push_back({lo.d, hi.d, pt});
   (void)same_def;
   return cut;
 }
