@@ -269,6 +269,14 @@ Points::Points(const Soup& soup) : soup_(&soup) {
   }
 }
 
+void Points::reserve(std::size_t n) {
+  defs_.reserve(n);
+  fixed_.reserve(n);
+  approx_.reserve(n);
+  ih_.reserve(n);
+  box_.reserve(n);
+}
+
 u32 Points::add(const PointDef& d) {
   IntervalH ih;
   Vec3 ap;

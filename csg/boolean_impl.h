@@ -149,6 +149,7 @@ class Points {
  public:
   explicit Points(const Soup& soup);
   u32 add(const PointDef& d);  // not thread-safe; computes the filter data
+  void reserve(std::size_t n);  // room for n points in all (no reallocation while interning)
   std::size_t size() const { return defs_.size(); }
   const PointDef& def(u32 p) const { return defs_[p]; }
   const Vec3& approx(u32 p) const { return approx_[p]; }

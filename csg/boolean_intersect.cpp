@@ -39,45 +39,28 @@ PointDef lpi(u32 p, u32 q, const Plane& P) {
   return d;
 }
 
-bool same_def(const PointDef& a, const PointDef& b) {
-  if (a.kind != b.kind || a.p != b.p || a.q != b.q) return false;
-  if (a.kind == PointDef::Explicit) return true;
-  if (a.kind == PointDef::Lpi) return a.P[0] == b.P[0];
-  return a.P[0] == b.P[0] && a.P[1] == b.P[1] && a.P[2] == b.P[2];
-}
-
-// The points of triangle `tri` on the plane that `side` measures: its vertices with side 0 and
-// its edges whose ends lie strictly on opposite sides, cut by `plane`.
-std::vector<PointDef> on_plane(const std::array<u32, 3>& tri, const int side[3], const Plane& plane) {
-  std::vector<PointDef> out;
-  for (int i = 0; i < 3; ++i) {
-    if (side[i] == 0) out.push_back(explicit_point(tri[i]));
-    int j = (i + 1) % 3;
-    if (side[i] * side[j] < 0) out.push_back(lpi(tri[i], tri[j], plane));
-  }
-  return out;
-}
-
 // Points with their coordinate bounds along one axis (evaluated once, compared many times).
 struct Keyed {
   PointDef d;
   double b[2];
 };
-std::vector<Keyed> keyed(const Points& pts, const std::vector<PointDef>& v, int axis) {
-  std::vector<Keyed> out(v.size());
-  for (std::size_t i = 0; i < v.size(); ++i) {
-    out[i].d = v[i];
-    pts.coord_bounds(v[i], axis, out[i].b[0], out[i].b[1]);
-  }
-  return out;
-}
 int cmp(const Points& pts, const Keyed& x, const Keyed& y, int axis) {
   return pts.compare_def(x.d, x.b, y.d, y.b, axis);
 }
 
-// Sorts two points along `axis` (exact).
-void order2(const Points& pts, std::vector<Keyed>& s, int axis) {
-  if (s.size() == 2 && cmp(pts, s[0], s[1], axis) > 0) std::swap(s[0], s[1]);
+// The points of triangle `tri` on the plane that `side` measures: its vertices with side 0 and
+// its edges whose ends lie strictly on opposite sides, cut by `plane`, with their coordinate
+// bounds on `axis`. Returns how many (at most 3).
+int on_plane(const Points& pts, const std::array<u32, 3>& tri, const int side[3], const Plane& plane, int axis,
+             Keyed out[3]) {
+  int n = 0;
+  for (int i = 0; i < 3; ++i) {
+    if (side[i] == 0) out[n++].d = explicit_point(tri[i]);
+    int j = (i + 1) % 3;
+    if (side[i] * side[j] < 0 && n < 3) out[n++].d = lpi(tri[i], tri[j], plane);
+  }
+  for (int i = 0; i < n; ++i) pts.coord_bounds(out[i].d, axis, out[i].b[0], out[i].b[1]);
+  return n;
 }
 
 int orient2d_v(const Soup& s, u32 a, u32 b, u32 c, int k) {
@@ -126,7 +109,11 @@ std::vector<PointDef> clip_edge(const Points& pts, u32 p, u32 q, const std::arra
   }
   if (cand.empty()) return {};
   // The extreme two along the edge.
-  const std::vector<Keyed> kc = keyed(pts, cand, axis);
+  std::vector<Keyed> kc(cand.size());
+  for (std::size_t i = 0; i < cand.size(); ++i) {
+    kc[i].d = cand[i];
+    pts.coord_bounds(cand[i], axis, kc[i].b[0], kc[i].b[1]);
+  }
   std::size_t lo = 0, hi = 0;
   for (std::size_t i = 1; i < kc.size(); ++i) {
     if (cmp(pts, kc[i], kc[lo], axis) < 0) lo = i;
@@ -174,9 +161,6 @@ PairCut intersect_pair(const Points& pts, u32 t, u32 u) {
   if ((st[0] > 0 && st[1] > 0 && st[2] > 0) || (st[0] < 0 && st[1] < 0 && st[2] < 0)) return {};
 
   Plane pt = Plane::of_triangle(T), pu = Plane::of_triangle(U);
-  std::vector<PointDef> a = on_plane(T, st, pu);  // T ∩ plane(U)
-  std::vector<PointDef> b = on_plane(U, su, pt);  // U ∩ plane(T)
-  if (a.empty() || b.empty()) return {};
   // An axis along which L varies: a non-zero component of n_T x n_U.
   int axis = -1;
   {
@@ -192,12 +176,16 @@ PairCut intersect_pair(const Points& pts, u32 t, u32 u) {
       }
   }
   if (axis < 0) return {};  // parallel planes that are not the same: cannot meet
-  std::vector<Keyed> ka = keyed(pts, a, axis), kb = keyed(pts, b, axis);
-  order2(pts, ka, axis);
-  order2(pts, kb, axis);
+  Keyed a[3], b[3];
+  const int na = on_plane(pts, T, st, pu, axis, a);  // T ∩ plane(U)
+  const int nb = on_plane(pts, U, su, pt, axis, b);  // U ∩ plane(T)
+  if (na == 0 || nb == 0) return {};
+  // Each is a point or a segment: its ends in order along the axis.
+  if (na == 2 && cmp(pts, a[0], a[1], axis) > 0) std::swap(a[0], a[1]);
+  if (nb == 2 && cmp(pts, b[0], b[1], axis) > 0) std::swap(b[0], b[1]);
   // Overlap [max(lo), min(hi)].
-  const Keyed& lo = cmp(pts, ka.front(), kb.front(), axis) >= 0 ? ka.front() : kb.front();
-  const Keyed& hi = cmp(pts, ka.back(), kb.back(), axis) <= 0 ? ka.back() : kb.back();
+  const Keyed& lo = cmp(pts, a[0], b[0], axis) >= 0 ? a[0] : b[0];
+  const Keyed& hi = cmp(pts, a[na - 1], b[nb - 1], axis) <= 0 ? a[na - 1] : b[nb - 1];
   int c = cmp(pts, lo, hi, axis);
   PairCut cut;
   if (c > 0) return cut;
@@ -207,7 +195,6 @@ PairCut intersect_pair(const Points& pts, u32 t, u32 u) {
   }
   cut.segs_t.push_back({lo.d, hi.d, pu});
   cut.segs_u.push_back({lo.d, hi.d, pt});
-  (void)same_def;
   return cut;
 }
 

@@ -180,22 +180,32 @@ PointDef canonical(PointDef d) {
 
 class Interner {
  public:
-  explicit Interner(Points& pts) : pts_(pts), table_(1024, kNone) {}
+  // `expected`: about how many points will be interned (sizes the table once).
+  Interner(Points& pts, std::size_t expected) : pts_(pts) {
+    std::size_t size = 1024;
+    while (size < 2 * expected) size *= 2;
+    table_.assign(size, Slot{kNone, 0});
+    hashes_.reserve(expected);
+    ids_.reserve(expected);
+  }
   u32 operator()(const PointDef& raw) {
     if (raw.kind == PointDef::Explicit) return raw.p;
     const PointDef d = canonical(raw);
-    // Open addressing over point ids, equal definitions compared field by field.
+    // Open addressing over point ids, with the hash's high bits beside each id so that a probe
+    // reads the point table only when they match; equal definitions compared field by field.
     const std::uint64_t h = DefKeyHash()({{static_cast<std::uint64_t>(d.kind) << 32 | d.p, d.q, pack(d.P[0]),
                                            d.kind == PointDef::Tpi ? pack(d.P[1]) : 0,
                                            d.kind == PointDef::Tpi ? pack(d.P[2]) : 0}});
+    const auto tag = static_cast<u32>(h >> 32);
     std::size_t mask = table_.size() - 1, slot = h & mask;
-    for (; table_[slot] != kNone; slot = (slot + 1) & mask) {
-      const PointDef& e = pts_.def(table_[slot]);
+    for (; table_[slot].id != kNone; slot = (slot + 1) & mask) {
+      if (table_[slot].tag != tag) continue;
+      const PointDef& e = pts_.def(table_[slot].id);
       if (e.kind == d.kind && e.p == d.p && e.q == d.q && e.P[0] == d.P[0] && e.P[1] == d.P[1] && e.P[2] == d.P[2])
-        return table_[slot];
+        return table_[slot].id;
     }
     const u32 id = pts_.add(d);
-    table_[slot] = id;
+    table_[slot] = {id, tag};
     hashes_.push_back(h);
     ids_.push_back(id);
     if (2 * ids_.size() > table_.size()) grow();
@@ -203,18 +213,21 @@ class Interner {
   }
 
  private:
+  struct Slot {
+    u32 id, tag;
+  };
   void grow() {
-    std::vector<u32> t(table_.size() * 2, kNone);
+    std::vector<Slot> t(table_.size() * 2, Slot{kNone, 0});
     const std::size_t mask = t.size() - 1;
     for (std::size_t i = 0; i < ids_.size(); ++i) {
       std::size_t slot = hashes_[i] & mask;
-      while (t[slot] != kNone) slot = (slot + 1) & mask;
-      t[slot] = ids_[i];
+      while (t[slot].id != kNone) slot = (slot + 1) & mask;
+      t[slot] = {ids_[i], static_cast<u32>(hashes_[i] >> 32)};
     }
     table_.swap(t);
   }
   Points& pts_;
-  std::vector<u32> table_;             // point ids, kNone where empty
+  std::vector<Slot> table_;            // point ids (kNone where empty) and their hashes' high bits
   std::vector<std::uint64_t> hashes_;  // of each interned point, in order
   std::vector<u32> ids_;
 };
@@ -385,7 +398,11 @@ Arrangement arrange(Points& pts, const std::vector<std::array<u32, 2>>& pairs) {
     }
     return work[slot[t]];
   };
-  Interner intern(pts);
+  std::size_t ends = 0;
+  for (const PairCut& c : cuts) ends += 2 * (c.segs_t.size() + c.segs_u.size()) + c.points.size();
+  // Most end points are shared by the two triangles of a pair (and by neighbouring pairs).
+  pts.reserve(pts.size() + ends / 2 + 16);
+  Interner intern(pts, ends / 2 + 16);
   for (std::size_t i = 0; i < pairs.size(); ++i) {
     const PairCut& c = cuts[i];
     if (c.segs_t.empty() && c.segs_u.empty() && c.points.empty() && !c.coplanar) continue;
