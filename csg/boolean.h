@@ -36,6 +36,7 @@ struct BooleanStats {
   std::size_t pairs = 0, pieces = 0;
   std::size_t collapses = 0;  // edges the rounding repair collapsed (0 on most inputs)
   std::size_t resolutions = 0;  // passes that re-resolved a rounded result crossing itself (0 on most)
+  std::size_t trusted = 0;  // operands known as results of earlier booleans, not checked again
 };
 
 // Thrown when an evaluation is cancelled (boolean()'s `cancel`, Solid evaluation's EvalControl).
@@ -50,6 +51,8 @@ using CancelCheck = std::function<bool()>;
 // offending spot if an operand is not closed, not 2-manifold, inside out, has a zero-area triangle
 // or intersects itself. Runs on TBB's threads; the result is the same bits at any thread count.
 // `cancel`, if given, is polled between stages; when it returns true, boolean() throws Cancelled.
+// An operand that is bit for bit a mesh an earlier boolean() returned is known to be valid and is
+// not checked again (results are remembered by a 128-bit hash; the last 256 of them).
 BooleanResult boolean(BooleanOp op, const std::vector<const Mesh*>& operands, BooleanStats* stats = nullptr,
                       const CancelCheck* cancel = nullptr);
 // The two-operand shorthand: boolean(op, {&a, &b}).mesh.

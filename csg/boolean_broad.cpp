@@ -213,7 +213,8 @@ std::vector<std::array<u32, 2>> Bvh::self_pairs(const std::vector<char>* active)
 
 // The tree's self-join gives the pairs of overlapping float boxes; they are then tested on double
 // boxes (and exactly, where asked) in fixed blocks, so the result is the same at any thread count.
-std::vector<std::array<u32, 2>> candidate_pairs(const Soup& soup, std::array<u32, 2>* clash, bool self) {
+std::vector<std::array<u32, 2>> candidate_pairs(const Soup& soup, std::array<u32, 2>* clash, bool self,
+                                                const std::vector<char>* trusted) {
   std::size_t n = soup.tris.size();
   std::vector<u32> all(n);
   for (std::size_t i = 0; i < n; ++i) all[i] = static_cast<u32>(i);
@@ -235,7 +236,8 @@ std::vector<std::array<u32, 2>> candidate_pairs(const Soup& soup, std::array<u32
       if (apart) continue;
       if (soup.operand[u] != soup.operand[t] || (self && triangles_clash(soup, t, u))) {
         res.push_back({t, u});
-      } else if (clash && clashes[b][0] == kNone && triangles_clash(soup, t, u)) {
+      } else if (clash && clashes[b][0] == kNone && !(trusted && (*trusted)[soup.operand[t]]) &&
+                 triangles_clash(soup, t, u)) {
         clashes[b] = {t, u};
       }
     }

@@ -213,8 +213,9 @@ int orient3d_v(const Soup& s, u32 a, u32 b, u32 c, u32 d);
 // `clash`, also checks the pairs of one operand exactly and reports the first two triangles that
 // meet beyond their shared vertices (or {kNone, kNone}).
 // With `self`, pairs of one operand that clash are candidates too (no clash is reported).
+// With `trusted` (per operand), pairs of one trusted operand are not checked.
 std::vector<std::array<u32, 2>> candidate_pairs(const Soup& soup, std::array<u32, 2>* clash = nullptr,
-                                                bool self = false);
+                                                bool self = false, const std::vector<char>* trusted = nullptr);
 
 // An axis-aligned box tree over triangles, for point and vertical-line queries.
 class Bvh {

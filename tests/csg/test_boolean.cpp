@@ -197,6 +197,28 @@ TEST_CASE("boolean: bad operands are errors naming the operand and the spot", "[
   CHECK_THROWS_WITH(boolean(BooleanOp::Union, a, two), Catch::Contains("second operand intersects itself"));
 }
 
+TEST_CASE("boolean: a result fed back is known valid; any change to it is checked again", "[boolean]") {
+  const Mesh a = cube(0, 0, 0, 2), b = cube(1, 1, 1, 2), c = cube(0.5, 0.5, -1, 1);
+  BooleanStats st;
+  const BooleanResult r = boolean(BooleanOp::Union, {&a, &b}, &st);
+  CHECK(st.trusted == 0);
+  boolean(BooleanOp::Difference, {&r.mesh, &c}, &st);
+  CHECK(st.trusted == 1);  // the union's result, bit for bit
+  // The same result moved by a hair is another mesh: checked (and valid).
+  Mesh moved = r.mesh;
+  moved.positions[0].x() = std::nextafter(moved.positions[0].x(), 10.0);
+  boolean(BooleanOp::Difference, {&moved, &c}, &st);
+  CHECK(st.trusted == 0);
+  // A result with a second shell pushed through it intersects itself, and is still caught.
+  Mesh broken = r.mesh;
+  broken.append(cube(-0.5, -0.5, -0.5, 1));
+  CHECK_THROWS_WITH(boolean(BooleanOp::Difference, {&broken, &c}), Catch::Contains("first operand intersects itself"));
+  // Faces reversed: inside out, caught although the positions are the result's.
+  Mesh flipped = r.mesh;
+  for (auto& t : flipped.triangles) std::swap(t[1], t[2]);
+  CHECK_THROWS_WITH(boolean(BooleanOp::Difference, {&flipped, &c}), Catch::Contains("first operand is inside out"));
+}
+
 TEST_CASE("boolean: a chain of booleans stays valid", "[boolean]") {
   Mesh r = cube(0, 0, 0, 4);
   for (int i = 0; i < 12; ++i) {
