@@ -331,7 +331,8 @@ std::string defect(const Mesh& m, const std::string& name, bool self) {
 // Re-resolves a rounded result that crosses itself: the exact arrangement of its own triangles,
 // the region where its winding number is at least 1 kept, rounded again. Provenance (operand,
 // source triangle, face id) is carried through from `prev`.
-BooleanResult resolve(const BooleanResult& prev, std::size_t* collapses, bool* unresolved) {
+BooleanResult resolve(const BooleanResult& prev, std::size_t* collapses, bool* unresolved,
+                      const Interrupt* interrupt) {
   // Zero-area triangles (rounding can flatten one) bound nothing and are left out; where their
   // vertices lie on a neighbour's edge the arrangement splits that edge.
   Mesh m;
@@ -346,6 +347,7 @@ BooleanResult resolve(const BooleanResult& prev, std::size_t* collapses, bool* u
   }
   std::vector<const Mesh*> one{&m};
   Soup soup = make_soup(one);
+  soup.interrupt = interrupt;
   Points pts(soup);
   auto pairs = candidate_pairs(soup, nullptr, true);
   Arrangement arr = arrange(pts, pairs);
@@ -392,6 +394,8 @@ BooleanResult boolean(BooleanOp op, const std::vector<const Mesh*>& operands, Bo
   if (stats) stats->trusted = static_cast<std::size_t>(std::count(trusted.begin(), trusted.end(), 1));
   lap(&BooleanStats::check);
   Soup soup = make_soup(operands);
+  const Interrupt interrupt(cancel);
+  soup.interrupt = &interrupt;
   Points pts(soup);
   // The broad phase also checks each operand for self-intersections.
   std::array<u32, 2> clash;
@@ -418,7 +422,7 @@ BooleanResult boolean(BooleanOp op, const std::vector<const Mesh*>& operands, Bo
   // rounded result; each pass works at a finer scale than the one before.
   for (; unresolved && resolutions < 4; ++resolutions) {
     if (cancel && *cancel && (*cancel)()) throw Cancelled();
-    r = resolve(r, &collapses, &unresolved);
+    r = resolve(r, &collapses, &unresolved, &interrupt);
   }
   if (unresolved) {
     const Vec3& p = r.mesh.positions.empty() ? Vec3(0, 0, 0) : r.mesh.positions[0];
@@ -434,6 +438,22 @@ BooleanResult boolean(BooleanOp op, const std::vector<const Mesh*>& operands, Bo
     stats->pieces = arr.pieces.size();
   }
   return r;
+}
+
+void boolean_detail::Interrupt::poll() const {
+  if (!check_) return;
+  if (stopped_.load(std::memory_order_relaxed)) throw Cancelled();
+  const std::int64_t now = std::chrono::duration_cast<std::chrono::nanoseconds>(
+                               std::chrono::steady_clock::now().time_since_epoch())
+                               .count();
+  if (now < next_.load(std::memory_order_relaxed)) return;
+  std::unique_lock<std::mutex> lock(mutex_, std::try_to_lock);
+  if (!lock.owns_lock()) return;
+  next_.store(now + 2'000'000, std::memory_order_relaxed);
+  if ((*check_)()) {
+    stopped_.store(true, std::memory_order_relaxed);
+    throw Cancelled();
+  }
 }
 
 const char* boolean_op_name(BooleanOp op) {

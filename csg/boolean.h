@@ -50,7 +50,8 @@ using CancelCheck = std::function<bool()>;
 // operands[0] minus all the others). Throws wedge::Error naming the operand and the first
 // offending spot if an operand is not closed, not 2-manifold, inside out, has a zero-area triangle
 // or intersects itself. Runs on TBB's threads; the result is the same bits at any thread count.
-// `cancel`, if given, is polled between stages; when it returns true, boolean() throws Cancelled.
+// `cancel`, if given, is polled between the stages and inside them (at most every 2 ms, from any of
+// TBB's threads, one at a time); when it returns true, boolean() throws Cancelled.
 // An operand that is bit for bit a mesh an earlier boolean() returned is known to be valid and is
 // not checked again (results are remembered by a 128-bit hash; the last 256 of them).
 BooleanResult boolean(BooleanOp op, const std::vector<const Mesh*>& operands, BooleanStats* stats = nullptr,

@@ -224,6 +224,7 @@ std::vector<std::array<u32, 2>> candidate_pairs(const Soup& soup, std::array<u32
   std::vector<std::vector<std::array<u32, 2>>> out(blocks);
   std::vector<std::array<u32, 2>> clashes(blocks, {kNone, kNone});
   parallel_for(0, blocks, [&](std::size_t b) {
+    soup.poll();
     auto& res = out[b];
     for (std::size_t k = b * kBlock; k < std::min(near.size(), (b + 1) * kBlock); ++k) {
       const u32 t = near[k][0], u = near[k][1];

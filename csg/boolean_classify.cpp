@@ -115,6 +115,7 @@ std::vector<std::int8_t> classify(const Points& pts, const Arrangement& arr, Boo
 
   std::vector<std::int8_t> patch_keep(np, 0);
   parallel_for(0, reps.size(), [&](std::size_t ri) {
+    soup.poll();
     u32 pi = reps[ri];
     const Piece& piece = pieces[pi];
     u32 t = piece.tri;

@@ -30,7 +30,9 @@
 #pragma once
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cstdint>
+#include <mutex>
 #include <vector>
 
 #include <cmath>
@@ -80,6 +82,22 @@ inline int orient3d_fast(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3
 using u32 = std::uint32_t;
 constexpr u32 kNone = 0xffffffffu;
 
+// A cancel request seen inside the stages: poll() is called in the stages' loops (by any of
+// TBB's threads); it calls the caller's check at most every 2 ms and by one thread at a time,
+// and throws Cancelled once the check has said stop (TBB carries the exception out of parallel
+// loops to the caller). Nothing outlives a cancelled run: its state is all local to boolean().
+class Interrupt {
+ public:
+  explicit Interrupt(const CancelCheck* check) : check_(check && *check ? check : nullptr) {}
+  void poll() const;
+
+ private:
+  const CancelCheck* check_;
+  mutable std::atomic<bool> stopped_{false};
+  mutable std::atomic<std::int64_t> next_{0};
+  mutable std::mutex mutex_;
+};
+
 // --- the input soup (boolean.cpp) ---
 struct Soup {
   std::vector<Vec3> verts;                // unique input positions
@@ -90,6 +108,10 @@ struct Soup {
   std::vector<std::int8_t> axis;          // per triangle: k(T)
   std::vector<std::int8_t> axis_sign;     // per triangle: sign of n_k(T)
   int operands = 0;
+  const Interrupt* interrupt = nullptr;   // the run's cancel request (null: none)
+  void poll() const {
+    if (interrupt) interrupt->poll();
+  }
 };
 
 // Merges meshes into one soup (positions equal in value become one vertex; -0 is 0).

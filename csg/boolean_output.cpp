@@ -158,6 +158,7 @@ std::vector<u32> rounding_defects(const Mesh& m, const Rounding& rd) {
   const Bvh bvh(s, std::move(all), 3);
   const auto pairs = bvh.self_pairs(&active);
   parallel_for(0, pairs.size(), [&](std::size_t i) {
+    if (i % 256 == 0) rd.soup->poll();
     const u32 t = pairs[i][0], u = pairs[i][1];
     const bool want_t = active[t] && !bad[t].load(std::memory_order_relaxed);
     const bool want_u = active[u] && !bad[u].load(std::memory_order_relaxed);
@@ -192,6 +193,7 @@ bool repair_rounding(BooleanResult& r, Rounding& rd) {
   double limit = 1e-9 * (bounds.max - bounds.min).norm();
   double limit2 = limit * limit;
   for (int round = 0; round < 16; ++round) {
+    rd.soup->poll();
     std::vector<u32> bad = rounding_defects(r.mesh, rd);
     if (bad.empty()) return true;
     // What the next round checks: the triangles still bad and those a collapse changes.

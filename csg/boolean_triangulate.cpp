@@ -384,7 +384,10 @@ Arrangement arrange(Points& pts, const std::vector<std::array<u32, 2>>& pairs) {
 
   // 1. Exact pair intersections.
   std::vector<PairCut> cuts(pairs.size());
-  parallel_for(0, pairs.size(), [&](std::size_t i) { cuts[i] = intersect_pair(pts, pairs[i][0], pairs[i][1]); });
+  parallel_for(0, pairs.size(), [&](std::size_t i) {
+    soup.poll();
+    cuts[i] = intersect_pair(pts, pairs[i][0], pairs[i][1]);
+  });
 
   // 2. Interning, in pair order.
   std::vector<u32> slot(nt, kNone);
@@ -404,6 +407,7 @@ Arrangement arrange(Points& pts, const std::vector<std::array<u32, 2>>& pairs) {
   pts.reserve(pts.size() + ends / 2 + 16);
   Interner intern(pts, ends / 2 + 16);
   for (std::size_t i = 0; i < pairs.size(); ++i) {
+    if (i % 4096 == 0) soup.poll();
     const PairCut& c = cuts[i];
     if (c.segs_t.empty() && c.segs_u.empty() && c.points.empty() && !c.coplanar) continue;
     u32 t = pairs[i][0], u = pairs[i][1];
@@ -473,6 +477,7 @@ Arrangement arrange(Points& pts, const std::vector<std::array<u32, 2>>& pairs) {
   {
     std::vector<std::vector<PointDef>> crossings(work.size());
     parallel_for(0, work.size(), [&](std::size_t wi) {
+      soup.poll();
       const TriWork& w = work[wi];
       u32 t = touched[wi];
       int k = soup.axis[t];
@@ -509,6 +514,7 @@ Arrangement arrange(Points& pts, const std::vector<std::array<u32, 2>>& pairs) {
   // 4. Split segments at the points on them, and triangulate.
   std::vector<std::vector<Piece>> cut_pieces(work.size());
   parallel_for(0, work.size(), [&](std::size_t wi) {
+    soup.poll();
     TriWork& w = work[wi];
     u32 t = touched[wi];
     int k = soup.axis[t];

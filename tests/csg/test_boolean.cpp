@@ -4,6 +4,7 @@
 #include <CGAL/Gmpq.h>
 #include <catch2/catch.hpp>
 
+#include <atomic>
 #include <cmath>
 #include <random>
 
@@ -217,6 +218,30 @@ TEST_CASE("boolean: a result fed back is known valid; any change to it is checke
   Mesh flipped = r.mesh;
   for (auto& t : flipped.triangles) std::swap(t[1], t[2]);
   CHECK_THROWS_WITH(boolean(BooleanOp::Difference, {&flipped, &c}), Catch::Contains("first operand is inside out"));
+}
+
+TEST_CASE("boolean: a cancel request is seen inside the stages, and leaves nothing behind", "[boolean]") {
+  const Mesh a = sphere(Vec3(0, 0, 0), 1, 96), b = sphere(Vec3(0.4, 0.3, 0.2), 1, 96);
+  // Not cancelled: the check is asked from inside the stages too (throttled to one call per
+  // 2 ms), not only at the five stage boundaries.
+  std::atomic<int> calls{0};
+  const CancelCheck count = [&] {
+    ++calls;
+    return false;
+  };
+  BooleanStats st;
+  const BooleanResult whole = boolean(BooleanOp::Union, {&a, &b}, &st, &count);
+  INFO("calls " << calls.load() << ", stages (ms) " << st.check << " " << st.broad << " " << st.arrange << " "
+                << st.classify << " " << st.output);
+  CHECK(calls.load() > 5);
+  // Cancelled at the check's second call (inside a stage or at a boundary): Cancelled, and the
+  // next boolean gives the same result as before.
+  std::atomic<int> n{0};
+  const CancelCheck stop = [&] { return ++n >= 2; };
+  CHECK_THROWS_AS(boolean(BooleanOp::Union, {&a, &b}, nullptr, &stop), Cancelled);
+  const BooleanResult again = boolean(BooleanOp::Union, {&a, &b});
+  CHECK(again.mesh.positions == whole.mesh.positions);
+  CHECK(again.mesh.triangles == whole.mesh.triangles);
 }
 
 TEST_CASE("boolean: a chain of booleans stays valid", "[boolean]") {
