@@ -374,7 +374,7 @@ TEST_CASE("boolean: 1e-6 and 1e6 coordinates together give the closed forms and 
 
 
 TEST_CASE("boolean: surfaces a few ulps apart give a valid result or the rounding error, never a broken mesh",
-          "[boolean]") {
+          "[boolean][slow]") {
   // A sphere and a copy turned by 1e-16 rad (most vertices land on the same doubles, the rest an
   // ulp away): many sheets meet along edges, which are ordered exactly around each edge (an
   // approximate angle sort once left an edge unpaired: "internal error: open edge").

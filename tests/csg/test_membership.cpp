@@ -85,7 +85,7 @@ TEST_CASE("contains: random points in a rotated, translated box", "[membership]"
   CHECK(inside > 5);
 }
 
-TEST_CASE("contains: a sphere within its tolerance", "[membership]") {
+TEST_CASE("contains: a sphere within its tolerance", "[membership][slow]") {
   Solid s = brep_solid(sphere(2, Point3(1, 0, 0)));
   Tolerance tol;
   tol.chordal = 1e-3;

@@ -90,7 +90,7 @@ std::vector<Case> cases() {
 
 }  // namespace
 
-TEST_CASE("curved solids tessellate into closed 2-manifolds within the chordal tolerance", "[tessellate][curved]") {
+TEST_CASE("curved solids tessellate into closed 2-manifolds within the chordal tolerance", "[tessellate][curved][slow]") {
   for (const Case& c : cases()) {
     Model m = c.make();
     for (double tol : {1e-2, 1e-3, 1e-4}) {
