@@ -82,24 +82,41 @@ FunctionName function_name(lua_State* L) {
 std::string running_function_name(lua_State* L) { return function_name(L).name; }
 
 int raise_pending(lua_State* L, int arg) {
-  const char* message = lua_tostring(L, -1);  // stays valid: the string stays on the stack
-  FunctionName f = function_name(L);
-  if (arg) {
-    if (f.name.empty()) return luaL_error(L, "bad argument #%d (%s)", arg, message);
-    if (f.method && --arg == 0) return luaL_error(L, "calling '%s' on bad self (%s)", f.name.c_str(), message);
-    return luaL_error(L, "bad argument #%d to '%s' (%s)", arg, f.name.c_str(), message);
+  // lua_error longjmps (liblua is C): no C++ object may be alive when it is called, or its
+  // destructor never runs (a function name longer than the short-string buffer leaked). The
+  // message is built and pushed in this block; only the Lua string outlives it.
+  {
+    const char* message = lua_tostring(L, -1);  // stays valid: the string stays on the stack
+    const FunctionName f = function_name(L);
+    std::string text;
+    if (arg) {
+      if (f.name.empty()) {
+        text = "bad argument #" + std::to_string(arg) + " (" + message + ")";
+      } else if (f.method && --arg == 0) {
+        text = "calling '" + f.name + "' on bad self (" + message + ")";
+      } else {
+        text = "bad argument #" + std::to_string(arg) + " to '" + f.name + "' (" + message + ")";
+      }
+    } else if (!f.name.empty()) {
+      // Name the running function, as luaL_argerror does, so the message says where it came
+      // from; once: a message that starts with that name already ("perspective: aspect must be
+      // ...", from the kernel) keeps its own.
+      const std::string_view m(message);
+      const std::size_t cut = f.name.find_last_of(".:");
+      const std::string last = cut == std::string::npos ? f.name : f.name.substr(cut + 1);
+      if (m.rfind(f.name + ": ", 0) == 0 || m.rfind(last + ": ", 0) == 0) {
+        text = message;
+      } else {
+        text = f.name + ": " + message;
+      }
+    } else {
+      text = message;
+    }
+    luaL_where(L, 1);  // "script.lua:7: ", as luaL_error puts it
+    lua_pushlstring(L, text.data(), text.size());
+    lua_concat(L, 2);
   }
-  // Name the running function, as luaL_argerror does, so the message says where it came from;
-  // once: a message that starts with that name already ("perspective: aspect must be ...", from
-  // the kernel) keeps its own.
-  if (!f.name.empty()) {
-    const std::string_view m(message);
-    const std::size_t cut = f.name.find_last_of(".:");
-    const std::string last = cut == std::string::npos ? f.name : f.name.substr(cut + 1);
-    if (m.rfind(f.name + ": ", 0) == 0 || m.rfind(last + ": ", 0) == 0) return luaL_error(L, "%s", message);
-    return luaL_error(L, "%s: %s", f.name.c_str(), message);
-  }
-  return luaL_error(L, "%s", message);
+  return lua_error(L);
 }
 
 namespace {
