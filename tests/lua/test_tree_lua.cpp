@@ -142,12 +142,17 @@ struct Interrupted {
   double seconds_after_signal = 0;
   std::string err;
 };
-// Runs `wedge run` on the script, sends SIGINT after `delay`, and waits for the exit.
+// Runs `wedge run` on the script, sends SIGINT `delay` after the script has started, and waits
+// for the exit. The script's first statement creates a file the test waits for: a signal sent
+// before wedge has set its handler (a slow start, as under the sanitizers on a busy machine)
+// would kill it instead of testing the handler.
 Interrupted interrupt(const std::string& script, std::chrono::milliseconds delay) {
   const std::string dir = std::string(WEDGE_BINARY_DIR) + "/tests";
   const std::string path = dir + "/interrupt-" + std::to_string(::getpid()) + ".lua";
   const std::string errpath = path + ".err";
-  std::ofstream(path) << script;
+  const std::string readypath = path + ".ready";
+  std::remove(readypath.c_str());
+  std::ofstream(path) << "assert(io.open(\"" << readypath << "\", \"w\")):close() " << script;
   Interrupted r;
   pid_t pid = ::fork();
   if (pid == 0) {
@@ -155,6 +160,9 @@ Interrupted interrupt(const std::string& script, std::chrono::milliseconds delay
     ::dup2(fd, 2);
     ::execl(WEDGE_EXE, WEDGE_EXE, "run", path.c_str(), static_cast<char*>(nullptr));
     ::_exit(127);
+  }
+  for (int i = 0; i < 6000 && !std::ifstream(readypath); ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
   }
   std::this_thread::sleep_for(delay);
   ::kill(pid, SIGINT);
@@ -167,6 +175,7 @@ Interrupted interrupt(const std::string& script, std::chrono::milliseconds delay
   r.err.assign(std::istreambuf_iterator<char>(in), {});
   std::remove(path.c_str());
   std::remove(errpath.c_str());
+  std::remove(readypath.c_str());
   return r;
 }
 }  // namespace
