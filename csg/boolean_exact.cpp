@@ -80,6 +80,20 @@ bool fixes_coordinate(const Soup& s, const Plane& P, int i, double& c) {
   return true;
 }
 
+// Whether coordinate i of point d is a double known without arithmetic (then set): an input
+// vertex's; on a plane x_i = c (a triangle whose three vertices share coordinate i, or a wall
+// over a segment with a_i = b_i); or, for an LPI, on a segment with p_i = q_i.
+bool known_coordinate(const Soup& s, const PointDef& d, int i, double& c) {
+  if (d.kind == PointDef::Explicit || (d.kind == PointDef::Lpi && s.verts[d.p][i] == s.verts[d.q][i])) {
+    c = s.verts[d.p][i];
+    return true;
+  }
+  const int planes = d.kind == PointDef::Tpi ? 3 : 1;
+  for (int k = 0; k < planes; ++k)
+    if (fixes_coordinate(s, d.P[k], i, c)) return true;
+  return false;
+}
+
 template <class NT>
 H<NT> point_eval(const Soup& s, const PointDef& def) {
   H<NT> h;
@@ -326,21 +340,12 @@ u32 Points::add(const PointDef& d) {
       }
     }
   }
-  // Coordinates known exactly without arithmetic: the point lies on a plane x_i = c (a triangle
-  // whose three vertices share coordinate i, or a wall over a segment with a_i = b_i), or, for an
-  // LPI, on a segment with p_i = q_i. Those coordinates are the double c itself, so the point
-  // need not move there when it is rounded.
+  // Coordinates known exactly without arithmetic are the double c itself, so the point need not
+  // move there when it is rounded.
   std::uint8_t fixed = 0;
   for (int i = 0; i < 3; ++i) {
     double c = 0;
-    bool known = false;
-    if (d.kind == PointDef::Lpi && soup_->verts[d.p][i] == soup_->verts[d.q][i]) {
-      c = soup_->verts[d.p][i];
-      known = true;
-    }
-    const int planes = d.kind == PointDef::Tpi ? 3 : 1;
-    for (int k = 0; k < planes && !known; ++k) known = fixes_coordinate(*soup_, d.P[k], i, c);
-    if (known) {
+    if (known_coordinate(*soup_, d, i, c)) {
       ap[i] = bx[i] = bx[i + 3] = c;
       fixed |= static_cast<std::uint8_t>(1u << i);
     }
@@ -428,15 +433,7 @@ int Points::compare_def(const PointDef& a, const PointDef& b, int axis) const {
 void Points::coord_bounds(const PointDef& d, int axis, double& lo, double& hi) const {
   const Soup& s = *soup_;
   double c = 0;
-  bool known = d.kind == PointDef::Explicit;
-  if (known) c = s.verts[d.p][axis];
-  if (!known && d.kind == PointDef::Lpi && s.verts[d.p][axis] == s.verts[d.q][axis]) {
-    c = s.verts[d.p][axis];
-    known = true;
-  }
-  const int planes = d.kind == PointDef::Tpi ? 3 : (d.kind == PointDef::Lpi ? 1 : 0);
-  for (int k = 0; k < planes && !known; ++k) known = fixes_coordinate(s, d.P[k], axis, c);
-  if (known) {
+  if (known_coordinate(s, d, axis, c)) {
     lo = hi = c;
     return;
   }
