@@ -97,8 +97,8 @@ void draw_bands(const Raster& r, Queue* const* queues, std::size_t nq) {
       if (!any) return;
       Raster band = r;
       band.sink = nullptr;
-      band.y0 = std::max(r.y0, b * kBandRows);
-      band.y1 = std::min(r.y1, (b + 1) * kBandRows);
+      band.band_y0 = std::max(r.y0, b * kBandRows);
+      band.band_y1 = std::min(r.y1, (b + 1) * kBandRows);
       // Consecutive triangles by runs (Raster::triangle_run), lines and points one by one.
       Raster::RunTri run[kRunMax];
       std::size_t n = 0;

@@ -76,8 +76,9 @@ void Raster::triangle_scalar(const WinVert& v0, const WinVert& v1in, const WinVe
   // inside the closed triangle, so no other pixel can be drawn (ceil / floor by shifts).
   int bx0 = std::max<std::int64_t>(x0, (std::min({X[0], X[1], X[2]}) - 128 + 255) >> 8);
   int bx1 = std::min<std::int64_t>(x1 - 1, (std::max({X[0], X[1], X[2]}) - 128) >> 8);
-  int by0 = std::max<std::int64_t>(y0, (std::min({Y[0], Y[1], Y[2]}) - 128 + 255) >> 8);
-  int by1 = std::min<std::int64_t>(y1 - 1, (std::max({Y[0], Y[1], Y[2]}) - 128) >> 8);
+  // (Each pixel's values come from the planes at its own centre: any band's rows give the same.)
+  int by0 = std::max<std::int64_t>(band_y0, (std::min({Y[0], Y[1], Y[2]}) - 128 + 255) >> 8);
+  int by1 = std::min<std::int64_t>(band_y1 - 1, (std::max({Y[0], Y[1], Y[2]}) - 128) >> 8);
   if (bx0 > bx1 || by0 > by1) return;
 
   // Edge i is opposite vertex i: from v[(i+1)%3] to v[(i+2)%3]. E_i > 0 inside (CCW).
@@ -227,10 +228,13 @@ template <bool Phong, bool Smooth, bool Tex, bool Fog, bool Depth, bool Avx2>
   // Pixels whose centre lies within the vertices' bounding box (as triangle_scalar).
   const int bx0 = int(std::max<std::int64_t>(x0, (std::min({X[0], X[1], X[2]}) - 128 + 255) >> 8));
   const int bx1 = int(std::min<std::int64_t>(x1 - 1, (std::max({X[0], X[1], X[2]}) - 128) >> 8));
-  const int by0 = int(std::max<std::int64_t>(y0, (std::min({Y[0], Y[1], Y[2]}) - 128 + 255) >> 8));
-  const int by1 = int(std::min<std::int64_t>(y1 - 1, (std::max({Y[0], Y[1], Y[2]}) - 128) >> 8));
-  if (bx0 > bx1 || by0 > by1) return;
-  const int ox = bx0 & ~1, oy = by0 & ~1;  // the first quad
+  const int ty0 = int(std::max<std::int64_t>(y0, (std::min({Y[0], Y[1], Y[2]}) - 128 + 255) >> 8));
+  const int ty1 = int(std::min<std::int64_t>(y1 - 1, (std::max({Y[0], Y[1], Y[2]}) - 128) >> 8));
+  if (bx0 > bx1 || ty0 > ty1) return;
+  const int ox = bx0 & ~1, oy = ty0 & ~1;  // the first quad (of all rows, not the band's)
+  // The rows drawn here: the box's rows in the band (all of them without bands).
+  const int by0 = std::max(ty0, band_y0), by1 = std::min(ty1, band_y1 - 1);
+  if (by0 > by1) return;
   // The framebuffer lines the triangle touches are usually not cached (a mesh's triangles come
   // in no screen order): start fetching them now, to overlap the setup below.
   for (int py : {by0, by1}) {
@@ -258,7 +262,7 @@ template <bool Phong, bool Smooth, bool Tex, bool Fog, bool Depth, bool Avx2>
     const std::int64_t K = A[i] * (128 - X[a]) + B[i] * (128 - Y[a]) + (top_left ? 0 : -1);
     c[i] = A[i] * ox + B[i] * oy + (K >> 8);  // >> floors (C++20: arithmetic shift)
     // Bound of |e| over the quads (one step past the last as well).
-    const std::int64_t w = bx1 + 3 - ox, h = by1 + 3 - oy;
+    const std::int64_t w = bx1 + 3 - ox, h = ty1 + 3 - oy;
     if (std::abs(c[i]) + std::abs(A[i]) * w + std::abs(B[i]) * h > (std::int64_t(1) << 30)) fits = false;
   }
   if (!fits) return triangle_scalar<Phong, Smooth, Tex, Fog, Depth>(v0, v1in, v2in, side, flat);
@@ -266,7 +270,7 @@ template <bool Phong, bool Smooth, bool Tex, bool Fog, bool Depth, bool Avx2>
   // the bounding box first, by the loops' own integer test, and skip the plane setup when none
   // is covered (many cover no centre at all).
   // The covered centres are kept (cov_x, cov_y): the per-pixel path below draws them.
-  const bool tiny = bx1 - bx0 < 4 && by1 - by0 < 4;
+  const bool tiny = bx1 - bx0 < 4 && ty1 - ty0 < 4;
   int cov_n = 0;
   std::uint8_t cov_x[16], cov_y[16];  // offsets from (ox, oy)
   if (tiny) {

@@ -146,7 +146,7 @@ void Raster::line(const WinVert& a, const WinVert& b, int side, const float* fla
     }
     for (int j = j0; j < j0 + w; ++j) {
       const int px = xmajor ? i : j, py = xmajor ? j : i;
-      if (px < x0 || px >= x1 || py < y0 || py >= y1) continue;
+      if (px < x0 || px >= x1 || py < band_y0 || py >= band_y1) continue;
       if (!depth_stage(px, py, float(z))) continue;
       shade_fragment(px, py, cc, texturing ? attrs + kTex : nullptr, 0, attrs[kFog]);
     }
@@ -167,7 +167,7 @@ void Raster::point(const WinVert& p_in, int side) {
   else c = Vec4f(p.a[col], p.a[col + 1], p.a[col + 2], p.a[col + 3]);
   for (int y = ya; y < ya + isz; ++y)
     for (int x = xa; x < xa + isz; ++x) {
-      if (x < x0 || x >= x1 || y < y0 || y >= y1) continue;
+      if (x < x0 || x >= x1 || y < band_y0 || y >= band_y1) continue;
       if (!depth_stage(x, y, float(p.z))) continue;
       shade_fragment(x, y, c, texturing ? p.a + kTex : nullptr, 0, p.a[kFog]);
     }

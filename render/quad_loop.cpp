@@ -195,16 +195,19 @@ template <class V, bool Phong, bool Smooth, bool Tex, bool Fog, bool Depth>
   const V fog_c[3] = {bcast_lanes<V>(s.fog_color[0]), bcast_lanes<V>(s.fog_color[1]), bcast_lanes<V>(s.fog_color[2])};
   const V env_c[3] = {bcast_lanes<V>(s.env_color[0]), bcast_lanes<V>(s.env_color[1]), bcast_lanes<V>(s.env_color[2])};
   const Simd sample_simd = avx2 ? Simd::Auto : Simd::Sse2;
-  // Edge functions at the block's lanes, their steps per block (x) and per pair of rows (y).
+  // Edge functions at the block's lanes in the first pair of rows drawn (oy, or a band's first
+  // row), their steps per block (x) and per pair of rows (y).
+  const int qy0 = by0 & ~1;
   I estep[3], erow[3], estepy[3];
   for (int i = 0; i < 3; ++i) {
     const int a = int(A[i]), b = int(B[i]);
     estep[i] = I{} + kStep * a;
     estepy[i] = I{} + 2 * b;
-    for (int l = 0; l < W; ++l) erow[i][l] = int(C[i]) + (lane_x(l) * a + lane_y(l) * b);
+    const int c0 = int(C[i] + B[i] * (qy0 - oy));
+    for (int l = 0; l < W; ++l) erow[i][l] = c0 + (lane_x(l) * a + lane_y(l) * b);
   }
   const bool wide = bx1 - ox >= 64;
-  for (int qy = oy; qy <= by1; qy += 2) {
+  for (int qy = qy0; qy <= by1; qy += 2) {
     int rowm = kAll;
     if (qy < by0) rowm &= ~row0_lanes(W);
     if (qy + 1 > by1) rowm &= kAll & ~(row0_lanes(W) << 2);

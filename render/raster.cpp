@@ -29,6 +29,7 @@ Raster::Raster(Context::State& st, int w, int h, std::uint8_t* c, float* d)
     x0 = std::max(x0, s.sc_x), y0 = std::max(y0, s.sc_y);
     x1 = std::min(x1, s.sc_x + s.sc_w), y1 = std::min(y1, s.sc_y + s.sc_h);
   }
+  band_y0 = y0, band_y1 = y1;
   lighting = s.on(Cap::Lighting);
   phong = lighting && s.shade == ShadeModel::Phong;
   texturing = s.on(Cap::Texture2D) && s.texture && !s.texture->levels.empty();

@@ -392,6 +392,10 @@ struct Raster {
   // Clip planes: 6 frustum planes then the enabled user planes (as eye-space planes).
   std::vector<Vec4> user_planes;
   int x0, y0, x1, y1;  // pixel bounds (framebuffer ∩ scissor), half open
+  // The rows this Raster writes: y0 .. y1, or a band's share of them (bands.cpp). A primitive's
+  // setup (its first quad, where its planes are evaluated from, and the choice of path) comes
+  // from y0 .. y1 alone, so that the band drawing a row writes the bits one thread writes there.
+  int band_y0, band_y1;
   // The AVX2 builds (vertex stage, run setup, fragment loops, texture sampling) for this draw:
   // the Context's Simd choice is Auto and the CPU has AVX2 (one choice for all of them).
   bool avx2 = false;
@@ -602,7 +606,7 @@ struct Raster {
 
   // --- the quad fragment loop (quad_loop.cpp) ---
   // A triangle after triangle_q's setup, as the quad loop takes it: the first quad (ox, oy), the
-  // pixel bounds, the edge functions e_i = A_i (x - ox) + B_i (y - oy) + c_i, the float planes of
+  // pixel bounds (rows by0 .. by1: those of the box in the band), the edge functions e_i = A_i (x - ox) + B_i (y - oy) + c_i, the float planes of
   // 1/w and a/w (colours, texture s t q, fog distance; all kAttrs attributes for Phong), the
   // depth plane in double, and the state the loop reads.
   struct QuadSetup {

@@ -13,8 +13,9 @@ namespace wedge::render::raster {
 
 namespace {
 #if defined(__SSE2__)
+// x0 y0 x1 y1: Raster's bounds; rows r0 .. r1 (half open) those drawn (Raster::band_y0, band_y1).
 template <class V>
-[[gnu::always_inline]] inline void run_setup(RunSetup& r, int n, int x0, int y0, int x1, int y1) {
+[[gnu::always_inline]] inline void run_setup(RunSetup& r, int n, int x0, int y0, int x1, int y1, int r0, int r1) {
   typedef decltype(V{} < V{}) L;
   constexpr int kW = sizeof(V) / sizeof(double);
   // First the coverage (few values live: the mask stays in a register), then the planes.
@@ -40,10 +41,12 @@ template <class V>
     std::memcpy(r.flip + t, &flip, sizeof flip);
     const V bx0 = vmax(V{} + double(x0), vfloor((vmin(vmin(X[0], X[1]), X[2]) + 127.0) * (1.0 / 256)));
     const V bx1 = vmin(V{} + double(x1 - 1), vfloor((vmax(vmax(X[0], X[1]), X[2]) - 128.0) * (1.0 / 256)));
-    const V by0 = vmax(V{} + double(y0), vfloor((vmin(vmin(Y[0], Y[1]), Y[2]) + 127.0) * (1.0 / 256)));
-    const V by1 = vmin(V{} + double(y1 - 1), vfloor((vmax(vmax(Y[0], Y[1]), Y[2]) - 128.0) * (1.0 / 256)));
+    const V ty0 = vmax(V{} + double(y0), vfloor((vmin(vmin(Y[0], Y[1]), Y[2]) + 127.0) * (1.0 / 256)));
+    const V ty1 = vmin(V{} + double(y1 - 1), vfloor((vmax(vmax(Y[0], Y[1]), Y[2]) - 128.0) * (1.0 / 256)));
+    // The first quad from the box in all rows, the rows drawn from the band's (as triangle_q).
+    const V by0 = vmax(ty0, V{} + double(r0)), by1 = vmin(ty1, V{} + double(r1 - 1));
     const L empty = (bx0 > bx1) | (by0 > by1);
-    const V ox = vfloor(bx0 * 0.5) * 2.0, oy = vfloor(by0 * 0.5) * 2.0;
+    const V ox = vfloor(bx0 * 0.5) * 2.0, oy = vfloor(ty0 * 0.5) * 2.0;
     V A[3], B[3], e[3];
     L fits = ok;
     for (int i = 0; i < 3; ++i) {
@@ -53,10 +56,10 @@ template <class V>
       const L top_left = (dy < 0.0) | ((dy == 0.0) & (dx < 0.0));
       const V K = A[i] * (128.0 - X[a]) + B[i] * (128.0 - Y[a]) + vsel(top_left, V{}, V{} - 1.0);
       const V ci = A[i] * ox + B[i] * oy + vfloor(K * (1.0 / 256));
-      fits &= vabs(ci) + vabs(A[i]) * (bx1 + 3.0 - ox) + vabs(B[i]) * (by1 + 3.0 - oy) <= 0x1p30;
+      fits &= vabs(ci) + vabs(A[i]) * (bx1 + 3.0 - ox) + vabs(B[i]) * (ty1 + 3.0 - oy) <= 0x1p30;
       e[i] = ci + B[i] * (by0 - oy) + A[i] * (bx0 - ox);  // at pixel (bx0, by0)
     }
-    const L tiny = (bx1 - bx0 < 4.0) & (by1 - by0 < 4.0);
+    const L tiny = (bx1 - bx0 < 4.0) & (ty1 - ty0 < 4.0);
     // Centres (bx0 + k, by0 + j), k, j < 4 (those beyond bx1 or by1 are masked off per triangle
     // below) into bit 4 j + k: covered when no edge function is negative. A step in k adds A, a
     // step in j adds B (exact); the edge functions start at +0 (e + 0: no -0 arises from sums of
@@ -156,10 +159,13 @@ template <class V>
   }
 }
 
-__attribute__((target("avx2"))) void run_setup_avx2(RunSetup& r, int n, int x0, int y0, int x1, int y1) {
-  run_setup<D4>(r, n, x0, y0, x1, y1);
+__attribute__((target("avx2"))) void run_setup_avx2(RunSetup& r, int n, int x0, int y0, int x1, int y1, int r0,
+                                                    int r1) {
+  run_setup<D4>(r, n, x0, y0, x1, y1, r0, r1);
 }
-void run_setup_default(RunSetup& r, int n, int x0, int y0, int x1, int y1) { run_setup<D2>(r, n, x0, y0, x1, y1); }
+void run_setup_default(RunSetup& r, int n, int x0, int y0, int x1, int y1, int r0, int r1) {
+  run_setup<D2>(r, n, x0, y0, x1, y1, r0, r1);
+}
 #endif
 }  // namespace
 
@@ -201,10 +207,10 @@ void Raster::small_run(const RunTri* tri, int m, RunSetup& rs) {
     }
   }
 #if defined(__x86_64__) && defined(__GNUC__)
-  if (avx2) run_setup_avx2(rs, m4, x0, y0, x1, y1);
-  else run_setup_default(rs, m4, x0, y0, x1, y1);
+  if (avx2) run_setup_avx2(rs, m4, x0, y0, x1, y1, band_y0, band_y1);
+  else run_setup_default(rs, m4, x0, y0, x1, y1, band_y0, band_y1);
 #else
-  run_setup_default(rs, m4, x0, y0, x1, y1);
+  run_setup_default(rs, m4, x0, y0, x1, y1, band_y0, band_y1);
 #endif
   const DepthFunc dfunc = s.depth_func;
   const bool dmask = s.depth_mask;

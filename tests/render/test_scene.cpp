@@ -2,6 +2,7 @@
 #include <catch2/catch.hpp>
 
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -388,6 +389,79 @@ TEST_CASE("banded multi-threaded rasterisation gives the single-threaded image",
   Image one = draw(1), two = draw(2);
   CHECK(one.rgba == two.rgba);
   CHECK_THROWS(Context(4, 4).threads(0));
+}
+
+TEST_CASE("bands give the single-threaded bits where a triangle spans several: planes from its own corner", "[render][threads]") {
+  // A textured, fogged plane receding to the horizon (two triangles, one crossing the near plane)
+  // and a smooth-shaded fan of long thin triangles, each over many bands of rows: the band that
+  // draws a row must evaluate the same attribute, texture-coordinate and depth planes as one
+  // thread does (taken at the triangle's first quad, not at the band's first row), or colours and
+  // mipmap levels differ in the last bit. Scissored to an odd first row, at 1, 2 and 3 threads.
+  std::vector<double> pos, tex;
+  std::vector<float> col;
+  const double p[4][3] = {{-20, -1, 5}, {20, -1, 5}, {20, -1, -60}, {-20, -1, -60}};
+  const double t[4][2] = {{0, 0}, {20, 0}, {20, 32}, {0, 32}};
+  for (int k : {0, 1, 2, 0, 2, 3}) {
+    pos.insert(pos.end(), {p[k][0], p[k][1], p[k][2]});
+    tex.insert(tex.end(), {t[k][0], t[k][1]});
+    col.insert(col.end(), {1, 1, 1, 1});
+  }
+  for (int i = 0; i < 40; ++i) {  // a fan of slivers around (0, 0.2, -2), 2 to 4 bands tall
+    const double a0 = i * 0.157, a1 = a0 + 0.05;
+    pos.insert(pos.end(), {0, 0.2, -2, 3 * std::cos(a0), 0.2 + 3 * std::sin(a0), -2.5, 3 * std::cos(a1), 0.2 + 3 * std::sin(a1), -2.5});
+    tex.insert(tex.end(), {0, 0, 0, 0, 0, 0});
+    col.insert(col.end(), {1, 0.2f, 0.1f, 1, 0.1f, 0.9f, 0.3f, 1, 0.2f, 0.3f, 1, 1});
+  }
+  auto checker = Texture::checker(256, 16, Vec4f(1, 1, 1, 1), Vec4f(0.2f, 0.3f, 0.6f, 1));
+  struct Frame {
+    Image image;
+    std::vector<float> depth;
+  };
+  checker->min_filter = TexFilter::LinearMipmapLinear;
+  auto draw = [&](int threads, bool sse2, bool scissor) {
+    Context c(400, 300);
+    c.threads(threads);
+    if (sse2) c.simd(Simd::Sse2);
+    c.clear_color(0.7f, 0.7f, 0.75f, 1);
+    c.clear();
+    if (scissor) {
+      c.enable(Cap::ScissorTest);
+      c.scissor(3, 7, 390, 280);
+    }
+    c.matrix_mode(MatrixMode::Projection);
+    c.perspective(45, 400.0 / 300, 0.5, 100);
+    c.matrix_mode(MatrixMode::ModelView);
+    c.look_at(Point3(0, 0.8, 3), Point3(0, 0, 0), Vec3(0, 1, 0));
+    c.enable(Cap::DepthTest);
+    VertexArrays va;
+    va.positions = pos.data(), va.texcoords = tex.data(), va.colors = col.data();
+    c.enable(Cap::Texture2D);
+    c.bind_texture(checker);
+    c.tex_env_mode(TexEnvMode::Modulate);
+    c.enable(Cap::Fog);
+    c.fog_mode(FogMode::Linear);
+    c.fog_color(Vec4f(0.7f, 0.7f, 0.75f, 1));
+    c.fog_start(2);
+    c.fog_end(40);
+    c.draw_arrays(Primitive::Triangles, va, 0, 6);
+    c.disable(Cap::Texture2D);
+    c.disable(Cap::Fog);
+    c.draw_arrays(Primitive::Triangles, va, 6, int(pos.size() / 3) - 6);
+    return Frame{c.image(), c.depth_buffer()};
+  };
+  for (bool sse2 : {false, true})
+    for (bool scissor : {false, true}) {
+      const Frame one = draw(1, sse2, scissor);
+      for (int threads : {2, 3}) {
+        const Frame more = draw(threads, sse2, scissor);
+        INFO(threads << " threads" << (sse2 ? ", SSE2" : "") << (scissor ? ", scissored" : ""));
+        std::size_t differ = 0;
+        for (std::size_t i = 0; i < one.image.rgba.size(); i += 4)
+          differ += std::memcmp(&one.image.rgba[i], &more.image.rgba[i], 4) != 0;
+        CHECK(differ == 0);
+        CHECK(std::memcmp(one.depth.data(), more.depth.data(), one.depth.size() * sizeof(float)) == 0);
+      }
+    }
 }
 
 TEST_CASE("a mesh's own normals are used; smooth normals are computed only when it has none", "[render][scene]") {
