@@ -125,13 +125,29 @@ Bvh::Bvh(const Soup& soup, std::vector<u32> ids, int d) : items(std::move(ids)),
   }
 }
 
-std::vector<std::array<u32, 2>> Bvh::self_pairs(const std::vector<char>* active) const {
-  if (nodes.empty()) return {};
+namespace {
+
+// The tree's self-join: every unordered pair of distinct items whose float boxes overlap, at least
+// one of them active, handed to visit(task, t, u) (triangle ids, in no particular order) as the
+// walk meets it; nothing is collected here, so a join of millions of neighbouring pairs (an
+// operand's self-check) costs no memory. The walk is split into fixed tasks (breadth first to
+// about 512 independent node pairs, then one depth-first walk each); start(number of tasks) is
+// called before the tasks run, in parallel. What a task visits, and in which order, does not
+// depend on the number of threads. poll() is called every few thousand leaf pairs.
+template <class Start, class Visit, class Poll>
+void self_join(const Bvh& bvh, const std::vector<char>* active, Start&& start, Visit&& visit, Poll&& poll) {
+  const auto& nodes = bvh.nodes;
+  const auto& items = bvh.items;
+  const auto& boxes = bvh.boxes;
+  if (nodes.empty()) {
+    start(std::size_t(0));
+    return;
+  }
   // Whether a subtree holds an active triangle (children follow their parent).
   std::vector<char> act(nodes.size(), 1);
   if (active)
     for (std::size_t i = nodes.size(); i-- > 0;) {
-      const Node& nd = nodes[i];
+      const Bvh::Node& nd = nodes[i];
       if (!nd.count) {
         act[i] = act[nd.left] | act[nd.right];
         continue;
@@ -146,7 +162,7 @@ std::vector<std::array<u32, 2>> Bvh::self_pairs(const std::vector<char>* active)
   using Pair = std::array<u32, 2>;  // node ids; a == b: pairs within one subtree
   // The node pairs one step below (a, b), those worth a look.
   auto expand = [&](Pair p, std::vector<Pair>& out) {
-    const Node &A = nodes[p[0]], &B = nodes[p[1]];
+    const Bvh::Node &A = nodes[p[0]], &B = nodes[p[1]];
     auto push = [&](u32 a, u32 b) {
       if (a == b ? act[a] : (act[a] | act[b]) && meet(nodes[a].lo, nodes[a].hi, nodes[b].lo, nodes[b].hi))
         out.push_back({a, b});
@@ -157,7 +173,7 @@ std::vector<std::array<u32, 2>> Bvh::self_pairs(const std::vector<char>* active)
       push(A.left, A.right);
       return;
     }
-    auto size = [](const Node& n) { return (n.hi[0] - n.lo[0]) + (n.hi[1] - n.lo[1]) + (n.hi[2] - n.lo[2]); };
+    auto size = [](const Bvh::Node& n) { return (n.hi[0] - n.lo[0]) + (n.hi[1] - n.lo[1]) + (n.hi[2] - n.lo[2]); };
     if (B.count || (!A.count && size(A) >= size(B))) {
       push(A.left, p[1]);
       push(A.right, p[1]);
@@ -167,7 +183,6 @@ std::vector<std::array<u32, 2>> Bvh::self_pairs(const std::vector<char>* active)
     }
   };
   auto leaves = [&](Pair p) { return nodes[p[0]].count && nodes[p[1]].count; };
-  // Breadth first to enough independent node pairs for the threads, then one depth-first walk each.
   std::vector<Pair> tasks;
   if (act[0]) tasks.push_back({0, 0});
   for (int round = 0; round < 12 && !tasks.empty() && tasks.size() < 512; ++round) {
@@ -178,20 +193,21 @@ std::vector<std::array<u32, 2>> Bvh::self_pairs(const std::vector<char>* active)
     }
     tasks.swap(next);
   }
-  std::vector<std::vector<std::array<u32, 2>>> found(tasks.size());
+  start(tasks.size());
   parallel_for(0, tasks.size(), [&](std::size_t k) {
-    auto& res = found[k];
+    poll();
     std::vector<Pair> stack{tasks[k]};
+    std::size_t since_poll = 0;
     auto emit = [&](u32 i, u32 j) {
       const u32 t = items[i], u = items[j];
       if (active && !(*active)[t] && !(*active)[u]) return;
       if (!meet(boxes[i].data(), boxes[i].data() + 3, boxes[j].data(), boxes[j].data() + 3)) return;
-      res.push_back({std::min(t, u), std::max(t, u)});
+      visit(k, t, u);
     };
     while (!stack.empty()) {
       const Pair p = stack.back();
       stack.pop_back();
-      const Node &A = nodes[p[0]], &B = nodes[p[1]];
+      const Bvh::Node &A = nodes[p[0]], &B = nodes[p[1]];
       if (p[0] == p[1] && A.count) {
         for (u32 i = A.first; i < A.first + A.count; ++i)
           for (u32 j = i + 1; j < A.first + A.count; ++j) emit(i, j);
@@ -200,49 +216,73 @@ std::vector<std::array<u32, 2>> Bvh::self_pairs(const std::vector<char>* active)
           for (u32 j = B.first; j < B.first + B.count; ++j) emit(i, j);
       } else {
         expand(p, stack);
+        continue;
+      }
+      if (++since_poll == 4096) {
+        since_poll = 0;
+        poll();
       }
     }
   });
-  std::size_t total = 0;
-  for (const auto& f : found) total += f.size();
-  std::vector<std::array<u32, 2>> pairs;
-  pairs.reserve(total);
-  for (const auto& f : found) pairs.insert(pairs.end(), f.begin(), f.end());
-  return pairs;
 }
 
-// The tree's self-join gives the pairs of overlapping float boxes; they are then tested on double
-// boxes (and exactly, where asked) in fixed blocks, so the result is the same at any thread count.
+template <class T>
+std::vector<T> concatenate(std::vector<std::vector<T>>& parts) {
+  std::size_t total = 0;
+  for (const auto& p : parts) total += p.size();
+  std::vector<T> all;
+  all.reserve(total);
+  for (auto& p : parts) {
+    all.insert(all.end(), p.begin(), p.end());
+    std::vector<T>().swap(p);
+  }
+  return all;
+}
+
+}  // namespace
+
+std::vector<std::array<u32, 2>> Bvh::self_pairs(const std::vector<char>* active) const {
+  std::vector<std::vector<std::array<u32, 2>>> found;
+  self_join(
+      *this, active, [&](std::size_t n) { found.resize(n); },
+      [&](std::size_t k, u32 t, u32 u) { found[k].push_back({std::min(t, u), std::max(t, u)}); }, [] {});
+  return concatenate(found);
+}
+
+// The tree's self-join visits the pairs of overlapping float boxes; each is tested on double boxes
+// and kept if its triangles belong to different operands; a pair of one operand is checked for a
+// clash (exactly) where asked. No list of all overlapping pairs is made: on two 1M-triangle
+// spheres it would hold some 30 million pairs of neighbours, nearly all of one operand. The first
+// clash is the first one met by the first task that meets one, the same at any thread count.
 std::vector<std::array<u32, 2>> candidate_pairs(const Soup& soup, std::array<u32, 2>* clash, bool self,
                                                 const std::vector<char>* trusted) {
   std::size_t n = soup.tris.size();
   std::vector<u32> all(n);
   for (std::size_t i = 0; i < n; ++i) all[i] = static_cast<u32>(i);
-  const auto near = Bvh(soup, all, 3).self_pairs();
-  constexpr std::size_t kBlock = 4096;
-  std::size_t blocks = (near.size() + kBlock - 1) / kBlock;
-  std::vector<std::vector<std::array<u32, 2>>> out(blocks);
-  std::vector<std::array<u32, 2>> clashes(blocks, {kNone, kNone});
-  parallel_for(0, blocks, [&](std::size_t b) {
-    soup.poll();
-    auto& res = out[b];
-    for (std::size_t k = b * kBlock; k < std::min(near.size(), (b + 1) * kBlock); ++k) {
-      const u32 t = near[k][0], u = near[k][1];
-      double lo[3], hi[3], ulo[3], uhi[3];
-      tri_box(soup, t, lo, hi);
-      tri_box(soup, u, ulo, uhi);
-      bool apart = false;
-      for (int a = 0; a < 3; ++a)
-        if (ulo[a] > hi[a] || uhi[a] < lo[a]) apart = true;
-      if (apart) continue;
-      if (soup.operand[u] != soup.operand[t] || (self && triangles_clash(soup, t, u))) {
-        res.push_back({t, u});
-      } else if (clash && clashes[b][0] == kNone && !(trusted && (*trusted)[soup.operand[t]]) &&
-                 triangles_clash(soup, t, u)) {
-        clashes[b] = {t, u};
-      }
-    }
-  });
+  const Bvh tree(soup, std::move(all), 3);
+  std::vector<std::vector<std::array<u32, 2>>> out;
+  std::vector<std::array<u32, 2>> clashes;
+  self_join(
+      tree, nullptr,
+      [&](std::size_t tasks) {
+        out.resize(tasks);
+        clashes.assign(tasks, {kNone, kNone});
+      },
+      [&](std::size_t k, u32 t, u32 u) {
+        if (t > u) std::swap(t, u);
+        double lo[3], hi[3], ulo[3], uhi[3];
+        tri_box(soup, t, lo, hi);
+        tri_box(soup, u, ulo, uhi);
+        for (int a = 0; a < 3; ++a)
+          if (ulo[a] > hi[a] || uhi[a] < lo[a]) return;
+        if (soup.operand[u] != soup.operand[t] || (self && triangles_clash(soup, t, u))) {
+          out[k].push_back({t, u});
+        } else if (clash && clashes[k][0] == kNone && !(trusted && (*trusted)[soup.operand[t]]) &&
+                   triangles_clash(soup, t, u)) {
+          clashes[k] = {t, u};
+        }
+      },
+      [&] { soup.poll(); });
   if (clash) {
     *clash = {kNone, kNone};
     for (const auto& c : clashes)
@@ -251,11 +291,7 @@ std::vector<std::array<u32, 2>> candidate_pairs(const Soup& soup, std::array<u32
         break;
       }
   }
-  std::vector<std::array<u32, 2>> pairs;
-  std::size_t total = 0;
-  for (auto& v : out) total += v.size();
-  pairs.reserve(total);
-  for (auto& v : out) pairs.insert(pairs.end(), v.begin(), v.end());
+  std::vector<std::array<u32, 2>> pairs = concatenate(out);
   std::sort(pairs.begin(), pairs.end());
   return pairs;
 }
