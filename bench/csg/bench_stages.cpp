@@ -4,7 +4,7 @@
 //   bench_stages [case] [threads, default 1] [repeats, default 3]
 //
 // Cases: plate (a plate minus 400 cylinders of 32 sides), menger (the level-3 sponge), sph65
-// (two overlapping 65k-triangle spheres, union), bosses (issue 16's plate as meshes: a 42 x 42 x 2
+// (two overlapping 65k-triangle spheres, union), sph1m (the same at 1M, not in all), bosses (issue 16's plate as meshes: a 42 x 42 x 2
 // plate united with 400 bored bosses of 24 sides in one pass, then minus 400 drills), or all.
 // Each line gives the minimum over the repeats of the CPU time and of each stage.
 #include <algorithm>
@@ -19,6 +19,7 @@
 #include "csg/boolean.h"
 #include "kernel/transform.h"
 #include "tests/support/boolean_cases.h"
+#include "kernel/memory.h"
 
 using namespace wedge;
 using namespace wedge::testing;
@@ -76,6 +77,7 @@ void bosses() {
 }  // namespace
 
 int main(int argc, char** argv) {
+  wedge::use_huge_pages(argv);  // first: it may execute the program again
   const std::string which = argc > 1 ? argv[1] : "all";
   const int threads = argc > 2 ? std::max(1, std::atoi(argv[2])) : 1;
   g_repeats = argc > 3 ? std::max(1, std::atoi(argv[3])) : 3;
@@ -87,6 +89,7 @@ int main(int argc, char** argv) {
   if (all || which == "plate") run("plate minus 400 cylinders", BooleanOp::Difference, plate_and_cylinders(20, 32));
   if (all || which == "menger") run("Menger sponge, level 3", BooleanOp::Difference, menger_operands(3));
   if (all || which == "sph65") run("spheres 65k, union", BooleanOp::Union, overlapping_spheres(65536));
+  if (which == "sph1m") run("spheres 1M, union", BooleanOp::Union, overlapping_spheres(1048576));
   if (all || which == "bosses") bosses();
   return 0;
 }

@@ -1,0 +1,28 @@
+#include "kernel/memory.h"
+
+#include <unistd.h>
+
+#include <cstdlib>
+#include <cstring>
+#include <string>
+
+namespace wedge {
+
+void use_huge_pages(char** argv) {
+#ifdef __linux__
+  const char* off = std::getenv("WEDGE_HUGE_PAGES");
+  if (off && std::strcmp(off, "0") == 0) return;
+  const char* old = std::getenv("GLIBC_TUNABLES");
+  if (old && std::strstr(old, "glibc.malloc.hugetlb")) return;  // set (by us, or by the user)
+  std::string tunables = old && *old ? std::string(old) + ":glibc.malloc.hugetlb=1" : "glibc.malloc.hugetlb=1";
+  if (setenv("GLIBC_TUNABLES", tunables.c_str(), 1) != 0) return;
+  execv("/proc/self/exe", argv);
+  // Not executed again (no /proc, say): run on as we are, and leave the environment as it was.
+  if (old) setenv("GLIBC_TUNABLES", old, 1);
+  else unsetenv("GLIBC_TUNABLES");
+#else
+  (void)argv;
+#endif
+}
+
+}  // namespace wedge
