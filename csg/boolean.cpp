@@ -150,6 +150,32 @@ Soup boolean_detail::make_soup(const std::vector<const Mesh*>& operands) {
   return s;
 }
 
+std::vector<u32> boolean_detail::sort_edges(std::vector<EdgeRec>& recs, std::size_t n) {
+  std::vector<u32> off(n + 1, 0);
+  for (const EdgeRec& r : recs) ++off[(r.key >> 32) + 1];
+  for (std::size_t v = 0; v < n; ++v) off[v + 1] += off[v];
+  std::vector<EdgeRec> out(recs.size());
+  {
+    std::vector<u32> next(off.begin(), off.end() - 1);
+    for (const EdgeRec& r : recs) out[next[r.key >> 32]++] = r;
+  }
+  auto less = [](const EdgeRec& x, const EdgeRec& y) { return x.key < y.key || (x.key == y.key && x.value < y.value); };
+  parallel_for(0, (n + 4095) / 4096, [&](std::size_t block) {
+    for (std::size_t v = block * 4096; v < std::min(n, (block + 1) * 4096); ++v) {
+      EdgeRec* first = out.data() + off[v];
+      EdgeRec* last = out.data() + off[v + 1];
+      if (last - first <= 16) {
+        for (EdgeRec* i = first + 1; i < last; ++i)  // insertion sort: a vertex has a few edges
+          for (EdgeRec* j = i; j > first && less(*j, *(j - 1)); --j) std::swap(*j, *(j - 1));
+      } else {
+        std::sort(first, last, less);
+      }
+    }
+  });
+  recs.swap(out);
+  return off;
+}
+
 // Whether triangles t and u of a soup meet anywhere but in the vertices (or edge) they share,
 // decided exactly.
 bool boolean_detail::triangles_clash(const Soup& s, u32 t, u32 u) {
@@ -275,31 +301,35 @@ std::string defect(const Mesh& m, const std::string& name, bool self) {
              at(s.verts[T[1]]) + ", " + at(s.verts[T[2]]);
   }
   // Closed and 2-manifold: each directed edge once, and its reverse once.
-  std::vector<std::pair<std::uint64_t, u32>> dir;
+  std::vector<EdgeRec> dir;
   dir.reserve(s.tris.size() * 3);
   for (std::size_t t = 0; t < s.tris.size(); ++t)
     for (int e = 0; e < 3; ++e)
       dir.push_back({static_cast<std::uint64_t>(s.tris[t][e]) << 32 | s.tris[t][(e + 1) % 3], static_cast<u32>(t)});
-  std::sort(dir.begin(), dir.end());
+  const std::vector<u32> off = sort_edges(dir, s.verts.size());
   auto edge_at = [&](std::uint64_t key) {
     return at(s.verts[key >> 32]) + " - " + at(s.verts[key & 0xffffffffu]);
   };
+  // How many times the directed edge `key` is used (its records lie, sorted, in its first
+  // vertex's range).
+  auto uses = [&](std::uint64_t key) {
+    auto first = dir.begin() + off[key >> 32], last = dir.begin() + off[(key >> 32) + 1];
+    auto lo = std::partition_point(first, last, [&](const EdgeRec& r) { return r.key < key; });
+    auto hi = std::partition_point(lo, last, [&](const EdgeRec& r) { return r.key == key; });
+    return static_cast<std::size_t>(hi - lo);
+  };
   for (std::size_t i = 0; i < dir.size(); ++i) {
-    std::uint64_t key = dir[i].first;
+    std::uint64_t key = dir[i].key;
     std::uint64_t rev = (key << 32) | (key >> 32);
-    if (i + 1 < dir.size() && dir[i + 1].first == key) {
+    if (i + 1 < dir.size() && dir[i + 1].key == key && (i == 0 || dir[i - 1].key != key)) {
       // Allowed only where shells touch: as many reverse uses as forward ones.
-      std::size_t n = 0, r = 0;
-      for (std::size_t j = i; j < dir.size() && dir[j].first == key; ++j) ++n;
-      auto lo = std::lower_bound(dir.begin(), dir.end(), std::make_pair(rev, u32(0)));
-      for (auto it = lo; it != dir.end() && it->first == rev; ++it) ++r;
+      const std::size_t n = uses(key), r = uses(rev);
       if (n != r)
         return name + " is not consistently oriented: edge " + edge_at(key) + " is used " + std::to_string(n) +
                " times in one direction";
     }
-    auto lo = std::lower_bound(dir.begin(), dir.end(), std::make_pair(rev, u32(0)));
-    if (lo == dir.end() || lo->first != rev)
-      return name + " is not closed: edge " + edge_at(key) + " of triangle #" + std::to_string(dir[i].second + 1) +
+    if (uses(rev) == 0)
+      return name + " is not closed: edge " + edge_at(key) + " of triangle #" + std::to_string(dir[i].value + 1) +
              " has no neighbour";
   }
   if (!(m.volume() > 0)) return name + " is inside out (negative volume): triangles must be counter-clockwise seen from outside";

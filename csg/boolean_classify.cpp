@@ -63,11 +63,7 @@ std::vector<std::int8_t> classify(const Points& pts, const Arrangement& arr, Boo
   const int nops = soup.operands;
 
   // Patches: union pieces of one operand across edges used by exactly those two pieces.
-  struct Half {
-    std::uint64_t key;
-    u32 piece;
-  };
-  std::vector<Half> half(np * 3);
+  std::vector<EdgeRec> half(np * 3);
   parallel_for(0, np, [&](std::size_t i) {
     for (int e = 0; e < 3; ++e) {
       u32 a = pieces[i].v[e], b = pieces[i].v[(e + 1) % 3];
@@ -75,15 +71,13 @@ std::vector<std::int8_t> classify(const Points& pts, const Arrangement& arr, Boo
       half[i * 3 + e] = {static_cast<std::uint64_t>(a) << 32 | b, static_cast<u32>(i)};
     }
   });
-  std::sort(half.begin(), half.end(), [](const Half& x, const Half& y) {
-    return x.key < y.key || (x.key == y.key && x.piece < y.piece);
-  });
+  sort_edges(half, pts.size());
   Dsu dsu(np);
   for (std::size_t i = 0; i < half.size();) {
     std::size_t j = i;
     while (j < half.size() && half[j].key == half[i].key) ++j;
-    if (j - i == 2 && soup.operand[pieces[half[i].piece].tri] == soup.operand[pieces[half[i + 1].piece].tri])
-      dsu.unite(half[i].piece, half[i + 1].piece);
+    if (j - i == 2 && soup.operand[pieces[half[i].value].tri] == soup.operand[pieces[half[i + 1].value].tri])
+      dsu.unite(half[i].value, half[i + 1].value);
     i = j;
   }
   std::vector<u32> patch_of(np);

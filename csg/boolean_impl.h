@@ -149,6 +149,17 @@ class Dsu {
   std::vector<u32> p_;
 };
 
+// An edge's record: key = a << 32 | b (vertex or point ids), and a value (a triangle, a corner).
+struct EdgeRec {
+  std::uint64_t key;
+  u32 value;
+};
+// Sorts edge records by (key, value), where every a (key >> 32) is below n: a counting sort on a,
+// then each vertex's few records sorted; linear in the records and n, where a comparison sort of
+// millions of records was a tenth of a large boolean. Returns the offsets: the records whose a is
+// v are recs[off[v] .. off[v + 1]).
+std::vector<u32> sort_edges(std::vector<EdgeRec>& recs, std::size_t n);
+
 // --- exact points and predicates (boolean_exact.cpp) ---
 struct Plane {
   std::int32_t axis;  // -1: the plane of triangle (a, b, c); 0..2: through a, b containing e_axis

@@ -294,26 +294,20 @@ BooleanResult assemble(const Points& pts, const Arrangement& arr, const std::vec
   const std::size_t nt = tris.size();
 
   // Directed edges; partner[c] for corner-edge c = 3*t+e (edge v[e] -> v[e+1]).
-  struct Half {
-    std::uint64_t key;  // undirected
-    u32 ce;             // 3*t+e
-  };
-  std::vector<Half> half(nt * 3);
+  std::vector<EdgeRec> half(nt * 3);  // undirected key; value: corner-edge 3*t+e
   for (std::size_t t = 0; t < nt; ++t)
     for (int e = 0; e < 3; ++e) {
       u32 a = tris[t][e], b = tris[t][(e + 1) % 3];
       half[t * 3 + e] = {static_cast<std::uint64_t>(std::min(a, b)) << 32 | std::max(a, b), static_cast<u32>(t * 3 + e)};
     }
-  std::sort(half.begin(), half.end(), [](const Half& x, const Half& y) {
-    return x.key < y.key || (x.key == y.key && x.ce < y.ce);
-  });
+  sort_edges(half, pts.size());
   std::vector<u32> partner(nt * 3, kNone);
   for (std::size_t i = 0; i < half.size();) {
     std::size_t j = i;
     while (j < half.size() && half[j].key == half[i].key) ++j;
     if (j - i == 2) {
-      partner[half[i].ce] = half[i + 1].ce;
-      partner[half[i + 1].ce] = half[i].ce;
+      partner[half[i].value] = half[i + 1].value;
+      partner[half[i + 1].value] = half[i].value;
     } else {
       // Several sheets through one edge: sort them around it and pair each triangle with its
       // neighbour behind it. Sorted exactly: sheet i leaves the edge e = b - a in direction
@@ -340,11 +334,11 @@ BooleanResult assemble(const Points& pts, const Arrangement& arr, const std::vec
       };
       std::vector<Sheet> sh;
       for (std::size_t x = i; x < j; ++x) {
-        u32 t = half[x].ce / 3, ei = half[x].ce % 3;
+        u32 t = half[x].value / 3, ei = half[x].value % 3;
         const auto& S = soup.tris[src[t]];
         const Vec3 n = (soup.verts[S[1]] - soup.verts[S[0]]).cross(soup.verts[S[2]] - soup.verts[S[0]]);
         const int s_i = (tris[t][ei] == a ? 1 : -1) * (flipped[t] ? -1 : 1);
-        sh.push_back({half[x].ce, s_i, Plane::of_triangle(S), n});
+        sh.push_back({half[x].value, s_i, Plane::of_triangle(S), n});
       }
       // ccw(x, y) > 0: y lies less than a half-turn counter-clockwise of x about e.
       auto ccw = [&](const Sheet& x, const Sheet& y) { return x.s * y.s * ek * pts.cross_sign(x.plane, y.plane, k); };
