@@ -142,6 +142,12 @@ std::vector<std::int8_t> classify(const Points& pts, const Arrangement& arr, Boo
     // the centroid is not strictly inside it.
     auto cover_sign = [&](u32 u) {
       const auto& U = soup.tris[u];
+      if (cb_ok) {  // the centroid's box off U's box: not inside U (most of a long coplanar list)
+        double ulo[3], uhi[3];
+        triangle_box(soup, u, ulo, uhi);
+        for (int d = 0; d < 3; ++d)
+          if (d != k && (cb[d + 3] < ulo[d] || cb[d] > uhi[d])) return 0;
+      }
       const int o = pts.orient2d(U[0], U[1], U[2], k);  // U's orientation seen along k
       for (int e = 0; e < 3; ++e) {
         int f = edge_side(soup.verts[U[e]], soup.verts[U[(e + 1) % 3]], k);

@@ -193,6 +193,14 @@ TEST_CASE("boolean: bad operands are errors naming the operand and the spot", "[
   Mesh flipped = a;
   for (auto& t : flipped.triangles) std::swap(t[1], t[2]);
   CHECK_THROWS_WITH(boolean(BooleanOp::Union, flipped, a), Catch::Contains("first operand is inside out"));
+  Mesh one_flipped = a;  // closed, but one triangle turned over: its edges run twice one way
+  std::swap(one_flipped.triangles[3][1], one_flipped.triangles[3][2]);
+  CHECK_THROWS_WITH(boolean(BooleanOp::Union, a, one_flipped),
+                    Catch::Contains("second operand is not consistently oriented: edge") &&
+                        Catch::Contains("is used 2 times in one direction"));
+  Mesh touching = a;  // two shells sharing one edge: allowed (each 2-manifold), and unchanged by a union
+  touching.append(cube(1, 1, 0, 1));
+  CHECK(boolean(BooleanOp::Union, touching, touching).triangles.size() == 24);
   Mesh two = a;
   two.append(cube(0.5, 0.5, 0.5, 1));  // two overlapping shells in one mesh
   CHECK_THROWS_WITH(boolean(BooleanOp::Union, a, two), Catch::Contains("second operand intersects itself"));
