@@ -93,8 +93,9 @@ std::string at(const Vec3& p) {
 }  // namespace
 
 // Merges the operands into one soup of triangles on unique positions.
-Soup boolean_detail::make_soup(const std::vector<const Mesh*>& operands) {
+Soup boolean_detail::make_soup(const std::vector<const Mesh*>& operands, const Interrupt* interrupt) {
   Soup s;
+  s.interrupt = interrupt;
   s.operands = static_cast<int>(operands.size());
   // Equal positions become one vertex: an open-addressing table of vertex ids (linear probing).
   std::size_t positions = 0;
@@ -108,6 +109,7 @@ Soup boolean_detail::make_soup(const std::vector<const Mesh*>& operands) {
     const Mesh& m = *operands[o];
     std::vector<u32> map(m.positions.size());
     for (std::size_t v = 0; v < m.positions.size(); ++v) {
+      if ((v & 0xffff) == 0) s.poll();
       Vec3 p = m.positions[v];
       for (int i = 0; i < 3; ++i)
         if (p[i] == 0) p[i] = 0.0;
@@ -150,17 +152,24 @@ Soup boolean_detail::make_soup(const std::vector<const Mesh*>& operands) {
   return s;
 }
 
-std::vector<u32> boolean_detail::sort_edges(std::vector<EdgeRec>& recs, std::size_t n) {
+std::vector<u32> boolean_detail::sort_edges(std::vector<EdgeRec>& recs, std::size_t n, const Interrupt* interrupt) {
+  auto poll = [&] {
+    if (interrupt) interrupt->poll();
+  };
+  poll();
   std::vector<u32> off(n + 1, 0);
   for (const EdgeRec& r : recs) ++off[(r.key >> 32) + 1];
   for (std::size_t v = 0; v < n; ++v) off[v + 1] += off[v];
   std::vector<EdgeRec> out(recs.size());
   {
     std::vector<u32> next(off.begin(), off.end() - 1);
+    poll();
     for (const EdgeRec& r : recs) out[next[r.key >> 32]++] = r;
   }
+  poll();
   auto less = [](const EdgeRec& x, const EdgeRec& y) { return x.key < y.key || (x.key == y.key && x.value < y.value); };
   parallel_for(0, (n + 4095) / 4096, [&](std::size_t block) {
+    poll();
     for (std::size_t v = block * 4096; v < std::min(n, (block + 1) * 4096); ++v) {
       EdgeRec* first = out.data() + off[v];
       EdgeRec* last = out.data() + off[v + 1];
@@ -285,7 +294,7 @@ bool boolean_detail::triangles_clash(const Soup& s, u32 t, u32 u) {
 namespace {
 
 // The first defect of one closed mesh, or "" (exact). `self` also checks self-intersections.
-std::string defect(const Mesh& m, const std::string& name, bool self) {
+std::string defect(const Mesh& m, const std::string& name, bool self, const Interrupt* interrupt = nullptr) {
   try {
     m.check();
   } catch (const Error& e) {
@@ -293,7 +302,7 @@ std::string defect(const Mesh& m, const std::string& name, bool self) {
   }
   if (m.triangles.empty()) return "";
   std::vector<const Mesh*> one{&m};
-  Soup s = make_soup(one);
+  Soup s = make_soup(one, interrupt);
   for (std::size_t t = 0; t < s.tris.size(); ++t) {
     const auto& T = s.tris[t];
     if (s.axis[t] < 0)
@@ -306,7 +315,8 @@ std::string defect(const Mesh& m, const std::string& name, bool self) {
   for (std::size_t t = 0; t < s.tris.size(); ++t)
     for (int e = 0; e < 3; ++e)
       dir.push_back({static_cast<std::uint64_t>(s.tris[t][e]) << 32 | s.tris[t][(e + 1) % 3], static_cast<u32>(t)});
-  const std::vector<u32> off = sort_edges(dir, s.verts.size());
+  s.poll();
+  const std::vector<u32> off = sort_edges(dir, s.verts.size(), interrupt);
   auto edge_at = [&](std::uint64_t key) {
     return at(s.verts[key >> 32]) + " - " + at(s.verts[key & 0xffffffffu]);
   };
@@ -319,6 +329,7 @@ std::string defect(const Mesh& m, const std::string& name, bool self) {
     return static_cast<std::size_t>(hi - lo);
   };
   for (std::size_t i = 0; i < dir.size(); ++i) {
+    if ((i & 0xffff) == 0) s.poll();
     std::uint64_t key = dir[i].key;
     std::uint64_t rev = (key << 32) | (key >> 32);
     if (i + 1 < dir.size() && dir[i + 1].key == key && (i == 0 || dir[i - 1].key != key)) {
@@ -376,8 +387,7 @@ BooleanResult resolve(const BooleanResult& prev, std::size_t* collapses, bool* u
     from.push_back(t);
   }
   std::vector<const Mesh*> one{&m};
-  Soup soup = make_soup(one);
-  soup.interrupt = interrupt;
+  Soup soup = make_soup(one, interrupt);
   Points pts(soup);
   auto pairs = candidate_pairs(soup, nullptr, true);
   Arrangement arr = arrange(pts, pairs);
@@ -412,20 +422,19 @@ BooleanResult boolean(BooleanOp op, const std::vector<const Mesh*>& operands, Bo
   if (operands.empty()) fail("boolean: no operands");
   for (std::size_t i = 0; i < operands.size(); ++i)
     if (!operands[i]) fail("boolean: ", operand_name(i, operands.size()), " is null");
+  const Interrupt interrupt(cancel);
   std::vector<std::string> defects(operands.size());
   std::vector<char> trusted(operands.size(), 0);
   parallel_for(0, operands.size(), [&](std::size_t i) {
     // A result of this engine was closed, manifold and outward when it was returned.
     trusted[i] = verified_results().contains(fingerprint(*operands[i]));
-    if (!trusted[i]) defects[i] = defect(*operands[i], operand_name(i, operands.size()), false);
+    if (!trusted[i]) defects[i] = defect(*operands[i], operand_name(i, operands.size()), false, &interrupt);
   });
   for (const auto& d : defects)
     if (!d.empty()) fail("boolean: ", d);
   if (stats) stats->trusted = static_cast<std::size_t>(std::count(trusted.begin(), trusted.end(), 1));
   lap(&BooleanStats::check);
-  Soup soup = make_soup(operands);
-  const Interrupt interrupt(cancel);
-  soup.interrupt = &interrupt;
+  Soup soup = make_soup(operands, &interrupt);
   Points pts(soup);
   // The broad phase also checks each operand for self-intersections.
   std::array<u32, 2> clash;

@@ -49,6 +49,7 @@ Bvh::Bvh(const Soup& soup, std::vector<u32> ids, int d) : items(std::move(ids)),
   std::vector<std::array<float, 6>> box(n);
   double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
   for (std::size_t i = 0; i < n; ++i) {
+    if ((i & 0xffff) == 0) soup.poll();
     double blo[3], bhi[3];
     tri_box(soup, items[i], blo, bhi);
     for (int a = 0; a < 3; ++a) {
@@ -70,7 +71,9 @@ Bvh::Bvh(const Soup& soup, std::vector<u32> ids, int d) : items(std::move(ids)),
     }
     order[i] = {code, static_cast<u32>(i)};
   });
+  soup.poll();
   std::sort(order.begin(), order.end());
+  soup.poll();
   std::vector<u32> sorted(n);
   std::vector<std::array<float, 6>> sbox(n);
   for (std::size_t i = 0; i < n; ++i) {
@@ -241,11 +244,14 @@ std::vector<T> concatenate(std::vector<std::vector<T>>& parts) {
 
 }  // namespace
 
-std::vector<std::array<u32, 2>> Bvh::self_pairs(const std::vector<char>* active) const {
+std::vector<std::array<u32, 2>> Bvh::self_pairs(const std::vector<char>* active, const Soup* soup) const {
   std::vector<std::vector<std::array<u32, 2>>> found;
   self_join(
       *this, active, [&](std::size_t n) { found.resize(n); },
-      [&](std::size_t k, u32 t, u32 u) { found[k].push_back({std::min(t, u), std::max(t, u)}); }, [] {});
+      [&](std::size_t k, u32 t, u32 u) { found[k].push_back({std::min(t, u), std::max(t, u)}); },
+      [&] {
+        if (soup) soup->poll();
+      });
   return concatenate(found);
 }
 
@@ -291,8 +297,10 @@ std::vector<std::array<u32, 2>> candidate_pairs(const Soup& soup, std::array<u32
         break;
       }
   }
+  soup.poll();
   std::vector<std::array<u32, 2>> pairs = concatenate(out);
   std::sort(pairs.begin(), pairs.end());
+  soup.poll();
   return pairs;
 }
 

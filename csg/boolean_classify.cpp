@@ -71,9 +71,10 @@ std::vector<std::int8_t> classify(const Points& pts, const Arrangement& arr, Boo
       half[i * 3 + e] = {static_cast<std::uint64_t>(a) << 32 | b, static_cast<u32>(i)};
     }
   });
-  sort_edges(half, pts.size());
+  sort_edges(half, pts.size(), soup.interrupt);
   Dsu dsu(np);
-  for (std::size_t i = 0; i < half.size();) {
+  for (std::size_t i = 0, groups = 0; i < half.size(); ++groups) {
+    if ((groups & 0xffff) == 0) soup.poll();
     std::size_t j = i;
     while (j < half.size() && half[j].key == half[i].key) ++j;
     if (j - i == 2 && soup.operand[pieces[half[i].value].tri] == soup.operand[pieces[half[i + 1].value].tri])
@@ -83,6 +84,7 @@ std::vector<std::int8_t> classify(const Points& pts, const Arrangement& arr, Boo
   std::vector<u32> patch_of(np);
   std::vector<u32> reps;  // representative piece per patch (its smallest piece)
   for (std::size_t i = 0; i < np; ++i) {
+    if ((i & 0xffff) == 0) soup.poll();
     u32 r = dsu.find(static_cast<u32>(i));
     if (r == i) reps.push_back(static_cast<u32>(i));
     patch_of[i] = r;
@@ -96,6 +98,7 @@ std::vector<std::int8_t> classify(const Points& pts, const Arrangement& arr, Boo
   std::vector<Bvh> trees;
   trees.reserve(nops);
   for (auto& ids : by_operand) trees.emplace_back(soup, std::move(ids), 3);
+  soup.poll();
   std::vector<std::array<double, 6>> op_box(nops, {INFINITY, INFINITY, INFINITY, -INFINITY, -INFINITY, -INFINITY});
   for (std::size_t t = 0; t < soup.tris.size(); ++t) {
     double lo[3], hi[3];

@@ -114,8 +114,9 @@ struct Soup {
   }
 };
 
-// Merges meshes into one soup (positions equal in value become one vertex; -0 is 0).
-Soup make_soup(const std::vector<const Mesh*>& meshes);
+// Merges meshes into one soup (positions equal in value become one vertex; -0 is 0). The soup
+// polls `interrupt` (if any), from here on.
+Soup make_soup(const std::vector<const Mesh*>& meshes, const Interrupt* interrupt = nullptr);
 // Whether triangles t and u meet anywhere but in the vertices or edge they share (exact).
 bool triangles_clash(const Soup& s, u32 t, u32 u);
 
@@ -158,7 +159,7 @@ struct EdgeRec {
 // then each vertex's few records sorted; linear in the records and n, where a comparison sort of
 // millions of records was a tenth of a large boolean. Returns the offsets: the records whose a is
 // v are recs[off[v] .. off[v + 1]).
-std::vector<u32> sort_edges(std::vector<EdgeRec>& recs, std::size_t n);
+std::vector<u32> sort_edges(std::vector<EdgeRec>& recs, std::size_t n, const Interrupt* interrupt = nullptr);
 
 // --- exact points and predicates (boolean_exact.cpp) ---
 struct Plane {
@@ -269,7 +270,8 @@ class Bvh {
   // triangle when `active` is null). One traversal of the tree against itself instead of a query
   // per triangle: each pair of subtrees is looked at once. The order is the same at any thread
   // count.
-  std::vector<std::array<u32, 2>> self_pairs(const std::vector<char>* active = nullptr) const;
+  // `soup`, if given, is polled for a cancel request.
+  std::vector<std::array<u32, 2>> self_pairs(const std::vector<char>* active = nullptr, const Soup* soup = nullptr) const;
 
   struct Node { float lo[3], hi[3]; u32 first, count; u32 left, right; };  // leaf: count > 0
   std::vector<Node> nodes;

@@ -117,7 +117,7 @@ std::vector<u32> rounding_defects(const Mesh& m, const Rounding& rd) {
   if (check.size() * 32 < nt) {
     const Mesh few = sub_mesh(m, check);
     std::vector<const Mesh*> one{&few};
-    const Soup fs = make_soup(one);
+    const Soup fs = make_soup(one, rd.soup->interrupt);
     std::vector<u32> ids(check.size());
     std::iota(ids.begin(), ids.end(), 0u);
     const Bvh near(fs, std::move(ids), 3);
@@ -144,7 +144,7 @@ std::vector<u32> rounding_defects(const Mesh& m, const Rounding& rd) {
   }
   auto orig = [&](u32 i) { return part.empty() ? i : part[i]; };
   std::vector<const Mesh*> one{mesh};
-  const Soup s = make_soup(one);
+  const Soup s = make_soup(one, rd.soup->interrupt);
   const std::size_t n = s.tris.size();
   std::vector<char> active(n);
   for (std::size_t i = 0; i < n; ++i) active[i] = rd.recheck[orig(static_cast<u32>(i))];
@@ -156,7 +156,7 @@ std::vector<u32> rounding_defects(const Mesh& m, const Rounding& rd) {
   std::vector<u32> all(n);
   std::iota(all.begin(), all.end(), 0u);
   const Bvh bvh(s, std::move(all), 3);
-  const auto pairs = bvh.self_pairs(&active);
+  const auto pairs = bvh.self_pairs(&active, rd.soup);
   parallel_for(0, pairs.size(), [&](std::size_t i) {
     if (i % 256 == 0) rd.soup->poll();
     const u32 t = pairs[i][0], u = pairs[i][1];
@@ -300,9 +300,11 @@ BooleanResult assemble(const Points& pts, const Arrangement& arr, const std::vec
       u32 a = tris[t][e], b = tris[t][(e + 1) % 3];
       half[t * 3 + e] = {static_cast<std::uint64_t>(std::min(a, b)) << 32 | std::max(a, b), static_cast<u32>(t * 3 + e)};
     }
-  sort_edges(half, pts.size());
+  soup.poll();
+  sort_edges(half, pts.size(), soup.interrupt);
   std::vector<u32> partner(nt * 3, kNone);
-  for (std::size_t i = 0; i < half.size();) {
+  for (std::size_t i = 0, groups = 0; i < half.size(); ++groups) {
+    if ((groups & 0xffff) == 0) soup.poll();
     std::size_t j = i;
     while (j < half.size() && half[j].key == half[i].key) ++j;
     if (j - i == 2) {
@@ -370,9 +372,11 @@ BooleanResult assemble(const Points& pts, const Arrangement& arr, const std::vec
     if (partner[c] == kNone) fail("boolean: internal error: the result has an open edge");
 
   // Vertex copies: corners (3*t+k) at the same point joined across paired edges.
+  soup.poll();
   Dsu corners(nt * 3);
   for (std::size_t t = 0; t < nt; ++t)
     for (u32 e = 0; e < 3; ++e) {
+      if (e == 0 && (t & 0xffff) == 0) soup.poll();
       u32 c = partner[t * 3 + e];
       u32 t2 = c / 3, e2 = c % 3;
       // Edge v[e] -> v[e+1] of t is v[e2+1] -> v[e2] of t2.
@@ -382,6 +386,7 @@ BooleanResult assemble(const Points& pts, const Arrangement& arr, const std::vec
   BooleanResult r;
   std::vector<u32> index(nt * 3, kNone);
   r.mesh.triangles.resize(nt);
+  soup.poll();
   for (std::size_t t = 0; t < nt; ++t)
     for (int k = 0; k < 3; ++k) {
       u32 root = corners.find(static_cast<u32>(t * 3 + k));
@@ -413,6 +418,7 @@ BooleanResult assemble(const Points& pts, const Arrangement& arr, const std::vec
   for (std::size_t t = 0; t < nt; ++t)
     for (u32 v : r.mesh.triangles[t])
       if (rd.moved[v]) rd.recheck[t] = 1;
+  soup.poll();
   const bool ok = repair_rounding(r, rd);
   if (collapses) *collapses += rd.collapses;
   if (unresolved) *unresolved = !ok;

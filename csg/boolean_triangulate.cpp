@@ -315,7 +315,10 @@ std::vector<std::array<u32, 2>> equal_points(const Points& pts, const std::vecto
   std::vector<u32> wide;  // boxes too wide for the grid (exact fallbacks): compared with all
   entries.reserve(ids.size());
   auto coord = [&](double x, int i) { return static_cast<std::int64_t>(std::floor((x - lo[i]) / cell)); };
+  const Soup& soup = pts.soup();
+  std::size_t polled = 0;
   for (u32 p : ids) {
+    if ((++polled & 0xffff) == 0) soup.poll();
     const auto& b = pts.box(p);
     std::int64_t c0[3], c1[3];
     bool ok = true;
@@ -340,11 +343,14 @@ std::vector<std::array<u32, 2>> equal_points(const Points& pts, const std::vecto
           entries.push_back({key, p});
         }
   }
+  soup.poll();
   std::sort(entries.begin(), entries.end(), [](const Entry& a, const Entry& b) {
     return a.key < b.key || (a.key == b.key && a.id < b.id);
   });
+  soup.poll();
   std::vector<std::array<u32, 2>> out;
   for (std::size_t i = 0; i < entries.size();) {
+    if ((++polled & 0xffff) == 0) soup.poll();
     std::size_t j = i;
     while (j < entries.size() && entries[j].key == entries[i].key) ++j;
     for (std::size_t a = i; a < j; ++a)
@@ -354,9 +360,11 @@ std::vector<std::array<u32, 2>> equal_points(const Points& pts, const std::vecto
       }
     i = j;
   }
-  for (u32 w : wide)
+  for (u32 w : wide) {
+    soup.poll();
     for (u32 p : ids)
       if (p != w && pts.equal(w, p)) out.push_back({std::min(w, p), std::max(w, p)});
+  }
   return out;
 }
 
@@ -440,10 +448,13 @@ Arrangement arrange(Points& pts, const std::vector<std::array<u32, 2>>& pairs) {
   auto merge_round = [&]() {
     std::vector<u32> ids;
     for (std::size_t w = 0; w < work.size(); ++w) {
+      if ((w & 0xfff) == 0) soup.poll();
       for (u32 p : work[w].points) ids.push_back(p);
       for (u32 v : soup.tris[touched[w]]) ids.push_back(v);
     }
+    soup.poll();
     unique_sorted(ids);
+    soup.poll();
     for (const auto& p : equal_points(pts, ids)) merge.unite(p[0], p[1]);
   };
   merge_round();
@@ -473,7 +484,10 @@ Arrangement arrange(Points& pts, const std::vector<std::array<u32, 2>>& pairs) {
       w.cuts.push_back(planes[order[i]]);
     }
   };
-  for (auto& w : work) canon_work(w);
+  for (std::size_t w = 0; w < work.size(); ++w) {
+    if ((w & 0xfff) == 0) soup.poll();
+    canon_work(work[w]);
+  }
   {
     std::vector<std::vector<PointDef>> crossings(work.size());
     parallel_for(0, work.size(), [&](std::size_t wi) {
@@ -483,7 +497,9 @@ Arrangement arrange(Points& pts, const std::vector<std::array<u32, 2>>& pairs) {
       int k = soup.axis[t];
       std::vector<std::array<double, 6>> boxes(w.segs.size());
       for (std::size_t i = 0; i < w.segs.size(); ++i) boxes[i] = seg_box(pts, w.segs[i][0], w.segs[i][1]);
+      std::size_t polled = 0;
       overlapping(boxes, [&](u32 x, u32 y) {
+        if ((++polled & 0x3ff) == 0) soup.poll();
         auto [a, b] = w.segs[x];
         auto [c, d] = w.segs[y];
         if (a == c || a == d || b == c || b == d) return;
@@ -500,6 +516,7 @@ Arrangement arrange(Points& pts, const std::vector<std::array<u32, 2>>& pairs) {
       });
     });
     bool any = false;
+    soup.poll();
     for (std::size_t wi = 0; wi < work.size(); ++wi)
       for (const auto& p : crossings[wi]) {
         work[wi].points.push_back(intern(p));
@@ -507,7 +524,10 @@ Arrangement arrange(Points& pts, const std::vector<std::array<u32, 2>>& pairs) {
       }
     if (any) {
       merge_round();
-      for (auto& w : work) canon_work(w);
+      for (std::size_t w = 0; w < work.size(); ++w) {
+        if ((w & 0xfff) == 0) soup.poll();
+        canon_work(work[w]);
+      }
     }
   }
 
@@ -539,7 +559,9 @@ Arrangement arrange(Points& pts, const std::vector<std::array<u32, 2>>& pairs) {
     double widest = 0;
     for (const auto& b : pboxes) widest = std::max(widest, b[sweep + 3] - b[sweep]);
     std::vector<std::array<u32, 2>> constraints;
+    std::size_t polled = 0;  // a large triangle (a plate's face) is long work: poll within it
     for (const auto& s : w.segs) {
+      if ((++polled & 0xff) == 0) soup.poll();
       u32 a = s[0], b = s[1];
       auto sb = seg_box(pts, a, b);
       int axis = split_axis(pts, a, b);
@@ -578,13 +600,19 @@ Arrangement arrange(Points& pts, const std::vector<std::array<u32, 2>>& pairs) {
       vh[v] = h;
     }
     for (u32 p : points) {
+      if ((++polled & 0xff) == 0) soup.poll();
       if (vh.count(p)) continue;
       auto h = cdt.insert(Pid(p), hint);
       hint = h->face();
       vh[p] = h;
     }
     try {
-      for (const auto& c : constraints) cdt.insert_constraint(vh.at(c[0]), vh.at(c[1]));
+      for (const auto& c : constraints) {
+        if ((++polled & 0xff) == 0) soup.poll();
+        cdt.insert_constraint(vh.at(c[0]), vh.at(c[1]));
+      }
+    } catch (const Cancelled&) {
+      throw;
     } catch (const std::exception& e) {
       // Cannot happen when the constraints are split right; say where if it does.
       fail("boolean: internal error retriangulating triangle #", soup.local[t] + 1, " of operand ", soup.operand[t] + 1,
@@ -604,6 +632,7 @@ Arrangement arrange(Points& pts, const std::vector<std::array<u32, 2>>& pairs) {
   for (const auto& c : cut_pieces) total += c.size();
   arr.pieces.reserve(total);
   for (std::size_t t = 0; t < nt; ++t) {
+    if ((t & 0xffff) == 0) soup.poll();
     if (slot[t] == kNone) {
       arr.pieces.push_back({soup.tris[t], static_cast<u32>(t)});
       continue;
