@@ -135,7 +135,11 @@ std::vector<std::int8_t> classify(const Points& pts, const Arrangement& arr, Boo
       return s0;
     };
     // Coplanar operands covering the piece: +1 same orientation, -1 opposite (few: a short list).
-    std::vector<std::pair<int, int>> coplanar;
+    // Per-thread lists, reused from patch to patch (a sponge has 120k patches).
+    thread_local std::vector<std::pair<int, int>> coplanar, winding;
+    thread_local std::vector<char> front, back;
+    coplanar.clear();
+    winding.clear();
     auto coplanar_with = [&](int j) -> const std::pair<int, int>* {
       for (const auto& c : coplanar)
         if (c.first == j) return &c;
@@ -166,7 +170,7 @@ std::vector<std::int8_t> classify(const Points& pts, const Arrangement& arr, Boo
     }
     std::sort(coplanar.begin(), coplanar.end());
     // Winding numbers of the centroid with respect to every other operand.
-    std::vector<std::pair<int, int>> winding;  // (operand, winding number), the ones met
+    // winding: (operand, winding number), the ones met
     double lo[3], hi[3];
     for (int d = 0; d < 3; ++d) {
       lo[d] = std::min({pts.box(piece.v[0])[d], pts.box(piece.v[1])[d], pts.box(piece.v[2])[d]});
@@ -251,7 +255,8 @@ std::vector<std::int8_t> classify(const Points& pts, const Arrangement& arr, Boo
     };
     for (int j = 0; j < nops; ++j)
       if (j != i && near(j) && !coplanar_with(j)) trees[j].query(lo, hi, hit);
-    std::vector<char> front(nops, 0), back(nops, 0);
+    front.assign(nops, 0);
+    back.assign(nops, 0);
     back[i] = 1;
     for (const auto& [j, w] : winding) front[j] = back[j] = w > 0;
     for (const auto& [j, c] : coplanar) {
