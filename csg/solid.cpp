@@ -153,7 +153,22 @@ struct Solid::Node {
   Mat4 matrix = Mat4::Identity();
   std::shared_ptr<const Node> child;
   BooleanOp op = BooleanOp::Union;
-  std::vector<std::shared_ptr<const Node>> operands;
+  // A boolean node's operands, in order. A part marked `splice` is a boolean node of the same op
+  // whose own operands stand in its place: a chain s = s + b (repeated thousands of times by a
+  // script) links each new node to the previous one in O(1) instead of copying the whole operand
+  // list (which made building the chain quadratic in time and memory). operands() is the flat list,
+  // made once, when the node is first evaluated or measured.
+  struct Part {
+    std::shared_ptr<const Node> node;
+    bool splice = false;
+  };
+  std::vector<Part> parts;
+  std::size_t size = 0;  // the length of operands()
+  // The flat list, kept: for evaluation, which takes it many times.
+  const std::vector<std::shared_ptr<const Node>>& operands() const;
+  // The same list walked without keeping it (bounds and checks of an intermediate node of a chain
+  // would otherwise each keep a copy).
+  void for_each_operand(const std::function<void(const std::shared_ptr<const Node>&)>& f) const;
   int tag = -1;  // Solid::tagged
   // Levels from this node down to its deepest leaf (1 for a leaf). Evaluation, bounds and the
   // traversals recurse over the tree, so its depth is bounded where the tree is made.
@@ -166,12 +181,85 @@ struct Solid::Node {
   };
   mutable std::mutex cache_mutex;
   mutable std::map<std::pair<double, double>, std::shared_ptr<Slot>> cache;
+  mutable std::mutex flat_mutex;
+  mutable std::shared_ptr<const std::vector<std::shared_ptr<const Node>>> flat;  // operands(), once made
 
   Node() = default;
   Node(const Node& o)
-      : kind(o.kind), leaf(o.leaf), matrix(o.matrix), child(o.child), op(o.op), operands(o.operands), tag(o.tag),
+      : kind(o.kind), leaf(o.leaf), matrix(o.matrix), child(o.child), op(o.op), parts(o.parts), size(o.size), tag(o.tag),
         depth(o.depth) {}
+  ~Node();
 };
+
+Solid::Node::~Node() {
+  // A chain s = s + b, thousands of links long, holds each link by the next: released by the
+  // destructors' recursion it would overflow the stack. The links this node holds alone are taken
+  // over and released one by one here instead.
+  std::vector<std::shared_ptr<const Node>> pending;
+  auto take = [&](std::vector<Part>& from) {
+    for (Part& p : from)
+      if (p.node && p.node.use_count() == 1) pending.push_back(std::move(p.node));
+  };
+  take(parts);
+  while (!pending.empty()) {
+    std::shared_ptr<const Node> n = std::move(pending.back());
+    pending.pop_back();
+    if (n.use_count() == 1) take(const_cast<Node&>(*n).parts);  // ours alone: nobody else sees it
+  }
+}
+
+void Solid::Node::for_each_operand(const std::function<void(const std::shared_ptr<const Node>&)>& f) const {
+  {
+    std::shared_ptr<const std::vector<std::shared_ptr<const Node>>> made;
+    {
+      std::lock_guard<std::mutex> lock(flat_mutex);
+      made = flat;
+    }
+    if (made) {
+      for (const auto& o : *made) f(o);
+      return;
+    }
+  }
+  // Depth first through the spliced parts, with a stack of our own: a chain is as long as the
+  // script's loop. A spliced node whose list is already made gives it whole.
+  std::vector<std::pair<const Node*, std::size_t>> stack{{this, 0}};
+  while (!stack.empty()) {
+    const Node* n = stack.back().first;
+    const std::size_t i = stack.back().second++;
+    if (i == n->parts.size()) {
+      stack.pop_back();
+      continue;
+    }
+    const Part& p = n->parts[i];
+    if (!p.splice) {
+      f(p.node);
+      continue;
+    }
+    std::shared_ptr<const std::vector<std::shared_ptr<const Node>>> made;
+    {
+      std::lock_guard<std::mutex> lock(p.node->flat_mutex);
+      made = p.node->flat;
+    }
+    if (made)
+      for (const auto& o : *made) f(o);
+    else
+      stack.push_back({p.node.get(), 0});
+  }
+}
+
+const std::vector<std::shared_ptr<const Solid::Node>>& Solid::Node::operands() const {
+  std::lock_guard<std::mutex> lock(flat_mutex);
+  if (!flat) {
+    auto out = std::make_shared<std::vector<std::shared_ptr<const Node>>>();
+    out->reserve(size);
+    for (const Part& p : parts) {
+      if (!p.splice) out->push_back(p.node);
+      else p.node->for_each_operand([&](const std::shared_ptr<const Node>& o) { out->push_back(o); });
+    }
+    flat = std::move(out);
+  }
+  return *flat;
+}
 
 namespace {
 // Alternating unions and differences (s = s + a; s = s - b; ...) nest one level per operation; a
@@ -237,7 +325,7 @@ void count_booleans(const NodePtr& n, const Tolerance& tol, std::set<const Solid
     case Solid::Node::Kind::Transform: count_booleans(n->child, child_tolerance(*n, tol), seen); break;
     case Solid::Node::Kind::Boolean:
       if (cached(*n, tol)) return;
-      for (const auto& o : n->operands) count_booleans(o, tol, seen);
+      n->for_each_operand([&](const NodePtr& o) { count_booleans(o, tol, seen); });
       break;
     default: break;
   }
@@ -384,8 +472,9 @@ std::shared_ptr<Evaluated> union_of(const std::vector<std::shared_ptr<Evaluated>
 }
 
 std::shared_ptr<Evaluated> evaluate_boolean(const Solid::Node& n, const Tolerance& tol, Run& run) {
-  std::vector<std::shared_ptr<Evaluated>> in(n.operands.size());
-  auto one = [&](std::size_t i) { in[i] = evaluate(n.operands[i], tol, run); };
+  const auto& operands = n.operands();
+  std::vector<std::shared_ptr<Evaluated>> in(operands.size());
+  auto one = [&](std::size_t i) { in[i] = evaluate(operands[i], tol, run); };
   if (run.options.parallel && in.size() > 1) parallel_for(0, in.size(), one);
   else
     for (std::size_t i = 0; i < in.size(); ++i) one(i);
@@ -525,19 +614,32 @@ Box3 transformed_box(const Box3& b, const Mat4& m) {
   return out;
 }
 
-Box3 loose_bounds(const std::shared_ptr<const Solid::Node>& n) {
+// Each node once, however often the tree shares it (s = s + s, repeated, shares every level twice:
+// walked path by path, that is 2^levels visits).
+Box3 loose_bounds(const std::shared_ptr<const Solid::Node>& n, std::unordered_map<const Solid::Node*, Box3>& memo) {
+  if (auto it = memo.find(n.get()); it != memo.end()) return it->second;
+  Box3 out;
   switch (n->kind) {
-    case Solid::Node::Kind::Empty: return Box3();
-    case Solid::Node::Kind::Leaf: return n->leaf->bounds();
-    case Solid::Node::Kind::Transform: return transformed_box(loose_bounds(n->child), n->matrix);
-    case Solid::Node::Kind::Boolean: {
-      if (n->op == BooleanOp::Difference) return loose_bounds(n->operands[0]);
-      Box3 out;
-      for (const auto& o : n->operands) out.extend(loose_bounds(o));
-      return out;
-    }
+    case Solid::Node::Kind::Empty: break;
+    case Solid::Node::Kind::Leaf: out = n->leaf->bounds(); break;
+    case Solid::Node::Kind::Transform: out = transformed_box(loose_bounds(n->child, memo), n->matrix); break;
+    case Solid::Node::Kind::Boolean:
+      if (n->op == BooleanOp::Difference) {
+        const Solid::Node* first = n.get();
+        while (first->parts[0].splice) first = first->parts[0].node.get();
+        out = loose_bounds(first->parts[0].node, memo);
+      } else {
+        n->for_each_operand([&](const NodePtr& o) { out.extend(loose_bounds(o, memo)); });
+      }
+      break;
   }
-  return Box3();
+  memo.emplace(n.get(), out);
+  return out;
+}
+
+Box3 loose_bounds(const std::shared_ptr<const Solid::Node>& n) {
+  std::unordered_map<const Solid::Node*, Box3> memo;
+  return loose_bounds(n, memo);
 }
 }  // namespace
 
@@ -546,19 +648,25 @@ Solid Solid::boolean(BooleanOp op, std::vector<Solid> operands) {
   auto n = std::make_shared<Node>();
   n->kind = Node::Kind::Boolean;
   n->op = op;
+  // Chains become one n-ary node: a + b + c + ... one union (one engine pass over all operands,
+  // grouped by their boxes, balanced when large), a * b * c one intersection, and a - b - c
+  // (a script drilling holes one by one) a minus all of b, c, ...: never a chain of growing
+  // intermediate results. A tagged node keeps its own (its tag colours its faces), and so does
+  // one already evaluated (its result is reused). An operand is spliced, not copied (Node::parts),
+  // so each link of a chain costs the same however long the chain is. The same node twice in one
+  // call is spliced once (s + s, repeated, would otherwise double the list each time), and no
+  // list grows past kMaxSpliced: beyond it an operand stays a node of its own.
+  constexpr std::size_t kMaxSpliced = std::size_t(1) << 20;
+  std::set<const Node*> spliced;
   for (std::size_t i = 0; i < operands.size(); ++i) {
-    // Chains become one n-ary node: a + b + c + ... one union (one engine pass over all operands,
-    // grouped by their boxes, balanced when large), a * b * c one intersection, and a - b - c
-    // (a script drilling holes one by one) a minus all of b, c, ...: never a chain of growing
-    // intermediate results. A tagged node keeps its own (its tag colours its faces), and so does
-    // one already evaluated (its result is reused).
-    const Node& o = *operands[i].node_;
-    const bool flat = o.kind == Node::Kind::Boolean && o.op == op && o.tag < 0 && !cached(o, Tolerance{}) &&
-                      (op != BooleanOp::Difference || i == 0);
-    if (flat) n->operands.insert(n->operands.end(), o.operands.begin(), o.operands.end());
-    else n->operands.push_back(operands[i].node_);
+    const NodePtr& o = operands[i].node_;
+    bool splice = o->kind == Node::Kind::Boolean && o->op == op && o->tag < 0 && !cached(*o, Tolerance{}) &&
+                  (op != BooleanOp::Difference || i == 0) && n->size + o->size <= kMaxSpliced;
+    if (splice) splice = spliced.insert(o.get()).second;
+    n->parts.push_back({o, splice});
+    n->size += splice ? o->size : 1;
+    n->depth = std::max(n->depth, splice ? o->depth : o->depth + 1);
   }
-  for (const auto& o : n->operands) n->depth = std::max(n->depth, o->depth + 1);
   check_tree_depth(n->depth, op == BooleanOp::Union ? "union" : op == BooleanOp::Difference ? "difference" : "intersection");
   return Solid(std::shared_ptr<const Node>(n));
 }
@@ -725,35 +833,25 @@ std::vector<SolidFace> Solid::faces(const Tolerance& tol) const {
 }
 
 Box3 Solid::bounds() const {
-  switch (node_->kind) {
-    case Node::Kind::Empty: return Box3();
-    case Node::Kind::Leaf: return node_->leaf->bounds();
-    case Node::Kind::Transform: {
-      Box3 b = Solid(node_->child).bounds(), out;
-      if (b.empty()) return out;
-      for (int i = 0; i < 8; ++i) {
-        Vec3 corner((i & 1) ? b.max.x() : b.min.x(), (i & 2) ? b.max.y() : b.min.y(), (i & 4) ? b.max.z() : b.min.z());
-        out.extend(apply_point(node_->matrix, corner));
-      }
-      return out;
+  // Each node once (see loose_bounds).
+  std::unordered_map<const Node*, Box3> memo;
+  std::function<Box3(const NodePtr&)> of = [&](const NodePtr& n) {
+    if (auto it = memo.find(n.get()); it != memo.end()) return it->second;
+    Box3 out;
+    switch (n->kind) {
+      case Node::Kind::Empty: break;
+      case Node::Kind::Leaf: out = n->leaf->bounds(); break;
+      case Node::Kind::Transform: out = transformed_box(of(n->child), n->matrix); break;
+      case Node::Kind::Boolean:
+        // Bounds of the operands that can contribute (exact bounds need the evaluated mesh).
+        if (n->op == BooleanOp::Union) n->for_each_operand([&](const NodePtr& o) { out.extend(of(o)); });
+        else out = Solid(n).mesh(Tolerance{}).bounds();
+        break;
     }
-    case Node::Kind::Boolean: {
-      // Bounds of the operands that can contribute (exact bounds need the evaluated mesh).
-      Box3 out;
-      if (node_->op == BooleanOp::Union) {
-        for (const auto& o : node_->operands) {
-          Box3 b = Solid(o).bounds();
-          if (!b.empty()) {
-            out.extend(b.min);
-            out.extend(b.max);
-          }
-        }
-        return out;
-      }
-      return mesh(Tolerance{}).bounds();
-    }
-  }
-  return Box3();
+    memo.emplace(n.get(), out);
+    return out;
+  };
+  return of(node_);
 }
 
 MassProperties Solid::mass_properties(const Tolerance& tol) const {
@@ -798,14 +896,20 @@ std::string Solid::validate(const Tolerance& tol) const {
 }
 
 bool Solid::polyhedral() const {
-  switch (node_->kind) {
-    case Node::Kind::Empty: return true;
-    case Node::Kind::Leaf: return node_->leaf->polyhedral();
-    case Node::Kind::Transform: return Solid(node_->child).polyhedral();
-    case Node::Kind::Boolean:
-      return std::all_of(node_->operands.begin(), node_->operands.end(), [](const auto& o) { return Solid(o).polyhedral(); });
-  }
-  return false;
+  std::unordered_map<const Node*, bool> memo;  // each node once (see loose_bounds)
+  std::function<bool(const NodePtr&)> of = [&](const NodePtr& n) {
+    if (auto it = memo.find(n.get()); it != memo.end()) return it->second;
+    bool out = true;
+    switch (n->kind) {
+      case Node::Kind::Empty: break;
+      case Node::Kind::Leaf: out = n->leaf->polyhedral(); break;
+      case Node::Kind::Transform: out = of(n->child); break;
+      case Node::Kind::Boolean: n->for_each_operand([&](const NodePtr& o) { out = out && of(o); }); break;
+    }
+    memo.emplace(n.get(), out);
+    return out;
+  };
+  return of(node_);
 }
 
 Membership Solid::contains(const Point3& p, const Tolerance& tol) const {

@@ -573,3 +573,56 @@ TEST_CASE("tree: holes drilled one by one (a - b - c - ...) are one n-ary differ
   Solid outer = Solid::boolean(BooleanOp::Difference, {box_solid(Vec3(4, 4, 4), Point3(-1, -1, -1)), inner});
   CHECK(outer.mass_properties(tol).volume == Approx(64 - 7).epsilon(1e-12));
 }
+
+TEST_CASE("tree: a chain s = s + b of any length is one n-ary node, built link by link and released without recursion", "[tree][chain]") {
+  Tolerance tol;
+  // 300 disjoint unit boxes added one by one: one union of 301 operands, in the order given (the
+  // face ids number the operands in turn, as the one-call union of the same list numbers them).
+  std::vector<Solid> boxes{box_solid(Vec3(1, 1, 1))};
+  Solid s = boxes[0];
+  for (int i = 1; i <= 300; ++i) {
+    boxes.push_back(box_solid(Vec3(1, 1, 1), Point3(2 * i, 0, 0)));
+    s = Solid::boolean(BooleanOp::Union, {s, boxes.back()});
+  }
+  CHECK(s.mass_properties(tol).volume == Approx(301).epsilon(1e-12));
+  CHECK(s.bounds().max.x() == 601);
+  Solid all = Solid::boolean(BooleanOp::Union, boxes);
+  CHECK(s.tagged_mesh(tol).positions == all.tagged_mesh(tol).positions);
+  CHECK(s.tagged_mesh(tol).face_ids == all.tagged_mesh(tol).face_ids);
+  // Prepending (s = b + s) and intersecting (s = s * b) chain the same way.
+  Solid p = boxes[0];
+  for (int i = 1; i <= 300; ++i) p = Solid::boolean(BooleanOp::Union, {boxes[i], p});
+  CHECK(p.mass_properties(tol).volume == Approx(301).epsilon(1e-12));
+  Solid q = box_solid(Vec3(10, 10, 10));
+  for (int i = 1; i <= 5; ++i) q = Solid::boolean(BooleanOp::Intersection, {q, box_solid(Vec3(10, 10, 10), Point3(i, 0, 0))});
+  CHECK(q.mass_properties(tol).volume == Approx(500).epsilon(1e-12));
+
+  // 200000 links: the tree stays two levels deep (a difference after it is no error), its bounds
+  // are walked without recursion, and dropping it does not recurse through the links (which
+  // overflowed the stack when each link held the previous one by its destructor).
+  {
+    Solid b = box_solid(Vec3(1, 2, 3));
+    Solid chain = b;
+    for (int i = 0; i < 200000; ++i) chain = Solid::boolean(BooleanOp::Union, {chain, b});
+    Solid cut = Solid::boolean(BooleanOp::Difference, {chain, box_solid(Vec3(1, 1, 1))});
+    CHECK(chain.bounds().max == Point3(1, 2, 3));
+    CHECK(cut.polyhedral());
+  }
+  // s = s + s, repeated: the same node twice in one call is spliced once, so the operand list
+  // grows by one per step, not doubling (2^40 operands otherwise).
+  Solid d = box_solid(Vec3(1, 1, 1));
+  for (int i = 0; i < 40; ++i) d = Solid::boolean(BooleanOp::Union, {d, d});
+  CHECK(d.bounds().max == Point3(1, 1, 1));
+  // Alternating h = h - c; h = h + h nests (a difference is not spliced into a union), so every
+  // level is shared twice: bounds, transforms and checks visit each node once, not 2^60 paths.
+  Solid h = box_solid(Vec3(1, 1, 1));
+  for (int i = 0; i < 60; ++i) {
+    h = Solid::boolean(BooleanOp::Difference, {h, box_solid(Vec3(0.1, 0.1, 0.1), Point3(0.01 * i, 0, 0))});
+    h = Solid::boolean(BooleanOp::Union, {h, h});
+  }
+  CHECK(h.polyhedral());
+  CHECK(h.transformed(translate(Vec3(1, 0, 0))).transformed(translate(Vec3(-1, 0, 0))).polyhedral());
+  Solid e = box_solid(Vec3(1, 1, 1));
+  for (int i = 0; i < 8; ++i) e = Solid::boolean(BooleanOp::Union, {e, e});
+  CHECK(e.mass_properties(tol).volume == Approx(1).epsilon(1e-12));
+}
