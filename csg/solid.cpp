@@ -6,6 +6,7 @@
 #include <map>
 #include <mutex>
 #include <set>
+#include <sstream>
 #include <unordered_map>
 #include <atomic>
 #include <chrono>
@@ -691,18 +692,34 @@ bool Solid::empty() const { return node_->kind == Node::Kind::Empty; }
 
 Solid Solid::transformed(const Mat4& m) const {
   if (!m.allFinite()) fail("transform has non-finite entries");
-  if (std::abs(m.block<3, 3>(0, 0).determinant()) < 1e-300) fail("transform is singular: it would flatten the solid");
+  {
+    // Singular is a matter of directions, not of size: the determinant of the linear part with its
+    // columns made unit length. Tiny factors that are not singular (scale(1e-101)) make volumes
+    // underflow instead, and say so with the factor (its exponent when below the doubles).
+    const Mat3 a = m.block<3, 3>(0, 0);
+    const Vec3 len(a.col(0).norm(), a.col(1).norm(), a.col(2).norm());
+    if (len.allFinite()) {
+      const double shape = len.minCoeff() > 0 ? Mat3(a * len.cwiseInverse().asDiagonal()).determinant() : 0.0;
+      if (!(std::abs(shape) > 1e-300)) fail("transform is singular: it would flatten the solid");
+      const double log_factor = std::log10(std::abs(shape)) + std::log10(len.x()) + std::log10(len.y()) + std::log10(len.z());
+      if (log_factor < -300) {
+        std::ostringstream factor;  // 6 digits: 1e-303, not 1.0000000000000001e-303
+        if (const double det = std::abs(a.determinant()); det != 0) factor << det;
+        else factor << "about 1e" << std::lround(log_factor);
+        fail("the transform shrinks volumes by a factor of ", factor.str(),
+             ", below 1e-300: the solid's volume and normals would underflow to zero");
+      }
+    }
+  }
   if ((m.row(3) - Eigen::RowVector4d(0, 0, 0, 1)).cwiseAbs().maxCoeff() != 0)
     fail("transform is projective (last row not 0 0 0 1): solids take affine transforms only");
   // A result beyond the coordinates a solid may have is an error here, not a nan volume later.
   if (const Box3 b = loose_bounds(node_); !b.empty()) {
     double reach = 0;
-    Box3 moved;
     for (int i = 0; i < 8; ++i) {
       const Vec3 corner((i & 1) ? b.max.x() : b.min.x(), (i & 2) ? b.max.y() : b.min.y(), (i & 4) ? b.max.z() : b.min.z());
       const Point3 p = apply_point(m, corner);
       reach = std::max(reach, p.cwiseAbs().maxCoeff());
-      moved.extend(p);
     }
     if (!(reach <= kMaxCoordinate))
       fail("the transform overflows: the solid would reach coordinate ", reach, ", beyond +-", kMaxCoordinate,
@@ -710,7 +727,10 @@ Solid Solid::transformed(const Mat4& m) const {
     // Far from the origin doubles are far apart (16384 at 1e20): a solid whose size is below
     // 1e-12 of its distance from the origin spans too few of them to keep its shape (a unit sphere
     // moved to 1e20 had a volume of 2.79, a unit box moved to 1e16 crossed itself).
-    const double size = moved.size().maxCoeff();
+    // The solid's own size after the transform (its corners at `reach` may round together).
+    Mat4 linear = m;
+    linear.block<3, 1>(0, 3).setZero();
+    const double size = transformed_box(b, linear).size().maxCoeff();
     if (size < 1e-12 * reach)
       fail("the transform moves the solid to coordinate ", reach, ", where doubles are ",
            std::nextafter(reach, 2 * reach) - reach, " apart: a solid of size ", size,

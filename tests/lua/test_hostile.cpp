@@ -259,6 +259,12 @@ const Case kCases[] = {
     {"sphere(1):translate(1e20, 0, 0)",
      "hostile.lua:2: translate: the transform moves the solid to coordinate 1e+20, where doubles are 16384 apart: a solid of size 2 there would lose its shape"},
     {"box(1, 1, 1):translate(1e16, 0, 0)", "where doubles are 2 apart: a solid of size 1 there would lose its shape"},
+    // The solid's own size, not that of its corners rounded together at 2^63 (which said "size 0").
+    {"box(1, 1, 1):translate(2^63, 2^63, 2^63)",
+     "hostile.lua:2: translate: the transform moves the solid to coordinate 9.2233720368547758e+18, where doubles are 2048 apart: a solid of size 1 there"},
+    // A tiny factor is not a singular transform: the volume underflows.
+    {"box(1, 1, 1):scale(1e-101)", "hostile.lua:2: scale: the transform shrinks volumes by a factor of 1e-303, below 1e-300"},
+    {"box(1, 1, 1):scale(1e-200, 1e-200, 1)", "hostile.lua:2: scale: the transform shrinks volumes by a factor of about 1e-400, below 1e-300"},
     // --- sizes whose areas or volumes would underflow, and a twist that loses all precision ---
     {"box(1e-200, 1, 1)", "hostile.lua:2: box: box size 9.9999999999999998e-201 is below 1e-100 (areas and volumes would underflow to zero)"},
     {"cube(1e-320)", "is below 1e-100 (areas and volumes would underflow to zero)"},
