@@ -697,7 +697,7 @@ Solid Solid::transformed(const Mat4& m) const {
     // columns made unit length. Tiny factors that are not singular (scale(1e-101)) make volumes
     // underflow instead, and say so with the factor (its exponent when below the doubles).
     const Mat3 a = m.block<3, 3>(0, 0);
-    const Vec3 len(a.col(0).norm(), a.col(1).norm(), a.col(2).norm());
+    const Vec3 len(a.col(0).stableNorm(), a.col(1).stableNorm(), a.col(2).stableNorm());  // norm() underflows at 1e-200
     if (len.allFinite()) {
       const double shape = len.minCoeff() > 0 ? Mat3(a * len.cwiseInverse().asDiagonal()).determinant() : 0.0;
       if (!(std::abs(shape) > 1e-300)) fail("transform is singular: it would flatten the solid");
