@@ -693,22 +693,22 @@ bool Solid::empty() const { return node_->kind == Node::Kind::Empty; }
 Solid Solid::transformed(const Mat4& m) const {
   if (!m.allFinite()) fail("transform has non-finite entries");
   {
-    // Singular is a matter of directions, not of size: the determinant of the linear part with its
-    // columns made unit length. Tiny factors that are not singular (scale(1e-101)) make volumes
-    // underflow instead, and say so with the factor (its exponent when below the doubles).
+    // A determinant below 1e-300 is either a singular transform (it flattens the solid) or tiny
+    // factors that are not singular (scale(1e-101)), whose volumes underflow: the determinant of
+    // the linear part with its columns made unit length tells which. (An extreme shear has
+    // determinant 1 and is left to the overflow check below.)
     const Mat3 a = m.block<3, 3>(0, 0);
-    const Vec3 len(a.col(0).stableNorm(), a.col(1).stableNorm(), a.col(2).stableNorm());  // norm() underflows at 1e-200
-    if (len.allFinite()) {
+    const double det = a.determinant();
+    if (!(std::abs(det) >= 1e-300)) {
+      // stableNorm: norm() of (1e-200, 0, 0) underflows to 0.
+      const Vec3 len(a.col(0).stableNorm(), a.col(1).stableNorm(), a.col(2).stableNorm());
       const double shape = len.minCoeff() > 0 ? Mat3(a * len.cwiseInverse().asDiagonal()).determinant() : 0.0;
-      if (!(std::abs(shape) > 1e-300)) fail("transform is singular: it would flatten the solid");
-      const double log_factor = std::log10(std::abs(shape)) + std::log10(len.x()) + std::log10(len.y()) + std::log10(len.z());
-      if (log_factor < -300) {
-        std::ostringstream factor;  // 6 digits: 1e-303, not 1.0000000000000001e-303
-        if (const double det = std::abs(a.determinant()); det != 0) factor << det;
-        else factor << "about 1e" << std::lround(log_factor);
-        fail("the transform shrinks volumes by a factor of ", factor.str(),
-             ", below 1e-300: the solid's volume and normals would underflow to zero");
-      }
+      if (!(std::abs(shape) >= 1e-12)) fail("transform is singular: it would flatten the solid");
+      std::ostringstream factor;  // 6 digits: 1e-303, not 1.0000000000000001e-303
+      if (det != 0) factor << std::abs(det);
+      else factor << "about 1e" << std::lround(std::log10(std::abs(shape)) + std::log10(len.x()) + std::log10(len.y()) + std::log10(len.z()));
+      fail("the transform shrinks volumes by a factor of ", factor.str(),
+           ", below 1e-300: the solid's volume and normals would underflow to zero");
     }
   }
   if ((m.row(3) - Eigen::RowVector4d(0, 0, 0, 1)).cwiseAbs().maxCoeff() != 0)
