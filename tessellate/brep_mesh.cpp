@@ -430,11 +430,29 @@ Mesh tessellate(const Model& m, const Tolerance& tol_in, std::vector<std::array<
       a.push_back(vindex.at(m.dest(sides[static_cast<std::size_t>(k)]).value));
       side_points(sides[static_cast<std::size_t>(k + 2)], b, fr);
       b.push_back(vindex.at(m.dest(sides[static_cast<std::size_t>(k + 2)]).value));
-      if (a.size() != b.size()) fail("tessellate: cylinder face ", f.value, " has arcs of different lengths");
       std::reverse(b.begin(), b.end());
-      for (std::size_t i = 0; i + 1 < a.size(); ++i) {
-        out.add_triangle(a[i], a[i + 1], b[i + 1], f.value);
-        out.add_triangle(a[i], b[i + 1], b[i], f.value);
+      // The two arcs are sampled each on its own (an edge's points follow the faces along it as
+      // well as its curvature), so they may have different numbers of points: zip them by their
+      // position along each arc (cumulative chord length, 0 at the start, 1 at the end), always
+      // advancing on the side whose next point comes first. Equal counts at equal places give
+      // the two triangles per quad of a plain strip.
+      auto positions = [&](const std::vector<std::uint32_t>& p) {
+        std::vector<double> s(p.size(), 0.0);
+        for (std::size_t i = 1; i < p.size(); ++i) s[i] = s[i - 1] + (out.positions[p[i]] - out.positions[p[i - 1]]).norm();
+        if (s.back() > 0)
+          for (double& x : s) x /= s.back();
+        return s;
+      };
+      const std::vector<double> sa = positions(a), sb = positions(b);
+      std::size_t i = 0, j = 0;
+      while (i + 1 < a.size() || j + 1 < b.size()) {
+        if (j + 1 >= b.size() || (i + 1 < a.size() && sa[i + 1] <= sb[j + 1])) {
+          out.add_triangle(a[i], a[i + 1], b[j], f.value);
+          ++i;
+        } else {
+          out.add_triangle(a[i], b[j + 1], b[j], f.value);
+          ++j;
+        }
       }
       return;
     }
