@@ -47,8 +47,22 @@ void push_names(lua_State* L) {
 
 struct FunctionName {
   std::string name;
-  bool method = false;  // a method named by the API: the object is argument #0
+  bool method = false;    // a method named by the API: the object is argument #0
+  bool operator_ = false;  // an operator's metamethod: named "operator '+'", not quoted again
 };
+
+// The operator a metamethod implements, by Lua's name for it ("add" for __add), or null. A
+// message names the operator the script wrote, not "add" or "mul", which the script never says.
+const char* operator_symbol(const char* metamethod) {
+  static const char* const kOperators[][2] = {
+      {"add", "+"}, {"sub", "-"}, {"mul", "*"},  {"div", "/"},   {"mod", "%"}, {"pow", "^"},
+      {"unm", "-"}, {"idiv", "//"}, {"band", "&"}, {"bor", "|"}, {"bxor", "~"}, {"shl", "<<"},
+      {"shr", ">>"}, {"bnot", "~"}, {"concat", ".."}, {"len", "#"}, {"eq", "=="}, {"lt", "<"},
+      {"le", "<="}};
+  for (const auto& op : kOperators)
+    if (std::strcmp(metamethod, op[0]) == 0) return op[1];
+  return nullptr;
+}
 
 // luaL_argerror's rule, with the API's own name where the call site has none.
 FunctionName function_name(lua_State* L) {
@@ -59,6 +73,9 @@ FunctionName function_name(lua_State* L) {
   FunctionName out;
   if (what == "metamethod" && ar.name && (std::strcmp(ar.name, "index") == 0 || std::strcmp(ar.name, "newindex") == 0)) {
     // g.field / g.field = v: the message names the field; "index" would only puzzle.
+  } else if (const char* op = what == "metamethod" && ar.name ? operator_symbol(ar.name) : nullptr) {
+    out.name = std::string("operator '") + op + "'";
+    out.operator_ = true;
   } else if (ar.name && (what == "global" || what == "field" || what == "method" || what == "metamethod")) {
     out.name = ar.name;
     out.method = what == "method";
@@ -95,16 +112,17 @@ int raise_pending(lua_State* L, int arg) {
       } else if (f.method && --arg == 0) {
         text = "calling '" + f.name + "' on bad self (" + message + ")";
       } else {
-        text = "bad argument #" + std::to_string(arg) + " to '" + f.name + "' (" + message + ")";
+        const std::string name = f.operator_ ? f.name : "'" + f.name + "'";
+        text = "bad argument #" + std::to_string(arg) + " to " + name + " (" + message + ")";
       }
     } else if (!f.name.empty()) {
       // Name the running function, as luaL_argerror does, so the message says where it came
       // from; once: a message that starts with that name already ("perspective: aspect must be
       // ...", from the kernel) keeps its own.
       const std::string_view m(message);
-      const std::size_t cut = f.name.find_last_of(".:");
+      const std::size_t cut = f.operator_ ? std::string::npos : f.name.find_last_of(".:");
       const std::string last = cut == std::string::npos ? f.name : f.name.substr(cut + 1);
-      if (m.rfind(f.name + ": ", 0) == 0 || m.rfind(last + ": ", 0) == 0) {
+      if (m.rfind(f.name + ": ", 0) == 0 || m.rfind(last + ": ", 0) == 0 || (f.operator_ && m.rfind(f.name + " (", 0) == 0)) {
         text = message;
       } else {
         text = f.name + ": " + message;

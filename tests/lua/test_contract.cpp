@@ -73,6 +73,29 @@ TEST_CASE("a method called as a value is named Class:method, the object counting
   CHECK(r.status == 0);
 }
 
+TEST_CASE("an operator's bad operand is named by the operator the script wrote, once", "[lua][errors][names]") {
+  // Lua names a metamethod by its event ("add", "mul"), which the script never wrote: the
+  // messages once read "add: operator '+' (union): ..." and "bad argument #2 to 'mul'".
+  struct Bad {
+    const char* call;
+    const char* message;
+  } bad[] = {
+      {"box(1, 1, 1) + 3", "operator '+' (union): the second operand is number 3, a Solid expected"},
+      {"box(1, 1, 1) - 'x'", "operator '-' (difference): the second operand is string 'x', a Solid expected"},
+      {"2 * box(1, 1, 1)", "operator '*' (intersection): the first operand is number 2, a Solid expected"},
+      {"box(1, 1, 1) * matrix.identity()", "operator '*' (intersection): the second operand is Matrix"},
+      {"group():add(box(1, 1, 1) + {})", "operator '+' (union): the second operand is table"},
+      {"matrix.identity() * 5", "bad argument #2 to operator '*' (Matrix expected, got number)"},
+      {"5 * matrix.identity()", "bad argument #1 to operator '*' (Matrix expected, got number)"},
+  };
+  for (const auto& b : bad) {
+    auto r = run(std::string("local a = 1\nlocal x = ") + b.call + "\n", "@op.lua");
+    INFO(b.call << "\n  -> " << r.err);
+    CHECK(r.status == 1);
+    CHECK_THAT(r.err, Catch::StartsWith(std::string("op.lua:2: ") + b.message));
+  }
+}
+
 TEST_CASE("an aliased function gets one name in every run", "[lua][errors][names]") {
   // nurbs and bspline are one C function: the name that sorts first is used.
   auto r = run(R"LUA(
