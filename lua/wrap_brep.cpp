@@ -306,7 +306,7 @@ int box_fn(lua_State* L) {
       o.finish();
       size = positive_size(size, 1);
     } else {
-      size = positive_size(Vec3(check_number(L, 1), check_number(L, 2), check_number(L, 3)), 1, true);
+      size = positive_size(Vec3{check_number(L, 1), check_number(L, 2), check_number(L, 3)}, 1, true);  // {}: checked in order
     }
     push_solid(L, brep_solid(box(size, center ? Point3(-0.5 * size) : Point3::Zero())));
     return 1;

@@ -54,7 +54,7 @@ int identity_fn(lua_State* L) {
 int translate_fn(lua_State* L) {
   return guarded(L, [&] {
     Vec3 d = lua_type(L, 1) == LUA_TTABLE ? check_vec3(L, 1, true)
-                                           : Vec3(check_number(L, 1), check_number(L, 2), opt_number(L, 3, 0));
+                                           : Vec3{check_number(L, 1), check_number(L, 2), opt_number(L, 3, 0)};
     push_matrix(L, translate(d));
     return 1;
   });
@@ -82,7 +82,8 @@ int rotate_axis_fn(lua_State* L) {
 // matrix.euler(x, y, z): Rz * Ry * Rx
 int euler_fn(lua_State* L) {
   return guarded(L, [&] {
-    push_matrix(L, rotate_euler(check_number(L, 1), check_number(L, 2), check_number(L, 3)));
+    const double x = check_number(L, 1), y = check_number(L, 2), z = check_number(L, 3);
+    push_matrix(L, rotate_euler(x, y, z));
     return 1;
   });
 }
@@ -94,7 +95,7 @@ int scale_fn(lua_State* L) {
     Vec3 k(kx, kx, kx);
     int pivot_arg = 2;
     if (!lua_isnoneornil(L, 2) && lua_type(L, 2) != LUA_TTABLE) {
-      k = Vec3(kx, check_number(L, 2), check_number(L, 3));
+      k = Vec3{kx, check_number(L, 2), check_number(L, 3)};
       pivot_arg = 4;
     }
     if (lua_isnoneornil(L, pivot_arg)) push_matrix(L, scale(k));
@@ -124,14 +125,16 @@ int shear_fn(lua_State* L) {
 // matrix.look_at(eye, center, up)
 int look_at_fn(lua_State* L) {
   return guarded(L, [&] {
-    push_matrix(L, look_at(check_vec3(L, 1), check_vec3(L, 2), check_vec3(L, 3)));
+    const Vec3 eye = check_vec3(L, 1), center = check_vec3(L, 2), up = check_vec3(L, 3);
+    push_matrix(L, look_at(eye, center, up));
     return 1;
   });
 }
 
 int perspective_fn(lua_State* L) {
   return guarded(L, [&] {
-    push_matrix(L, perspective(check_number(L, 1), check_number(L, 2), check_number(L, 3), check_number(L, 4)));
+    const double fovy = check_number(L, 1), aspect = check_number(L, 2), near = check_number(L, 3), far = check_number(L, 4);
+    push_matrix(L, perspective(fovy, aspect, near, far));
     return 1;
   });
 }
@@ -139,8 +142,9 @@ int perspective_fn(lua_State* L) {
 template <Mat4 (*F)(double, double, double, double, double, double)>
 int six_fn(lua_State* L) {
   return guarded(L, [&] {
-    push_matrix(L, F(check_number(L, 1), check_number(L, 2), check_number(L, 3), check_number(L, 4),
-                     check_number(L, 5), check_number(L, 6)));
+    double v[6];
+    for (int i = 0; i < 6; ++i) v[i] = check_number(L, i + 1);  // in order: the first bad one is named
+    push_matrix(L, F(v[0], v[1], v[2], v[3], v[4], v[5]));
     return 1;
   });
 }

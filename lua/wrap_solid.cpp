@@ -32,7 +32,7 @@ int push_transformed(lua_State* L, const Mat4& m) {
 int translate_m(lua_State* L) {
   return guarded(L, [&] {
     Vec3 d = lua_type(L, 2) == LUA_TTABLE ? check_vec3(L, 2, true)
-                                           : Vec3(check_number(L, 2), check_number(L, 3), opt_number(L, 4, 0));
+                                           : Vec3{check_number(L, 2), check_number(L, 3), opt_number(L, 4, 0)};
     return push_transformed(L, translate(d));
   });
 }
@@ -54,7 +54,7 @@ int rotate_axis_m(lua_State* L) {
 int scale_m(lua_State* L) {
   return guarded(L, [&] {
     double kx = check_number(L, 2);
-    Vec3 k = lua_isnoneornil(L, 3) ? Vec3(kx, kx, kx) : Vec3(kx, check_number(L, 3), check_number(L, 4));
+    Vec3 k = lua_isnoneornil(L, 3) ? Vec3(kx, kx, kx) : Vec3{kx, check_number(L, 3), check_number(L, 4)};
     if (k.x() == 0 || k.y() == 0 || k.z() == 0)
       throw ArgError{2, "scale factors must be non-zero (a zero factor flattens the solid)"};
     return push_transformed(L, scale(k));

@@ -73,6 +73,34 @@ TEST_CASE("a method called as a value is named Class:method, the object counting
   CHECK(r.status == 0);
 }
 
+TEST_CASE("the first bad argument of a positional call is the one named, as the script reads", "[lua][errors][names]") {
+  // box("x") once said "bad argument #3 to 'box' (number expected, got no value)": the three
+  // numbers were read as one constructor's arguments, which C++ evaluates in no set order.
+  struct Bad {
+    const char* call;
+    const char* message;
+  } bad[] = {
+      {"box('x')", "bad argument #1 to 'box' (number expected, got string)"},
+      {"box(1, 'y')", "bad argument #2 to 'box' (number expected, got string)"},
+      {"box(1, 2)", "bad argument #3 to 'box' (number expected, got no value)"},
+      {"box(1, 1, 1):translate('a')", "bad argument #1 to 'translate' (number expected, got string)"},
+      {"box(1, 1, 1):scale(2, 'b')", "bad argument #2 to 'scale' (number expected, got string)"},
+      {"matrix.translate('a')", "bad argument #1 to 'translate' (number expected, got string)"},
+      {"matrix.scale(2, 'b')", "bad argument #2 to 'scale' (number expected, got string)"},
+      {"matrix.euler('a')", "bad argument #1 to 'euler' (number expected, got string)"},
+      {"matrix.look_at('eye')", "bad argument #1 to 'look_at'"},
+      {"matrix.perspective('wide')", "bad argument #1 to 'perspective' (number expected, got string)"},
+      {"matrix.frustum('l')", "bad argument #1 to 'frustum' (number expected, got string)"},
+      {"matrix.ortho(-1, 1, 'b')", "bad argument #3 to 'ortho' (number expected, got string)"},
+  };
+  for (const auto& b : bad) {
+    auto r = run(std::string("local a = 1\nlocal x = ") + b.call + "\n", "@first.lua");
+    INFO(b.call << "\n  -> " << r.err);
+    CHECK(r.status == 1);
+    CHECK_THAT(r.err, Catch::StartsWith(std::string("first.lua:2: ") + b.message));
+  }
+}
+
 TEST_CASE("an operator's bad operand is named by the operator the script wrote, once", "[lua][errors][names]") {
   // Lua names a metamethod by its event ("add", "mul"), which the script never wrote: the
   // messages once read "add: operator '+' (union): ..." and "bad argument #2 to 'mul'".
