@@ -131,9 +131,31 @@ int copy_m(lua_State* L) {
 
 // instance(x [, {transform=, name=, material=}]): a node that shares x (a Group: every change to it
 // shows in every instance) under a transform of its own.
+// Also in the table form, instance{x, transform=, name=, material=}, as array{} and group{}.
 int instance_fn(lua_State* L) {
   return table_call(L, 2, [&] {
     auto node = std::make_shared<SceneNode>();
+    const bool table_form = lua_type(L, 1) == LUA_TTABLE && lua_rawgeti(L, 1, 1) != LUA_TNIL;
+    if (lua_type(L, 1) == LUA_TTABLE) lua_pop(L, 1);
+    if (table_form) {
+      if (!lua_isnone(L, 2)) throw ArgError{2, "the table form instance{x, ...} takes its options inside the table, got a second argument"};
+      try {  // an error in the one table is named by its field, as array{} names its own
+        Options o(L, 1);
+        o.allow_positional();
+        if (lua_rawlen(L, 1) != 1) throw ArgError{1, "instance{} takes one thing to share, then transform=, name=, material="};
+        read_node_options(L, o, *node);
+        o.finish();
+        lua_rawgeti(L, 1, 1);
+        NodePtr proto = child_node(L, -1, 1);
+        lua_pop(L, 1);
+        add_child(*node, std::move(proto), 1);
+      } catch (const ArgError& e) {
+        if (e.arg != 1) throw;
+        throw Error(field_message(e.message));
+      }
+      push_group(L, std::move(node));
+      return 1;
+    }
     NodePtr proto = child_node(L, 1, 1);
     if (!lua_isnoneornil(L, 2)) {
       Options o(L, 2);

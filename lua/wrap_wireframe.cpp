@@ -46,7 +46,7 @@ int wireframe_fn(lua_State* L) {
       }
       o.finish();
     }
-    if (lua_isnoneornil(L, 1)) throw ArgError{1, "Solid or surface expected, got no value"};
+    if (lua_isnoneornil(L, 1)) throw ArgError{1, "Solid or mesh expected, got " + std::string(lua_isnone(L, 1) ? "no value" : "nil")};
     const Mesh mesh = to_mesh(L, 1, 1, current_tolerance(L));
     w.lines = render::polylines(render::feature_edges(mesh, crease));
     if (w.lines.empty()) throw ArgError{1, "this " + type_name(L, 1) + " has no edges to draw"};

@@ -92,6 +92,14 @@ TEST_CASE("an instance shares its prototype; a copy does not", "[lua][scene]") {
     -- a mirror shows as a negative scale
     local m = instance(box(1, 1, 1), {transform = matrix.mirror({1, 0, 0})}):table()[1]
     assert(vnear(m.scale, {-1, 1, 1}) and not m.shear)
+    -- the table form, as array{} and group{} take theirs: the same sharing, the same placement
+    local d = instance{wheel, transform = matrix.translate(0, 0, 7), name = "spare"}
+    wheel.transform = matrix.identity()
+    local bd = d:bounds()
+    assert(vnear(bd.min, {0, 0, 7}) and vnear(bd.max, {1, 1, 10}), vstr(bd.min) .. " " .. vstr(bd.max))
+    assert(d.name == "spare" and d:table()[1].symbol == "wheel")
+    local e = instance{box(2, 1, 1)}:table()
+    assert(#e == 1 and vnear(e[1].translation, {0, 0, 0}))
   )LUA");
   INFO(r.err);
   CHECK(r.status == 0);
@@ -199,6 +207,13 @@ TEST_CASE("bad calls of the new functions name the function, the problem and the
       {"instance()", "bad argument #1 to 'instance' (Group, Solid or surface expected, got nil)"},
       {"instance(box(1, 1, 1), {transform = 'x'})", "instance: transform must be a Matrix (from matrix.*), got string"},
       {"instance(box(1, 1, 1), {scale = 2})", "unknown field 'scale'"},
+      {"instance{box(1, 1, 1), scale = 2}", "unknown field 'scale'"},
+      {"instance{box(1, 1, 1), transform = 'up'}", "instance: transform must be a Matrix (from matrix.*), got string"},
+      {"instance{box(1, 1, 1), box(1, 1, 1)}", "instance{} takes one thing to share"},
+      {"instance{box(1, 1, 1)}:add(5)", "bad argument #1 to 'add' (Group, Solid or surface expected, got number)"},
+      {"instance({box(1, 1, 1)}, {name = 'x'})", "instance: the table form instance{x, ...} takes its options inside the table, got a second argument"},
+      {"instance{5}", "instance: Group, Solid or surface expected, got number"},
+      {"instance{}", "bad argument #1 to 'instance' (Group, Solid or surface expected, got table)"},
       {"array{box(1, 1, 1), step = {1, 0, 0}}", "array: count is missing"},
       {"array{box(1, 1, 1), count = 0, step = {1, 0, 0}}", "array: count must be within 1..100000, got 0"},
       {"array{box(1, 1, 1), count = -3, step = {1, 0, 0}}", "array: count must be within 1..100000, got -3"},

@@ -77,7 +77,8 @@ TEST_CASE("bad wireframe calls name the problem and the line", "[lua][wireframe]
     const char* call;
     const char* message;
   } bad[] = {
-      {"wireframe()", "bad argument #1 to 'wireframe' (Solid or surface expected, got no value)"},
+      {"wireframe()", "bad argument #1 to 'wireframe' (Solid or mesh expected, got no value)"},
+      {"wireframe(nil)", "bad argument #1 to 'wireframe' (Solid or mesh expected, got nil)"},
       {"wireframe(5)", "bad argument #1 to 'wireframe' (Solid or mesh expected, got number)"},
       {"wireframe(box(1, 1, 1), {crease = 0})", "wireframe: crease must be within 0..180 degrees, got 0"},
       {"wireframe(box(1, 1, 1), {color = {2, 0, 0}})", "wireframe: color[1] must be within 0..1, got 2"},
