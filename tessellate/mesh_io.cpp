@@ -210,22 +210,23 @@ Mesh parse_obj(std::string_view bytes, const std::string& name) {
     const std::size_t at = first_line;
     auto obj_fail = [&](const std::string& what) { bad(name, "line ", at, ": ", what); };
     if (!tok.empty()) {
-      auto numbers = [&](std::size_t min, std::size_t max, double* out) {
+      // `what` names the element as the file numbers it ("vertex 3", counting from 1).
+      auto numbers = [&](std::size_t min, std::size_t max, double* out, const std::string& what) {
         if (tok.size() - 1 < min) obj_fail(quoted(tok[0]) + " needs " + std::to_string(min) + " numbers");
         for (std::size_t k = 1; k < tok.size() && k <= max; ++k)
-          if (std::string why = parse_double(tok[k], out[k - 1]); !why.empty()) obj_fail(why);
+          if (std::string why = parse_double(tok[k], out[k - 1]); !why.empty()) obj_fail(what + ": " + why);
       };
       if (tok[0] == "v") {
         double x[3] = {0, 0, 0};
-        numbers(3, 3, x);  // a w or a vertex colour after x y z is ignored
+        numbers(3, 3, x, "vertex " + std::to_string(v.size() + 1));  // a w or a vertex colour after x y z is ignored
         v.emplace_back(x[0], x[1], x[2]);
       } else if (tok[0] == "vt") {
         double x[2] = {0, 0};
-        numbers(1, 2, x);
+        numbers(1, 2, x, "texture coordinate " + std::to_string(vt.size() + 1));
         vt.emplace_back(x[0], x[1]);
       } else if (tok[0] == "vn") {
         double x[3] = {0, 0, 0};
-        numbers(3, 3, x);
+        numbers(3, 3, x, "normal " + std::to_string(vn.size() + 1));
         vn.emplace_back(x[0], x[1], x[2]);
       } else if (tok[0] == "f" || tok[0] == "fo") {
         if (tok.size() < 4) obj_fail("a face needs at least 3 corners, got " + std::to_string(tok.size() - 1));
@@ -234,20 +235,28 @@ Mesh parse_obj(std::string_view bytes, const std::string& name) {
           std::string_view c = tok[k];
           long long idx[3] = {0, 0, 0};
           const std::size_t sizes[3] = {v.size(), vt.size(), vn.size()};
+          static const char* const kind[3] = {"vertex", "texture coordinate", "normal"};
+          // Faces and corners numbered from 0, as the other readers number them.
+          const std::string corner = "face " + std::to_string(face_line.size()) + " corner " + std::to_string(k - 1) + " " + quoted(tok[k]);
           for (int part = 0; part < 3; ++part) {
             std::size_t slash = c.find('/');
             std::string_view field = c.substr(0, slash);
             if (!field.empty() || part == 0) {
-              if (!parse_integer(field, idx[part]).empty() || idx[part] == 0)
-                obj_fail("bad face corner " + quoted(tok[k]));
+              if (std::string why = parse_integer(field, idx[part]); !why.empty())
+                obj_fail(corner + ": " + kind[part] + " index " + (field.empty() ? "missing" : why));
+              if (idx[part] == 0)
+                obj_fail(corner + ": " + kind[part] + " index 0 (OBJ numbers from 1; negative numbers count back from the last)");
               if (idx[part] < 0) {
+                const long long given = idx[part];
                 idx[part] += static_cast<long long>(sizes[part]) + 1;
-                if (idx[part] < 1) obj_fail("face corner " + quoted(tok[k]) + " refers before the first element");
+                if (idx[part] < 1)
+                  obj_fail(corner + ": " + kind[part] + " index " + std::to_string(given) + " counts back before the first " +
+                           kind[part] + " (" + std::to_string(sizes[part]) + " so far)");
               }
             }
             if (slash == std::string_view::npos) break;
             c.remove_prefix(slash + 1);
-            if (part == 2) obj_fail("bad face corner " + quoted(tok[k]));
+            if (part == 2) obj_fail(corner + ": more than 3 parts (v, v/vt, v//vn or v/vt/vn)");
           }
           corners.push_back({idx[0], idx[1], idx[2]});
         }
@@ -264,13 +273,14 @@ Mesh parse_obj(std::string_view bytes, const std::string& name) {
   for (std::size_t f = 0; f + 1 < face_start.size(); ++f)
     for (std::size_t k = face_start[f]; k < face_start[f + 1]; ++k) {
       const ObjCorner& c = corners[k];
-      auto check = [&](long long i, std::size_t n, const char* what) {
+      auto check = [&](long long i, std::size_t n, const char* what, const char* plural) {
         if (i > static_cast<long long>(n))
-          bad(name, "line ", face_line[f], ": face refers to ", what, " ", i, " of ", n);
+          bad(name, "line ", face_line[f], ": face ", f, " corner ", k - face_start[f], ": ", what, " index ", i,
+              " is out of range (", n, " ", plural, " in the file, numbered from 1)");
       };
-      check(c.v, v.size(), "vertex");
-      check(c.vt, vt.size(), "texture coordinate");
-      check(c.vn, vn.size(), "normal");
+      check(c.v, v.size(), "vertex", "vertices");
+      check(c.vt, vt.size(), "texture coordinate", "texture coordinates");
+      check(c.vn, vn.size(), "normal", "normals");
       any_vt = any_vt || c.vt, any_vn = any_vn || c.vn;
     }
 

@@ -132,7 +132,9 @@ TEST_CASE("s:contains and s:cells name a bad argument", "[lua][tree]") {
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
+#include <filesystem>
 #include <fstream>
 #include <thread>
 
@@ -201,4 +203,73 @@ TEST_CASE("Ctrl-C stops a running script and a CSG evaluation cleanly", "[lua][t
     // Generous: the 100 ms target is measured in bench/, not here.
     CHECK(r.seconds_after_signal < 5);
   }
+}
+
+TEST_CASE("wedge run killed (SIGKILL) while exporting a large mesh leaves the old file and no temporary", "[lua][cli][write_failure]") {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::path(WEDGE_BINARY_DIR) / "tests" / ("kill-export-" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const std::string part = (dir / "part.stl").string(), ref = (dir / "ref.stl").string(), ready = (dir / "ready").string();
+  std::ofstream(part) << "the old file";
+  const std::string script = (dir / "export.lua").string();
+  // The same mesh to ref.stl (complete), then to part.stl again and again until killed.
+  std::ofstream(script) << "tolerance(2e-4)\nlocal s = sphere(1)\nexport(s, '" << ref << "', {ascii = true})\n"
+                        << "assert(io.open('" << ready << "', 'w')):close()\n"
+                        << "while true do export(s, '" << part << "', {ascii = true}) end\n";
+  pid_t pid = ::fork();
+  REQUIRE(pid >= 0);
+  if (pid == 0) {
+    int fd = ::open("/dev/null", O_WRONLY);
+    ::dup2(fd, 1);
+    ::dup2(fd, 2);
+    ::execl(WEDGE_EXE, WEDGE_EXE, "run", script.c_str(), static_cast<char*>(nullptr));
+    ::_exit(127);
+  }
+  for (int i = 0; i < 60000 && !fs::exists(ready); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  // Kill it while its temporary file is open: an O_TMPFILE file shows in /proc as "<dir>/#<inode>
+  // (deleted)", a named one as "<dir>/.part.stl.wedge-...".
+  const fs::path fds = fs::path("/proc") / std::to_string(pid) / "fd";
+  bool caught = false;
+  for (int i = 0; i < 200000 && !caught; ++i) {
+    std::error_code ec;
+    for (const auto& e : fs::directory_iterator(fds, ec)) {
+      std::error_code ec2;
+      const std::string target = fs::read_symlink(e.path(), ec2).string();
+      if (!ec2 && (target.rfind((dir / "#").string(), 0) == 0 || target.rfind((dir / ".part.stl.wedge-").string(), 0) == 0)) {
+        caught = true;
+        break;
+      }
+    }
+    if (!caught) std::this_thread::sleep_for(std::chrono::microseconds(200));
+  }
+  ::kill(pid, SIGKILL);
+  int status = 0;
+  ::waitpid(pid, &status, 0);
+  CHECK(caught);
+  CHECK(WIFSIGNALED(status));
+  auto slurp = [](const std::string& p) {
+    std::ifstream in(p, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(in), {});
+  };
+  // part.stl is the old file, or (killed in a later round) a complete copy of ref.stl: never part of one.
+  const std::string now = slurp(part), whole = slurp(ref);
+  CHECK(whole.size() > 1000000);
+  CHECK((now == "the old file" || now == whole));
+  std::vector<std::string> left;
+  for (const auto& e : fs::directory_iterator(dir)) left.push_back(e.path().filename().string());
+  std::sort(left.begin(), left.end());
+  // Nothing else, unless the kill fell in the instant between naming the temporary and renaming
+  // it; such a leftover (its writer dead) is removed by the next export of the same file.
+  if (left.size() == 5) {
+    CHECK(left[0].rfind(".part.stl.wedge-" + std::to_string(pid) + "-", 0) == 0);
+    std::ostringstream err;
+    REQUIRE(wedge::lua::run_string("export(box(1, 1, 1), '" + part + "')", "cleanup.lua", err) == 0);
+    left.erase(left.begin());
+    std::vector<std::string> after;
+    for (const auto& e : fs::directory_iterator(dir)) after.push_back(e.path().filename().string());
+    CHECK(after.size() == 4);
+  }
+  CHECK(left == std::vector<std::string>{"export.lua", "part.stl", "ready", "ref.stl"});
+  fs::remove_all(dir);
 }

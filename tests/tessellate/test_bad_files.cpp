@@ -62,6 +62,23 @@ TEST_CASE("every hostile mesh file is refused with a message naming the file, th
   }
 }
 
+TEST_CASE("a folder, a missing file and a file that is not a file are refused naming the path and why", "[mesh_io][bad_files]") {
+  const fs::path dir = fs::temp_directory_path() / ("wedge-bad-" + std::to_string(::getpid()));
+  fs::create_directories(dir / "folder.stl");
+  struct Cleanup {
+    fs::path p;
+    ~Cleanup() {
+      std::error_code ec;
+      fs::remove_all(p, ec);
+    }
+  } cleanup{dir};
+  const std::string folder = (dir / "folder.stl").string(), missing = (dir / "missing.obj").string();
+  CHECK_THROWS_WITH(import_file(folder), "cannot read '" + folder + "': it is a folder");
+  CHECK_THROWS_WITH(import_file(missing), "cannot read '" + missing + "': No such file or directory");
+  CHECK_THROWS_WITH(import_file("/dev/null.off"), Catch::Contains("cannot read '/dev/null.off'"));
+  CHECK_THROWS_WITH(import_file((dir / "noext").string()), Catch::Contains("unknown mesh format '(no extension)'"));
+}
+
 TEST_CASE("hostile mesh files are refused within a 256 MiB address space", "[mesh_io][bad_files]") {
   if (kSanitized) return;
   auto files = bad_files();

@@ -161,9 +161,9 @@ TEST_CASE("OBJ keeps every triangle it gives, resolves relative indices and name
   CHECK(m.vertex_count() == 5);
   CHECK(m.positions[m.triangles[2][2]] == Point3(0, 0, 1));
   std::ofstream(dir.file("far.obj")) << "v 0 0 0\nv 1 0 0\nv 0 1 0\n\nf 1 2 7\n";
-  CHECK_THROWS_WITH(read_mesh(dir.file("far.obj")), Catch::Contains("far.obj': line 5: face refers to vertex 7 of 3"));
+  CHECK_THROWS_WITH(read_mesh(dir.file("far.obj")), Catch::Contains("far.obj': line 5: face 0 corner 2: vertex index 7 is out of range (3 vertices in the file, numbered from 1)"));
   std::ofstream(dir.file("bad.obj")) << "v 0 0 zero\n";
-  CHECK_THROWS_WITH(read_mesh(dir.file("bad.obj")), Catch::Contains("line 1: 'zero' is not a number"));
+  CHECK_THROWS_WITH(read_mesh(dir.file("bad.obj")), Catch::Contains("line 1: vertex 1: 'zero' is not a number"));
   std::ofstream(dir.file("none.obj")) << "# nothing\nv 0 0 0\n";
   CHECK_THROWS_WITH(read_mesh(dir.file("none.obj")), Catch::Contains("holds no triangles"));
 }

@@ -77,18 +77,24 @@ add("ascii_inf.stl", "solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nver
 
 # --- OBJ ---
 TET_OBJ = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\n"
-add("wrap_index.obj", TET_OBJ + "f 1 3 2\nf 1 2 4\nf 2 3 4\nf 1 4 4294967297\n", "line 8: face refers to vertex 4294967297 of 4")
-add("huge_index.obj", TET_OBJ + "f 1 3 99999999999999999999\n", "line 5: bad face corner '99999999999999999999'")
-add("zero_index.obj", TET_OBJ + "f 0 1 2\n", "line 5: bad face corner '0'")
-add("before_first.obj", TET_OBJ + "f -5 1 2\n", "refers before the first element")
-add("nan.obj", "v 0 0 0\nv nan 0 0\nv 0 1 0\nf 1 2 3\n", "line 2: non-finite number 'nan'")
+add("wrap_index.obj", TET_OBJ + "f 1 3 2\nf 1 2 4\nf 2 3 4\nf 1 4 4294967297\n", "line 8: face 3 corner 2: vertex index 4294967297 is out of range (4 vertices in the file, numbered from 1)")
+add("huge_index.obj", TET_OBJ + "f 1 3 99999999999999999999\n", "line 5: face 0 corner 2 '99999999999999999999': vertex index '99999999999999999999' is out of range")
+add("zero_index.obj", TET_OBJ + "f 0 1 2\n", "line 5: face 0 corner 0 '0': vertex index 0 (OBJ numbers from 1")
+add("before_first.obj", TET_OBJ + "f -5 1 2\n", "line 5: face 0 corner 0 '-5': vertex index -5 counts back before the first vertex (4 so far)")
+add("nan.obj", "v 0 0 0\nv nan 0 0\nv 0 1 0\nf 1 2 3\n", "line 2: vertex 2: non-finite number 'nan'")
 add("short_vertex.obj", "v 0 0\n", "line 1: 'v' needs 3 numbers")
 add("two_corners.obj", TET_OBJ + "f 1 2\n", "line 5: a face needs at least 3 corners, got 2")
 add("no_faces.obj", TET_OBJ, "holds no triangles")
-add("texcoord_range.obj", TET_OBJ + "vt 0 0\nf 1/1 3/2 2/1\n", "line 6: face refers to texture coordinate 2 of 1")
-add("normal_range.obj", TET_OBJ + "vn 0 0 1\nf 1//1 3//1 2//3\n", "line 6: face refers to normal 3 of 1")
-add("four_parts.obj", TET_OBJ + "f 1/1/1/1 2 3\n", "bad face corner '1/1/1/1'")
-add("binary_junk.obj", b"\x00\xff\xfe" * 30 + b"\nf 1 2 3\n", "face refers to vertex 1 of 0")
+add("texcoord_range.obj", TET_OBJ + "vt 0 0\nf 1/1 3/2 2/1\n", "line 6: face 0 corner 1: texture coordinate index 2 is out of range (1 texture coordinates in the file")
+add("normal_range.obj", TET_OBJ + "vn 0 0 1\nf 1//1 3//1 2//3\n", "line 6: face 0 corner 2: normal index 3 is out of range (1 normals in the file")
+add("four_parts.obj", TET_OBJ + "f 1/1/1/1 2 3\n", "line 5: face 0 corner 0 '1/1/1/1': more than 3 parts")
+add("binary_junk.obj", b"\x00\xff\xfe" * 30 + b"\nf 1 2 3\n", "line 2: face 0 corner 0: vertex index 1 is out of range (0 vertices in the file")
+add("missing_index.obj", TET_OBJ + "f /1 2 3\n", "line 5: face 0 corner 0 '/1': vertex index missing")
+add("nan_texcoord.obj", TET_OBJ + "vt 0 inf\nf 1 3 2\n", "line 5: texture coordinate 1: non-finite number 'inf'")
+add("word_normal.obj", TET_OBJ + "vn 0 0 up\nf 1 3 2\n", "line 5: normal 1: 'up' is not a number")
+add("empty.obj", "", "empty.obj': the file is empty")
+add("empty.stl", "", "empty.stl': the file is empty")
+add("unknown.xyz", "OFF\n", "unknown mesh format '.xyz' (supported: .obj .stl .ply .off)")
 
 # --- solids that are not closed or not 2-manifold (the file is fine, the solid is not) ---
 add("open.off", "OFF\n4 3 0\n" + TET_V + "3 0 2 1\n3 0 1 3\n3 0 3 2\n", "mesh is not closed")
