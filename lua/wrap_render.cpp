@@ -529,6 +529,15 @@ int render_fn(lua_State* L) {
     render::Image im;
     {
       Stage stage(L, "render");
+      // A progress bar for a large render (on a terminal, after half a second): one step per
+      // batch of triangles handed to the rasterizer.
+      constexpr std::size_t kBatch = render::RenderOptions::kProgressTriangles;
+      std::optional<Progress> bar;
+      std::size_t batches_shown = 0;
+      ro.progress = [&](std::size_t done, std::size_t total) {
+        if (!bar) bar.emplace(L, "rendering", (total + kBatch - 1) / kBatch);
+        for (const std::size_t batches = (done + kBatch - 1) / kBatch; batches_shown < batches; ++batches_shown) bar->step();
+      };
       im = render::render_scene(drawn.items, ro);
     }
     Stage stage(L, "write");

@@ -340,6 +340,10 @@ struct RenderOptions {
   Visibility visibility = Visibility::ZBuffer;
   int threads = 0;  // rasterisation threads; 0 = all cores
   Simd simd = Simd::Auto;  // the vector code (the same image either way)
+  // Progress of long work, if set: called on the calling thread with the triangles handed to the
+  // pipeline so far and their total, every kProgressTriangles and once at the end.
+  std::function<void(std::size_t done, std::size_t total)> progress;
+  static constexpr std::size_t kProgressTriangles = 16384;
 };
 
 struct DrawItem {

@@ -439,7 +439,9 @@ Image render_scene(const std::vector<DrawItem>& items, const RenderOptions& o, s
   }
   int current = -1;
   g.begin(Primitive::Triangles);
+  std::size_t submitted = 0;
   for (const auto& t : tris) {
+    if (o.progress && ++submitted % RenderOptions::kProgressTriangles == 0) o.progress(submitted, tris.size());
     if (t.item != current) {
       g.end();
       current = t.item;
@@ -463,6 +465,7 @@ Image render_scene(const std::vector<DrawItem>& items, const RenderOptions& o, s
     }
   }
   g.end();
+  if (o.progress) o.progress(tris.size(), tris.size());
   // Wireframe models: unlit lines in the material's diffuse colour.
   bool lit = true;
   for (const auto& it : items) {
