@@ -1,8 +1,8 @@
 // Broad phase: a bounding-volume hierarchy over triangle boxes (float boxes rounded outward, so
-// no pair that meets is ever missed), built by median splits on the longest axis, and the
-// candidate pairs of triangles of different operands whose boxes overlap. Work is split into
-// fixed blocks and the blocks' results concatenated in order, so the pairs come out the same at
-// any thread count.
+// no pair that meets is ever missed), built by halving the Morton order of the boxes' centres, and
+// the candidate pairs of triangles of different operands whose boxes overlap, found by one
+// self-join of the tree. The join is split into fixed tasks whose results are concatenated in
+// order (and the candidates sorted), so the pairs come out the same at any thread count.
 #include <algorithm>
 #include <cmath>
 
