@@ -467,16 +467,49 @@ int Points::side(const Plane& P, u32 p) const {
   return side_sign(*soup_, P, point_eval<EX>(*soup_, defs_[p]));
 }
 
-int Points::incircle(u32 a, u32 b, u32 c, u32 d, int k) const {
+namespace {
+
+// The smallest sine of an angle of the triangles any three of the four points make (from their
+// approximate positions, in the plane (i, j)): where it is large, both ways of splitting the four
+// points into two triangles are well shaped.
+double min_sine(const Vec3* p[4], int i, int j) {
+  double worst = 1;
+  for (int skip = 0; skip < 4; ++skip) {
+    const Vec3* t[3];
+    for (int q = 0, n = 0; q < 4; ++q)
+      if (q != skip) t[n++] = p[q];
+    for (int c = 0; c < 3; ++c) {
+      const Vec3 &o = *t[c], &u = *t[(c + 1) % 3], &v = *t[(c + 2) % 3];
+      const double ux = u[i] - o[i], uy = u[j] - o[j], vx = v[i] - o[i], vy = v[j] - o[j];
+      const double len = std::sqrt((ux * ux + uy * uy) * (vx * vx + vy * vy));
+      if (!(len > 0)) return 0;
+      worst = std::min(worst, std::abs(ux * vy - uy * vx) / len);
+    }
+  }
+  return worst;
+}
+
+}  // namespace
+
+int Points::incircle_certain(u32 a, u32 b, u32 c, u32 d, int k) const {
   const int i = (k + 1) % 3, j = (k + 2) % 3;
   const std::uint8_t m = static_cast<std::uint8_t>(1u << i | 1u << j);
-  if ((fixed_[a] & fixed_[b] & fixed_[c] & fixed_[d] & m) == m) {
-    auto p2 = [&](u32 x) { return Point2(approx_[x][i], approx_[x][j]); };
-    return wedge::incircle(p2(a), p2(b), p2(c), p2(d));
-  }
-  {
+  const bool doubles = (fixed_[a] & fixed_[b] & fixed_[c] & fixed_[d] & m) == m;
+  if (doubles) {
+    // The classic determinant relative to d with Shewchuk's stage-A error bound.
+    const Vec3 &A = approx_[a], &B = approx_[b], &C = approx_[c], &D = approx_[d];
+    const double adx = A[i] - D[i], ady = A[j] - D[j], bdx = B[i] - D[i], bdy = B[j] - D[j];
+    const double cdx = C[i] - D[i], cdy = C[j] - D[j];
+    const double bc = bdx * cdy, cb = cdx * bdy, ca = cdx * ady, ac = adx * cdy, ab = adx * bdy, ba = bdx * ady;
+    const double al = adx * adx + ady * ady, bl = bdx * bdx + bdy * bdy, cl = cdx * cdx + cdy * cdy;
+    const double det = al * (bc - cb) + bl * (ca - ac) + cl * (ab - ba);
+    const double perm = (std::abs(bc) + std::abs(cb)) * al + (std::abs(ca) + std::abs(ac)) * bl +
+                        (std::abs(ab) + std::abs(ba)) * cl;
+    const double bound = 1.1102230246251577e-15 * perm;
+    if (bound > 1e-280 && std::abs(det) > bound) return det > 0 ? 1 : -1;
+  } else {
     Filter guard;
-    // First on the coordinate boxes, relative to d (the classic 3x3 form), then homogeneously.
+    // On the coordinate boxes, relative to d (the classic 3x3 form), then homogeneously.
     const u32 id[3] = {a, b, c};
     IA dx0, dy0, r[3][3];
     bool boxed = box_ia(box_[d], i, j, dx0, dy0);
@@ -487,15 +520,25 @@ int Points::incircle(u32 a, u32 b, u32 c, u32 d, int k) const {
       r[q][1] = y - dy0;
       r[q][2] = r[q][0] * r[q][0] + r[q][1] * r[q][1];
     }
-    if (boxed) {
-      int s = sign_of(det3(r[0][0], r[0][1], r[0][2], r[1][0], r[1][1], r[1][2], r[2][0], r[2][1], r[2][2]));
-      if (s != 2) return s;
-    }
-    int s = incircle_sign(to_ia(ih_[a]), to_ia(ih_[b]), to_ia(ih_[c]), to_ia(ih_[d]), k);
-    if (s != 2) return s;
+    int s = 2;
+    if (boxed) s = sign_of(det3(r[0][0], r[0][1], r[0][2], r[1][0], r[1][1], r[1][2], r[2][0], r[2][1], r[2][2]));
+    if (s == 2) s = incircle_sign(to_ia(ih_[a]), to_ia(ih_[b]), to_ia(ih_[c]), to_ia(ih_[d]), k);
+    if (s != 2) return s == 1 ? 1 : -1;
+  }
+  // Too close to cocircular for the filter. Where every triangle either split would make is well
+  // shaped (no angle under about half a degree), the split in place stays: no exact arithmetic.
+  // Where one would be a sliver, the exact test decides, so that slivers are flipped away as a
+  // true Delaunay triangulation would.
+  const Vec3* p[4] = {&approx_[a], &approx_[b], &approx_[c], &approx_[d]};
+  if (min_sine(p, i, j) > 0.01) return -1;
+  if (doubles) {
+    auto p2 = [&](u32 x) { return Point2(approx_[x][i], approx_[x][j]); };
+    return wedge::incircle(p2(a), p2(b), p2(c), p2(d)) == 1 ? 1 : -1;
   }
   return incircle_sign(point_eval<EX>(*soup_, defs_[a]), point_eval<EX>(*soup_, defs_[b]),
-                       point_eval<EX>(*soup_, defs_[c]), point_eval<EX>(*soup_, defs_[d]), k);
+                       point_eval<EX>(*soup_, defs_[c]), point_eval<EX>(*soup_, defs_[d]), k) == 1
+             ? 1
+             : -1;
 }
 
 int Points::orient2d_centroid(u32 u, u32 v, const std::array<u32, 3>& t, int k) const {

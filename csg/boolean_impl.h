@@ -202,8 +202,13 @@ class Points {
   int compare(u32 a, u32 b, int axis) const;       // sign(a_axis - b_axis)
   bool equal(u32 a, u32 b) const;
   int side(const Plane& P, u32 p) const;           // sign(n . p + d): + on the side n points to
-  // +1 if d is inside the circle through a, b, c (counter-clockwise in projection k), -1 outside.
-  int incircle(u32 a, u32 b, u32 c, u32 d, int k) const;
+  // For the retriangulation's Delaunay flips: +1 if d is inside the circle through a, b, c
+  // (counter-clockwise in projection k), -1 if outside or on it, as exact arithmetic says; except
+  // where the filter cannot tell and every triangle that either split of the four points would
+  // make is well shaped: then -1 (no flip) without exact arithmetic. A flip is made only where it
+  // is certain, so flipping ends; points cocircular to within the inputs' rounding (a tessellated
+  // circle cut by a plane) leave their split as it is, and slivers are still flipped away.
+  int incircle_certain(u32 a, u32 b, u32 c, u32 d, int k) const;
   // For the centroid of triangle (a, b, c): sign of orient2d(u, v, centroid) in projection k, with
   // u, v input vertices; and the side of a plane.
   int orient2d_centroid(u32 u, u32 v, const std::array<u32, 3>& t, int k) const;

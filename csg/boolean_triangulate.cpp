@@ -12,8 +12,11 @@
 //    way, so the crossing of the same three surfaces gets one id in all three triangles.
 // 4. Each segment is split at every point of its triangle that lies on it, and the triangle is
 //    triangulated: a constrained Delaunay triangulation (CGAL's, over our own traits: the points
-//    are ids, and orientation, coordinate comparison and in-circle are the exact predicates of
-//    boolean_exact.cpp in the projection along the triangle's axis).
+//    are ids, and orientation and coordinate comparison are the exact predicates of
+//    boolean_exact.cpp in the projection along the triangle's axis). The in-circle test behind
+//    the Delaunay flips (Points::incircle_certain) flips only where it is certain; where four
+//    points are too close to cocircular for its filter and both splits are well shaped (a
+//    tessellated circle cut by a plane), the split in place stays without exact arithmetic.
 // Work is split per triangle and concatenated in triangle order, so the result does not depend
 // on the number of threads.
 #include <CGAL/Constrained_Delaunay_triangulation_2.h>
@@ -98,7 +101,7 @@ struct IdTraits {
   };
   struct Side_of_oriented_circle_2 {
     CGAL::Oriented_side operator()(Pid a, Pid b, Pid c, Pid d) const {
-      return cgal_sign(g_ctx.pts->incircle(a.id, b.id, c.id, d.id, g_ctx.k));
+      return cgal_sign(g_ctx.pts->incircle_certain(a.id, b.id, c.id, d.id, g_ctx.k));
     }
   };
   struct Construct_segment_2 {

@@ -497,7 +497,7 @@ TEST_CASE("boolean: points with coordinates fixed by their definition are exact 
 }
 
 TEST_CASE("boolean: cut points round within an ulp, and the predicates on them (collinear, "
-          "near-cocircular) agree with exact rational arithmetic",
+          "near-cocircular) agree with exact rational arithmetic; the flip test is never wrong",
           "[boolean]") {
   // Segments cut by axis planes (z = c: the short formula) and by generic triangle planes; their
   // points' exact coordinates computed here in rationals (GMP), independently of the engine.
@@ -576,7 +576,7 @@ TEST_CASE("boolean: cut points round within an ulp, and the predicates on them (
   }
   auto sgn = [](const Q& x) { return x > 0 ? 1 : (x < 0 ? -1 : 0); };
   std::uniform_int_distribution<std::size_t> pick(0, all.size() - 1);
-  int zeros = 0, near_cocircular = 0;
+  int zeros = 0, near_cocircular = 0, inside = 0, found = 0;
   for (int n = 0; n < 20000; ++n) {
     int k = static_cast<int>(rng() % 3);
     std::size_t a = pick(rng), b = pick(rng), c = pick(rng), d = pick(rng);
@@ -609,8 +609,18 @@ TEST_CASE("boolean: cut points round within an ulp, and the predicates on them (
     const Q det = r[0][0] * (r[1][1] * r[2][2] - r[1][2] * r[2][1]) - r[0][1] * (r[1][0] * r[2][2] - r[1][2] * r[2][0]) +
                   r[0][2] * (r[1][0] * r[2][1] - r[1][1] * r[2][0]);
     near_cocircular += n % 4 == 1 && a != b && a != c && a != d && b != c && b != d && c != d;
-    REQUIRE(pts.incircle(all[a], all[b], all[c], all[d], k) == sgn(det));
+    // The retriangulation's flip test: "inside" only where exactly inside, and (on quadruples
+    // not chosen near-cocircular) it finds nearly every one that is.
+    const int certain = pts.incircle_certain(all[a], all[b], all[c], all[d], k);
+    REQUIRE((certain == 1 || certain == -1));
+    if (certain == 1) REQUIRE(sgn(det) == 1);
+    if (n % 4 != 1 && sgn(det) == 1) {
+      ++inside;
+      found += certain == 1;
+    }
   }
   CHECK(zeros > 1000);
   CHECK(near_cocircular > 1000);
+  CHECK(inside > 1000);
+  CHECK(found >= inside * 95 / 100);
 }
