@@ -44,7 +44,11 @@ struct Keyed {
   PointDef d;
   double b[2];
 };
+bool same_def(const PointDef& x, const PointDef& y) {
+  return x.kind == y.kind && x.p == y.p && x.q == y.q && x.P[0] == y.P[0] && x.P[1] == y.P[1] && x.P[2] == y.P[2];
+}
 int cmp(const Points& pts, const Keyed& x, const Keyed& y, int axis) {
+  if (same_def(x.d, y.d)) return 0;
   return pts.compare_def(x.d, x.b, y.d, y.b, axis);
 }
 
@@ -67,6 +71,54 @@ int orient2d_v(const Soup& s, u32 a, u32 b, u32 c, int k) {
   int i = (k + 1) % 3, j = (k + 2) % 3;
   const Vec3 &A = s.verts[a], &B = s.verts[b], &C = s.verts[c];
   return orient2d_fast(A[i], A[j], B[i], B[j], C[i], C[j]);
+}
+
+// Where an edge of T crosses an edge of U (the two segments meet at a point inside both; input
+// meshes placed symmetrically do this all along their intersection curves, as the spheres of a
+// lattice do), the edge of T cut by U's plane, the edge of U cut by T's plane, and the same
+// edges cut by the planes of their other triangles are one point under four definitions, which
+// only exact arithmetic would find equal. It gets one definition instead, from the two edges
+// alone: the lower edge (p, q) cut by the wall over the other (r, s) along the axis k on which
+// the edges' common plane has its largest normal component (there the walls are proper planes
+// and the lower edge crosses the wall over the other, checked exactly).
+bool crossing_def(const Soup& s, u32 p, u32 q, u32 r, u32 t, PointDef& out) {
+  if (std::make_pair(std::min(p, q), std::max(p, q)) > std::make_pair(std::min(r, t), std::max(r, t))) {
+    std::swap(p, r);
+    std::swap(q, t);
+  }
+  const Vec3 n = (s.verts[q] - s.verts[p]).cross(s.verts[t] - s.verts[r]).cwiseAbs();
+  int order[3] = {0, 1, 2};
+  std::sort(order, order + 3, [&](int x, int y) { return n[x] > n[y] || (n[x] == n[y] && x < y); });
+  for (int k : order) {
+    // p and q strictly on opposite sides of the line r t in the projection along k.
+    if (orient2d_v(s, r, t, p, k) * orient2d_v(s, r, t, q, k) < 0) {
+      out = lpi(p, q, Plane::wall(std::min(r, t), std::max(r, t), k));
+      return true;
+    }
+  }
+  return false;
+}
+
+// T's points on U's plane (a) and U's points on T's plane (b): an edge of T and an edge of U that
+// cross are given their one shared definition (crossing_def) in both lists.
+void share_crossings(const Points& pts, Keyed a[3], int na, Keyed b[3], int nb) {
+  const Soup& s = pts.soup();
+  for (int i = 0; i < na; ++i) {
+    if (a[i].d.kind != PointDef::Lpi) continue;
+    for (int j = 0; j < nb; ++j) {
+      if (b[j].d.kind != PointDef::Lpi || a[i].b[1] < b[j].b[0] || b[j].b[1] < a[i].b[0]) continue;
+      const u32 p = a[i].d.p, q = a[i].d.q, r = b[j].d.p, t = b[j].d.q;
+      if (orient3d_v(s, p, q, r, t) != 0) continue;  // the lines are skew: the points differ
+      // Coplanar edges, each crossing the other's triangle's plane properly: the lines are not
+      // parallel, and they meet where each crosses the other's plane.
+      PointDef c;
+      if (!crossing_def(s, p, q, r, t, c)) continue;
+      const double lo = std::max(a[i].b[0], b[j].b[0]), hi = std::min(a[i].b[1], b[j].b[1]);
+      a[i].d = b[j].d = c;
+      a[i].b[0] = b[j].b[0] = lo;
+      a[i].b[1] = b[j].b[1] = hi;
+    }
+  }
 }
 
 // An axis along which p != q (exactly), preferring the longest extent.
@@ -180,6 +232,7 @@ PairCut intersect_pair(const Points& pts, u32 t, u32 u) {
   const int na = on_plane(pts, T, st, pu, axis, a);  // T ∩ plane(U)
   const int nb = on_plane(pts, U, su, pt, axis, b);  // U ∩ plane(T)
   if (na == 0 || nb == 0) return {};
+  share_crossings(pts, a, na, b, nb);
   // Each is a point or a segment: its ends in order along the axis.
   if (na == 2 && cmp(pts, a[0], a[1], axis) > 0) std::swap(a[0], a[1]);
   if (nb == 2 && cmp(pts, b[0], b[1], axis) > 0) std::swap(b[0], b[1]);

@@ -4,7 +4,8 @@
 //   bench_stages [case] [threads, default 1] [repeats, default 3]
 //
 // Cases: plate (a plate minus 400 cylinders of 32 sides), menger (the level-3 sponge), sph65
-// (two overlapping 65k-triangle spheres, union), sph1m (the same at 1M, not in all), bosses (issue 16's plate as meshes: a 42 x 42 x 2
+// (two overlapping 65k-triangle spheres, union), sph1m (the same at 1M, not in all), lattice (the
+// union of 8 x 8 x 8 overlapping spheres of 1280 triangles), bosses (issue 16's plate as meshes: a 42 x 42 x 2
 // plate united with 400 bored bosses of 24 sides in one pass, then minus 400 drills), or all.
 // Each line gives the minimum over the repeats of the CPU time and of each stage.
 #include <algorithm>
@@ -46,12 +47,13 @@ Mesh run(const char* name, BooleanOp op, const std::vector<Mesh>& ops) {
     best.classify = std::min(best.classify, st.classify);
     best.output = std::min(best.output, st.output);
     best.pairs = st.pairs;
+    best.pieces = st.pieces;
     best.collapses = st.collapses;
     best.resolutions = st.resolutions;
   }
-  std::printf("| %s | %.0f | %.0f, %.0f, %.0f, %.0f, %.0f | %zu | %.9f | %zu / %zu |\n", name, cpu, best.check, best.broad,
-              best.arrange, best.classify, best.output, r.mesh.triangles.size(), r.mesh.volume(), best.collapses,
-              best.resolutions);
+  std::printf("| %s | %.0f | %.0f, %.0f, %.0f, %.0f, %.0f | %zu | %.9f | %zu / %zu | %zu / %zu |\n", name, cpu, best.check,
+              best.broad, best.arrange, best.classify, best.output, r.mesh.triangles.size(), r.mesh.volume(),
+              best.collapses, best.resolutions, best.pairs, best.pieces);
   std::fflush(stdout);
   return r.mesh;
 }
@@ -83,13 +85,14 @@ int main(int argc, char** argv) {
   g_repeats = argc > 3 ? std::max(1, std::atoi(argv[3])) : 3;
   tbb::global_control gc(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
   std::printf("threads %d, minimum of %d runs\n\n| case | CPU ms | check, broad, arrange, classify, output ms (wall) | "
-              "triangles | volume | collapses / resolutions |\n|---|---|---|---|---|---|\n",
+              "triangles | volume | collapses / resolutions | pairs / pieces |\n|---|---|---|---|---|---|---|\n",
               threads, g_repeats);
   const bool all = which == "all";
   if (all || which == "plate") run("plate minus 400 cylinders", BooleanOp::Difference, plate_and_cylinders(20, 32));
   if (all || which == "menger") run("Menger sponge, level 3", BooleanOp::Difference, menger_operands(3));
   if (all || which == "sph65") run("spheres 65k, union", BooleanOp::Union, overlapping_spheres(65536));
   if (which == "sph1m") run("spheres 1M, union", BooleanOp::Union, overlapping_spheres(1048576));
+  if (all || which == "lattice") run("lattice 512 spheres union", BooleanOp::Union, sphere_lattice(8, 1280));
   if (all || which == "bosses") bosses();
   return 0;
 }

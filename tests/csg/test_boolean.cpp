@@ -624,3 +624,47 @@ TEST_CASE("boolean: cut points round within an ulp, and the predicates on them (
   CHECK(inside > 1000);
   CHECK(found >= inside * 95 / 100);
 }
+
+TEST_CASE("boolean: two edges that cross get one point definition from all four pairs of their triangles",
+          "[boolean]") {
+  // Edge p q (of triangles T, T') crosses edge r s (of U, U') at the origin. Each of the four pairs
+  // (T or T', U or U') meets there; the point must come out as one definition, so that it is
+  // interned once instead of being found equal to three others by exact arithmetic.
+  Mesh m;
+  const auto p = m.add_vertex({-1, 0, 0}), q = m.add_vertex({1, 0, 0}), c = m.add_vertex({0, 1, 1});
+  const auto c2 = m.add_vertex({0.2, -1, 0.5});
+  const auto r = m.add_vertex({0, 0.5, -0.5}), s = m.add_vertex({0, -0.5, 0.5}), w = m.add_vertex({0.5, 0.3, 0.2});
+  const auto w2 = m.add_vertex({-0.5, 0.4, 0.1});
+  const auto T = m.add_triangle(p, q, c), T2 = m.add_triangle(q, p, c2);
+  const auto U = m.add_triangle(r, s, w), U2 = m.add_triangle(s, r, w2);
+  std::vector<const Mesh*> one{&m};
+  boolean_detail::Soup soup = boolean_detail::make_soup(one);
+  boolean_detail::Points pts(soup);
+  std::vector<boolean_detail::PointDef> at_origin;
+  for (auto t : {T, T2})
+    for (auto u : {U, U2}) {
+      const boolean_detail::PairCut cut = boolean_detail::intersect_pair(pts, t, u);
+      std::vector<boolean_detail::PointDef> ends = cut.points;
+      for (const auto& sg : cut.segs_t) {
+        ends.push_back(sg.a);
+        ends.push_back(sg.b);
+      }
+      int found = 0;
+      for (const auto& d : ends) {
+        const auto id = pts.add(d);
+        if (pts.approx(id).norm() == 0) {
+          at_origin.push_back(d);
+          ++found;
+        }
+      }
+      INFO("pair " << t << ", " << u);
+      REQUIRE(found == 1);
+    }
+  REQUIRE(at_origin.size() == 4);
+  for (const auto& d : at_origin) {
+    REQUIRE(d.kind == at_origin[0].kind);
+    REQUIRE(d.p == at_origin[0].p);
+    REQUIRE(d.q == at_origin[0].q);
+    REQUIRE(d.P[0] == at_origin[0].P[0]);
+  }
+}
