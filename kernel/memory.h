@@ -5,7 +5,7 @@ namespace wedge {
 
 // Asks glibc's malloc to back the heap with transparent huge pages (2 MiB instead of 4 KiB), the
 // glibc tunable `glibc.malloc.hugetlb=1`, and to keep freed memory for reuse instead of giving
-// it back to the kernel (mmap and trim thresholds of 1 GiB). A tunable is read only when a process starts, so this
+// it back to the kernel (no block from mmap, a trim threshold of 1 GiB). A tunable is read only when a process starts, so this
 // adds it to GLIBC_TUNABLES and executes the program again (/proc/self/exe, same arguments, same
 // process id). It returns without doing anything where the tunable is already set, where
 // WEDGE_HUGE_PAGES=0, or where the program cannot be executed again.
