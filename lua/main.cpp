@@ -10,7 +10,7 @@
 #include "kernel/memory.h"
 
 int main(int argc, char** argv) {
-  wedge::use_huge_pages(argv);  // first: it may execute the program again
+  wedge::tune_malloc(argv);  // first: it may execute the program again
   CLI::App app{"wedge: a solid-modelling kernel with a Lua 5.4 front end"};
   app.set_version_flag("--version", std::string("wedge ") + wedge::version() + " (" LUA_RELEASE ")");
   app.require_subcommand(1);

@@ -367,7 +367,7 @@ std::string fmt(const char* f, double x) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  wedge::use_huge_pages(argv);  // first: it may execute the program again
+  wedge::tune_malloc(argv);  // first: it may execute the program again
   if (argc == 6 && std::string(argv[1]) == "--one") return run_one(argv[2], argv[3], std::atoi(argv[4]), std::atoi(argv[5]));
 
   std::vector<std::string> filters, engines = {"wedge", "cgal-epick", "cgal-epeck", "manifold"};

@@ -79,7 +79,7 @@ void bosses() {
 }  // namespace
 
 int main(int argc, char** argv) {
-  wedge::use_huge_pages(argv);  // first: it may execute the program again
+  wedge::tune_malloc(argv);  // first: it may execute the program again
   const std::string which = argc > 1 ? argv[1] : "all";
   const int threads = argc > 2 ? std::max(1, std::atoi(argv[2])) : 1;
   g_repeats = argc > 3 ? std::max(1, std::atoi(argv[3])) : 3;

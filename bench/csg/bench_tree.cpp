@@ -91,7 +91,7 @@ Row run(Solid (*make)(), const EvalOptions& o, int threads) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  wedge::use_huge_pages(argv);  // first: it may execute the program again
+  wedge::tune_malloc(argv);  // first: it may execute the program again
   int repeats = argc > 1 ? std::max(1, std::atoi(argv[1])) : 3;
   if (argc > 2) g_n = std::max(1, std::atoi(argv[2]));
   const std::string threads_list = argc > 3 ? argv[3] : "12", config_list = argc > 4 ? argv[4] : "012";

@@ -1,6 +1,6 @@
--- The runner asks glibc's malloc for transparent huge pages (kernel/memory.h): GLIBC_TUNABLES
--- holds the tunable, and where the kernel gives huge pages on request, a large allocation is
--- backed by them.
+-- The runner's malloc settings (kernel/memory.h): GLIBC_TUNABLES holds the tunables; with
+-- WEDGE_HUGE_PAGES=1, where the kernel gives huge pages on request, a large allocation is backed
+-- by them.
 local t = os.getenv("GLIBC_TUNABLES") or ""
 io.write("tunables: ", t, "\n")
 local f = io.open("/sys/kernel/mm/transparent_hugepage/enabled")
