@@ -91,24 +91,26 @@ void basis_functions(int i, double u, int p, const std::vector<double>& U, doubl
   }
 }
 
-std::vector<std::vector<double>> basis_derivatives(int i, double u, int p, int n, const std::vector<double>& U) {
-  std::vector<std::vector<double>> ders(n + 1, std::vector<double>(p + 1, 0.0));
-  std::vector<std::vector<double>> ndu(p + 1, std::vector<double>(p + 1)), a(2, std::vector<double>(p + 1));
-  std::vector<double> left(p + 1), right(p + 1);
-  ndu[0][0] = 1.0;
+void basis_derivatives(int i, double u, int p, int n, const std::vector<double>& U, double* ders) {
+  if (p > 31) fail("degree must be at most 31, got ", p);
+  // ndu[j][r] (A2.3's table) at ndu[j * 32 + r]; a holds the two rows of the recurrence.
+  double ndu[32 * 32], a[2][32], left[32], right[32];
+  const int w = p + 1;
+  std::fill(ders, ders + (n + 1) * w, 0.0);
+  ndu[0] = 1.0;
   for (int j = 1; j <= p; ++j) {
     left[j] = u - U[i + 1 - j];
     right[j] = U[i + j] - u;
     double saved = 0.0;
     for (int r = 0; r < j; ++r) {
-      ndu[j][r] = right[r + 1] + left[j - r];  // lower triangle: knot differences
-      double temp = ndu[r][j - 1] / ndu[j][r];
-      ndu[r][j] = saved + right[r + 1] * temp;  // upper triangle: basis functions
+      ndu[j * 32 + r] = right[r + 1] + left[j - r];  // lower triangle: knot differences
+      double temp = ndu[r * 32 + j - 1] / ndu[j * 32 + r];
+      ndu[r * 32 + j] = saved + right[r + 1] * temp;  // upper triangle: basis functions
       saved = left[j - r] * temp;
     }
-    ndu[j][j] = saved;
+    ndu[j * 32 + j] = saved;
   }
-  for (int j = 0; j <= p; ++j) ders[0][j] = ndu[j][p];
+  for (int j = 0; j <= p; ++j) ders[j] = ndu[j * 32 + p];
   int dmax = std::min(n, p);
   for (int r = 0; r <= p; ++r) {
     int s1 = 0, s2 = 1;
@@ -117,28 +119,35 @@ std::vector<std::vector<double>> basis_derivatives(int i, double u, int p, int n
       double d = 0.0;
       int rk = r - k, pk = p - k;
       if (r >= k) {
-        a[s2][0] = a[s1][0] / ndu[pk + 1][rk];
-        d = a[s2][0] * ndu[rk][pk];
+        a[s2][0] = a[s1][0] / ndu[(pk + 1) * 32 + rk];
+        d = a[s2][0] * ndu[rk * 32 + pk];
       }
       int j1 = rk >= -1 ? 1 : -rk;
       int j2 = (r - 1 <= pk) ? k - 1 : p - r;
       for (int j = j1; j <= j2; ++j) {
-        a[s2][j] = (a[s1][j] - a[s1][j - 1]) / ndu[pk + 1][rk + j];
-        d += a[s2][j] * ndu[rk + j][pk];
+        a[s2][j] = (a[s1][j] - a[s1][j - 1]) / ndu[(pk + 1) * 32 + rk + j];
+        d += a[s2][j] * ndu[(rk + j) * 32 + pk];
       }
       if (r <= pk) {
-        a[s2][k] = -a[s1][k - 1] / ndu[pk + 1][r];
-        d += a[s2][k] * ndu[r][pk];
+        a[s2][k] = -a[s1][k - 1] / ndu[(pk + 1) * 32 + r];
+        d += a[s2][k] * ndu[r * 32 + pk];
       }
-      ders[k][r] = d;
+      ders[k * w + r] = d;
       std::swap(s1, s2);
     }
   }
   double factor = p;
   for (int k = 1; k <= dmax; ++k) {
-    for (int j = 0; j <= p; ++j) ders[k][j] *= factor;
+    for (int j = 0; j <= p; ++j) ders[k * w + j] *= factor;
     factor *= (p - k);
   }
+}
+
+std::vector<std::vector<double>> basis_derivatives(int i, double u, int p, int n, const std::vector<double>& U) {
+  std::vector<double> flat(std::size_t(n + 1) * std::size_t(p + 1));
+  basis_derivatives(i, u, p, n, U, flat.data());
+  std::vector<std::vector<double>> ders(n + 1);
+  for (int k = 0; k <= n; ++k) ders[k].assign(flat.begin() + k * (p + 1), flat.begin() + (k + 1) * (p + 1));
   return ders;
 }
 

@@ -33,6 +33,11 @@ bool Curve::closed() const {
   return (p - q).norm() <= 1e-12 * (1 + p.norm());
 }
 
+void Curve::jet(double t, int d, Vec3* out) const {
+  out[0] = eval(t);
+  for (int k = 1; k <= d; ++k) out[k] = derivative(t, k);
+}
+
 Vec3 Curve::tangent(double t) const {
   Vec3 d = derivative(t, 1);
   double n = d.norm();
@@ -197,6 +202,16 @@ Vec3 CircularArc::derivative(double t, int k) const {
   return radius_ * (std::cos(s) * x_ + std::sin(s) * y_);
 }
 
+void CircularArc::jet(double t, int d, Vec3* out) const {
+  // The k-th derivative turns the radius vector by k pi/2: (c, s) -> (-s, c) -> (-c, -s) -> (s, -c).
+  double c = std::cos(t), s = std::sin(t);
+  Vec3 a = radius_ * (c * x_ + s * y_), b = radius_ * (c * y_ - s * x_);
+  out[0] = center_ + a;
+  if (d >= 1) out[1] = b;
+  if (d >= 2) out[2] = -a;
+  if (d >= 3) out[3] = -b;
+}
+
 bool CircularArc::closed() const { return end_ - start_ >= 2 * kPi - 1e-12; }
 
 CircularArc CircularArc::reversed() const {
@@ -241,6 +256,33 @@ Point3 BezierCurve::eval(double t) const {
   for (std::size_t r = 1; r < q.size(); ++r)
     for (std::size_t i = 0; i + r < q.size(); ++i) q[i] = (1 - t) * q[i] + t * q[i + 1];
   return q[0];
+}
+
+void BezierCurve::jet(double t, int d, Vec3* out) const {
+  const int n = degree();
+  if (d > 3 || n > 31) {
+    Curve::jet(t, d, out);
+    return;
+  }
+  // One de Casteljau triangle: the k-th derivative is n (n-1) ... (n-k+1) times the k-th forward
+  // difference of the k + 1 points of level n - k.
+  Vec3 q[32];
+  for (int i = 0; i <= n; ++i) q[i] = points_[static_cast<std::size_t>(i)];
+  for (int k = 1; k <= d; ++k) out[k] = Vec3::Zero();
+  auto record = [&](int level) {
+    const int k = n - level;
+    if (k < 1 || k > d) return;
+    double scale = 1;
+    for (int r = 0; r < k; ++r) scale *= n - r;
+    Vec3 diff = k == 1 ? Vec3(q[1] - q[0]) : k == 2 ? Vec3(q[2] - 2 * q[1] + q[0]) : Vec3(q[3] - 3 * q[2] + 3 * q[1] - q[0]);
+    out[k] = scale * diff;
+  };
+  record(0);
+  for (int r = 1; r <= n; ++r) {
+    for (int i = 0; i + r <= n; ++i) q[i] = (1 - t) * q[i] + t * q[i + 1];
+    record(r);
+  }
+  out[0] = q[0];
 }
 
 Vec3 BezierCurve::derivative(double t, int k) const {

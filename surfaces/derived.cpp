@@ -30,6 +30,11 @@ Vec3 ReversedCurve::derivative(double t, int k) const {
   Vec3 d = curve_->derivative(a + b - t, k);
   return k % 2 ? Vec3(-d) : d;
 }
+void ReversedCurve::jet(double t, int d, Vec3* out) const {
+  auto [a, b] = curve_->domain();
+  curve_->jet(a + b - t, d, out);
+  for (int k = 1; k <= d; k += 2) out[k] = -out[k];
+}
 std::vector<double> ReversedCurve::breaks() const {
   auto [a, b] = curve_->domain();
   std::vector<double> out;
@@ -172,6 +177,26 @@ Vec3 RevolutionSurface::derivative(double u, double v, int ku, int kv) const {
   // (x cos v, x sin v, y): the k-th v derivative rotates (x, 0) by v + k pi/2; y only for k = 0.
   Vec3 r = rot(Vec3(p.x(), 0, 0), v + kv * kPi / 2);
   return {r.x(), r.y(), kv == 0 ? p.y() : 0.0};
+}
+
+void RevolutionSurface::jet(double u, double v, int d, Vec3* out) const {
+  if (d > 2) {
+    Surface::jet(u, v, d, out);
+    return;
+  }
+  // The profile's point and derivatives once, one sine and cosine: the v derivatives turn (x, 0)
+  // by pi/2 each, (x cos v, x sin v) -> (-x sin v, x cos v) -> (-x cos v, -x sin v).
+  Vec3 c[3];
+  profile_->jet(u, d, c);
+  double cv = std::cos(v), sv = std::sin(v);
+  out[0] = Vec3(c[0].x() * cv, c[0].x() * sv, c[0].y());
+  out[1] = Vec3(c[1].x() * cv, c[1].x() * sv, c[1].y());
+  out[2] = Vec3(-c[0].x() * sv, c[0].x() * cv, 0);
+  if (d == 2) {
+    out[3] = Vec3(c[2].x() * cv, c[2].x() * sv, c[2].y());
+    out[4] = Vec3(-c[1].x() * sv, c[1].x() * cv, 0);
+    out[5] = Vec3(-c[0].x() * cv, -c[0].x() * sv, 0);
+  }
 }
 
 TwistedExtrusionSurface::TwistedExtrusionSurface(CurvePtr profile, double height, double twist, double scale)

@@ -94,8 +94,43 @@ std::vector<Vec3> NurbsCurve::derivatives(double t, int d) const {
   return C;
 }
 
+void NurbsCurve::jet(double t, int d, Vec3* out) const {
+  if (d > 3) {
+    Curve::jet(t, d, out);
+    return;
+  }
+  // derivatives() without its allocations: A2.3's basis derivatives into a fixed table, then A4.2.
+  int n = int(points_.size());
+  int span = find_span(n, degree_, t, knots_);
+  double ders[4 * (kMaxDegree + 1)];
+  basis_derivatives(span, t, degree_, d, knots_, ders);
+  const int w = degree_ + 1;
+  Vec3 A[4];
+  double W[4];
+  for (int k = 0; k <= d; ++k) {
+    A[k] = Vec3::Zero();
+    W[k] = 0;
+    if (k > degree_) continue;
+    for (int j = 0; j <= degree_; ++j) {
+      int i = span - degree_ + j;
+      A[k] += ders[k * w + j] * weights_[i] * points_[i];
+      W[k] += ders[k * w + j] * weights_[i];
+    }
+  }
+  for (int k = 0; k <= d; ++k) {
+    Vec3 v = A[k];
+    for (int i = 1; i <= k; ++i) v -= binomial(k, i) * W[i] * out[k - i];
+    out[k] = v / W[0];
+  }
+}
+
 Vec3 NurbsCurve::derivative(double t, int k) const {
   if (k < 0) fail("derivative order must be >= 0, got ", k);
+  if (k <= 3) {
+    Vec3 out[4];
+    jet(t, k, out);
+    return out[k];
+  }
   // Rational curves have non-zero derivatives of every order; the recurrence needs k + 1 terms.
   // Orders far beyond any use are refused rather than allocated.
   if (k > 64) fail("derivative order must be at most 64, got ", k);

@@ -41,11 +41,20 @@ std::vector<double> Surface::v_breaks() const {
   return {a, b};
 }
 
+void Surface::jet(double u, double v, int d, Vec3* out) const {
+  out[0] = eval(u, v);
+  int i = 1;
+  for (int k = 1; k <= d; ++k)
+    for (int kv = 0; kv <= k; ++kv) out[i++] = derivative(u, v, k - kv, kv);
+}
+
 Vec3 Surface::normal(double u, double v) const {
   auto cross_at = [&](double uu, double vv) -> Vec3 {
-    Vec3 su = derivative(uu, vv, 1, 0), sv = derivative(uu, vv, 0, 1);
+    Vec3 j[3];
+    jet(uu, vv, 1, j);
+    const Vec3 &su = j[1], &sv = j[2];
     Vec3 n = su.cross(sv);
-    double size = 1e-9 * (1 + eval(uu, vv).norm());
+    double size = 1e-9 * (1 + j[0].norm());
     if (su.norm() <= size || sv.norm() <= size || !(n.norm() > 1e-9 * su.norm() * sv.norm())) return Vec3::Zero();
     return Vec3(n.normalized());
   };
@@ -523,6 +532,48 @@ Vec3 SweptSurface::derivative(double u, double v, int ku, int kv) const {
     d = (ku == 0 ? d2 : Vec3::Zero()) + X * r2 + Y * s2 + p.z() * t2 + 2 * (X1 * r1 + Y1 * s1) - w * w * (X * f.r + Y * f.s);
   }
   return d;
+}
+
+void SweptSurface::jet(double u, double v, int d, Vec3* out) const {
+  // derivative()'s formulas with the path, the frame and the profile evaluated once.
+  Vec3 P[4];
+  path_->jet(v, d + 1, P);
+  const double L = P[1].norm();
+  if (d > 2 || !(L > 1e-12 * (1 + P[2].norm()))) {
+    Surface::jet(u, v, d, out);
+    return;
+  }
+  const Vec3 t = P[1] / L;
+  std::size_t i = static_cast<std::size_t>(std::upper_bound(params_.begin(), params_.end(), v) - params_.begin());
+  i = i == 0 ? 0 : std::min(i - 1, params_.size() - 1);
+  const Frame f = v == params_[i] ? frames_[i] : reflect_step(frames_[i], P[0], t);
+  Vec3 c[3];
+  profile_->jet(u, d, c);
+  if (twist_rate_ != 0) {
+    double th = twist_rate_ * (v - path_->domain().first), ct = std::cos(th), st = std::sin(th);
+    for (int k = 0; k <= d; ++k) c[k] = Vec3(ct * c[k].x() - st * c[k].y(), st * c[k].x() + ct * c[k].y(), c[k].z());
+  }
+  auto place = [&](const Vec3& p) -> Vec3 { return p.x() * f.r + p.y() * f.s + p.z() * f.t; };
+  const double L1 = P[2].dot(t);
+  const Vec3 t1 = (P[2] - L1 * t) / L;
+  const Vec3 r1 = -f.r.dot(t1) * t, s1 = -f.s.dot(t1) * t;
+  const double w = twist_rate_;
+  // The v derivative of the placed profile point p (its turn by the twist included).
+  auto along = [&](const Vec3& p) -> Vec3 {
+    return p.x() * r1 + p.y() * s1 + p.z() * t1 - w * p.y() * f.r + w * p.x() * f.s;
+  };
+  out[0] = f.origin + place(c[0]);
+  out[1] = place(c[1]);
+  out[2] = P[1] + along(c[0]);
+  if (d == 2) {
+    const double L2 = P[3].dot(t) + P[2].dot(t1);
+    const Vec3 t2 = (P[3] - L2 * t - 2 * L1 * t1) / L;
+    const Vec3 r2 = -f.r.dot(t2) * t - f.r.dot(t1) * t1, s2 = -f.s.dot(t2) * t - f.s.dot(t1) * t1;
+    const double X = c[0].x(), Y = c[0].y();
+    out[3] = place(c[2]);
+    out[4] = along(c[1]);
+    out[5] = P[2] + X * r2 + Y * s2 + c[0].z() * t2 + 2 * (-w * Y * r1 + w * X * s1) - w * w * (X * f.r + Y * f.s);
+  }
 }
 
 // --- lofting ---

@@ -25,6 +25,9 @@ class Curve {
   virtual Point3 eval(double t) const = 0;
   // The k-th derivative at t (k = 0 is the point itself).
   virtual Vec3 derivative(double t, int k) const = 0;
+  // The point and its derivatives up to order d <= 3 at once, out[0..d] (what a tessellator asks
+  // for at every sample: one span search and one set of basis functions instead of d + 1).
+  virtual void jet(double t, int d, Vec3* out) const;
   // Parameters where the curve may lose smoothness (knots, segment joints), domain ends included.
   // Tessellation and quadrature split there first.
   virtual std::vector<double> breaks() const;
@@ -59,6 +62,9 @@ class Surface {
   virtual Point3 eval(double u, double v) const = 0;
   // The partial derivative d^(ku+kv) S / du^ku dv^kv.
   virtual Vec3 derivative(double u, double v, int ku, int kv) const = 0;
+  // The point and its partial derivatives up to order d (1 or 2) at once: out = S, Su, Sv and for
+  // d = 2 also Suu, Suv, Svv (surfaces made from curves evaluate their curves once for all).
+  virtual void jet(double u, double v, int d, Vec3* out) const;
   // Parameters where the surface may lose smoothness in u / in v (domain ends included).
   virtual std::vector<double> u_breaks() const;
   virtual std::vector<double> v_breaks() const;
@@ -90,6 +96,8 @@ void basis_functions(int span, double u, int degree, const std::vector<double>& 
 // A2.3: the basis functions and their derivatives up to order d: ders[k][j] = N^(k)_{span-p+j}(u).
 std::vector<std::vector<double>> basis_derivatives(int span, double u, int degree, int d,
                                                     const std::vector<double>& knots);
+// The same into ders[k * (degree + 1) + j], k <= d, with no allocation (degree <= 31).
+void basis_derivatives(int span, double u, int degree, int d, const std::vector<double>& knots, double* ders);
 // Knot vectors: clamped with uniform interior knots over [0, 1], and unclamped uniform 0, 1, 2, ...
 std::vector<double> open_uniform_knots(int degree, std::size_t count);
 std::vector<double> uniform_knots(int degree, std::size_t count);
@@ -115,6 +123,7 @@ class CircularArc : public Curve {
   std::pair<double, double> domain() const override { return {start_, end_}; }
   Point3 eval(double t) const override;
   Vec3 derivative(double t, int k) const override;
+  void jet(double t, int d, Vec3* out) const override;
   bool closed() const override;
 
   const Point3& center() const { return center_; }
@@ -144,6 +153,7 @@ class BezierCurve : public Curve {
   std::pair<double, double> domain() const override { return {0.0, 1.0}; }
   Point3 eval(double t) const override;
   Vec3 derivative(double t, int k) const override;
+  void jet(double t, int d, Vec3* out) const override;
   int degree() const { return int(points_.size()) - 1; }
   const std::vector<Point3>& control_points() const { return points_; }
   // The two halves at t, each over [0, 1].
@@ -163,6 +173,7 @@ class NurbsCurve : public Curve {
   std::pair<double, double> domain() const override;
   Point3 eval(double t) const override;
   Vec3 derivative(double t, int k) const override;
+  void jet(double t, int d, Vec3* out) const override;
   std::vector<double> breaks() const override;
   // All derivatives 0..d at t (cheaper than d + 1 calls).
   std::vector<Vec3> derivatives(double t, int d) const;
@@ -406,6 +417,7 @@ class SweptSurface : public Surface {
   std::pair<double, double> v_domain() const override { return path_->domain(); }
   Point3 eval(double u, double v) const override;
   Vec3 derivative(double u, double v, int ku, int kv) const override;
+  void jet(double u, double v, int d, Vec3* out) const override;
   std::vector<double> u_breaks() const override { return profile_->breaks(); }
   Frame frame(double v) const;
   // The turn of the profile per unit v (radians; 0 unless close_frames).
@@ -448,6 +460,7 @@ class ReversedCurve : public Curve {
   std::pair<double, double> domain() const override { return curve_->domain(); }
   Point3 eval(double t) const override;
   Vec3 derivative(double t, int k) const override;
+  void jet(double t, int d, Vec3* out) const override;
   std::vector<double> breaks() const override;
 
  private:
@@ -461,6 +474,7 @@ class SubCurve : public Curve {
   std::pair<double, double> domain() const override { return {a_, b_}; }
   Point3 eval(double t) const override { return curve_->eval(t); }
   Vec3 derivative(double t, int k) const override { return curve_->derivative(t, k); }
+  void jet(double t, int d, Vec3* out) const override { curve_->jet(t, d, out); }
   std::vector<double> breaks() const override;
   const CurvePtr& source() const { return curve_; }
 
@@ -539,6 +553,7 @@ class RevolutionSurface : public Surface {
   std::pair<double, double> v_domain() const override { return {0.0, angle_}; }
   Point3 eval(double u, double v) const override;
   Vec3 derivative(double u, double v, int ku, int kv) const override;
+  void jet(double u, double v, int d, Vec3* out) const override;
   std::vector<double> u_breaks() const override { return profile_->breaks(); }
   const CurvePtr& profile() const { return profile_; }
   double angle() const { return angle_; }

@@ -43,6 +43,7 @@ struct VInfo {
   std::uint32_t index = 0;
   Vec2 uv = Vec2::Zero();
   int free_axis = -1;  // on a pole: the parameter (0: u, 1: v) along which the point does not move
+  Vec3 normal = Vec3::Zero();  // the surface's unit normal at uv (not used at poles)
 };
 using Vb = CGAL::Triangulation_vertex_base_with_info_2<VInfo, K>;
 struct FInfo {
@@ -63,6 +64,22 @@ double angle_between(const Vec3& a, const Vec3& b) {
   double na = a.norm(), nb = b.norm();
   if (na == 0 || nb == 0) return 0;
   return std::acos(std::clamp(a.dot(b) / (na * nb), -1.0, 1.0));
+}
+
+// True when unit vectors a and b (either may be zero: never) differ by more than the angle whose
+// cosine is cos_limit.
+bool turned_more(const Vec3& a, const Vec3& b, double cos_limit) {
+  if (a.squaredNorm() == 0 || b.squaredNorm() == 0) return false;
+  return a.dot(b) < cos_limit;
+}
+
+// The unit normal at uv from the surface's jet J = (S, Su, Sv) there, as Surface::normal gives it
+// (where Su x Sv vanishes, at a pole, that steps inside the domain).
+Vec3 unit_normal(const Surface& S, const Vec2& uv, const Vec3* J) {
+  Vec3 n = J[1].cross(J[2]);
+  double size = 1e-9 * (1 + J[0].norm()), lu = J[1].norm(), lv = J[2].norm(), ln = n.norm();
+  if (lu <= size || lv <= size || !(ln > 1e-9 * lu * lv)) return S.normal(uv.x(), uv.y());
+  return n / ln;
 }
 
 double seg_distance(const Point3& p, const Point3& a, const Point3& b) {
@@ -98,12 +115,15 @@ int straight_axis(const Surface& S) {
   for (int i = 0; i <= 6; ++i)
     for (int j = 0; j <= 6; ++j) {
       double u = u0 + (u1 - u0) * (i + 0.5) / 7.0, v = v0 + (v1 - v0) * (j + 0.5) / 7.0;
-      Vec3 Su = S.derivative(u, v, 1, 0), Sv = S.derivative(u, v, 0, 1), n = Su.cross(Sv);
+      Vec3 J[6];
+      S.jet(u, v, 2, J);
+      const Vec3 &Su = J[1], &Sv = J[2];
+      Vec3 n = Su.cross(Sv);
       if (!(n.norm() > 0)) continue;
       n.normalize();
-      k[0] = std::max(k[0], std::abs(S.derivative(u, v, 2, 0).dot(n)));
-      k[1] = std::max(k[1], std::abs(S.derivative(u, v, 0, 2).dot(n)));
-      k[2] = std::max(k[2], std::abs(S.derivative(u, v, 1, 1).dot(n)));
+      k[0] = std::max(k[0], std::abs(J[3].dot(n)));
+      k[1] = std::max(k[1], std::abs(J[5].dot(n)));
+      k[2] = std::max(k[2], std::abs(J[4].dot(n)));
       scale = std::max({scale, Su.norm() * Su.norm(), Sv.norm() * Sv.norm()});
     }
   double eps = 1e-12 * scale;
@@ -111,6 +131,19 @@ int straight_axis(const Surface& S) {
   if (k[0] <= eps && k[2] <= eps && k[1] > eps) return 0;
   return -1;
 }
+
+// straight_axis() of each surface, found once per tessellation (it samples the surface 49 times).
+class StraightAxes {
+ public:
+  int operator()(const Surface& S) {
+    auto [it, added] = known_.try_emplace(&S, -1);
+    if (added) it->second = straight_axis(S);
+    return it->second;
+  }
+
+ private:
+  std::unordered_map<const Surface*, int> known_;
+};
 
 struct EdgeSamples {
   std::vector<double> s;              // interior fractions of the parameter range, increasing
@@ -128,7 +161,7 @@ double spacing_for(double kappa, double t, double a) {
 // its largest normal curvature give the triangles it needs at the tolerances (equilateral
 // triangles of side spacing_for(...), area sqrt(3)/4 side^2). Edges: their length over the spacing
 // their curvature needs, for each of the two faces (a boundary point costs a triangle).
-double estimate_triangles(const Model& m, const Tolerance& tol) {
+double estimate_triangles(const Model& m, const Tolerance& tol, StraightAxes& straight_axis) {
   const double t = tol.chordal, a = radians(tol.angular);
   double total = 0;
   m.edges().for_each([&](EdgeId e, const BrepEdge&) {
@@ -158,13 +191,15 @@ double estimate_triangles(const Model& m, const Tolerance& tol) {
     for (int i = 0; i < n; ++i)
       for (int j = 0; j < n; ++j) {
         double u = u0 + du * (i + 0.5), v = v0 + dv * (j + 0.5);
-        Vec3 su = S.derivative(u, v, 1, 0), sv = S.derivative(u, v, 0, 1);
+        Vec3 J[6];
+        S.jet(u, v, 2, J);
+        const Vec3 &su = J[1], &sv = J[2];
         Vec3 nrm = su.cross(sv);
         double area = nrm.norm() * du * dv;
         if (!(area > 0)) continue;
         nrm /= nrm.norm();
         // Normal curvatures along u, v and the diagonal (second fundamental form over the first).
-        double L = S.derivative(u, v, 2, 0).dot(nrm), M = S.derivative(u, v, 1, 1).dot(nrm), N = S.derivative(u, v, 0, 2).dot(nrm);
+        double L = J[3].dot(nrm), M = J[4].dot(nrm), N = J[5].dot(nrm);
         double E = su.squaredNorm(), F = su.dot(sv), G = sv.squaredNorm();
         double kappa = std::max({std::abs(L) / E, std::abs(N) / G, std::abs(L + 2 * M + N) / (E + 2 * F + G),
                                  std::abs(L - 2 * M + N) / std::max(E - 2 * F + G, 1e-300)});
@@ -310,7 +345,8 @@ Mesh tessellate(const Model& m, const Tolerance& tol_in, std::vector<std::array<
   if (!(tol.angular > 0)) tol.angular = 180;
   // The budget is checked on an estimate first, so that a tolerance far too fine fails at once
   // instead of after minutes of refinement (and gigabytes); the refinement below checks it again.
-  const double estimate = estimate_triangles(m, tol);
+  StraightAxes straight_axis;
+  const double estimate = estimate_triangles(m, tol, straight_axis);
   if (!(estimate <= double(tol.max_triangles)))
     fail("tessellate: tolerance ", tol.chordal, " would need about ", std::llround(std::min(estimate, 1e18)),
          " triangles, more than the budget of ", tol.max_triangles, ": use a larger tolerance or raise max_triangles");
@@ -498,16 +534,18 @@ Mesh tessellate(const Model& m, const Tolerance& tol_in, std::vector<std::array<
     for (int i = 0; i < kCells; ++i)
       for (int j = 0; j < kCells; ++j) {
         double u = u0 + (u1 - u0) * (i + 0.5) / kCells, v = v0 + (v1 - v0) * (j + 0.5) / kCells;
-        Vec3 Su = S.derivative(u, v, 1, 0), Sv = S.derivative(u, v, 0, 1);
+        Vec3 J[6];
+        S.jet(u, v, 2, J);
+        const Vec3 &Su = J[1], &Sv = J[2];
         su += Su.norm();
         sv += Sv.norm();
-        fbox.extend(S.eval(u, v));
+        fbox.extend(Point3(J[0]));
         Vec3 n = Su.cross(Sv);
         if (!(n.norm() > 0)) continue;
         n.normalize();
-        const double kuv = std::abs(S.derivative(u, v, 1, 1).dot(n));
-        ku[i] = std::max(ku[i], need(std::max(std::abs(S.derivative(u, v, 2, 0).dot(n)), kuv), Su.norm()));
-        kv[j] = std::max(kv[j], need(std::max(std::abs(S.derivative(u, v, 0, 2).dot(n)), kuv), Sv.norm()));
+        const double kuv = std::abs(J[4].dot(n));
+        ku[i] = std::max(ku[i], need(std::max(std::abs(J[3].dot(n)), kuv), Su.norm()));
+        kv[j] = std::max(kv[j], need(std::max(std::abs(J[5].dot(n)), kuv), Sv.norm()));
       }
     su = su > 0 ? su / (kCells * kCells) : 1;
     sv = sv > 0 ? sv / (kCells * kCells) : 1;
@@ -599,7 +637,7 @@ Mesh tessellate(const Model& m, const Tolerance& tol_in, std::vector<std::array<
       std::vector<CDT::Vertex_handle> hs;
       for (const LoopPt& p : pts) {
         auto h = cdt.insert(to_plane(p.uv));
-        h->info() = VInfo{p.index, p.uv, p.free_axis};
+        h->info() = VInfo{p.index, p.uv, p.free_axis, S.normal(p.uv.x(), p.uv.y())};
         hs.push_back(h);
       }
       for (std::size_t i = 0; i < hs.size(); ++i)
@@ -628,11 +666,14 @@ Mesh tessellate(const Model& m, const Tolerance& tol_in, std::vector<std::array<
         double prev = 0;
         for (int j = 0; j <= kRow; ++j) {
           double v = v0 + (v1 - v0) * j / kRow;
-          Vec3 Su = S.derivative(u, v, 1, 0), Sv = S.derivative(u, v, 0, 1), n = Su.cross(Sv);
+          Vec3 J[6];
+          S.jet(u, v, 2, J);
+          const Vec3 &Su = J[1], &Sv = J[2];
+          Vec3 n = Su.cross(Sv);
           double d = sv / size;
           if (n.norm() > 0) {
             n.normalize();
-            d = std::max(d, need(std::max(std::abs(S.derivative(u, v, 0, 2).dot(n)), std::abs(S.derivative(u, v, 1, 1).dot(n))), Sv.norm()));
+            d = std::max(d, need(std::max(std::abs(J[5].dot(n)), std::abs(J[4].dot(n))), Sv.norm()));
           }
           if (j > 0) cum[static_cast<std::size_t>(j)] = cum[static_cast<std::size_t>(j) - 1] + 0.5 * (prev + d) * (v1 - v0) / kRow;
           prev = d;
@@ -661,7 +702,9 @@ Mesh tessellate(const Model& m, const Tolerance& tol_in, std::vector<std::array<
           if (nearest < 0.25 * kSeed * kSeed) continue;
           const int depth = fh->info().depth;
           auto h = cdt.insert(loc, fh);
-          h->info() = VInfo{out.add_vertex(S.eval(u, v)), uv};
+          Vec3 J[3];
+          S.jet(u, v, 1, J);
+          h->info() = VInfo{out.add_vertex(Point3(J[0])), uv, -1, unit_normal(S, uv, J)};
           auto fc = cdt.incident_faces(h), done = fc;
           do {
             fc->info().depth = depth;
@@ -676,12 +719,14 @@ Mesh tessellate(const Model& m, const Tolerance& tol_in, std::vector<std::array<
     // so that a place of the flat triangle that maps to other parameters than the mean of its
     // corners' (any chord that is not an iso-line) is not counted as an error.
     auto off_surface = [&](const Vec2& uv, const Point3& p) {
-      Vec3 d = p - S.eval(uv.x(), uv.y());
-      Vec3 n = S.normal(uv.x(), uv.y());
+      Vec3 J[3];
+      S.jet(uv.x(), uv.y(), 1, J);
+      Vec3 d = p - J[0];
+      Vec3 n = unit_normal(S, uv, J);
       return n.squaredNorm() > 0 ? std::abs(d.dot(n)) : d.norm();
     };
     auto pos = [&](std::uint32_t i) -> const Point3& { return out.positions[i]; };
-    double ang = radians(tol.angular);
+    const double cos_ang = std::cos(radians(tol.angular));
     std::size_t budget = std::max<std::size_t>(tol.max_triangles / 2, 1000);
     // The faces to look at in a round: all of them first, then those around the points the last
     // round added and around the triangles it held back. An insertion changes only triangles
@@ -743,7 +788,12 @@ Mesh tessellate(const Model& m, const Tolerance& tol_in, std::vector<std::array<
           Vec2 uvm = (a + b) / 2;
           double de = off_surface(uvm, (pos(e[(k + 1) % 3].index) + pos(e[(k + 2) % 3].index)) / 2);
           if (de > worst) worst = de, at = uvm;
-          if (!angle_over && angle_between(S.normal(a.x(), a.y()), S.normal(b.x(), b.y())) > ang) angle_over = true;
+          if (!angle_over) {
+            // The corners' own normals, except at a pole (whose normal depends on the side).
+            Vec3 na = axa >= 0 ? S.normal(a.x(), a.y()) : e[(k + 1) % 3].normal;
+            Vec3 nb = axb >= 0 ? S.normal(b.x(), b.y()) : e[(k + 2) % 3].normal;
+            if (turned_more(na, nb, cos_ang)) angle_over = true;
+          }
         }
         // The flat triangle's largest distance lies between the sampled points (at the
         // circumcentre on a sphere): hold the samples to a margin below the tolerance. On a face
@@ -790,7 +840,9 @@ Mesh tessellate(const Model& m, const Tolerance& tol_in, std::vector<std::array<
           }
           if (nearest <= 1e-12 * shortest) continue;
           auto h = cdt.insert(loc, fh);
-          h->info() = VInfo{out.add_vertex(S.eval(uv.x(), uv.y())), uv};
+          Vec3 J[3];
+          S.jet(uv.x(), uv.y(), 1, J);
+          h->info() = VInfo{out.add_vertex(Point3(J[0])), uv, -1, unit_normal(S, uv, J)};
           auto fc = cdt.incident_faces(h), done = fc;
           do {
             fc->info().depth = depth;

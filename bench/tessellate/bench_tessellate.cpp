@@ -124,12 +124,15 @@ std::vector<Tri> occt_curved_triangles(const TopoDS_Shape& s, long* total) {
 int main(int argc, char** argv) {
   const double pi = kPi;
   // Optional: --counts (wedge alone, one meshing each: triangle counts and measured errors, no
-  // times, no OCCT), then the tolerances to run (default 1e-2 1e-3 1e-4).
+  // times, no OCCT) or --repeat N (wedge alone, N meshings of each shape: for a profiler), then the
+  // tolerances to run (default 1e-2 1e-3 1e-4).
   bool counts_only = argc > 1 && std::string(argv[1]) == "--counts";
+  int repeat = argc > 2 && std::string(argv[1]) == "--repeat" ? std::atoi(argv[2]) : 0;
+  int first = counts_only ? 2 : repeat > 0 ? 3 : 1;
   std::vector<double> tolerances{1e-2, 1e-3, 1e-4};
-  if (argc > (counts_only ? 2 : 1)) {
+  if (argc > first) {
     tolerances.clear();
-    for (int i = counts_only ? 2 : 1; i < argc; ++i) tolerances.push_back(std::atof(argv[i]));
+    for (int i = first; i < argc; ++i) tolerances.push_back(std::atof(argv[i]));
   }
   std::vector<Shape> shapes;
   // Sphere r = 1 and torus R = 2, r = 0.5.
@@ -188,6 +191,13 @@ int main(int argc, char** argv) {
       t.angular = 0.5 * 180 / pi;
       double wt = 1e300, ot = 1e300;
       Mesh mesh;
+      if (repeat > 0) {
+        auto t0 = std::chrono::steady_clock::now();
+        for (int rep = 0; rep < repeat; ++rep) mesh = tessellate(s.wedge_model, t);
+        std::printf("| %s | %g | %zu | %.3f ms each |\n", s.name.c_str(), tol, mesh.triangles.size(), seconds_since(t0) * 1e3 / repeat);
+        std::fflush(stdout);
+        continue;
+      }
       if (counts_only) {
         mesh = tessellate(s.wedge_model, t);
         std::vector<Tri> tris;

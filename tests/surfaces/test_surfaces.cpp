@@ -557,3 +557,77 @@ TEST_CASE("a free-form curve split and joined again is the same curve", "[curves
   CHECK(joined_curve(joined_curve(a1, a2), b) == c);
   CHECK_FALSE(joined_curve(b, a));
 }
+
+TEST_CASE("a jet (the point and its derivatives at once) agrees with eval() and derivative() and with differences", "[jet]") {
+  // Curves: a rational NURBS (a circle: weights not 1), a cubic Bezier, an arc, and a piece of a
+  // NURBS run backwards (what revolve() makes of a profile).
+  auto circle = std::make_shared<const NurbsCurve>(nurbs_circle(Point3(0.5, 0.2, 0), 1.3));
+  auto cubic = std::make_shared<const NurbsCurve>(3, std::vector<Point3>{{1.5, 0, 0}, {2, 0, 0}, {2.2, 0.5, 0}, {1.8, 1, 0}, {1.2, 1.1, 0}},
+                                                  std::vector<double>{0, 0, 0, 0, 0.4, 1, 1, 1, 1});
+  auto bezier = std::make_shared<const BezierCurve>(std::vector<Point3>{{0, 0, 0}, {1, 0, 1}, {2, 1, 1}, {3, 1, 2}, {3, 3, 3}});
+  auto arc = std::make_shared<const CircularArc>(Point3(1, 2, 3), 0.7, -1.0, 2.0, Vec3(1, 1, 0));
+  auto piece = std::make_shared<const ReversedCurve>(std::make_shared<const SubCurve>(cubic, 0.1, 0.9));
+  for (CurvePtr c : {CurvePtr(circle), CurvePtr(cubic), CurvePtr(bezier), CurvePtr(arc), CurvePtr(piece)}) {
+    auto [a, b] = c->domain();
+    const double h = 1e-6 * (b - a);
+    for (int i = 1; i < 20; ++i) {
+      const double t = a + (b - a) * (i + 0.21) / 20.0;
+      for (int d = 0; d <= 3; ++d) {
+        Vec3 j[4];
+        c->jet(t, d, j);
+        CHECK((j[0] - c->eval(t)).norm() <= 1e-12 * (1 + j[0].norm()));
+        for (int k = 1; k <= d; ++k) CHECK((j[k] - c->derivative(t, k)).norm() <= 1e-9 * (1 + j[k].norm()));
+        if (d >= 1) {
+          Vec3 fd = (c->eval(t + h) - c->eval(t - h)) / (2 * h);
+          CHECK((j[1] - fd).norm() <= 1e-6 * (1 + j[1].norm()));
+        }
+      }
+    }
+  }
+  // Surfaces: a revolved NURBS profile and swept tubes (an open Bezier path, and a closed circle
+  // path whose frames get the closing twist), and a NURBS patch (the default jet).
+  // A closed saddle-shaped path: not planar, so its rotation-minimising frames come back turned.
+  struct Saddle : Curve {
+    std::pair<double, double> domain() const override { return {0.0, 2 * M_PI}; }
+    Point3 eval(double t) const override { return Point3(2 * std::cos(t), 2 * std::sin(t), 0.8 * std::sin(2 * t)); }
+    Vec3 derivative(double t, int k) const override {
+      if (k == 0) return eval(t);
+      const double a = t + k * M_PI / 2, b = 2 * t + k * M_PI / 2;
+      return Vec3(2 * std::cos(a), 2 * std::sin(a), 0.8 * std::pow(2.0, k) * std::sin(b));
+    }
+  };
+  auto circle_path = std::make_shared<const Saddle>();
+  auto profile = std::make_shared<const CircularArc>(Point3(0.1, 0, 0), 0.3, 0, 2 * M_PI);
+  auto twisted_path = std::make_shared<const BezierCurve>(std::vector<Point3>{{0, 0, 0}, {4, 0, 1}, {0, 4, -1}, {4, 4, 0}});
+  std::vector<std::shared_ptr<const Surface>> surfaces{
+      std::make_shared<const RevolutionSurface>(piece, 5.0),
+      std::make_shared<const SweptSurface>(profile, bezier),
+      std::make_shared<const SweptSurface>(profile, twisted_path),
+      std::make_shared<const SweptSurface>(profile, circle_path, 512, true),
+      std::make_shared<const NurbsSurface>(nurbs_sphere(Point3(1, 0, 0), 2)),
+  };
+  REQUIRE(dynamic_cast<const SweptSurface&>(*surfaces[3]).twist_rate() != 0);
+  for (const auto& s : surfaces) {
+    auto [u0, u1] = s->u_domain();
+    auto [v0, v1] = s->v_domain();
+    for (int i = 1; i < 9; ++i)
+      for (int k = 1; k < 9; ++k) {
+        const double u = u0 + (u1 - u0) * (i + 0.3) / 9, v = v0 + (v1 - v0) * (k + 0.6) / 9;
+        Vec3 j[6];
+        s->jet(u, v, 2, j);
+        CHECK((j[0] - s->eval(u, v)).norm() <= 1e-12 * (1 + j[0].norm()));
+        const int order[6][2] = {{0, 0}, {1, 0}, {0, 1}, {2, 0}, {1, 1}, {0, 2}};
+        for (int q = 1; q < 6; ++q) {
+          Vec3 d = s->derivative(u, v, order[q][0], order[q][1]);
+          CHECK((j[q] - d).norm() <= 1e-9 * (1 + d.norm()));
+        }
+        const double hu = 1e-6 * (u1 - u0), hv = 1e-6 * (v1 - v0);
+        Vec3 fu = (s->eval(u + hu, v) - s->eval(u - hu, v)) / (2 * hu), fv = (s->eval(u, v + hv) - s->eval(u, v - hv)) / (2 * hv);
+        CHECK((j[1] - fu).norm() <= 1e-5 * (1 + fu.norm()));
+        CHECK((j[2] - fv).norm() <= 1e-5 * (1 + fv.norm()));
+        Vec3 j1[3];
+        s->jet(u, v, 1, j1);
+        CHECK((j1[2] - j[2]).norm() <= 1e-12 * (1 + j[2].norm()));
+      }
+  }
+}
