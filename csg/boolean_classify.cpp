@@ -171,8 +171,14 @@ std::vector<std::int8_t> classify(const Points& pts, const Arrangement& arr, Boo
     std::sort(coplanar.begin(), coplanar.end());
     // Winding numbers of the centroid with respect to every other operand.
     // winding: (operand, winding number), the ones met
+    // The box that holds the centroid: its tight box where the filter has one, else the piece's.
     double lo[3], hi[3];
     for (int d = 0; d < 3; ++d) {
+      if (cb_ok) {
+        lo[d] = cb[d];
+        hi[d] = cb[d + 3];
+        continue;
+      }
       lo[d] = std::min({pts.box(piece.v[0])[d], pts.box(piece.v[1])[d], pts.box(piece.v[2])[d]});
       hi[d] = std::max({pts.box(piece.v[0])[d + 3], pts.box(piece.v[1])[d + 3], pts.box(piece.v[2])[d + 3]});
     }
