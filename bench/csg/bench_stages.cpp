@@ -5,7 +5,8 @@
 //
 // Cases: plate (a plate minus 400 cylinders of 32 sides), menger (the level-3 sponge), sph65
 // (two overlapping 65k-triangle spheres, union), sph1m (the same at 1M, not in all), lattice (the
-// union of 8 x 8 x 8 overlapping spheres of 1280 triangles), bosses (issue 16's plate as meshes: a 42 x 42 x 2
+// union of 8 x 8 x 8 overlapping spheres of 1280 triangles), classic (cube n sphere, then minus
+// three cylinders), bosses (issue 16's plate as meshes: a 42 x 42 x 2
 // plate united with 400 bored bosses of 24 sides in one pass, then minus 400 drills), or all.
 // Each line gives the minimum over the repeats of the CPU time and of each stage.
 #include <algorithm>
@@ -92,6 +93,11 @@ int main(int argc, char** argv) {
   if (all || which == "menger") run("Menger sponge, level 3", BooleanOp::Difference, menger_operands(3));
   if (all || which == "sph65") run("spheres 65k, union", BooleanOp::Union, overlapping_spheres(65536));
   if (which == "sph1m") run("spheres 1M, union", BooleanOp::Union, overlapping_spheres(1048576));
+  if (all || which == "classic") {
+    const std::vector<Mesh> ops = classic_figure_operands(16384, 128);
+    const Mesh a = run("classic figure: cube n sphere", BooleanOp::Intersection, {ops[0], ops[1]});
+    run("... minus three cylinders", BooleanOp::Difference, {a, ops[2], ops[3], ops[4]});
+  }
   if (all || which == "lattice") run("lattice 512 spheres union", BooleanOp::Union, sphere_lattice(8, 1280));
   if (all || which == "bosses") bosses();
   return 0;
