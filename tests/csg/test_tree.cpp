@@ -626,3 +626,91 @@ TEST_CASE("tree: a chain s = s + b of any length is one n-ary node, built link b
   for (int i = 0; i < 8; ++i) e = Solid::boolean(BooleanOp::Union, {e, e});
   CHECK(e.mass_properties(tol).volume == Approx(1).epsilon(1e-12));
 }
+
+TEST_CASE("tree: a thousand coincident operands, intersected, unioned or subtracted, are one operand", "[tree][coincident]") {
+  // A script that applies one shape again and again (s = s * box(...) in a loop) makes an n-ary
+  // node of copies of one mesh. One engine pass over 1001 coincident boxes grew past 15 GB; the
+  // copies are the same points and triangles, so A * A = A + A = A, and the engine is not called.
+  Tolerance tol;
+  EvalStats stats;
+  EvalControl control;
+  control.stats = &stats;
+  Installed on(control);
+  Solid s = box_solid(Vec3(1000, 1000, 1000));
+  Solid u = brep_solid(sphere(1));
+  for (int i = 0; i < 1000; ++i) s = Solid::boolean(BooleanOp::Intersection, {s, box_solid(Vec3(1000, 1000, 1000))});
+  for (int i = 0; i < 200; ++i) u = Solid::boolean(BooleanOp::Union, {u, brep_solid(sphere(1))});
+  CHECK(s.mass_properties(tol).volume == Approx(1e9).epsilon(1e-12));
+  CHECK(stats.booleans == 0);
+  const double one_sphere = brep_solid(sphere(1)).mesh(tol).volume();
+  CHECK(u.mass_properties(tol).volume == Approx(one_sphere).epsilon(1e-12));
+  CHECK(stats.booleans == 0);
+  // A minus the same small box a thousand times: one engine pass, A minus one box.
+  Solid d = box_solid(Vec3(4, 4, 4));
+  for (int i = 0; i < 1000; ++i) d = Solid::boolean(BooleanOp::Difference, {d, box_solid(Vec3(1, 1, 1), Point3(1, 1, 1))});
+  CHECK(d.mass_properties(tol).volume == Approx(63).epsilon(1e-12));
+  CHECK(stats.booleans == 1);
+  CHECK(d.validate(tol) == "");
+  // A minus itself is empty, however many times.
+  Solid a = box_solid(Vec3(2, 2, 2));
+  Solid e = Solid::boolean(BooleanOp::Difference, {a, box_solid(Vec3(2, 2, 2)), box_solid(Vec3(2, 2, 2))});
+  CHECK(e.mesh(tol).empty());
+}
+
+TEST_CASE("tree: the first of coincident operands keeps its faces, as the engine keeps the lowest operand's", "[tree][coincident]") {
+  Tolerance tol;
+  Solid red = box_solid(Vec3(1, 1, 1)).tagged(1), blue = box_solid(Vec3(1, 1, 1)).tagged(2);
+  for (BooleanOp op : {BooleanOp::Union, BooleanOp::Intersection}) {
+    Solid r = Solid::boolean(op, {red, blue, red});
+    const std::vector<int> tags = r.face_tags(tol);
+    const Mesh m = r.tagged_mesh(tol);
+    REQUIRE(!m.triangles.empty());
+    for (std::int32_t id : m.face_ids) CHECK(tags.at(static_cast<std::size_t>(id)) == 1);
+  }
+}
+
+TEST_CASE("tree: near-coincident intersections and differences go to the engine in passes of at most the fan-in", "[tree][coincident][balanced]") {
+  // Boxes of side 10, each shifted by 1/1024 along x from the last (every coordinate exact): not
+  // the same mesh, so each is an operand of its own, and every face lies on the faces of all the
+  // others. One engine pass over n such operands meets each face's coplanar copies in all the
+  // others: its time and memory grow much faster than n (1001 coincident boxes in one pass grew
+  // past 15 GB). A fan-in of 4 here (32 by default; a small one keeps the test fast) bounds
+  // every pass, also for intersections and for a difference's subtrahends.
+  Tolerance tol;
+  const double step = 1.0 / 1024;
+  auto shifted = [&](int i) { return box_solid(Vec3(10, 10, 10), Point3(i * step, 0, 0)); };
+  EvalStats stats;
+  EvalControl control;
+  control.stats = &stats;
+  Installed on(control);
+  EvalOptions o;
+  o.union_fan_in = 4;
+  set_eval_options(o);
+  // The intersection of 20 is [19/1024, 10] x [0, 10]^2.
+  Solid s = shifted(0);
+  for (int i = 1; i < 20; ++i) s = Solid::boolean(BooleanOp::Intersection, {s, shifted(i)});
+  CHECK(s.mass_properties(tol).volume == Approx((10 - 19 * step) * 100).epsilon(1e-12));
+  CHECK(stats.widest == 4);
+  CHECK(stats.booleans > 5);  // the runs, their runs, and the root
+  CHECK(s.validate(tol) == "");
+  // A long box minus 20 shifted slabs across it: [0, 20] x [0, 1]^2 minus the slabs
+  // [10 + i/1024, 11 + i/1024] x [-1, 2]^2, whose union is [10, 11 + 19/1024]: the subtrahends'
+  // union first (balanced), then one difference of two operands; two pieces are left.
+  stats = EvalStats();
+  Solid d = box_solid(Vec3(20, 1, 1));
+  for (int i = 0; i < 20; ++i) d = Solid::boolean(BooleanOp::Difference, {d, box_solid(Vec3(1, 3, 3), Point3(10 + i * step, -1, -1))});
+  CHECK(d.mass_properties(tol).volume == Approx(20 - (1 + 19 * step)).epsilon(1e-12));
+  CHECK(stats.widest == 4);
+  CHECK(d.euler(tol).S == 2);
+  CHECK(d.validate(tol) == "");
+  // All in one pass (fan-in 0) gives the same volume: the grouping changes the passes, not the
+  // result.
+  o.union_fan_in = 0;
+  set_eval_options(o);
+  stats = EvalStats();
+  Solid s0 = shifted(0);
+  for (int i = 1; i < 10; ++i) s0 = Solid::boolean(BooleanOp::Intersection, {s0, shifted(i)});
+  CHECK(s0.mass_properties(tol).volume == Approx((10 - 9 * step) * 100).epsilon(1e-12));
+  CHECK(stats.widest == 10);
+  set_eval_options({});
+}

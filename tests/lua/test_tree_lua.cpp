@@ -273,3 +273,29 @@ TEST_CASE("wedge run killed (SIGKILL) while exporting a large mesh leaves the ol
   CHECK(left == std::vector<std::string>{"export.lua", "part.stl", "ready", "ref.stl"});
   fs::remove_all(dir);
 }
+
+TEST_CASE("a script that applies one shape a thousand times finishes at once with the right volume", "[lua][tree][coincident]") {
+  // Issue 14's case: one intersection of 1001 coincident boxes grew past 15 GB in one engine
+  // pass. The copies are one operand (A * A = A + A = A, A - B - B = A - B), in chains and mixed.
+  auto r = run(R"(
+    local s = box(1000, 1000, 1000)
+    for i = 1, 1000 do s = s * box(1000, 1000, 1000) end
+    assert(math.abs(s:volume() - 1e9) < 1e-3, s:volume())
+    local d = box(1000, 1000, 1000)
+    for i = 1, 1000 do d = d - box(1, 1, 1) end
+    assert(math.abs(d:volume() - (1e9 - 1)) < 1e-3, d:volume())
+    local e = box(10, 10, 10)
+    for i = 1, 1000 do e = e - box(10, 10, 10) end
+    assert(e:volume() == 0, e:volume())
+    local u = box(2, 2, 2)
+    for i = 1, 1000 do u = u + box(2, 2, 2) end
+    assert(math.abs(u:volume() - 8) < 1e-12, u:volume())
+    -- mixed: each step nests (s * B) - b, 300 levels
+    local m = box(1000, 1000, 1000)
+    for i = 1, 300 do m = (m * box(1000, 1000, 1000)) - box(1, 1, 1) end
+    assert(math.abs(m:volume() - (1e9 - 1)) < 1e-3, m:volume())
+    assert(m:is_valid())
+  )");
+  INFO(r.err);
+  CHECK(r.status == 0);
+}
