@@ -524,6 +524,30 @@ void Options::finish() {
 
 // --- classes ---
 
+namespace {
+// The __index of a class's table of methods: a name that is no method (s.foo, s.volum) is an
+// error naming it and the class's methods, not a silent nil that fails later, further away
+// ("attempt to call a nil value"). Upvalue 1: the class's name; argument 1: the methods.
+int unknown_member(lua_State* L) {
+  return guarded(L, [&] {
+    const std::string cls = lua_tostring(L, lua_upvalueindex(1));
+    std::vector<std::string> names;
+    lua_pushnil(L);
+    while (lua_next(L, 1)) {
+      if (lua_type(L, -2) == LUA_TSTRING) names.emplace_back(lua_tostring(L, -2));
+      lua_pop(L, 1);
+    }
+    std::sort(names.begin(), names.end());
+    std::string list;
+    for (const std::string& n : names) list += (list.empty() ? "" : ", ") + n;
+    const std::string known = names.empty() ? " (it has none)" : " (it has " + list + ")";
+    if (lua_type(L, 2) != LUA_TSTRING) throw Error(cls + " has no field " + describe(L, 2) + known);
+    throw Error(cls + " has no field or method '" + std::string(lua_tostring(L, 2)) + "'" + known);
+    return 0;
+  });
+}
+}  // namespace
+
 void register_class(lua_State* L, const char* registry_key, const char* display_name, const luaL_Reg* methods,
                     const luaL_Reg* metamethods, lua_CFunction gc) {
   // Methods are named "Class:method" where the call site gives no name (see raise_pending).
@@ -545,6 +569,11 @@ void register_class(lua_State* L, const char* registry_key, const char* display_
   lua_setfield(L, -2, "__name");
   lua_newtable(L);
   if (methods) luaL_setfuncs(L, methods, 0);
+  lua_createtable(L, 0, 1);
+  lua_pushstring(L, display_name);
+  lua_pushcclosure(L, unknown_member, 1);
+  lua_setfield(L, -2, "__index");
+  lua_setmetatable(L, -2);
   lua_setfield(L, -2, "__index");
   if (metamethods) luaL_setfuncs(L, metamethods, 0);
   lua_pushcfunction(L, gc);

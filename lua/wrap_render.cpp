@@ -365,6 +365,25 @@ bool draw_by_face_tags(lua_State* L, int obj, const Solid& s, Drawn& drawn) {
   return true;
 }
 
+// size={w, h} of render{} and drawing{}: whole pixels, 1..8192 each; the message repeats what was
+// given ("size must be ... within 1..8192, got {100000, 100000}").
+Vec2 image_size(Options& o) {
+  lua_State* L = o.state();
+  const int type = o.push("size");
+  if (type != LUA_TNIL && (type != LUA_TTABLE || lua_rawlen(L, -1) != 2)) {
+    const std::string got = type == LUA_TTABLE ? "a table of " + std::to_string(lua_rawlen(L, -1)) + (lua_rawlen(L, -1) == 1 ? " element" : " elements") : describe(L, -1);
+    lua_pop(L, 1);
+    throw ArgError{o.arg(), "field 'size' must be {width, height} in pixels, got " + got};
+  }
+  lua_pop(L, 1);
+  const Vec2 size = o.vec2("size", Vec2(800, 600));
+  auto whole = [](double v) { return v >= 1 && v <= 8192 && v == std::floor(v); };
+  if (!whole(size.x()) || !whole(size.y()))
+    throw ArgError{o.arg(), "field 'size' must be two whole numbers within 1..8192 (width, height in pixels), got {" +
+                                number_text(size.x()) + ", " + number_text(size.y()) + "}"};
+  return size;
+}
+
 void read_drawn(lua_State* L, const char* fn, Drawn& drawn) {
   lua_geti(L, 1, 1);
   const int obj = lua_gettop(L);
@@ -445,10 +464,7 @@ int render_fn(lua_State* L) {
     if (out.empty()) throw ArgError{1, "field 'out' is missing (the .png file to write)"};
     check_png_name(out);
     sandbox_check_path(L, out, true);
-    Vec2 size = o.vec2("size", Vec2(800, 600));
-    if (size.x() < 1 || size.y() < 1 || size.x() > 8192 || size.y() > 8192 || size.x() != std::floor(size.x()) ||
-        size.y() != std::floor(size.y()))
-      throw ArgError{1, "size must be two whole numbers within 1..8192"};
+    const Vec2 size = image_size(o);
     ro.width = int(size.x()), ro.height = int(size.y());
     // camera={...}, or a named view: view="front" or view={"cabinet", angle=30} (or camera="front").
     std::optional<ViewChoice> view;
@@ -581,14 +597,12 @@ int drawing_fn(lua_State* L) {
       throw ArgError{1, "field 'views' must be a list of view names, got " + type_name(L, -1)};
     }
     lua_pop(L, 1);
-    Vec2 size = o.vec2("size", Vec2(800, 600));
-    if (size.x() < 1 || size.y() < 1 || size.x() > 8192 || size.y() > 8192 || size.x() != std::floor(size.x()) ||
-        size.y() != std::floor(size.y()))
-      throw ArgError{1, "size must be two whole numbers within 1..8192"};
+    const Vec2 size = image_size(o);
     d.width = int(size.x()), d.height = int(size.y());
     d.columns = o.integer("columns", 0);
     if (d.columns < 0 || d.columns > int(d.views.size()))
-      throw ArgError{1, "columns must be within 0.." + std::to_string(d.views.size()) + " (0: automatic)"};
+      throw ArgError{1, "field 'columns' must be within 0.." + std::to_string(d.views.size()) + " (0: automatic), got " +
+                            std::to_string(d.columns)};
     d.border = o.boolean("border", true);
     d.labels = o.boolean("labels", true);
     d.edges = o.boolean("edges", true);

@@ -129,20 +129,29 @@ int copy_m(lua_State* L) {
   });
 }
 
+// The table form's one positional element (the thing to share or repeat) is there, alone. The
+// message does not name the function: the error's prefix does ("array: ...").
+void one_element(lua_State* L, const char* what, const char* then) {
+  const auto n = lua_rawlen(L, 1);
+  if (n == 0) throw ArgError{1, std::string(what) + " expected as the first element, then " + then + "; got none"};
+  if (n > 1) throw ArgError{1, std::string(what) + " expected as the first element, then " + then + "; got " + std::to_string(n) + " elements"};
+}
+
 // instance(x [, {transform=, name=, material=}]): a node that shares x (a Group: every change to it
 // shows in every instance) under a transform of its own.
 // Also in the table form, instance{x, transform=, name=, material=}, as array{} and group{}.
 int instance_fn(lua_State* L) {
   return table_call(L, 2, [&] {
     auto node = std::make_shared<SceneNode>();
-    const bool table_form = lua_type(L, 1) == LUA_TTABLE && lua_rawgeti(L, 1, 1) != LUA_TNIL;
-    if (lua_type(L, 1) == LUA_TTABLE) lua_pop(L, 1);
+    // A plain table is never a thing to share (those are Groups, Solids and surfaces): it is the
+    // table form, also when its first element is missing (instance{}).
+    const bool table_form = lua_type(L, 1) == LUA_TTABLE;
     if (table_form) {
       if (!lua_isnone(L, 2)) throw ArgError{2, "the table form instance{x, ...} takes its options inside the table, got a second argument"};
       try {  // an error in the one table is named by its field, as array{} names its own
         Options o(L, 1);
         o.allow_positional();
-        if (lua_rawlen(L, 1) != 1) throw ArgError{1, "instance{} takes one thing to share, then transform=, name=, material="};
+        one_element(L, "one thing to share", "transform=, name=, material=");
         read_node_options(L, o, *node);
         o.finish();
         lua_rawgeti(L, 1, 1);
@@ -182,7 +191,7 @@ int array_fn(lua_State* L) {
     check_table(L, 1);
     Options o(L, 1);
     o.allow_positional();
-    if (lua_rawlen(L, 1) != 1) throw ArgError{1, "array{} takes one thing to repeat, then count= and step="};
+    one_element(L, "one thing to repeat", "count= and step=");
     const int count = required_count(o);
     auto step = o.vec3("step");
     if (!step) throw ArgError{1, "field 'step' is missing (the offset between copies, {dx, dy, dz})"};
@@ -192,6 +201,12 @@ int array_fn(lua_State* L) {
     lua_rawgeti(L, 1, 1);
     NodePtr proto = child_node(L, -1, 1);
     lua_pop(L, 1);
+    // The last copy's offset, (count - 1) * step, within the coordinates a solid may have.
+    const Vec3 reach = double(count - 1) * *step;
+    if (!(reach.cwiseAbs().maxCoeff() <= kMaxCoordinate))
+      throw ArgError{1, "field 'step' {" + number_text(step->x()) + ", " + number_text(step->y()) + ", " + number_text(step->z()) +
+                            "} puts copy " + std::to_string(count) + " at " + number_text(reach.cwiseAbs().maxCoeff()) +
+                            ", beyond +-" + number_text(kMaxCoordinate)};
     NodePtr copies = as_arg(1, [&] { return scene::array(proto, count, *step); });
     node->children = std::move(copies->children);
     push_group(L, std::move(node));
@@ -208,7 +223,7 @@ int radial_array_fn(lua_State* L) {
     check_table(L, 1);
     Options o(L, 1);
     o.allow_positional();
-    if (lua_rawlen(L, 1) != 1) throw ArgError{1, "radial_array{} takes one thing to repeat, then count= and radius="};
+    one_element(L, "one thing to repeat", "count= and radius=");
     const int count = required_count(o);
     if (!o.has("radius")) throw ArgError{1, "field 'radius' is missing (the distance from the axis)"};
     const double radius = o.number("radius", 0);
