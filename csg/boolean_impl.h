@@ -73,9 +73,24 @@ inline int orient3d_fast(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3
     if (-det > bound) return -1;
   }
   // Four points on one axis-parallel plane (the faces of boxes, plates and cylinder caps) are
-  // exactly coplanar; the exact predicate would take its slowest path to say so.
-  for (int k = 0; k < 3; ++k)
+  // exactly coplanar; the exact predicate would take its slowest path to say so. So are four
+  // points that, seen along an axis, are at most two points (the quads of a cylinder's or an
+  // extrusion's side: they lie in the wall over the segment between those two).
+  for (int k = 0; k < 3; ++k) {
     if (a[k] == b[k] && b[k] == c[k] && c[k] == d[k]) return 0;
+    const int i = (k + 1) % 3, j = (k + 2) % 3;
+    const Vec3* other = nullptr;
+    bool two = true;
+    for (const Vec3* p : {&b, &c, &d}) {
+      if ((*p)[i] == a[i] && (*p)[j] == a[j]) continue;
+      if (!other) other = p;
+      else if ((*p)[i] != (*other)[i] || (*p)[j] != (*other)[j]) {
+        two = false;
+        break;
+      }
+    }
+    if (two) return 0;
+  }
   return wedge::orient3d(a, b, c, d);
 }
 

@@ -377,6 +377,28 @@ TEST_CASE("boolean: the engine's filtered orientation tests agree with the exact
     }
   }
   CHECK(decided_zero > 0);  // the cases include exact degeneracies, decided by the exact path
+  // Side quads of extrusions: four points that are two points seen along an axis are coplanar
+  // (answered without the exact predicate); nudged by an ulp off that, they are not.
+  int extruded = 0, off = 0;
+  for (int n = 0; n < 20000; ++n) {
+    const int k = n % 3, i = (k + 1) % 3, j = (k + 2) % 3;
+    Vec3 p, q, a, b, c, d;
+    p[i] = u(rng), p[j] = u(rng), q[i] = u(rng), q[j] = u(rng);
+    a = p, b = q, c = q, d = p;
+    a[k] = u(rng), b[k] = u(rng), c[k] = u(rng), d[k] = u(rng);
+    if (n % 5 == 4) {
+      d[i] = std::nextafter(d[i], INFINITY);  // off the wall by an ulp
+      ++off;
+    }
+    const int fast = boolean_detail::orient3d_fast(a, b, c, d);
+    REQUIRE(fast == orient3d(a, b, c, d));
+    if (n % 5 != 4) {
+      REQUIRE(fast == 0);
+      ++extruded;
+    }
+  }
+  CHECK(extruded > 10000);
+  CHECK(off > 1000);
 }
 
 TEST_CASE("boolean: points with coordinates fixed by their definition are exact doubles, and the fast predicates on "
