@@ -110,6 +110,35 @@ std::vector<std::int8_t> classify(const Points& pts, const Arrangement& arr, Boo
     }
   }
 
+  // The operands whose boxes meet a vertical line, by a grid over the scene's xy extent: a piece
+  // looks at the operands listed in the cell of its centroid, not at every operand (a sponge has
+  // 274, and looping over them all was most of its classification).
+  const int grid = nops > 8 ? std::min(64, static_cast<int>(2 * std::sqrt(static_cast<double>(nops)))) : 1;
+  double gx0 = INFINITY, gy0 = INFINITY, gx1 = -INFINITY, gy1 = -INFINITY;
+  for (const auto& b : op_box) {
+    gx0 = std::min(gx0, b[0]);
+    gy0 = std::min(gy0, b[1]);
+    gx1 = std::max(gx1, b[3]);
+    gy1 = std::max(gy1, b[4]);
+  }
+  const bool gridded = grid > 1 && gx0 < gx1 && gy0 < gy1 && std::isfinite(gx1 - gx0) && std::isfinite(gy1 - gy0);
+  // Cell of coordinate v: monotone in v (correctly rounded operations), so an operand box and a
+  // centroid box that share a point share a cell.
+  auto cell = [&](double v, double v0, double v1) {
+    const double f = (v - v0) / (v1 - v0) * grid;
+    return f <= 0 ? 0 : (f >= grid ? grid - 1 : static_cast<int>(f));
+  };
+  std::vector<std::vector<int>> cells(gridded ? static_cast<std::size_t>(grid) * grid : 0);
+  if (gridded)
+    for (int j = 0; j < nops; ++j) {
+      const auto& b = op_box[j];
+      if (!(b[0] <= b[3])) continue;  // no triangles
+      for (int x = cell(b[0], gx0, gx1); x <= cell(b[3], gx0, gx1); ++x)
+        for (int y = cell(b[1], gy0, gy1); y <= cell(b[4], gy0, gy1); ++y) cells[x * grid + y].push_back(j);
+    }
+  std::vector<int> all_operands(nops);
+  for (int j = 0; j < nops; ++j) all_operands[j] = j;
+
   std::vector<std::int8_t> patch_keep(np, 0);
   parallel_for(0, reps.size(), [&](std::size_t ri) {
     soup.poll();
@@ -259,7 +288,14 @@ std::vector<std::int8_t> classify(const Points& pts, const Arrangement& arr, Boo
       if (w == winding.end()) winding.push_back({j, o});
       else w->second += o;
     };
-    for (int j = 0; j < nops; ++j)
+    // The operands to look at: those of the grid cell holding the centroid's xy box (all, where
+    // that box is not within one cell).
+    const std::vector<int>* candidates = &all_operands;
+    if (gridded) {
+      const int x0 = cell(clo[0], gx0, gx1), y0 = cell(clo[1], gy0, gy1);
+      if (x0 == cell(chi[0], gx0, gx1) && y0 == cell(chi[1], gy0, gy1)) candidates = &cells[x0 * grid + y0];
+    }
+    for (int j : *candidates)
       if (j != i && near(j) && !coplanar_with(j)) trees[j].query(lo, hi, hit);
     front.assign(nops, 0);
     back.assign(nops, 0);
