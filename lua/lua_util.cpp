@@ -546,6 +546,17 @@ int unknown_member(lua_State* L) {
     return 0;
   });
 }
+
+// The __newindex of a class without one of its own: s.foo = 1 says what cannot be done, not Lua's
+// "attempt to index a Solid value". Upvalue 1: the class's name.
+int no_field_to_set(lua_State* L) {
+  return guarded(L, [&] {
+    const std::string cls = lua_tostring(L, lua_upvalueindex(1));
+    const std::string key = lua_type(L, 2) == LUA_TSTRING ? "'" + std::string(lua_tostring(L, 2)) + "'" : describe(L, 2);
+    throw Error("cannot set field " + key + " of a " + cls + ": it has no fields to set (use its methods)");
+    return 0;
+  });
+}
 }  // namespace
 
 void register_class(lua_State* L, const char* registry_key, const char* display_name, const luaL_Reg* methods,
@@ -575,7 +586,10 @@ void register_class(lua_State* L, const char* registry_key, const char* display_
   lua_setfield(L, -2, "__index");
   lua_setmetatable(L, -2);
   lua_setfield(L, -2, "__index");
-  if (metamethods) luaL_setfuncs(L, metamethods, 0);
+  lua_pushstring(L, display_name);
+  lua_pushcclosure(L, no_field_to_set, 1);
+  lua_setfield(L, -2, "__newindex");
+  if (metamethods) luaL_setfuncs(L, metamethods, 0);  // a class's own __index / __newindex wins
   lua_pushcfunction(L, gc);
   lua_setfield(L, -2, "__gc");
   lua_pop(L, 1);

@@ -255,6 +255,9 @@ std::optional<Mesh> scene_to_mesh(lua_State* L, int idx, const Tolerance& tol) {
 int bounds_m(lua_State* L) {
   return guarded(L, [&] {
     const Box3 b = scene::bounds(*self(L), current_tolerance(L));
+    // Parts that are all empty solids (box(1,1,1) - box(1,1,1)) have no extent: an error, not
+    // min = inf, max = -inf.
+    if (b.empty()) throw Error("the scene's parts are all empty solids: it has no bounds");
     lua_createtable(L, 0, 2);
     push_vec3(L, b.min);
     lua_setfield(L, -2, "min");
