@@ -214,7 +214,7 @@ int flood_fill_m(lua_State* L) {
     const std::int32_t col = colour(o, "color", pack(Vec3(0, 0, 0), 1));
     o.finish();
     const std::vector<Point2> p = points(L, 2);
-    if (p.size() != 1) throw ArgError{2, "flood_fill needs one seed point {x, y}, got " + std::to_string(p.size())};
+    if (p.size() != 1) throw ArgError{2, "one seed point {x, y} expected, got " + std::to_string(p.size()) + " points"};
     const int x = whole(p[0].x(), 2, "the seed's x"), y = whole(p[0].y(), 2, "the seed's y");
     if (!c.grid.inside(x, y))
       throw ArgError{2, "the seed (" + std::to_string(x) + ", " + std::to_string(y) + ") is outside the " +

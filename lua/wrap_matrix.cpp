@@ -188,7 +188,7 @@ int axonometric_fn(lua_State* L) {
 int from_fn(lua_State* L) {
   return guarded(L, [&] {
     check_table(L, 1);
-    if (lua_rawlen(L, 1) != 4) throw ArgError{1, "matrix.from needs 4 rows of 4 numbers"};
+    if (lua_rawlen(L, 1) != 4) throw ArgError{1, "4 rows of 4 numbers expected, got " + std::to_string(lua_rawlen(L, 1)) + " rows"};
     Mat4 m;
     for (int r = 0; r < 4; ++r) {
       lua_rawgeti(L, 1, r + 1);

@@ -671,7 +671,7 @@ int checker_fn(lua_State* L) {
       o.finish();
     }
     if (n < 1 || size < 1 || size > 4096 || n > size)
-      throw ArgError{1, "checker needs 1 <= n <= size <= 4096, got n = " + std::to_string(n) + ", size = " + std::to_string(size)};
+      throw ArgError{1, "needs 1 <= n <= size <= 4096, got n = " + std::to_string(n) + ", size = " + std::to_string(size)};
     push_object<TexturePtr>(L, kTextureKey, render::Texture::checker(size, n, a, b));
     return 1;
   });

@@ -125,7 +125,10 @@ const Case kCases[] = {
     {"box(1,1,1):material{texture = '$/missing.png'}", "missing.png': No such file or directory"},
     {"box(1,1,1):material{glow = 1}", "material: unknown field 'material.glow'"},
     {"box(1,1,1):material(5)", "table"},
-    {"checker{n = 0}", "checker needs 1 <= n <= size <= 4096"},
+    {"checker{n = 0}", "hostile.lua:2: checker: needs 1 <= n <= size <= 4096, got n = 0, size = 256"},
+    {"checker{n = 8, size = 1e9}", "hostile.lua:2: checker: needs 1 <= n <= size <= 4096, got n = 8, size = 1000000000"},
+    {"matrix.from{{1, 0, 0, 0}}", "hostile.lua:2: bad argument #1 to 'from' (4 rows of 4 numbers expected, got 1 rows)"},
+    {"canvas{width = 4, height = 4}:flood_fill{{1, 1}, {2, 2}}", "hostile.lua:2: flood_fill: one seed point {x, y} expected, got 2 points"},
     // --- table forms: the function and the field path, not "bad argument #1" ---
     {"box{size = {1, 'x', 1}}", "hostile.lua:2: box: size[2] must be a number, got string"},
     {"box{size = {1, 1, 0/0}}", "hostile.lua:2: box: size[3] must be finite, got nan"},
