@@ -1,5 +1,10 @@
 // Output: the kept pieces become a triangle mesh of doubles.
 //
+// First, cut points that lie inside a flat region of the result, or on a straight crease between
+// two, are merged into a neighbour (merge_flat): the retriangulation put them there, the result
+// does not need them (a plate's holes lose the cuts of their cylinders' side diagonals, and the
+// plate minus 400 cylinders has 52,812 triangles instead of 104,012).
+//
 // Exact until here: every vertex is a point id, and two pieces share a vertex exactly when their
 // points are equal. Where the result is not a manifold (two solids that share only an edge or a
 // vertex) its shells are kept apart: around an edge used by more than two triangles, each
@@ -275,6 +280,189 @@ bool repair_rounding(BooleanResult& r, Rounding& rd) {
   return rounding_defects(r.mesh, rd).empty();
 }
 
+// Merges the pieces of one flat region or one straight crease where a cut point between them
+// need not be a vertex: a vertex that is a cut point (not an input vertex), whose triangles form
+// one closed fan lying in one plane, or in two planes that meet along a line through it, is
+// collapsed into a neighbour (on that line, for two planes). The surface is unchanged as a set
+// of points: the vertex lay inside a flat region or on a straight crease between the two
+// neighbours it had there. A collapse is made only where every triangle that remains keeps its
+// exact orientation in its source's projection, and where the link condition holds, so the
+// mesh stays closed, manifold and free of crossings. Triangles keep their sources. Cut points
+// that are not doubles (rounded when output) are the ones a plate's holes have in the middle of
+// their edges; without them nothing of the output needs rounding there.
+// Returns the number of vertices removed.
+std::size_t merge_flat(const Points& pts, std::vector<std::array<u32, 3>>& tris, std::vector<u32>& src,
+                       std::vector<char>& flipped) {
+  const Soup& soup = pts.soup();
+  const std::size_t np = pts.size(), nv = soup.verts.size();
+  std::size_t removed = 0;
+  // Whether source triangles s and u lie in one plane facing one way (with their flips).
+  auto same_side = [&](u32 s, bool fs, u32 u, bool fu) {
+    if (s == u) return fs == fu;
+    const auto& S = soup.tris[s];
+    for (u32 v : soup.tris[u])
+      if (orient3d_v(soup, S[0], S[1], S[2], v) != 0) return false;
+    const int k = soup.axis[s];
+    const auto& U = soup.tris[u];
+    const int o = pts.orient2d(U[0], U[1], U[2], k);  // non-zero: U is in S's plane
+    return (o * (fu ? -1 : 1)) == (soup.axis_sign[s] * (fs ? -1 : 1));
+  };
+  for (int pass = 0; pass < 16; ++pass) {
+    soup.poll();
+    const std::size_t nt = tris.size();
+    // Triangles around each point (counting sort), per pass.
+    std::vector<u32> off(np + 1, 0);
+    for (const auto& T : tris)
+      for (u32 v : T) ++off[v + 1];
+    for (std::size_t v = 0; v < np; ++v) off[v + 1] += off[v];
+    std::vector<u32> around(off[np]);
+    {
+      std::vector<u32> next(off.begin(), off.end() - 1);
+      for (std::size_t t = 0; t < nt; ++t)
+        for (u32 v : tris[t]) around[next[v]++] = static_cast<u32>(t);
+    }
+    std::vector<char> locked(np, 0), gone(nt, 0);
+    std::size_t collapsed = 0;
+    std::vector<u32> fan, order, targets, nbv, nbx, common, opposite;
+    std::vector<std::array<u32, 2>> ab;
+    std::vector<char> group, used;
+    for (u32 v = static_cast<u32>(nv); v < np; ++v) {
+      if ((v & 0xffff) == 0) soup.poll();
+      if (locked[v] || off[v + 1] - off[v] < 3) continue;
+      fan.clear();
+      for (u32 i = off[v]; i < off[v + 1]; ++i)
+        if (!gone[around[i]]) fan.push_back(around[i]);
+      const std::size_t n = fan.size();
+      if (n < 3) continue;
+      // Planes first (the cheap rejection on curved surfaces, where a cut point's triangles come
+      // from three or more source planes): at most two oriented planes.
+      group.assign(n, 0);
+      int groups = 1;
+      std::size_t rep[2] = {0, 0};
+      bool ok = true;
+      for (std::size_t y = 1; y < n && ok; ++y) {
+        const u32 ty = fan[y];
+        if (same_side(src[fan[rep[0]]], flipped[fan[rep[0]]], src[ty], flipped[ty])) continue;
+        if (groups == 2 && same_side(src[fan[rep[1]]], flipped[fan[rep[1]]], src[ty], flipped[ty])) {
+          group[y] = 1;
+        } else if (groups == 1) {
+          rep[1] = y;
+          group[y] = 1;
+          groups = 2;
+        } else {
+          ok = false;
+        }
+      }
+      if (!ok) continue;
+      // The fan: each triangle (v, a, b) turned so that v is first; a closed fan has each
+      // neighbour once as a and once as b, and following a -> b visits every triangle once.
+      ab.resize(n);
+      for (std::size_t x = 0; x < n; ++x) {
+        const auto& T = tris[fan[x]];
+        const int c = T[0] == v ? 0 : T[1] == v ? 1 : 2;
+        ab[x] = {T[(c + 1) % 3], T[(c + 2) % 3]};
+      }
+      order.assign(1, 0);
+      used.assign(n, 0);
+      used[0] = 1;
+      for (std::size_t step = 1; step < n && ok; ++step) {
+        const u32 b = ab[order.back()][1];
+        std::size_t found = n;
+        for (std::size_t y = 0; y < n; ++y)
+          if (!used[y] && ab[y][0] == b) {
+            if (found != n) ok = false;  // two triangles leave through one edge: not a fan
+            found = y;
+          }
+        if (found == n) ok = false;
+        if (!ok) break;
+        used[found] = 1;
+        order.push_back(static_cast<u32>(found));
+      }
+      if (!ok || ab[order.back()][1] != ab[order[0]][0]) continue;
+      // Candidate targets: for one plane any neighbour; for two, the two ends of the crease (the
+      // neighbours where the ring passes from one plane to the other), with v strictly between.
+      targets.clear();
+      if (groups == 1) {
+        for (std::size_t x = 0; x < n; ++x) targets.push_back(ab[order[x]][0]);
+      } else {
+        for (std::size_t x = 0; x < n; ++x) {
+          const u32 y = order[x], z = order[(x + 1) % n];
+          if (group[y] != group[z]) targets.push_back(ab[z][0]);  // shared edge v -> ab[z][0]
+        }
+        if (targets.size() != 2) continue;
+        const u32 x1 = targets[0], x2 = targets[1];
+        int axis = -1;
+        for (int k = 0; k < 3 && axis < 0; ++k)
+          if (pts.compare(x1, x2, k) != 0) axis = k;
+        if (axis < 0 || pts.compare(x1, v, axis) * pts.compare(v, x2, axis) <= 0) continue;
+      }
+      for (u32 x : targets) {
+        // Link condition: the neighbours v and x share are the third vertices of the two
+        // triangles on edge v x.
+        nbv.clear();
+        nbx.clear();
+        for (const auto& e : ab) nbv.push_back(e[0]);
+        if (locked[x]) continue;  // x has taken triangles this pass: its list is not complete
+        for (u32 i = off[x]; i < off[x + 1]; ++i)
+          if (!gone[around[i]])
+            for (u32 w : tris[around[i]])
+              if (w != x) nbx.push_back(w);
+        std::sort(nbv.begin(), nbv.end());
+        std::sort(nbx.begin(), nbx.end());
+        nbx.erase(std::unique(nbx.begin(), nbx.end()), nbx.end());
+        common.clear();
+        opposite.clear();
+        std::set_intersection(nbv.begin(), nbv.end(), nbx.begin(), nbx.end(), std::back_inserter(common));
+        for (std::size_t y = 0; y < n; ++y) {
+          if (ab[y][0] == x) opposite.push_back(ab[y][1]);
+          if (ab[y][1] == x) opposite.push_back(ab[y][0]);
+        }
+        std::sort(opposite.begin(), opposite.end());
+        if (opposite.size() != 2 || common != opposite) continue;
+        // Every remaining triangle keeps its orientation in its source's projection.
+        bool keeps = true;
+        for (std::size_t y = 0; y < n && keeps; ++y) {
+          if (ab[y][0] == x || ab[y][1] == x) continue;
+          const u32 t = fan[y];
+          const int k = soup.axis[src[t]];
+          const int want = soup.axis_sign[src[t]] * (flipped[t] ? -1 : 1);
+          keeps = pts.orient2d(x, ab[y][0], ab[y][1], k) == want;
+        }
+        if (!keeps) continue;
+        for (std::size_t y = 0; y < n; ++y) {
+          const u32 t = fan[y];
+          if (ab[y][0] == x || ab[y][1] == x) {
+            gone[t] = 1;
+            continue;
+          }
+          for (u32& w : tris[t])
+            if (w == v) w = x;
+        }
+        // v is gone and x has taken its triangles (x's list is stale until the next pass); v's
+        // other neighbours keep their lists, which hold the triangles they are in (gone ones
+        // marked), read afresh.
+        locked[v] = locked[x] = 1;
+        ++collapsed;
+        break;
+      }
+    }
+    if (!collapsed) break;
+    removed += collapsed;
+    std::size_t w = 0;
+    for (std::size_t t = 0; t < nt; ++t) {
+      if (gone[t]) continue;
+      tris[w] = tris[t];
+      src[w] = src[t];
+      flipped[w] = flipped[t];
+      ++w;
+    }
+    tris.resize(w);
+    src.resize(w);
+    flipped.resize(w);
+  }
+  return removed;
+}
+
 }  // namespace
 
 BooleanResult assemble(const Points& pts, const Arrangement& arr, const std::vector<std::int8_t>& keep,
@@ -291,6 +479,7 @@ BooleanResult assemble(const Points& pts, const Arrangement& arr, const std::vec
     src.push_back(arr.pieces[p].tri);
     flipped.push_back(keep[p] < 0);
   }
+  merge_flat(pts, tris, src, flipped);
   const std::size_t nt = tris.size();
 
   // Directed edges; partner[c] for corner-edge c = 3*t+e (edge v[e] -> v[e+1]).
