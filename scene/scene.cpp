@@ -226,23 +226,47 @@ Mesh leaf_mesh(const Leaf& leaf, const Tolerance& tol, bool for_render) {
   return for_render ? m.with_face_normals() : m;
 }
 
-Mesh mesh(const Node& root, const Tolerance& tol) {
-  Mesh all;
-  std::vector<std::pair<const Leaf*, Mesh>> cache;
-  for (const auto& occ : flatten(root)) {
-    const Mesh* m = nullptr;
-    for (const auto& [leaf, leaf_m] : cache)
-      if (leaf == occ.leaf) m = &leaf_m;
-    if (!m) {
-      cache.emplace_back(occ.leaf, leaf_mesh(*occ.leaf, tol, false));
-      m = &cache.back().second;
-    }
-    all.append(m->transformed(occ.world));
+namespace {
+// Each leaf's mesh once (a leaf placed 100000 times by an array is tessellated once), found by
+// the leaf in a hash map: a scene of many distinct parts costs one lookup per part, not a scan.
+class LeafMeshes {
+ public:
+  explicit LeafMeshes(const Tolerance& tol) : tol_(tol) {}
+  const Mesh& of(const Leaf* leaf) {
+    auto it = meshes_.find(leaf);
+    if (it == meshes_.end()) it = meshes_.emplace(leaf, leaf_mesh(*leaf, tol_, false)).first;
+    return it->second;
   }
+
+ private:
+  Tolerance tol_;
+  std::unordered_map<const Leaf*, Mesh> meshes_;
+};
+}  // namespace
+
+Mesh mesh(const Node& root, const Tolerance& tol) {
+  const std::vector<Occurrence> parts = flatten(root);
+  LeafMeshes meshes(tol);
+  // The merged mesh holds every occurrence's triangles: within the triangle budget, checked
+  // before anything is copied (array{sphere(1), count=100000} would be 2e8 triangles).
+  double total = 0;
+  for (const auto& occ : parts) total += double(meshes.of(occ.leaf).triangles.size());
+  if (!(total <= double(tol.max_triangles)))
+    fail("the scene would be one mesh of ", total, " triangles (", parts.size(), " parts), more than the budget of ",
+         tol.max_triangles, ": use fewer copies, a larger tolerance, or raise max_triangles");
+  Mesh all;
+  for (const auto& occ : parts) all.append(meshes.of(occ.leaf).transformed(occ.world));
   return all;
 }
 
-Box3 bounds(const Node& root, const Tolerance& tol) { return mesh(root, tol).bounds(); }
+Box3 bounds(const Node& root, const Tolerance& tol) {
+  // Each part's points moved by its transform, without merging the meshes.
+  LeafMeshes meshes(tol);
+  Box3 box;
+  for (const auto& occ : flatten(root))
+    for (const Point3& p : meshes.of(occ.leaf).positions) box.extend(apply_point(occ.world, p));
+  return box;
+}
 
 std::vector<InstanceRow> instance_table(const Node& root) {
   std::vector<InstanceRow> rows;
@@ -311,6 +335,7 @@ Drawable draw_items(const Node& root, const Tolerance& tol, const std::function<
     std::vector<Piece> pieces;
   };
   std::deque<Made> made;
+  std::map<std::pair<const Leaf*, bool>, std::size_t> made_index;  // (leaf, textured) -> made[i]: one lookup a part
   std::deque<OwnMaterial> owns;
   auto add_mesh = [&](Mesh m, bool textured) {
     if (textured && m.uvs.empty()) m = render::with_uv_mapping(m, render::UvMapping::Box);
@@ -321,8 +346,7 @@ Drawable draw_items(const Node& root, const Tolerance& tol, const std::function<
     if (step) step();
     const bool textured = occ.texture != nullptr;
     const Made* found = nullptr;
-    for (const Made& m : made)
-      if (m.leaf == occ.leaf && m.textured == textured) found = &m;
+    if (auto it = made_index.find({occ.leaf, textured}); it != made_index.end()) found = &made[it->second];
     if (!found) {
       Made m{occ.leaf, textured, {}};
       std::map<int, Mesh> parts;
@@ -340,6 +364,7 @@ Drawable draw_items(const Node& root, const Tolerance& tol, const std::function<
         m.pieces.push_back({add_mesh(part.with_face_normals(), own ? own->second != nullptr : textured), own});
       }
       if (m.pieces.empty()) m.pieces.push_back({add_mesh(leaf_mesh(*occ.leaf, tol, true), textured), nullptr});
+      made_index.emplace(std::make_pair(occ.leaf, textured), made.size());
       made.push_back(std::move(m));
       found = &made.back();
     }
@@ -352,6 +377,14 @@ Drawable draw_items(const Node& root, const Tolerance& tol, const std::function<
       d.items.push_back(std::move(item));
     }
   }
+  // The renderer goes through every placed triangle: within the triangle budget, as one merged
+  // mesh is (mesh()), or an array of 100000 spheres runs out of memory in the rasterizer.
+  double total = 0;
+  for (const render::DrawItem& item : d.items)
+    if (item.mesh) total += double(item.mesh->triangles.size());
+  if (!(total <= double(tol.max_triangles)))
+    fail("the scene would draw ", total, " triangles (", d.items.size(), " placed meshes), more than the budget of ",
+         tol.max_triangles, ": use fewer copies, a larger tolerance, or raise max_triangles");
   return d;
 }
 

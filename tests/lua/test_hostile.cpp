@@ -152,6 +152,11 @@ const Case kCases[] = {
     {"instance{}", "hostile.lua:2: instance: one thing to share expected as the first element, then transform=, name=, material=; got none"},
     {"instance{transform = matrix.identity()}", "hostile.lua:2: instance: one thing to share expected as the first element"},
     {"instance{box(1,1,1), box(1,1,1)}", "hostile.lua:2: instance: one thing to share expected as the first element, then transform=, name=, material=; got 2 elements"},
+    // a scene of many copies: within the triangle budget, said before anything is copied or drawn
+    {"tolerance{max_triangles = 1000}; export(array{box(1,1,1), count = 100, step = {2, 0, 0}}, '$/a.stl')",
+     "hostile.lua:2: export: the scene would be one mesh of 1200 triangles (100 parts), more than the budget of 1000: use fewer copies, a larger tolerance, or raise max_triangles"},
+    {"tolerance{max_triangles = 1000}; render{array{box(1,1,1), count = 100, step = {2, 0, 0}}, out = '$/a.png', size = {8, 8}}",
+     "hostile.lua:2: render: the scene would draw 1200 triangles (100 placed meshes), more than the budget of 1000"},
     // a name that is no field or method is an error, not nil
     {"local v = box(1,1,1).volum", "hostile.lua:2: Solid has no field or method 'volum' (it has area, bounds, cells,"},
     {"local v = box(1,1,1)[1]", "hostile.lua:2: Solid has no field number 1 (it has area,"},

@@ -267,3 +267,23 @@ TEST_CASE("bad calls of the new functions name the function, the problem and the
   }
   CHECK(n >= 60);
 }
+
+TEST_CASE("a scene of many parts or copies answers bounds and exports without a scan per part", "[lua][scene]") {
+  // 20000 distinct boxes (each part looked up once, not compared with every earlier part) and an
+  // array of 100000 copies of one sphere: bounds without merging the meshes (the merged mesh
+  // would be 1e8 triangles, past the budget, which export reports).
+  auto r = run(R"(
+    local g = group()
+    for i = 1, 20000 do g:add(box(1, 1, 1):translate(2 * i, 0, 0)) end
+    local b = g:bounds()
+    assert(b.min[1] == 2 and b.max[1] == 40001 and b.max[3] == 1, b.max[1])
+    local a = array{sphere(1), count = 100000, step = {3, 0, 0}}
+    local ab = a:bounds()
+    -- the sphere's mesh reaches within the chordal tolerance (0.01) of x = +-1
+    assert(math.abs(ab.max[1] - (3 * 99999 + 1)) < 0.01 and math.abs(ab.min[1] + 1) < 0.01, ab.max[1])
+    local ok, err = pcall(export, a, "/nonexistent-wedge-dir/a.stl")
+    assert(not ok and err:find("triangles %(100000 parts%), more than the budget of 10000000"), err)
+  )", "@many.lua");
+  INFO(r.err);
+  CHECK(r.status == 0);
+}
