@@ -280,10 +280,11 @@ bool repair_rounding(BooleanResult& r, Rounding& rd) {
   return rounding_defects(r.mesh, rd).empty();
 }
 
-// Merges the pieces of one flat region or one straight crease where a cut point between them
-// need not be a vertex: a vertex that is a cut point (not an input vertex), whose triangles form
-// one closed fan lying in one plane, or in two planes that meet along a line through it, is
-// collapsed into a neighbour (on that line, for two planes). The surface is unchanged as a set
+// Merges the pieces of one flat region or one straight crease where a point between them need
+// not be a vertex: a vertex of a cut piece (a cut point, or an operand's vertex that another
+// operand's face or edge runs through), whose triangles form one closed fan lying in one plane,
+// or in two planes that meet along a line through it, is collapsed into a neighbour (on that
+// line, for two planes). The surface is unchanged as a set
 // of points: the vertex lay inside a flat region or on a straight crease between the two
 // neighbours it had there. A collapse is made only where every triangle that remains keeps its
 // exact orientation in its source's projection, and where the link condition holds, so the
@@ -294,7 +295,19 @@ bool repair_rounding(BooleanResult& r, Rounding& rd) {
 std::size_t merge_flat(const Points& pts, std::vector<std::array<u32, 3>>& tris, std::vector<u32>& src,
                        std::vector<char>& flipped) {
   const Soup& soup = pts.soup();
-  const std::size_t np = pts.size(), nv = soup.verts.size();
+  const std::size_t np = pts.size();
+  // The candidates: the vertices of pieces that are not their whole source triangle (the rest of
+  // an operand is left as it came).
+  std::vector<char> candidate(np, 0);
+  for (std::size_t t = 0; t < tris.size(); ++t) {
+    const auto& T = tris[t];
+    const auto& S = soup.tris[src[t]];
+    for (u32 v : T)
+      if (v != S[0] && v != S[1] && v != S[2]) {
+        candidate[T[0]] = candidate[T[1]] = candidate[T[2]] = 1;
+        break;
+      }
+  }
   std::size_t removed = 0;
   // Whether source triangles s and u lie in one plane facing one way (with their flips).
   auto same_side = [&](u32 s, bool fs, u32 u, bool fu) {
@@ -326,9 +339,9 @@ std::size_t merge_flat(const Points& pts, std::vector<std::array<u32, 3>>& tris,
     std::vector<u32> fan, order, targets, nbv, nbx, common, opposite;
     std::vector<std::array<u32, 2>> ab;
     std::vector<char> group, used;
-    for (u32 v = static_cast<u32>(nv); v < np; ++v) {
+    for (u32 v = 0; v < np; ++v) {
       if ((v & 0xffff) == 0) soup.poll();
-      if (locked[v] || off[v + 1] - off[v] < 3) continue;
+      if (!candidate[v] || locked[v] || off[v + 1] - off[v] < 3) continue;
       fan.clear();
       for (u32 i = off[v]; i < off[v + 1]; ++i)
         if (!gone[around[i]]) fan.push_back(around[i]);

@@ -482,7 +482,7 @@ TEST_CASE("boolean: a plate minus vertical cylinders keeps the cylinders' edge p
   CHECK(on_edges == 9 * 24 * 2);
 }
 
-TEST_CASE("boolean: cut points inside a flat region or a straight crease are merged away", "[boolean]") {
+TEST_CASE("boolean: points inside a flat region or on a straight crease of the result are merged away", "[boolean]") {
   // A plate minus n vertical cylinders of s sides: each side quad's diagonal crosses the plate's
   // faces, a cut point in the middle of a hole's edge (and of the wall's crease with the face).
   // Merged away, the result has only the plate's 8 corners and the 2 s cuts of each cylinder's
@@ -512,4 +512,12 @@ TEST_CASE("boolean: cut points inside a flat region or a straight crease are mer
   const BooleanResult m = checked(BooleanOp::Difference, pointers(sponge));
   require_volume(m.mesh, menger_volume(2));
   CHECK(m.mesh.triangles.size() <= 1296);
+  // Operands' own vertices are merged too where the result runs straight through them: the
+  // union of 16 unit boxes, each shifted by 1/1024 along x, is one box of 12 triangles (their
+  // corners on its edges and faces gave it 262).
+  std::vector<Mesh> boxes;
+  for (int i = 0; i < 16; ++i) boxes.push_back(box_mesh({i / 1024.0, 0, 0}, {1, 1, 1}));
+  const BooleanResult b = checked(BooleanOp::Union, pointers(boxes));
+  CHECK(b.mesh.triangles.size() == 12);
+  require_volume(b.mesh, 1 + 15 / 1024.0);
 }
