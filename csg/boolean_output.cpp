@@ -440,6 +440,15 @@ std::size_t merge_flat(const Points& pts, std::vector<std::array<u32, 3>>& tris,
           const int k = soup.axis[src[t]];
           const int want = soup.axis_sign[src[t]] * (flipped[t] ? -1 : 1);
           keeps = pts.orient2d(x, ab[y][0], ab[y][1], k) == want;
+          // A triangle with a vertex that rounding will move must not be so thin that the move
+          // could turn it over (rounding moves a point by an ulp; here the height is at least a
+          // billionth of the longest edge).
+          if (keeps && !(pts.is_double(x) && pts.is_double(ab[y][0]) && pts.is_double(ab[y][1]))) {
+            const Vec3 &P = pts.approx(x), &Q = pts.approx(ab[y][0]), &R = pts.approx(ab[y][1]);
+            const double area2 = (Q - P).cross(R - P).norm();
+            const double longest = std::max({(Q - P).squaredNorm(), (R - P).squaredNorm(), (R - Q).squaredNorm()});
+            keeps = area2 > 1e-9 * longest;
+          }
         }
         if (!keeps) continue;
         for (std::size_t y = 0; y < n; ++y) {
