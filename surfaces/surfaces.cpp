@@ -403,16 +403,18 @@ Vec3 ExtrudedSurface::derivative(double u, double v, int ku, int kv) const {
 namespace {
 
 Frame reflect_step(const Frame& f, const Point3& x1, const Vec3& t1) {
+  // A step of the size of rounding (x1 a few ulps from f.origin, or t1 from tL) has a direction
+  // that is noise, and a reflection across it turns the frame anywhere: such a step is no step.
   Vec3 v1 = x1 - f.origin;
   double c1 = v1.squaredNorm();
   Vec3 rL = f.r, tL = f.t;
-  if (c1 > 0) {
+  if (c1 > 1e-24 * (1 + f.origin.squaredNorm())) {
     rL = f.r - (2 / c1) * v1.dot(f.r) * v1;
     tL = f.t - (2 / c1) * v1.dot(f.t) * v1;
   }
   Vec3 v2 = t1 - tL;
   double c2 = v2.squaredNorm();
-  Vec3 r1 = c2 > 0 ? Vec3(rL - (2 / c2) * v2.dot(rL) * v2) : rL;
+  Vec3 r1 = c2 > 1e-24 ? Vec3(rL - (2 / c2) * v2.dot(rL) * v2) : rL;
   // Re-orthonormalise against round-off accumulated over many steps.
   r1 = (r1 - r1.dot(t1) * t1).normalized();
   return Frame{x1, t1, r1, t1.cross(r1)};

@@ -10,13 +10,15 @@
 // (it maps to the one shared vertex) and gets points of its own that all carry that vertex. Each
 // parameter is stretched, piecewise linearly, by the chords per unit parameter that the surface's
 // normal curvature along it needs there, so that Delaunay's triangles in the stretched plane are
-// about as long as the tolerance allows in each direction. Seeding puts rows of points at that
-// spacing inside the face (rows along v with the local need of each row). Refinement: each
-// triangle inside the face is checked at its centroid and at the midpoints of its free edges
-// (distance between the surface at those parameters and the flat triangle's point) and by the
-// angle between the surface normals at its corners; the worst place of a triangle over the
-// tolerance gets a new point; repeat until none does. A triangle whose corners include one vertex
-// twice (at a pole) is dropped: its neighbours close the fan.
+// about as long as the tolerance allows in each direction; the triangulation's plane stretches u
+// further where a column needs fewer chords along v than the most (conformal on a surface of
+// revolution). Seeding puts rows of points at that spacing inside the face (rows along v with the
+// local need of each row). Refinement: each triangle inside the face is checked by the distance
+// of its edges' midpoints from the surface (along the normal at their foot, to second order),
+// the largest distance of the quadratic through those three over the triangle, and the angle
+// between the surface normals at its corners; a triangle over the tolerance gets a new point at
+// its worst place; repeat until none does. A triangle whose corners include one vertex twice (at
+// a pole) is dropped: its neighbours close the fan.
 #include "tessellate/brep_mesh.h"
 
 #include <CGAL/Constrained_Delaunay_triangulation_2.h>
@@ -530,6 +532,7 @@ Mesh tessellate(const Model& m, const Tolerance& tol_in, std::vector<std::array<
     constexpr int kCells = 16;
     double su = 0, sv = 0;
     std::array<double, kCells> ku{}, kv{};  // per column: the chords per unit u (v) needed
+    std::array<double, kCells> gv{};  // per u column: the largest chords per unit v needed in it
     Box3 fbox;
     for (int i = 0; i < kCells; ++i)
       for (int j = 0; j < kCells; ++j) {
@@ -545,7 +548,9 @@ Mesh tessellate(const Model& m, const Tolerance& tol_in, std::vector<std::array<
         n.normalize();
         const double kuv = std::abs(J[4].dot(n));
         ku[i] = std::max(ku[i], need(std::max(std::abs(J[3].dot(n)), kuv), Su.norm()));
-        kv[j] = std::max(kv[j], need(std::max(std::abs(J[5].dot(n)), kuv), Sv.norm()));
+        const double nv = need(std::max(std::abs(J[5].dot(n)), kuv), Sv.norm());
+        kv[j] = std::max(kv[j], nv);
+        gv[i] = std::max(gv[i], nv);
       }
     su = su > 0 ? su / (kCells * kCells) : 1;
     sv = sv > 0 ? sv / (kCells * kCells) : 1;
@@ -581,8 +586,33 @@ Mesh tessellate(const Model& m, const Tolerance& tol_in, std::vector<std::array<
       fill(stretch_u, u0, u1, ku, su);
       fill(stretch_v, v0, v1, kv, sv);
     }
+    // The plane of the triangulation. The v stretch is one function of v, the largest need over
+    // each v column, but where a u column needs fewer chords along v (a sphere's rows shrink as
+    // cos(latitude) toward its poles) the seeds and refinement points lie farther apart along v,
+    // in the stretched plane, than along u: Delaunay's triangles there reach across rows. So in
+    // the plane each u column is stretched further by the ratio f of the largest need along v to
+    // its own (capped; 1 where it needs as much), which makes the plane conformal to the
+    // tolerance's metric on a surface of revolution (Mercator's projection on a sphere): Delaunay
+    // in it is Delaunay on the surface. Faces straight along one parameter keep the plain stretch
+    // (their triangles run between the borders).
+    Stretch plane_u = stretch_u;
+    std::array<double, kCells> conformal{};
+    conformal.fill(1.0);
+    if (straight_axis(S) < 0) {
+      const double gmax = *std::max_element(gv.begin(), gv.end());
+      constexpr double cap = 8.0;
+      for (int i = 0; i < kCells; ++i) {
+        const auto k = static_cast<std::size_t>(i);
+        conformal[k] = gmax > 0 ? std::clamp(gmax / std::max(gv[k], 1e-300), 1.0, cap) : 1.0;
+        plane_u.slope[k] = stretch_u.slope[k] * conformal[k];
+        plane_u.at[k + 1] = plane_u.at[k] + plane_u.slope[k] * plane_u.step;
+      }
+    }
+    auto conformal_at = [&](double u) {
+      return conformal[static_cast<std::size_t>(std::clamp(static_cast<int>(std::floor((u - u0) / stretch_u.step)), 0, kCells - 1))];
+    };
     auto stretched = [&](const Vec2& uv) { return Vec2(stretch_u(uv.x()), stretch_v(uv.y())); };
-    auto to_plane = [&](const Vec2& uv) { return K::Point_2(stretch_u(uv.x()), stretch_v(uv.y())); };
+    auto to_plane = [&](const Vec2& uv) { return K::Point_2(plane_u(uv.x()), stretch_v(uv.y())); };
 
     CDT cdt;
     // The mesh vertices that are poles of this face, and the parameter along which each does not
@@ -649,11 +679,13 @@ Mesh tessellate(const Model& m, const Tolerance& tol_in, std::vector<std::array<
     // steps of the u-stretch of sqrt(3)/2 kSeed; along each row the points are kSeed apart in the
     // row's own need (the local |Svv.n| and |Suv.n|, so that rows near a pole get few points),
     // shifted by half a step on every other row: Delaunay then gives nearly equilateral triangles
-    // in the stretched plane, whose flat centroid lies (4/3) kSeed^2 tol from a quadric's surface.
+    // in the stretched plane, whose flat centroid lies (4/3) kSeed^2 tol from a quadric's surface
+    // (0.69 tol: below the refinement's 0.93, which the rows' uneven counts and the borders use
+    // up; larger seeds made the bench's shapes need more points, not fewer).
     // A face straight along one parameter needs no points inside.
     mark_depth(cdt);
     if (straight_axis(S) < 0) {
-      constexpr double kSeed = 0.75;
+      constexpr double kSeed = 0.72;
       const double a0 = stretch_u(u0), a1 = stretch_u(u1);
       const int rows = static_cast<int>(std::floor((a1 - a0) / (kSeed * std::sqrt(3.0) / 2)));
       const double b0 = stretch_v(v0), b1 = stretch_v(v1);
@@ -699,7 +731,7 @@ Mesh tessellate(const Model& m, const Tolerance& tol_in, std::vector<std::array<
           if (lt != CDT::FACE || fh->info().depth % 2 != 1) continue;
           double nearest = 1e300;
           for (int q = 0; q < 3; ++q) nearest = std::min(nearest, CGAL::squared_distance(loc, fh->vertex(q)->point()));
-          if (nearest < 0.25 * kSeed * kSeed) continue;
+          if (nearest < 0.25 * kSeed * kSeed * conformal_at(u) * conformal_at(u)) continue;
           const int depth = fh->info().depth;
           auto h = cdt.insert(loc, fh);
           Vec3 J[3];
@@ -714,16 +746,28 @@ Mesh tessellate(const Model& m, const Tolerance& tol_in, std::vector<std::array<
       }
     }
     double sign = ps->reversed ? -1.0 : 1.0;
-    const double margin = straight_axis(S) >= 0 ? 1.0 : 0.8;
-    // How far the flat point p lies off the surface near S(uv): along the surface's normal there,
-    // so that a place of the flat triangle that maps to other parameters than the mean of its
-    // corners' (any chord that is not an iso-line) is not counted as an error.
+    const double margin = straight_axis(S) >= 0 ? 1.0 : 0.93;
+    // How far the flat point p lies off the surface near S(uv), signed (+ on the normal's side).
+    // p need not lie over S(uv) (a chord's midpoint is not over its parameters' midpoint where
+    // the speed varies, or where the line bends sideways in the surface): its offset along the
+    // surface, (du, dv) from the first fundamental form, is taken back by the second:
+    // d.n - II(du, dv) / 2 is the distance from the surface at p's foot, to second order.
     auto off_surface = [&](const Vec2& uv, const Point3& p) {
-      Vec3 J[3];
-      S.jet(uv.x(), uv.y(), 1, J);
+      Vec3 J[6];
+      S.jet(uv.x(), uv.y(), 2, J);
       Vec3 d = p - J[0];
       Vec3 n = unit_normal(S, uv, J);
-      return n.squaredNorm() > 0 ? std::abs(d.dot(n)) : d.norm();
+      if (!(n.squaredNorm() > 0)) return d.norm();
+      double h = d.dot(n);
+      {
+        const double E = J[1].squaredNorm(), F = J[1].dot(J[2]), G = J[2].squaredNorm(), det = E * G - F * F;
+        if (det > 1e-300) {
+          const double a = d.dot(J[1]), b = d.dot(J[2]);
+          const double du = (G * a - F * b) / det, dv = (E * b - F * a) / det;
+          h -= 0.5 * (J[3].dot(n) * du * du + 2 * J[4].dot(n) * du * dv + J[5].dot(n) * dv * dv);
+        }
+      }
+      return h;
     };
     auto pos = [&](std::uint32_t i) -> const Point3& { return out.positions[i]; };
     const double cos_ang = std::cos(radians(tol.angular));
@@ -762,43 +806,70 @@ Mesh tessellate(const Model& m, const Tolerance& tol_in, std::vector<std::array<
           return it == pole_axis.end() ? -1 : it->second;
         };
         // A corner on a pole stands for the whole stretch: the straight segment from it to another
-        // corner is the image of the segment from that corner's own free parameter, and the
-        // centroid's free parameter is the others' mean.
-        Vec2 uvc = Vec2::Zero();
-        for (int k = 0; k < 3; ++k) {
-          Vec2 uv = e[k].uv;
-          int ax = axis_of(e[k]);
-          if (ax >= 0) uv[ax] = (e[(k + 1) % 3].uv[ax] + e[(k + 2) % 3].uv[ax]) / 2;
-          uvc += uv / 3;
-        }
-        double worst = 0;
-        Vec2 at = Vec2::Zero();
-        Point3 pc = (pos(e[0].index) + pos(e[1].index) + pos(e[2].index)) / 3;
-        double dc = off_surface(uvc, pc);
-        if (dc > worst) worst = dc, at = uvc;
+        // corner is the image of the segment from that corner's own free parameter, and at the
+        // place with barycentric coordinates lam its free parameter is the others' weighted mean.
+        auto place = [&](const double* lam) {
+          Vec2 uv = Vec2::Zero();
+          for (int k = 0; k < 3; ++k) {
+            Vec2 c = e[k].uv;
+            int ax = axis_of(e[k]);
+            double w = lam[(k + 1) % 3] + lam[(k + 2) % 3];
+            if (ax >= 0 && w > 0) c[ax] = (lam[(k + 1) % 3] * e[(k + 1) % 3].uv[ax] + lam[(k + 2) % 3] * e[(k + 2) % 3].uv[ax]) / w;
+            uv += lam[k] * c;
+          }
+          return uv;
+        };
+        const double third[3] = {1.0 / 3, 1.0 / 3, 1.0 / 3};
+        const Vec2 uvc = place(third);
+        // m[k]: the signed distance from the surface to the midpoint of the edge opposite corner k.
+        double m[3];
+        Vec2 mid[3];
+        bool border[3];
         bool angle_over = false;
         for (int k = 0; k < 3; ++k) {
           // Constrained edges lie on the face's border: their points come from the edge's own
-          // discretisation (which holds both tolerances), and no point inside improves them.
-          if (cdt.is_constrained(CDT::Edge(fh, k))) continue;
+          // discretisation (which holds both tolerances), and no point inside improves them; their
+          // midpoints still shape the error inside the triangle.
+          border[k] = cdt.is_constrained(CDT::Edge(fh, k));
           Vec2 a = e[(k + 1) % 3].uv, b = e[(k + 2) % 3].uv;
           int axa = axis_of(e[(k + 1) % 3]), axb = axis_of(e[(k + 2) % 3]);
           if (axa >= 0) a[axa] = b[axa];
           if (axb >= 0) b[axb] = a[axb];
-          Vec2 uvm = (a + b) / 2;
-          double de = off_surface(uvm, (pos(e[(k + 1) % 3].index) + pos(e[(k + 2) % 3].index)) / 2);
-          if (de > worst) worst = de, at = uvm;
-          if (!angle_over) {
+          mid[k] = (a + b) / 2;
+          m[k] = off_surface(mid[k], (pos(e[(k + 1) % 3].index) + pos(e[(k + 2) % 3].index)) / 2);
+          if (!angle_over && !border[k]) {
             // The corners' own normals, except at a pole (whose normal depends on the side).
             Vec3 na = axa >= 0 ? S.normal(a.x(), a.y()) : e[(k + 1) % 3].normal;
             Vec3 nb = axb >= 0 ? S.normal(b.x(), b.y()) : e[(k + 2) % 3].normal;
             if (turned_more(na, nb, cos_ang)) angle_over = true;
           }
         }
-        // The flat triangle's largest distance lies between the sampled points (at the
-        // circumcentre on a sphere): hold the samples to a margin below the tolerance. On a face
-        // straight along one parameter the largest distance is that of the chords across the
-        // rulings, which the border's points (within the tolerance) already bound: no margin.
+        // Where the surface is about quadratic over the triangle, the flat triangle's distance from
+        // it is q(lam) = 4 sum_k lam_{k+1} lam_{k+2} m[k] (a quadratic in the barycentric
+        // coordinates that is m[k] at each edge's midpoint): its largest |q| is at an edge's
+        // midpoint or at q's critical point inside (the circumcentre on a sphere, 4/3 of the
+        // midpoints' distance for an equilateral triangle). With lam = (x, y, 1 - x - y),
+        // a = m[2], b = m[0], c = m[1], the critical point solves
+        // [-2c, s; s, -2b] (x, y) = (-c, -b), s = a - b - c.
+        double worst = 0;
+        Vec2 at = uvc;
+        for (int k = 0; k < 3; ++k)
+          if (!border[k] && std::abs(m[k]) > worst) worst = std::abs(m[k]), at = mid[k];
+        {
+          const double a = m[2], b = m[0], c = m[1], sab = a - b - c, det = 4 * b * c - sab * sab;
+          if (std::abs(det) > 1e-12 * (a * a + b * b + c * c)) {
+            const double x = (2 * b * c + sab * b) / det, y = (2 * b * c + sab * c) / det, z = 1 - x - y;
+            if (x >= 0 && y >= 0 && z >= 0) {
+              const double q = std::abs(4 * (a * x * y + b * y * z + c * x * z));
+              const double lam[3] = {x, y, z};
+              if (q > worst) worst = q, at = place(lam);
+            }
+          }
+        }
+        // The quadratic model misses the surface's higher terms: hold it to a margin below the
+        // tolerance. On a face straight along one parameter the largest distance is that of the
+        // chords across the rulings, which the border's points (within the tolerance) already
+        // bound: no margin.
         bool over = worst > margin * tol.chordal;
         if (!over && angle_over) {
           over = true;

@@ -26,10 +26,21 @@ struct Tri {
   C colour;
 };
 
-// True when the triangle lies in one of the planes x = 0, y = 0, z = 0 (the cube's faces).
+// True when the triangle lies on one of the cube's faces: in one of the planes x = 0, y = 0,
+// z = 0, on the side where the other two coordinates are >= 0 (the sphere's seam lies in the plane
+// y = 0 too, and a triangle from a pole to two seam points is a sphere triangle in that plane).
+// "In the plane" to 1e-12: the sphere's poles, which lie on the cube's edge x = y = 0, are at
+// x = cos(pi / 2) = 6e-17, and a cut face may end there.
 bool on_cut(const Tri& t) {
+  constexpr double eps = 1e-12;
   for (int a = 0; a < 3; ++a)
-    if (t.v[0][a] == 0 && t.v[1][a] == 0 && t.v[2][a] == 0) return true;
+    if (std::abs(t.v[0][a]) <= eps && std::abs(t.v[1][a]) <= eps && std::abs(t.v[2][a]) <= eps) {
+      bool inside = true;
+      for (int b = 0; b < 3; ++b)
+        if (b != a)
+          for (int k = 0; k < 3; ++k) inside = inside && t.v[k][b] >= -eps;
+      if (inside) return true;
+    }
   return false;
 }
 
@@ -165,6 +176,11 @@ void check_colours(const std::vector<Tri>& tris) {
   const C red{255, 0, 0}, blue{0, 0, 255};
   int cube = 0, sphere = 0, wrong = 0;
   for (const auto& t : tris) {
+    // A triangle of no area (the boolean's output keeps a few) shows no colour and has no plane.
+    double e1[3], e2[3];
+    for (int a = 0; a < 3; ++a) e1[a] = t.v[1][a] - t.v[0][a], e2[a] = t.v[2][a] - t.v[0][a];
+    const double cx = e1[1] * e2[2] - e1[2] * e2[1], cy = e1[2] * e2[0] - e1[0] * e2[2], cz = e1[0] * e2[1] - e1[1] * e2[0];
+    if (cx * cx + cy * cy + cz * cz < 1e-24) continue;
     const bool cut = on_cut(t);
     cube += cut;
     sphere += !cut;

@@ -631,3 +631,23 @@ TEST_CASE("a jet (the point and its derivatives at once) agrees with eval() and 
       }
   }
 }
+
+TEST_CASE("a swept surface is continuous across its stored frames, an ulp to either side", "[swept]") {
+  // The frame at v is the double-reflection step from the stored frame before it; at a v an ulp
+  // past a stored frame's parameter the step is rounding noise, and a reflection across it used
+  // to turn the frame anywhere (the profile came out mirrored, 1.0 away on this torus).
+  auto path = std::make_shared<const CircularArc>(Point3::Zero(), 2, 0.0, 2 * M_PI);
+  auto profile = std::make_shared<const CircularArc>(Point3::Zero(), 0.5, 0.0, 2 * M_PI);
+  SweptSurface s(profile, path, 512, true);
+  double worst = 0;
+  for (int i = 1; i < 511; ++i) {
+    const double v = 2 * M_PI * i / 511;
+    const Point3 p = s.eval(1.0, v);
+    for (double w : {std::nextafter(v, 0.0), std::nextafter(v, 7.0), std::nextafter(std::nextafter(v, 7.0), 7.0)}) {
+      Vec3 j[3];
+      s.jet(1.0, w, 1, j);
+      worst = std::max({worst, (s.eval(1.0, w) - p).norm(), (Point3(j[0]) - p).norm()});
+    }
+  }
+  CHECK(worst < 1e-9);
+}
