@@ -277,7 +277,15 @@ TEST_CASE("wedge run killed (SIGKILL) while exporting a large mesh leaves the ol
 TEST_CASE("a script that applies one shape a thousand times finishes at once with the right volume", "[lua][tree][coincident]") {
   // Issue 14's case: one intersection of 1001 coincident boxes grew past 15 GB in one engine
   // pass. The copies are one operand (A * A = A + A = A, A - B - B = A - B), in chains and mixed.
-  auto r = run(R"(
+  // The mixed chain nests two tree levels per step, evaluated recursively: 300 steps (600
+  // levels) in the release build; under AddressSanitizer, whose frames are several times
+  // larger, the 8 MB main stack overflowed at 300 steps and holds 200, so 150 there.
+#if defined(__SANITIZE_ADDRESS__)
+  const char* mixed_steps = "150";
+#else
+  const char* mixed_steps = "300";
+#endif
+  auto r = run(std::string("local mixed_steps = ") + mixed_steps + "\n" + R"(
     local s = box(1000, 1000, 1000)
     for i = 1, 1000 do s = s * box(1000, 1000, 1000) end
     assert(math.abs(s:volume() - 1e9) < 1e-3, s:volume())
@@ -290,9 +298,9 @@ TEST_CASE("a script that applies one shape a thousand times finishes at once wit
     local u = box(2, 2, 2)
     for i = 1, 1000 do u = u + box(2, 2, 2) end
     assert(math.abs(u:volume() - 8) < 1e-12, u:volume())
-    -- mixed: each step nests (s * B) - b, 300 levels
+    -- mixed: each step nests (s * B) - b
     local m = box(1000, 1000, 1000)
-    for i = 1, 300 do m = (m * box(1000, 1000, 1000)) - box(1, 1, 1) end
+    for i = 1, mixed_steps do m = (m * box(1000, 1000, 1000)) - box(1, 1, 1) end
     assert(math.abs(m:volume() - (1e9 - 1)) < 1e-3, m:volume())
     assert(m:is_valid())
   )");
