@@ -1,0 +1,74 @@
+// A closed triangle mesh as a leaf of the CSG tree (csg/mesh_leaf.h).
+#include "csg/mesh_leaf.h"
+
+#include <cstdint>
+#include <unordered_map>
+
+#include "kernel/error.h"
+#include "kernel/predicates.h"
+
+namespace wedge {
+
+MeshLeaf::MeshLeaf(Mesh mesh, const std::string& what) : mesh_(std::move(mesh)) {
+  mesh_.check();
+  if (mesh_.triangles.empty()) fail(what, " has no triangles");
+  try {
+    // A render mesh splits a vertex wherever its corners differ in uv or normal (a textured
+    // cube's seams, a faceted cube's per-face normals); the surface it describes is still
+    // closed, and it is the welded copy the closed / 2-manifold / Euler checks must see.
+    counts_ = euler_counts(mesh_.welded());
+  } catch (const Error& e) {
+    fail(what, ": ", e.what());
+  }
+  double v = mesh_.volume();
+  if (!(v > 0)) fail(what, " is inside out or flat (signed volume ", v, "): triangles must be counter-clockwise seen from outside");
+}
+
+std::shared_ptr<const SolidLeaf> MeshLeaf::transformed(const Mat4& m) const {
+  auto leaf = std::shared_ptr<MeshLeaf>(new MeshLeaf());
+  leaf->mesh_ = mesh_.transformed(m);
+  leaf->counts_ = counts_;
+  return leaf;
+}
+
+// Regions grown across edges from each unvisited triangle, in triangle order.
+std::size_t planar_regions(Mesh& mesh, std::vector<FaceSurface>& planes) {
+  Mesh w = mesh.welded();
+  const std::size_t n = w.triangles.size();
+  std::unordered_map<std::uint64_t, std::uint32_t> edge_tri;  // directed edge -> triangle
+  edge_tri.reserve(n * 3);
+  for (std::uint32_t t = 0; t < n; ++t)
+    for (int k = 0; k < 3; ++k) edge_tri[std::uint64_t(w.triangles[t][k]) << 32 | w.triangles[t][(k + 1) % 3]] = t;
+  std::vector<std::int32_t> region(n, -1);
+  std::int32_t count = 0;
+  for (std::uint32_t seed = 0; seed < n; ++seed) {
+    if (region[seed] >= 0) continue;
+    std::vector<std::uint32_t> stack{seed};
+    region[seed] = count;
+    const auto& S = w.triangles[seed];
+    const Point3 &a = w.positions[S[0]], &b = w.positions[S[1]], &c = w.positions[S[2]];
+    const Vec3 ns = (b - a).cross(c - a);
+    planes.push_back(ns.norm() > 0 ? plane_face(a, ns.normalized()) : FaceSurface{});
+    while (!stack.empty()) {
+      std::uint32_t t = stack.back();
+      stack.pop_back();
+      const auto& T = w.triangles[t];
+      for (int k = 0; k < 3; ++k) {
+        auto it = edge_tri.find(std::uint64_t(T[(k + 1) % 3]) << 32 | T[k]);
+        if (it == edge_tri.end() || region[it->second] >= 0) continue;
+        const auto& U = w.triangles[it->second];
+        bool flat = true;
+        for (int j = 0; j < 3 && flat; ++j) flat = orient3d(a, b, c, w.positions[U[j]]) == 0;
+        const Vec3 nu = (w.positions[U[1]] - w.positions[U[0]]).cross(w.positions[U[2]] - w.positions[U[0]]);
+        if (!flat || ns.dot(nu) <= 0) continue;
+        region[it->second] = count;
+        stack.push_back(it->second);
+      }
+    }
+    ++count;
+  }
+  mesh.face_ids.assign(region.begin(), region.end());
+  return static_cast<std::size_t>(count);
+}
+
+}  // namespace wedge
