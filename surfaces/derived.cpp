@@ -199,6 +199,35 @@ void RevolutionSurface::jet(double u, double v, int d, Vec3* out) const {
   }
 }
 
+void RevolutionSurface::jet_grid(const double* u, int nu, const double* v, int nv, int d, Vec3* out) const {
+  if (d > 2) {
+    Surface::jet_grid(u, nu, v, nv, d, out);
+    return;
+  }
+  // As jet(), with each column's sine and cosine and each row's profile jet computed once.
+  std::vector<double> cvs(static_cast<std::size_t>(nv)), svs(static_cast<std::size_t>(nv));
+  for (int j = 0; j < nv; ++j) {
+    cvs[static_cast<std::size_t>(j)] = std::cos(v[j]);
+    svs[static_cast<std::size_t>(j)] = std::sin(v[j]);
+  }
+  for (int i = 0; i < nu; ++i) {
+    Vec3 c[3];
+    profile_->jet(u[i], d, c);
+    for (int j = 0; j < nv; ++j) {
+      const double cv = cvs[static_cast<std::size_t>(j)], sv = svs[static_cast<std::size_t>(j)];
+      Vec3* o = out + (static_cast<std::ptrdiff_t>(i) * nv + j) * 6;
+      o[0] = Vec3(c[0].x() * cv, c[0].x() * sv, c[0].y());
+      o[1] = Vec3(c[1].x() * cv, c[1].x() * sv, c[1].y());
+      o[2] = Vec3(-c[0].x() * sv, c[0].x() * cv, 0);
+      if (d == 2) {
+        o[3] = Vec3(c[2].x() * cv, c[2].x() * sv, c[2].y());
+        o[4] = Vec3(-c[1].x() * sv, c[1].x() * cv, 0);
+        o[5] = Vec3(-c[0].x() * cv, -c[0].x() * sv, 0);
+      }
+    }
+  }
+}
+
 TwistedExtrusionSurface::TwistedExtrusionSurface(CurvePtr profile, double height, double twist, double scale)
     : profile_(std::move(profile)), height_(height), twist_(twist), scale_(scale) {
   if (!profile_) fail("TwistedExtrusionSurface: no profile");

@@ -48,6 +48,11 @@ void Surface::jet(double u, double v, int d, Vec3* out) const {
     for (int kv = 0; kv <= k; ++kv) out[i++] = derivative(u, v, k - kv, kv);
 }
 
+void Surface::jet_grid(const double* u, int nu, const double* v, int nv, int d, Vec3* out) const {
+  for (int i = 0; i < nu; ++i)
+    for (int j = 0; j < nv; ++j) jet(u[i], v[j], d, out + (static_cast<std::ptrdiff_t>(i) * nv + j) * 6);
+}
+
 Vec3 Surface::normal(double u, double v) const {
   auto cross_at = [&](double uu, double vv) -> Vec3 {
     Vec3 j[3];

@@ -65,6 +65,10 @@ class Surface {
   // The point and its partial derivatives up to order d (1 or 2) at once: out = S, Su, Sv and for
   // d = 2 also Suu, Suv, Svv (surfaces made from curves evaluate their curves once for all).
   virtual void jet(double u, double v, int d, Vec3* out) const;
+  // jet() at every (u[i], v[j]) of a grid, the same values: out[(i * nv + j) * 6 + k] (six
+  // entries per point for d = 1 too). A surface of revolution turns each profile point by one
+  // sine and cosine per column instead of evaluating its profile and angle at every point.
+  virtual void jet_grid(const double* u, int nu, const double* v, int nv, int d, Vec3* out) const;
   // Parameters where the surface may lose smoothness in u / in v (domain ends included).
   virtual std::vector<double> u_breaks() const;
   virtual std::vector<double> v_breaks() const;
@@ -554,6 +558,7 @@ class RevolutionSurface : public Surface {
   Point3 eval(double u, double v) const override;
   Vec3 derivative(double u, double v, int ku, int kv) const override;
   void jet(double u, double v, int d, Vec3* out) const override;
+  void jet_grid(const double* u, int nu, const double* v, int nv, int d, Vec3* out) const override;
   std::vector<double> u_breaks() const override { return profile_->breaks(); }
   const CurvePtr& profile() const { return profile_; }
   double angle() const { return angle_; }
