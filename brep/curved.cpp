@@ -700,8 +700,19 @@ Model revolve(const Section& s, double angle) {
   for (const auto& h : s.holes) check_x(h);
   bool full = angle >= 2 * kPi * (1 - 1e-12);
   double a = full ? 2 * kPi : angle;
-  return named(oriented_sweep(s, full, [&](const CurvePtr& c) -> SurfacePtr { return std::make_shared<const RevolutionSurface>(c, a); },
-                              "revolve"), "revolved");
+  Model m = oriented_sweep(s, full, [&](const CurvePtr& c) -> SurfacePtr { return std::make_shared<const RevolutionSurface>(c, a); },
+                           "revolve");
+  // A profile point on the axis gives a pole; its position comes from the profile, where it may
+  // miss the axis by a rounding (a sphere's arc ends at r cos(pi/2) = 6e-17 r): put it on the axis
+  // exactly, so that the pole lies on every plane through the axis (a boolean cutting a sphere
+  // there otherwise sees the pole a rounding across the cut).
+  double size = 0;
+  m.vertices().for_each([&](VertexId v, const BrepVertex&) { size = std::max(size, m.point(v).cwiseAbs().maxCoeff()); });
+  m.vertices().for_each([&](VertexId v, const BrepVertex&) {
+    const Point3 p = m.point(v);
+    if ((p.x() != 0 || p.y() != 0) && std::hypot(p.x(), p.y()) <= 1e-12 * size) m.set_point(v, Point3(0, 0, p.z()));
+  });
+  return named(std::move(m), "revolved");
 }
 
 Model sweep_along(const Section& s, const CurvePtr& path) {
