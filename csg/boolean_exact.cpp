@@ -380,12 +380,33 @@ bool Points::on_one_segment(u32 a, u32 b, u32 c) const {
   return true;
 }
 
+// How far approx(p) may be from the exact point in coordinates i and j (from its box; 0 where
+// they are exact; infinity where the box is not finite).
+double Points::slack(u32 p, int i, int j) const {
+  const auto& b = box_[p];
+  const Vec3& q = approx_[p];
+  const double w = std::max(std::max(q[i] - b[i], b[i + 3] - q[i]), std::max(q[j] - b[j], b[j + 3] - q[j]));
+  return w == w ? w : INFINITY;
+}
+
 int Points::orient2d(u32 a, u32 b, u32 c, int k) const {
   const int i = (k + 1) % 3, j = (k + 2) % 3;
   const std::uint8_t m = static_cast<std::uint8_t>(1u << i | 1u << j);
-  if ((fixed_[a] & fixed_[b] & fixed_[c] & m) == m) {
-    const Vec3 &A = approx_[a], &B = approx_[b], &C = approx_[c];
-    return orient2d_fast(A[i], A[j], B[i], B[j], C[i], C[j]);
+  const Vec3 &A = approx_[a], &B = approx_[b], &C = approx_[c];
+  if ((fixed_[a] & fixed_[b] & fixed_[c] & m) == m) return orient2d_fast(A[i], A[j], B[i], B[j], C[i], C[j]);
+  {
+    // On the approximations, with Shewchuk's stage-A bound for their determinant plus how far
+    // the exact points may be from them: each difference moves by at most 2W (W the largest
+    // slack), so the determinant by at most 8 R' W, R' the largest difference plus 2W.
+    const double W = std::max({slack(a, i, j), slack(b, i, j), slack(c, i, j)});
+    const double bx = B[i] - A[i], by = B[j] - A[j], cx = C[i] - A[i], cy = C[j] - A[j];
+    const double l = bx * cy, r = by * cx, det = l - r;
+    const double R = std::max({std::abs(bx), std::abs(by), std::abs(cx), std::abs(cy)}) + 2 * W;
+    const double bound = 3.3306690738754716e-16 * (std::abs(l) + std::abs(r)) + 16 * R * W;
+    if (bound < INFINITY && bound > 1e-280) {
+      if (det > bound) return 1;
+      if (-det > bound) return -1;
+    }
   }
   {
     Filter guard;
@@ -495,9 +516,14 @@ int Points::incircle_certain(u32 a, u32 b, u32 c, u32 d, int k) const {
   const int i = (k + 1) % 3, j = (k + 2) % 3;
   const std::uint8_t m = static_cast<std::uint8_t>(1u << i | 1u << j);
   const bool doubles = (fixed_[a] & fixed_[b] & fixed_[c] & fixed_[d] & m) == m;
-  if (doubles) {
-    // The classic determinant relative to d with Shewchuk's stage-A error bound.
+  {
+    // The classic determinant relative to d on the approximations, with Shewchuk's stage-A error
+    // bound, plus (where they are not exact) how far the exact points may be from them: each
+    // difference moves by at most 2W (W the largest slack), so each of the three products of a
+    // squared length and a cross product by at most 32 R'^3 W (R' the largest difference plus
+    // 2W); 128 R'^3 W bounds the sum.
     const Vec3 &A = approx_[a], &B = approx_[b], &C = approx_[c], &D = approx_[d];
+    const double W = doubles ? 0.0 : std::max({slack(a, i, j), slack(b, i, j), slack(c, i, j), slack(d, i, j)});
     const double adx = A[i] - D[i], ady = A[j] - D[j], bdx = B[i] - D[i], bdy = B[j] - D[j];
     const double cdx = C[i] - D[i], cdy = C[j] - D[j];
     const double bc = bdx * cdy, cb = cdx * bdy, ca = cdx * ady, ac = adx * cdy, ab = adx * bdy, ba = bdx * ady;
@@ -505,9 +531,15 @@ int Points::incircle_certain(u32 a, u32 b, u32 c, u32 d, int k) const {
     const double det = al * (bc - cb) + bl * (ca - ac) + cl * (ab - ba);
     const double perm = (std::abs(bc) + std::abs(cb)) * al + (std::abs(ca) + std::abs(ac)) * bl +
                         (std::abs(ab) + std::abs(ba)) * cl;
-    const double bound = 1.1102230246251577e-15 * perm;
-    if (bound > 1e-280 && std::abs(det) > bound) return det > 0 ? 1 : -1;
-  } else {
+    double bound = 1.1102230246251577e-15 * perm;
+    if (W > 0) {
+      const double R =
+          std::max({std::abs(adx), std::abs(ady), std::abs(bdx), std::abs(bdy), std::abs(cdx), std::abs(cdy)}) + 2 * W;
+      bound += 128 * R * R * R * W;
+    }
+    if (bound < INFINITY && bound > 1e-280 && std::abs(det) > bound) return det > 0 ? 1 : -1;
+  }
+  if (!doubles) {
     Filter guard;
     // On the coordinate boxes, relative to d (the classic 3x3 form), then homogeneously.
     const u32 id[3] = {a, b, c};

@@ -249,6 +249,8 @@ class Points {
   // A box that holds the point exactly: lo[0..2], hi[0..2].
   const std::array<double, 6>& box(u32 p) const { return box_[p]; }
   bool on_one_segment(u32 a, u32 b, u32 c) const;
+  // How far approx(p) may be from the exact point in coordinates i and j (infinity: unknown).
+  double slack(u32 p, int i, int j) const;
 
  private:
   const Soup* soup_;
@@ -270,6 +272,13 @@ int orient3d_v(const Soup& s, u32 a, u32 b, u32 c, u32 d);
 // With `trusted` (per operand), pairs of one trusted operand are not checked.
 std::vector<std::array<u32, 2>> candidate_pairs(const Soup& soup, std::array<u32, 2>* clash = nullptr,
                                                 bool self = false, const std::vector<char>* trusted = nullptr);
+
+// Per triangle, a 3-bit mask: bit c set when the star of the triangle's corner c (its triangles
+// around that vertex in the triangle's operand) is certified to be embedded: seen along one
+// direction every star triangle has the same orientation and the rim winds once (exact). Two
+// triangles of a certified star meet only in what they share. Operands marked in `trusted` get
+// no certificates (they are not checked).
+std::vector<std::uint8_t> star_certificates(const Soup& soup, const std::vector<char>* trusted = nullptr);
 
 // An axis-aligned box tree over triangles, for point and vertical-line queries.
 class Bvh {

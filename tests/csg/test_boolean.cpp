@@ -206,6 +206,48 @@ TEST_CASE("boolean: bad operands are errors naming the operand and the spot", "[
   CHECK_THROWS_WITH(boolean(BooleanOp::Union, a, two), Catch::Contains("second operand intersects itself"));
 }
 
+TEST_CASE("boolean: triangles around one vertex that cross each other are caught", "[boolean]") {
+  // A double cone whose rim winds twice around its axis (a pentagram: five points taken 0, 144,
+  // 288, 72, 216 degrees): closed, consistently oriented, outward, every vertex one fan;
+  // but the triangles at each apex overlap, and the crossing pairs share only the apex. The
+  // self-check's star certificates (a fan seen along one direction, winding once) must not pass
+  // these two fans.
+  Mesh m;
+  const double deg[5] = {0, 144, 288, 72, 216};
+  for (double d : deg) m.add_vertex({5 + std::cos(d * kPi / 180), 5 + std::sin(d * kPi / 180), 0});
+  const auto top = m.add_vertex({5, 5, 1}), bottom = m.add_vertex({5, 5, -1});
+  for (std::uint32_t i = 0; i < 5; ++i) {
+    m.add_triangle(top, i, (i + 1) % 5);
+    m.add_triangle(bottom, (i + 1) % 5, i);
+  }
+  const Mesh a = cube(0, 0, 0, 1);
+  CHECK_THROWS_WITH(boolean(BooleanOp::Union, a, m), Catch::Contains("second operand intersects itself"));
+  using namespace boolean_detail;
+  {
+    const Soup soup = make_soup({&m});
+    const auto cert = star_certificates(soup);
+    for (std::size_t t = 0; t < soup.tris.size(); ++t)
+      for (int c = 0; c < 3; ++c) {
+        const Vec3& p = soup.verts[soup.tris[t][c]];
+        const bool apex = p.x() == 5 && p.y() == 5;
+        if (apex) CHECK((cert[t] >> c & 1) == 0);  // the apexes' fans wind twice
+      }
+  }
+  // The same with the rim once around (0, 60, ..., 300 degrees): valid, and its union with a
+  // far cube has both volumes.
+  Mesh ok;
+  for (int i = 0; i < 6; ++i) ok.add_vertex({5 + std::cos(i * kPi / 3), 5 + std::sin(i * kPi / 3), 0});
+  const auto t2 = ok.add_vertex({5, 5, 1}), b2 = ok.add_vertex({5, 5, -1});
+  for (std::uint32_t i = 0; i < 6; ++i) {
+    ok.add_triangle(t2, i, (i + 1) % 6);
+    ok.add_triangle(b2, (i + 1) % 6, i);
+  }
+  CHECK(boolean(BooleanOp::Union, a, ok).volume() == Approx(1 + ok.volume()).epsilon(1e-12));
+  const Soup soup = make_soup({&ok, &a});
+  const auto cert = star_certificates(soup);
+  CHECK(std::count(cert.begin(), cert.end(), 7) == static_cast<std::ptrdiff_t>(cert.size()));  // every star, cube corners too
+}
+
 TEST_CASE("boolean: a result fed back is known valid; any change to it is checked again", "[boolean]") {
   const Mesh a = cube(0, 0, 0, 2), b = cube(1, 1, 1, 2), c = cube(0.5, 0.5, -1, 1);
   BooleanStats st;
