@@ -268,16 +268,25 @@ std::vector<std::array<u32, 2>> Bvh::self_pairs(const std::vector<char>* active,
 // Closed meshes' stars are nearly all certified (a sphere's, a cylinder's cap fans and rims, a
 // box's corners); a star that is not is tested pairwise as before. Returns per triangle a 3-bit
 // mask: bit c set when the star at corner c is certified.
-std::vector<std::uint8_t> star_certificates(const Soup& soup, const std::vector<char>* trusted) {
+std::vector<std::uint8_t> star_certificates(const Soup& soup, const std::vector<char>* trusted,
+                                            const std::vector<char>* active) {
   const std::size_t nt = soup.tris.size(), nv = soup.verts.size();
   std::vector<std::uint8_t> mask(nt, 0);
+  std::vector<char> wanted;
+  if (active) {
+    wanted.assign(nv, 0);
+    for (std::size_t t = 0; t < nt; ++t)
+      if ((*active)[t])
+        for (u32 v : soup.tris[t]) wanted[v] = 1;
+  }
   std::vector<EdgeRec> recs;  // key: vertex << 32 | operand, value: triangle << 2 | corner
-  recs.reserve(3 * nt);
+  recs.reserve(active ? 0 : 3 * nt);
   for (std::size_t t = 0; t < nt; ++t) {
     if (trusted && (*trusted)[soup.operand[t]]) continue;
     for (u32 c = 0; c < 3; ++c)
-      recs.push_back({static_cast<std::uint64_t>(soup.tris[t][c]) << 32 | static_cast<u32>(soup.operand[t]),
-                      static_cast<u32>(t) << 2 | c});
+      if (!active || wanted[soup.tris[t][c]])
+        recs.push_back({static_cast<std::uint64_t>(soup.tris[t][c]) << 32 | static_cast<u32>(soup.operand[t]),
+                        static_cast<u32>(t) << 2 | c});
   }
   const std::vector<u32> off = sort_edges(recs, nv, soup.interrupt);
   parallel_for(0, (nv + 1023) / 1024, [&](std::size_t block) {
@@ -351,18 +360,6 @@ std::vector<std::uint8_t> star_certificates(const Soup& soup, const std::vector<
   return mask;
 }
 
-namespace {
-
-// Whether triangles t and u share a vertex whose star is certified (so they cannot clash).
-bool certified_pair(const Soup& soup, const std::vector<std::uint8_t>& cert, u32 t, u32 u) {
-  const auto &T = soup.tris[t], &U = soup.tris[u];
-  for (int c = 0; c < 3; ++c)
-    if ((cert[t] >> c & 1) && (T[c] == U[0] || T[c] == U[1] || T[c] == U[2])) return true;
-  return false;
-}
-
-}  // namespace
-
 // The tree's self-join visits the pairs of overlapping float boxes; each is tested on double boxes
 // and kept if its triangles belong to different operands; a pair of one operand is checked for a
 // clash (exactly) where asked. No list of all overlapping pairs is made: on two 1M-triangle
@@ -375,7 +372,7 @@ std::vector<std::array<u32, 2>> candidate_pairs(const Soup& soup, std::array<u32
   for (std::size_t i = 0; i < n; ++i) all[i] = static_cast<u32>(i);
   const Bvh tree(soup, std::move(all), 3);
   std::vector<std::uint8_t> cert;
-  if (clash && !self) cert = star_certificates(soup, trusted);
+  if (clash || self) cert = star_certificates(soup, trusted);
   // Per node: the operand of all its triangles (-1: several), and a vertex all its triangles
   // share with a certified star there (kNone: none). Pairs of one operand need no look unless
   // that operand is checked, and then not where both nodes hang on one certified vertex (the
@@ -416,8 +413,8 @@ std::vector<std::array<u32, 2>> candidate_pairs(const Soup& soup, std::array<u32
   }
   auto skip = [&](u32 a, u32 b) {
     const std::int32_t op = node_op[a];
-    if (op < 0 || op != node_op[b] || self) return false;
-    if (!clash || (trusted && (*trusted)[op])) return true;
+    if (op < 0 || op != node_op[b]) return false;
+    if (!self && (!clash || (trusted && (*trusted)[op]))) return true;
     return hub[a] != kNone && hub[a] == hub[b];
   };
   std::vector<std::vector<std::array<u32, 2>>> out;
@@ -430,15 +427,19 @@ std::vector<std::array<u32, 2>> candidate_pairs(const Soup& soup, std::array<u32
       },
       [&](std::size_t k, u32 t, u32 u) {
         if (t > u) std::swap(t, u);
+        const bool same = soup.operand[u] == soup.operand[t];
+        // A pair of one operand matters only to a check, and not where a certified star holds both.
+        if (same && (self ? false : !clash || clashes[k][0] != kNone || (trusted && (*trusted)[soup.operand[t]])))
+          return;
+        if (same && certified_pair(soup, cert, t, u)) return;
         double lo[3], hi[3], ulo[3], uhi[3];
         tri_box(soup, t, lo, hi);
         tri_box(soup, u, ulo, uhi);
         for (int a = 0; a < 3; ++a)
           if (ulo[a] > hi[a] || uhi[a] < lo[a]) return;
-        if (soup.operand[u] != soup.operand[t] || (self && triangles_clash(soup, t, u))) {
+        if (!same || (self && triangles_clash(soup, t, u))) {
           out[k].push_back({t, u});
-        } else if (clash && clashes[k][0] == kNone && !(trusted && (*trusted)[soup.operand[t]]) &&
-                   !certified_pair(soup, cert, t, u) && triangles_clash(soup, t, u)) {
+        } else if (!self && triangles_clash(soup, t, u)) {
           clashes[k] = {t, u};
         }
       },

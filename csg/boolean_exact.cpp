@@ -380,6 +380,107 @@ bool Points::on_one_segment(u32 a, u32 b, u32 c) const {
   return true;
 }
 
+namespace {
+
+// Whether input vertex v lies on plane P (exact; a wall through a, b containing e_k holds v when
+// a, b, v are collinear seen along e_k).
+bool vertex_on(const Soup& s, const Plane& P, u32 v) {
+  const Vec3& x = s.verts[v];
+  if (P.axis < 0) return v == P.a || v == P.b || v == P.c || orient3d_fast(s.verts[P.a], s.verts[P.b], s.verts[P.c], x) == 0;
+  const int i = (P.axis + 1) % 3, j = (P.axis + 2) % 3;
+  const Vec3 &a = s.verts[P.a], &b = s.verts[P.b];
+  return v == P.a || v == P.b || orient2d_fast(a[i], a[j], b[i], b[j], x[i], x[j]) == 0;
+}
+
+// Whether planes X and P are the same plane (exact; false where not sure: walls against walls).
+bool same_plane(const Soup& s, const Plane& X, const Plane& P) {
+  if (X == P) return true;
+  if (X.axis < 0) return vertex_on(s, P, X.a) && vertex_on(s, P, X.b) && vertex_on(s, P, X.c);
+  if (P.axis < 0) return same_plane(s, P, X);
+  return false;
+}
+
+}  // namespace
+
+bool Points::on_plane(u32 p, const Plane& P) const {
+  const PointDef& d = defs_[p];
+  switch (d.kind) {
+    case PointDef::Explicit:
+      return vertex_on(*soup_, P, d.p);
+    case PointDef::Lpi:
+      return same_plane(*soup_, d.P[0], P) || (vertex_on(*soup_, P, d.p) && vertex_on(*soup_, P, d.q));
+    case PointDef::Tpi:
+      return same_plane(*soup_, d.P[0], P) || same_plane(*soup_, d.P[1], P) || same_plane(*soup_, d.P[2], P);
+  }
+  return false;
+}
+
+bool Points::collinear_by_definition(u32 a, u32 b, u32 c) const {
+  // Points that lie on two different planes of their definitions lie on their line: the
+  // crossings of one cut segment with others (each a TPI of T's plane, the segment's plane and
+  // another), end points of the segment.
+  {
+    const Plane* found[2] = {nullptr, nullptr};
+    int nf = 0;
+    for (u32 x : {a, b, c}) {
+      const PointDef& d = defs_[x];
+      const int np = d.kind == PointDef::Tpi ? 3 : d.kind == PointDef::Lpi ? 1 : 0;
+      for (int i = 0; i < np && nf < 2; ++i) {
+        const Plane& P = d.P[i];
+        if (nf == 1 && same_plane(*soup_, *found[0], P)) continue;
+        bool all = true;
+        for (u32 y : {a, b, c})
+          if (y != x && !on_plane(y, P)) {
+            all = false;
+            break;
+          }
+        if (all) found[nf++] = &P;
+      }
+    }
+    if (nf == 2) return true;
+  }
+  // Points on one cutting plane X (segments cut by X, or input vertices on X) whose segments'
+  // end points all lie on one other plane Q lie on the line X n Q: the halves of a cylinder's
+  // side quad cut by a plate's face, the quad's diagonal between them.
+  const Plane* X = nullptr;
+  u32 ends[6];
+  int n = 0;
+  for (u32 x : {a, b, c}) {
+    const PointDef& d = defs_[x];
+    if (d.kind == PointDef::Tpi) return false;
+    if (d.kind == PointDef::Lpi) {
+      if (!X) X = &d.P[0];
+      else if (!same_plane(*soup_, d.P[0], *X)) return false;
+      ends[n++] = d.p;
+      ends[n++] = d.q;
+    } else {
+      ends[n++] = d.p;
+    }
+  }
+  if (!X) return false;
+  for (u32 x : {a, b, c})
+    if (defs_[x].kind == PointDef::Explicit && !vertex_on(*soup_, *X, defs_[x].p)) return false;
+  // Q: through the first segment and the first end point off its line.
+  const u32 p = ends[0], q = ends[1];
+  const Vec3 &P = soup_->verts[p], &Qv = soup_->verts[q];
+  int r = -1;
+  for (int e = 2; e < n && r < 0; ++e) {
+    const Vec3& R = soup_->verts[ends[e]];
+    for (int k = 0; k < 3; ++k) {
+      const int i = (k + 1) % 3, j = (k + 2) % 3;
+      if (orient2d_fast(P[i], P[j], Qv[i], Qv[j], R[i], R[j]) != 0) {
+        r = e;
+        break;
+      }
+    }
+  }
+  if (r < 0) return false;
+  const Plane Qp = Plane::of_triangle({p, q, ends[r]});
+  for (int e = 2; e < n; ++e)
+    if (!vertex_on(*soup_, Qp, ends[e])) return false;
+  return true;
+}
+
 // How far approx(p) may be from the exact point in coordinates i and j (from its box; 0 where
 // they are exact; infinity where the box is not finite).
 double Points::slack(u32 p, int i, int j) const {
@@ -389,7 +490,7 @@ double Points::slack(u32 p, int i, int j) const {
   return w == w ? w : INFINITY;
 }
 
-int Points::orient2d(u32 a, u32 b, u32 c, int k) const {
+int Points::orient2d(u32 a, u32 b, u32 c, int k, const Plane* line) const {
   const int i = (k + 1) % 3, j = (k + 2) % 3;
   const std::uint8_t m = static_cast<std::uint8_t>(1u << i | 1u << j);
   const Vec3 &A = approx_[a], &B = approx_[b], &C = approx_[c];
@@ -419,7 +520,7 @@ int Points::orient2d(u32 a, u32 b, u32 c, int k) const {
     int s = orient2d_sign(to_ia(ih_[a]), to_ia(ih_[b]), to_ia(ih_[c]), k);
     if (s != 2) return s;
   }
-  if (on_one_segment(a, b, c)) return 0;
+  if (on_one_segment(a, b, c) || (line && on_plane(c, *line)) || collinear_by_definition(a, b, c)) return 0;
   return orient2d_sign(point_eval<EX>(*soup_, defs_[a]), point_eval<EX>(*soup_, defs_[b]),
                        point_eval<EX>(*soup_, defs_[c]), k);
 }
@@ -512,7 +613,7 @@ double min_sine(const Vec3* p[4], int i, int j) {
 
 }  // namespace
 
-int Points::incircle_certain(u32 a, u32 b, u32 c, u32 d, int k) const {
+int Points::incircle_certain(u32 a, u32 b, u32 c, u32 d, int k, double well) const {
   const int i = (k + 1) % 3, j = (k + 2) % 3;
   const std::uint8_t m = static_cast<std::uint8_t>(1u << i | 1u << j);
   const bool doubles = (fixed_[a] & fixed_[b] & fixed_[c] & fixed_[d] & m) == m;
@@ -562,7 +663,7 @@ int Points::incircle_certain(u32 a, u32 b, u32 c, u32 d, int k) const {
   // Where one would be a sliver, the exact test decides, so that slivers are flipped away as a
   // true Delaunay triangulation would.
   const Vec3* p[4] = {&approx_[a], &approx_[b], &approx_[c], &approx_[d]};
-  if (min_sine(p, i, j) > 0.01) return -1;
+  if (min_sine(p, i, j) > well) return -1;
   if (doubles) {
     auto p2 = [&](u32 x) { return Point2(approx_[x][i], approx_[x][j]); };
     return wedge::incircle(p2(a), p2(b), p2(c), p2(d)) == 1 ? 1 : -1;

@@ -213,7 +213,9 @@ class Points {
   const Soup& soup() const { return *soup_; }
 
   // Exact predicates.
-  int orient2d(u32 a, u32 b, u32 c, int k) const;  // in the projection along e_k, (i, j) = (k+1, k+2)
+  // In the projection along e_k, (i, j) = (k+1, k+2). With `line`: a, b and c lie on one plane
+  // (a triangle's) and `line` is another plane through a and b: c on it is collinear with them.
+  int orient2d(u32 a, u32 b, u32 c, int k, const Plane* line = nullptr) const;
   int compare(u32 a, u32 b, int axis) const;       // sign(a_axis - b_axis)
   bool equal(u32 a, u32 b) const;
   int side(const Plane& P, u32 p) const;           // sign(n . p + d): + on the side n points to
@@ -223,7 +225,10 @@ class Points {
   // make is well shaped: then -1 (no flip) without exact arithmetic. A flip is made only where it
   // is certain, so flipping ends; points cocircular to within the inputs' rounding (a tessellated
   // circle cut by a plane) leave their split as it is, and slivers are still flipped away.
-  int incircle_certain(u32 a, u32 b, u32 c, u32 d, int k) const;
+  // "Well shaped": no angle with a sine under `well` (0.01, about half a degree; the
+  // retriangulation of an input triangle that is itself a sliver passes half its own smallest
+  // sine, since every piece of it is as thin).
+  int incircle_certain(u32 a, u32 b, u32 c, u32 d, int k, double well = 0.01) const;
   // For the centroid of triangle (a, b, c): sign of orient2d(u, v, centroid) in projection k, with
   // u, v input vertices; and the side of a plane.
   int orient2d_centroid(u32 u, u32 v, const std::array<u32, 3>& t, int k) const;
@@ -249,6 +254,12 @@ class Points {
   // A box that holds the point exactly: lo[0..2], hi[0..2].
   const std::array<double, 6>& box(u32 p) const { return box_[p]; }
   bool on_one_segment(u32 a, u32 b, u32 c) const;
+  // Whether a, b, c certainly lie on one line, from their definitions: on one cutting plane, with
+  // their segments' end points on one other plane (exact tests on input vertices only).
+  bool collinear_by_definition(u32 a, u32 b, u32 c) const;
+  // Whether point p certainly lies on plane P, from its definition (exact tests on input
+  // vertices only; false where that does not settle it).
+  bool on_plane(u32 p, const Plane& P) const;
   // How far approx(p) may be from the exact point in coordinates i and j (infinity: unknown).
   double slack(u32 p, int i, int j) const;
 
@@ -277,8 +288,17 @@ std::vector<std::array<u32, 2>> candidate_pairs(const Soup& soup, std::array<u32
 // around that vertex in the triangle's operand) is certified to be embedded: seen along one
 // direction every star triangle has the same orientation and the rim winds once (exact). Two
 // triangles of a certified star meet only in what they share. Operands marked in `trusted` get
-// no certificates (they are not checked).
-std::vector<std::uint8_t> star_certificates(const Soup& soup, const std::vector<char>* trusted = nullptr);
+// no certificates (they are not checked). With `active` (per triangle), only the vertices of
+// active triangles are looked at.
+std::vector<std::uint8_t> star_certificates(const Soup& soup, const std::vector<char>* trusted = nullptr,
+                                            const std::vector<char>* active = nullptr);
+// Whether triangles t and u share a vertex whose star is certified (so they cannot clash).
+inline bool certified_pair(const Soup& soup, const std::vector<std::uint8_t>& cert, u32 t, u32 u) {
+  const auto &T = soup.tris[t], &U = soup.tris[u];
+  for (int c = 0; c < 3; ++c)
+    if ((cert[t] >> c & 1) && (T[c] == U[0] || T[c] == U[1] || T[c] == U[2])) return true;
+  return false;
+}
 
 // An axis-aligned box tree over triangles, for point and vertical-line queries.
 class Bvh {

@@ -42,6 +42,7 @@ namespace {
 struct Ctx {
   const Points* pts = nullptr;
   int k = 2;
+  double well = 0.01;  // incircle_certain's "well shaped"
 };
 thread_local Ctx g_ctx;
 
@@ -101,7 +102,7 @@ struct IdTraits {
   };
   struct Side_of_oriented_circle_2 {
     CGAL::Oriented_side operator()(Pid a, Pid b, Pid c, Pid d) const {
-      return cgal_sign(g_ctx.pts->incircle_certain(a.id, b.id, c.id, d.id, g_ctx.k));
+      return cgal_sign(g_ctx.pts->incircle_certain(a.id, b.id, c.id, d.id, g_ctx.k, g_ctx.well));
     }
   };
   struct Construct_segment_2 {
@@ -542,6 +543,7 @@ Arrangement arrange(Points& pts, const std::vector<std::array<u32, 2>>& pairs) {
     u32 t = touched[wi];
     int k = soup.axis[t];
     const auto& T = soup.tris[t];
+
     std::vector<u32> points = w.points;
     for (u32 v : T) points.push_back(v);
     unique_sorted(points);
@@ -563,7 +565,8 @@ Arrangement arrange(Points& pts, const std::vector<std::array<u32, 2>>& pairs) {
     for (const auto& b : pboxes) widest = std::max(widest, b[sweep + 3] - b[sweep]);
     std::vector<std::array<u32, 2>> constraints;
     std::size_t polled = 0;  // a large triangle (a plate's face) is long work: poll within it
-    for (const auto& s : w.segs) {
+    for (std::size_t si = 0; si < w.segs.size(); ++si) {
+      const auto& s = w.segs[si];
       if ((++polled & 0xff) == 0) soup.poll();
       u32 a = s[0], b = s[1];
       auto sb = seg_box(pts, a, b);
@@ -576,7 +579,8 @@ Arrangement arrange(Points& pts, const std::vector<std::array<u32, 2>>& pairs) {
         const std::size_t i = *it;
         u32 p = points[i];
         if (p == a || p == b || !boxes_overlap(sb, pboxes[i])) continue;
-        if (pts.orient2d(a, b, p, k) != 0) continue;
+        // The segment is T's plane cut by w.cuts[si]: a point on that plane is on its line.
+        if (pts.orient2d(a, b, p, k, &w.cuts[si]) != 0) continue;
         if (pts.compare(a, p, axis) * pts.compare(p, b, axis) > 0) on.push_back(p);
       }
       int dir = pts.compare(a, b, axis);
@@ -595,6 +599,20 @@ Arrangement arrange(Points& pts, const std::vector<std::array<u32, 2>>& pairs) {
     unique_sorted(constraints);
     g_ctx.pts = &pts;
     g_ctx.k = k;
+    {
+      // Inside a sliver (a long cylinder's side triangle) every piece is a sliver too: the flip
+      // test settles for half of T's own smallest sine.
+      const Vec3 &A = soup.verts[T[0]], &B = soup.verts[T[1]], &C = soup.verts[T[2]];
+      const int i = (k + 1) % 3, j = (k + 2) % 3;
+      double sine = 1;
+      for (int c = 0; c < 3; ++c) {
+        const Vec3 &o = c == 0 ? A : c == 1 ? B : C, &u = c == 0 ? B : c == 1 ? C : A, &v = c == 0 ? C : c == 1 ? A : B;
+        const double ux = u[i] - o[i], uy = u[j] - o[j], vx = v[i] - o[i], vy = v[j] - o[j];
+        const double len = std::sqrt((ux * ux + uy * uy) * (vx * vx + vy * vy));
+        if (len > 0) sine = std::min(sine, std::abs(ux * vy - uy * vx) / len);
+      }
+      g_ctx.well = std::min(0.01, 0.5 * sine);
+    }
     Cdt cdt;
     std::unordered_map<u32, Cdt::Vertex_handle> vh;
     Cdt::Face_handle hint;

@@ -689,6 +689,68 @@ TEST_CASE("boolean: cut points round within an ulp, and the predicates on them (
   CHECK(found >= inside * 95 / 100);
 }
 
+TEST_CASE("boolean: points collinear by their definitions are found so without exact arithmetic, and only those",
+          "[boolean]") {
+  // A cylinder's side quad b0 b1 t1 t0 (planar; its diagonal b0 t1) cut by a plate's face z = 1:
+  // the cuts of b0 t0, b0 t1 and b1 t1 lie on one line (the face's plane and the quad's), though
+  // none is a double and no two share a segment. The same with t1 lifted off the quad's plane
+  // (a quad that is not planar): not collinear, and orient2d says so.
+  using boolean_detail::u32;
+  Mesh m;
+  const double a0 = 0.3, a1 = 0.5;
+  m.add_vertex({std::cos(a0), std::sin(a0), -0.5});  // b0
+  m.add_vertex({std::cos(a0), std::sin(a0), 1.5});   // t0
+  m.add_vertex({std::cos(a1), std::sin(a1), -0.5});  // b1
+  m.add_vertex({std::cos(a1), std::sin(a1), 1.5});   // t1
+  m.add_vertex({std::cos(a1) + 1e-3, std::sin(a1) - 1e-3, 1.5});  // t1 off the quad's plane
+  m.add_vertex({-5, -5, 1});
+  m.add_vertex({5, -5, 1});
+  m.add_vertex({0, 5, 1});
+  std::vector<const Mesh*> one{&m};
+  const boolean_detail::Soup soup = boolean_detail::make_soup(one);
+  boolean_detail::Points pts(soup);
+  const boolean_detail::Plane face = boolean_detail::Plane::of_triangle({5, 6, 7});
+  auto lpi = [&](u32 p, u32 q) {
+    boolean_detail::PointDef d;
+    d.kind = boolean_detail::PointDef::Lpi;
+    d.p = p;
+    d.q = q;
+    d.P[0] = face;
+    return pts.add(d);
+  };
+  const u32 A = lpi(0, 1), M = lpi(0, 3), B = lpi(2, 3), M2 = lpi(0, 4), B2 = lpi(2, 4);
+  for (u32 x : {M, M2, B2}) CHECK_FALSE(pts.is_double(x));  // the diagonal's cuts are not doubles
+  CHECK(pts.collinear_by_definition(A, M, B));
+  CHECK(pts.collinear_by_definition(B, A, M));
+  CHECK(pts.orient2d(A, M, B, 2) == 0);
+  CHECK(pts.orient2d(M, A, B, 2) == 0);
+  CHECK_FALSE(pts.collinear_by_definition(A, M2, B2));
+  CHECK(pts.orient2d(A, M2, B2, 2) != 0);
+  CHECK(pts.orient2d(A, M2, B2, 2) == -pts.orient2d(M2, A, B2, 2));
+  // On a plane by definition: the cuts lie on the face; A on every plane through its segment.
+  CHECK(pts.on_plane(M, face));
+  CHECK(pts.on_plane(A, boolean_detail::Plane::of_triangle({0, 1, 2})));
+  CHECK_FALSE(pts.on_plane(M2, boolean_detail::Plane::of_triangle({0, 1, 2})));
+  // Three TPIs on the face and on the quad's plane (each with a third plane of its own) are
+  // collinear by two planes they all lie on; with the off-plane quad for one of them, not.
+  auto tpi = [&](const boolean_detail::Plane& q, const boolean_detail::Plane& x) {
+    boolean_detail::PointDef d;
+    d.kind = boolean_detail::PointDef::Tpi;
+    d.P[0] = face;
+    d.P[1] = q;
+    d.P[2] = x;
+    return pts.add(d);
+  };
+  const auto quad = boolean_detail::Plane::of_triangle({0, 1, 3}), quad2 = boolean_detail::Plane::of_triangle({0, 1, 4});
+  const u32 P1 = tpi(quad, boolean_detail::Plane::wall(5, 1, 2)), P2 = tpi(quad, boolean_detail::Plane::wall(6, 3, 2)),
+            P3 = tpi(boolean_detail::Plane::of_triangle({2, 3, 0}), boolean_detail::Plane::wall(7, 0, 2)),
+            P4 = tpi(quad2, boolean_detail::Plane::wall(7, 2, 2));
+  CHECK(pts.collinear_by_definition(P1, P2, P3));  // {2, 3, 0} is the quad's plane too
+  CHECK(pts.orient2d(P1, P2, P3, 2) == 0);
+  CHECK_FALSE(pts.collinear_by_definition(P1, P2, P4));
+  CHECK(pts.orient2d(P1, P2, P4, 2) != 0);
+}
+
 TEST_CASE("boolean: two edges that cross get one point definition from all four pairs of their triangles",
           "[boolean]") {
   // Edge p q (of triangles T, T') crosses edge r s (of U, U') at the origin. Each of the four pairs
