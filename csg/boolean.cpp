@@ -436,9 +436,12 @@ BooleanResult boolean(BooleanOp op, const std::vector<const Mesh*>& operands, Bo
   lap(&BooleanStats::check);
   Soup soup = make_soup(operands, &interrupt);
   Points pts(soup);
-  // The broad phase also checks each operand for self-intersections.
+  // The broad phase also checks each operand for self-intersections, but for the operands known
+  // valid: results of earlier booleans, and those one-to-one on the sphere around their centre.
   std::array<u32, 2> clash;
-  auto pairs = candidate_pairs(soup, &clash, false, &trusted);
+  std::vector<char> checked = radially_embedded(soup, &trusted);
+  for (std::size_t i = 0; i < operands.size(); ++i) checked[i] |= trusted[i];
+  auto pairs = candidate_pairs(soup, &clash, false, &checked);
   if (clash[0] != kNone) {
     u32 t = clash[0], u = clash[1];
     auto tri = [&](u32 x) {

@@ -131,7 +131,7 @@ Bvh::Bvh(const Soup& soup, std::vector<u32> ids, int d) : items(std::move(ids)),
 namespace {
 
 // The tree's self-join: every unordered pair of distinct items whose float boxes overlap, at least
-// one of them active, handed to visit(task, t, u) (triangle ids, in no particular order) as the
+// one of them active, handed to visit(task, i, j) (positions in the tree's items) as the
 // walk meets it; nothing is collected here, so a join of millions of neighbouring pairs (an
 // operand's self-check) costs no memory. The walk is split into fixed tasks (breadth first to
 // about 512 independent node pairs, then one depth-first walk each); start(number of tasks) is
@@ -205,10 +205,9 @@ void self_join(const Bvh& bvh, const std::vector<char>* active, Start&& start, V
     std::vector<Pair> stack{tasks[k]};
     std::size_t since_poll = 0;
     auto emit = [&](u32 i, u32 j) {
-      const u32 t = items[i], u = items[j];
-      if (active && !(*active)[t] && !(*active)[u]) return;
+      if (active && !(*active)[items[i]] && !(*active)[items[j]]) return;
       if (!meet(boxes[i].data(), boxes[i].data() + 3, boxes[j].data(), boxes[j].data() + 3)) return;
-      visit(k, t, u);
+      visit(k, i, j);
     };
     while (!stack.empty()) {
       const Pair p = stack.back();
@@ -251,7 +250,10 @@ std::vector<std::array<u32, 2>> Bvh::self_pairs(const std::vector<char>* active,
   std::vector<std::vector<std::array<u32, 2>>> found;
   self_join(
       *this, active, [&](std::size_t n) { found.resize(n); },
-      [&](std::size_t k, u32 t, u32 u) { found[k].push_back({std::min(t, u), std::max(t, u)}); },
+      [&](std::size_t k, u32 i, u32 j) {
+        const u32 t = items[i], u = items[j];
+        found[k].push_back({std::min(t, u), std::max(t, u)});
+      },
       [&] {
         if (soup) soup->poll();
       },
@@ -269,7 +271,7 @@ std::vector<std::array<u32, 2>> Bvh::self_pairs(const std::vector<char>* active,
 // box's corners); a star that is not is tested pairwise as before. Returns per triangle a 3-bit
 // mask: bit c set when the star at corner c is certified.
 std::vector<std::uint8_t> star_certificates(const Soup& soup, const std::vector<char>* trusted,
-                                            const std::vector<char>* active) {
+                                            const std::vector<char>* active, const std::vector<Vec3>* centers) {
   const std::size_t nt = soup.tris.size(), nv = soup.verts.size();
   std::vector<std::uint8_t> mask(nt, 0);
   std::vector<char> wanted;
@@ -325,18 +327,24 @@ std::vector<std::uint8_t> star_certificates(const Soup& soup, const std::vector<
           sp = next(sp->b);
         }
         if (!sp || sp != &star[0] || rim.size() != star.size()) continue;  // not one cycle
-        // Seen along d = W - V, W a double near V + (the star's mean normal): any W would be
-        // exact, this one makes most stars pass.
+        // Seen along d = W - V, W a double near V + (the star's mean normal), or the operand's
+        // centre where one is given: any W would be exact, these make most stars pass.
         const Vec3& V = soup.verts[v];
-        Vec3 nrm = Vec3::Zero();
-        for (std::size_t m = 0; m < rim.size(); ++m) {
-          const Vec3 &P = soup.verts[rim[m]], &Q = soup.verts[rim[(m + 1) % rim.size()]];
-          nrm += (P - V).cross(Q - V);
+        Vec3 W;
+        const std::int32_t op = static_cast<std::int32_t>(recs[first].key & 0xffffffffu);
+        if (centers) {
+          W = (*centers)[op];
+        } else {
+          Vec3 nrm = Vec3::Zero();
+          for (std::size_t m = 0; m < rim.size(); ++m) {
+            const Vec3 &P = soup.verts[rim[m]], &Q = soup.verts[rim[(m + 1) % rim.size()]];
+            nrm += (P - V).cross(Q - V);
+          }
+          const double len = (soup.verts[rim[0]] - V).norm(), nn = nrm.norm();
+          if (!(nn > 0) || !(len > 0)) continue;
+          W = V + nrm * (len / nn);
         }
-        const double len = (soup.verts[rim[0]] - V).norm(), nn = nrm.norm();
-        if (!(nn > 0) || !(len > 0)) continue;
-        const Vec3 W = V + nrm * (len / nn);
-        if (W == V) continue;
+        if (W == V || !W.allFinite()) continue;
         auto orient = [&](const Vec3& a, const Vec3& b) { return orient3d_fast(V, a, b, W); };
         const std::size_t n = rim.size();
         const int s = orient(soup.verts[rim[0]], soup.verts[rim[1]]);
@@ -358,6 +366,47 @@ std::vector<std::uint8_t> star_certificates(const Soup& soup, const std::vector<
     }
   });
   return mask;
+}
+
+// An operand all of whose triangles and stars, seen from one point c, keep their orientation
+// and wind once (its stars certified with W = c) maps onto the sphere of directions around c
+// locally one-to-one: a covering of the sphere, so each of its shells has Euler characteristic
+// 2k for k sheets. With V - E + F = 2 it is one shell of one sheet: the map is one-to-one, and
+// no two of its triangles meet beyond what they share. Convex and star-shaped operands (boxes,
+// cylinders, spheres: nearly every primitive) pass with c the mean of their vertices, in linear
+// time and without looking at pairs.
+std::vector<char> radially_embedded(const Soup& soup, const std::vector<char>* skip) {
+  const int nops = soup.operands;
+  std::vector<Vec3> centers(nops, Vec3::Zero());
+  std::vector<std::size_t> count(nops, 0), faces(nops, 0);
+  std::vector<std::int32_t> last(soup.verts.size(), -1);
+  std::vector<std::size_t> verts(nops, 0);
+  for (std::size_t t = 0; t < soup.tris.size(); ++t) {
+    const int op = soup.operand[t];
+    ++faces[op];
+    for (u32 v : soup.tris[t]) {
+      if (last[v] == op) continue;  // an operand's triangles are consecutive in the soup
+      last[v] = op;
+      ++verts[op];
+      centers[op] += soup.verts[v];
+    }
+  }
+  std::vector<char> pass(nops, 0);
+  std::vector<char> todo(nops, 0);
+  for (int op = 0; op < nops; ++op) {
+    todo[op] = (!skip || !(*skip)[op]) && faces[op] > 0 && faces[op] % 2 == 0;
+    centers[op] /= static_cast<double>(std::max<std::size_t>(verts[op], 1));
+  }
+  const auto cert = star_certificates(soup, skip, nullptr, &centers);
+  std::vector<char> all(nops, 1);
+  for (std::size_t t = 0; t < soup.tris.size(); ++t)
+    if (cert[t] != 7) all[soup.operand[t]] = 0;
+  for (int op = 0; op < nops; ++op) {
+    // V - E + F with E = 3F / 2 (closed: every edge in two triangles).
+    const auto chi = static_cast<std::int64_t>(verts[op]) - static_cast<std::int64_t>(faces[op] / 2);
+    pass[op] = todo[op] && all[op] && chi == 2;
+  }
+  return pass;
 }
 
 // The tree's self-join visits the pairs of overlapping float boxes; each is tested on double boxes
@@ -411,6 +460,17 @@ std::vector<std::array<u32, 2>> candidate_pairs(const Soup& soup, std::array<u32
       if (all) hub[i] = v;
     }
   }
+  // Per position in the tree: what the join's visit needs, in the order it walks.
+  struct Item {
+    std::array<u32, 3> v;
+    std::int32_t op;
+    std::uint8_t cert;
+  };
+  std::vector<Item> item(n);
+  parallel_for(0, n, [&](std::size_t i) {
+    const u32 t = tree.items[i];
+    item[i] = {soup.tris[t], soup.operand[t], cert.empty() ? std::uint8_t(0) : cert[t]};
+  });
   auto skip = [&](u32 a, u32 b) {
     const std::int32_t op = node_op[a];
     if (op < 0 || op != node_op[b]) return false;
@@ -425,13 +485,20 @@ std::vector<std::array<u32, 2>> candidate_pairs(const Soup& soup, std::array<u32
         out.resize(tasks);
         clashes.assign(tasks, {kNone, kNone});
       },
-      [&](std::size_t k, u32 t, u32 u) {
+      [&](std::size_t k, u32 i, u32 j) {
+        // A pair of one operand matters only to a check, and not where a certified star holds
+        // both; decided on the items' copies in tree order (no look at the soup's tables).
+        const Item &I = item[i], &J = item[j];
+        const bool same = I.op == J.op;
+        if (same && (self ? false : !clash || clashes[k][0] != kNone || (trusted && (*trusted)[I.op]))) return;
+        if (same) {
+          bool shared = false;
+          for (int c = 0; c < 3 && !shared; ++c)
+            shared = (I.cert >> c & 1) && (I.v[c] == J.v[0] || I.v[c] == J.v[1] || I.v[c] == J.v[2]);
+          if (shared) return;
+        }
+        u32 t = tree.items[i], u = tree.items[j];
         if (t > u) std::swap(t, u);
-        const bool same = soup.operand[u] == soup.operand[t];
-        // A pair of one operand matters only to a check, and not where a certified star holds both.
-        if (same && (self ? false : !clash || clashes[k][0] != kNone || (trusted && (*trusted)[soup.operand[t]])))
-          return;
-        if (same && certified_pair(soup, cert, t, u)) return;
         double lo[3], hi[3], ulo[3], uhi[3];
         tri_box(soup, t, lo, hi);
         tri_box(soup, u, ulo, uhi);

@@ -415,6 +415,12 @@ bool Points::on_plane(u32 p, const Plane& P) const {
   return false;
 }
 
+bool Points::exact_position(const PointDef& d, Vec3& out) const {
+  for (int i = 0; i < 3; ++i)
+    if (!known_coordinate(*soup_, d, i, out[i])) return false;
+  return true;
+}
+
 bool Points::collinear_by_definition(u32 a, u32 b, u32 c) const {
   // Points that lie on two different planes of their definitions lie on their line: the
   // crossings of one cut segment with others (each a TPI of T's plane, the segment's plane and

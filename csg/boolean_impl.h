@@ -254,6 +254,9 @@ class Points {
   // A box that holds the point exactly: lo[0..2], hi[0..2].
   const std::array<double, 6>& box(u32 p) const { return box_[p]; }
   bool on_one_segment(u32 a, u32 b, u32 c) const;
+  // Whether each coordinate of the point d is a double fixed by its definition (an axis-parallel
+  // segment or axis plane: every point of a sponge of boxes); if so, *out is the point.
+  bool exact_position(const PointDef& d, Vec3& out) const;
   // Whether a, b, c certainly lie on one line, from their definitions: on one cutting plane, with
   // their segments' end points on one other plane (exact tests on input vertices only).
   bool collinear_by_definition(u32 a, u32 b, u32 c) const;
@@ -289,9 +292,15 @@ std::vector<std::array<u32, 2>> candidate_pairs(const Soup& soup, std::array<u32
 // direction every star triangle has the same orientation and the rim winds once (exact). Two
 // triangles of a certified star meet only in what they share. Operands marked in `trusted` get
 // no certificates (they are not checked). With `active` (per triangle), only the vertices of
-// active triangles are looked at.
+// active triangles are looked at. With `centers` (per operand), every star of an operand is seen
+// from its centre (W = the centre) instead of along its own normal.
 std::vector<std::uint8_t> star_certificates(const Soup& soup, const std::vector<char>* trusted = nullptr,
-                                            const std::vector<char>* active = nullptr);
+                                            const std::vector<char>* active = nullptr,
+                                            const std::vector<Vec3>* centers = nullptr);
+// Per operand: whether it is certainly free of self-intersections because it is one shell seen
+// one-to-one from the mean of its vertices (see boolean_broad.cpp); operands marked in `skip`
+// are not looked at (false).
+std::vector<char> radially_embedded(const Soup& soup, const std::vector<char>* skip = nullptr);
 // Whether triangles t and u share a vertex whose star is certified (so they cannot clash).
 inline bool certified_pair(const Soup& soup, const std::vector<std::uint8_t>& cert, u32 t, u32 u) {
   const auto &T = soup.tris[t], &U = soup.tris[u];

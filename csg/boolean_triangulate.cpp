@@ -26,6 +26,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <numeric>
 #include <unordered_map>
 
@@ -194,6 +195,11 @@ class Interner {
   }
   u32 operator()(const PointDef& raw) {
     if (raw.kind == PointDef::Explicit) return raw.p;
+    // A point whose definition fixes all three coordinates is interned by its position: the
+    // many definitions of one corner of a sponge (the planes of each triangle of each face
+    // through it) get one id here instead of one each, merged later by exact comparisons.
+    Vec3 at;
+    if (pts_.exact_position(raw, at)) return by_position(raw, at);
     const PointDef d = canonical(raw);
     // Open addressing over point ids, with the hash's high bits beside each id so that a probe
     // reads the point table only when they match; equal definitions compared field by field.
@@ -216,10 +222,58 @@ class Interner {
     return id;
   }
 
+  // Input vertex v, so that points defined elsewhere at its position get its id.
+  void seed(u32 v, const Vec3& at) {
+    PointDef d;
+    d.p = v;
+    by_position(d, at);
+  }
+  u32 by_position(const PointDef& raw, const Vec3& at) {
+    auto bits = [](double x) {
+      std::uint64_t b;
+      x += 0.0;  // -0 is 0
+      std::memcpy(&b, &x, sizeof b);
+      return b;
+    };
+    // Doubles of small integers have all-zero low bits: mix every bit down (splitmix64's finaliser).
+    auto mix = [](std::uint64_t z) {
+      z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+      z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+      return z ^ (z >> 31);
+    };
+    const std::uint64_t h = mix(mix(mix(bits(at.x())) ^ bits(at.y())) ^ bits(at.z()));
+    if (2 * (placed_.size() + 1) > where_.size()) {
+      std::vector<u32> t(std::max<std::size_t>(1024, where_.size() * 2), kNone);
+      for (u32 e = 0; e < placed_.size(); ++e) {
+        std::size_t slot = placed_[e].hash & (t.size() - 1);
+        while (t[slot] != kNone) slot = (slot + 1) & (t.size() - 1);
+        t[slot] = e;
+      }
+      where_.swap(t);
+    }
+    const std::size_t mask = where_.size() - 1;
+    std::size_t slot = h & mask;
+    for (; where_[slot] != kNone; slot = (slot + 1) & mask) {
+      const Placed& e = placed_[where_[slot]];
+      if (e.hash == h && e.at == at) return e.id;
+    }
+    const u32 id = raw.kind == PointDef::Explicit ? raw.p : pts_.add(canonical(raw));
+    where_[slot] = static_cast<u32>(placed_.size());
+    placed_.push_back({h, at, id});
+    return id;
+  }
+
  private:
   struct Slot {
     u32 id, tag;
   };
+  struct Placed {
+    std::uint64_t hash;
+    Vec3 at;
+    u32 id;
+  };
+  std::vector<u32> where_;      // open addressing over placed_ (kNone where empty)
+  std::vector<Placed> placed_;  // the points interned by position
   void grow() {
     std::vector<Slot> t(table_.size() * 2, Slot{kNone, 0});
     const std::size_t mask = t.size() - 1;
@@ -423,6 +477,12 @@ Arrangement arrange(Points& pts, const std::vector<std::array<u32, 2>>& pairs) {
     const PairCut& c = cuts[i];
     if (c.segs_t.empty() && c.segs_u.empty() && c.points.empty() && !c.coplanar) continue;
     u32 t = pairs[i][0], u = pairs[i][1];
+    // A triangle's first cut seeds its vertices into the interner's positions.
+    for (u32 x : {t, u})
+      if (slot[x] == kNone && (!(x == t ? c.segs_t : c.segs_u).empty() || !c.points.empty() || c.coplanar)) {
+        wk(x);
+        for (u32 v : soup.tris[x]) intern.seed(v, soup.verts[v]);
+      }
     auto add_segments = [&](const std::vector<Segment>& segs, u32 tri) {
       for (const auto& s : segs) {
         u32 a = intern(s.a), b = intern(s.b);

@@ -248,6 +248,65 @@ TEST_CASE("boolean: triangles around one vertex that cross each other are caught
   CHECK(std::count(cert.begin(), cert.end(), 7) == static_cast<std::ptrdiff_t>(cert.size()));  // every star, cube corners too
 }
 
+TEST_CASE("boolean: operands seen one-to-one from their centre skip the pairwise self-check, and only those",
+          "[boolean]") {
+  using namespace boolean_detail;
+  auto embedded = [](const std::vector<const Mesh*>& ms) {
+    const Soup soup = make_soup(ms);
+    return radially_embedded(soup);
+  };
+  // A box, a sphere and a cylinder (convex: every triangle seen from the centre one way round).
+  const Mesh b = cube(0, 0, 0, 2), s = sphere(Vec3(5, 0, 0), 1, 16);
+  Mesh c;
+  for (int i = 0; i < 24; ++i) {
+    c.add_vertex({10 + std::cos(i * kPi / 12), std::sin(i * kPi / 12), 0});
+    c.add_vertex({10 + std::cos(i * kPi / 12), std::sin(i * kPi / 12), 3});
+  }
+  const auto bottom = c.add_vertex({10, 0, 0}), top = c.add_vertex({10, 0, 3});
+  for (std::uint32_t i = 0; i < 24; ++i) {
+    const std::uint32_t b0 = 2 * i, t0 = b0 + 1, b1 = 2 * ((i + 1) % 24), t1 = b1 + 1;
+    c.add_triangle(b0, b1, t1);
+    c.add_triangle(b0, t1, t0);
+    c.add_triangle(bottom, b1, b0);
+    c.add_triangle(top, t0, t1);
+  }
+  CHECK(embedded({&b, &s, &c}) == std::vector<char>{1, 1, 1});
+  // Two overlapping cubes in one mesh: each seen one-to-one from the common centre, but two
+  // sheets (V - E + F = 4): not passed, and the pairwise check finds the crossing.
+  Mesh two = cube(0, 0, 0, 2);
+  two.append(cube(0.5, 0.5, 0.5, 2));
+  CHECK(embedded({&two}) == std::vector<char>{0});
+  CHECK_THROWS_WITH(boolean(BooleanOp::Union, b, two), Catch::Contains("second operand intersects itself"));
+  // A ring (genus 1: V - E + F = 0) is not star-shaped: not passed, checked pairwise, valid.
+  Mesh ring;
+  const int n = 12, k = 6;
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < k; ++j) {
+      const double u = 2 * kPi * i / n, v = 2 * kPi * j / k, r = 3 + std::cos(v);
+      ring.add_vertex({r * std::cos(u), r * std::sin(u), std::sin(v)});
+    }
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < k; ++j) {
+      const auto a = static_cast<std::uint32_t>(i * k + j), b1 = static_cast<std::uint32_t>(((i + 1) % n) * k + j),
+                 c1 = static_cast<std::uint32_t>(((i + 1) % n) * k + (j + 1) % k),
+                 d = static_cast<std::uint32_t>(i * k + (j + 1) % k);
+      ring.add_triangle(a, b1, c1);
+      ring.add_triangle(a, c1, d);
+    }
+  CHECK(embedded({&ring}) == std::vector<char>{0});
+  CHECK(boolean(BooleanOp::Union, ring, cube(20, 0, 0, 2)).volume() == Approx(ring.volume() + 8).epsilon(1e-9));
+  // The double cone over a pentagram (two apex fans winding twice): V - E + F = 2, not passed.
+  Mesh m;
+  const double deg[5] = {0, 144, 288, 72, 216};
+  for (double d : deg) m.add_vertex({std::cos(d * kPi / 180), std::sin(d * kPi / 180), 0});
+  const auto ta = m.add_vertex({0, 0, 1}), ba = m.add_vertex({0, 0, -1});
+  for (std::uint32_t i = 0; i < 5; ++i) {
+    m.add_triangle(ta, i, (i + 1) % 5);
+    m.add_triangle(ba, (i + 1) % 5, i);
+  }
+  CHECK(embedded({&m}) == std::vector<char>{0});
+}
+
 TEST_CASE("boolean: a result fed back is known valid; any change to it is checked again", "[boolean]") {
   const Mesh a = cube(0, 0, 0, 2), b = cube(1, 1, 1, 2), c = cube(0.5, 0.5, -1, 1);
   BooleanStats st;
