@@ -43,7 +43,7 @@ std::uint64_t spread(std::uint64_t x) {
 
 // Built in linear time after one sort: triangles in Morton order of their box centres, the tree
 // the halving of that order (leaves of up to 4), boxes computed bottom-up.
-Bvh::Bvh(const Soup& soup, std::vector<u32> ids, int d) : items(std::move(ids)), dims(d) {
+Bvh::Bvh(const Soup& soup, std::vector<u32> ids, int d, bool by_operand) : items(std::move(ids)), dims(d) {
   if (items.empty()) return;
   const std::size_t n = items.size();
   std::vector<std::array<float, 6>> box(n);
@@ -59,17 +59,48 @@ Bvh::Bvh(const Soup& soup, std::vector<u32> ids, int d) : items(std::move(ids)),
       hi[a] = std::max(hi[a], bhi[a]);
     }
   }
-  std::vector<std::pair<std::uint64_t, u32>> order(n);
-  parallel_for(0, n, [&](std::size_t i) {
+  auto morton = [&](const float* b) {
     std::uint64_t code = 0;
     for (int a = 0; a < 3; ++a) {
       double ext = hi[a] - lo[a];
-      double c = 0.5 * (static_cast<double>(box[i][a]) + box[i][a + 3]);
+      double c = 0.5 * (static_cast<double>(b[a]) + b[a + 3]);
       double f = ext > 0 ? (c - lo[a]) / ext : 0.0;
       auto q = static_cast<std::uint64_t>(std::clamp(f, 0.0, 1.0) * 2097151.0);
       code |= spread(q) << a;
     }
-    order[i] = {code, static_cast<u32>(i)};
+    return code;
+  };
+  // With by_operand, the operands come one after another (in the Morton order of their boxes'
+  // centres) and each one's triangles in their own order: below the top levels every node holds
+  // one operand, so the join can leave out an operand's own pairs whole subtrees at a time.
+  std::vector<u32> rank;
+  if (by_operand) {
+    std::vector<std::array<float, 6>> ob(soup.operands, {INFINITY, INFINITY, INFINITY, -INFINITY, -INFINITY, -INFINITY});
+    for (std::size_t i = 0; i < n; ++i) {
+      auto& o = ob[soup.operand[items[i]]];
+      for (int a = 0; a < 3; ++a) {
+        o[a] = std::min(o[a], box[i][a]);
+        o[a + 3] = std::max(o[a + 3], box[i][a + 3]);
+      }
+    }
+    std::vector<std::pair<std::uint64_t, u32>> ops;
+    for (int o = 0; o < soup.operands; ++o)
+      if (ob[o][0] <= ob[o][3]) ops.push_back({morton(ob[o].data()), static_cast<u32>(o)});
+    std::sort(ops.begin(), ops.end());
+    rank.assign(soup.operands, 0);
+    for (std::size_t r = 0; r < ops.size(); ++r) rank[ops[r].second] = static_cast<u32>(r);
+  }
+  struct Key {
+    u32 rank;
+    std::uint64_t code;
+    u32 i;
+    bool operator<(const Key& o) const {
+      return rank != o.rank ? rank < o.rank : code != o.code ? code < o.code : i < o.i;
+    }
+  };
+  std::vector<Key> order(n);
+  parallel_for(0, n, [&](std::size_t i) {
+    order[i] = {by_operand ? rank[soup.operand[items[i]]] : 0u, morton(box[i].data()), static_cast<u32>(i)};
   });
   soup.poll();
   std::sort(order.begin(), order.end());
@@ -77,8 +108,8 @@ Bvh::Bvh(const Soup& soup, std::vector<u32> ids, int d) : items(std::move(ids)),
   std::vector<u32> sorted(n);
   std::vector<std::array<float, 6>> sbox(n);
   for (std::size_t i = 0; i < n; ++i) {
-    sorted[i] = items[order[i].second];
-    sbox[i] = box[order[i].second];
+    sorted[i] = items[order[i].i];
+    sbox[i] = box[order[i].i];
   }
   items.swap(sorted);
   boxes.swap(sbox);
@@ -419,7 +450,7 @@ std::vector<std::array<u32, 2>> candidate_pairs(const Soup& soup, std::array<u32
   std::size_t n = soup.tris.size();
   std::vector<u32> all(n);
   for (std::size_t i = 0; i < n; ++i) all[i] = static_cast<u32>(i);
-  const Bvh tree(soup, std::move(all), 3);
+  const Bvh tree(soup, std::move(all), 3, true);
   std::vector<std::uint8_t> cert;
   if (clash || self) cert = star_certificates(soup, trusted);
   // Per node: the operand of all its triangles (-1: several), and a vertex all its triangles

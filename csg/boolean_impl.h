@@ -313,7 +313,8 @@ inline bool certified_pair(const Soup& soup, const std::vector<std::uint8_t>& ce
 class Bvh {
  public:
   // Over the triangles `ids` of the soup; boxes of `dims` axes (2: xy only, for vertical rays).
-  Bvh(const Soup& soup, std::vector<u32> ids, int dims);
+  // With `by_operand`, each operand's triangles are kept together (see boolean_broad.cpp).
+  Bvh(const Soup& soup, std::vector<u32> ids, int dims, bool by_operand = false);
   // Calls f(triangle id) for every triangle whose box meets the box [lo, hi].
   template <class F>
   void query(const double lo[3], const double hi[3], F&& f) const;
