@@ -442,6 +442,110 @@ int split_axis(const Points& pts, u32 a, u32 b) {
   return -1;
 }
 
+// T (soup triangle t, seen along e_k) cut by segments from boundary to boundary: every point of
+// `points` is a corner of T or lies inside one of its edges, and the constraints are chords
+// between them (or pieces of T's edges). The chords cut T into convex pieces; where each piece
+// is a triangle or a quadrilateral (split by the diagonal the Delaunay test prefers, the one the
+// triangulation would keep), they go to `out`, counter-clockwise seen from outside T's operand,
+// and the answer is true; otherwise nothing is made and the answer is false.
+bool boundary_cuts(const Points& pts, const Soup& soup, u32 t, int k, const std::vector<u32>& points,
+                   const std::vector<std::array<u32, 2>>& constraints, double well, std::vector<Piece>& out) {
+  const auto& T = soup.tris[t];
+  const std::array<u32, 3> p = soup.axis_sign[t] > 0 ? T : std::array<u32, 3>{T[0], T[2], T[1]};  // ccw seen along k
+  // The boundary counter-clockwise: p0, the points inside edge p0 p1 in order, p1, ...
+  std::array<std::vector<u32>, 3> on;
+  for (u32 x : points) {
+    if (x == p[0] || x == p[1] || x == p[2]) continue;
+    int edge = -1;
+    for (int i = 0; i < 3; ++i)
+      if (pts.orient2d(p[i], p[(i + 1) % 3], x, k) == 0) {
+        if (edge >= 0) return false;
+        edge = i;
+      }
+    if (edge < 0) return false;  // inside T
+    on[edge].push_back(x);
+  }
+  std::vector<u32> ring;
+  for (int i = 0; i < 3; ++i) {
+    ring.push_back(p[i]);
+    auto& e = on[i];
+    if (e.size() > 1) {
+      const int axis = split_axis(pts, p[i], p[(i + 1) % 3]);
+      if (axis < 0) return false;
+      const int dir = pts.compare(p[i], p[(i + 1) % 3], axis);
+      std::sort(e.begin(), e.end(), [&](u32 x, u32 y) { return pts.compare(x, y, axis) == dir; });
+    }
+    ring.insert(ring.end(), e.begin(), e.end());
+  }
+  const int n = static_cast<int>(ring.size());
+  auto pos = [&](u32 x) {
+    for (int i = 0; i < n; ++i)
+      if (ring[i] == x) return i;
+    return -1;
+  };
+  std::vector<std::array<int, 2>> chords;
+  for (const auto& c : constraints) {
+    const int a = pos(c[0]), b = pos(c[1]);
+    if (a < 0 || b < 0) return false;
+    if ((a + 1) % n == b || (b + 1) % n == a) continue;  // a piece of T's boundary
+    chords.push_back({a, b});
+  }
+  if (chords.empty()) return false;
+  std::vector<Piece> made;
+  auto emit = [&](u32 x, u32 y, u32 z) {
+    std::array<u32, 3> v = {x, y, z};
+    if (soup.axis_sign[t] < 0) std::swap(v[1], v[2]);
+    made.push_back({v, t});
+  };
+  // Split the polygon (ring positions, counter-clockwise) by the first chord between two of its
+  // non-adjacent vertices; a polygon no chord splits is a piece.
+  std::vector<std::vector<int>> todo{std::vector<int>(static_cast<std::size_t>(n))};
+  for (int i = 0; i < n; ++i) todo[0][i] = i;
+  std::size_t used = 0;
+  while (!todo.empty()) {
+    std::vector<int> poly = std::move(todo.back());
+    todo.pop_back();
+    const int m = static_cast<int>(poly.size());
+    int si = -1, sj = -1;
+    for (const auto& c : chords) {
+      int i = -1, j = -1;
+      for (int q = 0; q < m; ++q) {
+        if (poly[q] == c[0]) i = q;
+        if (poly[q] == c[1]) j = q;
+      }
+      if (i < 0 || j < 0 || (i + 1) % m == j || (j + 1) % m == i) continue;
+      si = std::min(i, j);
+      sj = std::max(i, j);
+      break;
+    }
+    if (si >= 0) {
+      ++used;
+      todo.emplace_back(poly.begin() + si, poly.begin() + sj + 1);
+      std::vector<int> rest(poly.begin() + sj, poly.end());
+      rest.insert(rest.end(), poly.begin(), poly.begin() + si + 1);
+      todo.push_back(std::move(rest));
+      continue;
+    }
+    if (m == 3) {
+      emit(ring[poly[0]], ring[poly[1]], ring[poly[2]]);
+    } else if (m == 4) {
+      const u32 q0 = ring[poly[0]], q1 = ring[poly[1]], q2 = ring[poly[2]], q3 = ring[poly[3]];
+      if (pts.incircle_certain(q0, q1, q2, q3, k, well) == 1) {
+        emit(q0, q1, q3);
+        emit(q1, q2, q3);
+      } else {
+        emit(q0, q1, q2);
+        emit(q0, q2, q3);
+      }
+    } else {
+      return false;  // a larger piece: the triangulation below
+    }
+  }
+  if (used != chords.size()) return false;  // a chord that split nothing: crossing or repeated
+  out.insert(out.end(), made.begin(), made.end());
+  return true;
+}
+
 }  // namespace
 
 Arrangement arrange(Points& pts, const std::vector<std::array<u32, 2>>& pairs) {
@@ -673,6 +777,11 @@ Arrangement arrange(Points& pts, const std::vector<std::array<u32, 2>>& pairs) {
       }
       g_ctx.well = std::min(0.01, 0.5 * sine);
     }
+    // The commonest cuts, chords from edge to edge and nothing inside T, without building a
+    // triangulation.
+    if (constraints.size() <= 4 && points.size() <= 9 &&
+        boundary_cuts(pts, soup, t, k, points, constraints, g_ctx.well, cut_pieces[wi]))
+      return;
     Cdt cdt;
     std::unordered_map<u32, Cdt::Vertex_handle> vh;
     Cdt::Face_handle hint;
