@@ -273,6 +273,7 @@ Points::Points(const Soup& soup) : soup_(&soup) {
   approx_.resize(n);
   ih_.resize(n);
   box_.resize(n);
+  slack_.assign(n, 0.0);
   for (std::size_t v = 0; v < n; ++v) {
     defs_[v].kind = PointDef::Explicit;
     defs_[v].p = static_cast<u32>(v);
@@ -289,6 +290,7 @@ void Points::reserve(std::size_t n) {
   approx_.reserve(n);
   ih_.reserve(n);
   box_.reserve(n);
+  slack_.reserve(n);
 }
 
 u32 Points::add(const PointDef& d) {
@@ -355,6 +357,9 @@ u32 Points::add(const PointDef& d) {
   approx_.push_back(ap);
   ih_.push_back(ih);
   box_.push_back(bx);
+  double w = 0;
+  for (int i = 0; i < 3; ++i) w = std::max({w, ap[i] - bx[i], bx[i + 3] - ap[i]});
+  slack_.push_back(w == w ? w : INFINITY);
   return static_cast<u32>(defs_.size() - 1);
 }
 
@@ -487,14 +492,6 @@ bool Points::collinear_by_definition(u32 a, u32 b, u32 c) const {
   return true;
 }
 
-// How far approx(p) may be from the exact point in coordinates i and j (from its box; 0 where
-// they are exact; infinity where the box is not finite).
-double Points::slack(u32 p, int i, int j) const {
-  const auto& b = box_[p];
-  const Vec3& q = approx_[p];
-  const double w = std::max(std::max(q[i] - b[i], b[i + 3] - q[i]), std::max(q[j] - b[j], b[j + 3] - q[j]));
-  return w == w ? w : INFINITY;
-}
 
 int Points::orient2d(u32 a, u32 b, u32 c, int k, const Plane* line) const {
   const int i = (k + 1) % 3, j = (k + 2) % 3;
@@ -505,7 +502,7 @@ int Points::orient2d(u32 a, u32 b, u32 c, int k, const Plane* line) const {
     // On the approximations, with Shewchuk's stage-A bound for their determinant plus how far
     // the exact points may be from them: each difference moves by at most 2W (W the largest
     // slack), so the determinant by at most 8 R' W, R' the largest difference plus 2W.
-    const double W = std::max({slack(a, i, j), slack(b, i, j), slack(c, i, j)});
+    const double W = std::max({slack_[a], slack_[b], slack_[c]});
     const double bx = B[i] - A[i], by = B[j] - A[j], cx = C[i] - A[i], cy = C[j] - A[j];
     const double l = bx * cy, r = by * cx, det = l - r;
     const double R = std::max({std::abs(bx), std::abs(by), std::abs(cx), std::abs(cy)}) + 2 * W;
@@ -630,7 +627,7 @@ int Points::incircle_certain(u32 a, u32 b, u32 c, u32 d, int k, double well) con
     // squared length and a cross product by at most 32 R'^3 W (R' the largest difference plus
     // 2W); 128 R'^3 W bounds the sum.
     const Vec3 &A = approx_[a], &B = approx_[b], &C = approx_[c], &D = approx_[d];
-    const double W = doubles ? 0.0 : std::max({slack(a, i, j), slack(b, i, j), slack(c, i, j), slack(d, i, j)});
+    const double W = doubles ? 0.0 : std::max({slack_[a], slack_[b], slack_[c], slack_[d]});
     const double adx = A[i] - D[i], ady = A[j] - D[j], bdx = B[i] - D[i], bdy = B[j] - D[j];
     const double cdx = C[i] - D[i], cdy = C[j] - D[j];
     const double bc = bdx * cdy, cb = cdx * bdy, ca = cdx * ady, ac = adx * cdy, ab = adx * bdy, ba = bdx * ady;

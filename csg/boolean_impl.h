@@ -263,8 +263,6 @@ class Points {
   // Whether point p certainly lies on plane P, from its definition (exact tests on input
   // vertices only; false where that does not settle it).
   bool on_plane(u32 p, const Plane& P) const;
-  // How far approx(p) may be from the exact point in coordinates i and j (infinity: unknown).
-  double slack(u32 p, int i, int j) const;
 
  private:
   const Soup* soup_;
@@ -273,6 +271,7 @@ class Points {
   std::vector<Vec3> approx_;
   std::vector<IntervalH> ih_;
   std::vector<std::array<double, 6>> box_;
+  std::vector<double> slack_;  // how far approx(p) may be from the point in any coordinate (from its box)
 };
 
 // Exact sign of orient3d on input vertices.
