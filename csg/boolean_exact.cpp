@@ -11,6 +11,7 @@
 #include <CGAL/Gmpq.h>
 #include <CGAL/Mpzf.h>
 
+#include <atomic>
 #include <cmath>
 #include <limits>
 
@@ -266,6 +267,25 @@ bool faithful(const EX& X, const EX& W, int ws, double mid, double ilo, double i
 
 }  // namespace
 
+struct ExactPoint {
+  H<EX> h;
+};
+
+Points::~Points() {
+  for (ExactPoint* e : exact_) delete e;
+}
+
+const ExactPoint& Points::exact(u32 p) const {
+  std::atomic_ref<ExactPoint*> slot(exact_[p]);
+  ExactPoint* e = slot.load(std::memory_order_acquire);
+  if (!e) {
+    auto* made = new ExactPoint{point_eval<EX>(*soup_, defs_[p])};
+    if (slot.compare_exchange_strong(e, made, std::memory_order_acq_rel)) e = made;
+    else delete made;  // another thread was first: e holds its result
+  }
+  return *e;
+}
+
 Points::Points(const Soup& soup) : soup_(&soup) {
   std::size_t n = soup.verts.size();
   defs_.resize(n);
@@ -274,6 +294,7 @@ Points::Points(const Soup& soup) : soup_(&soup) {
   ih_.resize(n);
   box_.resize(n);
   slack_.assign(n, 0.0);
+  exact_.assign(n, nullptr);
   for (std::size_t v = 0; v < n; ++v) {
     defs_[v].kind = PointDef::Explicit;
     defs_[v].p = static_cast<u32>(v);
@@ -291,6 +312,7 @@ void Points::reserve(std::size_t n) {
   ih_.reserve(n);
   box_.reserve(n);
   slack_.reserve(n);
+  exact_.reserve(n);
 }
 
 u32 Points::add(const PointDef& d) {
@@ -360,6 +382,7 @@ u32 Points::add(const PointDef& d) {
   double w = 0;
   for (int i = 0; i < 3; ++i) w = std::max({w, ap[i] - bx[i], bx[i + 3] - ap[i]});
   slack_.push_back(w == w ? w : INFINITY);
+  exact_.push_back(nullptr);
   return static_cast<u32>(defs_.size() - 1);
 }
 
@@ -524,8 +547,8 @@ int Points::orient2d(u32 a, u32 b, u32 c, int k, const Plane* line) const {
     if (s != 2) return s;
   }
   if (on_one_segment(a, b, c) || (line && on_plane(c, *line)) || collinear_by_definition(a, b, c)) return 0;
-  return orient2d_sign(point_eval<EX>(*soup_, defs_[a]), point_eval<EX>(*soup_, defs_[b]),
-                       point_eval<EX>(*soup_, defs_[c]), k);
+  return orient2d_sign(exact(a).h, exact(b).h,
+                       exact(c).h, k);
 }
 
 int Points::compare(u32 a, u32 b, int axis) const {
@@ -539,7 +562,7 @@ int Points::compare(u32 a, u32 b, int axis) const {
     int s = compare_sign(to_ia(ih_[a]), to_ia(ih_[b]), axis);
     if (s != 2) return s;
   }
-  return compare_sign(point_eval<EX>(*soup_, defs_[a]), point_eval<EX>(*soup_, defs_[b]), axis);
+  return compare_sign(exact(a).h, exact(b).h, axis);
 }
 
 bool Points::equal(u32 a, u32 b) const {
@@ -589,7 +612,7 @@ int Points::side(const Plane& P, u32 p) const {
     int s = side_sign(*soup_, P, to_ia(ih_[p]));
     if (s != 2) return s;
   }
-  return side_sign(*soup_, P, point_eval<EX>(*soup_, defs_[p]));
+  return side_sign(*soup_, P, exact(p).h);
 }
 
 namespace {
@@ -671,8 +694,8 @@ int Points::incircle_certain(u32 a, u32 b, u32 c, u32 d, int k, double well) con
     auto p2 = [&](u32 x) { return Point2(approx_[x][i], approx_[x][j]); };
     return wedge::incircle(p2(a), p2(b), p2(c), p2(d)) == 1 ? 1 : -1;
   }
-  return incircle_sign(point_eval<EX>(*soup_, defs_[a]), point_eval<EX>(*soup_, defs_[b]),
-                       point_eval<EX>(*soup_, defs_[c]), point_eval<EX>(*soup_, defs_[d]), k) == 1
+  return incircle_sign(exact(a).h, exact(b).h,
+                       exact(c).h, exact(d).h, k) == 1
              ? 1
              : -1;
 }
@@ -684,9 +707,9 @@ int Points::orient2d_centroid(u32 u, u32 v, const std::array<u32, 3>& t, int k) 
     int s = orient2d_sign(to_ia(ih_[u]), to_ia(ih_[v]), c, k);
     if (s != 2) return s;
   }
-  H<EX> c = centroid_of(point_eval<EX>(*soup_, defs_[t[0]]), point_eval<EX>(*soup_, defs_[t[1]]),
-                        point_eval<EX>(*soup_, defs_[t[2]]));
-  return orient2d_sign(point_eval<EX>(*soup_, defs_[u]), point_eval<EX>(*soup_, defs_[v]), c, k);
+  H<EX> c = centroid_of(exact(t[0]).h, exact(t[1]).h,
+                        exact(t[2]).h);
+  return orient2d_sign(exact(u).h, exact(v).h, c, k);
 }
 
 int Points::side_centroid(const Plane& P, const std::array<u32, 3>& t) const {
@@ -696,8 +719,8 @@ int Points::side_centroid(const Plane& P, const std::array<u32, 3>& t) const {
     int s = side_sign(*soup_, P, c);
     if (s != 2) return s;
   }
-  H<EX> c = centroid_of(point_eval<EX>(*soup_, defs_[t[0]]), point_eval<EX>(*soup_, defs_[t[1]]),
-                        point_eval<EX>(*soup_, defs_[t[2]]));
+  H<EX> c = centroid_of(exact(t[0]).h, exact(t[1]).h,
+                        exact(t[2]).h);
   return side_sign(*soup_, P, c);
 }
 

@@ -194,9 +194,14 @@ struct PointDef {
 struct IntervalH { double lo[4], hi[4]; };  // interval homogeneous coordinates (X, Y, Z, W)
 
 // The table of every point of a run. Ids below soup.verts.size() are the input vertices.
+struct ExactPoint;  // a point's exact homogeneous coordinates, kept once computed (boolean_exact.cpp)
+
 class Points {
  public:
   explicit Points(const Soup& soup);
+  ~Points();
+  Points(const Points&) = delete;
+  Points& operator=(const Points&) = delete;
   u32 add(const PointDef& d);  // not thread-safe; computes the filter data
   void reserve(std::size_t n);  // room for n points in all (no reallocation while interning)
   std::size_t size() const { return defs_.size(); }
@@ -272,6 +277,10 @@ class Points {
   std::vector<IntervalH> ih_;
   std::vector<std::array<double, 6>> box_;
   std::vector<double> slack_;  // how far approx(p) may be from the point in any coordinate (from its box)
+  // Per point, its exact coordinates once a predicate has needed them (null before): set by
+  // any thread, once (an atomic compare-and-swap), freed with the table.
+  mutable std::vector<ExactPoint*> exact_;
+  const ExactPoint& exact(u32 p) const;
 };
 
 // Exact sign of orient3d on input vertices.
