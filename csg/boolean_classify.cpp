@@ -95,9 +95,20 @@ std::vector<std::int8_t> classify(const Points& pts, const Arrangement& arr, Boo
   // Menger sponge meets a few bars' boxes, not every bar above it).
   std::vector<std::vector<u32>> by_operand(nops);
   for (std::size_t t = 0; t < soup.tris.size(); ++t) by_operand[soup.operand[t]].push_back(static_cast<u32>(t));
+  // With a few patches (two spheres: four), a ray looks at every triangle of an operand (a box
+  // test each) instead of a tree built for it: building trees over a million triangles for four
+  // rays was a fifth of such a boolean.
+  const bool scan = reps.size() <= 16;
   std::vector<Bvh> trees;
-  trees.reserve(nops);
-  for (auto& ids : by_operand) trees.emplace_back(soup, std::move(ids), 3);
+  if (!scan) {
+    trees.reserve(nops);
+    for (auto& ids : by_operand) trees.emplace_back(soup, std::move(ids), 3);
+  }
+  auto query = [&](int j, const double qlo[3], const double qhi[3], auto&& f) {
+    if (!scan) trees[j].query(qlo, qhi, f);
+    else
+      for (u32 u : by_operand[j]) f(u);  // the callers' crossing() tests the box
+  };
   soup.poll();
   std::vector<std::array<double, 6>> op_box(nops, {INFINITY, INFINITY, INFINITY, -INFINITY, -INFINITY, -INFINITY});
   for (std::size_t t = 0; t < soup.tris.size(); ++t) {
@@ -256,7 +267,7 @@ std::vector<std::int8_t> classify(const Points& pts, const Arrangement& arr, Boo
       for (u32 u : arr.coplanar[t])
         if (const int c = cover_sign(u)) cover.push_back({u, c});
       int w = 0;
-      trees[0].query(lo, hi, [&](u32 u) {
+      query(0, lo, hi, [&](u32 u) {
         if (u == t || std::any_of(cover.begin(), cover.end(), [&](const auto& c) { return c.first == u; })) return;
         w += crossing(u);
       });
@@ -312,7 +323,7 @@ std::vector<std::int8_t> classify(const Points& pts, const Arrangement& arr, Boo
     }
     for (int j : *candidates)
       if (j != i && near(j) && !coplanar_with(j)) {
-        trees[j].query(lo, hi, hit);
+        query(j, lo, hi, hit);
         if (settles(j)) {
           patch_keep[pi] = 0;
           return;
