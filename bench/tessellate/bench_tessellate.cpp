@@ -246,7 +246,7 @@ int main(int argc, char** argv) {
       Tolerance same = t;
       same.chordal = oe;
       Mesh at_same = tessellate(s.wedge_model, same);
-      std::printf("| %s | %g | %zu | %.1f | %.2e | %ld | %.1f | %.2e | %.2f | %zu, %.2e |\n", s.name.c_str(), tol, mesh.triangles.size(), wt * 1e3,
+      std::printf("| %s | %g | %zu | %.3f | %.2e | %ld | %.3f | %.2e | %.2f | %zu, %.2e |\n", s.name.c_str(), tol, mesh.triangles.size(), wt * 1e3,
                   we, occt_total, ot * 1e3, oe, ot / wt, at_same.triangles.size(), measured_error(curved(at_same), s.dist));
       std::fflush(stdout);
     }
