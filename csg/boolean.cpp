@@ -410,7 +410,8 @@ std::string operand_name(std::size_t i, std::size_t n) {
 
 std::string mesh_solid_defect(const Mesh& mesh, const std::string& name) { return defect(mesh, name, true); }
 
-BooleanResult boolean(BooleanOp op, const std::vector<const Mesh*>& operands, BooleanStats* stats, const CancelCheck* cancel) {
+BooleanResult boolean(BooleanOp op, const std::vector<const Mesh*>& operands, BooleanStats* stats, const CancelCheck* cancel,
+                      std::size_t max_crossings) {
   using Clock = std::chrono::steady_clock;
   auto t0 = Clock::now();
   auto lap = [&](double BooleanStats::*field) {
@@ -451,6 +452,15 @@ BooleanResult boolean(BooleanOp op, const std::vector<const Mesh*>& operands, Bo
     };
     fail("boolean: ", operand_name(soup.operand[t], operands.size()), " intersects itself: triangles ", tri(t), " and ",
          tri(u));
+  }
+  // The work budget, before the exact work (the arrangement) that would take minutes above it.
+  if (operands.size() >= 3) {
+    const std::size_t crossings = candidate_triples(soup, pairs, max_crossings);
+    if (crossings > max_crossings)
+      fail("boolean: the ", boolean_op_name(op), " of ", operands.size(), " operands: their surfaces would cross three at a "
+           "time at about ", crossings, " points, more than the budget of ", max_crossings,
+           " (operands that nearly coincide, such as copies turned by a degree, cross everywhere): use fewer such "
+           "operands or raise max_crossings");
   }
   lap(&BooleanStats::broad);
   Arrangement arr = arrange(pts, pairs);

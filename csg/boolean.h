@@ -46,6 +46,15 @@ class Cancelled : public Error {
 };
 using CancelCheck = std::function<bool()>;
 
+// The work budget of one boolean (Tolerance::max_crossings has the same default): the most points
+// where three operands' surfaces cross. Each such point is a crossing of two cut lines inside a
+// triangle, which the exact arithmetic decides slowly where surfaces nearly coincide. Ordinary
+// booleans have none or a few hundred (the bench's spheres, lattice, plate and sponge); 17 copies
+// of a sphere turned by 1 .. 16 degrees have about 650,000 and would take minutes. The estimate is
+// made after the broad phase, before the exact work; above the budget boolean() throws
+// wedge::Error giving the estimate.
+constexpr std::size_t kDefaultMaxCrossings = 50'000;
+
 // The boolean of `operands` (union and intersection of all of them in one pass; difference is
 // operands[0] minus all the others). Throws wedge::Error naming the operand and the first
 // offending spot if an operand is not closed, not 2-manifold, inside out, has a zero-area triangle
@@ -54,8 +63,9 @@ using CancelCheck = std::function<bool()>;
 // TBB's threads, one at a time); when it returns true, boolean() throws Cancelled.
 // An operand that is bit for bit a mesh an earlier boolean() returned is known to be valid and is
 // not checked again (results are remembered by a 128-bit hash; the last 256 of them).
+// `max_crossings`: the work budget above.
 BooleanResult boolean(BooleanOp op, const std::vector<const Mesh*>& operands, BooleanStats* stats = nullptr,
-                      const CancelCheck* cancel = nullptr);
+                      const CancelCheck* cancel = nullptr, std::size_t max_crossings = kDefaultMaxCrossings);
 // The two-operand shorthand: boolean(op, {&a, &b}).mesh.
 Mesh boolean(BooleanOp op, const Mesh& a, const Mesh& b);
 

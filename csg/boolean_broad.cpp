@@ -557,4 +557,111 @@ std::vector<std::array<u32, 2>> candidate_pairs(const Soup& soup, std::array<u32
   return pairs;
 }
 
+namespace {
+
+// Whether the planes of triangles t, u, w may meet at a point inside all three (a crossing of two
+// segments inside a triangle of the arrangement): false only where double arithmetic is sure
+// that the point is outside one of them, or on its boundary (where segments meet end to end: the
+// T-junctions of a Menger sponge's tunnels), or that the planes do not meet in one point.
+bool may_cross(const Soup& s, u32 t, u32 u, u32 w) {
+  const u32 ids[3] = {t, u, w};
+  Vec3 n[3];
+  double d[3];
+  for (int i = 0; i < 3; ++i) {
+    const auto& T = s.tris[ids[i]];
+    n[i] = (s.verts[T[1]] - s.verts[T[0]]).cross(s.verts[T[2]] - s.verts[T[0]]);
+    d[i] = n[i].dot(s.verts[T[0]]);
+  }
+  const Vec3 c12 = n[1].cross(n[2]), c20 = n[2].cross(n[0]), c01 = n[0].cross(n[1]);
+  const double det = n[0].dot(c12);
+  const double scale = n[0].norm() * n[1].norm() * n[2].norm();
+  if (!(std::abs(det) > 1e-9 * scale)) return std::abs(det) != 0 || !(scale > 0);  // near parallel: cannot tell
+  const Vec3 p = (d[0] * c12 + d[1] * c20 + d[2] * c01) / det;
+  for (int i = 0; i < 3; ++i) {
+    const auto& T = s.tris[ids[i]];
+    const double nn = n[i].squaredNorm();
+    for (int e = 0; e < 3; ++e) {
+      const Vec3& a = s.verts[T[e]];
+      const Vec3& b = s.verts[T[(e + 1) % 3]];
+      // The barycentric coordinate of p opposite this edge, to within 1e-9.
+      if (!(n[i].dot((b - a).cross(p - a)) > 1e-9 * nn)) return false;
+    }
+  }
+  return true;
+}
+
+// Whether triangles t and u cross each other's planes (vertices strictly on both sides, as double
+// arithmetic sees it): the three pairs of a crossing point inside three triangles all do.
+bool straddle(const Soup& s, u32 t, u32 u) {
+  auto across = [&](u32 a, u32 b) {
+    const auto& A = s.tris[a];
+    const auto& B = s.tris[b];
+    const Vec3 n = (s.verts[A[1]] - s.verts[A[0]]).cross(s.verts[A[2]] - s.verts[A[0]]);
+    const Vec3& o = s.verts[A[0]];
+    double lo = 0, hi = 0, size = 0;
+    for (u32 v : B) {
+      const double h = n.dot(s.verts[v] - o);
+      lo = std::min(lo, h), hi = std::max(hi, h);
+      size = std::max(size, (s.verts[v] - o).norm());
+    }
+    const double eps = 1e-12 * n.norm() * size;
+    return lo < -eps && hi > eps;
+  };
+  return across(t, u) && across(u, t);
+}
+
+}  // namespace
+
+std::size_t candidate_triples(const Soup& soup, const std::vector<std::array<u32, 2>>& pairs, std::size_t stop_above) {
+  // N+(t): the partners u > t of t, pairs[off[t] .. off[t + 1])[1], ascending (pairs are sorted).
+  const std::size_t nt = soup.tris.size();
+  std::vector<std::size_t> off(nt + 1, 0);
+  for (const auto& p : pairs) ++off[p[0] + 1];
+  for (std::size_t t = 0; t < nt; ++t) off[t + 1] += off[t];
+  // Each triple t < u < w once: from its pair (t, u), as a w in both N+(t) (after u) and N+(u),
+  // looked up from the shorter list in the longer (a plate's face has thousands of partners,
+  // each of them a few). Blocks of pairs in a shuffled order, so that a count stopped early
+  // (above stop_above) scales up to an estimate of the whole.
+  constexpr std::size_t kBlock = 1024;
+  const std::size_t blocks = (pairs.size() + kBlock - 1) / kBlock;
+  std::atomic<std::size_t> found{0}, done{0};
+  // Per pair, once looked at by a triple: 0 not yet, 1 the two cross each other's planes, 2 not
+  // (most triples of boxes that touch, as in the Menger sponge, end here, before may_cross).
+  std::vector<std::atomic<std::uint8_t>> crosses(pairs.size());
+  auto pair_crosses = [&](std::size_t i) {
+    std::uint8_t c = crosses[i].load(std::memory_order_relaxed);
+    if (!c) crosses[i].store(c = straddle(soup, pairs[i][0], pairs[i][1]) ? 1 : 2, std::memory_order_relaxed);
+    return c == 1;
+  };
+  parallel_for(0, blocks, [&](std::size_t k) {
+    if (found.load(std::memory_order_relaxed) > stop_above) return;
+    soup.poll();
+    constexpr std::size_t kPrime = 1000003;
+    const std::size_t b = blocks % kPrime != 0 ? k * kPrime % blocks : k;
+    std::size_t c = 0;
+    for (std::size_t i = b * kBlock; i < std::min(pairs.size(), (b + 1) * kBlock); ++i) {
+      const u32 t = pairs[i][0], u = pairs[i][1];
+      auto a0 = pairs.begin() + static_cast<std::ptrdiff_t>(i + 1), a1 = pairs.begin() + static_cast<std::ptrdiff_t>(off[t + 1]);
+      auto b0 = pairs.begin() + static_cast<std::ptrdiff_t>(off[u]), b1 = pairs.begin() + static_cast<std::ptrdiff_t>(off[u + 1]);
+      if (a1 - a0 > b1 - b0) std::swap(a0, b0), std::swap(a1, b1);
+      // Many lookups to make (the long tunnels of a sponge meet hundreds of others): first
+      // whether t and u cross at all (boxes that touch do not).
+      if (a1 - a0 >= 8 && !pair_crosses(i)) continue;
+      for (auto it = a0; it != a1; ++it) {
+        const u32 w = (*it)[1];
+        auto at = std::lower_bound(b0, b1, w, [](const std::array<u32, 2>& p, u32 x) { return p[1] < x; });
+        if (at == b1 || (*at)[1] != w) continue;
+        if (pair_crosses(i) && pair_crosses(static_cast<std::size_t>(it - pairs.begin())) &&
+            pair_crosses(static_cast<std::size_t>(at - pairs.begin())) && may_cross(soup, t, u, w))
+          ++c;
+      }
+    }
+    found += c;
+    done += std::min(pairs.size(), (b + 1) * kBlock) - b * kBlock;
+  });
+  const std::size_t n = found.load(), seen = done.load();
+  if (seen == pairs.size() || seen == 0) return n;
+  return static_cast<std::size_t>(double(n) * double(pairs.size()) / double(seen));
+}
+
 }  // namespace wedge::boolean_detail

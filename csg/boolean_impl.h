@@ -317,6 +317,19 @@ inline bool certified_pair(const Soup& soup, const std::vector<std::uint8_t>& ce
   return false;
 }
 
+// An estimate of the points where three operands' surfaces cross (each of which the arrangement
+// finds as a crossing of two segments inside a triangle, once in each of the three triangles):
+// the triples of triangles of three different operands whose boxes meet pairwise (each pair of
+// them a candidate pair) and whose planes meet, as double arithmetic sees it, at a point inside
+// all three. Ordinary booleans have few (none in the bench's spheres, lattice and plate; the
+// Menger sponge's tunnels meet end to end); nearly coincident operands have very many, each slow
+// to decide exactly (17 copies of a sphere rotated by 1 .. 16 degrees: about 650,000, minutes of
+// work). The count stops once it passes `stop_above` and is then scaled up from the share of the
+// pairs looked at (an estimate of the whole). `pairs` as candidate_pairs() returns them (sorted,
+// of different operands).
+std::size_t candidate_triples(const Soup& soup, const std::vector<std::array<u32, 2>>& pairs,
+                              std::size_t stop_above = static_cast<std::size_t>(-1));
+
 // An axis-aligned box tree over triangles, for point and vertical-line queries.
 class Bvh {
  public:

@@ -216,6 +216,8 @@ using NodePtr = std::shared_ptr<const Solid::Node>;
 
 // One evaluation from a public entry point: the control, and the count of boolean nodes for the
 // progress callback.
+static_assert(Tolerance{}.max_crossings == kDefaultMaxCrossings, "one default work budget");
+
 struct Run {
   const EvalControl* control = nullptr;
   EvalOptions options;
@@ -223,6 +225,7 @@ struct Run {
   std::atomic<std::size_t> done{0};
   std::mutex stats_mutex;
   CancelCheck cancel;
+  std::size_t max_crossings = kDefaultMaxCrossings;  // the engine's work budget (Tolerance::max_crossings)
 
   void check() const {
     if (control && control->cancelled && control->cancelled()) throw Cancelled();
@@ -341,7 +344,7 @@ std::shared_ptr<Evaluated> engine(BooleanOp op, const std::vector<std::shared_pt
       out->surfaces.push_back(op == BooleanOp::Difference && ptrs.size() > 1 ? flipped_surface(f) : f);
   }
   BooleanStats st;
-  BooleanResult r = wedge::boolean(op, ptrs, &st, &run.cancel);
+  BooleanResult r = wedge::boolean(op, ptrs, &st, &run.cancel, run.max_crossings);
   run.add(&EvalStats::check, st.check);
   run.add(&EvalStats::broad, st.broad);
   run.add(&EvalStats::arrange, st.arrange);
@@ -638,6 +641,7 @@ std::shared_ptr<Evaluated> evaluate(const NodePtr& n, const Tolerance& tol, Run&
 // Evaluates the tree under n at tol with the installed control.
 std::shared_ptr<Evaluated> evaluate_root(const NodePtr& n, const Tolerance& tol) {
   Run run;
+  run.max_crossings = tol.max_crossings;
   run.control = g_control.load();
   run.options = options();
   if (run.control && run.control->cancelled) run.cancel = run.control->cancelled;

@@ -11,6 +11,10 @@ struct Tolerance {
   // The triangle budget of one tessellation: a tolerance whose estimated mesh is larger is an
   // error giving the estimate, before the work (and the memory) is spent. Raise it to go further.
   std::size_t max_triangles = 10'000'000;
+  // The work budget of one boolean (csg/boolean.h, kDefaultMaxCrossings): the most points where
+  // three operands' surfaces cross; operands that nearly coincide cross everywhere, and a boolean
+  // whose estimate is larger is an error giving it, before the work. Raise it to go further.
+  std::size_t max_crossings = 50'000;
 };
 
 }  // namespace wedge

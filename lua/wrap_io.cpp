@@ -90,6 +90,7 @@ int export_fn(lua_State* L) {
       options.ascii = o.boolean("ascii", false);
       tol.chordal = o.positive("tolerance", tol.chordal);
       if (auto n = o.number("max_triangles")) tol.max_triangles = std::size_t(check_max_triangles(*n, 3));
+      if (auto n = o.number("max_crossings")) tol.max_crossings = std::size_t(check_budget("max_crossings", *n, 3));
       split = o.boolean("split", false);
       o.finish();
     }

@@ -18,6 +18,7 @@ constexpr const char* kKey = "wedge.Solid";
 constexpr const char* kToleranceKey = "wedge.tolerance";
 constexpr const char* kAngleKey = "wedge.tolerance.angle";
 constexpr const char* kMaxTrianglesKey = "wedge.tolerance.max_triangles";
+constexpr const char* kMaxCrossingsKey = "wedge.tolerance.max_crossings";
 constexpr const char* kConvertersKey = "wedge.mesh_converters";
 constexpr const char* kMaterialsKey = "wedge.face_materials";
 
@@ -246,6 +247,7 @@ int triangles_m(lua_State* L) {
       Options o(L, 2);
       tol.chordal = o.positive("tolerance", tol.chordal);
       if (auto n = o.number("max_triangles")) tol.max_triangles = std::size_t(check_max_triangles(*n, 2));
+      if (auto n = o.number("max_crossings")) tol.max_crossings = std::size_t(check_budget("max_crossings", *n, 2));
       o.finish();
     }
     lua_pushinteger(L, static_cast<lua_Integer>(self(L).mesh(tol).triangle_count()));
@@ -296,10 +298,11 @@ int tostring_m(lua_State* L) {
 }
 
 // tolerance() -> current; tolerance(t) sets the chordal tolerance for this state.
-// tolerance(chordal) | tolerance{chordal=, angle=, max_triangles=}: the global tessellation
-// tolerances (chordal in model units, angular in degrees) and the triangle budget of one
-// tessellation (default 10 million); returns the chordal and the angular tolerance and the budget
-// now in force.
+// tolerance(chordal) | tolerance{chordal=, angle=, max_triangles=, max_crossings=}: the global
+// tessellation tolerances (chordal in model units, angular in degrees), the triangle budget of one
+// tessellation (default 10 million) and the work budget of one boolean (default 50,000 points where
+// three operands' surfaces cross: csg/boolean.h); returns the chordal and the angular tolerance
+// and the two budgets now in force.
 int tolerance_fn(lua_State* L) {
   return table_call(L, 1, [&] {
     if (lua_type(L, 1) == LUA_TTABLE) {
@@ -307,8 +310,11 @@ int tolerance_fn(lua_State* L) {
       auto chordal = o.number("chordal");
       auto angle = o.number("angle");
       auto budget = o.number("max_triangles");
+      auto crossings = o.number("max_crossings");
       o.finish();
       if (budget) lua_pushnumber(L, check_max_triangles(*budget, 1)), lua_setfield(L, LUA_REGISTRYINDEX, kMaxTrianglesKey);
+      if (crossings)
+        lua_pushnumber(L, check_budget("max_crossings", *crossings, 1)), lua_setfield(L, LUA_REGISTRYINDEX, kMaxCrossingsKey);
       if (chordal && !(*chordal > 0)) throw ArgError{1, "field 'chordal' must be positive, got " + number_text(*chordal)};
       if (angle && !(*angle > 0 && *angle <= 90)) throw ArgError{1, "field 'angle' must be within 0..90 degrees (above 0), got " + number_text(*angle)};
       if (chordal) lua_pushnumber(L, *chordal), lua_setfield(L, LUA_REGISTRYINDEX, kToleranceKey);
@@ -323,7 +329,8 @@ int tolerance_fn(lua_State* L) {
     lua_pushnumber(L, t.chordal);
     lua_pushnumber(L, t.angular);
     lua_pushinteger(L, lua_Integer(t.max_triangles));
-    return 3;
+    lua_pushinteger(L, lua_Integer(t.max_crossings));
+    return 4;
   });
 }
 
@@ -392,11 +399,13 @@ int push_tag_material(lua_State* L, int tag) {
   return type;
 }
 
-double check_max_triangles(double n, int arg) {
+double check_budget(const char* field, double n, int arg) {
   if (!(n >= 1 && n <= 1e12 && n == std::floor(n)))
-    throw ArgError{arg, "field 'max_triangles' must be a whole number in 1..1e12, got " + number_text(n)};
+    throw ArgError{arg, std::string("field '") + field + "' must be a whole number in 1..1e12, got " + number_text(n)};
   return n;
 }
+
+double check_max_triangles(double n, int arg) { return check_budget("max_triangles", n, arg); }
 
 Tolerance current_tolerance(lua_State* L) {
   Tolerance t;
@@ -405,6 +414,8 @@ Tolerance current_tolerance(lua_State* L) {
   if (lua_getfield(L, LUA_REGISTRYINDEX, kAngleKey) == LUA_TNUMBER) t.angular = lua_tonumber(L, -1);
   lua_pop(L, 1);
   if (lua_getfield(L, LUA_REGISTRYINDEX, kMaxTrianglesKey) == LUA_TNUMBER) t.max_triangles = std::size_t(lua_tonumber(L, -1));
+  lua_pop(L, 1);
+  if (lua_getfield(L, LUA_REGISTRYINDEX, kMaxCrossingsKey) == LUA_TNUMBER) t.max_crossings = std::size_t(lua_tonumber(L, -1));
   lua_pop(L, 1);
   return t;
 }

@@ -24,6 +24,9 @@ int push_tag_material(lua_State* L, int tag);
 Tolerance current_tolerance(lua_State* L);
 // A triangle budget given as field 'max_triangles' of argument `arg`: a whole number in 1..1e12.
 double check_max_triangles(double n, int arg);
+// A budget given as field `field` of argument `arg` (max_triangles, max_crossings): a whole number
+// in 1..1e12.
+double check_budget(const char* field, double n, int arg);
 
 // The triangle mesh of a value that can be drawn or exported: a Solid (tessellated at `tol`), or
 // anything a registered converter accepts (free-form surfaces, scenes). Throws ArgError naming

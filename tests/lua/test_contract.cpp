@@ -237,6 +237,21 @@ TEST_CASE("tolerance takes its positional and its table form", "[lua][contract]"
     assert(err:find("tolerance: chordal must be positive, got -1", 1, true), err)
     ok, err = pcall(tolerance, {chord = 1})
     assert(err:find("tolerance: unknown field 'chord'", 1, true), err)
+    -- the two budgets: triangles of one tessellation, crossings of one boolean
+    local t, x
+    c, a, t, x = tolerance()
+    assert(t == 10000000 and x == 50000, t .. " " .. x)
+    -- three copies of a sphere turned by a degree each: about 1,000 points where three surfaces
+    -- cross; refused under a budget of 100, through once it is raised again (nothing kept of the
+    -- refused evaluation)
+    local s = sphere(1) + sphere(1):rotate_z(1) + sphere(1):rotate_z(2)
+    c, a, t, x = tolerance{max_crossings = 100}
+    assert(x == 100)
+    ok, err = pcall(s.volume, s)
+    assert(not ok and err:find("more than the budget of 100 ", 1, true), err)
+    assert(s:triangles{max_crossings = 5000} > 0)
+    tolerance{max_crossings = 50000}
+    assert(s:volume() > 4 and s:volume() < 4.2, s:volume())
   )LUA");
   INFO(r.err);
   CHECK(r.status == 0);
