@@ -17,6 +17,7 @@
 
 #include "csg/brep_leaf.h"
 #include "csg/mesh_leaf.h"
+#include "csg/solid_impl.h"
 #include "kernel/parallel.h"
 #include "kernel/predicates.h"
 #include <limits>
@@ -70,133 +71,6 @@ void set_eval_control(const EvalControl* control) { g_control.store(control); }
 void set_eval_options(const EvalOptions& o) {
   std::lock_guard<std::mutex> lock(g_options_mutex);
   g_options = o;
-}
-
-// A node's result at one tolerance.
-struct Evaluated {
-  Mesh mesh;                       // face_ids index kinds
-  std::vector<std::string> kinds;  // surface kind per face id
-  std::vector<int> tags;           // tag per face id (-1: none)
-  std::vector<FaceSurface> surfaces;  // surface per face id, in this node's coordinates
-  CornerUvs corner_uv;                // per triangle: its corners' parameters (or empty)
-  std::mutex rebuild_mutex;
-  std::shared_ptr<const RebuiltSolid> rebuilt;
-  std::mutex shaded_mutex;
-  std::shared_ptr<const Mesh> shaded;
-};
-
-struct Solid::Node {
-  enum class Kind { Empty, Leaf, Transform, Boolean } kind = Kind::Empty;
-  std::shared_ptr<const SolidLeaf> leaf;
-  Mat4 matrix = Mat4::Identity();
-  std::shared_ptr<const Node> child;
-  BooleanOp op = BooleanOp::Union;
-  // A boolean node's operands, in order. A part marked `splice` is a boolean node of the same op
-  // whose own operands stand in its place: a chain s = s + b (repeated thousands of times by a
-  // script) links each new node to the previous one in O(1) instead of copying the whole operand
-  // list (which made building the chain quadratic in time and memory). operands() is the flat list,
-  // made once, when the node is first evaluated or measured.
-  struct Part {
-    std::shared_ptr<const Node> node;
-    bool splice = false;
-  };
-  std::vector<Part> parts;
-  std::size_t size = 0;  // the length of operands()
-  // The flat list, kept: for evaluation, which takes it many times.
-  const std::vector<std::shared_ptr<const Node>>& operands() const;
-  // The same list walked without keeping it (bounds and checks of an intermediate node of a chain
-  // would otherwise each keep a copy).
-  void for_each_operand(const std::function<void(const std::shared_ptr<const Node>&)>& f) const;
-  int tag = -1;  // Solid::tagged
-  // Levels from this node down to its deepest leaf (1 for a leaf). Evaluation, bounds and the
-  // traversals recurse over the tree, so its depth is bounded where the tree is made.
-  int depth = 1;
-  // The evaluated results by (chordal, angular) tolerance. A slot's own mutex is held while it is
-  // computed, so a second caller waits for the first instead of computing it again.
-  struct Slot {
-    std::mutex mutex;
-    std::shared_ptr<Evaluated> value;
-  };
-  mutable std::mutex cache_mutex;
-  mutable std::map<std::pair<double, double>, std::shared_ptr<Slot>> cache;
-  mutable std::mutex flat_mutex;
-  mutable std::shared_ptr<const std::vector<std::shared_ptr<const Node>>> flat;  // operands(), once made
-
-  Node() = default;
-  Node(const Node& o)
-      : kind(o.kind), leaf(o.leaf), matrix(o.matrix), child(o.child), op(o.op), parts(o.parts), size(o.size), tag(o.tag),
-        depth(o.depth) {}
-  ~Node();
-};
-
-Solid::Node::~Node() {
-  // A chain s = s + b, thousands of links long, holds each link by the next: released by the
-  // destructors' recursion it would overflow the stack. The links this node holds alone are taken
-  // over and released one by one here instead.
-  std::vector<std::shared_ptr<const Node>> pending;
-  auto take = [&](std::vector<Part>& from) {
-    for (Part& p : from)
-      if (p.node && p.node.use_count() == 1) pending.push_back(std::move(p.node));
-  };
-  take(parts);
-  while (!pending.empty()) {
-    std::shared_ptr<const Node> n = std::move(pending.back());
-    pending.pop_back();
-    if (n.use_count() == 1) take(const_cast<Node&>(*n).parts);  // ours alone: nobody else sees it
-  }
-}
-
-void Solid::Node::for_each_operand(const std::function<void(const std::shared_ptr<const Node>&)>& f) const {
-  {
-    std::shared_ptr<const std::vector<std::shared_ptr<const Node>>> made;
-    {
-      std::lock_guard<std::mutex> lock(flat_mutex);
-      made = flat;
-    }
-    if (made) {
-      for (const auto& o : *made) f(o);
-      return;
-    }
-  }
-  // Depth first through the spliced parts, with a stack of our own: a chain is as long as the
-  // script's loop. A spliced node whose list is already made gives it whole.
-  std::vector<std::pair<const Node*, std::size_t>> stack{{this, 0}};
-  while (!stack.empty()) {
-    const Node* n = stack.back().first;
-    const std::size_t i = stack.back().second++;
-    if (i == n->parts.size()) {
-      stack.pop_back();
-      continue;
-    }
-    const Part& p = n->parts[i];
-    if (!p.splice) {
-      f(p.node);
-      continue;
-    }
-    std::shared_ptr<const std::vector<std::shared_ptr<const Node>>> made;
-    {
-      std::lock_guard<std::mutex> lock(p.node->flat_mutex);
-      made = p.node->flat;
-    }
-    if (made)
-      for (const auto& o : *made) f(o);
-    else
-      stack.push_back({p.node.get(), 0});
-  }
-}
-
-const std::vector<std::shared_ptr<const Solid::Node>>& Solid::Node::operands() const {
-  std::lock_guard<std::mutex> lock(flat_mutex);
-  if (!flat) {
-    auto out = std::make_shared<std::vector<std::shared_ptr<const Node>>>();
-    out->reserve(size);
-    for (const Part& p : parts) {
-      if (!p.splice) out->push_back(p.node);
-      else p.node->for_each_operand([&](const std::shared_ptr<const Node>& o) { out->push_back(o); });
-    }
-    flat = std::move(out);
-  }
-  return *flat;
 }
 
 namespace {
@@ -638,6 +512,33 @@ std::shared_ptr<Evaluated> evaluate(const NodePtr& n, const Tolerance& tol, Run&
   return value;
 }
 
+// A deep tree (a script alternating s = s * B and s = s - b nests a level per step) evaluated from
+// its leaves up, one height at a time (a node's operands are all lower than it), so that
+// evaluate() finds every operand done and recurses one level only: recursing through 1000
+// levels (each a few TBB frames) overflowed the 8 MB main stack under AddressSanitizer. The walk
+// keeps its own stack; each (node, tolerance) once; nodes done before are not entered.
+constexpr int kRecursiveDepth = 32;  // shallower trees recurse: their subtrees in parallel
+void evaluate_bottom_up(const NodePtr& root, const Tolerance& tol, Run& run) {
+  std::vector<std::vector<std::pair<NodePtr, Tolerance>>> by_height(static_cast<std::size_t>(root->depth) + 1);
+  std::set<std::tuple<const Solid::Node*, double, double>> seen;
+  std::vector<std::pair<NodePtr, Tolerance>> stack{{root, tol}};
+  while (!stack.empty()) {
+    auto [n, t] = std::move(stack.back());
+    stack.pop_back();
+    if (!seen.insert({n.get(), t.chordal, t.angular}).second || cached(*n, t)) continue;
+    if (n->kind == Solid::Node::Kind::Transform) stack.push_back({n->child, child_tolerance(*n, t)});
+    if (n->kind == Solid::Node::Kind::Boolean)
+      for (const NodePtr& o : n->operands()) stack.push_back({o, t});
+    by_height[static_cast<std::size_t>(n->depth)].push_back({std::move(n), t});
+  }
+  for (const auto& level : by_height) {
+    auto one = [&](std::size_t i) { evaluate(level[i].first, level[i].second, run); };
+    if (run.options.parallel && level.size() > 1) parallel_for(0, level.size(), one);
+    else
+      for (std::size_t i = 0; i < level.size(); ++i) one(i);
+  }
+}
+
 // Evaluates the tree under n at tol with the installed control.
 std::shared_ptr<Evaluated> evaluate_root(const NodePtr& n, const Tolerance& tol) {
   Run run;
@@ -650,6 +551,7 @@ std::shared_ptr<Evaluated> evaluate_root(const NodePtr& n, const Tolerance& tol)
     count_booleans(n, tol, seen);
     for (const auto* p : seen) run.total += p->kind == Solid::Node::Kind::Boolean && !cached(*p, tol);
   }
+  if (n->depth > kRecursiveDepth && run.options.cache) evaluate_bottom_up(n, tol, run);
   return evaluate(n, tol, run);
 }
 

@@ -277,14 +277,10 @@ TEST_CASE("wedge run killed (SIGKILL) while exporting a large mesh leaves the ol
 TEST_CASE("a script that applies one shape a thousand times finishes at once with the right volume", "[lua][tree][coincident]") {
   // Issue 14's case: one intersection of 1001 coincident boxes grew past 15 GB in one engine
   // pass. The copies are one operand (A * A = A + A = A, A - B - B = A - B), in chains and mixed.
-  // The mixed chain nests two tree levels per step, evaluated recursively: 300 steps (600
-  // levels) in the release build; under AddressSanitizer, whose frames are several times
-  // larger, the 8 MB main stack overflowed at 300 steps and holds 200, so 150 there.
-#if defined(__SANITIZE_ADDRESS__)
-  const char* mixed_steps = "150";
-#else
-  const char* mixed_steps = "300";
-#endif
+  // The mixed chain nests two tree levels per step: 499 steps are 998 levels, the tree's limit,
+  // in every build. (The evaluator recursed per level, and under AddressSanitizer the 8 MB main
+  // stack overflowed at 300 steps; a deep tree is now evaluated from its leaves up.)
+  const char* mixed_steps = "499";
   auto r = run(std::string("local mixed_steps = ") + mixed_steps + "\n" + R"(
     local s = box(1000, 1000, 1000)
     for i = 1, 1000 do s = s * box(1000, 1000, 1000) end
@@ -303,6 +299,14 @@ TEST_CASE("a script that applies one shape a thousand times finishes at once wit
     for i = 1, mixed_steps do m = (m * box(1000, 1000, 1000)) - box(1, 1, 1) end
     assert(math.abs(m:volume() - (1e9 - 1)) < 1e-3, m:volume())
     assert(m:is_valid())
+    -- transforms in the chain: each step nests a difference and a move (998 levels), released
+    -- link by link (its destructors recursed through the transforms' children)
+    local t = box(10, 10, 10)
+    for i = 1, mixed_steps do t = (t - box(1, 1, 1)):translate(0.001, 0, 0) end
+    local v = t:volume()
+    assert(v > 998 and v < 999.5, v)
+    t = nil
+    collectgarbage()
   )");
   INFO(r.err);
   CHECK(r.status == 0);
