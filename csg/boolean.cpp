@@ -373,7 +373,7 @@ std::string defect(const Mesh& m, const std::string& name, bool self, const Inte
 // the region where its winding number is at least 1 kept, rounded again. Provenance (operand,
 // source triangle, face id) is carried through from `prev`.
 BooleanResult resolve(const BooleanResult& prev, std::size_t* collapses, bool* unresolved,
-                      const Interrupt* interrupt) {
+                      const Interrupt* interrupt, std::vector<u32>& crossing) {
   // Zero-area triangles (rounding can flatten one) bound nothing and are left out; where their
   // vertices lie on a neighbour's edge the arrangement splits that edge.
   Mesh m;
@@ -389,10 +389,17 @@ BooleanResult resolve(const BooleanResult& prev, std::size_t* collapses, bool* u
   std::vector<const Mesh*> one{&m};
   Soup soup = make_soup(one, interrupt);
   Points pts(soup);
-  auto pairs = candidate_pairs(soup, nullptr, true);
+  // Only around the triangles that still cross: every crossing pair has one of them, and the
+  // triangles beside a flattened one (left out above) share a vertex with it.
+  std::vector<char> near(prev.mesh.positions.size(), 0), active(m.triangles.size(), 0);
+  for (u32 t : crossing)
+    for (u32 v : prev.mesh.triangles[t]) near[v] = 1;
+  for (std::size_t t = 0; t < m.triangles.size(); ++t)
+    for (u32 v : m.triangles[t]) active[t] |= near[v];
+  auto pairs = candidate_pairs(soup, nullptr, true, nullptr, &active);
   Arrangement arr = arrange(pts, pairs);
   auto keep = classify(pts, arr, BooleanOp::Union, true);
-  BooleanResult r = assemble(pts, arr, keep, collapses, unresolved);
+  BooleanResult r = assemble(pts, arr, keep, collapses, unresolved, &crossing);
   for (std::size_t t = 0; t < r.mesh.triangles.size(); ++t) {
     const std::size_t orig = from[static_cast<std::size_t>(r.source[t])];
     r.operand[t] = prev.operand[orig];
@@ -469,12 +476,13 @@ BooleanResult boolean(BooleanOp op, const std::vector<const Mesh*>& operands, Bo
   lap(&BooleanStats::classify);
   std::size_t collapses = 0, resolutions = 0;
   bool unresolved = false;
-  BooleanResult r = assemble(pts, arr, keep, &collapses, &unresolved);
+  std::vector<u32> crossing;
+  BooleanResult r = assemble(pts, arr, keep, &collapses, &unresolved, &crossing);
   // Rounding that leaves crossings (sheets a few ulps apart) is resolved again, exactly, on the
   // rounded result; each pass works at a finer scale than the one before.
   for (; unresolved && resolutions < 4; ++resolutions) {
     if (cancel && *cancel && (*cancel)()) throw Cancelled();
-    r = resolve(r, &collapses, &unresolved, &interrupt);
+    r = resolve(r, &collapses, &unresolved, &interrupt, crossing);
   }
   if (unresolved) {
     const Vec3& p = r.mesh.positions.empty() ? Vec3(0, 0, 0) : r.mesh.positions[0];

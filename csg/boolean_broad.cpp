@@ -446,13 +446,13 @@ std::vector<char> radially_embedded(const Soup& soup, const std::vector<char>* s
 // spheres it would hold some 30 million pairs of neighbours, nearly all of one operand. The first
 // clash is the first one met by the first task that meets one, the same at any thread count.
 std::vector<std::array<u32, 2>> candidate_pairs(const Soup& soup, std::array<u32, 2>* clash, bool self,
-                                                const std::vector<char>* trusted) {
+                                                const std::vector<char>* trusted, const std::vector<char>* active) {
   std::size_t n = soup.tris.size();
   std::vector<u32> all(n);
   for (std::size_t i = 0; i < n; ++i) all[i] = static_cast<u32>(i);
   const Bvh tree(soup, std::move(all), 3, true);
   std::vector<std::uint8_t> cert;
-  if (clash || self) cert = star_certificates(soup, trusted);
+  if (clash || self) cert = star_certificates(soup, trusted, active);
   // Per node: the operand of all its triangles (-1: several), and a vertex all its triangles
   // share with a certified star there (kNone: none). Pairs of one operand need no look unless
   // that operand is checked, and then not where both nodes hang on one certified vertex (the
@@ -511,7 +511,7 @@ std::vector<std::array<u32, 2>> candidate_pairs(const Soup& soup, std::array<u32
   std::vector<std::vector<std::array<u32, 2>>> out;
   std::vector<std::array<u32, 2>> clashes;
   self_join(
-      tree, nullptr,
+      tree, active,
       [&](std::size_t tasks) {
         out.resize(tasks);
         clashes.assign(tasks, {kNone, kNone});

@@ -292,8 +292,10 @@ int orient3d_v(const Soup& s, u32 a, u32 b, u32 c, u32 d);
 // meet beyond their shared vertices (or {kNone, kNone}).
 // With `self`, pairs of one operand that clash are candidates too (no clash is reported).
 // With `trusted` (per operand), pairs of one trusted operand are not checked.
+// With `active` (per triangle), only pairs with an active triangle are looked at.
 std::vector<std::array<u32, 2>> candidate_pairs(const Soup& soup, std::array<u32, 2>* clash = nullptr,
-                                                bool self = false, const std::vector<char>* trusted = nullptr);
+                                                bool self = false, const std::vector<char>* trusted = nullptr,
+                                                const std::vector<char>* active = nullptr);
 
 // Per triangle, a 3-bit mask: bit c set when the star of the triangle's corner c (its triangles
 // around that vertex in the triangle's operand) is certified to be embedded: seen along one
@@ -422,7 +424,10 @@ std::vector<std::int8_t> classify(const Points& pts, const Arrangement& arr, Boo
 // `collapses` (if given) receives the number of edges the rounding repair collapsed.
 // Where rounding leaves crossings that collapsing short edges cannot remove: with `unresolved`,
 // *unresolved is set and the rounded mesh returned as it is; without, an error is thrown.
+// `crossing` (if given) receives the triangles of the returned mesh that still cross another:
+// every crossing pair has one of them.
 BooleanResult assemble(const Points& pts, const Arrangement& arr, const std::vector<std::int8_t>& keep,
-                       std::size_t* collapses = nullptr, bool* unresolved = nullptr);
+                       std::size_t* collapses = nullptr, bool* unresolved = nullptr,
+                       std::vector<u32>* crossing = nullptr);
 
 }  // namespace wedge::boolean_detail

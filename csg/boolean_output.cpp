@@ -193,7 +193,7 @@ double plane_gap(const Soup& s, u32 t, const Vec3& p) {
 // condition). Of the two directions the one that keeps the surviving triangles closest to their
 // source planes is taken, and an input vertex never moves. Repeated until the exact check finds
 // nothing.
-bool repair_rounding(BooleanResult& r, Rounding& rd) {
+bool repair_rounding(BooleanResult& r, Rounding& rd, std::vector<u32>* left = nullptr) {
   // Only edges that rounding itself could have made (a billionth of the model's size) are
   // collapsed: collapsing a longer one would move the surface by more than rounding did.
   Box3 bounds = r.mesh.bounds();
@@ -279,7 +279,10 @@ bool repair_rounding(BooleanResult& r, Rounding& rd) {
     if (!changed) break;
     compact(r, rd);
   }
-  return rounding_defects(r.mesh, rd).empty();
+  std::vector<u32> bad = rounding_defects(r.mesh, rd);
+  const bool ok = bad.empty();
+  if (left) *left = std::move(bad);
+  return ok;
 }
 
 // Merges the pieces of one flat region or one straight crease where a point between them need
@@ -490,7 +493,7 @@ std::size_t merge_flat(const Points& pts, std::vector<std::array<u32, 3>>& tris,
 }  // namespace
 
 BooleanResult assemble(const Points& pts, const Arrangement& arr, const std::vector<std::int8_t>& keep,
-                       std::size_t* collapses, bool* unresolved) {
+                       std::size_t* collapses, bool* unresolved, std::vector<u32>* crossing) {
   const Soup& soup = pts.soup();
   std::vector<std::array<u32, 3>> tris;
   std::vector<u32> src;
@@ -632,7 +635,7 @@ BooleanResult assemble(const Points& pts, const Arrangement& arr, const std::vec
     for (u32 v : r.mesh.triangles[t])
       if (rd.moved[v]) rd.recheck[t] = 1;
   soup.poll();
-  const bool ok = repair_rounding(r, rd);
+  const bool ok = repair_rounding(r, rd, crossing);
   if (collapses) *collapses += rd.collapses;
   if (unresolved) *unresolved = !ok;
   if (!ok && !unresolved) {
