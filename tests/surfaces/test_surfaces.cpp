@@ -501,6 +501,16 @@ TEST_CASE("the plane of a face: its normal as given, axes from it", "[plane]") {
   CHECK((p.normal(0.3, 0.7) - n).norm() < 1e-15);
 }
 
+TEST_CASE("the plane of a face of a tiny solid: a normal whose squared length underflows", "[plane]") {
+  // A face of box(1e-90, 1e-90, 1e-90) has a Newell normal near 1e-180; its squared length
+  // underflowed to 0 and the box failed with "plane: the normal must be non-zero".
+  Plane p(Point3(0, 0, 0), Vec3(0, 0, 2e-180));
+  CHECK(p.unit_normal() == Vec3(0, 0, 1));
+  Plane q(Point3(0, 0, 0), Vec3(1e-90, 0, 0), Vec3(0, 1e-90, 0), 0, 1, 0, 1);
+  CHECK(q.unit_normal() == Vec3(0, 0, 1));
+  CHECK_THROWS_WITH(Plane(Point3(0, 0, 0), Vec3(0, 0, 0)), "plane: the normal must be non-zero");
+}
+
 TEST_CASE("arcs stay arcs: through three points, reversed, moved, split and joined", "[curves][arc]") {
   const Point3 a(2, 0, 1), m(0, 2, 1), b(-2, 0, 1);  // half of the circle of radius 2 about (0, 0, 1)
   CircularArc arc = arc_through(a, m, b);
