@@ -53,7 +53,16 @@ std::vector<Vec2> read_ring(lua_State* L, int idx, int arg, const std::string& w
   // A closing point equal to the first is allowed and dropped.
   if (ring.size() > 1 && ring.front() == ring.back()) ring.pop_back();
   if (ring.size() < 3) throw ArgError{arg, what + " needs at least 3 points, got " + std::to_string(ring.size())};
-  if (std::abs(signed_area(ring)) == 0) throw ArgError{arg, what + " has zero area (its points are collinear)"};
+  // Zero area: collinear points, or a ring that crosses itself so that its parts cancel (a bow
+  // tie), which the profile's own checks then name with the edges that cross.
+  if (std::abs(signed_area(ring)) == 0) {
+    std::size_t b = 1;
+    while (b < ring.size() && ring[b] == ring[0]) ++b;
+    bool collinear = true;
+    for (std::size_t i = b + 1; i < ring.size() && collinear; ++i)
+      collinear = (ring[b] - ring[0]).x() * (ring[i] - ring[0]).y() == (ring[b] - ring[0]).y() * (ring[i] - ring[0]).x();
+    if (collinear) throw ArgError{arg, what + " has zero area (its points are collinear)"};
+  }
   return ring;
 }
 

@@ -273,6 +273,9 @@ const Case kCases[] = {
     {"sphere(1):triangles{max_triangles = 100}", "more than the budget of 100"},
     {"tolerance{max_triangles = 0}", "hostile.lua:2: tolerance: max_triangles must be a whole number in 1..1e12, got 0"},
     {"export(box(1,1,1), '$/x.stl', {max_triangles = 1.5})", "hostile.lua:2: export: max_triangles must be a whole number in 1..1e12, got 1.5"},
+    // a bow tie has zero signed area but is not collinear: named by the edges that cross
+    {"polygon{{0, 0}, {1, 1}, {1, 0}, {0, 1}}", "hostile.lua:2: polygon: the outer ring crosses or touches itself (edges 1 and 3)"},
+    {"polygon{{0, 0}, {1, 1}, {2, 2}}", "hostile.lua:2: polygon: the outer ring has zero area (its points are collinear)"},
     // the boolean's work budget: copies of a sphere turned by a degree each cross everywhere
     {"local s = sphere(1) for i = 1, 16 do s = s + sphere(1):rotate_z(i) end s:volume()",
      "hostile.lua:2: volume: boolean: the union of 17 operands: their surfaces would cross three at a time at about "},
