@@ -1,0 +1,42 @@
+// The B-Rep tessellator's sampling (private to tessellate/, brep_sampling.cpp): where an edge
+// needs its points, whether a surface is straight along one parameter, and the estimate of a
+// tessellation's triangle count that is checked against the budget before any work is done.
+#pragma once
+#include <functional>
+#include <unordered_map>
+#include <vector>
+
+#include "brep/brep.h"
+
+namespace wedge::brep_sampling {
+
+// The angle between two vectors (0 if either is zero), radians.
+double angle_between(const Vec3& a, const Vec3& b);
+
+// The parameter (0: u, 1: v) along which the surface is a straight line everywhere (its second
+// derivative along it and the twist term vanish in the normal direction), or -1.
+int straight_axis(const Surface& S);
+
+// straight_axis() of each surface, found once per tessellation (it samples the surface 49 times).
+class StraightAxes {
+ public:
+  int operator()(const Surface& S) {
+    auto [it, added] = known_.try_emplace(&S, -1);
+    if (added) it->second = straight_axis(S);
+    return it->second;
+  }
+
+ private:
+  std::unordered_map<const Surface*, int> known_;
+};
+
+// The triangles a tessellation at `tol` needs, about: each face sampled on a grid of cells (each
+// cell's area and largest normal curvature give the equilateral triangles it needs), each curved
+// edge by its length over the spacing its curvature needs (a boundary point costs a triangle).
+double estimate_triangles(const Model& m, const Tolerance& tol, StraightAxes& straight_axis);
+
+// As curve_parameters (brep_mesh.h), and a stretch [a, b] is also split while `turns(a, b)` (the
+// normals of the faces along the edge turn by more than the angular tolerance between a and b).
+std::vector<double> edge_parameters(const Curve& c, const Tolerance& tol, const std::function<bool(double, double)>& turns);
+
+}  // namespace wedge::brep_sampling
