@@ -600,8 +600,11 @@ Mesh tessellate(const Model& m, const Tolerance& tol_in, std::vector<std::array<
       std::vector<K::Point_2> at(seeds.size());
       for (std::size_t i = 0; i < seeds.size(); ++i) at[i] = seeds[i].loc;
       const std::vector<K::Point_2>& sorted_at = at;
-      CGAL::spatial_sort(order.begin(), order.end(),
-                         CGAL::Spatial_sort_traits_adapter_2<K, CGAL::Pointer_property_map<K::Point_2>::const_type>(CGAL::make_property_map(sorted_at), K()));
+      // (make_property_map takes the address of the first point: none when there are no seeds.)
+      if (!seeds.empty())
+        CGAL::spatial_sort(order.begin(), order.end(),
+                           CGAL::Spatial_sort_traits_adapter_2<K, CGAL::Pointer_property_map<K::Point_2>::const_type>(
+                               CGAL::make_property_map(sorted_at), K()));
       CDT::Face_handle near;
       for (std::size_t i : order) {
         auto h = cdt.insert(seeds[i].loc, near);
