@@ -626,13 +626,7 @@ double min_sine(const Vec3* p[4], int i, int j) {
     const Vec3* t[3];
     for (int q = 0, n = 0; q < 4; ++q)
       if (q != skip) t[n++] = p[q];
-    for (int c = 0; c < 3; ++c) {
-      const Vec3 &o = *t[c], &u = *t[(c + 1) % 3], &v = *t[(c + 2) % 3];
-      const double ux = u[i] - o[i], uy = u[j] - o[j], vx = v[i] - o[i], vy = v[j] - o[j];
-      const double len = std::sqrt((ux * ux + uy * uy) * (vx * vx + vy * vy));
-      if (!(len > 0)) return 0;
-      worst = std::min(worst, std::abs(ux * vy - uy * vx) / len);
-    }
+    worst = std::min(worst, triangle_min_sine(*t[0], *t[1], *t[2], i, j));
   }
   return worst;
 }

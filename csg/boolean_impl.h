@@ -58,6 +58,21 @@ inline int orient2d_fast(double ax, double ay, double bx, double by, double cx, 
   if ((ax == bx && bx == cx) || (ay == by && by == cy)) return 0;
   return wedge::orient2d(Point2(ax, ay), Point2(bx, by), Point2(cx, cy));
 }
+// The smallest sine of the angles of triangle (a, b, c) seen in the coordinate plane (i, j),
+// from approximate positions: 0 for a triangle that is degenerate there. It judges shapes only
+// (how far a flip test may trust a rounded position), never a combinatorial decision.
+inline double triangle_min_sine(const Vec3& a, const Vec3& b, const Vec3& c, int i, int j) {
+  const Vec3* t[3] = {&a, &b, &c};
+  double worst = 1;
+  for (int k = 0; k < 3; ++k) {
+    const Vec3 &o = *t[k], &u = *t[(k + 1) % 3], &v = *t[(k + 2) % 3];
+    const double ux = u[i] - o[i], uy = u[j] - o[j], vx = v[i] - o[i], vy = v[j] - o[j];
+    const double len = std::sqrt((ux * ux + uy * uy) * (vx * vx + vy * vy));
+    if (!(len > 0)) return 0;
+    worst = std::min(worst, std::abs(ux * vy - uy * vx) / len);
+  }
+  return worst;
+}
 // sign det[b - a, c - a, d - a], as wedge::orient3d.
 inline int orient3d_fast(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
   const double bx = b.x() - a.x(), by = b.y() - a.y(), bz = b.z() - a.z();

@@ -766,15 +766,8 @@ Arrangement arrange(Points& pts, const std::vector<std::array<u32, 2>>& pairs) {
     {
       // Inside a sliver (a long cylinder's side triangle) every piece is a sliver too: the flip
       // test settles for half of T's own smallest sine.
-      const Vec3 &A = soup.verts[T[0]], &B = soup.verts[T[1]], &C = soup.verts[T[2]];
       const int i = (k + 1) % 3, j = (k + 2) % 3;
-      double sine = 1;
-      for (int c = 0; c < 3; ++c) {
-        const Vec3 &o = c == 0 ? A : c == 1 ? B : C, &u = c == 0 ? B : c == 1 ? C : A, &v = c == 0 ? C : c == 1 ? A : B;
-        const double ux = u[i] - o[i], uy = u[j] - o[j], vx = v[i] - o[i], vy = v[j] - o[j];
-        const double len = std::sqrt((ux * ux + uy * uy) * (vx * vx + vy * vy));
-        if (len > 0) sine = std::min(sine, std::abs(ux * vy - uy * vx) / len);
-      }
+      const double sine = triangle_min_sine(soup.verts[T[0]], soup.verts[T[1]], soup.verts[T[2]], i, j);
       g_ctx.well = std::min(0.01, 0.5 * sine);
     }
     // The commonest cuts, chords from edge to edge and nothing inside T, without building a

@@ -16,6 +16,7 @@
 #include <cmath>
 #include <functional>
 
+#include "kernel/distance.h"
 #include "surfaces/surfaces.h"
 
 namespace wedge {
@@ -86,13 +87,6 @@ double adaptive(const Curve& c, const std::function<double(double)>& f, double a
   const Point3 pm = c.eval(m);
   return adaptive(c, f, a, m, pa, pm, left, tol / 2, depth - 1, budget) +
          adaptive(c, f, m, b, pm, pb, right, tol / 2, depth - 1, budget);
-}
-
-double point_segment_distance(const Point3& p, const Point3& a, const Point3& b) {
-  Vec3 ab = b - a;
-  double l2 = ab.squaredNorm();
-  double s = l2 > 0 ? std::clamp((p - a).dot(ab) / l2, 0.0, 1.0) : 0.0;
-  return (p - (a + s * ab)).norm();
 }
 
 }  // namespace

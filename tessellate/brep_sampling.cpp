@@ -7,6 +7,7 @@
 #include <cmath>
 #include <limits>
 
+#include "kernel/distance.h"
 #include "tessellate/brep_mesh.h"
 
 namespace wedge {
@@ -17,15 +18,6 @@ double angle_between(const Vec3& a, const Vec3& b) {
   if (na == 0 || nb == 0) return 0;
   return std::acos(std::clamp(a.dot(b) / (na * nb), -1.0, 1.0));
 }
-
-namespace {
-double seg_distance(const Point3& p, const Point3& a, const Point3& b) {
-  Vec3 d = b - a;
-  double l2 = d.squaredNorm();
-  double t = l2 > 0 ? std::clamp((p - a).dot(d) / l2, 0.0, 1.0) : 0.0;
-  return (p - (a + t * d)).norm();
-}
-}  // namespace
 
 // The parameter (0: u, 1: v) along which the surface is a straight line everywhere (its second
 // derivative along it and the twist term vanish in the normal direction), or -1.
@@ -136,7 +128,7 @@ std::vector<double> edge_parameters(const Curve& c, const Tolerance& tol, const 
     if (depth < 24) {
       for (double f : {0.25, 0.5, 0.75}) {
         Point3 q = f == 0.5 ? pm : c.eval(a + f * (b - a));
-        if (seg_distance(q, pa, pb) > tol.chordal) split = true;
+        if (point_segment_distance(q, pa, pb) > tol.chordal) split = true;
       }
       if (!split && angle_between(c.derivative(a, 1), c.derivative(b, 1)) > ang) split = true;
       if (!split && turns && turns(a, b)) split = true;
@@ -153,8 +145,8 @@ std::vector<double> edge_parameters(const Curve& c, const Tolerance& tol, const 
     // At least two pieces per smooth stretch, so a half circle never becomes one chord.
     double m = (cuts[i] + cuts[i + 1]) / 2;
     Point3 a = c.eval(cuts[i]), pm = c.eval(m), b = c.eval(cuts[i + 1]);
-    bool straight = seg_distance(pm, a, b) <= 1e-12 * (a - b).norm() &&
-                    seg_distance(c.eval(cuts[i] + 0.25 * (cuts[i + 1] - cuts[i])), a, b) <= 1e-12 * (a - b).norm();
+    bool straight = point_segment_distance(pm, a, b) <= 1e-12 * (a - b).norm() &&
+                    point_segment_distance(c.eval(cuts[i] + 0.25 * (cuts[i + 1] - cuts[i])), a, b) <= 1e-12 * (a - b).norm();
     if (straight && !(turns && turns(cuts[i], cuts[i + 1]))) {
       out.push_back(cuts[i + 1]);
       continue;
