@@ -590,10 +590,11 @@ bool may_cross(const Soup& s, u32 t, u32 u, u32 w) {
   return true;
 }
 
-// Whether triangles t and u cross each other's planes (vertices strictly on both sides, as double
-// arithmetic sees it): the three pairs of a crossing point inside three triangles all do.
-bool straddle(const Soup& s, u32 t, u32 u) {
-  auto across = [&](u32 a, u32 b) {
+// How triangles t and u lie to each other's planes, as double arithmetic sees it: 1 each crosses
+// the other's plane (vertices strictly on both sides: the three pairs of a crossing point inside
+// three triangles all do), 3 both lie in one plane, 2 neither.
+std::uint8_t pair_kind(const Soup& s, u32 t, u32 u) {
+  auto side = [&](u32 a, u32 b) {  // 1 across, 3 within a's plane, 2 otherwise
     const auto& A = s.tris[a];
     const auto& B = s.tris[b];
     const Vec3 n = (s.verts[A[1]] - s.verts[A[0]]).cross(s.verts[A[2]] - s.verts[A[0]]);
@@ -605,9 +606,52 @@ bool straddle(const Soup& s, u32 t, u32 u) {
       size = std::max(size, (s.verts[v] - o).norm());
     }
     const double eps = 1e-12 * n.norm() * size;
-    return lo < -eps && hi > eps;
+    return lo < -eps && hi > eps ? 1 : lo >= -eps && hi <= eps ? 3 : 2;
   };
-  return across(t, u) && across(u, t);
+  const int a = side(t, u);
+  return a == 2 ? 2 : static_cast<std::uint8_t>(a == side(u, t) ? a : 2);
+}
+
+// For three triangles in one plane: the crossings of two triangles' edges strictly inside the
+// third, each of the three in turn (the arrangement of each triangle holds its own). Copies of a
+// face turned by a hair cross everywhere: n such copies make n^3 of these.
+std::size_t coplanar_crossings(const Soup& s, u32 t, u32 u, u32 w) {
+  const u32 ids[3] = {t, u, w};
+  const auto& T = s.tris[t];
+  const Vec3 n = (s.verts[T[1]] - s.verts[T[0]]).cross(s.verts[T[2]] - s.verts[T[0]]);
+  int k = 0;
+  for (int i = 1; i < 3; ++i)
+    if (std::abs(n[i]) > std::abs(n[k])) k = i;
+  const int i = (k + 1) % 3, j = (k + 2) % 3;
+  Vec2 p[3][3];
+  double size = 0;
+  for (int a = 0; a < 3; ++a)
+    for (int c = 0; c < 3; ++c) {
+      const Vec3& v = s.verts[s.tris[ids[a]][c]];
+      p[a][c] = Vec2(v[i], v[j]);
+      size = std::max(size, p[a][c].cwiseAbs().maxCoeff());
+    }
+  const double eps = 1e-12 * size * size;
+  auto cross2 = [](const Vec2& o, const Vec2& a, const Vec2& b) {
+    return (a.x() - o.x()) * (b.y() - o.y()) - (a.y() - o.y()) * (b.x() - o.x());
+  };
+  std::size_t count = 0;
+  for (int h = 0; h < 3; ++h) {
+    const int x = (h + 1) % 3, y = (h + 2) % 3;
+    const double orient = cross2(p[h][0], p[h][1], p[h][2]) > 0 ? 1 : -1;
+    for (int e = 0; e < 3; ++e)
+      for (int f = 0; f < 3; ++f) {
+        const Vec2 &a = p[x][e], &b = p[x][(e + 1) % 3], &c = p[y][f], &d = p[y][(f + 1) % 3];
+        const double ca = cross2(c, d, a), cb = cross2(c, d, b), cc = cross2(a, b, c), cd = cross2(a, b, d);
+        if (!((ca > eps && cb < -eps) || (ca < -eps && cb > eps))) continue;
+        if (!((cc > eps && cd < -eps) || (cc < -eps && cd > eps))) continue;
+        const Vec2 q = a + (b - a) * (ca / (ca - cb));
+        bool inside = true;
+        for (int g = 0; g < 3 && inside; ++g) inside = orient * cross2(p[h][g], p[h][(g + 1) % 3], q) > eps;
+        count += inside;
+      }
+  }
+  return count;
 }
 
 }  // namespace
@@ -625,13 +669,13 @@ std::size_t candidate_triples(const Soup& soup, const std::vector<std::array<u32
   constexpr std::size_t kBlock = 1024;
   const std::size_t blocks = (pairs.size() + kBlock - 1) / kBlock;
   std::atomic<std::size_t> found{0}, done{0};
-  // Per pair, once looked at by a triple: 0 not yet, 1 the two cross each other's planes, 2 not
-  // (most triples of boxes that touch, as in the Menger sponge, end here, before may_cross).
-  std::vector<std::atomic<std::uint8_t>> crosses(pairs.size());
-  auto pair_crosses = [&](std::size_t i) {
-    std::uint8_t c = crosses[i].load(std::memory_order_relaxed);
-    if (!c) crosses[i].store(c = straddle(soup, pairs[i][0], pairs[i][1]) ? 1 : 2, std::memory_order_relaxed);
-    return c == 1;
+  // Per pair, once looked at by a triple: 0 not yet, else its pair_kind (most triples of boxes
+  // that touch, as in the Menger sponge, end here, before may_cross).
+  std::vector<std::atomic<std::uint8_t>> kinds(pairs.size());
+  auto kind = [&](std::size_t i) {
+    std::uint8_t c = kinds[i].load(std::memory_order_relaxed);
+    if (!c) kinds[i].store(c = pair_kind(soup, pairs[i][0], pairs[i][1]), std::memory_order_relaxed);
+    return c;
   };
   parallel_for(0, blocks, [&](std::size_t k) {
     if (found.load(std::memory_order_relaxed) > stop_above) return;
@@ -646,14 +690,17 @@ std::size_t candidate_triples(const Soup& soup, const std::vector<std::array<u32
       if (a1 - a0 > b1 - b0) std::swap(a0, b0), std::swap(a1, b1);
       // Many lookups to make (the long tunnels of a sponge meet hundreds of others): first
       // whether t and u cross at all (boxes that touch do not).
-      if (a1 - a0 >= 8 && !pair_crosses(i)) continue;
+      if (a1 - a0 >= 8 && kind(i) == 2) continue;
       for (auto it = a0; it != a1; ++it) {
         const u32 w = (*it)[1];
         auto at = std::lower_bound(b0, b1, w, [](const std::array<u32, 2>& p, u32 x) { return p[1] < x; });
         if (at == b1 || (*at)[1] != w) continue;
-        if (pair_crosses(i) && pair_crosses(static_cast<std::size_t>(it - pairs.begin())) &&
-            pair_crosses(static_cast<std::size_t>(at - pairs.begin())) && may_cross(soup, t, u, w))
-          ++c;
+        const std::uint8_t k = kind(i);
+        if (k == 2 || kind(static_cast<std::size_t>(it - pairs.begin())) != k ||
+            kind(static_cast<std::size_t>(at - pairs.begin())) != k)
+          continue;
+        if (k == 1) c += may_cross(soup, t, u, w);
+        else c += coplanar_crossings(soup, t, u, w);
       }
     }
     found += c;

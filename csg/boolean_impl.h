@@ -341,7 +341,9 @@ inline bool certified_pair(const Soup& soup, const std::vector<std::uint8_t>& ce
 // all three. Ordinary booleans have few (none in the bench's spheres, lattice and plate; the
 // Menger sponge's tunnels meet end to end); nearly coincident operands have very many, each slow
 // to decide exactly (17 copies of a sphere rotated by 1 .. 16 degrees: about 650,000, minutes of
-// work). The count stops once it passes `stop_above` and is then scaled up from the share of the
+// work). Triangles of three operands in one plane count the crossings of two one's edges inside
+// the third (copies of a box turned by a hair: their faces' edges cross in every other copy's
+// face, n^3 crossings in all, each decided exactly). The count stops once it passes `stop_above` and is then scaled up from the share of the
 // pairs looked at (an estimate of the whole). `pairs` as candidate_pairs() returns them (sorted,
 // of different operands).
 std::size_t candidate_triples(const Soup& soup, const std::vector<std::array<u32, 2>>& pairs,

@@ -411,17 +411,33 @@ std::vector<std::array<u32, 2>> equal_points(const Points& pts, const std::vecto
     if ((++polled & 0xffff) == 0) soup.poll();
     std::size_t j = i;
     while (j < entries.size() && entries[j].key == entries[i].key) ++j;
-    for (std::size_t a = i; a < j; ++a)
-      for (std::size_t b = a + 1; b < j; ++b) {
-        u32 x = entries[a].id, y = entries[b].id;
-        if (x != y && boxes_overlap(pts.box(x), pts.box(y)) && pts.equal(x, y)) out.push_back({x, y});
+    if (j - i <= 16) {
+      for (std::size_t a = i; a < j; ++a)
+        for (std::size_t b = a + 1; b < j; ++b) {
+          u32 x = entries[a].id, y = entries[b].id;
+          if (x != y && boxes_overlap(pts.box(x), pts.box(y)) && pts.equal(x, y)) out.push_back({x, y});
+        }
+    } else {
+      // A crowded cell (nearly coincident operands put all their points near a few corners):
+      // a sweep along x compares only the points whose boxes overlap there.
+      std::vector<u32> crowd;
+      for (std::size_t a = i; a < j; ++a) crowd.push_back(entries[a].id);
+      std::sort(crowd.begin(), crowd.end(), [&](u32 x, u32 y) { return pts.box(x)[0] < pts.box(y)[0] || (pts.box(x)[0] == pts.box(y)[0] && x < y); });
+      for (std::size_t a = 0; a < crowd.size(); ++a) {
+        if ((++polled & 0xfff) == 0) soup.poll();
+        const u32 x = crowd[a];
+        for (std::size_t b = a + 1; b < crowd.size() && pts.box(crowd[b])[0] <= pts.box(x)[3]; ++b) {
+          const u32 y = crowd[b];
+          if (boxes_overlap(pts.box(x), pts.box(y)) && pts.equal(x, y)) out.push_back({std::min(x, y), std::max(x, y)});
+        }
       }
+    }
     i = j;
   }
   for (u32 w : wide) {
     soup.poll();
     for (u32 p : ids)
-      if (p != w && pts.equal(w, p)) out.push_back({std::min(w, p), std::max(w, p)});
+      if (p != w && boxes_overlap(pts.box(w), pts.box(p)) && pts.equal(w, p)) out.push_back({std::min(w, p), std::max(w, p)});
   }
   return out;
 }
