@@ -4,6 +4,7 @@
 // self-join of the tree. The join is split into fixed tasks whose results are concatenated in
 // order (and the candidates sorted), so the pairs come out the same at any thread count.
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 
 #include "csg/boolean_impl.h"
@@ -312,16 +313,25 @@ std::vector<std::uint8_t> star_certificates(const Soup& soup, const std::vector<
       if ((*active)[t])
         for (u32 v : soup.tris[t]) wanted[v] = 1;
   }
-  std::vector<EdgeRec> recs;  // key: vertex << 32 | operand, value: triangle << 2 | corner
-  recs.reserve(active ? 0 : 3 * nt);
-  for (std::size_t t = 0; t < nt; ++t) {
-    if (trusted && (*trusted)[soup.operand[t]]) continue;
-    for (u32 c = 0; c < 3; ++c)
-      if (!active || wanted[soup.tris[t][c]])
-        recs.push_back({static_cast<std::uint64_t>(soup.tris[t][c]) << 32 | static_cast<u32>(soup.operand[t]),
-                        static_cast<u32>(t) << 2 | c});
+  // Per vertex, its corners (triangle << 2 | corner) in ascending triangle order, so one
+  // operand's star of it is one run (an operand's triangles are consecutive in the soup).
+  auto counted = [&](std::size_t t) { return !(trusted && (*trusted)[soup.operand[t]]); };
+  std::vector<u32> off(nv + 1, 0);
+  for (std::size_t t = 0; t < nt; ++t)
+    if (counted(t))
+      for (u32 v : soup.tris[t])
+        if (!active || wanted[v]) ++off[v + 1];
+  for (std::size_t v = 0; v < nv; ++v) off[v + 1] += off[v];
+  soup.poll();
+  std::vector<u32> corners(off[nv]);
+  {
+    std::vector<u32> next(off.begin(), off.end() - 1);
+    for (std::size_t t = 0; t < nt; ++t)
+      if (counted(t))
+        for (u32 c = 0; c < 3; ++c)
+          if (!active || wanted[soup.tris[t][c]]) corners[next[soup.tris[t][c]]++] = static_cast<u32>(t) << 2 | c;
   }
-  const std::vector<u32> off = sort_edges(recs, nv, soup.interrupt);
+  soup.poll();
   parallel_for(0, (nv + 1023) / 1024, [&](std::size_t block) {
     soup.poll();
     struct Spoke {
@@ -332,10 +342,11 @@ std::vector<std::uint8_t> star_certificates(const Soup& soup, const std::vector<
     for (std::size_t v = block * 1024; v < std::min(nv, (block + 1) * 1024); ++v) {
       for (u32 r0 = off[v]; r0 < off[v + 1];) {
         u32 r1 = r0;
-        while (r1 < off[v + 1] && recs[r1].key == recs[r0].key) ++r1;  // one operand's star of v
+        const std::int32_t op = soup.operand[corners[r0] >> 2];
+        while (r1 < off[v + 1] && soup.operand[corners[r1] >> 2] == op) ++r1;  // one operand's star of v
         star.clear();
         for (u32 r = r0; r < r1; ++r) {
-          const u32 t = recs[r].value >> 2, c = recs[r].value & 3;
+          const u32 t = corners[r] >> 2, c = corners[r] & 3;
           star.push_back({soup.tris[t][(c + 1) % 3], soup.tris[t][(c + 2) % 3], r});
         }
         const u32 first = r0;
@@ -362,7 +373,6 @@ std::vector<std::uint8_t> star_certificates(const Soup& soup, const std::vector<
         // centre where one is given: any W would be exact, these make most stars pass.
         const Vec3& V = soup.verts[v];
         Vec3 W;
-        const std::int32_t op = static_cast<std::int32_t>(recs[first].key & 0xffffffffu);
         if (centers) {
           W = (*centers)[op];
         } else {
@@ -392,7 +402,7 @@ std::vector<std::uint8_t> star_certificates(const Soup& soup, const std::vector<
           if (s * orient(A1, Q) >= 0) ok = false;
         }
         if (!ok) continue;
-        for (u32 r = first; r < r1; ++r) mask[recs[r].value >> 2] |= static_cast<std::uint8_t>(1u << (recs[r].value & 3));
+        for (u32 r = first; r < r1; ++r) mask[corners[r] >> 2] |= static_cast<std::uint8_t>(1u << (corners[r] & 3));
       }
     }
   });
@@ -445,11 +455,99 @@ std::vector<char> radially_embedded(const Soup& soup, const std::vector<char>* s
 // clash (exactly) where asked. No list of all overlapping pairs is made: on two 1M-triangle
 // spheres it would hold some 30 million pairs of neighbours, nearly all of one operand. The first
 // clash is the first one met by the first task that meets one, the same at any thread count.
-std::vector<std::array<u32, 2>> candidate_pairs(const Soup& soup, std::array<u32, 2>* clash, bool self,
-                                                const std::vector<char>* trusted, const std::vector<char>* active) {
-  std::size_t n = soup.tris.size();
+namespace {
+
+// The triangles that may meet a triangle of another operand: those whose box touches a cell of a
+// coarse grid that a triangle of another operand also touches (two boxes that overlap share a
+// point, and its cell is in both boxes' ranges: the cell of a coordinate is monotone in it). Two
+// big spheres that overlap at a cap keep only the triangles near the cap. Everything, where the
+// grid would be too coarse or too busy to tell (huge triangles, one operand).
+std::vector<u32> near_other_operands(const Soup& soup) {
+  const std::size_t n = soup.tris.size();
   std::vector<u32> all(n);
   for (std::size_t i = 0; i < n; ++i) all[i] = static_cast<u32>(i);
+  if (soup.operands < 2 || n < 4096) return all;
+  double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+  for (const Vec3& v : soup.verts)
+    for (int a = 0; a < 3; ++a) lo[a] = std::min(lo[a], v[a]), hi[a] = std::max(hi[a], v[a]);
+  const double extent = std::max({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]});
+  if (!(extent > 0) || !std::isfinite(extent)) return all;
+  const int g = static_cast<int>(std::clamp(1.5 * std::cbrt(static_cast<double>(n)), 8.0, 160.0));
+  const double inv = g / extent;
+  int dim[3];
+  for (int a = 0; a < 3; ++a) dim[a] = std::clamp(static_cast<int>((hi[a] - lo[a]) * inv) + 1, 1, g);
+  auto cell = [&](double x, int a) { return std::clamp(static_cast<int>((x - lo[a]) * inv), 0, dim[a] - 1); };
+  // Cell ranges of every triangle; give up when they would visit too many cells.
+  std::vector<std::array<std::int16_t, 6>> range(n);
+  std::atomic<std::size_t> visits{0};
+  parallel_for(0, (n + 4095) / 4096, [&](std::size_t b) {
+    std::size_t local = 0;
+    for (std::size_t t = b * 4096; t < std::min(n, (b + 1) * 4096); ++t) {
+      double blo[3], bhi[3];
+      triangle_box(soup, static_cast<u32>(t), blo, bhi);
+      std::size_t cells = 1;
+      for (int a = 0; a < 3; ++a) {
+        range[t][a] = static_cast<std::int16_t>(cell(blo[a], a));
+        range[t][a + 3] = static_cast<std::int16_t>(cell(bhi[a], a));
+        cells *= static_cast<std::size_t>(range[t][a + 3] - range[t][a] + 1);
+      }
+      local += cells;
+    }
+    visits += local;
+  });
+  if (visits.load() > 8 * n + 1000000) return all;
+  soup.poll();
+  // Per cell: -1 untouched, the one operand that touches it, or -2 for several (the same at any
+  // thread count: only the set of operands matters).
+  std::vector<std::atomic<std::int32_t>> owner(static_cast<std::size_t>(dim[0]) * dim[1] * dim[2]);
+  for (auto& o : owner) o.store(-1, std::memory_order_relaxed);
+  auto for_cells = [&](const std::array<std::int16_t, 6>& r, auto&& f) {
+    for (int x = r[0]; x <= r[3]; ++x)
+      for (int y = r[1]; y <= r[4]; ++y)
+        for (int z = r[2]; z <= r[5]; ++z)
+          if (!f(owner[(static_cast<std::size_t>(x) * dim[1] + y) * dim[2] + z])) return false;
+    return true;
+  };
+  parallel_for(0, (n + 4095) / 4096, [&](std::size_t b) {
+    for (std::size_t t = b * 4096; t < std::min(n, (b + 1) * 4096); ++t) {
+      const std::int32_t op = soup.operand[t];
+      for_cells(range[t], [&](std::atomic<std::int32_t>& o) {
+        std::int32_t cur = o.load(std::memory_order_relaxed);
+        while (cur != op && cur != -2) {
+          const std::int32_t next = cur == -1 ? op : -2;
+          if (o.compare_exchange_weak(cur, next, std::memory_order_relaxed)) break;
+        }
+        return true;
+      });
+    }
+  });
+  soup.poll();
+  std::vector<char> keep(n);
+  parallel_for(0, (n + 4095) / 4096, [&](std::size_t b) {
+    for (std::size_t t = b * 4096; t < std::min(n, (b + 1) * 4096); ++t)
+      keep[t] = !for_cells(range[t], [](const std::atomic<std::int32_t>& o) { return o.load(std::memory_order_relaxed) != -2; });
+  });
+  std::vector<u32> out;
+  for (std::size_t t = 0; t < n; ++t)
+    if (keep[t]) out.push_back(static_cast<u32>(t));
+  return out;
+}
+
+}  // namespace
+
+std::vector<std::array<u32, 2>> candidate_pairs(const Soup& soup, std::array<u32, 2>* clash, bool self,
+                                                const std::vector<char>* trusted, const std::vector<char>* active) {
+  // Where no operand's own pairs are looked at, the tree holds only the triangles near others.
+  bool own = self;
+  for (int op = 0; op < soup.operands && !own; ++op) own = clash && !(trusted && (*trusted)[op]);
+  std::vector<u32> all;
+  if (own) {
+    all.resize(soup.tris.size());
+    for (std::size_t i = 0; i < all.size(); ++i) all[i] = static_cast<u32>(i);
+  } else {
+    all = near_other_operands(soup);
+  }
+  const std::size_t n = all.size();
   const Bvh tree(soup, std::move(all), 3, true);
   std::vector<std::uint8_t> cert;
   if (clash || self) cert = star_certificates(soup, trusted, active);

@@ -1,4 +1,4 @@
-// The boolean engine's work budget (csg/boolean.h, kDefaultMaxCrossings): operands that nearly
+// The boolean engine's broad phase and work budget (csg/boolean.h, kDefaultMaxCrossings): operands that nearly
 // coincide cross everywhere and are refused after the broad phase, before minutes of exact work,
 // with the estimate; ordinary heavy inputs are far below it.
 #include <catch2/catch.hpp>
@@ -85,4 +85,31 @@ TEST_CASE("boolean: copies of a box turned by a hair count their faces' crossing
   const BooleanResult r = boolean(BooleanOp::Union, pointers(ten));
   CHECK(mesh_solid_defect(r.mesh) == "");
   CHECK(r.mesh.volume() == Approx(1.0).epsilon(1e-6));
+}
+
+TEST_CASE("boolean: the broad phase over only the triangles near other operands finds every pair", "[boolean]") {
+  // With every operand known valid, the tree holds only the triangles whose grid cells another
+  // operand's triangles also touch; the pairs must be those of the tree over all triangles (which
+  // is what a check of the operands' own pairs builds).
+  using namespace boolean_detail;
+  auto both = [](const std::vector<Mesh>& meshes) {
+    Soup soup = make_soup(pointers(meshes));
+    std::array<u32, 2> clash;
+    const std::vector<char> none(meshes.size(), 0), all(meshes.size(), 1);
+    auto full = candidate_pairs(soup, &clash, false, &none);
+    CHECK(clash[0] == kNone);
+    auto near = candidate_pairs(soup, &clash, false, &all);
+    CHECK(near.size() > 0);
+    CHECK(near == full);
+  };
+  both(testing::overlapping_spheres(16384));
+  both(testing::sphere_lattice(3, 1280));
+  both(testing::plate_and_cylinders(6, 32));
+  both(testing::menger_operands(2));
+  // Touching only: boxes side by side share faces, edges and corners (boxes that touch overlap).
+  std::vector<Mesh> boxes;
+  for (int i = 0; i < 6; ++i)
+    for (int j = 0; j < 6; ++j) boxes.push_back(testing::box_mesh(Point3(i, j, 0), Vec3(1, 1, 1 + 0.5 * ((i + j) % 2))));
+  boxes.push_back(testing::uv_sphere(Point3(3, 3, 1), 2.5, 8000));
+  both(boxes);
 }
