@@ -105,6 +105,12 @@ Soup boolean_detail::make_soup(const std::vector<const Mesh*>& operands, const I
   std::vector<u32> table(std::size_t(1) << bits, kNone);
   const std::size_t mask = table.size() - 1;
   s.verts.reserve(positions);
+  std::size_t triangles = 0;
+  for (const Mesh* m : operands) triangles += m->triangles.size();
+  s.tris.reserve(triangles);
+  s.operand.reserve(triangles);
+  s.local.reserve(triangles);
+  s.face_id.reserve(triangles);
   for (std::size_t o = 0; o < operands.size(); ++o) {
     const Mesh& m = *operands[o];
     std::vector<u32> map(m.positions.size());
@@ -309,39 +315,46 @@ std::string defect(const Mesh& m, const std::string& name, bool self, const Inte
       return name + " has a zero-area triangle #" + std::to_string(t + 1) + " at " + at(s.verts[T[0]]) + ", " +
              at(s.verts[T[1]]) + ", " + at(s.verts[T[2]]);
   }
-  // Closed and 2-manifold: each directed edge once, and its reverse once.
-  std::vector<EdgeRec> dir;
-  dir.reserve(s.tris.size() * 3);
-  for (std::size_t t = 0; t < s.tris.size(); ++t)
-    for (int e = 0; e < 3; ++e)
-      dir.push_back({static_cast<std::uint64_t>(s.tris[t][e]) << 32 | s.tris[t][(e + 1) % 3], static_cast<u32>(t)});
+  // Closed and 2-manifold: each directed edge once, and its reverse once. Per vertex a, its
+  // out-edges as (b << 32 | triangle), sorted: all directed edges in (a, b) order.
+  const std::size_t nv = s.verts.size();
+  std::vector<u32> off(nv + 1, 0);
+  for (const auto& T : s.tris)
+    for (u32 v : T) ++off[v + 1];
+  for (std::size_t v = 0; v < nv; ++v) off[v + 1] += off[v];
+  std::vector<std::uint64_t> out(off[nv]);
+  {
+    std::vector<u32> next(off.begin(), off.end() - 1);
+    for (std::size_t t = 0; t < s.tris.size(); ++t)
+      for (int e = 0; e < 3; ++e)
+        out[next[s.tris[t][e]]++] = static_cast<std::uint64_t>(s.tris[t][(e + 1) % 3]) << 32 | static_cast<u32>(t);
+  }
   s.poll();
-  const std::vector<u32> off = sort_edges(dir, s.verts.size(), interrupt);
-  auto edge_at = [&](std::uint64_t key) {
-    return at(s.verts[key >> 32]) + " - " + at(s.verts[key & 0xffffffffu]);
+  parallel_for(0, (nv + 4095) / 4096, [&](std::size_t block) {
+    for (std::size_t v = block * 4096; v < std::min(nv, (block + 1) * 4096); ++v) std::sort(out.begin() + off[v], out.begin() + off[v + 1]);
+  });
+  s.poll();
+  auto edge_at = [&](u32 a, u32 b) { return at(s.verts[a]) + " - " + at(s.verts[b]); };
+  auto uses = [&](u32 a, u32 b) {  // how many times the directed edge a -> b is used
+    std::size_t n = 0;
+    for (u32 k = off[a]; k < off[a + 1]; ++k) n += (out[k] >> 32) == b;
+    return n;
   };
-  // How many times the directed edge `key` is used (its records lie, sorted, in its first
-  // vertex's range).
-  auto uses = [&](std::uint64_t key) {
-    auto first = dir.begin() + off[key >> 32], last = dir.begin() + off[(key >> 32) + 1];
-    auto lo = std::partition_point(first, last, [&](const EdgeRec& r) { return r.key < key; });
-    auto hi = std::partition_point(lo, last, [&](const EdgeRec& r) { return r.key == key; });
-    return static_cast<std::size_t>(hi - lo);
-  };
-  for (std::size_t i = 0; i < dir.size(); ++i) {
-    if ((i & 0xffff) == 0) s.poll();
-    std::uint64_t key = dir[i].key;
-    std::uint64_t rev = (key << 32) | (key >> 32);
-    if (i + 1 < dir.size() && dir[i + 1].key == key && (i == 0 || dir[i - 1].key != key)) {
-      // Allowed only where shells touch: as many reverse uses as forward ones.
-      const std::size_t n = uses(key), r = uses(rev);
-      if (n != r)
-        return name + " is not consistently oriented: edge " + edge_at(key) + " is used " + std::to_string(n) +
-               " times in one direction";
+  for (u32 a = 0; a < nv; ++a) {
+    if ((a & 0xffff) == 0) s.poll();
+    for (u32 k = off[a]; k < off[a + 1]; ++k) {
+      const u32 b = static_cast<u32>(out[k] >> 32);
+      if (k + 1 < off[a + 1] && (out[k + 1] >> 32) == b && (k == off[a] || (out[k - 1] >> 32) != b)) {
+        // Allowed only where shells touch: as many reverse uses as forward ones.
+        const std::size_t n = uses(a, b), r = uses(b, a);
+        if (n != r)
+          return name + " is not consistently oriented: edge " + edge_at(a, b) + " is used " + std::to_string(n) +
+                 " times in one direction";
+      }
+      if (uses(b, a) == 0)
+        return name + " is not closed: edge " + edge_at(a, b) + " of triangle #" +
+               std::to_string((out[k] & 0xffffffffu) + 1) + " has no neighbour";
     }
-    if (uses(rev) == 0)
-      return name + " is not closed: edge " + edge_at(key) + " of triangle #" + std::to_string(dir[i].value + 1) +
-             " has no neighbour";
   }
   if (!(m.volume() > 0)) return name + " is inside out (negative volume): triangles must be counter-clockwise seen from outside";
   if (!self) return "";
