@@ -20,6 +20,7 @@
 #include "csg/solid_impl.h"
 #include "kernel/parallel.h"
 #include "kernel/predicates.h"
+#include "tessellate/progress.h"
 #include <limits>
 #include <numeric>
 
@@ -454,7 +455,16 @@ std::shared_ptr<Evaluated> compute_untagged(const Solid::Node& n, const Toleranc
     case Solid::Node::Kind::Leaf: {
       auto t0 = std::chrono::steady_clock::now();
       auto out = std::make_shared<Evaluated>();
-      out->mesh = n.leaf->parametrised_mesh(tol, out->corner_uv);
+      {
+        // A cancel is seen inside a long tessellation too, not only when the leaf is done.
+        const TessellatePoll poll = [&run] { run.check(); };
+        const TessellatePoll* const outer = set_tessellate_poll(&poll);
+        struct Restore {
+          const TessellatePoll* outer;
+          ~Restore() { set_tessellate_poll(outer); }
+        } restore{outer};
+        out->mesh = n.leaf->parametrised_mesh(tol, out->corner_uv);
+      }
       out->kinds = n.leaf->face_kinds();
       if (out->kinds.empty()) {
         out->kinds.assign(planar_regions(out->mesh, out->surfaces), "plane");

@@ -229,6 +229,12 @@ int run_file(const std::string& path, const std::vector<std::string>& args, std:
                   "tessellating: " + std::to_string(done) + " points, about " + std::to_string(expected) + " expected");
   };
   set_tessellate_progress(&mesh_progress);
+  // Ctrl-C inside a long tessellation of this thread (s:triangles{tolerance = 1e-6}, an export)
+  // stops it at once; a CSG tree's own leaves poll its cancel (csg/solid.cpp).
+  const TessellatePoll mesh_poll = [] {
+    if (g_interrupted.load()) throw Cancelled();
+  };
+  set_tessellate_poll(&mesh_poll);
   EvalControl control;
   control.progress = [&bar](std::size_t done, std::size_t total) { bar.update(done, total); };
   control.cancelled = [] { return g_interrupted.load(); };
@@ -266,6 +272,7 @@ int run_file(const std::string& path, const std::vector<std::string>& args, std:
   g_state = nullptr;
   set_eval_control(nullptr);
   set_tessellate_progress(nullptr);
+  set_tessellate_poll(nullptr);
   if (options.stats) {
     install_stats(L, nullptr);
     report_stats(stats, RunStats::now() - start, path, err);

@@ -35,6 +35,7 @@
 #include <functional>
 #include <limits>
 #include <unordered_map>
+#include <utility>
 
 #include "tessellate/brep_sampling.h"
 #include "tessellate/planar.h"
@@ -123,6 +124,7 @@ struct EdgeSamples {
 
 namespace {
 thread_local const TessellateProgress* t_progress = nullptr;
+thread_local const TessellatePoll* t_poll = nullptr;
 
 // Reports the points made against the estimate, and the end when it goes out of scope (also when
 // the tessellation fails; `out` may then be moved from, which only makes the last count wrong).
@@ -131,7 +133,7 @@ class ProgressReport {
   // Only a tessellation the estimate calls large reports (fewer points take well under a second).
   static constexpr std::size_t kLarge = 10000;
   ProgressReport(const Mesh& out, double estimated_triangles)
-      : progress_(t_progress), out_(out),
+      : progress_(t_progress), poll_(t_poll), out_(out),
         expected_(std::max<std::size_t>(1, std::size_t(std::min(estimated_triangles, 1e15) / 2))) {
     if (expected_ < kLarge) progress_ = nullptr;
   }
@@ -141,17 +143,26 @@ class ProgressReport {
   ProgressReport(const ProgressReport&) = delete;
   ProgressReport& operator=(const ProgressReport&) = delete;
   void operator()() const {
+    if (poll_) (*poll_)();
     if (progress_) (*progress_)(out_.positions.size(), expected_, false);
+  }
+  // In the inner loops: the cancel poll every 1024 calls.
+  void tick() const {
+    if (poll_ && (++ticks_ & 1023) == 0) (*poll_)();
   }
 
  private:
   const TessellateProgress* progress_;
+  const TessellatePoll* poll_;
+  mutable std::size_t ticks_ = 0;
   const Mesh& out_;
   std::size_t expected_;
 };
 }  // namespace
 
 void set_tessellate_progress(const TessellateProgress* progress) { t_progress = progress; }
+
+const TessellatePoll* set_tessellate_poll(const TessellatePoll* poll) { return std::exchange(t_poll, poll); }
 
 Mesh tessellate(const Model& m, const Tolerance& tol_in, std::vector<std::array<Vec2, 3>>* corner_uv) {
   const double nan = std::numeric_limits<double>::quiet_NaN();
@@ -554,6 +565,7 @@ Mesh tessellate(const Model& m, const Tolerance& tol_in, std::vector<std::array<
         const double shift = r % 2 ? 0.5 : 0.0;
         std::size_t piece = 0;
         for (int k = 0; k < count; ++k) {
+          report.tick();
           const double target = cum[kRow] * (k + shift) / count;
           if (k == 0 && shift == 0) continue;
           while (piece + 1 < kRow && cum[piece + 1] < target) ++piece;
@@ -607,6 +619,7 @@ Mesh tessellate(const Model& m, const Tolerance& tol_in, std::vector<std::array<
                                CGAL::make_property_map(sorted_at), K()));
       CDT::Face_handle near;
       for (std::size_t i : order) {
+        report.tick();
         auto h = cdt.insert(seeds[i].loc, near);
         h->info() = seeds[i].info;
         auto fc = cdt.incident_faces(h), done = fc;
@@ -663,6 +676,7 @@ Mesh tessellate(const Model& m, const Tolerance& tol_in, std::vector<std::array<
       // neighbours of one long edge each add a point beside it and the mesh ends up several times
       // denser than the tolerance needs.
       for (CDT::Face_handle fh : todo) {
+        report.tick();
         if (cdt.is_infinite(fh)) continue;
         if (fh->info().depth % 2 != 1) continue;
         if (fh->info().blocked == round) {
@@ -780,6 +794,7 @@ Mesh tessellate(const Model& m, const Tolerance& tol_in, std::vector<std::array<
       std::size_t inserted = 0;
       const double eu = 1e-12 * (u1 - u0), ev = 1e-12 * (v1 - v0);
       for (const Add& a : add) {
+        report.tick();
         // A place on the border, on a vertex or outside the face cannot take a point: try the
         // triangle's centroid in the plane instead (strictly inside it).
         for (const Vec2& uv : {a.at, a.centroid}) {

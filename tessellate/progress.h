@@ -13,4 +13,12 @@ namespace wedge {
 using TessellateProgress = std::function<void(std::size_t done, std::size_t expected, bool finished)>;
 void set_tessellate_progress(const TessellateProgress* progress);
 
+// A poll for a cancel request: tessellate() calls it on the thread that runs it between faces and
+// every 1024 points or triangles it looks at (milliseconds apart even at a very fine tolerance),
+// and it stops the tessellation by throwing (the CSG evaluator's poll throws wedge::Cancelled, so
+// a cancel raised while a leaf is tessellated is seen at once, not when the leaf is done). For the
+// calling thread only; returns the poll it replaces, to be put back; nullptr removes it.
+using TessellatePoll = std::function<void()>;
+const TessellatePoll* set_tessellate_poll(const TessellatePoll* poll);
+
 }  // namespace wedge

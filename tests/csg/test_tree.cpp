@@ -4,6 +4,7 @@
 #include <catch2/catch.hpp>
 
 #include <atomic>
+#include <chrono>
 #include <cmath>
 #include <map>
 
@@ -457,6 +458,29 @@ TEST_CASE("tree: progress reaches the total, and a cancel leaves nothing behind"
   }
   // Nothing half-done was kept: the same solid evaluates in full afterwards.
   CHECK(s.mass_properties(tol).volume == v);
+}
+
+TEST_CASE("tree: a cancel raised while a leaf is tessellated stops the evaluation at once", "[tree][cancel]") {
+  // A sphere at chordal 2e-6 is 3.5 million triangles, about 4 s of tessellation (release build):
+  // the cancel, raised 0.2 s in, was seen only after it, at the next node. The tessellator polls
+  // the evaluation's cancel every 1024 points.
+  Tolerance fine;
+  fine.chordal = 2e-6;
+  Solid d = Solid::boolean(BooleanOp::Difference, {brep_solid(sphere(1)), box_solid(Vec3(2, 2, 2))});
+  const auto start = std::chrono::steady_clock::now();
+  auto seconds = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
+  EvalControl stop;
+  stop.cancelled = [&] { return seconds() > 0.2; };
+  {
+    Installed on(stop);
+    CHECK_THROWS_AS(d.mesh(fine), Cancelled);
+  }
+  const double latency = seconds() - 0.2;
+  INFO("stopped " << latency << " s after the cancel");
+  CHECK(latency < 0.5);
+  // Nothing half-done was kept: the same solid evaluates at another tolerance afterwards.
+  Solid fresh = Solid::boolean(BooleanOp::Difference, {brep_solid(sphere(1)), box_solid(Vec3(2, 2, 2))});
+  CHECK(d.mass_properties(Tolerance{}).volume == fresh.mass_properties(Tolerance{}).volume);
 }
 
 TEST_CASE("tree: each face of a result keeps the tag of the solid it came from", "[tree]") {

@@ -203,6 +203,14 @@ TEST_CASE("Ctrl-C stops a running script and a CSG evaluation cleanly", "[lua][t
     // Generous: the 100 ms target is measured in bench/, not here.
     CHECK(r.seconds_after_signal < 5);
   }
+  SECTION("a long tessellation outside any tree") {
+    // About 4 s and 3.5 million triangles to the end (release build); the tessellator polls for
+    // the interrupt every 1024 points, so it stops within milliseconds (it ran to the end before).
+    auto r = interrupt("print(sphere(1):triangles{tolerance = 2e-6})\n", std::chrono::milliseconds(500));
+    CHECK(r.exit_code == 130);
+    CHECK_THAT(r.err, Catch::Contains("interrupted by Ctrl-C"));
+    CHECK(r.seconds_after_signal < 1.5);
+  }
 }
 
 TEST_CASE("wedge run killed (SIGKILL) while exporting a large mesh leaves the old file and no temporary", "[lua][cli][write_failure]") {
