@@ -262,7 +262,8 @@ class Model {
   // parameter rectangle and, on planar faces, of Green's theorem along their (curved) edges.
   // Throws for a cylinder face of the planar builders or a trimmed parametric face.
   MassProperties mass_properties() const;
-  // The signed volume enclosed by the boundary polylines (arcs sampled), for any faces.
+  // The signed volume enclosed by the boundary polylines (arcs sampled), for any faces; with
+  // parametric faces a coarse quadrature of them (for the sign: validate(), the builders).
   double approximate_volume() const;
 
   // Applies m to the geometry. A mirror (negative determinant) reverses every loop so that outer
@@ -297,7 +298,7 @@ class Model {
   Arena<BrepFace, FaceId> faces_;
   Arena<BrepShell, ShellId> shells_;
   long holes_ = 0;
-  MassProperties exact_mass() const;  // brep/mass.cpp
+  MassProperties exact_mass(bool rough = false) const;  // brep/mass.cpp
   // Geometry, attached by id.
   IdMap<VertexId, Point3> points_;
   IdMap<EdgeId, CurvePtr> curves_;

@@ -52,6 +52,11 @@ const Gauss& gauss16() {
   return g;
 }
 
+const Gauss& gauss4() {
+  static const Gauss g(4);
+  return g;
+}
+
 // Accumulated surface integrals (the divergence-theorem forms above).
 struct Moments {
   double area = 0, vol = 0;
@@ -85,14 +90,18 @@ std::vector<double> panels(std::vector<double> breaks, double a, double b, int p
 
 }  // namespace
 
-MassProperties Model::exact_mass() const {
+MassProperties Model::exact_mass(bool rough) const {
   Point3 ref = Point3::Zero();
   {
     Box3 b;
     vertices_.for_each([&](VertexId v, const BrepVertex&) { b.extend(point(v)); });
     if (!b.empty()) ref = b.center();
   }
-  const Gauss& g = gauss16();
+  // `rough` (approximate_volume, for validate()'s sign check): 4 points and half the panels per
+  // break, 64 times fewer surface evaluations per face; still within about 1e-6 of the volume
+  // for the quadrics.
+  const Gauss& g = rough ? gauss4() : gauss16();
+  const int per = rough ? 2 : 4;
   Moments mo;
   faces_.for_each([&](FaceId f, const BrepFace& face) {
     const FaceSurface& fs = surface(f);
@@ -123,7 +132,7 @@ MassProperties Model::exact_mass() const {
       if (std::abs(std::abs(a2 / 2) - rect) > 1e-9 * rect)
         fail("mass properties: face ", f.value, " is a trimmed piece of its surface (not supported yet)");
       double sign = ps->reversed ? -1.0 : 1.0;
-      std::vector<double> us = panels(S.u_breaks(), u0, u1, 4), vs = panels(S.v_breaks(), v0, v1, 4);
+      std::vector<double> us = panels(S.u_breaks(), u0, u1, per), vs = panels(S.v_breaks(), v0, v1, per);
       for (std::size_t i = 0; i + 1 < us.size(); ++i)
         for (std::size_t j = 0; j + 1 < vs.size(); ++j) {
           double hu = (us[i + 1] - us[i]) / 2, hv = (vs[j + 1] - vs[j]) / 2;
@@ -154,7 +163,7 @@ MassProperties Model::exact_mass() const {
         CurvePtr C = edge_curve(sd.edge);
         auto [t0, t1] = C->domain();
         bool straight = !curve(sd.edge);
-        std::vector<double> ts = panels(C->breaks(), t0, t1, straight ? 1 : 8);
+        std::vector<double> ts = panels(C->breaks(), t0, t1, straight ? 1 : 2 * per);
         double dir = sd.side == 0 ? 1.0 : -1.0;
         for (std::size_t i = 0; i + 1 < ts.size(); ++i) {
           double h = (ts[i + 1] - ts[i]) / 2, m = (ts[i + 1] + ts[i]) / 2;

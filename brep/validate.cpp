@@ -112,7 +112,7 @@ bool Model::all_planar() const {
 }
 
 double Model::approximate_volume() const {
-  if (has_param_faces()) return exact_mass().volume;
+  if (has_param_faces()) return exact_mass(true).volume;
   Point3 ref = bounds().center();
   double vol = 0;
   auto tri = [&](const Point3& a, const Point3& b, const Point3& c) { vol += (a - ref).dot((b - ref).cross(c - ref)) / 6.0; };
