@@ -1,23 +1,30 @@
 // A winged-edge B-Rep model as a leaf of the CSG tree: Euler counts, validation and (for planar
 // faces) mass properties come exactly from the model; the mesh is its faces tessellated.
 #pragma once
+#include <map>
 #include <memory>
+#include <mutex>
+#include <utility>
 
 #include "brep/brep.h"
 #include "csg/solid.h"
 
 namespace wedge {
 
-class BrepLeaf final : public SolidLeaf {
+class BrepLeaf final : public SolidLeaf, public std::enable_shared_from_this<BrepLeaf> {
  public:
   // Throws wedge::Error with validate()'s message when the model is not a valid solid.
   explicit BrepLeaf(Model model);
   std::string kind() const override { return "brep"; }
   // tessellate/brep_mesh.h: each edge sampled once for both faces, faces triangulated in their
-  // plane or parameter domain and refined to the tolerance.
+  // plane or parameter domain and refined to the tolerance. A copy moved by a rotation,
+  // translation, mirror or uniform scale (transformed()) gives its source's mesh moved: the source
+  // tessellates once for all its copies (400 placed drills: one tessellation, not 400).
   Mesh mesh(const Tolerance& tol) const override;
   Mesh parametrised_mesh(const Tolerance& tol, CornerUvs& corner_uv) const override;
-  Box3 bounds() const override { return model_->bounds(); }
+  // Found once (Model::bounds samples every curved edge and face): asked again for each transformed
+  // copy of the leaf, each prune and each check of a transform.
+  Box3 bounds() const override;
   std::optional<MassProperties> mass_properties() const override;
   std::optional<EulerCounts> euler() const override { return model_->counts(); }
   std::string validate() const override { return model_->validate().message; }
@@ -28,7 +35,19 @@ class BrepLeaf final : public SolidLeaf {
   const Model& model() const { return *model_; }
 
  private:
+  struct Trusted {};
+  BrepLeaf(Model model, std::shared_ptr<const BrepLeaf> source, const Mat4& matrix)
+      : model_(std::make_shared<const Model>(std::move(model))), source_(std::move(source)), matrix_(matrix) {}
+  // The source's tessellation at tol, made once and kept (for its copies).
+  std::shared_ptr<const std::pair<Mesh, CornerUvs>> shared_mesh(const Tolerance& tol) const;
   std::shared_ptr<const Model> model_;
+  // A similarity copy: the leaf it was moved from (itself no copy) and the move.
+  std::shared_ptr<const BrepLeaf> source_;
+  Mat4 matrix_ = Mat4::Identity();
+  mutable std::mutex meshes_mutex_;
+  mutable std::map<std::pair<double, double>, std::shared_ptr<const std::pair<Mesh, CornerUvs>>> meshes_;
+  mutable std::once_flag bounds_once_;
+  mutable Box3 bounds_;
 };
 
 // The kind of a face's surface as s:faces() names it: "plane", "cylinder", or a curved builder's

@@ -70,3 +70,35 @@ TEST_CASE("a B-Rep leaf answers exactly and tessellates watertight", "[csg][brep
     CHECK_THROWS_WITH(brep_solid(std::move(m)), Catch::StartsWith("not a valid solid:"));
   }
 }
+
+TEST_CASE("a B-Rep leaf moved by a similarity gives its source's mesh moved, tessellated once", "[csg][brep]") {
+  // A placed copy (translate, rotate, mirror, uniform scale) is not validated again and not
+  // tessellated again: its mesh is the source's, moved; the source keeps it for all its copies.
+  Tolerance tol;
+  tol.chordal = 0.01;
+  const Solid source = brep_solid(cylinder(0.5, 2));
+  const Mesh base = source.mesh(tol);
+  for (const Mat4& m : {Mat4(translate(Vec3(3, -2, 1))), Mat4(rotate_z(37) * translate(Vec3(1, 0, 0))),
+                        Mat4(reflect(Vec3(1, 1, 0).normalized(), Point3(2, 0, 0)))}) {
+    const Solid copy = source.transformed(m);
+    const Mesh moved = copy.mesh(tol);
+    const Mesh want = base.transformed(m);
+    CHECK(moved.positions == want.positions);  // bit for bit: the same points moved
+    CHECK(moved.triangles == want.triangles);
+    CHECK(copy.validate(tol).empty());
+    CHECK(moved.volume() == Approx(base.volume()).epsilon(1e-12));  // outward after a mirror too
+    CHECK(copy.mass_properties(tol).volume == Approx(kPi * 0.25 * 2).epsilon(1e-12));
+    // A copy of a copy composes the moves on the first source.
+    const Solid again = copy.transformed(translate(Vec3(0, 0, 5)));
+    CHECK(again.mesh(tol).positions == base.transformed(translate(Vec3(0, 0, 5)) * m).positions);
+  }
+  // An enlarged copy keeps the tolerance in its own units: the source is tessellated finer.
+  const Solid big = source.transformed(scale(Vec3(4, 4, 4)));
+  const Mesh b = big.mesh(tol);
+  CHECK(b.triangle_count() > base.triangle_count());
+  CHECK(b.volume() == Approx(kPi * 4 * 8).epsilon(2 * tol.chordal / 2));  // within the chordal error of r = 2
+  // A stretch is no similarity: that copy is a model of its own, validated and tessellated.
+  const Solid stretched = brep_solid(box(Vec3(1, 1, 1))).transformed(scale(Vec3(1, 2, 3)));
+  CHECK(stretched.mass_properties(tol).volume == Approx(6));
+  CHECK(stretched.validate(tol).empty());
+}
