@@ -250,9 +250,29 @@ std::shared_ptr<Evaluated> union_of(const std::vector<std::shared_ptr<Evaluated>
 // near-equal length, each run's union is made the same way (in parallel), and one engine pass
 // joins the runs' results. Each engine call then stays small, so a cancel is seen soon and the
 // two threads have independent work; the depth grows as log(n) / log(fan-in).
+//
+// First, with pruning on, the hubs: operands whose boxes meet more than fan-in others (a plate under
+// its 400 bosses). The others are unioned without them (grouped by their boxes again: bosses apart
+// from one another are put side by side with no engine pass), and one pass joins the hubs and that
+// union. Cut into runs instead, the plate met one run of bosses in one pass and everything else
+// in the next, its triangles cut twice (1.56 s against 1.17 s in one pass, bench_tree at one
+// thread); with the hubs apart it is one pass of two operands.
+std::vector<std::size_t> overlap_degrees(const std::vector<std::shared_ptr<Evaluated>>& in);
 std::shared_ptr<Evaluated> balanced_union(const std::vector<std::shared_ptr<Evaluated>>& group, Run& run) {
   const std::size_t k = run.options.union_fan_in;
   if (k < 2 || group.size() <= k) return engine(BooleanOp::Union, group, run);
+  if (run.options.prune) {
+    const std::vector<std::size_t> degree = overlap_degrees(group);
+    std::vector<std::shared_ptr<Evaluated>> hubs, rest;
+    for (std::size_t i = 0; i < group.size(); ++i) (degree[i] > k ? hubs : rest).push_back(group[i]);
+    // Two or more others, so that the group below is smaller than this one.
+    if (!hubs.empty() && rest.size() >= 2) {
+      auto others = union_of(rest, run);
+      run.check();
+      if (!others->mesh.empty()) hubs.push_back(others);
+      return balanced_union(hubs, run);
+    }
+  }
   std::vector<std::vector<std::shared_ptr<Evaluated>>> runs(k);
   for (std::size_t i = 0; i < k; ++i)
     runs[i].assign(group.begin() + long(group.size() * i / k), group.begin() + long(group.size() * (i + 1) / k));
@@ -268,6 +288,19 @@ std::shared_ptr<Evaluated> balanced_union(const std::vector<std::shared_ptr<Eval
   parts.erase(std::remove_if(parts.begin(), parts.end(), [](const auto& p) { return p->mesh.empty(); }), parts.end());
   if (parts.empty()) return std::make_shared<Evaluated>();
   return engine(BooleanOp::Union, parts, run);
+}
+
+// For each operand, how many others its box meets (a sweep along x, as union_of's).
+std::vector<std::size_t> overlap_degrees(const std::vector<std::shared_ptr<Evaluated>>& in) {
+  std::vector<Box3> box(in.size());
+  for (std::size_t i = 0; i < in.size(); ++i) box[i] = mesh_box(in[i]->mesh);
+  std::vector<std::size_t> order(in.size()), degree(in.size(), 0);
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return box[a].min.x() < box[b].min.x(); });
+  for (std::size_t a = 0; a < order.size(); ++a)
+    for (std::size_t b = a + 1; b < order.size() && box[order[b]].min.x() <= box[order[a]].max.x(); ++b)
+      if (!boxes_apart(box[order[a]], box[order[b]])) ++degree[order[a]], ++degree[order[b]];
+  return degree;
 }
 
 std::shared_ptr<Evaluated> union_of(const std::vector<std::shared_ptr<Evaluated>>& in, Run& run) {

@@ -578,6 +578,30 @@ TEST_CASE("tree: a large union is evaluated as a balanced tree of n-ary engine p
   set_eval_options({});
 }
 
+TEST_CASE("tree: a plate under more bosses than the fan-in is one engine pass of the plate and the bosses", "[tree][balanced]") {
+  // 100 bosses on a plate, apart from one another: only the plate meets more than the fan-in of
+  // others. The bosses are put side by side without the engine and one pass of two operands
+  // joins them to the plate (cut into runs by x, the plate met a run of bosses in one pass and the
+  // rest in another: two passes over its triangles, the last of 32 operands).
+  auto plate = [] {
+    std::vector<Solid> parts{box_solid(Vec3(21, 21, 1))};
+    for (int i = 0; i < 10; ++i)
+      for (int j = 0; j < 10; ++j) parts.push_back(box_solid(Vec3(1, 1, 2), Point3(1 + 2 * i, 1 + 2 * j, 0.5)));
+    return Solid::boolean(BooleanOp::Union, parts);
+  };
+  Tolerance tol;
+  EvalStats stats;
+  EvalControl control;
+  control.stats = &stats;
+  Installed on(control);
+  Solid u = plate();
+  CHECK(u.mass_properties(tol).volume == Approx(21 * 21 + 100 * 1.5).epsilon(1e-12));
+  CHECK(stats.booleans == 1);
+  CHECK(stats.widest == 2);
+  CHECK(u.euler(tol) == EulerCounts{8 + 800, 12 + 1200, 6 + 500, 100, 0, 1});
+  CHECK(u.validate(tol) == "");
+}
+
 TEST_CASE("tree: holes drilled one by one (a - b - c - ...) are one n-ary difference", "[tree][balanced]") {
   // A script that drills in a loop builds a chain of differences; the tree makes it one node, so
   // the engine runs once over the plate and all drills, not once per hole on a growing result.
