@@ -2,9 +2,12 @@
 // and bounding-box pruning, at 1 and 2 threads; and how long a cancel takes to stop an evaluation.
 //
 //   bench_tree [repeats] [bosses per side, default 20] [threads, default "12"] [evaluators, default "012"]
+//              [fan-in of the first two settings, default 32] [cancel latency: 1 (default) or 0]
 //
 // threads: the thread counts to run, as digits ("2": two threads only); evaluators: which of the
 // three evaluator settings below to run, by index ("0": balanced unions with cache and pruning).
+// The median is of the evaluation (the model built, then its volume asked); "built" is the median
+// time to build the model's tree (Manifold's tree.mjs times both: compare it with their sum).
 //
 // Models (fresh trees for every run, so nothing is cached across runs):
 //   plate: a 42 x 42 x 2 plate with 400 instances (20 x 20) of one drilled boss (a cylinder r 0.6,
@@ -65,6 +68,7 @@ Solid gear_model() {
 
 struct Row {
   double seconds;
+  double build;
   double volume;
   std::size_t triangles;
   EvalStats stats;
@@ -77,7 +81,9 @@ Row run(Solid (*make)(), const EvalOptions& o, int threads) {
   EvalControl c;
   c.stats = &stats;
   set_eval_control(&c);
+  const double b0 = now();
   Solid s = make();
+  const double build = now() - b0;
   Tolerance tol;
   double t0 = now();
   double v = s.mass_properties(tol).volume;
@@ -85,7 +91,7 @@ Row run(Solid (*make)(), const EvalOptions& o, int threads) {
   const std::size_t triangles = s.mesh(tol).triangle_count();  // cached: no second evaluation
   set_eval_control(nullptr);
   set_eval_options({});
-  return {t, v, triangles, stats};
+  return {t, build, v, triangles, stats};
 }
 
 }  // namespace
@@ -95,6 +101,8 @@ int main(int argc, char** argv) {
   int repeats = argc > 1 ? std::max(1, std::atoi(argv[1])) : 3;
   if (argc > 2) g_n = std::max(1, std::atoi(argv[2]));
   const std::string threads_list = argc > 3 ? argv[3] : "12", config_list = argc > 4 ? argv[4] : "012";
+  const std::size_t fan_in = argc > 5 ? static_cast<std::size_t>(std::max(0, std::atoi(argv[5]))) : 32;
+  const bool cancel_latency = argc > 6 ? std::atoi(argv[6]) != 0 : true;
   struct Model {
     const char* name;
     Solid (*make)();
@@ -103,30 +111,36 @@ int main(int argc, char** argv) {
   struct Config {
     const char* name;
     EvalOptions o;
-  } configs[] = {{"cache+prune, unions balanced (fan-in 32)", {true, true, true, 32}},
-                 {"cache+prune, each union one engine pass", {true, true, true, 0}},
-                 {"no cache, no prune (fan-in 32)", {false, false, true, 32}}};
-  std::printf("| model | evaluator | threads | median s | engine calls | tessellation, broad, intersection, classification, output ms (summed) | volume | triangles |\n|---|---|---|---|---|---|---|---|\n");
+  };
+  const std::string fan = "(fan-in " + std::to_string(fan_in) + ")";
+  const std::string balanced = "cache+prune, unions balanced " + fan, unpruned = "no cache, no prune " + fan;
+  const Config configs[] = {{balanced.c_str(), {true, true, true, fan_in}},
+                            {"cache+prune, each union one engine pass", {true, true, true, 0}},
+                            {unpruned.c_str(), {false, false, true, fan_in}}};
+  std::printf("| model | evaluator | threads | median s | built s | engine calls | tessellation, check, broad, intersection, classification, output ms (summed) | volume | triangles |\n|---|---|---|---|---|---|---|---|---|\n");
   for (const auto& m : models)
     for (std::size_t ci = 0; ci < std::size(configs); ++ci)
       for (char tc : threads_list) {
         const auto& c = configs[ci];
         const int threads = tc - '0';
         if (config_list.find(char('0' + ci)) == std::string::npos || threads < 1) continue;
-        std::vector<double> times;
+        std::vector<double> times, builds;
         Row last{};
         for (int r = 0; r < repeats; ++r) {
           last = run(m.make, c.o, threads);
           times.push_back(last.seconds);
+          builds.push_back(last.build);
         }
         std::sort(times.begin(), times.end());
+        std::sort(builds.begin(), builds.end());
         const EvalStats& st = last.stats;
-        std::printf("| %s | %s | %d | %.3f | %ld | %.0f, %.0f, %.0f, %.0f, %.0f | %.6f | %zu |\n", m.name, c.name, threads,
-                    times[times.size() / 2], st.booleans, st.tessellate, st.broad, st.arrange, st.classify, st.output, last.volume,
+        std::printf("| %s | %s | %d | %.3f | %.3f | %ld | %.0f, %.0f, %.0f, %.0f, %.0f, %.0f | %.6f | %zu |\n", m.name, c.name, threads,
+                    times[times.size() / 2], builds[builds.size() / 2], st.booleans, st.tessellate, st.check, st.broad, st.arrange, st.classify, st.output, last.volume,
                     last.triangles);
         std::fflush(stdout);
       }
   // Cancel latency: a flag raised part-way through the plate; the time until evaluation returns.
+  if (cancel_latency)
   for (std::size_t fan_in : {std::size_t(32), std::size_t(0)}) {
   EvalOptions o;
   o.union_fan_in = fan_in;
