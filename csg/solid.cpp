@@ -16,6 +16,7 @@
 #include <tbb/task_arena.h>
 
 #include "csg/brep_leaf.h"
+#include "csg/curved_mass.h"
 #include "csg/mesh_leaf.h"
 #include "csg/solid_impl.h"
 #include "kernel/parallel.h"
@@ -871,7 +872,12 @@ Box3 Solid::bounds() const {
 MassProperties Solid::mass_properties(const Tolerance& tol) const {
   if (node_->kind == Node::Kind::Leaf)
     if (auto mp = node_->leaf->mass_properties()) return *mp;
-  return wedge::mass_properties(mesh(tol));
+  if (empty() || polyhedral()) return wedge::mass_properties(mesh(tol));
+  // Curved: the mesh and, under each curved triangle, the region up to its surface (csg/curved_mass.h).
+  auto e = evaluate_root(node_, tol);
+  std::lock_guard<std::mutex> lock(e->mass_mutex);
+  if (!e->mass) e->mass = curved_mass_properties(e->mesh, e->surfaces, e->corner_uv, tol.chordal);
+  return *e->mass;
 }
 
 EulerCounts Solid::euler(const Tolerance& tol) const {

@@ -5,6 +5,7 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -24,6 +25,8 @@ struct Evaluated {
   std::shared_ptr<const RebuiltSolid> rebuilt;
   std::mutex shaded_mutex;
   std::shared_ptr<const Mesh> shaded;
+  std::mutex mass_mutex;
+  std::optional<MassProperties> mass;  // of a curved result (csg/curved_mass.h)
 };
 
 struct Solid::Node {
