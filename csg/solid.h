@@ -72,7 +72,7 @@ struct SolidFace {
 struct EvalStats {
   double tessellate = 0, check = 0, broad = 0, arrange = 0, classify = 0, output = 0, rebuild = 0;  // ms
   long booleans = 0, pruned = 0, cached = 0;
-  long widest = 0;  // the most operands one engine pass took (bounded by EvalOptions::union_fan_in)
+  long widest = 0;  // the most operands one engine pass took (see EvalOptions::union_fan_in)
 };
 struct EvalControl {
   std::function<void(std::size_t done, std::size_t total)> progress;
@@ -87,10 +87,12 @@ struct EvalOptions {
   bool cache = true;     // shared subtrees once, results kept per tolerance
   bool prune = true;     // bounding-box pruning and disjoint unions without the engine
   bool parallel = true;  // independent operands evaluated in parallel
-  // The most operands one engine pass takes; a larger group of overlapping operands is evaluated
-  // as a balanced tree of unions (or intersections) of at most this many, and a difference with
-  // more subtrahends subtracts their union (csg/solid.cpp). 0: all in one pass. (Named for the
-  // union, where it came first; it bounds the intersection and the difference the same way.)
+  // The most operands one engine pass takes that can lie on one another (whose boxes can share a
+  // point; more operands whose boxes are sparse, a plate and its bosses, go in one pass): a larger
+  // group of overlapping operands is evaluated as a balanced tree of unions (or intersections) of
+  // at most this many, and a difference with more such subtrahends subtracts their union
+  // (csg/solid.cpp). 0: all in one pass. (Named for the union, where it came first; it bounds the
+  // intersection and the difference the same way.)
   std::size_t union_fan_in = 32;
 };
 void set_eval_options(const EvalOptions& options);

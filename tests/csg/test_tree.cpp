@@ -537,12 +537,13 @@ TEST_CASE("tree: a finer tolerance re-evaluates the boolean from the tree and co
 }
 
 TEST_CASE("tree: a large union is evaluated as a balanced tree of n-ary engine passes", "[tree][balanced]") {
-  // 100 unit boxes in a row along x, each overlapping the next by a half ([i, i + 1.5] x [0, 1]^2,
-  // all one group of overlapping operands): the union is [0, 100.5] x [0, 1]^2, volume 100.5
-  // exactly (every vertex is an input coordinate).
+  // 100 boxes in a row along x, each 5 long and one further on ([i, i + 5] x [0, 1]^2: every
+  // point of the middle in 5 of them, each box meeting 8 others: one group of operands that lie
+  // on one another): the union is [0, 104] x [0, 1]^2, volume 104 exactly (every vertex is an
+  // input coordinate).
   auto row = [] {
     std::vector<Solid> boxes;
-    for (int i = 0; i < 100; ++i) boxes.push_back(box_solid(Vec3(1.5, 1, 1), Point3(i, 0, 0)));
+    for (int i = 0; i < 100; ++i) boxes.push_back(box_solid(Vec3(5, 1, 1), Point3(i, 0, 0)));
     return Solid::boolean(BooleanOp::Union, boxes);
   };
   Tolerance tol;
@@ -555,7 +556,7 @@ TEST_CASE("tree: a large union is evaluated as a balanced tree of n-ary engine p
   set_eval_options(o);
   control.stats = &one;
   Solid a = row();
-  CHECK(a.mass_properties(tol).volume == Approx(100.5).epsilon(1e-12));
+  CHECK(a.mass_properties(tol).volume == Approx(104).epsilon(1e-12));
   CHECK(one.booleans == 1);
   // Fan-in 8: 8 runs of 12 or 13 boxes, each again 8 runs of 1 or 2; every engine call takes at
   // most 8 operands, so there are many calls (1 root, 8 runs, and one per run of 2 boxes).
@@ -563,9 +564,19 @@ TEST_CASE("tree: a large union is evaluated as a balanced tree of n-ary engine p
   set_eval_options(o);
   control.stats = &balanced;
   Solid b = row();
-  CHECK(b.mass_properties(tol).volume == Approx(100.5).epsilon(1e-12));
+  CHECK(b.mass_properties(tol).volume == Approx(104).epsilon(1e-12));
   CHECK(balanced.booleans > 8);
+  CHECK(balanced.widest < 100);
   CHECK(b.validate(tol) == "");
+  // Boxes each overlapping the next by a half: no point in more than two of them, so the fan-in
+  // (which bounds operands that lie on one another) leaves them one pass of 100.
+  EvalStats sparse;
+  control.stats = &sparse;
+  std::vector<Solid> halves;
+  for (int i = 0; i < 100; ++i) halves.push_back(box_solid(Vec3(1.5, 1, 1), Point3(i, 0, 0)));
+  CHECK(Solid::boolean(BooleanOp::Union, halves).mass_properties(tol).volume == Approx(100.5).epsilon(1e-12));
+  CHECK(sparse.booleans == 1);
+  CHECK(sparse.widest == 100);
   // The same bits at 1 and 2 threads.
   Mesh two = b.mesh(tol);
   {
@@ -579,10 +590,11 @@ TEST_CASE("tree: a large union is evaluated as a balanced tree of n-ary engine p
 }
 
 TEST_CASE("tree: a plate under more bosses than the fan-in is one engine pass of the plate and the bosses", "[tree][balanced]") {
-  // 100 bosses on a plate, apart from one another: only the plate meets more than the fan-in of
-  // others. The bosses are put side by side without the engine and one pass of two operands
-  // joins them to the plate (cut into runs by x, the plate met a run of bosses in one pass and the
-  // rest in another: two passes over its triangles, the last of 32 operands).
+  // 100 bosses on a plate, apart from one another: no point in more than two operands, so one
+  // pass of all 101 (cut into runs by x, the plate met a run of bosses in one pass and the rest
+  // in another: two passes over its triangles, the last of 32 operands). With the bosses crowded
+  // (each meeting more than the fan-in of others) the plate is a hub: the bosses are unioned
+  // first and one pass of two operands joins them to it.
   auto plate = [] {
     std::vector<Solid> parts{box_solid(Vec3(21, 21, 1))};
     for (int i = 0; i < 10; ++i)
@@ -597,9 +609,26 @@ TEST_CASE("tree: a plate under more bosses than the fan-in is one engine pass of
   Solid u = plate();
   CHECK(u.mass_properties(tol).volume == Approx(21 * 21 + 100 * 1.5).epsilon(1e-12));
   CHECK(stats.booleans == 1);
-  CHECK(stats.widest == 2);
+  CHECK(stats.widest == 101);
   CHECK(u.euler(tol) == EulerCounts{8 + 800, 12 + 1200, 6 + 500, 100, 0, 1});
   CHECK(u.validate(tol) == "");
+  // Crowded at one place: 8 bosses 0.1 apart along x, each meeting the 7 others and the plate, beside
+  // 20 bosses apart. At fan-in 8 the plate (meeting 28) is a hub: the bosses are unioned without it
+  // (the 20 side by side, the 8 in one pass) and one pass of two joins them to the plate.
+  EvalStats crowded;
+  control.stats = &crowded;
+  EvalOptions eight;
+  eight.union_fan_in = 8;
+  set_eval_options(eight);
+  std::vector<Solid> parts{box_solid(Vec3(21, 21, 1))};
+  for (int i = 0; i < 20; ++i) parts.push_back(box_solid(Vec3(1, 1, 2), Point3(1 + 2 * (i % 10), 5 + 2 * (i / 10), 0.5)));
+  for (int i = 0; i < 8; ++i) parts.push_back(box_solid(Vec3(1, 1, 2), Point3(1 + 0.1 * i, 1, 0.5)));
+  const Solid c = Solid::boolean(BooleanOp::Union, parts);
+  CHECK(c.mass_properties(tol).volume == Approx(441 + 30 + 1.7 * 1.5).epsilon(1e-12));
+  set_eval_options({});
+  CHECK(crowded.booleans == 2);
+  CHECK(crowded.widest == 8);
+  CHECK(c.validate(tol) == "");
 }
 
 TEST_CASE("tree: holes drilled one by one (a - b - c - ...) are one n-ary difference", "[tree][balanced]") {
