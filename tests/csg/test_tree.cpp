@@ -4,6 +4,8 @@
 #include <catch2/catch.hpp>
 
 #include <atomic>
+#include <algorithm>
+#include <thread>
 #include <chrono>
 #include <cmath>
 #include <map>
@@ -481,6 +483,57 @@ TEST_CASE("tree: a cancel raised while a leaf is tessellated stops the evaluatio
   // Nothing half-done was kept: the same solid evaluates at another tolerance afterwards.
   Solid fresh = Solid::boolean(BooleanOp::Difference, {brep_solid(sphere(1)), box_solid(Vec3(2, 2, 2))});
   CHECK(d.mass_properties(Tolerance{}).volume == fresh.mass_properties(Tolerance{}).volume);
+}
+
+TEST_CASE("tree: a cancel stops the evaluation within 100 ms (the median of five)", "[tree][cancel][slow]") {
+  // The issue's bound, on a plate of 20 x 20 drilled bosses (about a second of evaluation): a
+  // flag raised 50-250 ms in, the time until the evaluation throws. The median of five, so that
+  // one descheduled moment on a busy machine does not decide it (release build; slow: the
+  // sanitizers' builds are many times slower between polls).
+  auto plate = [] {
+    Solid boss = Solid::boolean(BooleanOp::Difference, {brep_solid(cylinder(0.6, 2, Point3(0, 0, 1.5))), brep_solid(cylinder(0.3, 3, Point3(0, 0, 1)))});
+    Solid drill = brep_solid(cylinder(0.2, 5, Point3(0, 0, -1)));
+    std::vector<Solid> parts{box_solid(Vec3(42, 42, 2))}, ops;
+    for (int i = 0; i < 20; ++i)
+      for (int j = 0; j < 20; ++j) {
+        const Mat4 m = translate(Vec3(2 + 2 * i, 2 + 2 * j, 0));
+        parts.push_back(boss.transformed(m));
+        ops.push_back(drill.transformed(m));
+      }
+    ops.insert(ops.begin(), Solid::boolean(BooleanOp::Union, parts));
+    return Solid::boolean(BooleanOp::Difference, ops);
+  };
+  std::vector<double> latency;
+  for (double after : {0.05, 0.1, 0.15, 0.2, 0.25}) {
+    std::atomic<bool> stop{false};
+    std::atomic<double> raised{0};
+    EvalControl c;
+    c.cancelled = [&] { return stop.load(); };
+    Solid s = plate();
+    const auto t0 = std::chrono::steady_clock::now();
+    auto since = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); };
+    std::thread raiser([&] {
+      std::this_thread::sleep_for(std::chrono::duration<double>(after));
+      raised = since();
+      stop = true;
+    });
+    bool cancelled = false;
+    {
+      Installed on(c);
+      try {
+        s.mesh(Tolerance{});
+      } catch (const Cancelled&) {
+        cancelled = true;
+      }
+    }
+    const double end = since();
+    raiser.join();
+    if (cancelled) latency.push_back(end - raised.load());
+  }
+  REQUIRE(latency.size() >= 3);  // the evaluation outlasts a quarter second
+  std::sort(latency.begin(), latency.end());
+  INFO("latencies " << latency.front() << " .. " << latency.back() << " s");
+  CHECK(latency[latency.size() / 2] < 0.1);
 }
 
 TEST_CASE("tree: each face of a result keeps the tag of the solid it came from", "[tree]") {
