@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <vector>
 
 #include "kernel/parallel.h"
 #include "surfaces/surfaces.h"
@@ -85,8 +86,24 @@ bool cap(const Mesh& mesh, std::size_t t, const FaceSurface& fs, const CornerUvs
       if (su <= 1e-9 * sv) pole = k, free = 0;
       else if (sv <= 1e-9 * su) pole = k, free = 1;
     }
+  // The rule: Dunavant's; on a triangle with a pole corner, whose parameters are a ratio that is
+  // not smooth at the pole (a polynomial rule on it left a first-order error along a cone's apex
+  // fan), 3 x 3 Gauss points in the collapsed square: t from the pole to the opposite side, s
+  // along it, b = (1 - t at the pole, t s, t (1 - s)), area element t.
+  std::vector<TriPoint> rule(kTri.begin(), kTri.end());
+  if (pole >= 0) {
+    rule.clear();
+    const int j = (pole + 1) % 3, l = (pole + 2) % 3;
+    for (std::size_t a = 0; a < kL.size(); ++a)
+      for (std::size_t c = 0; c < kL.size(); ++c) {
+        const double t = kL[a], sv = kL[c];
+        double b[3];
+        b[pole] = 1 - t, b[j] = t * sv, b[l] = t * (1 - sv);
+        rule.push_back({b[1], b[2], 2 * kLw[a] * kLw[c] * t});  // weights of kTri's kind: sum 1
+      }
+  }
   Sums local;
-  for (const TriPoint& tp : kTri) {
+  for (const TriPoint& tp : rule) {
     const Point3 q = q0 + tp.b1 * a1 + tp.b2 * a2;
     OnSurface os;
     if (cyl) {
