@@ -779,6 +779,17 @@ Mesh tessellate(const Model& m, const Tolerance& tol_in, std::vector<std::array<
           over = true;
           at = uvc;
         }
+        // A triangle turned over against the surface (a thin one along a bend, its middle corner
+        // past the chord of the other two: a swept tube's side at 0.01) folds the mesh onto itself
+        // although every point is within the tolerance, and a boolean refuses it as crossing
+        // itself: it takes a point too. (Corners on a pole have no normal of their own.)
+        if (!over && e[0].free_axis < 0 && e[1].free_axis < 0 && e[2].free_axis < 0) {
+          const Vec3 n3 = (pos(e[1].index) - pos(e[0].index)).cross(pos(e[2].index) - pos(e[0].index));
+          if (n3.dot(e[0].normal + e[1].normal + e[2].normal) < 0) {
+            over = true;
+            at = uvc;
+          }
+        }
         if (over) {
           add.push_back({at, (e[0].uv + e[1].uv + e[2].uv) / 3, fh->vertex(0)});
           for (int k = 0; k < 3; ++k) fh->neighbor(k)->info().blocked = round;

@@ -88,6 +88,31 @@ TEST_CASE("s:faces lists the faces a boolean kept, with their surfaces", "[lua][
   CHECK(r.status == 0);
 }
 
+TEST_CASE("a swept tube along a bend goes through booleans at the default tolerance, and s:faces names its faces", "[lua][tree]") {
+  // At chordal 0.01 the tube's side had thin triangles along the bend turned over against the
+  // surface (each point within the tolerance, the mesh folded onto itself): every boolean with it
+  // failed with "the first operand intersects itself". A loft and a sweep keep their names.
+  auto r = run(R"(
+    local tube = sweep(circle(0.1), bezier{{0, 0, 0}, {1, 0, 1}, {2, 0, 0}})
+    for _, t in ipairs{0.01, 0.003} do
+      tolerance(t)
+      local cut = tube - cube(5):translate(1, -2.5, -2.5)
+      assert(cut:is_valid(), "valid at " .. t)
+      local v = cut:volume()
+      assert(math.abs(v - tube:volume() / 2) < 1e-3 * v, "half the tube at " .. t .. ": " .. v)
+      local names = {}
+      for _, f in ipairs(cut:faces()) do names[f.surface] = (names[f.surface] or 0) + 1 end
+      assert(names.swept == 2 and names.plane == 2, "faces at " .. t)
+    end
+    local duct = loft{profiles = {circle(1), circle(0.5)}, heights = {0, 2}} - cube(5)
+    local k = {}
+    for _, f in ipairs(duct:faces()) do k[f.surface] = (k[f.surface] or 0) + 1 end
+    assert(k.lofted == 2, "lofted faces")
+  )");
+  INFO(r.err);
+  CHECK(r.status == 0);
+}
+
 TEST_CASE("s:faces gives each face its surface as a Surface with its outward side", "[lua][tree]") {
   // sphere(1) minus cube(2): the spherical face's geometry is the unit sphere (points at distance
   // 1 from the origin, outward normal equal to the point); the cut planes x = 0, y = 0, z = 0
