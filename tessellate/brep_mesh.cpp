@@ -150,6 +150,10 @@ class ProgressReport {
   void tick() const {
     if (poll_ && (++ticks_ & 1023) == 0) (*poll_)();
   }
+  // Before a long step with no poll inside.
+  void tick_now() const {
+    if (poll_) (*poll_)();
+  }
 
  private:
   const TessellateProgress* progress_;
@@ -613,10 +617,16 @@ Mesh tessellate(const Model& m, const Tolerance& tol_in, std::vector<std::array<
       for (std::size_t i = 0; i < seeds.size(); ++i) at[i] = seeds[i].loc;
       const std::vector<K::Point_2>& sorted_at = at;
       // (make_property_map takes the address of the first point: none when there are no seeds.)
-      if (!seeds.empty())
-        CGAL::spatial_sort(order.begin(), order.end(),
+      // Beyond kBand seeds, band by band of kBand in row order (bands of neighbouring rows), with
+      // a cancel poll between them: one sort of 1.7 million seeds ran 0.4 s without a poll.
+      constexpr std::size_t kBand = std::size_t(1) << 17;
+      for (std::size_t from = 0; from < order.size(); from += kBand) {
+        report.tick_now();
+        const auto to = order.begin() + long(std::min(order.size(), from + kBand));
+        CGAL::spatial_sort(order.begin() + long(from), to,
                            CGAL::Spatial_sort_traits_adapter_2<K, CGAL::Pointer_property_map<K::Point_2>::const_type>(
                                CGAL::make_property_map(sorted_at), K()));
+      }
       CDT::Face_handle near;
       for (std::size_t i : order) {
         report.tick();
