@@ -91,20 +91,19 @@ std::pair<FaceId, LoopId> add_ring(Model& m, FaceId f, VertexId anchor, const Ri
 // The outward normal of the side wall swept from side s (running a→b) of a face moved by d.
 FaceSurface wall_surface(const Model& m, EdgeSide s, const Vec3& d, const Point3& a, const Point3& b) {
   if (auto* arc = dynamic_cast<const CircularArc*>(m.curve(s.edge).get())) {
-    Vec3 ax = d.normalized();
+    Vec3 ax = unit_vector(d);
     const Vec3 axis = arc->normal();
     if (std::abs(std::abs(axis.dot(ax)) - 1) > 1e-9) fail("sweep: an arc's plane is not perpendicular to the sweep direction");
     double sign_side = s.side == 0 ? 1.0 : -1.0;
     // The arc runs counter-clockwise about its normal from v[0] to v[1]: its tangent at the
     // middle, in the side's direction, crossed with d points out of the wall's solid side.
     auto [t0, t1] = arc->domain();
-    Vec3 mid = (arc->eval((t0 + t1) / 2) - arc->center()).normalized();
+    Vec3 mid = unit_vector(arc->eval((t0 + t1) / 2) - arc->center());
     Vec3 tangent = sign_side * axis.cross(mid);
     Vec3 out = tangent.cross(d);
     return cylinder_face(arc->center(), ax, arc->radius(), !(out.dot(mid) > 0));
   }
-  Vec3 n = (b - a).cross(d);
-  return plane_face(a, n.normalized());
+  return plane_face(a, unit_vector((b - a).cross(d)));
 }
 
 }  // namespace
@@ -489,11 +488,11 @@ Model build_polyhedron(const std::vector<Point3>& points, const std::vector<std:
       corners.push_back(points[static_cast<std::size_t>(k)]);
       c += corners.back();
     }
-    Vec3 n = newell_normal(corners);
-    if (n.norm() == 0) {
+    Vec3 n = unit_vector(newell_normal(corners));
+    if (n.isZero()) {
       if (geometry) fail("polyhedron: face ", fi + 1, " has zero area");
     } else {
-      m.set_surface(face, plane_face(c / static_cast<double>(f.size()), n.normalized()));
+      m.set_surface(face, plane_face(c / static_cast<double>(f.size()), n));
     }
     if (face_of) face_of->push_back(face);
   }

@@ -344,10 +344,10 @@ Model sweep_raw(const std::vector<std::vector<SurfacePtr>>& sides, bool closed) 
         loop_sides(k);
         L.emplace_back(br, 1);
       }
-      Vec3 nrm = newell_normal(pts);
-      if (!(nrm.norm() > 0)) fail("sweep: an end section has no area");
+      Vec3 nrm = unit_vector(newell_normal(pts));
+      if (nrm.isZero()) fail("sweep: an end section has no area");
       sp.faces.push_back(std::move(L));
-      face_geo.push_back(plane_face(pts[0], nrm.normalized()));
+      face_geo.push_back(plane_face(pts[0], nrm));
     };
     cap(false);
     if (!apex) cap(true);
@@ -578,9 +578,8 @@ Model patch_solid_raw(const std::vector<SurfacePtr>& patches, const std::string&
       if (capped[next]) fail(what, ": the patches' open boundary crosses itself at (", points[x.a].x(), ", ", points[x.a].y(), ", ", points[x.a].z(), ")");
       k = next;
     }
-    Vec3 n = newell_normal(pts);
-    if (!(n.norm() > 0)) fail(what, ": a loop of the patches' open boundary encloses no area");
-    n.normalize();
+    Vec3 n = unit_vector(newell_normal(pts));
+    if (n.isZero()) fail(what, ": a loop of the patches' open boundary encloses no area");
     double off = 0;
     for (const Point3& p : pts) off = std::max(off, std::abs((p - pts[0]).dot(n)));
     if (off > 1e3 * eps)

@@ -91,12 +91,14 @@ std::vector<double> panels(std::vector<double> breaks, double a, double b, int p
 }  // namespace
 
 MassProperties Model::exact_mass(bool rough) const {
-  Point3 ref = Point3::Zero();
-  {
-    Box3 b;
-    vertices_.for_each([&](VertexId v, const BrepVertex&) { b.extend(point(v)); });
-    if (!b.empty()) ref = b.center();
-  }
+  // Measured in the frame of the vertices' box (kernel/mesh.h), or of the sampled bounds where the
+  // vertices span nothing (a torus's one vertex): x and areas divided by its scale, so that the
+  // moments of a part 1e90 (or 1e-90) wide neither overflow nor underflow.
+  Box3 box;
+  vertices_.for_each([&](VertexId v, const BrepVertex&) { box.extend(point(v)); });
+  if (!(box.size().maxCoeff() > 0)) box = bounds();
+  const MomentFrame frame(box);
+  const double per_area = 1 / (frame.scale * frame.scale);
   // `rough` (approximate_volume, for validate()'s sign check): 4 points and half the panels per
   // break, 64 times fewer surface evaluations per face; still within about 1e-6 of the volume
   // for the quadrics.
@@ -140,8 +142,8 @@ MassProperties Model::exact_mass(bool rough) const {
           for (std::size_t a = 0; a < g.x.size(); ++a)
             for (std::size_t b = 0; b < g.x.size(); ++b) {
               double u = mu + hu * g.x[a], v = mv + hv * g.x[b], w = g.w[a] * g.w[b] * hu * hv;
-              Vec3 N = sign * S.derivative(u, v, 1, 0).cross(S.derivative(u, v, 0, 1));
-              mo.add(S.eval(u, v) - ref, w * N, w * N.norm());
+              Vec3 N = sign * per_area * S.derivative(u, v, 1, 0).cross(S.derivative(u, v, 0, 1));
+              mo.add(frame.local(S.eval(u, v)), w * N, w * N.norm());
             }
         }
       return;
@@ -173,25 +175,18 @@ MassProperties Model::exact_mass(bool rough) const {
             double s = p.dot(e1), tt = p.dot(e2), dt = dir * C->derivative(t, 1).dot(e2) * g.w[a] * h;
             // P(s, tt) dt = s ∫_0^1 h(τ s, tt) dτ dt, the inner integral by 3-point Gauss.
             for (int k = 0; k < 3; ++k) {
-              double sk = s * (gx[k] + 1) / 2, wk = gw[k] / 2 * s * dt;
-              Vec3 x = o + sk * e1 + tt * e2 - ref;
-              mo.add(x, wk * n, wk);
+              double sk = s * (gx[k] + 1) / 2, wk = gw[k] / 2 * s * dt * per_area;
+              mo.add(frame.local(o + sk * e1 + tt * e2), wk * n, wk);
             }
           }
         }
       }
   });
-  MassProperties mp;
-  mp.volume = mo.vol;
-  mp.area = mo.area;
-  if (!(mp.volume > 0)) return mp;  // inside out or flat: mass_properties() reports it
-  Vec3 cl = mo.first / mp.volume;
-  mp.centroid = ref + cl;
   Mat3 second = mo.second;
   for (int i = 0; i < 3; ++i)
     for (int j = i + 1; j < 3; ++j) second(j, i) = second(i, j);
-  Mat3 cov = second - mp.volume * cl * cl.transpose();
-  mp.inertia = cov.trace() * Mat3::Identity() - cov;
+  MassProperties mp = frame.from_frame(mo.vol, mo.area, mo.first, second);
+  if (!(mp.volume > 0)) return {mp.volume, mp.area, Point3::Zero(), Mat3::Zero()};  // inside out or flat: mass_properties() reports it
   return mp;
 }
 

@@ -72,9 +72,7 @@ std::vector<Point3> Model::loop_polyline(LoopId l, int arc_segments) const {
 
 Vec3 Model::face_normal(FaceId f) const {
   if (const Plane* pl = surface(f).plane()) return pl->unit_normal();
-  Vec3 n = newell_normal(loop_polyline(faces_[f].outer));
-  double len = n.norm();
-  return len > 0 ? Vec3(n / len) : Vec3::Zero();
+  return unit_vector(newell_normal(loop_polyline(faces_[f].outer)));
 }
 
 Box3 Model::bounds() const {
@@ -150,8 +148,8 @@ MassProperties Model::mass_properties() const {
     if (!(e.volume > 0)) fail("mass properties: the model encloses no positive volume (", e.volume, ")");
     return e;
   }
-  MassProperties mp;
-  Point3 ref = bounds().center();
+  const MomentFrame frame(bounds());
+  double volume = 0, area = 0;
   Vec3 first = Vec3::Zero();
   Mat3 second = Mat3::Zero();
   faces_.for_each([&](FaceId f, const BrepFace& face) {
@@ -159,12 +157,12 @@ MassProperties Model::mass_properties() const {
     auto add_loop = [&](LoopId l) {
       std::vector<Point3> p = loop_polyline(l);
       for (std::size_t i = 1; i + 1 < p.size(); ++i) {
-        Vec3 a = p[0] - ref, b = p[i] - ref, c = p[i + 1] - ref;
-        mp.area += 0.5 * (b - a).cross(c - a).dot(n);
+        Vec3 a = frame.local(p[0]), b = frame.local(p[i]), c = frame.local(p[i + 1]);
+        area += 0.5 * (b - a).cross(c - a).dot(n);
         // Signed tetrahedron (ref, a, b, c): volume, first and second moments (the covariance of
         // the canonical tetrahedron mapped by [a b c], Blow & Binstock 2004).
         double det = a.dot(b.cross(c));
-        mp.volume += det / 6.0;
+        volume += det / 6.0;
         first += det / 24.0 * (a + b + c);
         Vec3 s = a + b + c;
         second += det / 120.0 * (a * a.transpose() + b * b.transpose() + c * c.transpose() + s * s.transpose());
@@ -173,11 +171,8 @@ MassProperties Model::mass_properties() const {
     add_loop(face.outer);
     for (LoopId r : face.rings) add_loop(r);
   });
+  MassProperties mp = frame.from_frame(volume, area, first, second);
   if (!(mp.volume > 0)) fail("mass properties: the model encloses no positive volume (", mp.volume, ")");
-  Vec3 cl = first / mp.volume;  // centroid relative to ref
-  mp.centroid = ref + cl;
-  Mat3 cov = second - mp.volume * cl * cl.transpose();
-  mp.inertia = cov.trace() * Mat3::Identity() - cov;
   return mp;
 }
 
@@ -285,7 +280,7 @@ FaceSurface transformed_surface(const FaceSurface& fs, const Mat4& m, const Box3
       if (!patch) fail("transform: a cylinder face under a non-uniform scale needs the box that holds it");
       f = parametric_face(patch, reversed, "cylinder");
     } else {
-      f.surface = std::make_shared<const Cylinder>(apply_point(m, c->origin()), apply_vector(m, c->axis()).normalized(),
+      f.surface = std::make_shared<const Cylinder>(apply_point(m, c->origin()), unit_vector(apply_vector(m, c->axis())),
                                                    c->radius() * s);
       return f;
     }

@@ -249,7 +249,7 @@ CellDecomposition decompose_cells(const Mesh& mesh, double size, double margin, 
   double area = 0;
   for (std::uint32_t t = 0; t < mesh.triangles.size(); ++t) {
     Tri x = tri(mesh, t);
-    area += 0.5 * (*x.b - *x.a).cross(*x.c - *x.a).norm();
+    area += 0.5 * scaled_norm((*x.b - *x.a).cross(*x.c - *x.a));
   }
   const double estimate = area / size / size / (2 * std::sqrt(2.0));
   if (!std::isfinite(estimate))

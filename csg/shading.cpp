@@ -17,12 +17,11 @@ Vec3 surface_normal(const Surface& S, const Vec2& uv) {
   const Vec3 su = S.derivative(uv.x(), uv.y(), 1, 0), sv = S.derivative(uv.x(), uv.y(), 0, 1);
   const Vec3 n = su.cross(sv);
   const double scale = su.norm() * sv.norm();
-  if (n.norm() > 1e-8 * scale && scale > 0) return n.normalized();
+  if (scaled_norm(n) > 1e-8 * scale && scale > 0) return unit_vector(n);
   const Vec3 approx = S.normal(uv.x(), uv.y());
   const Vec3 suv = S.derivative(uv.x(), uv.y(), 1, 1);
-  Vec3 m = su.norm() < sv.norm() ? suv.cross(sv) : su.cross(suv);
-  if (!(m.norm() > 0)) return approx;
-  m.normalize();
+  const Vec3 m = unit_vector(su.norm() < sv.norm() ? suv.cross(sv) : su.cross(suv));
+  if (m.isZero()) return approx;
   return approx.dot(m) < 0 ? Vec3(-m) : m;
 }
 }  // namespace
@@ -48,13 +47,18 @@ Vec2 closest_parameters(const Surface& S, const Point3& p, const Vec2& guess) {
   for (int it = 0; it < 12; ++it) {
     const Vec3 r = S.eval(uv.x(), uv.y()) - p;
     const Vec3 su = S.derivative(uv.x(), uv.y(), 1, 0), sv = S.derivative(uv.x(), uv.y(), 0, 1);
-    double a = su.squaredNorm(), b = su.dot(sv), c = sv.squaredNorm();
+    // The system divided by the larger of |Su|, |Sv| squared: on a surface 1e90 wide the products
+    // a c of its entries are beyond doubles (the step d is the same).
+    const double k = std::max(su.cwiseAbs().maxCoeff(), sv.cwiseAbs().maxCoeff());
+    if (!(k > 0) || !std::isfinite(k)) break;
+    const Vec3 ku = su / k, kv = sv / k;
+    double a = ku.squaredNorm(), b = ku.dot(kv), c = kv.squaredNorm();
     const double ridge = 1e-14 * (a + c);
     a += ridge;
     c += ridge;
     const double det = a * c - b * b;
     if (!(det > 0)) break;
-    const double gu = su.dot(r), gv = sv.dot(r);
+    const double gu = ku.dot(r) / k, gv = kv.dot(r) / k;
     const Vec2 d((-c * gu + b * gv) / det, (b * gu - a * gv) / det);
     const Vec2 next(std::clamp(uv.x() + d.x(), u0, u1), std::clamp(uv.y() + d.y(), v0, v1));
     const bool done = std::abs(next.x() - uv.x()) <= 1e-15 * (u1 - u0 + std::abs(uv.x())) &&
@@ -124,7 +128,7 @@ Mesh shaded_mesh(const Mesh& mesh, const std::vector<FaceSurface>& surfaces, con
       } else if (const Cylinder* cy = fs ? fs->cylinder() : nullptr) {
         const Vec3 d = p - cy->origin(), x = perpendicular(cy->axis()), y = cy->axis().cross(x);
         const double h = d.dot(cy->axis());
-        n = (d - h * cy->axis()).normalized();
+        n = unit_vector(d - h * cy->axis());
         if (fs->reversed) n = -n;
         uv = Vec2(std::atan2(d.dot(y), d.dot(x)), h);
       } else {

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <map>
 #include <numeric>
 #include <tuple>
@@ -71,7 +72,7 @@ Box3 Mesh::bounds() const {
 double Mesh::area() const {
   double a = 0;
   for (const auto& t : triangles)
-    a += 0.5 * (positions[t[1]] - positions[t[0]]).cross(positions[t[2]] - positions[t[0]]).norm();
+    a += 0.5 * scaled_norm((positions[t[1]] - positions[t[0]]).cross(positions[t[2]] - positions[t[0]]));
   return a;
 }
 
@@ -83,9 +84,7 @@ double Mesh::volume() const {
 
 Vec3 Mesh::triangle_normal(std::size_t i) const {
   const auto& t = triangles[i];
-  Vec3 n = (positions[t[1]] - positions[t[0]]).cross(positions[t[2]] - positions[t[0]]);
-  double len = n.norm();
-  return len > 0 ? Vec3(n / len) : Vec3::Zero();
+  return unit_vector((positions[t[1]] - positions[t[0]]).cross(positions[t[2]] - positions[t[0]]));
 }
 
 void Mesh::compute_vertex_normals() {
@@ -94,10 +93,7 @@ void Mesh::compute_vertex_normals() {
     Vec3 n = (positions[t[1]] - positions[t[0]]).cross(positions[t[2]] - positions[t[0]]);
     for (auto i : t) normals[i] += n;
   }
-  for (auto& n : normals) {
-    double len = n.norm();
-    if (len > 0) n /= len;
-  }
+  for (auto& n : normals) n = unit_vector(n);
 }
 
 Mesh Mesh::with_face_normals() const {
@@ -134,11 +130,7 @@ Mesh Mesh::transformed(const Mat4& m) const {
   for (auto& p : out.positions) p = apply_point(m, p);
   if (!out.normals.empty()) {
     Mat3 nm = m.block<3, 3>(0, 0).inverse().transpose();
-    for (auto& n : out.normals) {
-      n = nm * n;
-      double len = n.norm();
-      if (len > 0) n /= len;
-    }
+    for (auto& n : out.normals) n = unit_vector(nm * n);
   }
   if (reverses_orientation(m))
     for (auto& t : out.triangles) std::swap(t[1], t[2]);
@@ -174,30 +166,50 @@ Vec3 newell_normal(const std::vector<Point3>& loop) {
   return n;
 }
 
+MomentFrame::MomentFrame(const Box3& bounds) {
+  if (bounds.empty()) return;
+  ref = bounds.center();
+  const double size = bounds.size().maxCoeff();
+  if (size > 0 && std::isfinite(size) && ref.allFinite()) scale = std::ldexp(1.0, std::ilogb(size));
+}
+
+MassProperties MomentFrame::from_frame(double volume, double area, const Vec3& first, const Mat3& second) const {
+  const double s2 = scale * scale, s3 = s2 * scale;
+  MassProperties mp;
+  mp.volume = volume * s3;
+  mp.area = area * s2;
+  if (volume != 0) {
+    const Vec3 cl = first / volume;  // the centroid in the frame
+    mp.centroid = ref + scale * cl;
+    // Second moment about the centroid, then the inertia tensor I = trace(C) Id - C, scaled by
+    // scale^5 last (scale^5 itself may overflow where the product does not).
+    const Mat3 cov = second - volume * cl * cl.transpose();
+    mp.inertia = ((cov.trace() * Mat3::Identity() - cov) * s3) * s2;
+  }
+  return mp;
+}
+
 MassProperties mass_properties(const Mesh& mesh) {
-  // For each triangle (a, b, c) the signed tetrahedron (0, a, b, c) contributes its volume
+  // For each triangle (a, b, c) the signed tetrahedron (ref, a, b, c) contributes its volume
   // det/6, its first moment vol*(a+b+c)/4 and its second moments
   // vol/20 * (sum_i x_i x_i^T + (sum_i x_i)(sum_i x_i)^T) (Tonon 2004, covariance of a tetrahedron
-  // with one vertex at the origin).
-  MassProperties mp;
+  // with one vertex at the origin), in the frame of the mesh's box (MomentFrame).
+  const MomentFrame frame(mesh.bounds());
+  double volume = 0, area = 0;
   Vec3 first = Vec3::Zero();
   Mat3 second = Mat3::Zero();  // integral of x x^T over the solid
   for (const auto& t : mesh.triangles) {
-    const Vec3& a = mesh.positions[t[0]];
-    const Vec3& b = mesh.positions[t[1]];
-    const Vec3& c = mesh.positions[t[2]];
+    const Vec3 a = frame.local(mesh.positions[t[0]]);
+    const Vec3 b = frame.local(mesh.positions[t[1]]);
+    const Vec3 c = frame.local(mesh.positions[t[2]]);
     double v = a.dot(b.cross(c)) / 6.0;
-    mp.volume += v;
-    mp.area += 0.5 * (b - a).cross(c - a).norm();
+    volume += v;
+    area += 0.5 * (b - a).cross(c - a).norm();
     Vec3 s = a + b + c;
     first += v * s / 4.0;
     second += v / 20.0 * (a * a.transpose() + b * b.transpose() + c * c.transpose() + s * s.transpose());
   }
-  if (mp.volume != 0) mp.centroid = first / mp.volume;
-  // Second moment about the centroid, then the inertia tensor I = trace(C) Id - C.
-  Mat3 c = second - mp.volume * mp.centroid * mp.centroid.transpose();
-  mp.inertia = c.trace() * Mat3::Identity() - c;
-  return mp;
+  return frame.from_frame(volume, area, first, second);
 }
 
 EulerCounts euler_counts(const Mesh& mesh) {

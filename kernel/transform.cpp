@@ -65,9 +65,10 @@ Mat4 rotate_z(double deg) {
 
 Mat4 rotate(double deg, const Vec3& axis) {
   require_finite3(axis, "rotation axis");
-  double len = axis.norm();
-  if (!(len > 0)) fail("rotation axis must be non-zero, got (0, 0, 0)");
-  Vec3 a = axis / len;
+  // Scaled first: an axis (1e308, 1e308, 0) has an infinite norm, and divided by it gave the zero
+  // axis (a rotation that changed the volume); (5e-324, 0, 0) is a direction all the same.
+  const Vec3 a = unit_vector(axis);
+  if (a.isZero()) fail("rotation axis must be non-zero, got (0, 0, 0)");
   double c, s;
   exact_cos_sin(deg, c, s);
   // Rodrigues' formula, in the form glRotate documents.
@@ -104,9 +105,8 @@ Mat4 scale(const Vec3& k, const Point3& fixed) {
 Mat4 reflect(const Vec3& normal, const Point3& point) {
   require_finite3(normal, "mirror normal");
   require_finite3(point, "mirror point");
-  double len = normal.norm();
-  if (!(len > 0)) fail("mirror normal must be non-zero, got (0, 0, 0)");
-  Vec3 n = normal / len;
+  const Vec3 n = unit_vector(normal);
+  if (n.isZero()) fail("mirror normal must be non-zero, got (0, 0, 0)");
   // Householder: I - 2 n n^T, about the plane n.x = n.point.
   Mat4 m = Mat4::Identity();
   m.block<3, 3>(0, 0) -= 2.0 * n * n.transpose();
@@ -125,6 +125,21 @@ Mat4 shear(const Shear& s) {
 
 Mat4 inverse(const Mat4& m) {
   if (!m.allFinite()) fail("cannot invert a matrix with non-finite entries");
+  if (m.row(3) == Eigen::RowVector4d(0, 0, 0, 1)) {
+    // Affine: the linear part's inverse and the moved translation. LU of the whole 4x4 judged the
+    // rank against its largest entry, so a view of a part 1e10 away (translation 1e10, rotation
+    // entries 1) came out "singular (rank 3 of 4)".
+    // Singular only where a pivot is exactly zero: scale(1e-200, 1, 1) has the inverse
+    // scale(1e200, 1, 1), which a threshold relative to the largest pivot called "rank 3".
+    Eigen::FullPivLU<Mat3> lu(m.topLeftCorner<3, 3>());
+    lu.setThreshold(0);
+    if (!lu.isInvertible()) fail("matrix is singular (rank ", lu.rank() + 1, " of 4): it has no inverse");
+    Mat4 out = Mat4::Identity();
+    out.topLeftCorner<3, 3>() = lu.inverse();
+    out.topRightCorner<3, 1>() = -out.topLeftCorner<3, 3>() * m.topRightCorner<3, 1>();
+    if (!out.allFinite()) fail("the inverse of the matrix overflows (it is nearly singular)");
+    return out;
+  }
   Eigen::FullPivLU<Mat4> lu(m);
   if (!lu.isInvertible()) fail("matrix is singular (rank ", lu.rank(), " of 4): it has no inverse");
   return lu.inverse();

@@ -102,7 +102,15 @@ int centroid_m(lua_State* L) {
 
 int inertia_m(lua_State* L) {
   return guarded(L, [&] {
-    Mat3 I = self(L).mass_properties(current_tolerance(L)).inertia;
+    const MassProperties mp = self(L).mass_properties(current_tolerance(L));
+    const Mat3& I = mp.inertia;
+    // About volume x size^2: beyond doubles for a solid some 1e60 wide (its volume is not).
+    if (!I.allFinite())
+      fail("the inertia tensor overflows: the solid's volume ", number_text(mp.volume),
+           " times its size squared is beyond the range of doubles (measure a scaled-down copy)");
+    if (mp.volume > 0 && !(I.trace() >= std::numeric_limits<double>::min()))
+      fail("the inertia tensor underflows: the solid's volume ", number_text(mp.volume),
+           " times its size squared is below the range of doubles (measure a scaled-up copy)");
     lua_createtable(L, 3, 0);
     for (int r = 0; r < 3; ++r) {
       push_vec3(L, I.row(r).transpose());

@@ -31,7 +31,11 @@ std::vector<double> Curve::breaks() const {
 bool Curve::closed() const {
   auto [a, b] = domain();
   Point3 p = eval(a), q = eval(b);
-  return (p - q).norm() <= 1e-12 * (1 + p.norm());
+  // Relative to the curve's own extent (and its distance from the origin): an absolute 1e-12 called
+  // every curve 1e-20 long closed, and a sweep along it failed with "the path is not closed".
+  double extent = 0;
+  for (int i = 1; i < 8; ++i) extent = std::max(extent, scaled_norm(eval(a + (b - a) * i / 8) - p));
+  return scaled_norm(p - q) <= 1e-12 * (extent + scaled_norm(p));
 }
 
 void Curve::jet(double t, int d, Vec3* out) const {
@@ -60,14 +64,6 @@ double gauss5(const std::function<double(double)>& f, double a, double b) {
   return s * h;
 }
 
-// |v| without overflow or underflow in the squares (coordinates near 1e200 are finite, their
-// squares are not).
-double safe_norm(const Vec3& v) {
-  const double s = v.cwiseAbs().maxCoeff();
-  if (!(s > 0) || !std::isfinite(s)) return s;
-  return s * (v / s).norm();
-}
-
 // Adaptive Gauss-Legendre on [a, b] (pa, pb the curve's points there). `budget` counts the panels
 // left for the whole integral, so an integrand that never settles (rounding noise above the
 // tolerance at huge coordinates) costs a bounded time and gives the best estimate so far, instead
@@ -80,7 +76,7 @@ double adaptive(const Curve& c, const std::function<double(double)>& f, double a
   double m = 0.5 * (a + b);
   double left = gauss5(f, a, m), right = gauss5(f, m, b);
   budget -= 2;
-  const double chord = safe_norm(pb - pa);
+  const double chord = scaled_norm(pb - pa);
   const bool short_of_chord = left + right < chord - tol;
   if (depth <= 0 || budget <= 0 || !std::isfinite(left + right) || (std::abs(left + right - whole) <= tol && !short_of_chord))
     return std::max(left + right, chord);
@@ -94,7 +90,7 @@ double adaptive(const Curve& c, const std::function<double(double)>& f, double a
 double Curve::length(double a, double b) const {
   require_finite(a, "start parameter");
   require_finite(b, "end parameter");
-  auto f = [this](double t) { return safe_norm(derivative(t, 1)); };
+  auto f = [this](double t) { return scaled_norm(derivative(t, 1)); };
   double total = 0;
   std::vector<double> br = breaks();
   std::vector<double> cuts{a};

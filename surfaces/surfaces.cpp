@@ -92,21 +92,10 @@ bool Surface::inside_trim(double u, double v) const {
 
 // --- Plane ---
 
-namespace {
-// v / |v|, scaled first by its largest component: the normal of a face of a box 1e-90 (or 1e90)
-// wide is a cross product near 1e-180 (1e180), whose squared length underflows (overflows); the
-// zero vector stays zero.
-Vec3 unit(const Vec3& v) {
-  const double m = v.cwiseAbs().maxCoeff();
-  if (!(m > 0) || !std::isfinite(m)) return Vec3::Zero();
-  return (v / m).normalized();
-}
-}  // namespace
-
 Plane::Plane(const Point3& origin, const Vec3& x_axis, const Vec3& y_axis, double u0, double u1, double v0, double v1)
     : origin_(origin), x_(x_axis), y_(y_axis), u0_(u0), u1_(u1), v0_(v0), v1_(v1) {
   if (!origin.allFinite() || !x_axis.allFinite() || !y_axis.allFinite()) fail("plane: origin and axes must be finite");
-  n_ = unit(x_axis.cross(y_axis));
+  n_ = unit_vector(x_axis.cross(y_axis));
   if (!(n_.norm() > 0)) fail("plane: the two axes must be non-zero and not parallel");
   if (!(u1 > u0) || !(v1 > v0)) fail("plane: the parameter ranges must be non-empty");
 }
@@ -115,7 +104,7 @@ Plane::Plane(const Point3& origin, const Vec3& unit_normal)
     : origin_(origin), n_(unit_normal), u0_(0), u1_(1), v0_(0), v1_(1) {
   if (!origin.allFinite() || !unit_normal.allFinite()) fail("plane: origin and normal must be finite");
   if (std::abs(n_.norm() - 1) > 1e-9) {
-    n_ = unit(n_);
+    n_ = unit_vector(n_);
     if (!(n_.norm() > 0)) fail("plane: the normal must be non-zero");
   }
   x_ = perpendicular(n_);
@@ -424,7 +413,9 @@ Frame reflect_step(const Frame& f, const Point3& x1, const Vec3& t1) {
   Vec3 v1 = x1 - f.origin;
   double c1 = v1.squaredNorm();
   Vec3 rL = f.r, tL = f.t;
-  if (c1 > 1e-24 * (1 + f.origin.squaredNorm())) {
+  // Relative to the points' own size (an absolute floor of 1e-24 took every step of a path 1e-20
+  // long for rounding, and the frames never turned).
+  if (c1 > 1e-24 * std::max(f.origin.squaredNorm(), x1.squaredNorm())) {
     rL = f.r - (2 / c1) * v1.dot(f.r) * v1;
     tL = f.t - (2 / c1) * v1.dot(f.t) * v1;
   }

@@ -31,9 +31,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <deque>
 #include <functional>
 #include <limits>
+#include <string>
 #include <unordered_map>
 #include <utility>
 
@@ -46,9 +48,20 @@ namespace wedge {
 using brep_sampling::angle_between;
 using brep_sampling::edge_parameters;
 using brep_sampling::estimate_triangles;
+using brep_sampling::planar_triangles;
 using brep_sampling::StraightAxes;
 
 namespace {
+
+// A triangle estimate in words: a whole number while it is one, else in powers of ten (a sphere
+// 1e90 wide at tolerance 0.01 needs about 1e+186; llround of it was LLONG_MIN).
+std::string triangle_count_text(double n) {
+  if (n < 1e15) return "about " + std::to_string(std::llround(n));
+  if (!std::isfinite(n)) return "more than 1e308";
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.2g", n);
+  return std::string("about ") + buf;
+}
 
 using K = CGAL::Exact_predicates_inexact_constructions_kernel;
 struct VInfo {
@@ -168,7 +181,36 @@ void set_tessellate_progress(const TessellateProgress* progress) { t_progress = 
 
 const TessellatePoll* set_tessellate_poll(const TessellatePoll* poll) { return std::exchange(t_poll, poll); }
 
-Mesh tessellate(const Model& m, const Tolerance& tol_in, std::vector<std::array<Vec2, 3>>* corner_uv) {
+static Mesh tessellate_at_scale(const Model& m, const Tolerance& tol_in, std::vector<std::array<Vec2, 3>>* corner_uv);
+
+// A curved solid far from unit size is tessellated as a copy scaled by a power of two (exact) to
+// about size 1, at the tolerance scaled alike, and its points scaled back: the refinement's
+// thresholds (a determinant of squared lengths above 1e-300, a tangent longer than 1e-9) would
+// otherwise drop every triangle of a sphere 1e-82 wide, and overflow for one 1e90 wide. Parametric
+// faces keep their parameters under the scale, so the corners' (u, v) stay those of `m`.
+Mesh tessellate(const Model& m, const Tolerance& tol, std::vector<std::array<Vec2, 3>>* corner_uv) {
+  if (m.all_planar()) return tessellate_at_scale(m, tol, corner_uv);
+  Box3 box;
+  m.vertices().for_each([&](VertexId v, const BrepVertex&) { box.extend(m.point(v)); });
+  if (!(box.size().maxCoeff() > 0)) box = m.bounds();  // a torus's one vertex
+  const double size = box.size().maxCoeff();
+  if (!(size > 0) || !std::isfinite(size) || (size >= 0x1p-20 && size <= 0x1p20)) return tessellate_at_scale(m, tol, corner_uv);
+  const int k = std::ilogb(size);
+  Model unit = m;
+  // In steps of at most 2^64, so that no step's determinant leaves the range Model::transform takes.
+  for (int left = -k; left != 0;) {
+    const int step = std::clamp(left, -64, 64);
+    unit.transform(scale(Vec3::Constant(std::ldexp(1.0, step))));
+    left -= step;
+  }
+  Tolerance t = tol;
+  t.chordal = std::ldexp(tol.chordal, -k);
+  Mesh out = tessellate_at_scale(unit, t, corner_uv);
+  for (Point3& p : out.positions) p *= std::ldexp(1.0, k);
+  return out;
+}
+
+static Mesh tessellate_at_scale(const Model& m, const Tolerance& tol_in, std::vector<std::array<Vec2, 3>>* corner_uv) {
   const double nan = std::numeric_limits<double>::quiet_NaN();
   const std::array<Vec2, 3> no_uv{Vec2(nan, nan), Vec2(nan, nan), Vec2(nan, nan)};
   if (corner_uv) corner_uv->clear();
@@ -178,10 +220,14 @@ Mesh tessellate(const Model& m, const Tolerance& tol_in, std::vector<std::array<
   // The budget is checked on an estimate first, so that a tolerance far too fine fails at once
   // instead of after minutes of refinement (and gigabytes); the refinement below checks it again.
   StraightAxes straight_axis;
-  const double estimate = estimate_triangles(m, tol, straight_axis);
-  if (!(estimate <= double(tol.max_triangles)))
-    fail("tessellate: tolerance ", tol.chordal, " would need about ", std::llround(std::min(estimate, 1e18)),
+  const double planar = planar_triangles(m), estimate = estimate_triangles(m, tol, straight_axis) + planar;
+  if (!(estimate <= double(tol.max_triangles))) {
+    if (estimate == planar)  // the count of a polyhedron, whatever the tolerance
+      fail("tessellate: the solid's planar faces make ", estimate, " triangles at any tolerance, more than the budget of ",
+           tol.max_triangles, ": raise max_triangles");
+    fail("tessellate: tolerance ", tol.chordal, " would need ", triangle_count_text(estimate),
          " triangles, more than the budget of ", tol.max_triangles, ": use a larger tolerance or raise max_triangles");
+  }
   Mesh out;
   const ProgressReport report(out, estimate);
   std::unordered_map<std::int32_t, std::uint32_t> vindex;

@@ -33,9 +33,8 @@ int straight_axis(const Surface& S) {
     for (int j = 0; j <= 6; ++j) {
       const Vec3* J = &grid[static_cast<std::size_t>(i * 7 + j) * 6];
       const Vec3 &Su = J[1], &Sv = J[2];
-      Vec3 n = Su.cross(Sv);
-      if (!(n.norm() > 0)) continue;
-      n.normalize();
+      const Vec3 n = unit_vector(Su.cross(Sv));
+      if (n.isZero()) continue;
       k[0] = std::max(k[0], std::abs(J[3].dot(n)));
       k[1] = std::max(k[1], std::abs(J[5].dot(n)));
       k[2] = std::max(k[2], std::abs(J[4].dot(n)));
@@ -71,9 +70,9 @@ double estimate_triangles(const Model& m, const Tolerance& tol, StraightAxes& st
     for (int i = 0; i < n; ++i) {
       double s = t0 + (t1 - t0) * (i + 0.5) / n;
       Vec3 d1 = c->derivative(s, 1), d2 = c->derivative(s, 2);
-      double speed = d1.norm();
+      double speed = scaled_norm(d1);
       if (!(speed > 0)) continue;
-      double kappa = d1.cross(d2).norm() / (speed * speed * speed);
+      double kappa = scaled_norm(unit_vector(d1).cross(d2)) / speed / speed;
       total += 2 * speed * (t1 - t0) / n / spacing_for(kappa, t, a);
     }
   });
@@ -96,9 +95,9 @@ double estimate_triangles(const Model& m, const Tolerance& tol, StraightAxes& st
         const Vec3* J = &grid[static_cast<std::size_t>(i * n + j) * 6];
         const Vec3 &su = J[1], &sv = J[2];
         Vec3 nrm = su.cross(sv);
-        double area = nrm.norm() * du * dv;
+        double area = scaled_norm(nrm) * du * dv;
         if (!(area > 0)) continue;
-        nrm /= nrm.norm();
+        nrm = unit_vector(nrm);
         // Normal curvatures along u, v and the diagonal (second fundamental form over the first).
         double L = J[3].dot(nrm), M = J[4].dot(nrm), N = J[5].dot(nrm);
         double E = su.squaredNorm(), F = su.dot(sv), G = sv.squaredNorm();
@@ -107,6 +106,21 @@ double estimate_triangles(const Model& m, const Tolerance& tol, StraightAxes& st
         double h = spacing_for(kappa, t, a);
         total += area / (std::sqrt(3.0) / 4 * h * h);
       }
+  });
+  return total;
+}
+
+double planar_triangles(const Model& m) {
+  double total = 0;
+  m.faces().for_each([&](FaceId f, const BrepFace& face) {
+    if (m.surface(f).parametric) return;
+    double straight = 0;
+    auto count = [&](LoopId l) {
+      for (EdgeSide sd : m.loop_sides(l)) straight += !m.curve(sd.edge);
+    };
+    count(face.outer);
+    for (LoopId r : face.rings) count(r);
+    total += std::max(0.0, straight - 2 + 2 * double(face.rings.size()));
   });
   return total;
 }

@@ -34,6 +34,10 @@ class StraightAxes {
 // cell's area and largest normal curvature give the equilateral triangles it needs), each curved
 // edge by its length over the spacing its curvature needs (a boundary point costs a triangle).
 double estimate_triangles(const Model& m, const Tolerance& tol, StraightAxes& straight_axis);
+// The triangles of the faces that are not parametric (planes) at any tolerance, about: each face
+// sides - 2 + 2 per ring for its straight sides (the points of its curved edges are counted by
+// estimate_triangles); exact for a polyhedron (a box: 12).
+double planar_triangles(const Model& m);
 
 // As curve_parameters (brep_mesh.h), and a stretch [a, b] is also split while `turns(a, b)` (the
 // normals of the faces along the edge turn by more than the angular tolerance between a and b).

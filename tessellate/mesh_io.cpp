@@ -332,7 +332,7 @@ Mesh parse_obj(std::string_view bytes, const std::string& name) {
     for (std::size_t i = 0; i < normals.size(); ++i)
       if (!own_normal[i]) {
         const Vec3& s = smooth[source[i] - 1];
-        normals[i] = s.norm() > 0 && std::isfinite(s.norm()) ? Vec3(s.normalized()) : Vec3::Zero();
+        normals[i] = unit_vector(s);
       }
     m.normals = std::move(normals);
   }

@@ -91,12 +91,21 @@ std::size_t non_manifold_triangles(const Mesh& mesh) {
 }
 
 void write_stl(const Mesh& mesh, AtomicFile& file, bool ascii) {
-  // STL holds 32-bit floats: a coordinate beyond their range would be written as infinity.
+  // STL holds 32-bit floats: a coordinate beyond their range would be written as infinity, and a
+  // mesh whose every coordinate is below their normal range (a part 1e-40 wide) as zeros or a
+  // few digits. (One tiny coordinate in a mesh of size 1 is rounding noise: 0 is fine for it.)
+  double reach = 0;
   for (std::size_t i = 0; i < mesh.positions.size(); ++i)
-    for (int k = 0; k < 3; ++k)
+    for (int k = 0; k < 3; ++k) {
       if (std::fabs(mesh.positions[i][k]) > std::numeric_limits<float>::max())
         fail("cannot write '", file.path(), "': vertex ", i, " coordinate ", mesh.positions[i][k],
              " is beyond the range of STL's 32-bit floats");
+      reach = std::max(reach, std::fabs(mesh.positions[i][k]));
+    }
+  constexpr double kLeast = std::numeric_limits<float>::min() * 0x1p23;  // 24 bits of the largest coordinate
+  if (reach > 0 && reach < kLeast)
+    fail("cannot write '", file.path(), "': the mesh's largest coordinate ", reach, " is below ", kLeast,
+         ", where STL's 32-bit floats lose their digits (scale the part up, or write .ply or .obj)");
   if (ascii) {
     TextOut out(file);
     out << "solid wedge\n";

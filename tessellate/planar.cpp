@@ -41,7 +41,7 @@ std::vector<Triangle> triangulate_face(const std::vector<Point3>& positions,
   if (loops.size() == 1 && loops[0].size() == 3) return {Triangle{loops[0][0], loops[0][1], loops[0][2]}};
 
   // An orthonormal frame (u, v, n) so that (u, v) is counter-clockwise seen from n.
-  Vec3 n = normal.normalized();
+  Vec3 n = unit_vector(normal);
   Vec3 helper = std::abs(n.x()) < 0.9 ? Vec3::UnitX() : Vec3::UnitY();
   Vec3 u = n.cross(helper).normalized();
   Vec3 v = n.cross(u);

@@ -178,3 +178,21 @@ TEST_CASE("bad transform input is an error naming what was wrong", "[transform][
   CHECK_THROWS_WITH(perspective(0, 1, 1, 10), Catch::Contains("fovy"));
   CHECK_THROWS_AS(frustum(-1, 1, -1, 1, 0, 10), Error);
 }
+
+TEST_CASE("transforms of extreme but finite numbers: axes scaled before their length, affine inverses exact",
+          "[transform][extreme]") {
+  // An axis whose squared length overflows is a direction all the same (it gave the zero axis, and
+  // rotate(30, {1e308, 1e308, 0}) changed a box's volume); so is one whose squared length underflows.
+  CHECK(near(rotate(30, {1e308, 1e308, 0}), rotate(30, {1, 1, 0}), 1e-15));
+  CHECK(near(rotate(30, {5e-324, 0, 0}), rotate_x(30), 1e-15));
+  CHECK(near(reflect({1e300, 0, 1e300}, {0, 0, 0}), reflect({1, 0, 1}, {0, 0, 0}), 1e-15));
+  CHECK_THROWS_WITH(rotate(30, {0, 0, 0}), "rotation axis must be non-zero, got (0, 0, 0)");
+  // A view of a part 1e10 away: LU of the 4x4 called it "singular (rank 3 of 4)".
+  const Mat4 view = rotate(35, {1, 2, 3}) * translate({-1e10, 2e10, -3e10});
+  CHECK(near(inverse(view) * view, Mat4::Identity(), 1e-6));
+  CHECK(inverse(translate({1e300, 0, 0})) == translate({-1e300, 0, 0}));
+  // Invertible however small the factor; singular only at zero.
+  CHECK(inverse(scale({1e-200, 1, 1})) == scale({1e200, 1, 1}));
+  CHECK_THROWS_WITH(inverse(scale({1, 0, 1})), "matrix is singular (rank 3 of 4): it has no inverse");
+  CHECK_THROWS_WITH(inverse(scale({1e-310, 1, 1})), "the inverse of the matrix overflows (it is nearly singular)");
+}
