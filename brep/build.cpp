@@ -18,6 +18,7 @@
 
 #include "brep/brep.h"
 #include "brep/polyhedron_topology.h"
+#include "kernel/scaled.h"
 
 namespace wedge {
 
@@ -489,7 +490,7 @@ Model build_polyhedron(const std::vector<Point3>& points, const std::vector<std:
       c += corners.back();
     }
     Vec3 n = unit_vector(newell_normal(corners));
-    if (n.isZero()) {
+    if (n == Vec3::Zero()) {
       if (geometry) fail("polyhedron: face ", fi + 1, " has zero area");
     } else {
       m.set_surface(face, plane_face(c / static_cast<double>(f.size()), n));

@@ -20,6 +20,7 @@
 #include <deque>
 
 #include "brep/brep.h"
+#include "kernel/scaled.h"
 
 namespace wedge {
 
@@ -345,7 +346,7 @@ Model sweep_raw(const std::vector<std::vector<SurfacePtr>>& sides, bool closed) 
         L.emplace_back(br, 1);
       }
       Vec3 nrm = unit_vector(newell_normal(pts));
-      if (nrm.isZero()) fail("sweep: an end section has no area");
+      if (nrm == Vec3::Zero()) fail("sweep: an end section has no area");
       sp.faces.push_back(std::move(L));
       face_geo.push_back(plane_face(pts[0], nrm));
     };
@@ -579,7 +580,7 @@ Model patch_solid_raw(const std::vector<SurfacePtr>& patches, const std::string&
       k = next;
     }
     Vec3 n = unit_vector(newell_normal(pts));
-    if (n.isZero()) fail(what, ": a loop of the patches' open boundary encloses no area");
+    if (n == Vec3::Zero()) fail(what, ": a loop of the patches' open boundary encloses no area");
     double off = 0;
     for (const Point3& p : pts) off = std::max(off, std::abs((p - pts[0]).dot(n)));
     if (off > 1e3 * eps)

@@ -15,6 +15,7 @@
 #include <cmath>
 
 #include "brep/brep.h"
+#include "kernel/scaled.h"
 
 namespace wedge {
 

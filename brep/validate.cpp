@@ -15,6 +15,7 @@
 #include <unordered_map>
 
 #include "brep/brep.h"
+#include "kernel/scaled.h"
 
 namespace wedge {
 

@@ -7,6 +7,7 @@
 
 #include "kernel/error.h"
 #include "kernel/predicates.h"
+#include "kernel/scaled.h"
 
 namespace wedge {
 

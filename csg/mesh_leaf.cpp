@@ -12,6 +12,16 @@ namespace wedge {
 MeshLeaf::MeshLeaf(Mesh mesh, const std::string& what) : mesh_(std::move(mesh)) {
   mesh_.check();
   if (mesh_.triangles.empty()) fail(what, " has no triangles");
+  // The range the builders keep to (brep.h): a file's coordinate of 1e300 gave "signed volume nan",
+  // one of 5e-324 "flat".
+  for (std::size_t i = 0; i < mesh_.positions.size(); ++i) {
+    const Point3& p = mesh_.positions[i];
+    if (!(p.cwiseAbs().maxCoeff() <= kMaxCoordinate))
+      fail(what, ": a vertex at (", p.x(), ", ", p.y(), ", ", p.z(), ") is beyond +-", kMaxCoordinate,
+           " (volumes and normals would overflow)");
+  }
+  if (const double size = mesh_.bounds().size().maxCoeff(); size < 1 / kMaxCoordinate)
+    fail(what, " is ", size, " wide, below 1e-100 (its volume would underflow to zero)");
   try {
     // A render mesh splits a vertex wherever its corners differ in uv or normal (a textured
     // cube's seams, a faceted cube's per-face normals); the surface it describes is still

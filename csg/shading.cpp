@@ -1,4 +1,5 @@
 #include "csg/shading.h"
+#include "kernel/scaled.h"
 
 #include <algorithm>
 #include <cmath>
@@ -21,7 +22,7 @@ Vec3 surface_normal(const Surface& S, const Vec2& uv) {
   const Vec3 approx = S.normal(uv.x(), uv.y());
   const Vec3 suv = S.derivative(uv.x(), uv.y(), 1, 1);
   const Vec3 m = unit_vector(su.norm() < sv.norm() ? suv.cross(sv) : su.cross(suv));
-  if (m.isZero()) return approx;
+  if (m == Vec3::Zero()) return approx;
   return approx.dot(m) < 0 ? Vec3(-m) : m;
 }
 }  // namespace

@@ -9,6 +9,7 @@
 #include <unordered_map>
 
 #include "kernel/error.h"
+#include "kernel/scaled.h"
 #include "kernel/transform.h"
 
 namespace wedge {
@@ -213,6 +214,16 @@ MassProperties mass_properties(const Mesh& mesh) {
 }
 
 EulerCounts euler_counts(const Mesh& mesh) {
+  // A triangle with two corners at one vertex (a zero-area facet of an STL, welded; an OBJ face
+  // "f 1 1 1 ...") was reported as "edge 0-0 is used twice in the same direction".
+  for (std::size_t i = 0; i < mesh.triangles.size(); ++i) {
+    const auto& t = mesh.triangles[i];
+    if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2]) {
+      const Point3& p = mesh.positions[t[0] == t[1] || t[0] == t[2] ? t[0] : t[1]];
+      fail("mesh is not 2-manifold: triangle ", i, " has two corners at one point (", p.x(), ", ", p.y(), ", ", p.z(),
+           "): a degenerate triangle");
+    }
+  }
   std::map<std::pair<std::uint32_t, std::uint32_t>, int> directed;
   for (std::size_t i = 0; i < mesh.triangles.size(); ++i) {
     const auto& t = mesh.triangles[i];

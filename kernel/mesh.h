@@ -20,20 +20,6 @@ struct MassProperties {
   Mat3 inertia = Mat3::Zero();
 };
 
-// The integrals of a solid measured in a frame of its own: coordinates x = (p - ref) / scale with
-// ref near the solid and scale a power of two near its size, so that a solid 1e90 wide (whose
-// second moments, about volume x size^2 = 1e450, are beyond doubles) or 1e-90 wide is measured as
-// one of size 1 without rounding. from_frame() turns them back into model units; an inertia that
-// truly overflows is then infinite (the caller reports it).
-struct MomentFrame {
-  Point3 ref = Point3::Zero();
-  double scale = 1;
-  explicit MomentFrame(const Box3& bounds);
-  Vec3 local(const Point3& p) const { return (p - ref) / scale; }
-  // volume, area, first = integral of x, second = integral of x x^T (symmetric), all in the frame.
-  MassProperties from_frame(double volume, double area, const Vec3& first, const Mat3& second) const;
-};
-
 // The element counts of a solid, as the Euler–Poincaré formula uses them:
 // V - E + F - R + 2H - 2S = 0, with R the inner loops (rings) and H the through-holes (genus).
 struct EulerCounts {

@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "kernel/error.h"
+#include "kernel/scaled.h"
 
 namespace wedge {
 
@@ -68,7 +69,7 @@ Mat4 rotate(double deg, const Vec3& axis) {
   // Scaled first: an axis (1e308, 1e308, 0) has an infinite norm, and divided by it gave the zero
   // axis (a rotation that changed the volume); (5e-324, 0, 0) is a direction all the same.
   const Vec3 a = unit_vector(axis);
-  if (a.isZero()) fail("rotation axis must be non-zero, got (0, 0, 0)");
+  if (a == Vec3::Zero()) fail("rotation axis must be non-zero, got (0, 0, 0)");
   double c, s;
   exact_cos_sin(deg, c, s);
   // Rodrigues' formula, in the form glRotate documents.
@@ -106,7 +107,7 @@ Mat4 reflect(const Vec3& normal, const Point3& point) {
   require_finite3(normal, "mirror normal");
   require_finite3(point, "mirror point");
   const Vec3 n = unit_vector(normal);
-  if (n.isZero()) fail("mirror normal must be non-zero, got (0, 0, 0)");
+  if (n == Vec3::Zero()) fail("mirror normal must be non-zero, got (0, 0, 0)");
   // Householder: I - 2 n n^T, about the plane n.x = n.point.
   Mat4 m = Mat4::Identity();
   m.block<3, 3>(0, 0) -= 2.0 * n * n.transpose();

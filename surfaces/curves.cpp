@@ -18,6 +18,7 @@
 
 #include "kernel/distance.h"
 #include "surfaces/surfaces.h"
+#include "kernel/scaled.h"
 
 namespace wedge {
 
@@ -411,8 +412,10 @@ HermiteSpline natural_spline(const std::vector<Point3>& P) {
     if (!P[i].allFinite()) fail("points: point ", i + 1, " has a coordinate that is not a finite number");
   std::vector<double> t(n, 0.0);
   for (std::size_t i = 0; i + 1 < n; ++i) {
-    double h = (P[i + 1] - P[i]).norm();
+    double h = scaled_norm(P[i + 1] - P[i]);
     if (h == 0) fail("points ", i + 1, " and ", i + 2, " coincide: a spline needs distinct consecutive points");
+    // The chord lengths are the parameters: points 1e308 apart gave "parameters must increase".
+    if (!std::isfinite(t[i] + h)) fail("points ", i + 1, " and ", i + 2, " are too far apart: the length along the points overflows");
     t[i + 1] = t[i] + h;
   }
   return natural_spline(t, P);

@@ -10,6 +10,7 @@
 #include <cmath>
 
 #include "surfaces/surfaces.h"
+#include "kernel/scaled.h"
 
 namespace wedge {
 
@@ -392,7 +393,7 @@ Vec3 RevolvedSurface::derivative(double u, double v, int ku, int kv) const {
 
 ExtrudedSurface::ExtrudedSurface(CurvePtr curve, const Vec3& direction) : curve_(std::move(curve)), direction_(direction) {
   if (!curve_) fail("extruded surface: no curve");
-  if (!direction.allFinite() || !(direction.norm() > 0)) fail("extrusion vector must be a non-zero finite vector");
+  if (!direction.allFinite() || direction == Vec3::Zero()) fail("extrusion vector must be a non-zero finite vector");
 }
 
 Point3 ExtrudedSurface::eval(double u, double v) const { return curve_->eval(u) + v * direction_; }

@@ -9,6 +9,7 @@
 
 #include "kernel/distance.h"
 #include "tessellate/brep_mesh.h"
+#include "kernel/scaled.h"
 
 namespace wedge {
 namespace brep_sampling {
@@ -34,7 +35,7 @@ int straight_axis(const Surface& S) {
       const Vec3* J = &grid[static_cast<std::size_t>(i * 7 + j) * 6];
       const Vec3 &Su = J[1], &Sv = J[2];
       const Vec3 n = unit_vector(Su.cross(Sv));
-      if (n.isZero()) continue;
+      if (n == Vec3::Zero()) continue;
       k[0] = std::max(k[0], std::abs(J[3].dot(n)));
       k[1] = std::max(k[1], std::abs(J[5].dot(n)));
       k[2] = std::max(k[2], std::abs(J[4].dot(n)));

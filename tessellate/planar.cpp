@@ -13,6 +13,7 @@
 #include <deque>
 
 #include "kernel/error.h"
+#include "kernel/scaled.h"
 
 namespace wedge {
 
