@@ -26,6 +26,7 @@
 
 #include "kernel/error.h"
 #include "kernel/file_io.h"
+#include "kernel/scaled.h"
 
 namespace wedge {
 
@@ -587,6 +588,23 @@ std::size_t ply_size(PlyType t) {
 
 bool ply_integral(PlyType t) { return t != PlyType::f32 && t != PlyType::f64; }
 
+// The range of an integer type, and its name for messages ("char (-128..127)").
+std::string ply_range_error(PlyType t, long long x) {
+  long long lo = 0, hi = 0;
+  const char* name = "";
+  switch (t) {
+    case PlyType::i8: lo = -128, hi = 127, name = "char"; break;
+    case PlyType::u8: lo = 0, hi = 255, name = "uchar"; break;
+    case PlyType::i16: lo = -32768, hi = 32767, name = "short"; break;
+    case PlyType::u16: lo = 0, hi = 65535, name = "ushort"; break;
+    case PlyType::i32: lo = -2147483648LL, hi = 2147483647LL, name = "int"; break;
+    case PlyType::u32: lo = 0, hi = 4294967295LL, name = "uint"; break;
+    default: return "";
+  }
+  if (x >= lo && x <= hi) return "";
+  return std::to_string(x) + " is out of range for type " + name + " (" + std::to_string(lo) + ".." + std::to_string(hi) + ")";
+}
+
 struct PlyProperty {
   std::string name;
   PlyType type = PlyType::f32;
@@ -619,6 +637,8 @@ class PlyBody {
       if (ply_integral(t)) {
         long long x = 0;
         if (std::string why = parse_integer(tok, x); !why.empty()) bad(name_, "line ", line(), ": ", what(), ": ", why);
+        // As a binary file of the header's types could hold it: a char of 300 is no char.
+        if (std::string why = ply_range_error(t, x); !why.empty()) bad(name_, "line ", line(), ": ", what(), ": ", why);
         return static_cast<double>(x);
       }
       double x = 0;
@@ -733,6 +753,8 @@ Mesh parse_ply(std::string_view bytes, const std::string& name) {
       } else {
         header_fail("expected 'property <type> <name>' or 'property list <count type> <type> <name>'");
       }
+      for (const PlyProperty& q : elements.back().props)
+        if (q.name == p.name) header_fail("a second property " + quoted(std::string_view(p.name)) + " in element " + quoted(std::string_view(elements.back().name)));
       elements.back().props.push_back(std::move(p));
     } else {
       header_fail("unknown keyword " + quoted(tok[0]));
@@ -861,6 +883,27 @@ std::string mesh_format(const std::string& path) {
 
 Mesh parse_mesh(std::string_view bytes, const std::string& format, const std::string& name) {
   if (bytes.empty()) bad(name, "the file is empty");
+  // Text as editors save it: a UTF-8 byte order mark is skipped (it made the first line unknown and
+  // an OBJ's vertex 1 vanish), lines ended by CR alone (classic Mac OS) are read as lines, and
+  // UTF-16 is named (it read as one line of junk, "holds no triangles"). A binary STL's 80-byte
+  // header may hold any bytes: only a BOM before "solid" is text.
+  // (substr(pos) throws past the end: a 1-byte file is 1 byte.)
+  const auto at = [&](std::size_t pos, std::string_view what) { return bytes.size() >= pos + what.size() && bytes.substr(pos, what.size()) == what; };
+  const bool text = format != "stl" || at(3, "solid") || at(2, std::string_view("s\0o\0l\0i\0d\0", 10)) || at(2, std::string_view("\0s\0o\0l\0i\0d", 10));
+  if (text && at(0, "\xEF\xBB\xBF")) {
+    bytes.remove_prefix(3);
+    if (bytes.empty()) bad(name, "the file holds only a UTF-8 byte order mark");
+  }
+  else if (text && (at(0, "\xFF\xFE") || at(0, "\xFE\xFF")))
+    bad(name, "the file is UTF-16 text (it starts with a UTF-16 byte order mark): save it as UTF-8 or ASCII");
+  std::string unix_lines;
+  const bool ascii = format == "stl" ? stl_is_ascii(bytes) : format != "ply" || bytes.substr(0, 64).find("format ascii") != std::string_view::npos;
+  if (ascii)
+    if (bytes.find('\r') != std::string_view::npos && bytes.find('\n') == std::string_view::npos) {
+      unix_lines.assign(bytes);
+      std::replace(unix_lines.begin(), unix_lines.end(), '\r', '\n');
+      bytes = unix_lines;
+    }
   Mesh m;
   if (format == "obj") m = parse_obj(bytes, name);
   else if (format == "stl") m = parse_stl(bytes, name);

@@ -5,11 +5,14 @@
 #include <catch2/catch.hpp>
 
 #include <sys/resource.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <filesystem>
 #include <fstream>
+#include <thread>
 
 #include "csg/solid.h"
 #include "tessellate/tessellate.h"
@@ -112,4 +115,100 @@ TEST_CASE("hostile mesh files are refused within a 256 MiB address space", "[mes
   ::waitpid(pid, &status, 0);
   CHECK(WIFEXITED(status));
   CHECK(report == "");
+}
+
+namespace {
+// A temporary folder of the test's own files, removed at the end.
+struct Folder {
+  fs::path dir;
+  explicit Folder(const std::string& name) : dir(fs::temp_directory_path() / (name + std::to_string(::getpid()))) {
+    fs::create_directories(dir);
+  }
+  ~Folder() {
+    std::error_code ec;
+    fs::remove_all(dir, ec);
+  }
+  std::string write(const std::string& name, const std::string& bytes) const {
+    std::ofstream(dir / name, std::ios::binary) << bytes;
+    return (dir / name).string();
+  }
+};
+
+const std::string kTetV = "0 0 0\n1 0 0\n0 1 0\n0 0 1\n";
+std::string obj_tet() { return "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 2 3 4\nf 1 4 3\n"; }
+std::string off_tet() { return "OFF\n4 4 0\n" + kTetV + "3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n"; }
+std::string ply_tet(const std::string& vt = "float", const std::string& it = "int") {
+  return "ply\nformat ascii 1.0\nelement vertex 4\nproperty " + vt + " x\nproperty " + vt + " y\nproperty " + vt +
+         " z\nelement face 4\nproperty list uchar " + it + " vertex_indices\nend_header\n" + kTetV + "3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n";
+}
+std::string stl_tet() {
+  std::string s = "solid t\n";
+  for (const char* f : {"0 0 0|0 1 0|1 0 0", "0 0 0|1 0 0|0 0 1", "0 0 0|0 0 1|0 1 0", "1 0 0|0 1 0|0 0 1"}) {
+    std::string t = f;
+    s += "facet normal 0 0 0\nouter loop\nvertex " + t.substr(0, 5) + "\nvertex " + t.substr(6, 5) + "\nvertex " + t.substr(12, 5) +
+         "\nendloop\nendfacet\n";
+  }
+  return s + "endsolid t\n";
+}
+std::string replaced(std::string s, const std::string& from, const std::string& to) {
+  for (std::size_t at = s.find(from); at != std::string::npos; at = s.find(from, at + to.size())) s.replace(at, from.size(), to);
+  return s;
+}
+}  // namespace
+
+TEST_CASE("text as editors save it reads as plain text: BOM, CR or CRLF line ends, tabs, relative indices", "[mesh_io][bad_files]") {
+  Folder f("wedge-odd-");
+  const std::string bom = "\xEF\xBB\xBF";
+  std::vector<std::string> files = {
+      // A UTF-8 byte order mark made an OBJ's first line unknown (vertex 1 vanished: "index 4 is out
+      // of range"), an OFF "not an OFF file", a PLY "not a PLY file", an STL a binary one.
+      f.write("bom.obj", bom + obj_tet()), f.write("bom.off", bom + off_tet()), f.write("bom.ply", bom + ply_tet()),
+      f.write("bom.stl", bom + stl_tet()),
+      // Lines ended by CR alone (classic Mac OS) read as one line: "holds no triangles".
+      f.write("cr.obj", replaced(obj_tet(), "\n", "\r")), f.write("cr.off", replaced(off_tet(), "\n", "\r")),
+      f.write("cr.stl", replaced(stl_tet(), "\n", "\r")), f.write("cr.ply", replaced(ply_tet(), "\n", "\r")),
+      f.write("crlf.obj", replaced(obj_tet(), "\n", "\r\n")), f.write("crlf.ply", replaced(ply_tet(), "\n", "\r\n")),
+      f.write("tabs.obj", replaced(obj_tet(), " ", "\t")),
+      // OBJ's negative indices count back from the last vertex so far.
+      f.write("relative.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf -4 -2 -3\nf -4 -3 -1\nf -3 -2 -1\nf -4 -1 -2\n"),
+      f.write("types.ply", ply_tet("int8", "uint32")), f.write("double.ply", ply_tet("float64", "uint16")),
+      f.write("header_line.off", replaced(off_tet(), "OFF\n", "OFF ")),
+  };
+  for (const std::string& path : files) {
+    INFO(path);
+    const Solid s = Solid::from_mesh(read_mesh(path), path);
+    CHECK(s.mass_properties(Tolerance{}).volume == Approx(1.0 / 6).epsilon(1e-15));
+    CHECK(s.mesh(Tolerance{}).triangles.size() == 4);
+  }
+}
+
+TEST_CASE("a FIFO is refused at once, and a file rewritten while it is read is read or refused by name", "[mesh_io][bad_files]") {
+  Folder f("wedge-fifo-");
+  const std::string fifo = (f.dir / "pipe.obj").string();
+  REQUIRE(::mkfifo(fifo.c_str(), 0600) == 0);
+  // No writer: opening it for reading must not wait for one.
+  CHECK_THROWS_WITH(import_file(fifo), "cannot read '" + fifo + "': not a regular file");
+  // A writer rewrites the file in place (truncate, then write) between a tetrahedron and a longer
+  // one while the reader reads it: each read sees some prefix of some version, and must give a
+  // solid or an error naming the file, never a crash, a hang or a partial solid.
+  const std::string path = f.write("moving.off", off_tet());
+  std::atomic<bool> stop{false};
+  std::thread writer([&] {
+    for (int i = 0; !stop; ++i) std::ofstream(path, std::ios::binary | std::ios::trunc) << (i % 2 ? off_tet() + "# padding\n" : off_tet());
+  });
+  int read = 0, refused = 0;
+  for (int k = 0; k < 300; ++k) {
+    try {
+      const Solid s = Solid::from_mesh(read_mesh(path), path);
+      CHECK(s.mass_properties(Tolerance{}).volume == Approx(1.0 / 6).epsilon(1e-15));
+      ++read;
+    } catch (const Error& e) {
+      CHECK_THAT(e.what(), Catch::Contains("moving.off"));
+      ++refused;
+    }
+  }
+  stop = true;
+  writer.join();
+  INFO(read << " read, " << refused << " refused");
+  CHECK(read + refused == 300);  // every one of them read or refused by name, none stuck
 }

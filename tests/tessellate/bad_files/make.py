@@ -102,6 +102,41 @@ add("bowtie.off", "OFF\n7 8 0\n" + TET_V + "-1 0 0\n0 -1 0\n0 0 -1\n" + TET_F + 
     "vertex 0 at (0, 0, 0) joins separate fans of triangles")
 add("inside_out.off", "OFF\n4 4 0\n" + TET_V + "3 0 1 2\n3 0 3 1\n3 0 2 3\n3 1 3 2\n", "inside out")
 
+# --- session 9: encodings, odd numbers, PLY types and lists, degenerate and out-of-range meshes ---
+OFF_TET = "OFF\n4 4 0\n" + TET_V + TET_F
+ASTL = "solid t\n" + "".join("facet normal 0 0 0\nouter loop\nvertex %s\nvertex %s\nvertex %s\nendloop\nendfacet\n" % f for f in
+                             [("0 0 0", "0 1 0", "1 0 0"), ("0 0 0", "1 0 0", "0 0 1"), ("0 0 0", "0 0 1", "0 1 0"), ("1 0 0", "0 1 0", "0 0 1")]) + "endsolid t\n"
+UTF16 = "the file is UTF-16 text (it starts with a UTF-16 byte order mark): save it as UTF-8 or ASCII"
+add("utf16.obj", (TET_OBJ + "f 1 3 2\nf 1 2 4\nf 2 3 4\nf 1 4 3\n").encode("utf-16"), UTF16)
+add("utf16_be.off", b"\xfe\xff" + OFF_TET.encode("utf-16-be"), UTF16)
+add("utf16.stl", ASTL.encode("utf-16"), UTF16)
+add("bom_only.ply", b"\xef\xbb\xbf", "the file holds only a UTF-8 byte order mark")
+add("big_coords.obj", "v 0 0 0\nv 1e300 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 2 3 4\nf 1 4 3\n",
+    "a vertex at (1.0000000000000001e+300, 0, 0) is beyond +-1e+100 (volumes and normals would overflow)")
+add("denormal.off", "OFF\n4 4 0\n0 0 0\n5e-324 0 0\n0 5e-324 0\n0 0 5e-324\n" + TET_F, "is 4.9406564584124654e-324 wide, below 1e-100")
+add("degenerate.stl", ASTL.replace("vertex 0 1 0", "vertex 0 0 0", 1), "triangle 0 has two corners at one point (0, 0, 0): a degenerate triangle")
+add("repeat_corner.obj", TET_OBJ + "f 1 3 2\nf 1 2 4\nf 2 3 4\nf 1 4 3\nf 1 1 2\n", "has two corners at one point (0, 0, 0): a degenerate triangle")
+add("hex_float.obj", "v 0x1p0 0 0\n", "line 1: vertex 1: '0x1p0' is not a number")
+add("comma.obj", "v 0,5 0 0\n", "line 1: vertex 1: '0,5' is not a number")
+add("nan_payload.obj", "v nan(123) 0 0\n", "line 1: vertex 1: non-finite number 'nan(123)'")
+add("fraction_count.off", "OFF\n4.5 4 0\n", "line 2: count '4.5' is not an integer")
+add("fraction_corners.off", "OFF\n4 4 0\n" + TET_V + "3.0 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n", "line 7: face 0: corner count '3.0' is not an integer")
+def ply_t(vt, ct, it, body, fmt="ascii", nf=4):
+    return ("ply\nformat %s 1.0\nelement vertex 4\nproperty %s x\nproperty %s y\nproperty %s z\nelement face %d\n"
+            "property list %s %s vertex_indices\nend_header\n" % (fmt, vt, vt, vt, nf, ct, it)) + body
+add("char_overflow.ply", ply_t("char", "uchar", "int", "0 0 0\n300 0 0\n0 1 0\n0 0 1\n" + TET_F),
+    "line 11: vertex 1 property 'x': 300 is out of range for type char (-128..127)")
+add("uchar_negative.ply", ply_t("float", "uchar", "uchar", TET_V + "3 0 2 -1\n"),
+    "line 14: face 0 property 'vertex_indices': -1 is out of range for type uchar (0..255)")
+add("duplicate_property.ply", "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float x\nend_header\n",
+    "header line 5: a second property 'x' in element 'vertex'")
+add("negative_list.ply", ply_t("float", "int", "int", TET_V + "-3 0 2 1\n"), "line 14: face 0 property 'vertex_indices' has a negative count -3")
+add("empty_face.ply", ply_t("float", "uchar", "int", TET_V + TET_F + "0\n", nf=5), "line 18: face 4 has 0 corners, needs at least 3")
+add("fraction_index.ply", ply_t("float", "uchar", "int", TET_V + "3 0 2 1.5\n"), "line 14: face 0 property 'vertex_indices': '1.5' is not an integer")
+add("version2.ply", ply_t("float", "uchar", "int", "").replace("1.0", "2.0"), "header line 2: unsupported version '2.0'")
+add("binary_negative_list.ply", ply_t("float", "int", "int", "", "binary_little_endian", nf=1).encode() + v + struct.pack("<i", -1),
+    "byte 219: face 0 property 'vertex_indices' has a negative count -1")
+
 with open("expected.txt", "w") as out:
     out.write("# file<TAB>what its import error must say (written by make.py)\n")
     for name, data, expect in files:
