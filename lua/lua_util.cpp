@@ -22,6 +22,11 @@ std::string format_number(double v) {
 }
 }  // namespace
 
+void check_no_more(lua_State* L, int n) {
+  if (lua_gettop(L) > n)
+    throw ArgError{n + 1, "no argument expected here (the function takes " + std::to_string(n) + "), got " + describe(L, n + 1)};
+}
+
 std::string number_text(double x) {
   if (std::isnan(x)) return "nan";
   std::ostringstream out;

@@ -148,6 +148,9 @@ std::string type_name(lua_State* L, int idx);
 std::string describe(lua_State* L, int idx);  // "number 3", "string 'abc'", "nil", ...
 
 // Argument checks (they throw ArgError). Numbers must be finite.
+// For a function that takes exactly `n` arguments (no options table): an argument n+1 is an error
+// ("sweep(profile, path, {twist = 5})" silently ignored its third argument).
+void check_no_more(lua_State* L, int n);
 double check_number(lua_State* L, int idx);
 double opt_number(lua_State* L, int idx, double fallback);
 bool check_boolean(lua_State* L, int idx);

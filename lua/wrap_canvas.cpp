@@ -167,7 +167,9 @@ int circle_m(lua_State* L) {
     Canvas& c = check_canvas(L);
     Options o(L, 2);
     const Vec2 centre = o.vec2("center", Vec2(0, 0));
-    const double r = o.number("radius", -1);
+    // Required: a default of -1 made a missing radius "got -1".
+    if (!o.has("radius")) throw ArgError{2, "field 'radius' is missing (the circle's radius in pixels)"};
+    const double r = o.number("radius", 0);
     const std::int32_t col = colour(o, "color", pack(Vec3(0, 0, 0), 1));
     o.finish();
     const int cx = whole(centre.x(), 2, "center's x"), cy = whole(centre.y(), 2, "center's y");

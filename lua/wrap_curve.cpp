@@ -236,8 +236,11 @@ int circle_fn(lua_State* L) {
       o.finish();
     } else {
       r = check_number(L, 1);
+      check_no_more(L, 1);
     }
     if (!(r > 0)) throw ArgError{1, "radius must be positive, got " + number_text(r)};
+    // As rect(): a disc whose area would underflow to zero is no profile.
+    if (r < 1 / 1e100) throw ArgError{1, "radius " + number_text(r) + " is below 1e-100 (the area would underflow to zero)"};
     push_curve(L, {std::make_shared<const NurbsCurve>(nurbs_circle(center, r)), planar});
     return 1;
   });
@@ -256,7 +259,10 @@ int eval_fn(lua_State* L) {
 int tangent_fn(lua_State* L) {
   return guarded(L, [&] {
     const LuaCurve& c = check_curve(L, 1);
-    push_point(L, c.curve->tangent(curve_param(L, *c.curve, 2)), c.planar);
+    const Vec3 t = c.curve->tangent(curve_param(L, *c.curve, 2));
+    // A curve whose points coincide there does not move: {0, 0, 0} is no direction.
+    if (t == Vec3::Zero() || !t.allFinite()) fail("the curve has no tangent at t = ", number_text(lua_tonumber(L, 2)), ": it does not move there (its points coincide)");
+    push_point(L, t, c.planar);
     return 1;
   });
 }

@@ -135,6 +135,7 @@ int export_fn(lua_State* L) {
 int import_fn(lua_State* L) {
   return guarded(L, [&] {
     std::string path = check_string(L, 1);
+    check_no_more(L, 1);
     sandbox_check_path(L, path, false);
     Stage stage(L, "read");
     push_solid(L, Solid::from_mesh(read_mesh(path), path));

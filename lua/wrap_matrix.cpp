@@ -37,7 +37,7 @@ Vec3 check_axis(lua_State* L, int idx) {
   }
   if (lua_type(L, idx) != LUA_TTABLE) throw ArgError{idx, "axis {x, y, z} expected, got " + type_name(L, idx)};
   Vec3 a = to_vec3(L, idx, idx, "axis");
-  if (a.norm() == 0) throw ArgError{idx, "axis must be non-zero"};
+  if (a == Vec3::Zero()) throw ArgError{idx, "axis must be non-zero"};
   return a;
 }
 
@@ -223,7 +223,10 @@ int mul_fn(lua_State* L) {
   return guarded(L, [&] {
     const Mat4& a = check_object<Mat4>(L, 1, kKey, "Matrix");
     const Mat4& b = check_object<Mat4>(L, 2, kKey, "Matrix");
-    push_matrix(L, a * b);
+    const Mat4 ab = a * b;
+    // translate(1e308, 0, 0) * translate(1e308, 0, 0) gave a matrix holding inf.
+    if (!ab.allFinite()) fail("the matrix product overflows: an entry is beyond the range of doubles");
+    push_matrix(L, ab);
     return 1;
   });
 }

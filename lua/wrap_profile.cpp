@@ -294,6 +294,7 @@ int sweep_fn(lua_State* L) {
   return guarded(L, [&] {
     Section s = check_section(L, 1);
     const LuaCurve& path = check_curve(L, 2);
+    check_no_more(L, 2);
     push_solid(L, brep_solid(build(1, [&] { return sweep_along(s, path.curve); })));
     return 1;
   });

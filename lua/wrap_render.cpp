@@ -289,10 +289,14 @@ render::LightSpec read_light(lua_State* L, int idx, const std::string& name) {
   else throw ArgError{1, prefix + "type' must be \"directional\", \"point\" or \"spot\", got '" + type + "'"};
   l.position = o.vec3("position", l.position);
   l.direction = o.vec3("direction", l.direction);
+  // As the camera's eye: a light at 1e308 made every distance inf and the scene black.
+  for (int k = 0; k < 3; ++k)
+    if (std::abs(l.position[k]) > 1e100)
+      throw ArgError{1, prefix + "position[" + std::to_string(k + 1) + "]' is " + number_text(l.position[k]) + ", beyond +-1e100"};
   l.ambient = opt_color(o, "ambient", l.ambient);
   l.diffuse = opt_color(o, "diffuse", l.diffuse);
   l.specular = opt_color(o, "specular", l.specular);
-  if (l.direction.norm() == 0) throw ArgError{1, prefix + "direction' must be a non-zero vector"};
+  if (l.direction == Vec3::Zero()) throw ArgError{1, prefix + "direction' must be a non-zero vector"};
   l.attenuation = o.vec3("attenuation", l.attenuation);
   if (l.attenuation.minCoeff() < 0 || l.attenuation.maxCoeff() == 0)
     throw ArgError{1, prefix + "attenuation' {constant, linear, quadratic} must be non-negative and not all zero"};

@@ -2,6 +2,7 @@
 #include "lua/wrap_solid.h"
 
 #include <cmath>
+#include <cstdio>
 #include <sstream>
 
 #include "lua/lua_util.h"
@@ -408,8 +409,13 @@ int push_tag_material(lua_State* L, int tag) {
 }
 
 double check_budget(const char* field, double n, int arg) {
-  if (!(n >= 1 && n <= 1e12 && n == std::floor(n)))
-    throw ArgError{arg, std::string("field '") + field + "' must be a whole number in 1..1e12, got " + number_text(n)};
+  if (!(n >= 1 && n <= 1e12 && n == std::floor(n))) {
+    // All the digits of a fraction: 1e12 + 0.5 printed as "1e+12" looked within range.
+    char digits[32];
+    std::snprintf(digits, sizeof digits, "%.17g", n);
+    throw ArgError{arg, std::string("field '") + field + "' must be a whole number in 1..1e12, got " +
+                            (n == std::floor(n) || !std::isfinite(n) ? number_text(n) : std::string(digits))};
+  }
   return n;
 }
 

@@ -212,7 +212,10 @@ int extruded_surface_fn(lua_State* L) {
   return guarded(L, [&] {
     const LuaCurve& c = check_curve(L, 1);
     Vec3 d = check_vec3(L, 2, true);
-    if (!(d.norm() > 0)) throw ArgError{2, "extrusion vector must be non-zero"};
+    if (d == Vec3::Zero()) throw ArgError{2, "extrusion vector must be non-zero"};
+    // As the builders: the surface's points stay within +-1e100 (a vector of 1e308 was accepted).
+    if (d.cwiseAbs().maxCoeff() > kMaxCoordinate)
+      throw ArgError{2, "extrusion vector component " + number_text(d.cwiseAbs().maxCoeff()) + " is beyond +-1e+100"};
     push_surface(L, {{std::make_shared<const ExtrudedSurface>(c.curve, d)}});
     return 1;
   });
@@ -248,6 +251,7 @@ int lofted_surface_fn(lua_State* L) {
 
 int teapot_fn(lua_State* L) {
   return guarded(L, [&] {
+    check_no_more(L, 0);
     LuaSurface s;
     for (NurbsSurface& p : teapot()) s.patches.push_back(std::make_shared<const NurbsSurface>(std::move(p)));
     push_surface(L, std::move(s));
@@ -287,7 +291,7 @@ int patch_solid_fn(lua_State* L) {
 int patch_fn(lua_State* L) {
   return guarded(L, [&] {
     const LuaSurface& s = check_surface(L, 1);
-    lua_Integer i = luaL_checkinteger(L, 2);
+    const lua_Integer i = check_integer(L, 2);  // not luaL_checkinteger: no longjmp out of guarded()
     if (i < 1 || i > lua_Integer(s.patches.size()))
       throw ArgError{2, "patch index must be in 1.." + std::to_string(s.patches.size()) + ", got " + std::to_string(i)};
     LuaSurface one;
@@ -328,7 +332,10 @@ int normal_fn(lua_State* L) {
     const LuaSurface& s = check_surface(L, 1);
     double u, v;
     const Surface& S = locate(L, s, 2, u, v);
-    push_vec3(L, S.normal(u, v));
+    const Vec3 n = S.normal(u, v);
+    // A surface whose control points coincide there has no normal: {0, 0, 0} is no direction.
+    if (n == Vec3::Zero() || !n.allFinite()) fail("the surface has no normal at (", number_text(lua_tonumber(L, 2)), ", ", number_text(lua_tonumber(L, 3)), "): it does not span an area there");
+    push_vec3(L, n);
     return 1;
   });
 }

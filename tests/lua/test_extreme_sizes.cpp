@@ -85,6 +85,19 @@ assert(not bezier{{0, 0, 0}, {S, 0, S}, {2 * S, 0, 0}}:closed())
   }
 }
 
+TEST_CASE("an axis or a factor of extreme size is still the direction or factor it says", "[lua][extreme]") {
+  // rotate(30, {1e308, 1e308, 0}) normalised its axis to zero and changed a box's volume to 0.6495;
+  // inverse(scale(1e-200, 1, 1)) was "singular (rank 3 of 4)".
+  Run r = run(std::string(kHelpers) + R"(
+close(box(1, 1, 1):rotate(30, {1e308, 1e308, 0}):volume(), 1, 1e-12, "rotated box")
+close(box(1, 1, 1):rotate(30, {5e-324, 0, 0}):bounds().max[2], box(1, 1, 1):rotate_x(30):bounds().max[2], 1e-15, "tiny axis")
+close(box(1, 1, 1):mirror({1e300, 0, 0}):volume(), 1, 1e-12, "mirror")
+close(matrix.scale(1e-200, 1, 1):inverse():get(1, 1), 1e200, 1e-15, "inverse")
+close(extruded_surface(circle(1), {0, 0, 5e-324}):eval(0, 1)[3], 5e-324, 0, "tiny extrusion")
+)");
+  CHECK(r.err == "");
+}
+
 TEST_CASE("a sweep along a path 1e-20 long turns its frames as at size 1", "[lua][extreme]") {
   // Steps below an absolute 1e-12 were taken for rounding: the frames never turned and the volume
   // came out 0.0375 S^3 instead of 0.0721 S^3.
