@@ -10,21 +10,14 @@
 #include <fstream>
 #include <sstream>
 
-#include "lua/wedge_lua.h"
+#include "tests/lua/run_lua.h"
 
 namespace fs = std::filesystem;
 
 namespace {
 
-struct Run {
-  int status;
-  std::string err;
-};
-Run run(const std::string& code) {
-  std::ostringstream err;
-  int status = wedge::lua::run_string(code, "@sizes.lua", err);
-  return {status, err.str()};
-}
+using Run = LuaRun;
+Run run(const std::string& code) { return run_lua(code, "@sizes.lua"); }
 
 struct Scratch {
   fs::path dir = fs::temp_directory_path() / ("wedge-sizes-" + std::to_string(::getpid()));
