@@ -1,6 +1,7 @@
 // A closed triangle mesh as a leaf of the CSG tree (csg/mesh_leaf.h).
 #include "csg/mesh_leaf.h"
 
+#include <cmath>
 #include <cstdint>
 #include <unordered_map>
 
@@ -79,6 +80,19 @@ std::size_t planar_regions(Mesh& mesh, std::vector<FaceSurface>& planes) {
   }
   mesh.face_ids.assign(region.begin(), region.end());
   return static_cast<std::size_t>(count);
+}
+
+void check_triangle_budget(std::size_t triangles, const Tolerance& tol) {
+  if (triangles > tol.max_triangles)
+    fail("the mesh has ", triangles, " triangles, more than the budget of ", tol.max_triangles, ": raise max_triangles");
+}
+
+void check_boolean_budget(BooleanOp op, const std::vector<const Mesh*>& operands, std::size_t max_triangles) {
+  double triangles = 0;
+  for (const Mesh* m : operands) triangles += double(m->triangles.size());
+  if (triangles > double(max_triangles))
+    fail("boolean: the ", boolean_op_name(op), " of ", operands.size(), " operands would make about ", std::llround(triangles),
+         " triangles (its operands' together), more than the budget of ", max_triangles, ": raise max_triangles");
 }
 
 }  // namespace wedge

@@ -220,13 +220,7 @@ std::shared_ptr<Evaluated> engine(BooleanOp op, const std::vector<std::shared_pt
     for (const FaceSurface& f : e->surfaces)
       out->surfaces.push_back(op == BooleanOp::Difference && ptrs.size() > 1 ? flipped_surface(f) : f);
   }
-  // The result holds about its operands' triangles (more where their surfaces cross, fewer where
-  // parts fall away): their sum is the estimate, checked against the budget before the work.
-  double triangles = 0;
-  for (const Mesh* m : ptrs) triangles += double(m->triangles.size());
-  if (triangles > double(run.max_triangles))
-    fail("boolean: the ", boolean_op_name(op), " of ", in.size(), " operands would make about ", std::llround(triangles),
-         " triangles (its operands' together), more than the budget of ", run.max_triangles, ": raise max_triangles");
+  check_boolean_budget(op, ptrs, run.max_triangles);
   BooleanStats st;
   BooleanResult r = wedge::boolean(op, ptrs, &st, &run.cancel, run.max_crossings);
   run.add(&EvalStats::check, st.check);
@@ -626,13 +620,6 @@ void evaluate_bottom_up(const NodePtr& root, const Tolerance& tol, Run& run) {
   }
 }
 
-// The made mesh against the budget: also a result kept from an evaluation under a larger budget,
-// an imported mesh, and a tessellation that came out above its estimate.
-void check_triangle_budget(const Mesh& mesh, const Tolerance& tol) {
-  if (mesh.triangles.size() > tol.max_triangles)
-    fail("the mesh has ", mesh.triangles.size(), " triangles, more than the budget of ", tol.max_triangles, ": raise max_triangles");
-}
-
 // Evaluates the tree under n at tol with the installed control.
 std::shared_ptr<Evaluated> evaluate_root(const NodePtr& n, const Tolerance& tol) {
   Run run;
@@ -648,7 +635,7 @@ std::shared_ptr<Evaluated> evaluate_root(const NodePtr& n, const Tolerance& tol)
   }
   if (n->depth > kRecursiveDepth && run.options.cache) evaluate_bottom_up(n, tol, run);
   auto out = evaluate(n, tol, run);
-  check_triangle_budget(out->mesh, tol);
+  check_triangle_budget(out->mesh.triangles.size(), tol);
   return out;
 }
 
@@ -810,11 +797,7 @@ Mesh Solid::mesh(const Tolerance& tol) const {
   switch (node_->kind) {
     case Node::Kind::Empty: return Mesh();
     // A leaf's own mesh, attributes as the leaf gives them (an imported mesh's seams and normals).
-    case Node::Kind::Leaf: {
-      Mesh m = node_->leaf->mesh(tol);
-      check_triangle_budget(m, tol);
-      return m;
-    }
+    case Node::Kind::Leaf: return within_triangle_budget(node_->leaf->mesh(tol), tol);
     case Node::Kind::Transform:
       if (Solid(node_->child).node_->kind == Node::Kind::Leaf) return Solid(node_->child).mesh(child_tolerance(*node_, tol)).transformed(node_->matrix);
       break;
