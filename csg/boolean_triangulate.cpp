@@ -421,16 +421,15 @@ std::vector<std::array<u32, 2>> equal_points(const Points& pts, const std::vecto
       // A crowded cell (nearly coincident operands put all their points near a few corners):
       // a sweep along x compares only the points whose boxes overlap there.
       std::vector<u32> crowd;
-      for (std::size_t a = i; a < j; ++a) crowd.push_back(entries[a].id);
-      std::sort(crowd.begin(), crowd.end(), [&](u32 x, u32 y) { return pts.box(x)[0] < pts.box(y)[0] || (pts.box(x)[0] == pts.box(y)[0] && x < y); });
-      for (std::size_t a = 0; a < crowd.size(); ++a) {
-        if ((++polled & 0xfff) == 0) soup.poll();
-        const u32 x = crowd[a];
-        for (std::size_t b = a + 1; b < crowd.size() && pts.box(crowd[b])[0] <= pts.box(x)[3]; ++b) {
-          const u32 y = crowd[b];
-          if (boxes_overlap(pts.box(x), pts.box(y)) && pts.equal(x, y)) out.push_back({std::min(x, y), std::max(x, y)});
-        }
+      std::vector<std::array<double, 6>> boxes;
+      for (std::size_t a = i; a < j; ++a) {
+        crowd.push_back(entries[a].id);
+        boxes.push_back(pts.box(entries[a].id));
       }
+      overlapping(boxes, [&](u32 a, u32 b) {
+        if ((++polled & 0xfff) == 0) soup.poll();
+        if (pts.equal(crowd[a], crowd[b])) out.push_back({crowd[a], crowd[b]});
+      });
     }
     i = j;
   }
