@@ -275,37 +275,35 @@ Points::~Points() {
   for (ExactPoint* e : exact_) delete e;
 }
 
-const ExactPoint& Points::exact(u32 p) const {
-  std::atomic_ref<ExactPoint*> slot(exact_[p]);
+const ExactPoint& Points::exact(u32 p, ExactPoint& scratch) const {
+  if (p < nin_) {
+    PointDef d;
+    d.p = p;
+    scratch.h = point_eval<EX>(*soup_, d);
+    return scratch;
+  }
+  std::atomic_ref<ExactPoint*> slot(exact_[p - nin_]);
   ExactPoint* e = slot.load(std::memory_order_acquire);
   if (!e) {
-    auto* made = new ExactPoint{point_eval<EX>(*soup_, defs_[p])};
+    auto* made = new ExactPoint{point_eval<EX>(*soup_, defs_[p - nin_])};
     if (slot.compare_exchange_strong(e, made, std::memory_order_acq_rel)) e = made;
     else delete made;  // another thread was first: e holds its result
   }
   return *e;
 }
 
-Points::Points(const Soup& soup) : soup_(&soup) {
-  std::size_t n = soup.verts.size();
-  defs_.resize(n);
-  fixed_.assign(n, 7);
-  approx_.resize(n);
-  ih_.resize(n);
-  box_.resize(n);
-  slack_.assign(n, 0.0);
-  exact_.assign(n, nullptr);
-  for (std::size_t v = 0; v < n; ++v) {
-    defs_[v].kind = PointDef::Explicit;
-    defs_[v].p = static_cast<u32>(v);
-    approx_[v] = soup.verts[v];
-    for (int i = 0; i < 3; ++i) ih_[v].lo[i] = ih_[v].hi[i] = soup.verts[v][i];
-    ih_[v].lo[3] = ih_[v].hi[3] = 1;
-    for (int i = 0; i < 3; ++i) box_[v][i] = box_[v][i + 3] = soup.verts[v][i];
-  }
+Points::Points(const Soup& soup) : soup_(&soup), nin_(static_cast<u32>(soup.verts.size())) {}
+
+IntervalH Points::interval(u32 p) const {
+  if (p >= nin_) return ih_[p - nin_];
+  IntervalH ih;
+  for (int i = 0; i < 3; ++i) ih.lo[i] = ih.hi[i] = soup_->verts[p][i];
+  ih.lo[3] = ih.hi[3] = 1;
+  return ih;
 }
 
 void Points::reserve(std::size_t n) {
+  n = n > nin_ ? n - nin_ : 0;
   defs_.reserve(n);
   fixed_.reserve(n);
   approx_.reserve(n);
@@ -383,7 +381,7 @@ u32 Points::add(const PointDef& d) {
   for (int i = 0; i < 3; ++i) w = std::max({w, ap[i] - bx[i], bx[i + 3] - ap[i]});
   slack_.push_back(w == w ? w : INFINITY);
   exact_.push_back(nullptr);
-  return static_cast<u32>(defs_.size() - 1);
+  return static_cast<u32>(size() - 1);
 }
 
 // Fast paths: where every coordinate a predicate reads is known exactly (fixed), the predicate
@@ -394,13 +392,13 @@ u32 Points::add(const PointDef& d) {
 bool Points::on_one_segment(u32 a, u32 b, u32 c) const {
   std::uint64_t line = 0;
   for (u32 x : {a, b, c}) {
-    const PointDef& d = defs_[x];
+    const PointDef& d = def(x);
     if (d.kind == PointDef::Lpi) line = static_cast<std::uint64_t>(std::min(d.p, d.q)) << 32 | std::max(d.p, d.q);
   }
   if (!line) return false;
   const u32 p = static_cast<u32>(line >> 32), q = static_cast<u32>(line);
   for (u32 x : {a, b, c}) {
-    const PointDef& d = defs_[x];
+    const PointDef& d = def(x);
     if (d.kind == PointDef::Tpi) return false;
     if (d.kind == PointDef::Explicit ? (d.p != p && d.p != q) : (std::min(d.p, d.q) != p || std::max(d.p, d.q) != q))
       return false;
@@ -431,7 +429,7 @@ bool same_plane(const Soup& s, const Plane& X, const Plane& P) {
 }  // namespace
 
 bool Points::on_plane(u32 p, const Plane& P) const {
-  const PointDef& d = defs_[p];
+  const PointDef& d = def(p);
   switch (d.kind) {
     case PointDef::Explicit:
       return vertex_on(*soup_, P, d.p);
@@ -450,14 +448,18 @@ bool Points::exact_position(const PointDef& d, Vec3& out) const {
 }
 
 bool Points::collinear_by_definition(u32 a, u32 b, u32 c) const {
+  // The definitions held here: planes found below are kept by address.
+  const PointDef defs[3] = {def(a), def(b), def(c)};
+  const u32 ids[3] = {a, b, c};
   // Points that lie on two different planes of their definitions lie on their line: the
   // crossings of one cut segment with others (each a TPI of T's plane, the segment's plane and
   // another), end points of the segment.
   {
     const Plane* found[2] = {nullptr, nullptr};
     int nf = 0;
-    for (u32 x : {a, b, c}) {
-      const PointDef& d = defs_[x];
+    for (int xi = 0; xi < 3; ++xi) {
+      const u32 x = ids[xi];
+      const PointDef& d = defs[xi];
       const int np = d.kind == PointDef::Tpi ? 3 : d.kind == PointDef::Lpi ? 1 : 0;
       for (int i = 0; i < np && nf < 2; ++i) {
         const Plane& P = d.P[i];
@@ -479,8 +481,7 @@ bool Points::collinear_by_definition(u32 a, u32 b, u32 c) const {
   const Plane* X = nullptr;
   u32 ends[6];
   int n = 0;
-  for (u32 x : {a, b, c}) {
-    const PointDef& d = defs_[x];
+  for (const PointDef& d : defs) {
     if (d.kind == PointDef::Tpi) return false;
     if (d.kind == PointDef::Lpi) {
       if (!X) X = &d.P[0];
@@ -492,8 +493,8 @@ bool Points::collinear_by_definition(u32 a, u32 b, u32 c) const {
     }
   }
   if (!X) return false;
-  for (u32 x : {a, b, c})
-    if (defs_[x].kind == PointDef::Explicit && !vertex_on(*soup_, *X, defs_[x].p)) return false;
+  for (const PointDef& d : defs)
+    if (d.kind == PointDef::Explicit && !vertex_on(*soup_, *X, d.p)) return false;
   // Q: through the first segment and the first end point off its line.
   const u32 p = ends[0], q = ends[1];
   const Vec3 &P = soup_->verts[p], &Qv = soup_->verts[q];
@@ -519,13 +520,13 @@ bool Points::collinear_by_definition(u32 a, u32 b, u32 c) const {
 int Points::orient2d(u32 a, u32 b, u32 c, int k, const Plane* line) const {
   const int i = (k + 1) % 3, j = (k + 2) % 3;
   const std::uint8_t m = static_cast<std::uint8_t>(1u << i | 1u << j);
-  const Vec3 &A = approx_[a], &B = approx_[b], &C = approx_[c];
-  if ((fixed_[a] & fixed_[b] & fixed_[c] & m) == m) return orient2d_fast(A[i], A[j], B[i], B[j], C[i], C[j]);
+  const Vec3 &A = approx(a), &B = approx(b), &C = approx(c);
+  if ((fixed(a) & fixed(b) & fixed(c) & m) == m) return orient2d_fast(A[i], A[j], B[i], B[j], C[i], C[j]);
   {
     // On the approximations, with Shewchuk's stage-A bound for their determinant plus how far
     // the exact points may be from them: each difference moves by at most 2W (W the largest
     // slack), so the determinant by at most 8 R' W, R' the largest difference plus 2W.
-    const double W = std::max({slack_[a], slack_[b], slack_[c]});
+    const double W = std::max({slack(a), slack(b), slack(c)});
     const double bx = B[i] - A[i], by = B[j] - A[j], cx = C[i] - A[i], cy = C[j] - A[j];
     const double l = bx * cy, r = by * cx, det = l - r;
     const double R = std::max({std::abs(bx), std::abs(by), std::abs(cx), std::abs(cy)}) + 2 * W;
@@ -539,30 +540,32 @@ int Points::orient2d(u32 a, u32 b, u32 c, int k, const Plane* line) const {
     Filter guard;
     // First on the coordinate boxes (each an ulp or two wide), then on the homogeneous intervals.
     IA x[3], y[3];
-    if (box_ia(box_[a], i, j, x[0], y[0]) && box_ia(box_[b], i, j, x[1], y[1]) && box_ia(box_[c], i, j, x[2], y[2])) {
+    if (box_ia(box(a), i, j, x[0], y[0]) && box_ia(box(b), i, j, x[1], y[1]) && box_ia(box(c), i, j, x[2], y[2])) {
       int s = sign_of((x[1] - x[0]) * (y[2] - y[0]) - (y[1] - y[0]) * (x[2] - x[0]));
       if (s != 2) return s;
     }
-    int s = orient2d_sign(to_ia(ih_[a]), to_ia(ih_[b]), to_ia(ih_[c]), k);
+    int s = orient2d_sign(to_ia(interval(a)), to_ia(interval(b)), to_ia(interval(c)), k);
     if (s != 2) return s;
   }
   if (on_one_segment(a, b, c) || (line && on_plane(c, *line)) || collinear_by_definition(a, b, c)) return 0;
-  return orient2d_sign(exact(a).h, exact(b).h,
-                       exact(c).h, k);
+  ExactPoint scratch[4];
+  return orient2d_sign(exact(a, scratch[0]).h, exact(b, scratch[1]).h,
+                       exact(c, scratch[2]).h, k);
 }
 
 int Points::compare(u32 a, u32 b, int axis) const {
   if (a == b) return 0;
-  if (fixed_[a] & fixed_[b] & (1u << axis)) {
-    const double x = approx_[a][axis], y = approx_[b][axis];
+  if (fixed(a) & fixed(b) & (1u << axis)) {
+    const double x = approx(a)[axis], y = approx(b)[axis];
     return x < y ? -1 : (x > y ? 1 : 0);
   }
   {
     Filter guard;
-    int s = compare_sign(to_ia(ih_[a]), to_ia(ih_[b]), axis);
+    int s = compare_sign(to_ia(interval(a)), to_ia(interval(b)), axis);
     if (s != 2) return s;
   }
-  return compare_sign(exact(a).h, exact(b).h, axis);
+  ExactPoint scratch[4];
+  return compare_sign(exact(a, scratch[0]).h, exact(b, scratch[1]).h, axis);
 }
 
 bool Points::equal(u32 a, u32 b) const {
@@ -598,10 +601,10 @@ void Points::coord_bounds(const PointDef& d, int axis, double& lo, double& hi) c
 }
 
 int Points::side(const Plane& P, u32 p) const {
-  if (fixed_[p] == 7) {
+  if (fixed(p) == 7) {
     const Vec3& a = soup_->verts[P.a];
     const Vec3& b = soup_->verts[P.b];
-    const Vec3& q = approx_[p];
+    const Vec3& q = approx(p);
     if (P.axis < 0) return orient3d_fast(a, b, soup_->verts[P.c], q);  // n . (q - a), n = (b - a) x (c - a)
     // A wall: n = (b - a) x e_k, and n . (q - a) = -orient2d(a, b, q) in the projection along e_k.
     const int i = (P.axis + 1) % 3, j = (P.axis + 2) % 3;
@@ -609,10 +612,11 @@ int Points::side(const Plane& P, u32 p) const {
   }
   {
     Filter guard;
-    int s = side_sign(*soup_, P, to_ia(ih_[p]));
+    int s = side_sign(*soup_, P, to_ia(interval(p)));
     if (s != 2) return s;
   }
-  return side_sign(*soup_, P, exact(p).h);
+  ExactPoint scratch[4];
+  return side_sign(*soup_, P, exact(p, scratch[0]).h);
 }
 
 namespace {
@@ -636,15 +640,15 @@ double min_sine(const Vec3* p[4], int i, int j) {
 int Points::incircle_certain(u32 a, u32 b, u32 c, u32 d, int k, double well) const {
   const int i = (k + 1) % 3, j = (k + 2) % 3;
   const std::uint8_t m = static_cast<std::uint8_t>(1u << i | 1u << j);
-  const bool doubles = (fixed_[a] & fixed_[b] & fixed_[c] & fixed_[d] & m) == m;
+  const bool doubles = (fixed(a) & fixed(b) & fixed(c) & fixed(d) & m) == m;
   {
     // The classic determinant relative to d on the approximations, with Shewchuk's stage-A error
     // bound, plus (where they are not exact) how far the exact points may be from them: each
     // difference moves by at most 2W (W the largest slack), so each of the three products of a
     // squared length and a cross product by at most 32 R'^3 W (R' the largest difference plus
     // 2W); 128 R'^3 W bounds the sum.
-    const Vec3 &A = approx_[a], &B = approx_[b], &C = approx_[c], &D = approx_[d];
-    const double W = doubles ? 0.0 : std::max({slack_[a], slack_[b], slack_[c], slack_[d]});
+    const Vec3 &A = approx(a), &B = approx(b), &C = approx(c), &D = approx(d);
+    const double W = doubles ? 0.0 : std::max({slack(a), slack(b), slack(c), slack(d)});
     const double adx = A[i] - D[i], ady = A[j] - D[j], bdx = B[i] - D[i], bdy = B[j] - D[j];
     const double cdx = C[i] - D[i], cdy = C[j] - D[j];
     const double bc = bdx * cdy, cb = cdx * bdy, ca = cdx * ady, ac = adx * cdy, ab = adx * bdy, ba = bdx * ady;
@@ -665,31 +669,32 @@ int Points::incircle_certain(u32 a, u32 b, u32 c, u32 d, int k, double well) con
     // On the coordinate boxes, relative to d (the classic 3x3 form), then homogeneously.
     const u32 id[3] = {a, b, c};
     IA dx0, dy0, r[3][3];
-    bool boxed = box_ia(box_[d], i, j, dx0, dy0);
+    bool boxed = box_ia(box(d), i, j, dx0, dy0);
     for (int q = 0; q < 3 && boxed; ++q) {
       IA x, y;
-      boxed = box_ia(box_[id[q]], i, j, x, y);
+      boxed = box_ia(box(id[q]), i, j, x, y);
       r[q][0] = x - dx0;
       r[q][1] = y - dy0;
       r[q][2] = r[q][0] * r[q][0] + r[q][1] * r[q][1];
     }
     int s = 2;
     if (boxed) s = sign_of(det3(r[0][0], r[0][1], r[0][2], r[1][0], r[1][1], r[1][2], r[2][0], r[2][1], r[2][2]));
-    if (s == 2) s = incircle_sign(to_ia(ih_[a]), to_ia(ih_[b]), to_ia(ih_[c]), to_ia(ih_[d]), k);
+    if (s == 2) s = incircle_sign(to_ia(interval(a)), to_ia(interval(b)), to_ia(interval(c)), to_ia(interval(d)), k);
     if (s != 2) return s == 1 ? 1 : -1;
   }
   // Too close to cocircular for the filter. Where every triangle either split would make is well
   // shaped (no angle under about half a degree), the split in place stays: no exact arithmetic.
   // Where one would be a sliver, the exact test decides, so that slivers are flipped away as a
   // true Delaunay triangulation would.
-  const Vec3* p[4] = {&approx_[a], &approx_[b], &approx_[c], &approx_[d]};
+  const Vec3* p[4] = {&approx(a), &approx(b), &approx(c), &approx(d)};
   if (min_sine(p, i, j) > well) return -1;
   if (doubles) {
-    auto p2 = [&](u32 x) { return Point2(approx_[x][i], approx_[x][j]); };
+    auto p2 = [&](u32 x) { return Point2(approx(x)[i], approx(x)[j]); };
     return wedge::incircle(p2(a), p2(b), p2(c), p2(d)) == 1 ? 1 : -1;
   }
-  return incircle_sign(exact(a).h, exact(b).h,
-                       exact(c).h, exact(d).h, k) == 1
+  ExactPoint scratch[4];
+  return incircle_sign(exact(a, scratch[0]).h, exact(b, scratch[1]).h,
+                       exact(c, scratch[2]).h, exact(d, scratch[3]).h, k) == 1
              ? 1
              : -1;
 }
@@ -697,31 +702,33 @@ int Points::incircle_certain(u32 a, u32 b, u32 c, u32 d, int k, double well) con
 int Points::orient2d_centroid(u32 u, u32 v, const std::array<u32, 3>& t, int k) const {
   {
     Filter guard;
-    H<IA> c = centroid_of(to_ia(ih_[t[0]]), to_ia(ih_[t[1]]), to_ia(ih_[t[2]]));
-    int s = orient2d_sign(to_ia(ih_[u]), to_ia(ih_[v]), c, k);
+    H<IA> c = centroid_of(to_ia(interval(t[0])), to_ia(interval(t[1])), to_ia(interval(t[2])));
+    int s = orient2d_sign(to_ia(interval(u)), to_ia(interval(v)), c, k);
     if (s != 2) return s;
   }
-  H<EX> c = centroid_of(exact(t[0]).h, exact(t[1]).h,
-                        exact(t[2]).h);
-  return orient2d_sign(exact(u).h, exact(v).h, c, k);
+  ExactPoint scratch[4];
+  H<EX> c = centroid_of(exact(t[0], scratch[0]).h, exact(t[1], scratch[1]).h,
+                        exact(t[2], scratch[2]).h);
+  return orient2d_sign(exact(u, scratch[0]).h, exact(v, scratch[1]).h, c, k);
 }
 
 int Points::side_centroid(const Plane& P, const std::array<u32, 3>& t) const {
   {
     Filter guard;
-    H<IA> c = centroid_of(to_ia(ih_[t[0]]), to_ia(ih_[t[1]]), to_ia(ih_[t[2]]));
+    H<IA> c = centroid_of(to_ia(interval(t[0])), to_ia(interval(t[1])), to_ia(interval(t[2])));
     int s = side_sign(*soup_, P, c);
     if (s != 2) return s;
   }
-  H<EX> c = centroid_of(exact(t[0]).h, exact(t[1]).h,
-                        exact(t[2]).h);
+  ExactPoint scratch[4];
+  H<EX> c = centroid_of(exact(t[0], scratch[0]).h, exact(t[1], scratch[1]).h,
+                        exact(t[2], scratch[2]).h);
   return side_sign(*soup_, P, c);
 }
 
 std::array<double, 6> Points::centroid_box(const std::array<u32, 3>& t) const {
   std::array<double, 6> b;
   Filter guard;
-  H<IA> c = centroid_of(to_ia(ih_[t[0]]), to_ia(ih_[t[1]]), to_ia(ih_[t[2]]));
+  H<IA> c = centroid_of(to_ia(interval(t[0])), to_ia(interval(t[1])), to_ia(interval(t[2])));
   const bool w_sign = c.c[3].inf() > 0 || c.c[3].sup() < 0;
   for (int i = 0; i < 3; ++i) {
     IA q = c.c[i] / c.c[3];

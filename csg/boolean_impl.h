@@ -219,17 +219,22 @@ class Points {
   Points& operator=(const Points&) = delete;
   u32 add(const PointDef& d);  // not thread-safe; computes the filter data
   void reserve(std::size_t n);  // room for n points in all (no reallocation while interning)
-  std::size_t size() const { return defs_.size(); }
-  const PointDef& def(u32 p) const { return defs_[p]; }
-  const Vec3& approx(u32 p) const { return approx_[p]; }
-  const IntervalH& interval(u32 p) const { return ih_[p]; }
-  bool is_explicit(u32 p) const { return defs_[p].kind == PointDef::Explicit; }
+  std::size_t size() const { return nin_ + defs_.size(); }
+  PointDef def(u32 p) const {
+    if (p >= nin_) return defs_[p - nin_];
+    PointDef d;
+    d.p = p;
+    return d;
+  }
+  const Vec3& approx(u32 p) const { return p < nin_ ? soup_->verts[p] : approx_[p - nin_]; }
+  IntervalH interval(u32 p) const;
+  bool is_explicit(u32 p) const { return p < nin_ || defs_[p - nin_].kind == PointDef::Explicit; }
   // Whether approx(p) is the point exactly (an input vertex, or a point whose three coordinates
   // are each fixed by a segment or an axis-parallel plane through it); such a point does not
   // move when the result is rounded.
-  bool is_double(u32 p) const { return fixed_[p] == 7; }
+  bool is_double(u32 p) const { return fixed(p) == 7; }
   // Bit i set: coordinate i of approx(p) is exact.
-  std::uint8_t fixed(u32 p) const { return fixed_[p]; }
+  std::uint8_t fixed(u32 p) const { return p < nin_ ? 7 : fixed_[p - nin_]; }
   const Soup& soup() const { return *soup_; }
 
   // Exact predicates.
@@ -272,7 +277,11 @@ class Points {
     return compare_def(a, b, axis);
   }
   // A box that holds the point exactly: lo[0..2], hi[0..2].
-  const std::array<double, 6>& box(u32 p) const { return box_[p]; }
+  std::array<double, 6> box(u32 p) const {
+    if (p >= nin_) return box_[p - nin_];
+    const Vec3& v = soup_->verts[p];
+    return {v.x(), v.y(), v.z(), v.x(), v.y(), v.z()};
+  }
   bool on_one_segment(u32 a, u32 b, u32 c) const;
   // Whether each coordinate of the point d is a double fixed by its definition (an axis-parallel
   // segment or axis plane: every point of a sponge of boxes); if so, *out is the point.
@@ -285,17 +294,22 @@ class Points {
   bool on_plane(u32 p, const Plane& P) const;
 
  private:
+  // The input vertices (ids below nin_) are read from the soup: their tables below hold only the
+  // points added since, at id - nin_ (a million-vertex operand costs no table entries).
   const Soup* soup_;
+  u32 nin_;
   std::vector<PointDef> defs_;
   std::vector<std::uint8_t> fixed_;
   std::vector<Vec3> approx_;
   std::vector<IntervalH> ih_;
   std::vector<std::array<double, 6>> box_;
   std::vector<double> slack_;  // how far approx(p) may be from the point in any coordinate (from its box)
-  // Per point, its exact coordinates once a predicate has needed them (null before): set by
+  // Per added point, its exact coordinates once a predicate has needed them (null before): set by
   // any thread, once (an atomic compare-and-swap), freed with the table.
   mutable std::vector<ExactPoint*> exact_;
-  const ExactPoint& exact(u32 p) const;
+  double slack(u32 p) const { return p < nin_ ? 0.0 : slack_[p - nin_]; }
+  // The exact coordinates: an input vertex's are made in `scratch`, an added point's are kept.
+  const ExactPoint& exact(u32 p, ExactPoint& scratch) const;
 };
 
 // Exact sign of orient3d on input vertices.
