@@ -16,6 +16,7 @@
 #include <limits>
 
 #include "csg/boolean_impl.h"
+#include "kernel/parallel.h"
 #include "kernel/error.h"
 #include "kernel/predicates.h"
 
@@ -314,6 +315,33 @@ void Points::reserve(std::size_t n) {
 }
 
 u32 Points::add(const PointDef& d) {
+  const u32 id = add_later(d);
+  evaluate_added();
+  return id;
+}
+
+u32 Points::add_later(const PointDef& d) {
+  defs_.push_back(d);
+  return static_cast<u32>(size() - 1);
+}
+
+void Points::evaluate_added() {
+  const std::size_t from = fixed_.size(), to = defs_.size();
+  if (from == to) return;
+  fixed_.resize(to);
+  approx_.resize(to);
+  ih_.resize(to);
+  box_.resize(to);
+  slack_.resize(to);
+  exact_.resize(to, nullptr);
+  parallel_for(from, to, [&](std::size_t n) {
+    if ((n & 0xfff) == 0) soup_->poll();
+    evaluate(n);
+  });
+}
+
+void Points::evaluate(std::size_t n) {
+  const PointDef& d = defs_[n];
   IntervalH ih;
   Vec3 ap;
   std::array<double, 6> bx;
@@ -372,16 +400,13 @@ u32 Points::add(const PointDef& d) {
       fixed |= static_cast<std::uint8_t>(1u << i);
     }
   }
-  defs_.push_back(d);
-  fixed_.push_back(fixed);
-  approx_.push_back(ap);
-  ih_.push_back(ih);
-  box_.push_back(bx);
   double w = 0;
   for (int i = 0; i < 3; ++i) w = std::max({w, ap[i] - bx[i], bx[i + 3] - ap[i]});
-  slack_.push_back(w == w ? w : INFINITY);
-  exact_.push_back(nullptr);
-  return static_cast<u32>(size() - 1);
+  fixed_[n] = fixed;
+  approx_[n] = ap;
+  ih_[n] = ih;
+  box_[n] = bx;
+  slack_[n] = w == w ? w : INFINITY;
 }
 
 // Fast paths: where every coordinate a predicate reads is known exactly (fixed), the predicate

@@ -217,7 +217,14 @@ class Points {
   ~Points();
   Points(const Points&) = delete;
   Points& operator=(const Points&) = delete;
-  u32 add(const PointDef& d);  // not thread-safe; computes the filter data
+  // A new point (not thread-safe), with its filter data.
+  u32 add(const PointDef& d);
+  // A new point whose filter data waits for evaluate_added(): until then only its definition
+  // may be read. (Many points added this way are evaluated in parallel.)
+  u32 add_later(const PointDef& d);
+  // Computes the filter data (approximation, intervals, box) of the points added since the last
+  // call, in parallel.
+  void evaluate_added();
   void reserve(std::size_t n);  // room for n points in all (no reallocation while interning)
   std::size_t size() const { return nin_ + defs_.size(); }
   PointDef def(u32 p) const {
@@ -307,6 +314,7 @@ class Points {
   // Per added point, its exact coordinates once a predicate has needed them (null before): set by
   // any thread, once (an atomic compare-and-swap), freed with the table.
   mutable std::vector<ExactPoint*> exact_;
+  void evaluate(std::size_t n);  // the filter data of added point n (at id nin_ + n)
   double slack(u32 p) const { return p < nin_ ? 0.0 : slack_[p - nin_]; }
   // The exact coordinates: an input vertex's are made in `scratch`, an added point's are kept.
   const ExactPoint& exact(u32 p, ExactPoint& scratch) const;

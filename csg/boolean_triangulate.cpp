@@ -214,7 +214,7 @@ class Interner {
       if (e.kind == d.kind && e.p == d.p && e.q == d.q && e.P[0] == d.P[0] && e.P[1] == d.P[1] && e.P[2] == d.P[2])
         return table_[slot].id;
     }
-    const u32 id = pts_.add(d);
+    const u32 id = pts_.add_later(d);
     table_[slot] = {id, tag};
     hashes_.push_back(h);
     ids_.push_back(id);
@@ -257,7 +257,7 @@ class Interner {
       const Placed& e = placed_[where_[slot]];
       if (e.hash == h && e.at == at) return e.id;
     }
-    const u32 id = raw.kind == PointDef::Explicit ? raw.p : pts_.add(canonical(raw));
+    const u32 id = raw.kind == PointDef::Explicit ? raw.p : pts_.add_later(canonical(raw));
     where_[slot] = static_cast<u32>(placed_.size());
     placed_.push_back({h, at, id});
     return id;
@@ -352,32 +352,72 @@ void overlapping(const std::vector<std::array<double, 6>>& boxes, F&& f) {
       if (boxes_overlap(boxes[order[x]], boxes[order[y]])) f(std::min(order[x], order[y]), std::max(order[x], order[y]));
 }
 
-// Every pair of equal points among `ids` (exact), found through a hash grid: each point goes into
-// every cell its box meets, and two points whose boxes overlap in a cell are compared exactly.
-// Equal points share the cell of their exact position, so none is missed.
+// Every pair of equal points among `ids` (exact). Points whose coordinates are doubles (input
+// vertices, and the points interned by their exact position) are equal where their coordinates
+// are: grouped by a hash of them. The others ("loose") go through a hash grid: each into every
+// cell its box meets, with the double points that fall in a cell holding a loose one; two
+// points whose boxes overlap in a cell are compared exactly. Equal points share the cell of
+// their exact position, so none is missed.
 std::vector<std::array<u32, 2>> equal_points(const Points& pts, const std::vector<u32>& ids) {
   if (ids.size() < 2) return {};
+  const Soup& soup = pts.soup();
+  std::vector<std::array<u32, 2>> out;
+  std::vector<u32> loose, doubles;
+  for (u32 p : ids) (pts.is_double(p) ? doubles : loose).push_back(p);
+  {
+    // Equal doubles: an open-addressing table of positions (-0 and +0 hash alike).
+    auto bits = [](double x) {
+      std::uint64_t b;
+      x += 0.0;
+      std::memcpy(&b, &x, sizeof b);
+      return b;
+    };
+    auto mix = [](std::uint64_t z) {
+      z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+      z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+      return z ^ (z >> 31);
+    };
+    std::size_t size = 16;
+    while (size < 2 * doubles.size()) size *= 2;
+    std::vector<u32> table(size, kNone);
+    for (std::size_t n = 0; n < doubles.size(); ++n) {
+      if ((n & 0xffff) == 0) soup.poll();
+      const u32 p = doubles[n];
+      const Vec3& at = pts.approx(p);
+      std::size_t slot = mix(mix(mix(bits(at.x())) ^ bits(at.y())) ^ bits(at.z())) & (size - 1);
+      for (; table[slot] != kNone; slot = (slot + 1) & (size - 1))
+        if (pts.approx(table[slot]) == at) {
+          out.push_back({std::min(p, table[slot]), std::max(p, table[slot])});
+          break;
+        }
+      if (table[slot] == kNone) table[slot] = p;
+    }
+  }
+  if (loose.empty()) return out;
   double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
-  for (u32 p : ids)
+  for (u32 p : loose)
     for (int i = 0; i < 3; ++i) {
       lo[i] = std::min(lo[i], pts.approx(p)[i]);
       hi[i] = std::max(hi[i], pts.approx(p)[i]);
     }
   double size = std::max({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]});
-  double cell = size > 0 ? size / std::max(1.0, std::cbrt(static_cast<double>(ids.size()))) : 1.0;
+  double cell = size > 0 ? size / std::max(1.0, std::cbrt(static_cast<double>(loose.size()))) : 1.0;
   struct Entry {
     std::uint64_t key;
     u32 id;
   };
   std::vector<Entry> entries;
   std::vector<u32> wide;  // boxes too wide for the grid (exact fallbacks): compared with all
-  entries.reserve(ids.size());
+  entries.reserve(loose.size());
   auto coord = [&](double x, int i) { return static_cast<std::int64_t>(std::floor((x - lo[i]) / cell)); };
-  const Soup& soup = pts.soup();
+  auto key_of = [](std::int64_t x, std::int64_t y, std::int64_t z) {
+    return (static_cast<std::uint64_t>(x + 1) & 0x1fffff) << 42 | (static_cast<std::uint64_t>(y + 1) & 0x1fffff) << 21 |
+           (static_cast<std::uint64_t>(z + 1) & 0x1fffff);
+  };
   std::size_t polled = 0;
-  for (u32 p : ids) {
+  for (u32 p : loose) {
     if ((++polled & 0xffff) == 0) soup.poll();
-    const auto& b = pts.box(p);
+    const auto b = pts.box(p);
     std::int64_t c0[3], c1[3];
     bool ok = true;
     for (int i = 0; i < 3; ++i) {
@@ -394,19 +434,27 @@ std::vector<std::array<u32, 2>> equal_points(const Points& pts, const std::vecto
     }
     for (std::int64_t x = c0[0]; x <= c1[0]; ++x)
       for (std::int64_t y = c0[1]; y <= c1[1]; ++y)
-        for (std::int64_t z = c0[2]; z <= c1[2]; ++z) {
-          std::uint64_t key = (static_cast<std::uint64_t>(x + 1) & 0x1fffff) << 42 |
-                              (static_cast<std::uint64_t>(y + 1) & 0x1fffff) << 21 |
-                              (static_cast<std::uint64_t>(z + 1) & 0x1fffff);
-          entries.push_back({key, p});
-        }
+        for (std::int64_t z = c0[2]; z <= c1[2]; ++z) entries.push_back({key_of(x, y, z), p});
+  }
+  auto by_key = [](const Entry& a, const Entry& b) { return a.key < b.key || (a.key == b.key && a.id < b.id); };
+  soup.poll();
+  std::sort(entries.begin(), entries.end(), by_key);
+  {
+    // The double points in a cell that holds a loose point (a double's box is its point).
+    const std::size_t nl = entries.size();
+    for (u32 p : doubles) {
+      if ((++polled & 0xffff) == 0) soup.poll();
+      const Vec3& at = pts.approx(p);
+      const std::uint64_t key = key_of(coord(at[0], 0), coord(at[1], 1), coord(at[2], 2));
+      auto it = std::lower_bound(entries.begin(), entries.begin() + static_cast<std::ptrdiff_t>(nl), Entry{key, 0}, by_key);
+      if (it != entries.begin() + static_cast<std::ptrdiff_t>(nl) && it->key == key) entries.push_back({key, p});
+    }
+    std::sort(entries.begin() + static_cast<std::ptrdiff_t>(nl), entries.end(), by_key);
+    std::inplace_merge(entries.begin(), entries.begin() + static_cast<std::ptrdiff_t>(nl), entries.end(), by_key);
   }
   soup.poll();
-  std::sort(entries.begin(), entries.end(), [](const Entry& a, const Entry& b) {
-    return a.key < b.key || (a.key == b.key && a.id < b.id);
-  });
-  soup.poll();
-  std::vector<std::array<u32, 2>> out;
+  // Two doubles were paired above.
+  auto compare = [&](u32 x, u32 y) { return x != y && !(pts.is_double(x) && pts.is_double(y)); };
   for (std::size_t i = 0; i < entries.size();) {
     if ((++polled & 0xffff) == 0) soup.poll();
     std::size_t j = i;
@@ -415,7 +463,8 @@ std::vector<std::array<u32, 2>> equal_points(const Points& pts, const std::vecto
       for (std::size_t a = i; a < j; ++a)
         for (std::size_t b = a + 1; b < j; ++b) {
           u32 x = entries[a].id, y = entries[b].id;
-          if (x != y && boxes_overlap(pts.box(x), pts.box(y)) && pts.equal(x, y)) out.push_back({x, y});
+          if (compare(x, y) && boxes_overlap(pts.box(x), pts.box(y)) && pts.equal(x, y))
+            out.push_back({std::min(x, y), std::max(x, y)});
         }
     } else {
       // A crowded cell (nearly coincident operands put all their points near a few corners):
@@ -428,7 +477,8 @@ std::vector<std::array<u32, 2>> equal_points(const Points& pts, const std::vecto
       }
       overlapping(boxes, [&](u32 a, u32 b) {
         if ((++polled & 0xfff) == 0) soup.poll();
-        if (pts.equal(crowd[a], crowd[b])) out.push_back({crowd[a], crowd[b]});
+        if (compare(crowd[a], crowd[b]) && pts.equal(crowd[a], crowd[b]))
+          out.push_back({std::min(crowd[a], crowd[b]), std::max(crowd[a], crowd[b])});
       });
     }
     i = j;
@@ -626,17 +676,24 @@ Arrangement arrange(Points& pts, const std::vector<std::array<u32, 2>>& pairs) {
   }
   cuts.clear();
   cuts.shrink_to_fit();
+  pts.evaluate_added();
 
   Merge merge;
   auto merge_round = [&]() {
+    // Each point once, in the order first met (a mark per point instead of sorting them all).
     std::vector<u32> ids;
+    std::vector<char> seen(pts.size(), 0);
+    auto take = [&](u32 p) {
+      if (!seen[p]) {
+        seen[p] = 1;
+        ids.push_back(p);
+      }
+    };
     for (std::size_t w = 0; w < work.size(); ++w) {
       if ((w & 0xfff) == 0) soup.poll();
-      for (u32 p : work[w].points) ids.push_back(p);
-      for (u32 v : soup.tris[touched[w]]) ids.push_back(v);
+      for (u32 p : work[w].points) take(p);
+      for (u32 v : soup.tris[touched[w]]) take(v);
     }
-    soup.poll();
-    unique_sorted(ids);
     soup.poll();
     for (const auto& p : equal_points(pts, ids)) merge.unite(p[0], p[1]);
   };
@@ -667,10 +724,13 @@ Arrangement arrange(Points& pts, const std::vector<std::array<u32, 2>>& pairs) {
       w.cuts.push_back(planes[order[i]]);
     }
   };
-  for (std::size_t w = 0; w < work.size(); ++w) {
-    if ((w & 0xfff) == 0) soup.poll();
-    canon_work(work[w]);
-  }
+  auto canon_all = [&] {
+    parallel_for(0, work.size(), [&](std::size_t w) {
+      if ((w & 0xfff) == 0) soup.poll();
+      canon_work(work[w]);
+    });
+  };
+  canon_all();
   {
     std::vector<std::vector<PointDef>> crossings(work.size());
     parallel_for(0, work.size(), [&](std::size_t wi) {
@@ -706,11 +766,9 @@ Arrangement arrange(Points& pts, const std::vector<std::array<u32, 2>>& pairs) {
         any = true;
       }
     if (any) {
+      pts.evaluate_added();
       merge_round();
-      for (std::size_t w = 0; w < work.size(); ++w) {
-        if ((w & 0xfff) == 0) soup.poll();
-        canon_work(work[w]);
-      }
+      canon_all();
     }
   }
 
