@@ -8,6 +8,8 @@
 #include <mutex>
 #include <sstream>
 
+#include <tbb/task_arena.h>
+
 #include "csg/boolean_impl.h"
 #include "kernel/error.h"
 #include "kernel/parallel.h"
@@ -163,15 +165,35 @@ std::vector<u32> boolean_detail::sort_edges(std::vector<EdgeRec>& recs, std::siz
     if (interrupt) interrupt->poll();
   };
   poll();
+  // A counting sort by the first vertex. Over a few chunks of the records at once: chunk c's
+  // records of vertex v go after chunks 0..c-1's (the order within a vertex is settled by the
+  // sort below in any case).
+  const std::size_t m = recs.size();
+  const std::size_t chunks =
+      m < (std::size_t(1) << 16) ? 1 : std::min<std::size_t>(8, static_cast<std::size_t>(tbb::this_task_arena::max_concurrency()));
+  const std::size_t per = (m + chunks - 1) / chunks;
+  std::vector<std::vector<u32>> next(chunks, std::vector<u32>(n, 0));
+  parallel_for(0, chunks, [&](std::size_t c) {
+    for (std::size_t r = c * per; r < std::min(m, (c + 1) * per); ++r) ++next[c][recs[r].key >> 32];
+  });
+  poll();
   std::vector<u32> off(n + 1, 0);
-  for (const EdgeRec& r : recs) ++off[(r.key >> 32) + 1];
-  for (std::size_t v = 0; v < n; ++v) off[v + 1] += off[v];
-  std::vector<EdgeRec> out(recs.size());
-  {
-    std::vector<u32> next(off.begin(), off.end() - 1);
-    poll();
-    for (const EdgeRec& r : recs) out[next[r.key >> 32]++] = r;
+  for (std::size_t v = 0, at = 0; v < n; ++v) {
+    off[v] = static_cast<u32>(at);
+    for (std::size_t c = 0; c < chunks; ++c) {
+      const u32 k = next[c][v];
+      next[c][v] = static_cast<u32>(at);
+      at += k;
+    }
   }
+  off[n] = static_cast<u32>(m);
+  std::vector<EdgeRec> out(m);
+  poll();
+  parallel_for(0, chunks, [&](std::size_t c) {
+    std::vector<u32>& at = next[c];
+    for (std::size_t r = c * per; r < std::min(m, (c + 1) * per); ++r) out[at[recs[r].key >> 32]++] = recs[r];
+  });
+  next.clear();
   poll();
   auto less = [](const EdgeRec& x, const EdgeRec& y) { return x.key < y.key || (x.key == y.key && x.value < y.value); };
   parallel_for(0, (n + 4095) / 4096, [&](std::size_t block) {

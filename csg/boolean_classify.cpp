@@ -73,22 +73,18 @@ std::vector<std::int8_t> classify(const Points& pts, const Arrangement& arr, Boo
   });
   sort_edges(half, pts.size(), soup.interrupt);
   Dsu dsu(np);
-  for (std::size_t i = 0, groups = 0; i < half.size(); ++groups) {
-    if ((groups & 0xffff) == 0) soup.poll();
-    std::size_t j = i;
-    while (j < half.size() && half[j].key == half[i].key) ++j;
+  for_each_run(half, soup.interrupt, [&](std::size_t i, std::size_t j) {
     if (j - i == 2 && soup.operand[pieces[half[i].value].tri] == soup.operand[pieces[half[i + 1].value].tri])
-      dsu.unite(half[i].value, half[i + 1].value);
-    i = j;
-  }
+      dsu.unite_shared(half[i].value, half[i + 1].value);
+  });
   std::vector<u32> patch_of(np);
+  parallel_for(0, (np + 65535) / 65536, [&](std::size_t b) {
+    for (std::size_t i = b * 65536; i < std::min(np, (b + 1) * 65536); ++i) patch_of[i] = dsu.find_shared(static_cast<u32>(i));
+  });
   std::vector<u32> reps;  // representative piece per patch (its smallest piece)
-  for (std::size_t i = 0; i < np; ++i) {
-    if ((i & 0xffff) == 0) soup.poll();
-    u32 r = dsu.find(static_cast<u32>(i));
-    if (r == i) reps.push_back(static_cast<u32>(i));
-    patch_of[i] = r;
-  }
+  soup.poll();
+  for (std::size_t i = 0; i < np; ++i)
+    if (patch_of[i] == i) reps.push_back(static_cast<u32>(i));
 
   // A tree per operand, for the vertical rays, and each operand's box: a point outside the box
   // has winding number 0 there, so the operand's tree need not be looked at (a ray through a
@@ -101,8 +97,8 @@ std::vector<std::int8_t> classify(const Points& pts, const Arrangement& arr, Boo
   const bool scan = reps.size() <= 16;
   std::vector<Bvh> trees;
   if (!scan) {
-    trees.reserve(nops);
-    for (auto& ids : by_operand) trees.emplace_back(soup, std::move(ids), 3);
+    trees.resize(nops);
+    parallel_for(0, nops, [&](std::size_t j) { trees[j] = Bvh(soup, std::move(by_operand[j]), 3); });
   }
   auto query = [&](int j, const double qlo[3], const double qhi[3], auto&& f) {
     if (!scan) trees[j].query(qlo, qhi, f);
@@ -111,14 +107,27 @@ std::vector<std::int8_t> classify(const Points& pts, const Arrangement& arr, Boo
   };
   soup.poll();
   std::vector<std::array<double, 6>> op_box(nops, {INFINITY, INFINITY, INFINITY, -INFINITY, -INFINITY, -INFINITY});
-  for (std::size_t t = 0; t < soup.tris.size(); ++t) {
-    double lo[3], hi[3];
-    triangle_box(soup, static_cast<u32>(t), lo, hi);
-    auto& b = op_box[soup.operand[t]];
-    for (int d = 0; d < 3; ++d) {
-      b[d] = std::min(b[d], lo[d]);
-      b[d + 3] = std::max(b[d + 3], hi[d]);
-    }
+  {
+    // Per block of triangles, then merged (min and max: the same at any thread count).
+    const std::size_t nt = soup.tris.size(), blocks = (nt + 65535) / 65536;
+    std::vector<std::vector<std::array<double, 6>>> part(blocks, op_box);
+    parallel_for(0, blocks, [&](std::size_t bi) {
+      for (std::size_t t = bi * 65536; t < std::min(nt, (bi + 1) * 65536); ++t) {
+        double lo[3], hi[3];
+        triangle_box(soup, static_cast<u32>(t), lo, hi);
+        auto& b = part[bi][soup.operand[t]];
+        for (int d = 0; d < 3; ++d) {
+          b[d] = std::min(b[d], lo[d]);
+          b[d + 3] = std::max(b[d + 3], hi[d]);
+        }
+      }
+    });
+    for (const auto& p : part)
+      for (int j = 0; j < nops; ++j)
+        for (int d = 0; d < 3; ++d) {
+          op_box[j][d] = std::min(op_box[j][d], p[j][d]);
+          op_box[j][d + 3] = std::max(op_box[j][d + 3], p[j][d + 3]);
+        }
   }
 
   // The operands whose boxes meet a vertical line, by a grid over the scene's xy extent: a piece

@@ -38,6 +38,7 @@
 #include <cmath>
 
 #include "csg/boolean.h"
+#include "kernel/parallel.h"
 #include "kernel/predicates.h"
 #include "kernel/types.h"
 
@@ -175,6 +176,29 @@ class Dsu {
     b = find(b);
     if (a != b) p_[std::max(a, b)] = std::min(a, b);
   }
+  // The same, safe to call from several threads at once (not mixed with find() or unite()): a
+  // root is linked under the smaller root by a compare-and-swap, and paths are halved by another.
+  // Parents only ever decrease, so each set's root is its smallest element, as with unite(),
+  // whatever the order of the calls.
+  u32 find_shared(u32 x) {
+    for (;;) {
+      u32 p = std::atomic_ref<u32>(p_[x]).load(std::memory_order_relaxed);
+      if (p == x) return x;
+      const u32 g = std::atomic_ref<u32>(p_[p]).load(std::memory_order_relaxed);
+      if (g != p) std::atomic_ref<u32>(p_[x]).compare_exchange_weak(p, g, std::memory_order_relaxed);
+      x = g;
+    }
+  }
+  void unite_shared(u32 a, u32 b) {
+    for (;;) {
+      a = find_shared(a);
+      b = find_shared(b);
+      if (a == b) return;
+      if (a > b) std::swap(a, b);
+      u32 expected = b;  // b is a root unless another thread linked it meanwhile: then again
+      if (std::atomic_ref<u32>(p_[b]).compare_exchange_strong(expected, a, std::memory_order_relaxed)) return;
+    }
+  }
 
  private:
   std::vector<u32> p_;
@@ -190,6 +214,26 @@ struct EdgeRec {
 // millions of records was a tenth of a large boolean. Returns the offsets: the records whose a is
 // v are recs[off[v] .. off[v + 1]).
 std::vector<u32> sort_edges(std::vector<EdgeRec>& recs, std::size_t n, const Interrupt* interrupt = nullptr);
+
+// Calls f(i, j) for each run recs[i .. j) of records with one key (recs sorted by key), in
+// parallel over blocks of records: a run belongs to the block it starts in. Polls per block.
+template <class F>
+void for_each_run(const std::vector<EdgeRec>& recs, const Interrupt* interrupt, F&& f) {
+  constexpr std::size_t kBlock = 1 << 14;
+  const std::size_t m = recs.size();
+  parallel_for(0, (m + kBlock - 1) / kBlock, [&](std::size_t b) {
+    if (interrupt) interrupt->poll();
+    std::size_t i = b * kBlock;
+    const std::size_t end = std::min(m, i + kBlock);
+    while (i < end && i > 0 && recs[i].key == recs[i - 1].key) ++i;  // a run of the block before
+    while (i < end) {
+      std::size_t j = i + 1;
+      while (j < m && recs[j].key == recs[i].key) ++j;
+      f(i, j);
+      i = j;
+    }
+  });
+}
 
 // --- exact points and predicates (boolean_exact.cpp) ---
 struct Plane {
@@ -377,6 +421,7 @@ class Bvh {
   // Over the triangles `ids` of the soup; boxes of `dims` axes (2: xy only, for vertical rays).
   // With `by_operand`, each operand's triangles are kept together (see boolean_broad.cpp).
   Bvh(const Soup& soup, std::vector<u32> ids, int dims, bool by_operand = false);
+  Bvh() = default;  // empty: no triangles
   // Calls f(triangle id) for every triangle whose box meets the box [lo, hi].
   template <class F>
   void query(const double lo[3], const double hi[3], F&& f) const;

@@ -519,10 +519,8 @@ BooleanResult assemble(const Points& pts, const Arrangement& arr, const std::vec
   soup.poll();
   sort_edges(half, pts.size(), soup.interrupt);
   std::vector<u32> partner(nt * 3, kNone);
-  for (std::size_t i = 0, groups = 0; i < half.size(); ++groups) {
-    if ((groups & 0xffff) == 0) soup.poll();
-    std::size_t j = i;
-    while (j < half.size() && half[j].key == half[i].key) ++j;
+  // Each run of records (one undirected edge) writes only its own corners' partners.
+  for_each_run(half, soup.interrupt, [&](std::size_t i, std::size_t j) {
     if (j - i == 2) {
       partner[half[i].value] = half[i + 1].value;
       partner[half[i + 1].value] = half[i].value;
@@ -582,58 +580,70 @@ BooleanResult assemble(const Points& pts, const Arrangement& arr, const std::vec
         partner[sh[y].ce] = sh[x].ce;
       }
     }
-    i = j;
-  }
+  });
   for (std::size_t c = 0; c < partner.size(); ++c)
     if (partner[c] == kNone) fail("boolean: internal error: the result has an open edge");
 
   // Vertex copies: corners (3*t+k) at the same point joined across paired edges.
   soup.poll();
   Dsu corners(nt * 3);
-  for (std::size_t t = 0; t < nt; ++t)
-    for (u32 e = 0; e < 3; ++e) {
-      if (e == 0 && (t & 0xffff) == 0) soup.poll();
-      u32 c = partner[t * 3 + e];
-      u32 t2 = c / 3, e2 = c % 3;
-      // Edge v[e] -> v[e+1] of t is v[e2+1] -> v[e2] of t2.
-      corners.unite(static_cast<u32>(t * 3 + e), t2 * 3 + (e2 + 1) % 3);
-      corners.unite(static_cast<u32>(t * 3 + (e + 1) % 3), t2 * 3 + e2);
-    }
-  BooleanResult r;
-  std::vector<u32> index(nt * 3, kNone);
-  r.mesh.triangles.resize(nt);
-  soup.poll();
-  for (std::size_t t = 0; t < nt; ++t)
-    for (int k = 0; k < 3; ++k) {
-      u32 root = corners.find(static_cast<u32>(t * 3 + k));
-      if (index[root] == kNone) {
-        index[root] = static_cast<u32>(r.mesh.positions.size());
-        r.mesh.positions.push_back(pts.approx(tris[t][k]));
+  parallel_for(0, (nt + 16383) / 16384, [&](std::size_t b) {
+    soup.poll();
+    for (std::size_t t = b * 16384; t < std::min(nt, (b + 1) * 16384); ++t)
+      for (u32 e = 0; e < 3; ++e) {
+        u32 c = partner[t * 3 + e];
+        u32 t2 = c / 3, e2 = c % 3;
+        // Edge v[e] -> v[e+1] of t is v[e2+1] -> v[e2] of t2.
+        corners.unite_shared(static_cast<u32>(t * 3 + e), t2 * 3 + (e2 + 1) % 3);
+        corners.unite_shared(static_cast<u32>(t * 3 + (e + 1) % 3), t2 * 3 + e2);
       }
-      r.mesh.triangles[t][k] = index[root];
+  });
+  // A copy's root is its smallest corner, the first met in corner order: copies are numbered in
+  // the order of their roots (a count per block of corners, then the blocks' offsets).
+  BooleanResult r;
+  soup.poll();
+  const std::size_t nc = nt * 3, blocks = (nc + 65535) / 65536;
+  std::vector<u32> root(nc), index(nc), first(blocks + 1, 0);
+  parallel_for(0, blocks, [&](std::size_t b) {
+    u32 n = 0;
+    for (std::size_t c = b * 65536; c < std::min(nc, (b + 1) * 65536); ++c) {
+      root[c] = corners.find_shared(static_cast<u32>(c));
+      n += root[c] == c;
     }
+    first[b + 1] = n;
+  });
+  for (std::size_t b = 0; b < blocks; ++b) first[b + 1] += first[b];
+  r.mesh.positions.resize(first[blocks]);
+  std::vector<char> moved(first[blocks]);  // the copies whose point rounding moved
+  parallel_for(0, blocks, [&](std::size_t b) {
+    u32 n = first[b];
+    for (std::size_t c = b * 65536; c < std::min(nc, (b + 1) * 65536); ++c)
+      if (root[c] == c) {
+        index[c] = n;
+        r.mesh.positions[n] = pts.approx(tris[c / 3][c % 3]);
+        moved[n++] = !pts.is_double(tris[c / 3][c % 3]);
+      }
+  });
+  r.mesh.triangles.resize(nt);
   r.operand.resize(nt);
   r.source.resize(nt);
   r.mesh.face_ids.resize(nt);
-  for (std::size_t t = 0; t < nt; ++t) {
+  parallel_for(0, nt, [&](std::size_t t) {
+    for (int k = 0; k < 3; ++k) r.mesh.triangles[t][k] = index[root[t * 3 + k]];
     u32 s = src[t];
     r.operand[t] = soup.operand[s];
     r.source[t] = soup.local[s];
     r.mesh.face_ids[t] = soup.face_id[s];
-  }
-  Rounding rd{&soup, std::vector<char>(r.mesh.positions.size(), 0), src, std::vector<std::int8_t>(nt),
-              std::vector<char>(nt, 0), 0};
-  for (std::size_t t = 0; t < nt; ++t) {
-    for (int k = 0; k < 3; ++k)
-      if (!pts.is_double(tris[t][k])) rd.moved[r.mesh.triangles[t][k]] = 1;
+  });
+  Rounding rd{&soup, std::move(moved), src, std::vector<std::int8_t>(nt), std::vector<char>(nt, 0), 0};
+  parallel_for(0, nt, [&](std::size_t t) {
     // A piece keeps its source's orientation in the source's projection, reversed if flipped.
     rd.sign[t] = static_cast<std::int8_t>(soup.axis_sign[src[t]] * (flipped[t] ? -1 : 1));
-  }
-  // The exact result is free of crossings: only triangles with a vertex that rounding moved can
-  // meet another one after it.
-  for (std::size_t t = 0; t < nt; ++t)
+    // The exact result is free of crossings: only triangles with a vertex that rounding moved
+    // can meet another one after it.
     for (u32 v : r.mesh.triangles[t])
       if (rd.moved[v]) rd.recheck[t] = 1;
+  });
   soup.poll();
   const bool ok = repair_rounding(r, rd, crossing);
   if (collapses) *collapses += rd.collapses;
