@@ -46,6 +46,24 @@ Mesh read_mesh(const std::string& path);
 // name in messages. The entry point of the fuzz targets (fuzz/).
 Mesh parse_mesh(std::string_view bytes, const std::string& format, const std::string& name);
 
+// The mesh as a file holds it, which is how write_mesh writes it. Each position is rounded to the
+// file's numbers (`floats`: STL's 32-bit floats; otherwise doubles, kept as they are); the ends
+// of an edge that round to one point are merged (a transform far from the origin rounds the ends
+// of a boolean result's tiny edges together, a narrowing to floats many more); with `floats`,
+// all vertices at one float point whose doubles differ are merged too (an STL reader welds them).
+// Vertices at one double position that share no edge stay apart: the copies a non-manifold
+// boolean result keeps. Then triangles with two corners at one vertex are dropped, and of the
+// triangles on one set of three vertices, pairs of opposite orientation (the fin of no volume a
+// collapse leaves where a thin sliver was). A closed mesh stays closed. Normals and uvs follow
+// their vertex (dropped with `floats`). `source` holds, for each triangle kept, its index in
+// `mesh`; `merged` counts the vertices merged away, `dropped` the triangles removed.
+struct FileMesh {
+  Mesh mesh;
+  std::vector<std::size_t> source;
+  std::size_t merged = 0, dropped = 0;
+};
+FileMesh file_mesh(const Mesh& mesh, bool floats);
+
 // Writes a mesh (positions, and for OBJ/PLY/OFF the normals and uvs it has). Throws wedge::Error
 // naming the path and the reason; on error the target file is left as it was.
 void write_mesh(const Mesh& mesh, const std::string& path, const MeshWriteOptions& options = {});

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <numeric>
 #include <string>
 
 #include "kernel/error.h"
@@ -32,6 +33,12 @@ class TextOut {
     return maybe_flush();
   }
   TextOut& operator<<(double x) {
+    char tmp[32];
+    auto r = std::to_chars(tmp, tmp + sizeof tmp, x);
+    buf_.append(tmp, r.ptr);
+    return maybe_flush();
+  }
+  TextOut& operator<<(float x) {  // the shortest decimal that reads back as the same float
     char tmp[32];
     auto r = std::to_chars(tmp, tmp + sizeof tmp, x);
     buf_.append(tmp, r.ptr);
@@ -90,30 +97,41 @@ std::size_t non_manifold_triangles(const Mesh& mesh) {
   return bad;
 }
 
-void write_stl(const Mesh& mesh, AtomicFile& file, bool ascii) {
+// STL's corners are 32-bit floats: the mesh is written as file_mesh(mesh, true) makes it, so that
+// every reader (which welds corners by position) gets a valid surface back.
+void write_stl(const Mesh& double_mesh, AtomicFile& file, bool ascii) {
   // STL holds 32-bit floats: a coordinate beyond their range would be written as infinity, and a
   // mesh whose every coordinate is below their normal range (a part 1e-40 wide) as zeros or a
   // few digits. (One tiny coordinate in a mesh of size 1 is rounding noise: 0 is fine for it.)
   double reach = 0;
-  for (std::size_t i = 0; i < mesh.positions.size(); ++i)
+  for (std::size_t i = 0; i < double_mesh.positions.size(); ++i)
     for (int k = 0; k < 3; ++k) {
-      if (std::fabs(mesh.positions[i][k]) > std::numeric_limits<float>::max())
-        fail("cannot write '", file.path(), "': vertex ", i, " coordinate ", mesh.positions[i][k],
+      if (std::fabs(double_mesh.positions[i][k]) > std::numeric_limits<float>::max())
+        fail("cannot write '", file.path(), "': vertex ", i, " coordinate ", double_mesh.positions[i][k],
              " is beyond the range of STL's 32-bit floats");
-      reach = std::max(reach, std::fabs(mesh.positions[i][k]));
+      reach = std::max(reach, std::fabs(double_mesh.positions[i][k]));
     }
   constexpr double kLeast = std::numeric_limits<float>::min() * 0x1p23;  // 24 bits of the largest coordinate
   if (reach > 0 && reach < kLeast)
     fail("cannot write '", file.path(), "': the mesh's largest coordinate ", reach, " is below ", kLeast,
          ", where STL's 32-bit floats lose their digits (scale the part up, or write .ply or .obj)");
+  const FileMesh rounded = file_mesh(double_mesh, true);
+  const Mesh& mesh = rounded.mesh;
+  if (std::size_t bad = non_manifold_triangles(mesh))
+    fail("cannot write '", file.path(), "': rounded to STL's 32-bit floats, ", bad, " of ", mesh.triangles.size(),
+         " triangles make non-manifold edges (vertices closer than a float's precision; write .ply or .obj, which keep doubles)");
+  if (mesh.triangles.empty())
+    fail("cannot write '", file.path(), "': every triangle collapses when rounded to STL's 32-bit floats");
   if (ascii) {
     TextOut out(file);
     out << "solid wedge\n";
     for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
       const Vec3 n = mesh.triangle_normal(t);
-      out << "  facet normal " << n.x() << ' ' << n.y() << ' ' << n.z() << "\n    outer loop\n";
+      out << "  facet normal " << float(n.x()) << ' ' << float(n.y()) << ' ' << float(n.z()) << "\n    outer loop\n";
       for (auto v : mesh.triangles[t]) {
         const Point3& p = mesh.positions[v];
+        // Each coordinate is a float held in a double: its shortest decimal as a double reads back
+        // as that float in readers of either precision, so ASCII and binary give one mesh.
         out << "      vertex " << p.x() << ' ' << p.y() << ' ' << p.z() << '\n';
       }
       out << "    endloop\n  endfacet\n";
@@ -279,6 +297,105 @@ void write_ply(const Mesh& mesh, AtomicFile& file, bool ascii, bool normals, boo
 
 }  // namespace
 
+FileMesh file_mesh(const Mesh& mesh, bool floats) {
+  using u32 = std::uint32_t;
+  using F3 = std::array<double, 3>;
+  const std::size_t n = mesh.positions.size();
+  std::vector<F3> f(n);  // each vertex's position as the file holds it
+  for (std::size_t i = 0; i < n; ++i)
+    for (int k = 0; k < 3; ++k) f[i][k] = floats ? double(static_cast<float>(mesh.positions[i][k])) : mesh.positions[i][k];
+  std::vector<u32> rep(n);
+  std::iota(rep.begin(), rep.end(), 0u);
+  auto find = [&](u32 x) {
+    while (rep[x] != x) x = rep[x] = rep[rep[x]];
+    return x;
+  };
+  FileMesh out;
+  auto join = [&](u32 a, u32 b) {
+    a = find(a), b = find(b);
+    if (a == b) return;
+    rep[std::max(a, b)] = std::min(a, b);
+    ++out.merged;
+  };
+  // An edge whose ends are at one point collapses.
+  for (const auto& t : mesh.triangles)
+    for (int k = 0; k < 3; ++k)
+      if (t[k] != t[(k + 1) % 3] && f[t[k]] == f[t[(k + 1) % 3]]) join(t[k], t[(k + 1) % 3]);
+  if (floats) {
+    // A reader of an STL welds corners by position: vertices at one float point whose doubles
+    // differ are one vertex. (Copies at one double position, a non-manifold result's shells kept
+    // apart, stay apart in the index; no STL reader can tell them apart anyway.)
+    auto exact = [&](u32 i) { return F3{mesh.positions[i].x(), mesh.positions[i].y(), mesh.positions[i].z()}; };
+    std::vector<u32> order(n);
+    std::iota(order.begin(), order.end(), 0u);
+    std::sort(order.begin(), order.end(), [&](u32 a, u32 b) { return f[a] != f[b] ? f[a] < f[b] : exact(a) < exact(b); });
+    for (std::size_t i = 0; i < n;) {
+      std::size_t j = i + 1;
+      bool distinct = false;
+      for (; j < n && f[order[j]] == f[order[i]]; ++j) distinct |= exact(order[j]) != exact(order[i]);
+      if (distinct)
+        for (std::size_t k = i + 1; k < j; ++k) join(order[i], order[k]);
+      i = j;
+    }
+  }
+  // Triangles on the merged vertices, less those with two corners at one vertex; then, of the
+  // triangles on one set of three vertices, opposite pairs cancel (a fin of no volume).
+  struct Tri {
+    std::array<u32, 3> key;  // sorted vertices
+    bool odd;                // orientation against the sorted order
+    std::size_t t;
+  };
+  std::vector<Tri> tris;
+  tris.reserve(mesh.triangles.size());
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+    const std::array<u32, 3> v{find(mesh.triangles[t][0]), find(mesh.triangles[t][1]), find(mesh.triangles[t][2])};
+    if (v[0] == v[1] || v[1] == v[2] || v[0] == v[2]) continue;
+    const std::size_t m = static_cast<std::size_t>(std::min_element(v.begin(), v.end()) - v.begin());
+    const u32 b = v[(m + 1) % 3], c = v[(m + 2) % 3];
+    tris.push_back({{v[m], std::min(b, c), std::max(b, c)}, b > c, t});
+  }
+  std::stable_sort(tris.begin(), tris.end(), [](const Tri& a, const Tri& b) { return a.key < b.key; });
+  for (std::size_t i = 0; i < tris.size();) {
+    std::size_t j = i;
+    long balance = 0;
+    for (; j < tris.size() && tris[j].key == tris[i].key; ++j) balance += tris[j].odd ? -1 : 1;
+    for (std::size_t k = i; k < j && balance != 0; ++k)
+      if ((tris[k].odd ? -1 : 1) * balance > 0) {
+        out.source.push_back(tris[k].t);
+        balance += tris[k].odd ? 1 : -1;
+      }
+    i = j;
+  }
+  std::sort(out.source.begin(), out.source.end());
+  out.dropped = mesh.triangles.size() - out.source.size();
+  if (out.merged == 0 && out.dropped == 0 && !floats) {
+    out.mesh = mesh;
+    return out;
+  }
+  // The kept triangles on their used vertices, numbered in order of first use; a merged vertex
+  // keeps its representative's normal and uv (STL has neither).
+  const bool ids = mesh.face_ids.size() == mesh.triangles.size();
+  const bool normals = !floats && !mesh.normals.empty() && mesh.normals.size() == n;
+  const bool uvs = !floats && !mesh.uvs.empty() && mesh.uvs.size() == n;
+  std::vector<u32> index(n, std::numeric_limits<u32>::max());
+  for (std::size_t t : out.source) {
+    Mesh::Triangle tri;
+    for (int k = 0; k < 3; ++k) {
+      const u32 v = find(mesh.triangles[t][k]);
+      if (index[v] == std::numeric_limits<u32>::max()) {
+        index[v] = static_cast<u32>(out.mesh.positions.size());
+        out.mesh.positions.emplace_back(f[v][0], f[v][1], f[v][2]);
+        if (normals) out.mesh.normals.push_back(mesh.normals[v]);
+        if (uvs) out.mesh.uvs.push_back(mesh.uvs[v]);
+      }
+      tri[k] = index[v];
+    }
+    out.mesh.triangles.push_back(tri);
+    if (ids) out.mesh.face_ids.push_back(mesh.face_ids[t]);
+  }
+  return out;
+}
+
 void write_mesh(const Mesh& mesh, const std::string& path, const MeshWriteOptions& options) {
   std::string format = mesh_format(path);
   try {
@@ -303,6 +420,23 @@ void write_mesh(const Mesh& mesh, const std::string& path, const MeshWriteOption
     fail("cannot write '", path, "': ", colours.size(), " triangle colours for ", mesh.triangles.size(), " triangles");
   if (!finite(colours)) fail("cannot write '", path, "': a triangle colour is not a finite number");
 
+  // Ends of an edge that the mesh's own rounding brought to one point (a boolean result moved far
+  // from the origin) collapse here, or every reader would see a degenerate triangle. (STL's
+  // rounding to floats is write_stl's.)
+  FileMesh collapsed;
+  if (format != "stl") {
+    collapsed = file_mesh(mesh, false);
+    if (collapsed.dropped != 0) {
+      if (!colours.empty()) {
+        std::vector<Vec3> kept;
+        for (std::size_t t : collapsed.source) kept.push_back(colours[t]);
+        MeshWriteOptions o = options;
+        o.triangle_colors = std::move(kept);
+        return write_mesh(collapsed.mesh, path, o);
+      }
+      return write_mesh(collapsed.mesh, path, options);
+    }
+  }
   // OBJ's colours go to a material library beside it, written (and committed) first, so that the
   // OBJ never names a library that is not there.
   const bool mtl = format == "obj" && !colours.empty();

@@ -1,0 +1,171 @@
+// Boolean results through files whose numbers are coarser than the mesh's: STL's 32-bit floats,
+// and doubles far from the origin. A boolean leaves vertices far closer together than its
+// tolerance (where a sphere's facet meets a cube's face); rounded to a file's numbers they meet,
+// and a reader (which welds by position) saw triangles with two corners at one point. Each file
+// must read back as a closed, consistently oriented surface (counted here, independently of
+// euler_counts), a valid solid, with a volume within the bound that rounding allows: each vertex
+// moves at most d = sqrt(3)/2 ulp(reach) (to its own rounded position, or to a merged neighbour's,
+// which is the same point), so the volume moves at most about area * d.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <filesystem>
+#include <limits>
+#include <map>
+
+#include "csg/brep_leaf.h"
+#include "csg/csg.h"
+#include "kernel/transform.h"
+#include "tessellate/mesh_io.h"
+
+using namespace wedge;
+namespace fs = std::filesystem;
+
+namespace {
+// Every undirected edge of the mesh welded by exact position used once in each direction, and
+// no triangle with two corners at one point.
+bool closed_and_oriented(const Mesh& mesh) {
+  std::map<std::array<double, 3>, std::size_t> weld;
+  std::vector<std::size_t> id(mesh.positions.size());
+  for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
+    const Point3& p = mesh.positions[i];
+    id[i] = weld.emplace(std::array<double, 3>{p.x(), p.y(), p.z()}, weld.size()).first->second;
+  }
+  std::map<std::pair<std::size_t, std::size_t>, std::array<int, 2>> uses;
+  for (const auto& t : mesh.triangles)
+    for (int k = 0; k < 3; ++k) {
+      const std::size_t a = id[t[k]], b = id[t[(k + 1) % 3]];
+      if (a == b) return false;
+      uses[{std::min(a, b), std::max(a, b)}][a < b ? 0 : 1]++;
+    }
+  for (const auto& [e, n] : uses)
+    if (n[0] != 1 || n[1] != 1) return false;
+  return !uses.empty();
+}
+
+double reach(const Mesh& m) {
+  double r = 0;
+  for (const auto& p : m.positions) r = std::max(r, p.cwiseAbs().maxCoeff());
+  return r;
+}
+
+struct TempDir {
+  fs::path path = fs::temp_directory_path() / ("wedge-rounded-" + std::to_string(::getpid()));
+  TempDir() { fs::create_directories(path); }
+  ~TempDir() {
+    std::error_code ec;
+    fs::remove_all(path, ec);
+  }
+};
+
+Solid sphere_minus_cube() {
+  return Solid::boolean(BooleanOp::Difference, {brep_solid(sphere(1)), brep_solid(box(Vec3(1, 1, 1), Point3::Zero()))});
+}
+}  // namespace
+
+TEST_CASE("boolean results round-trip through STL (32-bit floats) as closed valid solids at fine tolerances", "[mesh_io][rounding]") {
+  TempDir dir;
+  const std::vector<std::pair<const char*, Solid>> models = {
+      {"sphere - cube", sphere_minus_cube()},
+      {"sphere + cylinder", Solid::boolean(BooleanOp::Union, {brep_solid(sphere(1)), brep_solid(cylinder(0.5, 2))})},
+      {"sphere - cube, at (1000, 2000, 0)", sphere_minus_cube().transformed(translate({1000, 2000, 0}))},
+  };
+  bool any_rounded_together = false;
+  for (const auto& [name, solid] : models)
+    for (double chordal : {0.01, 0.003, 0.001}) {
+      Tolerance tol;
+      tol.chordal = chordal;
+      const Mesh mesh = solid.mesh(tol);
+      const FileMesh as_floats = file_mesh(mesh, true);
+      any_rounded_together |= as_floats.merged > 0;
+      const double d = std::sqrt(3.0) / 2 * std::ldexp(1.0, std::ilogb(reach(mesh)) - 23);
+      for (bool ascii : {false, true}) {
+        INFO(name << " at tolerance " << chordal << (ascii ? " ascii" : " binary") << ": " << as_floats.merged
+                  << " vertices merged, " << as_floats.dropped << " triangles dropped");
+        const std::string path = (dir.path / "part.stl").string();
+        MeshWriteOptions options;
+        options.ascii = ascii;
+        write_mesh(mesh, path, options);
+        const Mesh back = read_mesh(path);
+        CHECK(closed_and_oriented(back));
+        CHECK(back.triangle_count() == mesh.triangle_count() - as_floats.dropped);
+        const Solid s = Solid::from_mesh(back, "part.stl");
+        CHECK(s.validate(tol).empty());
+        CHECK(std::abs(back.volume() - mesh.volume()) <= mesh.area() * d);
+      }
+    }
+  // The reason for this test: at these tolerances rounding to floats does bring vertices together.
+  CHECK(any_rounded_together);
+}
+
+TEST_CASE("a boolean result moved far from the origin writes OBJ, PLY and OFF that read back closed", "[mesh_io][rounding]") {
+  // Moved to (1000, 2000, 0), the sphere-minus-cube's tiny edges round to one double: the mesh
+  // holds triangles with two corners at one position (distinct indices), which every reader welds.
+  TempDir dir;
+  Tolerance tol;
+  const Mesh mesh = sphere_minus_cube().transformed(translate({1000, 2000, 0})).mesh(tol);
+  const FileMesh as_doubles = file_mesh(mesh, false);
+  CHECK(as_doubles.merged > 0);
+  const double d = std::sqrt(3.0) / 2 * std::ldexp(1.0, std::ilogb(reach(mesh)) - 52);
+  for (const char* name : {"far.obj", "far.ply", "far.off"}) {
+    INFO(name);
+    const std::string path = (dir.path / name).string();
+    write_mesh(mesh, path);
+    const Mesh back = read_mesh(path);
+    CHECK(closed_and_oriented(back));
+    CHECK(back.triangle_count() == mesh.triangle_count() - as_doubles.dropped);
+    CHECK(Solid::from_mesh(back, name).validate(tol).empty());
+    CHECK(std::abs(back.volume() - mesh.volume()) <= mesh.area() * d + 1e-9 * std::abs(mesh.volume()));
+  }
+}
+
+TEST_CASE("file_mesh keeps copies at one position that share no edge, and leaves a clean mesh unchanged", "[mesh_io][rounding]") {
+  // Two tetrahedra touching at one vertex, each with its own copy of it (how a non-manifold
+  // boolean result keeps its shells apart): nothing shares an edge at one point, nothing merges.
+  Mesh m;
+  for (const Point3& p : {Point3(0, 0, 0), Point3(1, 0, 0), Point3(0, 1, 0), Point3(0, 0, 1)}) m.add_vertex(p);
+  for (const Point3& p : {Point3(0, 0, 0), Point3(-1, 0, 0), Point3(0, -1, 0), Point3(0, 0, -1)}) m.add_vertex(p);
+  for (std::uint32_t o : {0u, 4u}) {
+    m.add_triangle(o + 0, o + 2, o + 1);
+    m.add_triangle(o + 0, o + 1, o + 3);
+    m.add_triangle(o + 0, o + 3, o + 2);
+    m.add_triangle(o + 1, o + 2, o + 3);
+  }
+  const FileMesh doubles = file_mesh(m, false);
+  CHECK(doubles.merged == 0);
+  CHECK(doubles.dropped == 0);
+  CHECK(doubles.mesh.triangles == m.triangles);
+  const FileMesh floats = file_mesh(m, true);
+  CHECK(floats.merged == 0);
+  CHECK(floats.mesh.triangle_count() == 8);
+
+  // A tetrahedron whose edge 0-3 is split by vertex 4 at 1e-12 from vertex 3: as floats the
+  // edge 4-3 collapses, its two triangles go, the tetrahedron is left.
+  Mesh t;
+  for (const Point3& p : {Point3(0, 0, 0), Point3(1, 0, 0), Point3(0, 1, 0), Point3(0, 0, 1), Point3(0, 0, 1 - 1e-12)}) t.add_vertex(p);
+  t.add_triangle(0, 2, 1);
+  t.add_triangle(0, 1, 4);
+  t.add_triangle(4, 1, 3);
+  t.add_triangle(0, 4, 2);
+  t.add_triangle(4, 3, 2);
+  t.add_triangle(1, 2, 3);
+  REQUIRE(closed_and_oriented(t));
+  const FileMesh r = file_mesh(t, true);
+  CHECK(r.merged == 1);
+  CHECK(r.dropped == 2);
+  CHECK(r.mesh.vertex_count() == 4);
+  CHECK(closed_and_oriented(r.mesh));
+  CHECK(r.mesh.volume() == Approx(1.0 / 6));
+  CHECK(file_mesh(t, false).dropped == 0);  // as doubles nothing meets
+  // Two triangles on 0, 1 and two points 1e-12 apart that floats cannot tell apart: merged, they
+  // are one triangle and its reverse (a fin of no volume), and both go.
+  Mesh f;
+  for (const Point3& p : {Point3(0, 0, 0), Point3(1, 0, 0), Point3(0.5, 0.5, 0), Point3(0.5, 0.5 + 1e-12, 0)}) f.add_vertex(p);
+  f.add_triangle(0, 1, 2);
+  f.add_triangle(0, 3, 1);
+  const FileMesh fin = file_mesh(f, true);
+  CHECK(fin.merged == 1);
+  CHECK(fin.dropped == 2);
+  CHECK(fin.mesh.triangles.empty());
+  CHECK(file_mesh(f, false).dropped == 0);  // as doubles the two points differ
+}
