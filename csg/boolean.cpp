@@ -160,7 +160,7 @@ Soup boolean_detail::make_soup(const std::vector<const Mesh*>& operands, const I
   return s;
 }
 
-std::vector<u32> boolean_detail::sort_edges(std::vector<EdgeRec>& recs, std::size_t n, const Interrupt* interrupt) {
+std::vector<u32> boolean_detail::sort_edges(EdgeRecs& recs, std::size_t n, const Interrupt* interrupt) {
   auto poll = [&] {
     if (interrupt) interrupt->poll();
   };
@@ -187,7 +187,7 @@ std::vector<u32> boolean_detail::sort_edges(std::vector<EdgeRec>& recs, std::siz
     }
   }
   off[n] = static_cast<u32>(m);
-  std::vector<EdgeRec> out(m);
+  EdgeRecs out(m);
   poll();
   parallel_for(0, chunks, [&](std::size_t c) {
     std::vector<u32>& at = next[c];

@@ -49,16 +49,31 @@ Bvh::Bvh(const Soup& soup, std::vector<u32> ids, int d, bool by_operand) : items
   const std::size_t n = items.size();
   std::vector<std::array<float, 6>> box(n);
   double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
-  for (std::size_t i = 0; i < n; ++i) {
-    if ((i & 0xffff) == 0) soup.poll();
-    double blo[3], bhi[3];
-    tri_box(soup, items[i], blo, bhi);
-    for (int a = 0; a < 3; ++a) {
-      box[i][a] = down(blo[a]);
-      box[i][a + 3] = up(bhi[a]);
-      lo[a] = std::min(lo[a], blo[a]);
-      hi[a] = std::max(hi[a], bhi[a]);
-    }
+  {
+    // Per block, then the blocks' bounds merged (min and max: the same at any thread count).
+    constexpr std::size_t kBlock = 16384;
+    const std::size_t blocks = (n + kBlock - 1) / kBlock;
+    std::vector<std::array<double, 6>> bound(blocks);
+    parallel_for(0, blocks, [&](std::size_t b) {
+      soup.poll();
+      std::array<double, 6> bb = {INFINITY, INFINITY, INFINITY, -INFINITY, -INFINITY, -INFINITY};
+      for (std::size_t i = b * kBlock; i < std::min(n, (b + 1) * kBlock); ++i) {
+        double blo[3], bhi[3];
+        tri_box(soup, items[i], blo, bhi);
+        for (int a = 0; a < 3; ++a) {
+          box[i][a] = down(blo[a]);
+          box[i][a + 3] = up(bhi[a]);
+          bb[a] = std::min(bb[a], blo[a]);
+          bb[a + 3] = std::max(bb[a + 3], bhi[a]);
+        }
+      }
+      bound[b] = bb;
+    });
+    for (const auto& bb : bound)
+      for (int a = 0; a < 3; ++a) {
+        lo[a] = std::min(lo[a], bb[a]);
+        hi[a] = std::max(hi[a], bb[a + 3]);
+      }
   }
   auto morton = [&](const float* b) {
     std::uint64_t code = 0;
@@ -91,27 +106,41 @@ Bvh::Bvh(const Soup& soup, std::vector<u32> ids, int d, bool by_operand) : items
     rank.assign(soup.operands, 0);
     for (std::size_t r = 0; r < ops.size(); ++r) rank[ops[r].second] = static_cast<u32>(r);
   }
+  // Sorted by (rank, code, index): a stable radix sort, 11 bits of the code at a time from the
+  // lowest, then (with by_operand) a stable counting pass by rank.
   struct Key {
-    u32 rank;
     std::uint64_t code;
     u32 i;
-    bool operator<(const Key& o) const {
-      return rank != o.rank ? rank < o.rank : code != o.code ? code < o.code : i < o.i;
-    }
   };
-  std::vector<Key> order(n);
-  parallel_for(0, n, [&](std::size_t i) {
-    order[i] = {by_operand ? rank[soup.operand[items[i]]] : 0u, morton(box[i].data()), static_cast<u32>(i)};
-  });
+  std::vector<Key> order(n), spare(n);
+  parallel_for(0, n, [&](std::size_t i) { order[i] = {morton(box[i].data()), static_cast<u32>(i)}; });
   soup.poll();
-  std::sort(order.begin(), order.end());
+  {
+    std::vector<u32> count(2049);
+    for (int shift = 0; shift < 64; shift += 11) {
+      std::fill(count.begin(), count.end(), 0u);
+      for (const Key& k : order) ++count[((k.code >> shift) & 0x7ff) + 1];
+      if (count[1 + ((order[0].code >> shift) & 0x7ff)] == n) continue;  // one digit everywhere
+      for (std::size_t d = 0; d < 2048; ++d) count[d + 1] += count[d];
+      for (const Key& k : order) spare[count[(k.code >> shift) & 0x7ff]++] = k;
+      order.swap(spare);
+      soup.poll();
+    }
+    if (by_operand) {
+      std::vector<u32> at(static_cast<std::size_t>(soup.operands) + 1, 0);
+      for (const Key& k : order) ++at[rank[soup.operand[items[k.i]]] + 1];
+      for (int o = 0; o < soup.operands; ++o) at[o + 1] += at[o];
+      for (const Key& k : order) spare[at[rank[soup.operand[items[k.i]]]]++] = k;
+      order.swap(spare);
+    }
+  }
   soup.poll();
   std::vector<u32> sorted(n);
   std::vector<std::array<float, 6>> sbox(n);
-  for (std::size_t i = 0; i < n; ++i) {
+  parallel_for(0, n, [&](std::size_t i) {
     sorted[i] = items[order[i].i];
     sbox[i] = box[order[i].i];
-  }
+  });
   items.swap(sorted);
   boxes.swap(sbox);
   nodes.reserve(2 * (n / 4 + 1) + 1);

@@ -63,7 +63,7 @@ std::vector<std::int8_t> classify(const Points& pts, const Arrangement& arr, Boo
   const int nops = soup.operands;
 
   // Patches: union pieces of one operand across edges used by exactly those two pieces.
-  std::vector<EdgeRec> half(np * 3);
+  EdgeRecs half(np * 3);
   parallel_for(0, np, [&](std::size_t i) {
     for (int e = 0; e < 3; ++e) {
       u32 a = pieces[i].v[e], b = pieces[i].v[(e + 1) % 3];

@@ -32,7 +32,9 @@
 #include <array>
 #include <atomic>
 #include <cstdint>
+#include <memory>
 #include <mutex>
+#include <utility>
 #include <vector>
 
 #include <cmath>
@@ -204,21 +206,44 @@ class Dsu {
   std::vector<u32> p_;
 };
 
+// An allocator whose vectors leave new elements of trivial types uninitialised (resize(n) and
+// vector(n) do not zero them): for large arrays that are wholly written next, where zeroing them
+// first (hundreds of megabytes on a million-triangle boolean) was a serial pass of its own.
+template <class T>
+struct NoInit : std::allocator<T> {
+  template <class U>
+  struct rebind {
+    using other = NoInit<U>;
+  };
+  NoInit() = default;
+  template <class U>
+  NoInit(const NoInit<U>&) noexcept {}
+  template <class U>
+  void construct(U* p) noexcept {
+    ::new (static_cast<void*>(p)) U;
+  }
+  template <class U, class... A>
+  void construct(U* p, A&&... a) {
+    ::new (static_cast<void*>(p)) U(std::forward<A>(a)...);
+  }
+};
+
 // An edge's record: key = a << 32 | b (vertex or point ids), and a value (a triangle, a corner).
 struct EdgeRec {
   std::uint64_t key;
   u32 value;
 };
+using EdgeRecs = std::vector<EdgeRec, NoInit<EdgeRec>>;
 // Sorts edge records by (key, value), where every a (key >> 32) is below n: a counting sort on a,
 // then each vertex's few records sorted; linear in the records and n, where a comparison sort of
 // millions of records was a tenth of a large boolean. Returns the offsets: the records whose a is
 // v are recs[off[v] .. off[v + 1]).
-std::vector<u32> sort_edges(std::vector<EdgeRec>& recs, std::size_t n, const Interrupt* interrupt = nullptr);
+std::vector<u32> sort_edges(EdgeRecs& recs, std::size_t n, const Interrupt* interrupt = nullptr);
 
 // Calls f(i, j) for each run recs[i .. j) of records with one key (recs sorted by key), in
 // parallel over blocks of records: a run belongs to the block it starts in. Polls per block.
 template <class F>
-void for_each_run(const std::vector<EdgeRec>& recs, const Interrupt* interrupt, F&& f) {
+void for_each_run(const EdgeRecs& recs, const Interrupt* interrupt, F&& f) {
   constexpr std::size_t kBlock = 1 << 14;
   const std::size_t m = recs.size();
   parallel_for(0, (m + kBlock - 1) / kBlock, [&](std::size_t b) {

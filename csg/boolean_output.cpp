@@ -510,12 +510,13 @@ BooleanResult assemble(const Points& pts, const Arrangement& arr, const std::vec
   const std::size_t nt = tris.size();
 
   // Directed edges; partner[c] for corner-edge c = 3*t+e (edge v[e] -> v[e+1]).
-  std::vector<EdgeRec> half(nt * 3);  // undirected key; value: corner-edge 3*t+e
-  for (std::size_t t = 0; t < nt; ++t)
+  EdgeRecs half(nt * 3);  // undirected key; value: corner-edge 3*t+e
+  parallel_for(0, nt, [&](std::size_t t) {
     for (int e = 0; e < 3; ++e) {
       u32 a = tris[t][e], b = tris[t][(e + 1) % 3];
       half[t * 3 + e] = {static_cast<std::uint64_t>(std::min(a, b)) << 32 | std::max(a, b), static_cast<u32>(t * 3 + e)};
     }
+  });
   soup.poll();
   sort_edges(half, pts.size(), soup.interrupt);
   std::vector<u32> partner(nt * 3, kNone);
@@ -603,7 +604,8 @@ BooleanResult assemble(const Points& pts, const Arrangement& arr, const std::vec
   BooleanResult r;
   soup.poll();
   const std::size_t nc = nt * 3, blocks = (nc + 65535) / 65536;
-  std::vector<u32> root(nc), index(nc), first(blocks + 1, 0);
+  std::vector<u32, NoInit<u32>> root(nc), index(nc);  // index: of roots only
+  std::vector<u32> first(blocks + 1, 0);
   parallel_for(0, blocks, [&](std::size_t b) {
     u32 n = 0;
     for (std::size_t c = b * 65536; c < std::min(nc, (b + 1) * 65536); ++c) {
