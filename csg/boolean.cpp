@@ -321,6 +321,127 @@ bool boolean_detail::triangles_clash(const Soup& s, u32 t, u32 u) {
 
 namespace {
 
+// The first defect of each operand of a soup that `check` marks (its Mesh `meshes[o]`, named
+// names[o]), or "" (exact): a zero-area triangle, an edge that is not closed or not consistently
+// oriented, a negative volume. The operands' indices must be valid (Mesh::check) before the soup
+// is made. One pass over the soup's vertices for all operands at once (a vertex that two
+// operands share has both their edges, told apart by operand).
+std::vector<std::string> soup_defects(const Soup& s, const std::vector<const Mesh*>& meshes,
+                                      const std::vector<std::string>& names, const std::vector<char>& check) {
+  const std::size_t nops = meshes.size();
+  std::vector<std::string> out(nops);
+  // Each operand's first zero-area triangle.
+  std::vector<std::size_t> first(nops + 1, 0);
+  for (std::size_t t = 0; t < s.tris.size(); ++t) first[s.operand[t] + 1] = t + 1;
+  for (std::size_t o = 0; o < nops; ++o) first[o + 1] = std::max(first[o + 1], first[o]);
+  parallel_for(0, nops, [&](std::size_t o) {
+    if (!check[o]) return;
+    for (std::size_t t = first[o]; t < first[o + 1]; ++t)
+      if (s.axis[t] < 0) {
+        const auto& T = s.tris[t];
+        out[o] = names[o] + " has a zero-area triangle #" + std::to_string(s.local[t] + 1) + " at " + at(s.verts[T[0]]) +
+                 ", " + at(s.verts[T[1]]) + ", " + at(s.verts[T[2]]);
+        return;
+      }
+  });
+  // Closed and 2-manifold: each directed edge once, and its reverse once, in each operand. Both
+  // are seen from the edge's first vertex a: a -> b is a corner of a whose next vertex is b, and
+  // b -> a one whose previous vertex is b. Per vertex, its corners' (next << 32 | triangle) and
+  // (previous << 32 | triangle): the counts need no other vertex's list, and no order.
+  const std::size_t nv = s.verts.size();
+  std::vector<u32> off(nv + 1, 0);
+  for (std::size_t t = 0; t < s.tris.size(); ++t)
+    if (check[s.operand[t]])
+      for (u32 v : s.tris[t]) ++off[v + 1];
+  for (std::size_t v = 0; v < nv; ++v) off[v + 1] += off[v];
+  std::vector<std::uint64_t, NoInit<std::uint64_t>> outs(off[nv]), ins(off[nv]);
+  {
+    std::vector<u32> next(off.begin(), off.end() - 1);
+    for (std::size_t t = 0; t < s.tris.size(); ++t)
+      if (check[s.operand[t]])
+        for (int e = 0; e < 3; ++e) {
+          const u32 k = next[s.tris[t][e]]++;
+          outs[k] = static_cast<std::uint64_t>(s.tris[t][(e + 1) % 3]) << 32 | static_cast<u32>(t);
+          ins[k] = static_cast<std::uint64_t>(s.tris[t][(e + 2) % 3]) << 32 | static_cast<u32>(t);
+        }
+  }
+  s.poll();
+  auto op_of = [&](std::uint64_t x) { return s.operand[x & 0xffffffffu]; };
+  // The first vertex (in soup order) at which each operand has an open or misoriented edge.
+  std::vector<std::atomic<u32>> bad(nops);
+  for (auto& b : bad) b.store(kNone, std::memory_order_relaxed);
+  // How many of a's entries in `list` have vertex b in operand op (whose triangles are first[op]
+  // .. first[op + 1]).
+  auto count = [&](const auto& list, u32 a, u32 b, std::int32_t op) {
+    const std::uint64_t lo = static_cast<std::uint64_t>(b) << 32 | first[op], hi = static_cast<std::uint64_t>(b) << 32 | first[op + 1];
+    std::size_t n = 0;
+    for (u32 k = off[a]; k < off[a + 1]; ++k) n += list[k] >= lo && list[k] < hi;
+    return n;
+  };
+  auto defect_at = [&](u32 a, u32 k) -> int {  // of out-edge k of a: 0 none, 1 misoriented, 2 open
+    const u32 b = static_cast<u32>(outs[k] >> 32);
+    const std::int32_t op = op_of(outs[k]);
+    // Allowed only where shells touch: as many reverse uses as forward ones.
+    const std::size_t n = count(outs, a, b, op), r = count(ins, a, b, op);
+    if (n > 1 && n != r) return 1;
+    return r == 0 ? 2 : 0;
+  };
+  parallel_for(0, (nv + 4095) / 4096, [&](std::size_t block) {
+    s.poll();
+    for (std::size_t v = block * 4096; v < std::min(nv, (block + 1) * 4096); ++v) {
+      // The common case at once: the corners of one operand, whose next vertices are their
+      // previous vertices reordered (each edge out of v has its reverse, as often).
+      const u32 d = off[v + 1] - off[v];
+      if (d == 0) continue;
+      if (d <= 32) {
+        const std::int32_t op = op_of(outs[off[v]]);
+        bool one = true;
+        u32 o[32], i[32];
+        for (u32 k = 0; k < d; ++k) {
+          const u32 t = static_cast<u32>(outs[off[v] + k]);
+          one = one && t >= first[op] && t < first[op + 1];
+          o[k] = static_cast<u32>(outs[off[v] + k] >> 32);
+          i[k] = static_cast<u32>(ins[off[v] + k] >> 32);
+        }
+        if (one) {
+          std::sort(o, o + d);
+          std::sort(i, i + d);
+          if (std::equal(o, o + d, i)) continue;
+        }
+      }
+      for (u32 k = off[v]; k < off[v + 1]; ++k)
+        if (defect_at(static_cast<u32>(v), k)) {
+          std::atomic<u32>& b = bad[op_of(outs[k])];
+          u32 cur = b.load(std::memory_order_relaxed);
+          while (v < cur && !b.compare_exchange_weak(cur, static_cast<u32>(v), std::memory_order_relaxed)) {
+          }
+        }
+    }
+  });
+  auto edge_at = [&](u32 a, u32 b) { return at(s.verts[a]) + " - " + at(s.verts[b]); };
+  for (std::size_t o = 0; o < nops; ++o) {
+    const u32 a = bad[o].load(std::memory_order_relaxed);
+    if (!check[o] || !out[o].empty() || a == kNone) continue;
+    std::sort(outs.begin() + off[a], outs.begin() + off[a + 1]);  // the first defect in (b, triangle) order
+    for (u32 k = off[a]; k < off[a + 1] && out[o].empty(); ++k) {
+      if (op_of(outs[k]) != static_cast<std::int32_t>(o)) continue;
+      const u32 b = static_cast<u32>(outs[k] >> 32);
+      const int d = defect_at(a, k);
+      if (d == 1)
+        out[o] = names[o] + " is not consistently oriented: edge " + edge_at(a, b) + " is used " +
+                 std::to_string(count(outs, a, b, static_cast<std::int32_t>(o))) + " times in one direction";
+      else if (d == 2)
+        out[o] = names[o] + " is not closed: edge " + edge_at(a, b) + " of triangle #" +
+                 std::to_string(s.local[outs[k] & 0xffffffffu] + 1) + " has no neighbour";
+    }
+  }
+  parallel_for(0, nops, [&](std::size_t o) {
+    if (check[o] && out[o].empty() && !meshes[o]->triangles.empty() && !(meshes[o]->volume() > 0))
+      out[o] = names[o] + " is inside out (negative volume): triangles must be counter-clockwise seen from outside";
+  });
+  return out;
+}
+
 // The first defect of one closed mesh, or "" (exact). `self` also checks self-intersections.
 std::string defect(const Mesh& m, const std::string& name, bool self, const Interrupt* interrupt = nullptr) {
   try {
@@ -331,54 +452,7 @@ std::string defect(const Mesh& m, const std::string& name, bool self, const Inte
   if (m.triangles.empty()) return "";
   std::vector<const Mesh*> one{&m};
   Soup s = make_soup(one, interrupt);
-  for (std::size_t t = 0; t < s.tris.size(); ++t) {
-    const auto& T = s.tris[t];
-    if (s.axis[t] < 0)
-      return name + " has a zero-area triangle #" + std::to_string(t + 1) + " at " + at(s.verts[T[0]]) + ", " +
-             at(s.verts[T[1]]) + ", " + at(s.verts[T[2]]);
-  }
-  // Closed and 2-manifold: each directed edge once, and its reverse once. Per vertex a, its
-  // out-edges as (b << 32 | triangle), sorted: all directed edges in (a, b) order.
-  const std::size_t nv = s.verts.size();
-  std::vector<u32> off(nv + 1, 0);
-  for (const auto& T : s.tris)
-    for (u32 v : T) ++off[v + 1];
-  for (std::size_t v = 0; v < nv; ++v) off[v + 1] += off[v];
-  std::vector<std::uint64_t> out(off[nv]);
-  {
-    std::vector<u32> next(off.begin(), off.end() - 1);
-    for (std::size_t t = 0; t < s.tris.size(); ++t)
-      for (int e = 0; e < 3; ++e)
-        out[next[s.tris[t][e]]++] = static_cast<std::uint64_t>(s.tris[t][(e + 1) % 3]) << 32 | static_cast<u32>(t);
-  }
-  s.poll();
-  parallel_for(0, (nv + 4095) / 4096, [&](std::size_t block) {
-    for (std::size_t v = block * 4096; v < std::min(nv, (block + 1) * 4096); ++v) std::sort(out.begin() + off[v], out.begin() + off[v + 1]);
-  });
-  s.poll();
-  auto edge_at = [&](u32 a, u32 b) { return at(s.verts[a]) + " - " + at(s.verts[b]); };
-  auto uses = [&](u32 a, u32 b) {  // how many times the directed edge a -> b is used
-    std::size_t n = 0;
-    for (u32 k = off[a]; k < off[a + 1]; ++k) n += (out[k] >> 32) == b;
-    return n;
-  };
-  for (u32 a = 0; a < nv; ++a) {
-    if ((a & 0xffff) == 0) s.poll();
-    for (u32 k = off[a]; k < off[a + 1]; ++k) {
-      const u32 b = static_cast<u32>(out[k] >> 32);
-      if (k + 1 < off[a + 1] && (out[k + 1] >> 32) == b && (k == off[a] || (out[k - 1] >> 32) != b)) {
-        // Allowed only where shells touch: as many reverse uses as forward ones.
-        const std::size_t n = uses(a, b), r = uses(b, a);
-        if (n != r)
-          return name + " is not consistently oriented: edge " + edge_at(a, b) + " is used " + std::to_string(n) +
-                 " times in one direction";
-      }
-      if (uses(b, a) == 0)
-        return name + " is not closed: edge " + edge_at(a, b) + " of triangle #" +
-               std::to_string((out[k] & 0xffffffffu) + 1) + " has no neighbour";
-    }
-  }
-  if (!(m.volume() > 0)) return name + " is inside out (negative volume): triangles must be counter-clockwise seen from outside";
+  if (std::string d = soup_defects(s, one, {name}, {1})[0]; !d.empty()) return d;
   if (!self) return "";
   // Self-intersection: triangle pairs whose boxes overlap meet only in their shared vertices/edge.
   std::vector<u32> all(s.tris.size());
@@ -466,18 +540,27 @@ BooleanResult boolean(BooleanOp op, const std::vector<const Mesh*>& operands, Bo
   for (std::size_t i = 0; i < operands.size(); ++i)
     if (!operands[i]) fail("boolean: ", operand_name(i, operands.size()), " is null");
   const Interrupt interrupt(cancel);
-  std::vector<std::string> defects(operands.size());
-  std::vector<char> trusted(operands.size(), 0);
+  std::vector<std::string> defects(operands.size()), names(operands.size());
+  std::vector<char> trusted(operands.size(), 0), untrusted(operands.size(), 0);
   parallel_for(0, operands.size(), [&](std::size_t i) {
+    names[i] = operand_name(i, operands.size());
     // A result of this engine was closed, manifold and outward when it was returned.
     trusted[i] = verified_results().contains(fingerprint(*operands[i]));
-    if (!trusted[i]) defects[i] = defect(*operands[i], operand_name(i, operands.size()), false, &interrupt);
+    untrusted[i] = !trusted[i];
+    if (!trusted[i]) try {
+        operands[i]->check();
+      } catch (const Error& e) {
+        defects[i] = names[i] + ": " + e.what();
+      }
   });
   for (const auto& d : defects)
     if (!d.empty()) fail("boolean: ", d);
+  // The soup of all operands, and the checks of those not known valid on it.
+  Soup soup = make_soup(operands, &interrupt);
+  for (const auto& d : soup_defects(soup, operands, names, untrusted))
+    if (!d.empty()) fail("boolean: ", d);
   if (stats) stats->trusted = static_cast<std::size_t>(std::count(trusted.begin(), trusted.end(), 1));
   lap(&BooleanStats::check);
-  Soup soup = make_soup(operands, &interrupt);
   Points pts(soup);
   // The broad phase also checks each operand for self-intersections, but for the operands known
   // valid: results of earlier booleans, and those one-to-one on the sphere around their centre.

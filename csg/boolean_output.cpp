@@ -313,6 +313,10 @@ std::size_t merge_flat(const Points& pts, std::vector<std::array<u32, 3>>& tris,
         break;
       }
   }
+  std::vector<u32> cands;
+  for (std::size_t v = 0; v < np; ++v)
+    if (candidate[v]) cands.push_back(static_cast<u32>(v));
+  if (cands.empty()) return 0;
   std::size_t removed = 0;
   // Whether source triangles s and u lie in one plane facing one way (with their flips).
   auto same_side = [&](u32 s, bool fs, u32 u, bool fu) {
@@ -328,25 +332,32 @@ std::size_t merge_flat(const Points& pts, std::vector<std::array<u32, 3>>& tris,
   for (int pass = 0; pass < 16; ++pass) {
     soup.poll();
     const std::size_t nt = tris.size();
-    // Triangles around each point (counting sort), per pass.
+    // Triangles around each point (counting sort), per pass: for the points whose lists are
+    // read, the candidates and their neighbours (on a million-triangle result most points are
+    // neither, and listing every point's triangles was most of this function).
+    std::vector<char> near(np, 0);
+    for (const auto& T : tris)
+      if (candidate[T[0]] || candidate[T[1]] || candidate[T[2]]) near[T[0]] = near[T[1]] = near[T[2]] = 1;
     std::vector<u32> off(np + 1, 0);
     for (const auto& T : tris)
-      for (u32 v : T) ++off[v + 1];
+      for (u32 v : T) off[v + 1] += near[v];
     for (std::size_t v = 0; v < np; ++v) off[v + 1] += off[v];
     std::vector<u32> around(off[np]);
     {
       std::vector<u32> next(off.begin(), off.end() - 1);
       for (std::size_t t = 0; t < nt; ++t)
-        for (u32 v : tris[t]) around[next[v]++] = static_cast<u32>(t);
+        for (u32 v : tris[t])
+          if (near[v]) around[next[v]++] = static_cast<u32>(t);
     }
     std::vector<char> locked(np, 0), gone(nt, 0);
     std::size_t collapsed = 0;
     std::vector<u32> fan, order, targets, nbv, nbx, common, opposite;
     std::vector<std::array<u32, 2>> ab;
     std::vector<char> group, used;
-    for (u32 v = 0; v < np; ++v) {
-      if ((v & 0xffff) == 0) soup.poll();
-      if (!candidate[v] || locked[v] || off[v + 1] - off[v] < 3) continue;
+    for (std::size_t ci = 0; ci < cands.size(); ++ci) {
+      const u32 v = cands[ci];
+      if ((ci & 0xffff) == 0) soup.poll();
+      if (locked[v] || off[v + 1] - off[v] < 3) continue;
       fan.clear();
       for (u32 i = off[v]; i < off[v + 1]; ++i)
         if (!gone[around[i]]) fan.push_back(around[i]);

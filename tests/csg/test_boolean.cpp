@@ -204,6 +204,18 @@ TEST_CASE("boolean: bad operands are errors naming the operand and the spot", "[
   Mesh two = a;
   two.append(cube(0.5, 0.5, 0.5, 1));  // two overlapping shells in one mesh
   CHECK_THROWS_WITH(boolean(BooleanOp::Union, a, two), Catch::Contains("second operand intersects itself"));
+  // The operands are checked on one soup of all of them, each on its own: a hole in the face that
+  // one cube shares with another is not closed by the other's triangles there, whatever their
+  // order, and a closed operand beside it is not blamed.
+  for (std::size_t drop = 0; drop < 12; ++drop) {
+    Mesh holed = cube(1, 0, 0, 1);
+    holed.triangles.erase(holed.triangles.begin() + static_cast<std::ptrdiff_t>(drop));
+    CHECK_THROWS_WITH(boolean(BooleanOp::Union, a, holed), Catch::Contains("second operand is not closed"));
+    CHECK_THROWS_WITH(boolean(BooleanOp::Union, {&holed, &a, &a}), Catch::Contains("operand 1 is not closed"));
+    Mesh turned = cube(1, 0, 0, 1);
+    std::swap(turned.triangles[drop][1], turned.triangles[drop][2]);
+    CHECK_THROWS_WITH(boolean(BooleanOp::Union, {&a, &a, &turned}), Catch::Contains("operand 3 is not consistently oriented"));
+  }
 }
 
 TEST_CASE("boolean: triangles around one vertex that cross each other are caught", "[boolean]") {
