@@ -307,19 +307,17 @@ std::vector<T> concatenate(std::vector<std::vector<T>>& parts) {
 
 }  // namespace
 
-std::vector<std::array<u32, 2>> Bvh::self_pairs(const std::vector<char>* active, const Soup* soup) const {
-  std::vector<std::vector<std::array<u32, 2>>> found;
+void Bvh::each_pair(const std::vector<char>* active, const Soup* soup, const std::function<void(u32, u32)>& f) const {
   self_join(
-      *this, active, [&](std::size_t n) { found.resize(n); },
-      [&](std::size_t k, u32 i, u32 j) {
+      *this, active, [](std::size_t) {},
+      [&](std::size_t, u32 i, u32 j) {
         const u32 t = items[i], u = items[j];
-        found[k].push_back({std::min(t, u), std::max(t, u)});
+        f(std::min(t, u), std::max(t, u));
       },
       [&] {
         if (soup) soup->poll();
       },
       [](u32, u32) { return false; });
-  return concatenate(found);
 }
 
 // Star certificates for the self-intersection check. The star of vertex v in one operand (its

@@ -32,6 +32,7 @@
 #include <array>
 #include <atomic>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <utility>
@@ -456,13 +457,13 @@ class Bvh {
   template <class Enter, class F>
   void query_if(Enter&& enter, F&& f) const;
 
-  // Every unordered pair of distinct triangles whose boxes (float, rounded outward) overlap, as
-  // {smaller id, larger id}, of which at least one is active (active[triangle id] != 0; every
+  // Calls f(t, u), t < u, for every unordered pair of distinct triangles whose boxes (float,
+  // rounded outward) overlap, of which at least one is active (active[triangle id] != 0; every
   // triangle when `active` is null). One traversal of the tree against itself instead of a query
-  // per triangle: each pair of subtrees is looked at once. The order is the same at any thread
-  // count.
-  // `soup`, if given, is polled for a cancel request.
-  std::vector<std::array<u32, 2>> self_pairs(const std::vector<char>* active = nullptr, const Soup* soup = nullptr) const;
+  // per triangle: each pair of subtrees is looked at once. f is called from several threads at
+  // once, in no fixed order, and nothing is collected (a self-check meets millions of
+  // neighbouring pairs). `soup`, if given, is polled for a cancel request.
+  void each_pair(const std::vector<char>* active, const Soup* soup, const std::function<void(u32, u32)>& f) const;
 
   struct Node { float lo[3], hi[3]; u32 first, count; u32 left, right; };  // leaf: count > 0
   std::vector<Node> nodes;

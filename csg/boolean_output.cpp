@@ -161,12 +161,9 @@ std::vector<u32> rounding_defects(const Mesh& m, const Rounding& rd) {
   std::vector<u32> all(n);
   std::iota(all.begin(), all.end(), 0u);
   const Bvh bvh(s, std::move(all), 3);
-  const auto pairs = bvh.self_pairs(&active, rd.soup);
   // Pairs around a vertex whose star is certified embedded cannot cross.
   const auto cert = star_certificates(s, nullptr, &active);
-  parallel_for(0, pairs.size(), [&](std::size_t i) {
-    if (i % 256 == 0) rd.soup->poll();
-    const u32 t = pairs[i][0], u = pairs[i][1];
+  bvh.each_pair(&active, rd.soup, [&](u32 t, u32 u) {
     const bool want_t = active[t] && !bad[t].load(std::memory_order_relaxed);
     const bool want_u = active[u] && !bad[u].load(std::memory_order_relaxed);
     if ((want_t || want_u) && !certified_pair(s, cert, t, u) && triangles_clash(s, t, u)) {
