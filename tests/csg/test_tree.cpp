@@ -479,7 +479,14 @@ TEST_CASE("tree: a cancel raised while a leaf is tessellated stops the evaluatio
   }
   const double latency = seconds() - 0.2;
   INFO("stopped " << latency << " s after the cancel");
-  CHECK(latency < 2);  // release: milliseconds, at most 0.4 s (CGAL's spatial sort of the seeds has no poll)
+  // Release: milliseconds, at most 0.4 s (CGAL's spatial sort of a band of seeds has no poll).
+  // The sanitizers' build is many times slower inside a band (under load it once took 2.8 s):
+  // 10 s there.
+#if defined(__SANITIZE_ADDRESS__)
+  CHECK(latency < 10);
+#else
+  CHECK(latency < 2);
+#endif
   // Nothing half-done was kept: the same solid evaluates at another tolerance afterwards.
   Solid fresh = Solid::boolean(BooleanOp::Difference, {brep_solid(sphere(1)), box_solid(Vec3(2, 2, 2))});
   CHECK(d.mass_properties(Tolerance{}).volume == fresh.mass_properties(Tolerance{}).volume);
