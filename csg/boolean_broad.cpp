@@ -40,6 +40,24 @@ std::uint64_t spread(std::uint64_t x) {
   return x;
 }
 
+// Sorts v stably by key(x) (an unsigned 64-bit value): least significant digit first, 11 bits
+// at a time, passes over a digit that every element shares left out.
+template <class T, class Key>
+void radix_sort(std::vector<T>& v, Key&& key) {
+  const std::size_t n = v.size();
+  if (n < 2) return;
+  std::vector<T> spare(n);
+  std::vector<u32> count(2049);
+  for (int shift = 0; shift < 64; shift += 11) {
+    std::fill(count.begin(), count.end(), 0u);
+    for (const T& x : v) ++count[((key(x) >> shift) & 0x7ff) + 1];
+    if (count[1 + ((key(v[0]) >> shift) & 0x7ff)] == n) continue;  // one digit everywhere
+    for (std::size_t d = 0; d < 2048; ++d) count[d + 1] += count[d];
+    for (const T& x : v) spare[count[(key(x) >> shift) & 0x7ff]++] = x;
+    v.swap(spare);
+  }
+}
+
 }  // namespace
 
 // Built in linear time after one sort: triangles in Morton order of their box centres, the tree
@@ -112,27 +130,18 @@ Bvh::Bvh(const Soup& soup, std::vector<u32> ids, int d, bool by_operand) : items
     std::uint64_t code;
     u32 i;
   };
-  std::vector<Key> order(n), spare(n);
+  std::vector<Key> order(n);
   parallel_for(0, n, [&](std::size_t i) { order[i] = {morton(box[i].data()), static_cast<u32>(i)}; });
   soup.poll();
-  {
-    std::vector<u32> count(2049);
-    for (int shift = 0; shift < 64; shift += 11) {
-      std::fill(count.begin(), count.end(), 0u);
-      for (const Key& k : order) ++count[((k.code >> shift) & 0x7ff) + 1];
-      if (count[1 + ((order[0].code >> shift) & 0x7ff)] == n) continue;  // one digit everywhere
-      for (std::size_t d = 0; d < 2048; ++d) count[d + 1] += count[d];
-      for (const Key& k : order) spare[count[(k.code >> shift) & 0x7ff]++] = k;
-      order.swap(spare);
-      soup.poll();
-    }
-    if (by_operand) {
-      std::vector<u32> at(static_cast<std::size_t>(soup.operands) + 1, 0);
-      for (const Key& k : order) ++at[rank[soup.operand[items[k.i]]] + 1];
-      for (int o = 0; o < soup.operands; ++o) at[o + 1] += at[o];
-      for (const Key& k : order) spare[at[rank[soup.operand[items[k.i]]]]++] = k;
-      order.swap(spare);
-    }
+  radix_sort(order, [](const Key& k) { return k.code; });
+  soup.poll();
+  if (by_operand) {
+    std::vector<Key> spare(n);
+    std::vector<u32> at(static_cast<std::size_t>(soup.operands) + 1, 0);
+    for (const Key& k : order) ++at[rank[soup.operand[items[k.i]]] + 1];
+    for (int o = 0; o < soup.operands; ++o) at[o + 1] += at[o];
+    for (const Key& k : order) spare[at[rank[soup.operand[items[k.i]]]]++] = k;
+    order.swap(spare);
   }
   soup.poll();
   std::vector<u32> sorted(n);
@@ -677,7 +686,7 @@ std::vector<std::array<u32, 2>> candidate_pairs(const Soup& soup, std::array<u32
   }
   soup.poll();
   std::vector<std::array<u32, 2>> pairs = concatenate(out);
-  std::sort(pairs.begin(), pairs.end());
+  radix_sort(pairs, [](const std::array<u32, 2>& p) { return static_cast<std::uint64_t>(p[0]) << 32 | p[1]; });
   soup.poll();
   return pairs;
 }
