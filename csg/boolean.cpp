@@ -41,32 +41,64 @@ std::uint64_t pos_hash(const Vec3& p) {
 // 256 results are remembered.
 struct Fingerprint {
   std::uint64_t a = 0, b = 0;
-  bool operator==(const Fingerprint& o) const { return a == o.a && b == o.b; }
+  std::uint64_t positions = 0, triangles = 0;  // the mesh's sizes
+  bool operator==(const Fingerprint& o) const {
+    return a == o.a && b == o.b && positions == o.positions && triangles == o.triangles;
+  }
 };
 
+// Per block of 4096 positions and triangles, four independent hash lanes (a hash is a chain of
+// dependent multiplies: four chains keep the multiplier busy), blocks in parallel, their hashes
+// combined in block order: the same value at any thread count.
 Fingerprint fingerprint(const Mesh& m) {
-  Fingerprint f{0x243f6a8885a308d3ull ^ m.positions.size(), 0x13198a2e03707344ull ^ m.triangles.size()};
-  auto mix = [&](std::uint64_t x) {
-    f.a = (f.a ^ x) * 0x9e3779b97f4a7c15ull;
-    f.a ^= f.a >> 29;
-    f.b = (f.b + x) * 0xff51afd7ed558ccdull;
-    f.b ^= f.b >> 31;
-  };
-  for (const Vec3& p : m.positions)
-    for (int i = 0; i < 3; ++i) {
-      std::uint64_t x;
-      const double v = p[i];
-      std::memcpy(&x, &v, sizeof x);
-      mix(x);
+  const std::size_t np = m.positions.size(), nt = m.triangles.size();
+  const std::size_t blocks = std::max((np + 4095) / 4096, (nt + 4095) / 4096);
+  std::vector<std::array<std::uint64_t, 2>> part(blocks);
+  parallel_for(0, blocks, [&](std::size_t k) {
+    std::uint64_t lane[4] = {0x243f6a8885a308d3ull ^ k, 0x13198a2e03707344ull, 0xa4093822299f31d0ull, 0x082efa98ec4e6c89ull};
+    auto mix = [](std::uint64_t& h, std::uint64_t x) {
+      h = (h ^ x) * 0x9e3779b97f4a7c15ull;
+      h ^= h >> 29;
+    };
+    for (std::size_t v = k * 4096; v < std::min(np, (k + 1) * 4096); ++v) {
+      std::uint64_t x[3];
+      std::memcpy(x, m.positions[v].data(), sizeof x);
+      mix(lane[0], x[0]);
+      mix(lane[1], x[1]);
+      mix(lane[2], x[2]);
     }
-  for (const auto& t : m.triangles)
-    for (int i = 0; i < 3; ++i) mix(static_cast<std::uint64_t>(t[i]));
+    for (std::size_t t = k * 4096; t < std::min(nt, (k + 1) * 4096); ++t) {
+      const auto& T = m.triangles[t];
+      mix(lane[3], static_cast<std::uint64_t>(T[0]) << 32 | T[1]);
+      mix(lane[3], T[2]);
+    }
+    std::uint64_t a = lane[0], b = lane[3];
+    for (std::uint64_t l : {lane[1], lane[2], lane[3]}) mix(a, l);
+    for (std::uint64_t l : {lane[0], lane[1], lane[2]}) b = (b + l) * 0xff51afd7ed558ccdull, b ^= b >> 31;
+    part[k] = {a, b};
+  });
+  Fingerprint f{0x243f6a8885a308d3ull, 0x13198a2e03707344ull, np, nt};
+  for (const auto& p : part) {
+    f.a = (f.a ^ p[0]) * 0x9e3779b97f4a7c15ull;
+    f.a ^= f.a >> 29;
+    f.b = (f.b + p[1]) * 0xff51afd7ed558ccdull;
+    f.b ^= f.b >> 31;
+  }
   return f;
 }
 
 class VerifiedResults {
  public:
-  bool contains(const Fingerprint& f) {
+  // Whether m is one of the results (the hash is made only where a result has m's sizes).
+  bool contains(const Mesh& m) {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      if (std::none_of(ring_.begin(), ring_.end(), [&](const Fingerprint& f) {
+            return f.positions == m.positions.size() && f.triangles == m.triangles.size();
+          }))
+        return false;
+    }
+    const Fingerprint f = fingerprint(m);
     std::lock_guard<std::mutex> lock(mutex_);
     return std::find(ring_.begin(), ring_.end(), f) != ring_.end();
   }
@@ -545,7 +577,7 @@ BooleanResult boolean(BooleanOp op, const std::vector<const Mesh*>& operands, Bo
   parallel_for(0, operands.size(), [&](std::size_t i) {
     names[i] = operand_name(i, operands.size());
     // A result of this engine was closed, manifold and outward when it was returned.
-    trusted[i] = verified_results().contains(fingerprint(*operands[i]));
+    trusted[i] = verified_results().contains(*operands[i]);
     untrusted[i] = !trusted[i];
     if (!trusted[i]) try {
         operands[i]->check();
