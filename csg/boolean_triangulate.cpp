@@ -409,7 +409,26 @@ std::vector<std::array<u32, 2>> equal_points(const Points& pts, const std::vecto
   std::vector<Entry> entries;
   std::vector<u32> wide;  // boxes too wide for the grid (exact fallbacks): compared with all
   entries.reserve(loose.size());
-  auto coord = [&](double x, int i) { return static_cast<std::int64_t>(std::floor((x - lo[i]) / cell)); };
+  // Cell numbers are clamped in double before they become integers: an exact fallback's box can
+  // be far wider than the whole scene at extreme scales, and converted as it was, its cell number
+  // overflowed, the box visited no cell, and its point was never compared (two equal points left
+  // apart: "Unauthorized intersections of constraints" at 1e-90). Cells -8 and beyond the far
+  // side hold no loose point.
+  const double top[3] = {(hi[0] - lo[0]) / cell, (hi[1] - lo[1]) / cell, (hi[2] - lo[2]) / cell};
+  auto cell_of = [&](double x, int i) {
+    const double f = std::floor((x - lo[i]) / cell);
+    return f >= -4 && f <= top[i] + 4 ? f : -8.0;  // NaN too
+  };
+  auto coord = [&](double x, int i) { return static_cast<std::int64_t>(cell_of(x, i)); };
+  // A loose box's cells along axis i, or false where it spans more than three (then it is
+  // compared with every point).
+  auto cells = [&](double b0, double b1, int i, std::int64_t& c0, std::int64_t& c1) {
+    const double f0 = cell_of(b0, i), f1 = cell_of(b1, i);
+    if (!(f0 > -8 && f1 > -8 && f1 - f0 <= 2)) return false;
+    c0 = static_cast<std::int64_t>(f0);
+    c1 = static_cast<std::int64_t>(f1);
+    return true;
+  };
   auto key_of = [](std::int64_t x, std::int64_t y, std::int64_t z) {
     return (static_cast<std::uint64_t>(x + 1) & 0x1fffff) << 42 | (static_cast<std::uint64_t>(y + 1) & 0x1fffff) << 21 |
            (static_cast<std::uint64_t>(z + 1) & 0x1fffff);
@@ -420,14 +439,7 @@ std::vector<std::array<u32, 2>> equal_points(const Points& pts, const std::vecto
     const auto b = pts.box(p);
     std::int64_t c0[3], c1[3];
     bool ok = true;
-    for (int i = 0; i < 3; ++i) {
-      if (!std::isfinite(b[i]) || !std::isfinite(b[i + 3])) ok = false;
-      else {
-        c0[i] = coord(b[i], i);
-        c1[i] = coord(b[i + 3], i);
-        if (c1[i] - c0[i] > 2) ok = false;
-      }
-    }
+    for (int i = 0; i < 3 && ok; ++i) ok = cells(b[i], b[i + 3], i, c0[i], c1[i]);
     if (!ok) {
       wide.push_back(p);
       continue;
