@@ -559,8 +559,8 @@ std::string operand_name(std::size_t i, std::size_t n) {
 
 std::string mesh_solid_defect(const Mesh& mesh, const std::string& name) { return defect(mesh, name, true); }
 
-BooleanResult boolean(BooleanOp op, const std::vector<const Mesh*>& operands, BooleanStats* stats, const CancelCheck* cancel,
-                      std::size_t max_crossings) {
+BooleanResult boolean_detail::boolean_as_given(BooleanOp op, const std::vector<const Mesh*>& operands, BooleanStats* stats,
+                                               const CancelCheck* cancel, std::size_t max_crossings) {
   using Clock = std::chrono::steady_clock;
   auto t0 = Clock::now();
   auto lap = [&](double BooleanStats::*field) {
