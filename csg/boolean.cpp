@@ -359,7 +359,7 @@ namespace {
 // oriented, a negative volume. The operands' indices must be valid (Mesh::check) before the soup
 // is made. One pass over the soup's vertices for all operands at once (a vertex that two
 // operands share has both their edges, told apart by operand).
-std::vector<std::string> soup_defects(const Soup& s, const std::vector<const Mesh*>& meshes,
+std::vector<std::string> soup_defects(const Soup& s, CornerLists& corners, const std::vector<const Mesh*>& meshes,
                                       const std::vector<std::string>& names, const std::vector<char>& check) {
   const std::size_t nops = meshes.size();
   std::vector<std::string> out(nops);
@@ -382,23 +382,9 @@ std::vector<std::string> soup_defects(const Soup& s, const std::vector<const Mes
   // b -> a one whose previous vertex is b. Per vertex, its corners' (next << 32 | triangle) and
   // (previous << 32 | triangle): the counts need no other vertex's list, and no order.
   const std::size_t nv = s.verts.size();
-  std::vector<u32> off(nv + 1, 0);
-  for (std::size_t t = 0; t < s.tris.size(); ++t)
-    if (check[s.operand[t]])
-      for (u32 v : s.tris[t]) ++off[v + 1];
-  for (std::size_t v = 0; v < nv; ++v) off[v + 1] += off[v];
-  std::vector<std::uint64_t, NoInit<std::uint64_t>> outs(off[nv]), ins(off[nv]);
-  {
-    std::vector<u32> next(off.begin(), off.end() - 1);
-    for (std::size_t t = 0; t < s.tris.size(); ++t)
-      if (check[s.operand[t]])
-        for (int e = 0; e < 3; ++e) {
-          const u32 k = next[s.tris[t][e]]++;
-          outs[k] = static_cast<std::uint64_t>(s.tris[t][(e + 1) % 3]) << 32 | static_cast<u32>(t);
-          ins[k] = static_cast<std::uint64_t>(s.tris[t][(e + 2) % 3]) << 32 | static_cast<u32>(t);
-        }
-  }
-  s.poll();
+  const std::vector<u32>& off = corners.off;
+  auto& outs = corners.next;
+  auto& ins = corners.prev;
   auto op_of = [&](std::uint64_t x) { return s.operand[x & 0xffffffffu]; };
   // The first vertex (in soup order) at which each operand has an open or misoriented edge.
   std::vector<std::atomic<u32>> bad(nops);
@@ -485,7 +471,8 @@ std::string defect(const Mesh& m, const std::string& name, bool self, const Inte
   if (m.triangles.empty()) return "";
   std::vector<const Mesh*> one{&m};
   Soup s = make_soup(one, interrupt);
-  if (std::string d = soup_defects(s, one, {name}, {1})[0]; !d.empty()) return d;
+  CornerLists corners = corner_lists(s, nullptr);
+  if (std::string d = soup_defects(s, corners, one, {name}, {1})[0]; !d.empty()) return d;
   if (!self) return "";
   // Self-intersection: triangle pairs whose boxes overlap meet only in their shared vertices/edge.
   std::vector<u32> all(s.tris.size());
@@ -590,7 +577,8 @@ BooleanResult boolean_detail::boolean_as_given(BooleanOp op, const std::vector<c
     if (!d.empty()) fail("boolean: ", d);
   // The soup of all operands, and the checks of those not known valid on it.
   Soup soup = make_soup(operands, &interrupt);
-  for (const auto& d : soup_defects(soup, operands, names, untrusted))
+  CornerLists corners = corner_lists(soup, &untrusted);
+  for (const auto& d : soup_defects(soup, corners, operands, names, untrusted))
     if (!d.empty()) fail("boolean: ", d);
   if (stats) stats->trusted = static_cast<std::size_t>(std::count(trusted.begin(), trusted.end(), 1));
   lap(&BooleanStats::check);
@@ -598,7 +586,8 @@ BooleanResult boolean_detail::boolean_as_given(BooleanOp op, const std::vector<c
   // The broad phase also checks each operand for self-intersections, but for the operands known
   // valid: results of earlier booleans, and those one-to-one on the sphere around their centre.
   std::array<u32, 2> clash;
-  std::vector<char> checked = radially_embedded(soup, &trusted);
+  std::vector<char> checked = radially_embedded(soup, &trusted, &corners);
+  corners = {};
   for (std::size_t i = 0; i < operands.size(); ++i) checked[i] |= trusted[i];
   auto pairs = candidate_pairs(soup, &clash, false, &checked);
   if (clash[0] != kNone) {

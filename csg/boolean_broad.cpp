@@ -338,35 +338,50 @@ void Bvh::each_pair(const std::vector<char>* active, const Soup* soup, const std
 // Closed meshes' stars are nearly all certified (a sphere's, a cylinder's cap fans and rims, a
 // box's corners); a star that is not is tested pairwise as before. Returns per triangle a 3-bit
 // mask: bit c set when the star at corner c is certified.
+CornerLists corner_lists(const Soup& soup, const std::vector<char>* listed, const std::vector<char>* wanted) {
+  const std::size_t nt = soup.tris.size(), nv = soup.verts.size();
+  CornerLists cl;
+  cl.off.assign(nv + 1, 0);
+  auto take = [&](std::size_t t) { return !listed || (*listed)[soup.operand[t]]; };
+  for (std::size_t t = 0; t < nt; ++t)
+    if (take(t))
+      for (u32 v : soup.tris[t])
+        if (!wanted || (*wanted)[v]) ++cl.off[v + 1];
+  for (std::size_t v = 0; v < nv; ++v) cl.off[v + 1] += cl.off[v];
+  soup.poll();
+  cl.next.resize(cl.off[nv]);
+  cl.prev.resize(cl.off[nv]);
+  std::vector<u32> at(cl.off.begin(), cl.off.end() - 1);
+  for (std::size_t t = 0; t < nt; ++t)
+    if (take(t))
+      for (int c = 0; c < 3; ++c) {
+        const u32 v = soup.tris[t][c];
+        if (wanted && !(*wanted)[v]) continue;
+        const u32 k = at[v]++;
+        cl.next[k] = static_cast<std::uint64_t>(soup.tris[t][(c + 1) % 3]) << 32 | static_cast<u32>(t);
+        cl.prev[k] = static_cast<std::uint64_t>(soup.tris[t][(c + 2) % 3]) << 32 | static_cast<u32>(t);
+      }
+  return cl;
+}
+
 std::vector<std::uint8_t> star_certificates(const Soup& soup, const std::vector<char>* trusted,
                                             const std::vector<char>* active, const std::vector<Vec3>* centers) {
-  const std::size_t nt = soup.tris.size(), nv = soup.verts.size();
-  std::vector<std::uint8_t> mask(nt, 0);
-  std::vector<char> wanted;
+  std::vector<char> listed(soup.operands, 1), wanted;
+  if (trusted)
+    for (int o = 0; o < soup.operands; ++o) listed[o] = !(*trusted)[o];
   if (active) {
-    wanted.assign(nv, 0);
-    for (std::size_t t = 0; t < nt; ++t)
+    wanted.assign(soup.verts.size(), 0);
+    for (std::size_t t = 0; t < soup.tris.size(); ++t)
       if ((*active)[t])
         for (u32 v : soup.tris[t]) wanted[v] = 1;
   }
-  // Per vertex, its corners (triangle << 2 | corner) in ascending triangle order, so one
-  // operand's star of it is one run (an operand's triangles are consecutive in the soup).
-  auto counted = [&](std::size_t t) { return !(trusted && (*trusted)[soup.operand[t]]); };
-  std::vector<u32> off(nv + 1, 0);
-  for (std::size_t t = 0; t < nt; ++t)
-    if (counted(t))
-      for (u32 v : soup.tris[t])
-        if (!active || wanted[v]) ++off[v + 1];
-  for (std::size_t v = 0; v < nv; ++v) off[v + 1] += off[v];
-  soup.poll();
-  std::vector<u32> corners(off[nv]);
-  {
-    std::vector<u32> next(off.begin(), off.end() - 1);
-    for (std::size_t t = 0; t < nt; ++t)
-      if (counted(t))
-        for (u32 c = 0; c < 3; ++c)
-          if (!active || wanted[soup.tris[t][c]]) corners[next[soup.tris[t][c]]++] = static_cast<u32>(t) << 2 | c;
-  }
+  return star_certificates(soup, corner_lists(soup, &listed, active ? &wanted : nullptr), centers);
+}
+
+std::vector<std::uint8_t> star_certificates(const Soup& soup, const CornerLists& cl, const std::vector<Vec3>* centers) {
+  const std::size_t nt = soup.tris.size(), nv = soup.verts.size();
+  std::vector<std::uint8_t> mask(nt, 0);
+  const std::vector<u32>& off = cl.off;
   soup.poll();
   parallel_for(0, (nv + 1023) / 1024, [&](std::size_t block) {
     soup.poll();
@@ -378,13 +393,10 @@ std::vector<std::uint8_t> star_certificates(const Soup& soup, const std::vector<
     for (std::size_t v = block * 1024; v < std::min(nv, (block + 1) * 1024); ++v) {
       for (u32 r0 = off[v]; r0 < off[v + 1];) {
         u32 r1 = r0;
-        const std::int32_t op = soup.operand[corners[r0] >> 2];
-        while (r1 < off[v + 1] && soup.operand[corners[r1] >> 2] == op) ++r1;  // one operand's star of v
+        const std::int32_t op = soup.operand[static_cast<u32>(cl.next[r0])];
+        while (r1 < off[v + 1] && soup.operand[static_cast<u32>(cl.next[r1])] == op) ++r1;  // one operand's star of v
         star.clear();
-        for (u32 r = r0; r < r1; ++r) {
-          const u32 t = corners[r] >> 2, c = corners[r] & 3;
-          star.push_back({soup.tris[t][(c + 1) % 3], soup.tris[t][(c + 2) % 3], r});
-        }
+        for (u32 r = r0; r < r1; ++r) star.push_back({static_cast<u32>(cl.next[r] >> 32), static_cast<u32>(cl.prev[r] >> 32), r});
         const u32 first = r0;
         r0 = r1;
         if (star.size() < 3) continue;
@@ -438,7 +450,11 @@ std::vector<std::uint8_t> star_certificates(const Soup& soup, const std::vector<
           if (s * orient(A1, Q) >= 0) ok = false;
         }
         if (!ok) continue;
-        for (u32 r = first; r < r1; ++r) mask[corners[r] >> 2] |= static_cast<std::uint8_t>(1u << (corners[r] & 3));
+        for (u32 r = first; r < r1; ++r) {
+          const u32 t = static_cast<u32>(cl.next[r]);
+          const u32 c = soup.tris[t][0] == v ? 0 : (soup.tris[t][1] == v ? 1 : 2);
+          mask[t] |= static_cast<std::uint8_t>(1u << c);
+        }
       }
     }
   });
@@ -452,7 +468,7 @@ std::vector<std::uint8_t> star_certificates(const Soup& soup, const std::vector<
 // no two of its triangles meet beyond what they share. Convex and star-shaped operands (boxes,
 // cylinders, spheres: nearly every primitive) pass with c the mean of their vertices, in linear
 // time and without looking at pairs.
-std::vector<char> radially_embedded(const Soup& soup, const std::vector<char>* skip) {
+std::vector<char> radially_embedded(const Soup& soup, const std::vector<char>* skip, const CornerLists* corners) {
   const int nops = soup.operands;
   std::vector<Vec3> centers(nops, Vec3::Zero());
   std::vector<std::size_t> count(nops, 0), faces(nops, 0);
@@ -474,7 +490,7 @@ std::vector<char> radially_embedded(const Soup& soup, const std::vector<char>* s
     todo[op] = (!skip || !(*skip)[op]) && faces[op] > 0 && faces[op] % 2 == 0;
     centers[op] /= static_cast<double>(std::max<std::size_t>(verts[op], 1));
   }
-  const auto cert = star_certificates(soup, skip, nullptr, &centers);
+  const auto cert = corners ? star_certificates(soup, *corners, &centers) : star_certificates(soup, skip, nullptr, &centers);
   std::vector<char> all(nops, 1);
   for (std::size_t t = 0; t < soup.tris.size(); ++t)
     if (cert[t] != 7) all[soup.operand[t]] = 0;

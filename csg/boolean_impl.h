@@ -409,6 +409,17 @@ std::vector<std::array<u32, 2>> candidate_pairs(const Soup& soup, std::array<u32
                                                 bool self = false, const std::vector<char>* trusted = nullptr,
                                                 const std::vector<char>* active = nullptr);
 
+// Per vertex v, its corners [off[v], off[v + 1]) in ascending triangle order: next[k] = (the
+// corner's next vertex << 32 | triangle), prev[k] = (its previous vertex << 32 | triangle). Made
+// once for the operand check and the star certificates.
+struct CornerLists {
+  std::vector<u32> off;
+  std::vector<std::uint64_t, NoInit<std::uint64_t>> next, prev;
+};
+// The corners of the triangles of the operands `listed` marks (all where null), at the vertices
+// `wanted` marks (all where null).
+CornerLists corner_lists(const Soup& soup, const std::vector<char>* listed, const std::vector<char>* wanted = nullptr);
+
 // Per triangle, a 3-bit mask: bit c set when the star of the triangle's corner c (its triangles
 // around that vertex in the triangle's operand) is certified to be embedded: seen along one
 // direction every star triangle has the same orientation and the rim winds once (exact). Two
@@ -419,10 +430,15 @@ std::vector<std::array<u32, 2>> candidate_pairs(const Soup& soup, std::array<u32
 std::vector<std::uint8_t> star_certificates(const Soup& soup, const std::vector<char>* trusted = nullptr,
                                             const std::vector<char>* active = nullptr,
                                             const std::vector<Vec3>* centers = nullptr);
+// The same from corner lists already made (whose triangles are the ones certified).
+std::vector<std::uint8_t> star_certificates(const Soup& soup, const CornerLists& corners,
+                                            const std::vector<Vec3>* centers = nullptr);
 // Per operand: whether it is certainly free of self-intersections because it is one shell seen
 // one-to-one from the mean of its vertices (see boolean_broad.cpp); operands marked in `skip`
-// are not looked at (false).
-std::vector<char> radially_embedded(const Soup& soup, const std::vector<char>* skip = nullptr);
+// are not looked at (false). `corners`, if given, are the corner lists of the operands not
+// skipped.
+std::vector<char> radially_embedded(const Soup& soup, const std::vector<char>* skip = nullptr,
+                                    const CornerLists* corners = nullptr);
 // Whether triangles t and u share a vertex whose star is certified (so they cannot clash).
 inline bool certified_pair(const Soup& soup, const std::vector<std::uint8_t>& cert, u32 t, u32 u) {
   const auto &T = soup.tris[t], &U = soup.tris[u];
