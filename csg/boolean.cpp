@@ -586,7 +586,7 @@ BooleanResult boolean_detail::boolean_as_given(BooleanOp op, const std::vector<c
   // The broad phase also checks each operand for self-intersections, but for the operands known
   // valid: results of earlier booleans, and those one-to-one on the sphere around their centre.
   std::array<u32, 2> clash;
-  std::vector<char> checked = radially_embedded(soup, &trusted, &corners);
+  std::vector<char> checked = radially_embedded(soup, &trusted, corners);
   corners = {};
   for (std::size_t i = 0; i < operands.size(); ++i) checked[i] |= trusted[i];
   auto pairs = candidate_pairs(soup, &clash, false, &checked);

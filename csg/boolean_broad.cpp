@@ -468,29 +468,43 @@ std::vector<std::uint8_t> star_certificates(const Soup& soup, const CornerLists&
 // no two of its triangles meet beyond what they share. Convex and star-shaped operands (boxes,
 // cylinders, spheres: nearly every primitive) pass with c the mean of their vertices, in linear
 // time and without looking at pairs.
-std::vector<char> radially_embedded(const Soup& soup, const std::vector<char>* skip, const CornerLists* corners) {
+std::vector<char> radially_embedded(const Soup& soup, const std::vector<char>* skip, const CornerLists& corners) {
   const int nops = soup.operands;
-  std::vector<Vec3> centers(nops, Vec3::Zero());
-  std::vector<std::size_t> count(nops, 0), faces(nops, 0);
-  std::vector<std::int32_t> last(soup.verts.size(), -1);
-  std::vector<std::size_t> verts(nops, 0);
-  for (std::size_t t = 0; t < soup.tris.size(); ++t) {
-    const int op = soup.operand[t];
-    ++faces[op];
-    for (u32 v : soup.tris[t]) {
-      if (last[v] == op) continue;  // an operand's triangles are consecutive in the soup
-      last[v] = op;
-      ++verts[op];
-      centers[op] += soup.verts[v];
+  std::vector<std::size_t> faces(nops, 0);
+  for (std::size_t t = 0; t < soup.tris.size(); ++t) ++faces[soup.operand[t]];
+  // Each operand's vertices (a vertex's corners of one operand are one run of its list): their
+  // number and mean, per block of vertices in parallel, the blocks summed in order.
+  const std::size_t nv = soup.verts.size(), blocks = (nv + 65535) / 65536;
+  std::vector<std::vector<Vec3>> sums(blocks);
+  std::vector<std::vector<std::size_t>> counts(blocks);
+  parallel_for(0, blocks, [&](std::size_t b) {
+    sums[b].assign(nops, Vec3::Zero());
+    counts[b].assign(nops, 0);
+    for (std::size_t v = b * 65536; v < std::min(nv, (b + 1) * 65536); ++v) {
+      std::int32_t prev = -1;
+      for (u32 k = corners.off[v]; k < corners.off[v + 1]; ++k) {
+        const std::int32_t op = soup.operand[static_cast<u32>(corners.next[k])];
+        if (op == prev) continue;
+        prev = op;
+        sums[b][op] += soup.verts[v];
+        ++counts[b][op];
+      }
     }
-  }
+  });
+  std::vector<Vec3> centers(nops, Vec3::Zero());
+  std::vector<std::size_t> verts(nops, 0);
+  for (std::size_t b = 0; b < blocks; ++b)
+    for (int op = 0; op < nops; ++op) {
+      centers[op] += sums[b][op];
+      verts[op] += counts[b][op];
+    }
   std::vector<char> pass(nops, 0);
   std::vector<char> todo(nops, 0);
   for (int op = 0; op < nops; ++op) {
     todo[op] = (!skip || !(*skip)[op]) && faces[op] > 0 && faces[op] % 2 == 0;
     centers[op] /= static_cast<double>(std::max<std::size_t>(verts[op], 1));
   }
-  const auto cert = corners ? star_certificates(soup, *corners, &centers) : star_certificates(soup, skip, nullptr, &centers);
+  const auto cert = star_certificates(soup, corners, &centers);
   std::vector<char> all(nops, 1);
   for (std::size_t t = 0; t < soup.tris.size(); ++t)
     if (cert[t] != 7) all[soup.operand[t]] = 0;

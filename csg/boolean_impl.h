@@ -435,10 +435,8 @@ std::vector<std::uint8_t> star_certificates(const Soup& soup, const CornerLists&
                                             const std::vector<Vec3>* centers = nullptr);
 // Per operand: whether it is certainly free of self-intersections because it is one shell seen
 // one-to-one from the mean of its vertices (see boolean_broad.cpp); operands marked in `skip`
-// are not looked at (false). `corners`, if given, are the corner lists of the operands not
-// skipped.
-std::vector<char> radially_embedded(const Soup& soup, const std::vector<char>* skip = nullptr,
-                                    const CornerLists* corners = nullptr);
+// are not looked at (false). `corners`: the corner lists of the operands not skipped.
+std::vector<char> radially_embedded(const Soup& soup, const std::vector<char>* skip, const CornerLists& corners);
 // Whether triangles t and u share a vertex whose star is certified (so they cannot clash).
 inline bool certified_pair(const Soup& soup, const std::vector<std::uint8_t>& cert, u32 t, u32 u) {
   const auto &T = soup.tris[t], &U = soup.tris[u];

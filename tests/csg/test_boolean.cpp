@@ -265,7 +265,7 @@ TEST_CASE("boolean: operands seen one-to-one from their centre skip the pairwise
   using namespace boolean_detail;
   auto embedded = [](const std::vector<const Mesh*>& ms) {
     const Soup soup = make_soup(ms);
-    return radially_embedded(soup);
+    return radially_embedded(soup, nullptr, corner_lists(soup, nullptr));
   };
   // A box, a sphere and a cylinder (convex: every triangle seen from the centre one way round).
   const Mesh b = cube(0, 0, 0, 2), s = sphere(Vec3(5, 0, 0), 1, 16);
