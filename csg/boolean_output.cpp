@@ -554,23 +554,30 @@ BooleanResult assemble(const Points& pts, const Arrangement& arr, const std::vec
         u32 ce;
         int s;        // s_i
         Plane plane;  // the source triangle's plane
-        Vec3 n;       // its approximate normal (only to tell parallel normals' directions apart)
+        u32 tri;      // the source triangle
         int half = 0;
       };
       std::vector<Sheet> sh;
       for (std::size_t x = i; x < j; ++x) {
         u32 t = half[x].value / 3, ei = half[x].value % 3;
-        const auto& S = soup.tris[src[t]];
-        const Vec3 n = (soup.verts[S[1]] - soup.verts[S[0]]).cross(soup.verts[S[2]] - soup.verts[S[0]]);
         const int s_i = (tris[t][ei] == a ? 1 : -1) * (flipped[t] ? -1 : 1);
-        sh.push_back({half[x].value, s_i, Plane::of_triangle(S), n});
+        sh.push_back({half[x].value, s_i, Plane::of_triangle(soup.tris[src[t]]), src[t]});
       }
+      // Whether parallel normals n_x, n_y point the same way (exact): n_y's component along x's
+      // axis has the sign of n_x's there. (The dot product of the normals in doubles underflowed
+      // to 0 at size 1e-91, and two cubes sharing an edge came out with "an open edge".)
+      auto same_way = [&](const Sheet& x, const Sheet& y) {
+        const int k = soup.axis[x.tri], i = (k + 1) % 3, j = (k + 2) % 3;
+        const auto& U = soup.tris[y.tri];
+        const Vec3 &p = soup.verts[U[0]], &q = soup.verts[U[1]], &r = soup.verts[U[2]];
+        return soup.axis_sign[x.tri] * orient2d_fast(p[i], p[j], q[i], q[j], r[i], r[j]) > 0;
+      };
       // ccw(x, y) > 0: y lies less than a half-turn counter-clockwise of x about e.
       auto ccw = [&](const Sheet& x, const Sheet& y) { return x.s * y.s * ek * pts.cross_sign(x.plane, y.plane, k); };
       for (Sheet& y : sh) {
         const int c = ccw(sh[0], y);
         if (c != 0) y.half = c > 0 ? 0 : 1;
-        else y.half = (y.s * (sh[0].n.dot(y.n) > 0 ? 1 : -1) == sh[0].s) ? 0 : 1;  // same or opposite direction
+        else y.half = (y.s * (same_way(sh[0], y) ? 1 : -1) == sh[0].s) ? 0 : 1;  // same or opposite direction
       }
       std::sort(sh.begin(), sh.end(), [&](const Sheet& x, const Sheet& y) {
         if (x.half != y.half) return x.half < y.half;

@@ -157,3 +157,49 @@ TEST_CASE("boolean scale: a 1e-30 box with a 1e30 one, and a tiny feature on a p
     }
   }
 }
+
+TEST_CASE("boolean scale: degenerate and near-degenerate configurations at 1e-80 and 2^+-300", "[boolean]") {
+  // Issue 11's degenerate cases (coplanar faces, shared edges and vertices, slivers, nested, ...)
+  // and boxes turned by 1e-12 rad or moved by an ulp, each at size 1 and scaled: the same volume.
+  std::vector<BooleanCase> cases = degenerate_cases();
+  const Mesh cube = box_mesh({-0.5, -0.5, -0.5}, {1, 1, 1});
+  for (double angle : {1e-12, 1e-15}) {
+    BooleanCase c;
+    c.name = "a cube and the cube turned by " + std::to_string(angle) + " rad";
+    c.operands = {cube, box_mesh({-0.5, -0.5, -0.5}, {1, 1, 1}, rotate(angle * 180 / kPi, Vec3(1, 2, 3)))};
+    cases.push_back(c);
+  }
+  {
+    BooleanCase c;
+    c.name = "a cube and the cube an ulp higher";
+    Mesh up = cube;
+    for (Point3& p : up.positions) p.z() = std::nextafter(p.z(), 1.0);
+    c.operands = {cube, up};
+    cases.push_back(c);
+  }
+  for (const BooleanCase& c : cases) {
+    std::vector<const Mesh*> unit_ops;
+    double largest = 0;  // a scale that is not a power of two moves vertices by an ulp: volumes by this much
+    for (const Mesh& m : c.operands) {
+      unit_ops.push_back(&m);
+      largest = std::max(largest, exact_volume(m));
+    }
+    for (int o = 0; o < 3; ++o) {
+      const BooleanResult unit = boolean(kOps[o], unit_ops);
+      const double want = exact_volume(unit.mesh);
+      for (double s : {1e-80, std::ldexp(1.0, -300), std::ldexp(1.0, 300)}) {
+        std::vector<Mesh> ops;
+        for (const Mesh& m : c.operands) ops.push_back(scaled(m, s));
+        std::vector<const Mesh*> ptrs;
+        for (const Mesh& m : ops) ptrs.push_back(&m);
+        for (const auto& [engine, engine_name] : kEngines) {
+          INFO(c.name << ", " << boolean_op_name(kOps[o]) << ", " << name(s) << " by " << engine_name);
+          const BooleanResult r = engine(kOps[o], ptrs);
+          require_valid(r.mesh);
+          if (want == 0) CHECK(r.mesh.empty());
+          else CHECK(unit_volume(r.mesh, s) == Approx(want).epsilon(1e-9).margin(std::ldexp(1.0, std::ilogb(s)) == s ? 0.0 : 1e-12 * largest));
+        }
+      }
+    }
+  }
+}
