@@ -79,12 +79,17 @@ std::array<Vec2, 3> interpolated_uv(const Mesh& in, const CornerUvs& in_uv, std:
   if (!finite(uv[0]) || !finite(uv[1]) || !finite(uv[2])) return res;
   const auto& T = in.triangles[source];
   const Point3 &a = in.positions[T[0]], &b = in.positions[T[1]], &c = in.positions[T[2]];
-  const Vec3 e1 = b - a, e2 = c - a;
+  // Measured in units of the triangle's size (a power of two: exact): the products below are of
+  // degree 4 in its coordinates, and at size 1e80 (1e-85) they overflowed (underflowed), every
+  // corner got the source's first uv, and the curved volume lost its caps.
+  const double unit = std::ldexp(1.0, std::ilogb(std::max((b - a).cwiseAbs().maxCoeff(), (c - a).cwiseAbs().maxCoeff())));
+  if (!(unit > 0) || !std::isfinite(unit)) return res;
+  const Vec3 e1 = (b - a) / unit, e2 = (c - a) / unit;
   const double d11 = e1.dot(e1), d12 = e1.dot(e2), d22 = e2.dot(e2), det = d11 * d22 - d12 * d12;
   for (int k = 0; k < 3; ++k) {
     const Point3& p = out.positions[out.triangles[t][static_cast<std::size_t>(k)]];
     // Barycentric coordinates of p's projection into the source triangle's plane.
-    const Vec3 w = p - a;
+    const Vec3 w = (p - a) / unit;
     const double w1 = w.dot(e1), w2 = w.dot(e2);
     double l1 = det > 0 ? (d22 * w1 - d12 * w2) / det : 0, l2 = det > 0 ? (d11 * w2 - d12 * w1) / det : 0;
     res[static_cast<std::size_t>(k)] = uv[0] + l1 * (uv[1] - uv[0]) + l2 * (uv[2] - uv[0]);
