@@ -49,4 +49,8 @@ std::string closed_manifold_outward(const Mesh& m);
 // nowhere else. `where`, if given, receives the first offending pair with coordinates.
 bool exact_self_intersects(const Mesh& m, std::string* where = nullptr);
 
+// "" for a valid result (closed_manifold_outward and no exact self-intersection), else the first
+// defect with its place.
+std::string result_defect(const Mesh& m);
+
 }  // namespace wedge::testing

@@ -87,7 +87,17 @@ std::string closed_manifold_outward(const Mesh& m) {
     }
   }
   if (nt > 0) {
-    const double vol = polyhedron_volume(m);
+    // In units of the mesh's size (a power of two: exact) where that is far from 1: a solid 1e-150
+    // wide has a volume below the doubles.
+    const int e = m.bounds().empty() ? 0 : -std::ilogb(m.bounds().size().maxCoeff());
+    double vol = 0;
+    if (std::abs(e) <= 100) {
+      vol = polyhedron_volume(m);
+    } else {
+      Mesh unit = m;
+      for (Point3& p : unit.positions) p = Point3(std::ldexp(p.x(), e), std::ldexp(p.y(), e), std::ldexp(p.z(), e));
+      vol = polyhedron_volume(unit);
+    }
     if (!(vol > 0)) {
       std::ostringstream s;
       s.precision(17);
@@ -96,6 +106,12 @@ std::string closed_manifold_outward(const Mesh& m) {
     }
   }
   return "";
+}
+
+std::string result_defect(const Mesh& m) {
+  std::string d = closed_manifold_outward(m);
+  if (d.empty() && exact_self_intersects(m, &d) && d.empty()) d = "self-intersection";
+  return d;
 }
 
 }  // namespace wedge::testing
