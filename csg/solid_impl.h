@@ -1,6 +1,9 @@
 // The CSG tree's node and a node's evaluated result: private to csg/ (solid.cpp evaluates the
-// tree; solid_node.cpp holds the node's own functions). Not installed (named *_impl.h).
+// tree, solid_boolean.cpp its boolean nodes; solid_node.cpp holds the node's own functions).
+// Not installed (named *_impl.h).
 #pragma once
+#include <algorithm>
+#include <atomic>
 #include <functional>
 #include <map>
 #include <memory>
@@ -72,5 +75,54 @@ struct Solid::Node {
         depth(o.depth) {}
   ~Node();
 };
+
+// The tree's evaluation, shared by its two files.
+namespace tree_detail {
+
+using NodePtr = std::shared_ptr<const Solid::Node>;
+
+// One evaluation from a public entry point: the control, and the count of boolean nodes for the
+// progress callback.
+struct Run {
+  const EvalControl* control = nullptr;
+  EvalOptions options;
+  std::size_t total = 0;
+  std::atomic<std::size_t> done{0};
+  std::mutex stats_mutex;
+  CancelCheck cancel;
+  std::size_t max_crossings = kDefaultMaxCrossings;  // the engine's work budget (Tolerance::max_crossings)
+  std::size_t max_triangles = Tolerance{}.max_triangles;  // the triangle budget of any mesh made
+
+  void check() const {
+    if (control && control->cancelled && control->cancelled()) throw Cancelled();
+  }
+  void add(double EvalStats::*field, double ms) {
+    if (!control || !control->stats) return;
+    std::lock_guard<std::mutex> lock(stats_mutex);
+    control->stats->*field += ms;
+  }
+  void count(long EvalStats::*field) {
+    if (!control || !control->stats) return;
+    std::lock_guard<std::mutex> lock(stats_mutex);
+    ++(control->stats->*field);
+  }
+  void widest(long operands) {
+    if (!control || !control->stats) return;
+    std::lock_guard<std::mutex> lock(stats_mutex);
+    control->stats->widest = std::max(control->stats->widest, operands);
+  }
+  void boolean_done() {
+    std::size_t d = ++done;
+    if (control && control->progress) control->progress(std::min(d, total), total);
+  }
+};
+
+// solid.cpp: the node's result at tol, from its cache slot or computed (once, however many callers).
+std::shared_ptr<Evaluated> evaluate(const NodePtr& n, const Tolerance& tol, Run& run);
+
+// solid_boolean.cpp: a boolean node's result from its operands' (pruned, grouped, balanced).
+std::shared_ptr<Evaluated> evaluate_boolean(const Solid::Node& n, const Tolerance& tol, Run& run);
+
+}  // namespace tree_detail
 
 }  // namespace wedge
