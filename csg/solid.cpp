@@ -455,7 +455,18 @@ std::shared_ptr<const RebuiltSolid> Solid::rebuilt(const Tolerance& tol) const {
   std::lock_guard<std::mutex> lock(e->rebuild_mutex);
   if (!e->rebuilt) {
     auto t0 = std::chrono::steady_clock::now();
-    auto r = std::make_shared<RebuiltSolid>(rebuild_brep(e->mesh.welded()));
+    // A boolean result is closed by its own indices, and where two of its solids share only an
+    // edge or a vertex it holds one copy of each shared vertex per shell: welded by position, the
+    // copies made the edge non-manifold and the rebuild failed (cube(1) + cube(1):translate(1, 1, 0)
+    // was not valid, and faces() was an error). A mesh whose faces have vertices of their own (a
+    // moved leaf's) is welded to be closed.
+    bool closed = true;
+    try {
+      euler_counts(e->mesh);
+    } catch (const Error&) {
+      closed = false;
+    }
+    auto r = std::make_shared<RebuiltSolid>(rebuild_brep(closed ? e->mesh : e->mesh.welded()));
     // Each face carries the surface of the source face its triangles came from.
     r->model.faces().for_each([&](FaceId f, const BrepFace&) {
       const std::int32_t src = r->source.at(f.value);

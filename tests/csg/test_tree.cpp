@@ -854,3 +854,20 @@ TEST_CASE("tree: near-coincident intersections and differences go to the engine 
   CHECK(stats.widest == 10);
   set_eval_options({});
 }
+
+TEST_CASE("rebuild: two cubes that share only an edge, or only a vertex, are a valid solid of two shells", "[tree][rebuild]") {
+  // The engine keeps such shells apart with one copy of each shared vertex per shell; the rebuild
+  // welded the copies by position, made the shared edge non-manifold, and failed (is_valid was
+  // false, faces() an error). Two unit cubes: V 16, E 24, F 12, S 2 (16 - 24 + 12 - 4 = 0).
+  Tolerance tol;
+  for (const Point3& at : {Point3(1, 1, 0), Point3(1, 1, 1)}) {
+    INFO("second cube at " << at.transpose());
+    Solid u = Solid::boolean(BooleanOp::Union, {box_solid(Vec3(1, 1, 1)), box_solid(Vec3(1, 1, 1), at)});
+    CHECK(u.validate(tol).empty());
+    CHECK(u.euler(tol) == EulerCounts{16, 24, 12, 0, 0, 2});
+    const auto faces = u.faces(tol);
+    CHECK(kinds(faces) == std::map<std::string, int>{{"plane", 12}});
+    for (const auto& f : faces) CHECK(f.area == Approx(1.0));
+    CHECK(u.mass_properties(tol).volume == Approx(2.0));
+  }
+}
