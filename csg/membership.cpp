@@ -240,8 +240,10 @@ CellDecomposition decompose_cells(const Mesh& mesh, double size, double margin, 
   if (!(margin >= 0)) fail("cells: margin must be >= 0, got ", margin);
   Decomposer d{mesh, size, margin, max_cells, mesh.bounds(), {}};
   if (mesh.triangles.empty()) return d.out;
-  // The root is the bounds widened a little, so that no boundary lies on the root's faces.
-  double pad = std::max(margin, 1e-9 * d.bounds.diagonal()) + 1e-3 * size;
+  // The root is the bounds widened a little, so that no boundary lies on the root's faces; by a
+  // part of the cell size, or of the bounds when the size is larger (a size of 1e300 made the one
+  // root cell 1e297 wide, and volume_max infinite).
+  double pad = std::max(margin, 1e-9 * d.bounds.diagonal()) + 1e-3 * std::min(size, d.bounds.diagonal());
   // A relative floor on the margin keeps the double-precision touch test conservative.
   d.margin = std::max(margin, 1e-9 * d.bounds.diagonal());
   // Every leaf has its sides within (size/2, size] and the surface meets at least area / (sqrt 2

@@ -4,6 +4,7 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <limits>
 #include <random>
 
 #include "csg/brep_leaf.h"
@@ -145,4 +146,20 @@ TEST_CASE("cells: octree volume bounds bracket the exact volume and tighten", "[
   }
   CHECK_THROWS_WITH(box_solid(Vec3(1, 1, 1)).cells(0, tol), Catch::Contains("size must be a positive number"));
   CHECK_THROWS_WITH(box_solid(Vec3(1, 1, 1)).cells(1e-6, tol), Catch::Contains("choose a larger size"));
+}
+
+TEST_CASE("cells: a size larger than the solid gives one boundary cell about its bounds, not an infinite one", "[membership][cells]") {
+  // The root cell was the bounds widened by a thousandth of the size: 1e297 at size 1e300, so
+  // volume_max was infinite. The L-shaped difference has volume 7 in its 2 x 2 x 2 bounds.
+  Tolerance tol;
+  Solid d = Solid::boolean(BooleanOp::Difference, {box_solid(Vec3(2, 2, 2)), box_solid(Vec3(2, 2, 2), Point3(1, 1, 1))});
+  for (double size : {3.0, 1e10, 1e300, std::numeric_limits<double>::max()}) {
+    INFO("size " << size);
+    CellDecomposition c = d.cells(size, tol);
+    CHECK(c.boundary == 1);
+    CHECK(c.inside == 0);
+    CHECK(c.volume_min == 0);
+    CHECK(c.volume_max >= 7);
+    CHECK(c.volume_max <= 8 * 1.02);  // the bounds widened by a thousandth of their diagonal a side
+  }
 }
