@@ -11,34 +11,10 @@
 #include "csg/solid.h"
 #include "tessellate/brep_mesh.h"
 #include "tessellate/tessellate.h"
+#include "closed_surface.h"
 
 using namespace wedge;
 namespace fs = std::filesystem;
-
-namespace {
-// Each undirected edge of the welded mesh (vertices merged by exact position) and how often it
-// is used in each direction; closed and consistently oriented iff every edge has one of each.
-bool closed_and_oriented(const Mesh& mesh, std::size_t* vertices, std::size_t* edges) {
-  std::map<std::array<double, 3>, std::size_t> weld;
-  std::vector<std::size_t> id(mesh.positions.size());
-  for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
-    const Point3& p = mesh.positions[i];
-    id[i] = weld.emplace(std::array<double, 3>{p.x(), p.y(), p.z()}, weld.size()).first->second;
-  }
-  std::map<std::pair<std::size_t, std::size_t>, std::array<int, 2>> uses;
-  for (const auto& t : mesh.triangles)
-    for (int k = 0; k < 3; ++k) {
-      std::size_t a = id[t[k]], b = id[t[(k + 1) % 3]];
-      if (a == b) return false;
-      uses[{std::min(a, b), std::max(a, b)}][a < b ? 0 : 1]++;
-    }
-  *vertices = weld.size();
-  *edges = uses.size();
-  for (const auto& [e, n] : uses)
-    if (n[0] != 1 || n[1] != 1) return false;
-  return true;
-}
-}  // namespace
 
 TEST_CASE("curved solids round-trip through OBJ, STL, PLY and OFF with identical topology", "[mesh_io][curved]") {
   fs::path dir = fs::temp_directory_path() / ("wedge-curved-" + std::to_string(::getpid()));

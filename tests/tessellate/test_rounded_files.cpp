@@ -17,31 +17,12 @@
 #include "csg/csg.h"
 #include "kernel/transform.h"
 #include "tessellate/mesh_io.h"
+#include "closed_surface.h"
 
 using namespace wedge;
 namespace fs = std::filesystem;
 
 namespace {
-// Every undirected edge of the mesh welded by exact position used once in each direction, and
-// no triangle with two corners at one point.
-bool closed_and_oriented(const Mesh& mesh) {
-  std::map<std::array<double, 3>, std::size_t> weld;
-  std::vector<std::size_t> id(mesh.positions.size());
-  for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
-    const Point3& p = mesh.positions[i];
-    id[i] = weld.emplace(std::array<double, 3>{p.x(), p.y(), p.z()}, weld.size()).first->second;
-  }
-  std::map<std::pair<std::size_t, std::size_t>, std::array<int, 2>> uses;
-  for (const auto& t : mesh.triangles)
-    for (int k = 0; k < 3; ++k) {
-      const std::size_t a = id[t[k]], b = id[t[(k + 1) % 3]];
-      if (a == b) return false;
-      uses[{std::min(a, b), std::max(a, b)}][a < b ? 0 : 1]++;
-    }
-  for (const auto& [e, n] : uses)
-    if (n[0] != 1 || n[1] != 1) return false;
-  return !uses.empty();
-}
 
 double reach(const Mesh& m) {
   double r = 0;
