@@ -183,6 +183,23 @@ PointDef canonical(PointDef d) {
   return d;
 }
 
+// A hash of a position (-0 as 0). Doubles of small integers have all-zero low bits: every bit is
+// mixed down (splitmix64's finaliser).
+std::uint64_t position_hash(const Vec3& at) {
+  auto bits = [](double x) {
+    std::uint64_t b;
+    x += 0.0;  // -0 is 0
+    std::memcpy(&b, &x, sizeof b);
+    return b;
+  };
+  auto mix = [](std::uint64_t z) {
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+    return z ^ (z >> 31);
+  };
+  return mix(mix(mix(bits(at.x())) ^ bits(at.y())) ^ bits(at.z()));
+}
+
 class Interner {
  public:
   // `expected`: about how many points will be interned (sizes the table once).
@@ -229,19 +246,7 @@ class Interner {
     by_position(d, at);
   }
   u32 by_position(const PointDef& raw, const Vec3& at) {
-    auto bits = [](double x) {
-      std::uint64_t b;
-      x += 0.0;  // -0 is 0
-      std::memcpy(&b, &x, sizeof b);
-      return b;
-    };
-    // Doubles of small integers have all-zero low bits: mix every bit down (splitmix64's finaliser).
-    auto mix = [](std::uint64_t z) {
-      z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
-      z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-      return z ^ (z >> 31);
-    };
-    const std::uint64_t h = mix(mix(mix(bits(at.x())) ^ bits(at.y())) ^ bits(at.z()));
+    const std::uint64_t h = position_hash(at);
     if (2 * (placed_.size() + 1) > where_.size()) {
       std::vector<u32> t(std::max<std::size_t>(1024, where_.size() * 2), kNone);
       for (u32 e = 0; e < placed_.size(); ++e) {
@@ -366,17 +371,6 @@ std::vector<std::array<u32, 2>> equal_points(const Points& pts, const std::vecto
   for (u32 p : ids) (pts.is_double(p) ? doubles : loose).push_back(p);
   {
     // Equal doubles: an open-addressing table of positions (-0 and +0 hash alike).
-    auto bits = [](double x) {
-      std::uint64_t b;
-      x += 0.0;
-      std::memcpy(&b, &x, sizeof b);
-      return b;
-    };
-    auto mix = [](std::uint64_t z) {
-      z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
-      z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-      return z ^ (z >> 31);
-    };
     std::size_t size = 16;
     while (size < 2 * doubles.size()) size *= 2;
     std::vector<u32> table(size, kNone);
@@ -384,7 +378,7 @@ std::vector<std::array<u32, 2>> equal_points(const Points& pts, const std::vecto
       if ((n & 0xffff) == 0) soup.poll();
       const u32 p = doubles[n];
       const Vec3& at = pts.approx(p);
-      std::size_t slot = mix(mix(mix(bits(at.x())) ^ bits(at.y())) ^ bits(at.z())) & (size - 1);
+      std::size_t slot = position_hash(at) & (size - 1);
       for (; table[slot] != kNone; slot = (slot + 1) & (size - 1))
         if (pts.approx(table[slot]) == at) {
           out.push_back({std::min(p, table[slot]), std::max(p, table[slot])});
