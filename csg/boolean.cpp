@@ -7,6 +7,7 @@
 #include <cstring>
 #include <mutex>
 #include <sstream>
+#include <unordered_map>
 
 #include <tbb/task_arena.h>
 
@@ -173,24 +174,147 @@ Soup boolean_detail::make_soup(const std::vector<const Mesh*>& operands, const I
   std::size_t n = s.tris.size();
   s.axis.resize(n);
   s.axis_sign.resize(n);
-  parallel_for(0, n, [&](std::size_t t) {
-    const auto& T = s.tris[t];
-    const Vec3 &a = s.verts[T[0]], &b = s.verts[T[1]], &c = s.verts[T[2]];
-    Vec3 nrm = (b - a).cross(c - a);
-    int order[3] = {0, 1, 2};
-    std::sort(order, order + 3, [&](int x, int y) { return std::abs(nrm[x]) > std::abs(nrm[y]); });
-    s.axis[t] = -1;
-    for (int k : order) {
-      int i = (k + 1) % 3, j = (k + 2) % 3;
-      int o = orient2d_fast(a[i], a[j], b[i], b[j], c[i], c[j]);
-      if (o != 0) {
-        s.axis[t] = static_cast<std::int8_t>(k);
-        s.axis_sign[t] = static_cast<std::int8_t>(o);
-        break;
+  parallel_for(0, n, [&](std::size_t t) { set_axis(s, t); });
+  return s;
+}
+
+// k(T): the axis along which triangle t's normal is largest whose projection is not flat, and
+// the sign of its normal there; -1 when t has zero area.
+void boolean_detail::set_axis(Soup& s, std::size_t t) {
+  const auto& T = s.tris[t];
+  const Vec3 &a = s.verts[T[0]], &b = s.verts[T[1]], &c = s.verts[T[2]];
+  Vec3 nrm = (b - a).cross(c - a);
+  int order[3] = {0, 1, 2};
+  std::sort(order, order + 3, [&](int x, int y) { return std::abs(nrm[x]) > std::abs(nrm[y]); });
+  s.axis[t] = -1;
+  for (int k : order) {
+    int i = (k + 1) % 3, j = (k + 2) % 3;
+    int o = orient2d_fast(a[i], a[j], b[i], b[j], c[i], c[j]);
+    if (o != 0) {
+      s.axis[t] = static_cast<std::int8_t>(k);
+      s.axis_sign[t] = static_cast<std::int8_t>(o);
+      break;
+    }
+  }
+}
+
+// Mends the zero-area triangles of the operands marked in `check` where that moves no point of
+// the surface. A triangle with two corners at one vertex is dropped: its other two edges' twins
+// become each other's. A flat triangle x, m, y (m inside the segment from x to y) is made from
+// its neighbour x, y, d across the long edge: the two become x, m, d and m, y, d, the same
+// points as before (meshes rounded to floats, as STL files are, have such slivers). A flat
+// triangle whose neighbour is flat too, or whose long edge has no one neighbour, is left for
+// soup_defects to report. The mended triangles keep the neighbour's provenance.
+void boolean_detail::mend_flat_triangles(Soup& s, const std::vector<char>& check) {
+  std::vector<u32> flat;
+  for (std::size_t t = 0; t < s.tris.size(); ++t)
+    if (s.axis[t] < 0 && check[static_cast<std::size_t>(s.operand[t])]) flat.push_back(static_cast<u32>(t));
+  if (flat.empty()) return;
+  std::vector<char> removed(s.tris.size(), 0), operand_hit(static_cast<std::size_t>(s.operands), 0);
+  for (u32 t : flat) operand_hit[static_cast<std::size_t>(s.operand[t])] = 1;
+  auto key = [](u32 a, u32 b) { return static_cast<std::uint64_t>(a) << 32 | b; };
+  bool any_removed = false;
+  for (bool progress = true; progress && !flat.empty();) {
+    progress = false;
+    s.poll();
+    // Each flat triangle's wanted neighbour edge x -> y (its own long edge reversed).
+    struct Want {
+      u32 t, x, m, y;
+      u32 found = kNone;
+      int count = 0;
+    };
+    std::vector<Want> want;
+    std::unordered_multimap<std::uint64_t, std::size_t> by_edge;
+    std::vector<u32> pending;
+    for (u32 t : flat) {
+      const auto& T = s.tris[t];
+      if (T[0] == T[1] || T[1] == T[2] || T[0] == T[2]) {
+        removed[t] = 1;  // two corners at one vertex
+        any_removed = progress = true;
+        continue;
+      }
+      // The middle corner: along the axis of the largest extent the three coordinates differ.
+      int k = 0;
+      double ext = -1;
+      for (int d = 0; d < 3; ++d) {
+        const double lo = std::min({s.verts[T[0]][d], s.verts[T[1]][d], s.verts[T[2]][d]});
+        const double hi = std::max({s.verts[T[0]][d], s.verts[T[1]][d], s.verts[T[2]][d]});
+        if (hi - lo > ext) ext = hi - lo, k = d;
+      }
+      int mid = 0;
+      for (int c = 0; c < 3; ++c) {
+        const double v = s.verts[T[c]][k], p = s.verts[T[(c + 1) % 3]][k], q = s.verts[T[(c + 2) % 3]][k];
+        if ((p < v && v < q) || (q < v && v < p)) mid = c;
+      }
+      Want w{t, T[(mid + 2) % 3], T[mid], T[(mid + 1) % 3]};
+      by_edge.emplace(key(w.x, w.y), want.size());
+      want.push_back(w);
+      pending.push_back(t);
+    }
+    // The triangles with those edges, in the same operands.
+    for (std::size_t u = 0; u < s.tris.size(); ++u) {
+      if (removed[u] || !operand_hit[static_cast<std::size_t>(s.operand[u])]) continue;
+      const auto& U = s.tris[u];
+      for (int c = 0; c < 3; ++c) {
+        auto [lo, hi] = by_edge.equal_range(key(U[c], U[(c + 1) % 3]));
+        for (auto it = lo; it != hi; ++it) {
+          Want& w = want[it->second];
+          if (s.operand[u] != s.operand[w.t]) continue;
+          w.found = static_cast<u32>(u);
+          ++w.count;
+        }
       }
     }
-  });
-  return s;
+    std::vector<char> touched(s.tris.size(), 0);
+    flat.clear();
+    for (const Want& w : want) {
+      const u32 n = w.found;
+      if (w.count != 1 || touched[w.t] || touched[n] || removed[n]) {
+        if (w.count == 1 && !removed[w.t]) flat.push_back(w.t);  // again, next round
+        continue;
+      }
+      const auto& N = s.tris[n];
+      int at = 0;
+      while (N[at] != w.x) ++at;
+      const u32 d = N[(at + 2) % 3];
+      if (d == w.m) {
+        // The neighbour is the same three vertices the other way round: the two bound nothing.
+        removed[w.t] = removed[n] = 1;
+        any_removed = progress = true;
+        continue;
+      }
+      if (s.axis[n] < 0) {  // flat too: perhaps mended first this round
+        flat.push_back(w.t);
+        continue;
+      }
+      s.tris[w.t] = {w.x, w.m, d};
+      s.tris[n] = {w.m, w.y, d};
+      s.local[w.t] = s.local[n];
+      s.face_id[w.t] = s.face_id[n];
+      set_axis(s, w.t);
+      set_axis(s, n);
+      touched[w.t] = touched[n] = 1;
+      progress = true;
+    }
+  }
+  if (!any_removed) return;
+  std::size_t k = 0;
+  for (std::size_t t = 0; t < s.tris.size(); ++t) {
+    if (removed[t]) continue;
+    s.tris[k] = s.tris[t];
+    s.operand[k] = s.operand[t];
+    s.local[k] = s.local[t];
+    s.face_id[k] = s.face_id[t];
+    s.axis[k] = s.axis[t];
+    s.axis_sign[k] = s.axis_sign[t];
+    ++k;
+  }
+  s.tris.resize(k);
+  s.operand.resize(k);
+  s.local.resize(k);
+  s.face_id.resize(k);
+  s.axis.resize(k);
+  s.axis_sign.resize(k);
 }
 
 std::vector<u32> boolean_detail::sort_edges(EdgeRecs& recs, std::size_t n, const Interrupt* interrupt) {
@@ -577,6 +701,7 @@ BooleanResult boolean_detail::boolean_as_given(BooleanOp op, const std::vector<c
     if (!d.empty()) fail("boolean: ", d);
   // The soup of all operands, and the checks of those not known valid on it.
   Soup soup = make_soup(operands, &interrupt);
+  mend_flat_triangles(soup, untrusted);
   CornerLists corners = corner_lists(soup, &untrusted);
   for (const auto& d : soup_defects(soup, corners, operands, names, untrusted))
     if (!d.empty()) fail("boolean: ", d);

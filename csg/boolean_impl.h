@@ -156,6 +156,11 @@ BooleanResult boolean_as_given(BooleanOp op, const std::vector<const Mesh*>& ope
 // Merges meshes into one soup (positions equal in value become one vertex; -0 is 0). The soup
 // polls `interrupt` (if any), from here on.
 Soup make_soup(const std::vector<const Mesh*>& meshes, const Interrupt* interrupt = nullptr);
+// Sets s.axis[t] and s.axis_sign[t] from triangle t's vertices (-1: zero area).
+void set_axis(Soup& s, std::size_t t);
+// Mends the zero-area triangles of the operands marked in `check` where no point moves (see
+// boolean.cpp); what it cannot mend stays for the operand check to report.
+void mend_flat_triangles(Soup& s, const std::vector<char>& check);
 // Whether triangles t and u meet anywhere but in the vertices or edge they share (exact).
 bool triangles_clash(const Soup& s, u32 t, u32 u);
 

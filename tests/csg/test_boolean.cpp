@@ -218,6 +218,61 @@ TEST_CASE("boolean: bad operands are errors naming the operand and the spot", "[
   }
 }
 
+namespace {
+
+// Cube c with a flat triangle: its triangle t's neighbour across the edge from t's corner k is
+// split at the edge's midpoint m, and the flat triangle (x, m, y) fills the slit, as a mesh
+// rounded to floats (an STL file) can have.
+Mesh with_flat_triangle(const Mesh& c, std::size_t t, int k) {
+  Mesh m = c;
+  const std::uint32_t x = m.triangles[t][k], y = m.triangles[t][(k + 1) % 3];
+  const std::uint32_t mid = m.add_vertex(0.5 * (m.positions[x] + m.positions[y]));
+  for (auto& u : m.triangles)
+    for (int c2 = 0; c2 < 3; ++c2)
+      if (u[c2] == y && u[(c2 + 1) % 3] == x) {
+        const std::uint32_t e = u[(c2 + 2) % 3];
+        u = {y, mid, e};
+        m.add_triangle(mid, x, e);
+        m.add_triangle(x, mid, y);
+        return m;
+      }
+  return m;
+}
+
+}  // namespace
+
+TEST_CASE("boolean: zero-area operand triangles that lose no point are mended, the rest reported", "[boolean]") {
+  const Mesh a = cube(0, 0, 0, 2), b = cube(1, 1, 1, 2);
+  for (std::size_t t = 0; t < 12; ++t)
+    for (int k = 0; k < 3; ++k) {
+      Mesh flat = with_flat_triangle(a, t, k);
+      REQUIRE(flat.triangles.size() == 14);
+      REQUIRE(collinear(flat.positions[flat.triangles[13][0]], flat.positions[flat.triangles[13][1]],
+                        flat.positions[flat.triangles[13][2]]));
+      BooleanResult r = boolean(BooleanOp::Difference, {&flat, &b});
+      require_solid(r.mesh);
+      CHECK(r.mesh.volume() == 7.0);
+      for (std::size_t i = 0; i < r.mesh.triangles.size(); ++i)
+        if (r.operand[i] == 0) CHECK(r.source[i] < 13);  // the flat one's place went to its neighbour
+      CHECK(boolean(BooleanOp::Union, {&b, &flat}).mesh.volume() == 15.0);
+    }
+  // Two flat triangles in a row: the second's neighbour is mended first.
+  Mesh two = with_flat_triangle(with_flat_triangle(a, 0, 0), 3, 1);
+  CHECK(boolean(BooleanOp::Intersection, {&two, &b}).mesh.volume() == 1.0);
+  // A triangle with two corners at one point is dropped: its other two edges meet their twins.
+  Mesh pinched = a;
+  pinched.add_triangle(pinched.triangles[0][0], pinched.triangles[0][0], pinched.triangles[0][1]);
+  pinched.add_triangle(pinched.triangles[0][1], pinched.triangles[0][0], pinched.triangles[0][0]);
+  CHECK(boolean(BooleanOp::Difference, {&pinched, &b}).mesh.volume() == 7.0);
+  // A flat triangle whose long edge has no neighbour is still an error naming it.
+  Mesh torn = with_flat_triangle(a, 0, 0);
+  const auto x = torn.triangles[13][0], y = torn.triangles[13][2];
+  for (std::size_t i = 0; i < 13; ++i)
+    for (int c = 0; c < 3; ++c)
+      if (torn.triangles[i][c] == x && torn.triangles[i][(c + 1) % 3] == y) torn.triangles.erase(torn.triangles.begin() + i);
+  CHECK_THROWS_WITH(boolean(BooleanOp::Union, a, torn), Catch::Contains("second operand has a zero-area triangle #"));
+}
+
 TEST_CASE("boolean: triangles around one vertex that cross each other are caught", "[boolean]") {
   // A double cone whose rim winds twice around its axis (a pentagram: five points taken 0, 144,
   // 288, 72, 216 degrees): closed, consistently oriented, outward, every vertex one fan;
