@@ -54,13 +54,19 @@ Mesh parse_mesh(std::string_view bytes, const std::string& format, const std::st
 // Vertices at one double position that share no edge stay apart: the copies a non-manifold
 // boolean result keeps. Then triangles with two corners at one vertex are dropped, and of the
 // triangles on one set of three vertices, pairs of opposite orientation (the fin of no volume a
-// collapse leaves where a thin sliver was). A closed mesh stays closed. Normals and uvs follow
-// their vertex (dropped with `floats`). `source` holds, for each triangle kept, its index in
-// `mesh`; `merged` counts the vertices merged away, `dropped` the triangles removed.
+// collapse leaves where a thin sliver was). Last, a triangle whose three distinct corners are exactly
+// collinear (zero area, as rounding can make a thin one) is mended: it goes, and its neighbour
+// across the long edge is split at the middle corner into two triangles on the same points
+// (repeated while a split leaves a flat half; on an open border it just goes). A closed mesh stays closed. Normals and uvs follow their vertex (dropped
+// with `floats`). `source` holds, for each triangle of the result, the index in `mesh` of the
+// triangle it came from (the halves of a split share it); `merged` counts the vertices merged
+// away, `dropped` the triangles removed before mending, `mended` the flat triangles mended, and
+// `flat` the flat triangles left (a mend that would repeat an edge: write_mesh refuses to write
+// such a mesh as STL, and writes it as it is in the other formats).
 struct FileMesh {
   Mesh mesh;
   std::vector<std::size_t> source;
-  std::size_t merged = 0, dropped = 0;
+  std::size_t merged = 0, dropped = 0, mended = 0, flat = 0;
 };
 FileMesh file_mesh(const Mesh& mesh, bool floats);
 

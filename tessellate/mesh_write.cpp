@@ -8,12 +8,15 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <map>
 #include <numeric>
 #include <string>
+#include <unordered_map>
 
 #include "kernel/error.h"
 #include "kernel/file_io.h"
 #include "kernel/kernel.h"
+#include "kernel/predicates.h"
 #include "tessellate/mesh_io.h"
 
 namespace wedge {
@@ -122,6 +125,9 @@ void write_stl(const Mesh& double_mesh, AtomicFile& file, bool ascii) {
          " triangles make non-manifold edges (vertices closer than a float's precision; write .ply or .obj, which keep doubles)");
   if (mesh.triangles.empty())
     fail("cannot write '", file.path(), "': every triangle collapses when rounded to STL's 32-bit floats");
+  if (rounded.flat != 0)
+    fail("cannot write '", file.path(), "': rounded to STL's 32-bit floats, ", rounded.flat, " of ", mesh.triangles.size(),
+         " triangles have three collinear corners that cannot be mended (write .ply or .obj, which keep doubles)");
   if (ascii) {
     TextOut out(file);
     out << "solid wedge\n";
@@ -295,6 +301,133 @@ void write_ply(const Mesh& mesh, AtomicFile& file, bool ascii, bool normals, boo
   file.write(out);
 }
 
+// A triangle of file_mesh's on its merged vertices, and the input triangle it comes from.
+struct FlatTri {
+  std::array<std::uint32_t, 3> v;
+  std::size_t source;
+};
+
+// Rounding can bring a triangle's three distinct corners onto one line (zero area: a reader, and
+// our own boolean's operand check, sees a degenerate triangle). Such a flat triangle x, y, m, with
+// m strictly inside segment x-y (decided exactly on the file's numbers), is removed and its
+// neighbour y, x, d across the long edge split into y, m, d and m, x, d: the same points, the
+// same surface in as many triangles. When that neighbour was flat too, its halves are, and they
+// are mended in turn. Neighbours are found by position, as a reader welds them (a uv seam's
+// copies of a vertex are one point); the halves keep the neighbour's own copies of y, x and d. A
+// flat triangle whose long edge has no neighbour (an open mesh's border) is removed: the border
+// runs through m instead; so is one whose neighbour is itself reversed (a fin on copies of its
+// points, which a far transform can round together), with that neighbour. A flat triangle stays when its long edge has more than one neighbour,
+// when its mend would repeat an edge (d already joined to m, other than by a half's reverse, with
+// which that half cancels) or when the steps run out;
+// `out.flat` counts those. `kept` is updated in place, in the order of the sources.
+void mend_flat(std::vector<FlatTri>& kept, const std::vector<std::array<double, 3>>& f, FileMesh& out) {
+  using u32 = std::uint32_t;
+  auto point = [&](u32 v) { return Point3(f[v][0], f[v][1], f[v][2]); };
+  auto flat = [&](const FlatTri& t) { return collinear(point(t.v[0]), point(t.v[1]), point(t.v[2])); };
+  std::vector<std::size_t> queue;
+  for (std::size_t t = 0; t < kept.size(); ++t)
+    if (flat(kept[t])) queue.push_back(t);
+  if (queue.empty()) return;
+  std::map<std::array<double, 3>, u32> weld;  // position -> its number
+  auto at = [&](u32 v) { return weld.emplace(f[v], static_cast<u32>(weld.size())).first->second; };
+  auto key = [&](u32 a, u32 b) { return std::uint64_t(at(a)) << 32 | at(b); };
+  constexpr std::size_t kMany = std::numeric_limits<std::size_t>::max();
+  std::unordered_map<std::uint64_t, std::size_t> edge;  // directed edge -> the triangle using it, or kMany
+  edge.reserve(kept.size() * 3);
+  auto enter = [&](std::size_t t) {
+    for (int k = 0; k < 3; ++k) {
+      auto [it, fresh] = edge.emplace(key(kept[t].v[k], kept[t].v[(k + 1) % 3]), t);
+      if (!fresh) it->second = kMany;
+    }
+  };
+  for (std::size_t t = 0; t < kept.size(); ++t) enter(t);
+  auto triangle_of = [&](u32 a, u32 b) {
+    const auto it = edge.find(key(a, b));
+    return it == edge.end() ? kMany : it->second;
+  };
+  std::vector<char> alive(kept.size(), 1);
+  auto remove = [&](std::size_t t) {
+    alive[t] = 0;
+    for (int k = 0; k < 3; ++k) {
+      auto it = edge.find(key(kept[t].v[k], kept[t].v[(k + 1) % 3]));
+      if (it != edge.end() && it->second == t) edge.erase(it);
+    }
+  };
+  auto add = [&](std::array<u32, 3> v, std::size_t source) {
+    kept.push_back({v, source});
+    alive.push_back(1);
+    enter(kept.size() - 1);
+    queue.push_back(kept.size() - 1);
+  };
+  // A mend makes new flat triangles only on the line of the old one, inside its long edge or
+  // sharing the neighbour's; the bound guards the loop against whatever a broken input does.
+  std::size_t steps = 4 * kept.size() + 64;
+  while (!queue.empty() && steps > 0) {
+    const std::size_t t = queue.back();
+    queue.pop_back();
+    if (!alive[t] || !flat(kept[t])) continue;
+    --steps;
+    // Along the axis on which the corners spread most, the collinear corners' order is the line's.
+    const std::array<u32, 3> c = kept[t].v;
+    auto spread = [&](int k) { return std::fabs(f[c[0]][k] - f[c[1]][k]) + std::fabs(f[c[0]][k] - f[c[2]][k]); };
+    int axis = 0;
+    for (int k = 1; k < 3; ++k)
+      if (spread(k) > spread(axis)) axis = k;
+    int mid = 0;
+    for (int k = 0; k < 3; ++k) {
+      const double a = f[c[(k + 1) % 3]][axis], b = f[c[(k + 2) % 3]][axis], m = f[c[k]][axis];
+      if ((a < m && m < b) || (b < m && m < a)) mid = k;
+    }
+    const u32 m = c[mid], x = c[(mid + 1) % 3], y = c[(mid + 2) % 3];  // the triangle is x, y, m
+    const auto across = edge.find(key(y, x));
+    if (across == edge.end()) {
+      remove(t);
+      ++out.mended;
+      continue;
+    }
+    const std::size_t nb = across->second;
+    if (nb == kMany || triangle_of(x, y) != t) continue;  // an edge of more than two triangles
+    // The neighbour's corners from y on: y', x', d (its own copies of y and x).
+    std::array<u32, 3> nv = kept[nb].v;
+    while (at(nv[0]) != at(y)) std::rotate(nv.begin(), nv.begin() + 1, nv.end());
+    const u32 d = nv[2];
+    if (at(d) == at(m)) {  // the neighbour is the flat triangle reversed, on copies of its points: a fin
+      remove(t);
+      remove(nb);
+      out.mended += 2;
+      continue;
+    }
+    // A half whose reverse is there already (a triangle on m, d and y', or on m, d and x') cancels
+    // with it instead of being added, as file_mesh's fins do; otherwise the edge m-d must be new.
+    auto third_at = [&](std::size_t r, u32 a, u32 b, u32 want) {
+      if (r == kMany) return false;
+      for (u32 v : kept[r].v)
+        if (at(v) != at(a) && at(v) != at(b)) return at(v) == at(want);
+      return false;
+    };
+    const std::size_t r = triangle_of(d, m), s = triangle_of(m, d);
+    const bool cancel_a = third_at(r, d, m, y), cancel_b = third_at(s, m, d, x);
+    if ((r != kMany || s != kMany) && !cancel_a && !cancel_b) continue;  // m-d is another edge already
+    const std::size_t source = kept[nb].source;
+    remove(t);
+    remove(nb);
+    if (cancel_a) remove(r);
+    else add({nv[0], m, d}, source);
+    if (cancel_b) remove(s);
+    else add({m, nv[1], d}, source);
+    ++out.mended;
+  }
+  std::vector<FlatTri> live;
+  live.reserve(kept.size());
+  for (std::size_t t = 0; t < kept.size(); ++t)
+    if (alive[t]) {
+      live.push_back(kept[t]);
+      out.flat += flat(kept[t]);
+    }
+  std::stable_sort(live.begin(), live.end(), [](const FlatTri& a, const FlatTri& b) { return a.source < b.source; });
+  kept = std::move(live);
+}
+
 }  // namespace
 
 FileMesh file_mesh(const Mesh& mesh, bool floats) {
@@ -368,7 +501,12 @@ FileMesh file_mesh(const Mesh& mesh, bool floats) {
   }
   std::sort(out.source.begin(), out.source.end());
   out.dropped = mesh.triangles.size() - out.source.size();
-  if (out.merged == 0 && out.dropped == 0 && !floats) {
+  std::vector<FlatTri> kept;
+  kept.reserve(out.source.size());
+  for (std::size_t t : out.source)
+    kept.push_back({{find(mesh.triangles[t][0]), find(mesh.triangles[t][1]), find(mesh.triangles[t][2])}, t});
+  mend_flat(kept, f, out);
+  if (out.merged == 0 && out.dropped == 0 && out.mended == 0 && !floats) {
     out.mesh = mesh;
     return out;
   }
@@ -378,20 +516,22 @@ FileMesh file_mesh(const Mesh& mesh, bool floats) {
   const bool normals = !floats && !mesh.normals.empty() && mesh.normals.size() == n;
   const bool uvs = !floats && !mesh.uvs.empty() && mesh.uvs.size() == n;
   std::vector<u32> index(n, std::numeric_limits<u32>::max());
-  for (std::size_t t : out.source) {
+  out.source.clear();
+  for (const FlatTri& k : kept) {
     Mesh::Triangle tri;
-    for (int k = 0; k < 3; ++k) {
-      const u32 v = find(mesh.triangles[t][k]);
+    for (int c = 0; c < 3; ++c) {
+      const u32 v = k.v[c];
       if (index[v] == std::numeric_limits<u32>::max()) {
         index[v] = static_cast<u32>(out.mesh.positions.size());
         out.mesh.positions.emplace_back(f[v][0], f[v][1], f[v][2]);
         if (normals) out.mesh.normals.push_back(mesh.normals[v]);
         if (uvs) out.mesh.uvs.push_back(mesh.uvs[v]);
       }
-      tri[k] = index[v];
+      tri[c] = index[v];
     }
     out.mesh.triangles.push_back(tri);
-    if (ids) out.mesh.face_ids.push_back(mesh.face_ids[t]);
+    out.source.push_back(k.source);
+    if (ids) out.mesh.face_ids.push_back(mesh.face_ids[k.source]);
   }
   return out;
 }
@@ -426,7 +566,7 @@ void write_mesh(const Mesh& mesh, const std::string& path, const MeshWriteOption
   FileMesh collapsed;
   if (format != "stl") {
     collapsed = file_mesh(mesh, false);
-    if (collapsed.dropped != 0) {
+    if (collapsed.dropped != 0 || collapsed.mended != 0) {
       if (!colours.empty()) {
         std::vector<Vec3> kept;
         for (std::size_t t : collapsed.source) kept.push_back(colours[t]);

@@ -15,6 +15,7 @@
 
 #include "csg/brep_leaf.h"
 #include "csg/csg.h"
+#include "kernel/predicates.h"
 #include "kernel/transform.h"
 #include "tessellate/mesh_io.h"
 #include "closed_surface.h"
@@ -38,6 +39,13 @@ struct TempDir {
     fs::remove_all(path, ec);
   }
 };
+
+// Triangles whose three corners are exactly collinear (zero area), by kernel/predicates.h.
+std::size_t flat_triangles(const Mesh& m) {
+  std::size_t n = 0;
+  for (const auto& t : m.triangles) n += collinear(m.positions[t[0]], m.positions[t[1]], m.positions[t[2]]);
+  return n;
+}
 
 Solid sphere_minus_cube() {
   return Solid::boolean(BooleanOp::Difference, {brep_solid(sphere(1)), brep_solid(box(Vec3(1, 1, 1), Point3::Zero()))});
@@ -69,6 +77,7 @@ TEST_CASE("boolean results round-trip through STL (32-bit floats) as closed vali
         write_mesh(mesh, path, options);
         const Mesh back = read_mesh(path);
         CHECK(closed_and_oriented(back));
+        CHECK(flat_triangles(back) == 0);
         CHECK(back.triangle_count() == mesh.triangle_count() - as_floats.dropped);
         const Solid s = Solid::from_mesh(back, "part.stl");
         CHECK(s.validate(tol).empty());
@@ -94,9 +103,34 @@ TEST_CASE("a boolean result moved far from the origin writes OBJ, PLY and OFF th
     write_mesh(mesh, path);
     const Mesh back = read_mesh(path);
     CHECK(closed_and_oriented(back));
+    CHECK(flat_triangles(back) == 0);
     CHECK(back.triangle_count() == mesh.triangle_count() - as_doubles.dropped);
     CHECK(Solid::from_mesh(back, name).validate(tol).empty());
     CHECK(std::abs(back.volume() - mesh.volume()) <= mesh.area() * d + 1e-9 * std::abs(mesh.volume()));
+  }
+}
+
+TEST_CASE("a drilled cylinder moved to 1e5 writes OBJ, PLY and OFF without zero-area triangles", "[mesh_io][rounding]") {
+  // Moved to x = 1e5 (doubles 1.5e-11 apart), the drill's seam rounds four vertices onto one
+  // line as two flat triangles sharing an edge; mending the first leaves a half that is the reverse
+  // of a neighbour, and the two cancel. The files read back closed, with no flat triangle.
+  TempDir dir;
+  Tolerance tol;
+  tol.chordal = 0.003;
+  const Solid drilled = Solid::boolean(BooleanOp::Difference, {brep_solid(cylinder(1, 2, Point3::Zero())),
+                                                               brep_solid(cylinder(0.5, 3, Point3::Zero())).transformed(rotate_x(90))});
+  const Mesh mesh = drilled.transformed(translate({1e5, 0, 0})).mesh(tol);
+  const FileMesh as_doubles = file_mesh(mesh, false);
+  CHECK(as_doubles.mended > 0);
+  CHECK(as_doubles.flat == 0);
+  for (const char* name : {"far.obj", "far.ply", "far.off"}) {
+    INFO(name);
+    const std::string path = (dir.path / name).string();
+    write_mesh(mesh, path);
+    const Mesh back = read_mesh(path);
+    CHECK(flat_triangles(back) == 0);
+    CHECK(closed_and_oriented(back));
+    CHECK(std::abs(back.volume() - mesh.volume()) <= 1e-9 * std::abs(mesh.volume()));
   }
 }
 
@@ -149,4 +183,72 @@ TEST_CASE("file_mesh keeps copies at one position that share no edge, and leaves
   CHECK(fin.dropped == 2);
   CHECK(fin.mesh.triangles.empty());
   CHECK(file_mesh(f, false).dropped == 0);  // as doubles the two points differ
+}
+
+TEST_CASE("an STL of sphere - cube has no zero-area triangle and reads back as a boolean operand", "[mesh_io][rounding]") {
+  // Rounded to floats, one thin triangle of sphere(1) - cube(1) (at the default tolerance) has its
+  // three distinct corners exactly on one line, at y = 0.99545568...: a reader, and the boolean's
+  // own operand check, saw a zero-area triangle. The writer mends it on the same points.
+  TempDir dir;
+  Tolerance tol;
+  const Mesh mesh = sphere_minus_cube().mesh(tol);
+  const FileMesh as_floats = file_mesh(mesh, true);
+  CHECK(as_floats.mended > 0);  // the reason for this test: rounding does make a flat triangle here
+  CHECK(as_floats.flat == 0);
+  const Solid cube = brep_solid(box(Vec3(0.5, 0.5, 0.5), Point3::Zero()));
+  for (bool ascii : {false, true}) {
+    INFO((ascii ? "ascii" : "binary"));
+    const std::string path = (dir.path / "part.stl").string();
+    MeshWriteOptions options;
+    options.ascii = ascii;
+    write_mesh(mesh, path, options);
+    const Mesh back = read_mesh(path);
+    CHECK(flat_triangles(back) == 0);
+    CHECK(closed_and_oriented(back));
+    CHECK(back.triangle_count() == mesh.triangle_count() - as_floats.dropped);
+    const Solid part = Solid::from_mesh(back, "part.stl");
+    CHECK(part.validate(tol).empty());
+    // The cube [0, 0.5]^3 lies in the cube [0, 1]^3 that was taken away: nothing changes.
+    const Solid cut = Solid::boolean(BooleanOp::Difference, {part, cube.transformed(translate({-0.25, -0.25, -0.25}))});
+    double v = 0;
+    REQUIRE_NOTHROW(v = cut.mass_properties(tol).volume);
+    CHECK(v == Approx(back.volume() - 0.125 + 0.125 / 8).epsilon(1e-6));
+  }
+}
+
+TEST_CASE("file_mesh mends a triangle that floats make flat by splitting its neighbour", "[mesh_io][rounding]") {
+  // A tetrahedron x, y, d, a whose edge x-y carries a sliver x, y, m: m is 1e-12 off the
+  // midpoint of x-y as doubles and on it as floats. Mended, the sliver goes and the base y, x, d
+  // becomes y, m, d and m, x, d: six triangles again, none flat, the tetrahedron's volume 4/3.
+  Mesh t;
+  const std::uint32_t x = t.add_vertex({1, 1, 1}), y = t.add_vertex({3, 1, 1}), d = t.add_vertex({2, 3, 1}),
+                      a = t.add_vertex({2, 2, 3}), m = t.add_vertex({2, 1 - 1e-12, 1 - 0.6e-12});
+  t.add_triangle(x, d, y);
+  t.add_triangle(x, y, m);
+  t.add_triangle(x, m, a);
+  t.add_triangle(m, y, a);
+  t.add_triangle(y, d, a);
+  t.add_triangle(d, x, a);
+  REQUIRE(closed_and_oriented(t));
+  REQUIRE(flat_triangles(t) == 0);
+  const FileMesh r = file_mesh(t, true);
+  CHECK(r.merged == 0);
+  CHECK(r.dropped == 0);
+  CHECK(r.mended == 1);
+  CHECK(r.flat == 0);
+  CHECK(r.mesh.triangle_count() == 6);
+  CHECK(flat_triangles(r.mesh) == 0);
+  CHECK(closed_and_oriented(r.mesh));
+  CHECK(r.mesh.volume() == Approx(4.0 / 3));
+  CHECK(std::count(r.source.begin(), r.source.end(), std::size_t(0)) == 2);  // both halves from the base
+  CHECK(file_mesh(t, false).mended == 0);  // as doubles nothing is flat
+
+  // With the base gone the sliver's long edge x-y is an open border: the sliver just goes.
+  Mesh open = t;
+  open.triangles.erase(open.triangles.begin());
+  const FileMesh o = file_mesh(open, true);
+  CHECK(o.mended == 1);
+  CHECK(o.flat == 0);
+  CHECK(o.mesh.triangle_count() == 4);
+  CHECK(flat_triangles(o.mesh) == 0);
 }
