@@ -30,6 +30,8 @@
 #include <numeric>
 #include <unordered_map>
 
+#include <tbb/task_group.h>
+
 #include "csg/boolean_impl.h"
 #include "kernel/error.h"
 #include "kernel/parallel.h"
@@ -780,7 +782,7 @@ Arrangement arrange(Points& pts, const std::vector<std::array<u32, 2>>& pairs) {
 
   // 4. Split segments at the points on them, and triangulate.
   std::vector<std::vector<Piece>> cut_pieces(work.size());
-  parallel_for(0, work.size(), [&](std::size_t wi) {
+  auto triangulate_one = [&](std::size_t wi) {
     soup.poll();
     TriWork& w = work[wi];
     u32 t = touched[wi];
@@ -861,7 +863,39 @@ Arrangement arrange(Points& pts, const std::vector<std::array<u32, 2>>& pairs) {
       auto h = cdt.insert(Pid(v));
       vh[v] = h;
     }
-    for (u32 p : points) {
+    // Many points (a plate's face) go in along a Morton curve over their projection, so each
+    // insertion starts its walk beside the last one's face.
+    std::vector<u32> order;
+    if (points.size() >= 512) {
+      const int i = (k + 1) % 3, j = (k + 2) % 3;
+      double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
+      for (u32 p : points) {
+        const Vec3& a = pts.approx(p);
+        lo[0] = std::min(lo[0], a[i]), hi[0] = std::max(hi[0], a[i]);
+        lo[1] = std::min(lo[1], a[j]), hi[1] = std::max(hi[1], a[j]);
+      }
+      auto spread = [](std::uint32_t x) {  // 16 bits to the even bits of 32
+        x &= 0xffff;
+        x = (x | (x << 8)) & 0x00ff00ffu;
+        x = (x | (x << 4)) & 0x0f0f0f0fu;
+        x = (x | (x << 2)) & 0x33333333u;
+        return (x | (x << 1)) & 0x55555555u;
+      };
+      std::vector<std::uint64_t> keyed(points.size());
+      for (std::size_t q = 0; q < points.size(); ++q) {
+        const Vec3& a = pts.approx(points[q]);
+        auto cell = [&](double v, int d) {
+          const double f = hi[d] > lo[d] ? (v - lo[d]) / (hi[d] - lo[d]) : 0.0;
+          return static_cast<std::uint32_t>((f > 0 ? (f < 1 ? f : 1.0) : 0.0) * 65535.0);  // NaN: 0
+        };
+        const std::uint64_t morton = spread(cell(a[i], 0)) | spread(cell(a[j], 1)) << 1;
+        keyed[q] = morton << 32 | static_cast<std::uint32_t>(q);
+      }
+      std::sort(keyed.begin(), keyed.end());
+      order.reserve(points.size());
+      for (std::uint64_t x : keyed) order.push_back(points[static_cast<std::uint32_t>(x)]);
+    }
+    for (u32 p : order.empty() ? points : order) {
       if ((++polled & 0xff) == 0) soup.poll();
       if (vh.count(p)) continue;
       auto h = cdt.insert(Pid(p), hint);
@@ -886,7 +920,28 @@ Arrangement arrange(Points& pts, const std::vector<std::array<u32, 2>>& pairs) {
       if (soup.axis_sign[t] < 0) std::swap(v[1], v[2]);
       out.push_back({v, t});
     }
+  };
+  // A few large triangles (a plate's face cut by hundreds of holes) can be most of this step,
+  // each on one thread: they start first, a task each, largest first, so two of them do not queue
+  // on one thread while the other idles; the rest follow in blocks.
+  std::vector<u32> heavy;
+  std::vector<char> is_heavy(work.size(), 0);
+  for (std::size_t wi = 0; wi < work.size(); ++wi)
+    if (work[wi].points.size() + work[wi].segs.size() >= 512) {
+      heavy.push_back(static_cast<u32>(wi));
+      is_heavy[wi] = 1;
+    }
+  std::stable_sort(heavy.begin(), heavy.end(), [&](u32 a, u32 b) {
+    return work[a].points.size() + work[a].segs.size() > work[b].points.size() + work[b].segs.size();
   });
+  tbb::task_group group;
+  for (u32 wi : heavy) group.run([&triangulate_one, wi] { triangulate_one(wi); });
+  group.run([&] {
+    parallel_for(0, work.size(), [&](std::size_t wi) {
+      if (!is_heavy[wi]) triangulate_one(wi);
+    });
+  });
+  group.wait();
 
   Arrangement arr;
   arr.coplanar.resize(nt);
