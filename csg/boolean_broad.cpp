@@ -218,7 +218,13 @@ void self_join(const Bvh& bvh, const std::vector<char>* active, Start&& start, V
     start(std::size_t(0));
     return;
   }
-  // Whether a subtree holds an active triangle (children follow their parent).
+  // Whether each item (in tree order) is active, and whether a subtree holds an active triangle
+  // (children follow their parent).
+  std::vector<char> item_act;
+  if (active) {
+    item_act.resize(items.size());
+    parallel_for(0, items.size(), [&](std::size_t i) { item_act[i] = (*active)[items[i]]; });
+  }
   std::vector<char> act(nodes.size(), 1);
   if (active)
     for (std::size_t i = nodes.size(); i-- > 0;) {
@@ -228,7 +234,7 @@ void self_join(const Bvh& bvh, const std::vector<char>* active, Start&& start, V
         continue;
       }
       act[i] = 0;
-      for (u32 k = nd.first; k < nd.first + nd.count; ++k) act[i] |= (*active)[items[k]];
+      for (u32 k = nd.first; k < nd.first + nd.count; ++k) act[i] |= item_act[k];
     }
   auto meet = [](const float* alo, const float* ahi, const float* blo, const float* bhi) {
     return alo[0] <= bhi[0] && blo[0] <= ahi[0] && alo[1] <= bhi[1] && blo[1] <= ahi[1] && alo[2] <= bhi[2] &&
@@ -275,7 +281,7 @@ void self_join(const Bvh& bvh, const std::vector<char>* active, Start&& start, V
     std::vector<Pair> stack{tasks[k]};
     std::size_t since_poll = 0;
     auto emit = [&](u32 i, u32 j) {
-      if (active && !(*active)[items[i]] && !(*active)[items[j]]) return;
+      if (active && !item_act[i] && !item_act[j]) return;
       if (!meet(boxes[i].data(), boxes[i].data() + 3, boxes[j].data(), boxes[j].data() + 3)) return;
       visit(k, i, j);
     };
@@ -316,10 +322,27 @@ std::vector<T> concatenate(std::vector<std::vector<T>>& parts) {
 
 }  // namespace
 
-void Bvh::each_pair(const std::vector<char>* active, const Soup* soup, const std::function<void(u32, u32)>& f) const {
+void Bvh::each_pair(const std::vector<char>* active, const Soup* soup, const std::function<void(u32, u32)>& f,
+                    const std::vector<std::uint8_t>* cert) const {
+  // What a visit reads, copied in tree order (the soup's order is not the walk's): the
+  // triangle's vertices and certified corners.
+  struct Item {
+    std::array<u32, 3> v;
+    std::uint8_t cert;
+  };
+  std::vector<Item> item;
+  if (cert && soup) {
+    item.resize(items.size());
+    parallel_for(0, items.size(), [&](std::size_t i) { item[i] = {soup->tris[items[i]], (*cert)[items[i]]}; });
+  }
   self_join(
       *this, active, [](std::size_t) {},
       [&](std::size_t, u32 i, u32 j) {
+        if (!item.empty()) {
+          const Item &I = item[i], &J = item[j];
+          for (int c = 0; c < 3; ++c)
+            if ((I.cert >> c & 1) && (I.v[c] == J.v[0] || I.v[c] == J.v[1] || I.v[c] == J.v[2])) return;
+        }
         const u32 t = items[i], u = items[j];
         f(std::min(t, u), std::max(t, u));
       },

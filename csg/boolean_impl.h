@@ -486,8 +486,11 @@ class Bvh {
   // triangle when `active` is null). One traversal of the tree against itself instead of a query
   // per triangle: each pair of subtrees is looked at once. f is called from several threads at
   // once, in no fixed order, and nothing is collected (a self-check meets millions of
-  // neighbouring pairs). `soup`, if given, is polled for a cancel request.
-  void each_pair(const std::vector<char>* active, const Soup* soup, const std::function<void(u32, u32)>& f) const;
+  // neighbouring pairs). `soup`, if given, is polled for a cancel request. With `cert` (and
+  // `soup`: star_certificates() of that soup), pairs that certified_pair() clears are left out
+  // inside the walk.
+  void each_pair(const std::vector<char>* active, const Soup* soup, const std::function<void(u32, u32)>& f,
+                 const std::vector<std::uint8_t>* cert = nullptr) const;
 
   struct Node { float lo[3], hi[3]; u32 first, count; u32 left, right; };  // leaf: count > 0
   std::vector<Node> nodes;

@@ -163,14 +163,17 @@ std::vector<u32> rounding_defects(const Mesh& m, const Rounding& rd) {
   const Bvh bvh(s, std::move(all), 3);
   // Pairs around a vertex whose star is certified embedded cannot cross.
   const auto cert = star_certificates(s, nullptr, &active);
-  bvh.each_pair(&active, rd.soup, [&](u32 t, u32 u) {
-    const bool want_t = active[t] && !bad[t].load(std::memory_order_relaxed);
-    const bool want_u = active[u] && !bad[u].load(std::memory_order_relaxed);
-    if ((want_t || want_u) && !certified_pair(s, cert, t, u) && triangles_clash(s, t, u)) {
-      if (active[t]) bad[t] = 1;
-      if (active[u]) bad[u] = 1;
-    }
-  });
+  bvh.each_pair(
+      &active, &s,
+      [&](u32 t, u32 u) {
+        const bool want_t = active[t] && !bad[t].load(std::memory_order_relaxed);
+        const bool want_u = active[u] && !bad[u].load(std::memory_order_relaxed);
+        if ((want_t || want_u) && triangles_clash(s, t, u)) {
+          if (active[t]) bad[t] = 1;
+          if (active[u]) bad[u] = 1;
+        }
+      },
+      &cert);
   std::vector<u32> out;
   for (std::size_t i = 0; i < n; ++i)
     if (bad[i]) out.push_back(orig(static_cast<u32>(i)));
