@@ -406,13 +406,24 @@ std::vector<std::uint8_t> star_certificates(const Soup& soup, const CornerLists&
   std::vector<std::uint8_t> mask(nt, 0);
   const std::vector<u32>& off = cl.off;
   soup.poll();
+  // Seen from an operand's centre, a triangle's orientation is the same from each of its three
+  // corners' stars (orient3d is unchanged by turning its first three points): once per triangle.
+  std::vector<std::int8_t> from_center;
+  if (centers) {
+    from_center.resize(nt);
+    parallel_for(0, nt, [&](std::size_t t) {
+      const auto& T = soup.tris[t];
+      from_center[t] = static_cast<std::int8_t>(
+          orient3d_fast(soup.verts[T[0]], soup.verts[T[1]], soup.verts[T[2]], (*centers)[soup.operand[t]]));
+    });
+  }
   parallel_for(0, (nv + 1023) / 1024, [&](std::size_t block) {
     soup.poll();
     struct Spoke {
       u32 a, b, rec;  // triangle (v, a, b) counter-clockwise, its record
     };
     std::vector<Spoke> star;
-    std::vector<u32> rim;
+    std::vector<u32> rim, rim_rec;
     for (std::size_t v = block * 1024; v < std::min(nv, (block + 1) * 1024); ++v) {
       for (u32 r0 = off[v]; r0 < off[v + 1];) {
         u32 r1 = r0;
@@ -434,9 +445,11 @@ std::vector<std::uint8_t> star_certificates(const Soup& soup, const CornerLists&
           return it != star.end() && it->a == a ? &*it : nullptr;
         };
         rim.clear();
+        rim_rec.clear();
         const Spoke* sp = &star[0];
         for (std::size_t n = 0; n < star.size() && sp; ++n) {
           rim.push_back(sp->a);
+          rim_rec.push_back(sp->rec);
           sp = next(sp->b);
         }
         if (!sp || sp != &star[0] || rim.size() != star.size()) continue;  // not one cycle
@@ -458,10 +471,15 @@ std::vector<std::uint8_t> star_certificates(const Soup& soup, const CornerLists&
         }
         if (W == V || !W.allFinite()) continue;
         auto orient = [&](const Vec3& a, const Vec3& b) { return orient3d_fast(V, a, b, W); };
+        // Spoke m's triangle (v, rim[m], rim[m + 1]) seen from W.
+        auto spoke = [&](std::size_t m) {
+          if (centers) return static_cast<int>(from_center[static_cast<u32>(cl.next[rim_rec[m]])]);
+          return orient(soup.verts[rim[m]], soup.verts[rim[(m + 1) % rim.size()]]);
+        };
         const std::size_t n = rim.size();
-        const int s = orient(soup.verts[rim[0]], soup.verts[rim[1]]);
+        const int s = spoke(0);
         if (s == 0) continue;
-        for (std::size_t m = 1; m < n && ok; ++m) ok = orient(soup.verts[rim[m]], soup.verts[rim[(m + 1) % n]]) == s;
+        for (std::size_t m = 1; m < n && ok; ++m) ok = spoke(m) == s;
         if (!ok) continue;
         // Winding number of the rim about v: the last step ends on the direction of a1 (one turn);
         // any earlier step that reaches or passes it adds a turn (a step ending on the line of a1
