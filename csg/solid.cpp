@@ -92,6 +92,90 @@ void check_tree_depth(int depth, const char* what) {
 
 namespace {
 
+// The node n moved by m (checked by Solid::transformed): a leaf that can move itself is a new leaf
+// (its tag kept), consecutive transforms fold into one node, anything else gets a transform node.
+NodePtr moved_node(const NodePtr& n, const Mat4& m) {
+  switch (n->kind) {
+    case Solid::Node::Kind::Empty: return n;
+    case Solid::Node::Kind::Leaf:
+      if (auto t = n->leaf->transformed(m)) {
+        auto out = std::make_shared<Solid::Node>();
+        out->kind = Solid::Node::Kind::Leaf;
+        out->leaf = std::move(t);
+        out->tag = n->tag;
+        return out;
+      }
+      break;
+    case Solid::Node::Kind::Transform: {
+      auto out = std::make_shared<Solid::Node>(*n);
+      out->matrix = m * n->matrix;
+      return out;
+    }
+    case Solid::Node::Kind::Boolean: break;
+  }
+  auto out = std::make_shared<Solid::Node>();
+  out->kind = Solid::Node::Kind::Transform;
+  out->matrix = m;
+  out->child = n;
+  out->depth = n->depth + 1;
+  check_tree_depth(out->depth, "transform");
+  return out;
+}
+
+// True when m moves every vertex of mesh without rounding: each row of its linear part has one
+// entry, a power of two (a translation, a mirror, a turn by 90 degrees, a scale by 2), and each
+// product and sum is exact (Knuth's two-sum leaves no error).
+bool moves_exactly(const Mesh& mesh, const Mat4& m) {
+  std::array<int, 3> col{};
+  for (int r = 0; r < 3; ++r) {
+    int nonzero = 0;
+    for (int c = 0; c < 3; ++c)
+      if (m(r, c) != 0) ++nonzero, col[r] = c;
+    int e = 0;
+    if (nonzero != 1 || std::frexp(std::abs(m(r, col[r])), &e) != 0.5) return false;
+  }
+  for (const Point3& p : mesh.positions)
+    for (int r = 0; r < 3; ++r) {
+      const double a = m(r, col[r]), t = m(r, 3), q = a * p[col[r]];
+      if (q / a != p[col[r]]) return false;  // under- or overflow
+      const double s = q + t, bq = s - q;
+      if ((q - (s - bq)) + (t - bq) != 0) return false;
+    }
+  return true;
+}
+
+// False when no triangle of `moved` has an edge or a height within 64 rounding steps of its
+// coordinates: rounding each vertex (by at most one step) can then neither flatten nor turn over a
+// triangle. Two sheets of fat triangles closer than that are not seen here; the engine's own
+// operand check still refuses them if they cross.
+bool thin_for_rounding(const Mesh& moved) {
+  double reach = 0;
+  for (const Point3& p : moved.positions) reach = std::max(reach, p.cwiseAbs().maxCoeff());
+  if (reach == 0) return true;
+  const double limit = 64 * std::ldexp(1.0, std::ilogb(reach) - 52);
+  for (const auto& t : moved.triangles) {
+    const Point3 &a = moved.positions[t[0]], &b = moved.positions[t[1]], &c = moved.positions[t[2]];
+    const double longest = std::max({(b - a).norm(), (c - b).norm(), (a - c).norm()});
+    if (!(longest > limit) || !((b - a).cross(c - a).norm() / longest > limit)) return true;
+  }
+  return false;
+}
+
+// The boolean node b with every operand moved by m: the same solid, moved, made by the engine
+// from moved operands instead of by moving b's result.
+NodePtr moved_operands(const Solid::Node& b, const Mat4& m) {
+  auto out = std::make_shared<Solid::Node>();
+  out->kind = Solid::Node::Kind::Boolean;
+  out->op = b.op;
+  out->tag = b.tag;
+  for (const NodePtr& o : b.operands()) {
+    out->parts.push_back({moved_node(o, m), false});
+    out->depth = std::max(out->depth, out->parts.back().node->depth + 1);
+  }
+  out->size = out->parts.size();
+  return out;
+}
+
 static_assert(Tolerance{}.max_crossings == kDefaultMaxCrossings, "one default work budget");
 
 Tolerance child_tolerance(const Solid::Node& n, const Tolerance& tol) {
@@ -171,6 +255,22 @@ std::shared_ptr<Evaluated> compute_untagged(const Solid::Node& n, const Toleranc
       const Box3 extent = c->mesh.empty() ? Box3() : c->mesh.bounds();
       out->surfaces.reserve(c->surfaces.size());
       for (const FaceSurface& f : c->surfaces) out->surfaces.push_back(transformed_surface(f, n.matrix, extent));
+      // A boolean result has vertices far closer together than a double's rounding at another
+      // place or scale (where a sphere's facet meets a cube's face, 1e-16 apart): moved, they can
+      // round into triangles that cross or have no area ((sphere(1) - cube(1)):scale(3) crossed
+      // itself, and a boolean refused it as an operand). Unless the move is exact or the mesh has
+      // no triangle that thin, the moved mesh is checked exactly, and a defective one is made
+      // again by the engine from moved operands.
+      if (n.child->kind == Solid::Node::Kind::Boolean && !out->mesh.empty() && !moves_exactly(c->mesh, n.matrix) &&
+          thin_for_rounding(out->mesh)) {
+        const auto t0 = std::chrono::steady_clock::now();
+        const bool defective = !mesh_solid_defect(out->mesh).empty();
+        run.add(&EvalStats::check, elapsed_ms(t0));
+        if (defective) {
+          run.count(&EvalStats::remade);
+          return evaluate(moved_operands(*n.child, n.matrix), tol, run);
+        }
+      }
       return out;
     }
     case Solid::Node::Kind::Boolean: {
@@ -385,26 +485,7 @@ Solid Solid::transformed(const Mat4& m) const {
            std::nextafter(reach, 2 * reach) - reach, " apart: a solid of size ", size,
            " there would lose its shape (keep its size above 1e-12 of its distance from the origin)");
   }
-  switch (node_->kind) {
-    case Node::Kind::Empty: return *this;
-    case Node::Kind::Leaf:
-      if (auto t = node_->leaf->transformed(m)) return node_->tag >= 0 ? Solid(std::move(t)).tagged(node_->tag) : Solid(std::move(t));
-      break;
-    case Node::Kind::Transform: {
-      // Fold consecutive transforms into one node.
-      auto n = std::make_shared<Node>(*node_);
-      n->matrix = m * node_->matrix;
-      return Solid(std::shared_ptr<const Node>(n));
-    }
-    case Node::Kind::Boolean: break;
-  }
-  auto n = std::make_shared<Node>();
-  n->kind = Node::Kind::Transform;
-  n->matrix = m;
-  n->child = node_;
-  n->depth = node_->depth + 1;
-  check_tree_depth(n->depth, "transform");
-  return Solid(std::shared_ptr<const Node>(n));
+  return Solid(moved_node(node_, m));
 }
 
 Mesh Solid::mesh(const Tolerance& tol) const {

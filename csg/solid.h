@@ -72,6 +72,7 @@ struct SolidFace {
 struct EvalStats {
   double tessellate = 0, check = 0, broad = 0, arrange = 0, classify = 0, output = 0, rebuild = 0;  // ms
   long booleans = 0, pruned = 0, cached = 0;
+  long remade = 0;  // moved boolean results that rounding spoiled, made again from moved operands
   long widest = 0;  // the most operands one engine pass took (see EvalOptions::union_fan_in)
 };
 struct EvalControl {

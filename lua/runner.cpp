@@ -155,6 +155,8 @@ void report_eval_stats(const EvalStats& s, std::ostream& err) {
   }
   err << "  " << s.booleans << " engine calls, " << s.pruned << " pruned by bounding boxes, " << s.cached
       << " answered from the cache\n";
+  if (s.remade > 0)
+    err << "  " << s.remade << " moved results made again from moved operands (rounding spoiled the moved mesh)\n";
 }
 
 void report_stats(const RunStats& stats, double total, const std::string& path, std::ostream& err) {
