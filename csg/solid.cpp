@@ -410,8 +410,14 @@ Solid Solid::boolean(BooleanOp op, std::vector<Solid> operands) {
   std::set<const Node*> spliced;
   for (std::size_t i = 0; i < operands.size(); ++i) {
     const NodePtr& o = operands[i].node_;
+    // b - b with b = x - y spliced would be x - y - b: b's mesh, rounded, is not exactly x - y,
+    // and slivers of it were left (36 triangles in 7 shells for b = sphere(1) - cube(1)). Kept whole,
+    // the subtrahend is the first operand itself, and the result is empty.
+    const auto subtracted_too = [&] {
+      return std::any_of(operands.begin() + 1, operands.end(), [&](const Solid& later) { return later.node_ == o; });
+    };
     bool splice = o->kind == Node::Kind::Boolean && o->op == op && o->tag < 0 && !cached(*o, Tolerance{}) &&
-                  (op != BooleanOp::Difference || i == 0) && n->size + o->size <= kMaxSpliced;
+                  (op != BooleanOp::Difference || (i == 0 && !subtracted_too())) && n->size + o->size <= kMaxSpliced;
     if (splice) splice = spliced.insert(o.get()).second;
     n->parts.push_back({o, splice});
     n->size += splice ? o->size : 1;

@@ -795,6 +795,10 @@ TEST_CASE("tree: a thousand coincident operands, intersected, unioned or subtrac
   Solid a = box_solid(Vec3(2, 2, 2));
   Solid e = Solid::boolean(BooleanOp::Difference, {a, box_solid(Vec3(2, 2, 2)), box_solid(Vec3(2, 2, 2))});
   CHECK(e.mesh(tol).empty());
+  // So is a difference minus itself: b - b for b = sphere(1) - cube(1) left 36 triangles of slivers
+  // (b's first operand was spliced: sphere - cube - b, and b's rounded mesh is not sphere - cube).
+  Solid b = Solid::boolean(BooleanOp::Difference, {brep_solid(sphere(1)), box_solid(Vec3(1, 1, 1))});
+  CHECK(Solid::boolean(BooleanOp::Difference, {b, b}).mesh(tol).empty());
 }
 
 TEST_CASE("tree: the first of coincident operands keeps its faces, as the engine keeps the lowest operand's", "[tree][coincident]") {
