@@ -483,8 +483,13 @@ namespace {
 // oriented, a negative volume. The operands' indices must be valid (Mesh::check) before the soup
 // is made. One pass over the soup's vertices for all operands at once (a vertex that two
 // operands share has both their edges, told apart by operand).
+//
+// With `adj` (sized to the soup's triangles, kNone), each triangle edge a -> b at a vertex a whose
+// star is one disk of one operand (each edge out of a once, each edge in once) gets the triangle
+// across it: the one with the edge b -> a.
 std::vector<std::string> soup_defects(const Soup& s, CornerLists& corners, const std::vector<const Mesh*>& meshes,
-                                      const std::vector<std::string>& names, const std::vector<char>& check) {
+                                      const std::vector<std::string>& names, const std::vector<char>& check,
+                                      std::vector<std::array<u32, 3>>* adj = nullptr) {
   const std::size_t nops = meshes.size();
   std::vector<std::string> out(nops);
   // Each operand's first zero-area triangle.
@@ -539,17 +544,30 @@ std::vector<std::string> soup_defects(const Soup& s, CornerLists& corners, const
       if (d <= 32) {
         const std::int32_t op = op_of(outs[off[v]]);
         bool one = true;
-        u32 o[32], i[32];
+        std::uint64_t o[32], i[32];  // (next or previous vertex, triangle)
         for (u32 k = 0; k < d; ++k) {
           const u32 t = static_cast<u32>(outs[off[v] + k]);
           one = one && t >= first[op] && t < first[op + 1];
-          o[k] = static_cast<u32>(outs[off[v] + k] >> 32);
-          i[k] = static_cast<u32>(ins[off[v] + k] >> 32);
+          o[k] = outs[off[v] + k];
+          i[k] = ins[off[v] + k];
         }
         if (one) {
           std::sort(o, o + d);
           std::sort(i, i + d);
-          if (std::equal(o, o + d, i)) continue;
+          bool same = true, distinct = true;
+          for (u32 k = 0; k < d; ++k) {
+            same = same && (o[k] >> 32) == (i[k] >> 32);
+            distinct = distinct && (k == 0 || (o[k] >> 32) != (o[k - 1] >> 32));
+          }
+          if (same) {
+            if (adj && distinct)
+              for (u32 k = 0; k < d; ++k) {
+                const u32 t = static_cast<u32>(o[k]);
+                const auto& T = s.tris[t];
+                (*adj)[t][T[0] == v ? 0 : (T[1] == v ? 1 : 2)] = static_cast<u32>(i[k]);
+              }
+            continue;
+          }
         }
       }
       for (u32 k = off[v]; k < off[v + 1]; ++k)
@@ -703,7 +721,9 @@ BooleanResult boolean_detail::boolean_as_given(BooleanOp op, const std::vector<c
   Soup soup = make_soup(operands, &interrupt);
   mend_flat_triangles(soup, untrusted);
   CornerLists corners = corner_lists(soup, &untrusted);
-  for (const auto& d : soup_defects(soup, corners, operands, names, untrusted))
+  // Triangles across edges, where the check sees them (for classify's patches).
+  std::vector<std::array<u32, 3>> adj(soup.tris.size(), {kNone, kNone, kNone});
+  for (const auto& d : soup_defects(soup, corners, operands, names, untrusted, &adj))
     if (!d.empty()) fail("boolean: ", d);
   if (stats) stats->trusted = static_cast<std::size_t>(std::count(trusted.begin(), trusted.end(), 1));
   lap(&BooleanStats::check);
@@ -737,7 +757,8 @@ BooleanResult boolean_detail::boolean_as_given(BooleanOp op, const std::vector<c
   lap(&BooleanStats::broad);
   Arrangement arr = arrange(pts, pairs);
   lap(&BooleanStats::arrange);
-  auto keep = classify(pts, arr, op);
+  auto keep = classify(pts, arr, op, false, &adj);
+  std::vector<std::array<u32, 3>>().swap(adj);
   lap(&BooleanStats::classify);
   std::size_t collapses = 0, resolutions = 0;
   bool unresolved = false;

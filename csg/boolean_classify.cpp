@@ -16,6 +16,8 @@
 // space behind it and not in front, kept reversed if the other way round, and dropped otherwise.
 // Coplanar pieces of several operands that are kept are kept once: by the lowest operand.
 #include <algorithm>
+#include <atomic>
+#include <bit>
 #include <cmath>
 
 #include "csg/boolean_impl.h"
@@ -56,23 +58,68 @@ bool membership(BooleanOp op, const std::vector<char>& m) {
 
 }  // namespace
 
-std::vector<std::int8_t> classify(const Points& pts, const Arrangement& arr, BooleanOp op, bool self) {
+std::vector<std::int8_t> classify(const Points& pts, const Arrangement& arr, BooleanOp op, bool self,
+                                  const std::vector<std::array<u32, 3>>* adj) {
   const Soup& soup = pts.soup();
   const auto& pieces = arr.pieces;
   const std::size_t np = pieces.size();
   const int nops = soup.operands;
 
   // Patches: union pieces of one operand across edges used by exactly those two pieces.
-  EdgeRecs half(np * 3);
+  Dsu dsu(np);
+  // Most pieces of large operands are whole input triangles. Two whole triangles across an edge
+  // (adj) whose end points no other operand's piece uses are the only pieces on that edge: they
+  // are joined here, and that edge needs no record. Every other piece edge is sorted.
+  std::vector<std::uint8_t> direct(np, 0);  // per piece: bit e, edge e joined here
+  if (adj) {
+    const std::size_t nt = soup.tris.size(), nin = soup.verts.size();
+    std::vector<u32> whole(nt, kNone);
+    parallel_for(0, np, [&](std::size_t i) {
+      const u32 t = pieces[i].tri;
+      if ((i == 0 || pieces[i - 1].tri != t) && (i + 1 == np || pieces[i + 1].tri != t) && pieces[i].v == soup.tris[t])
+        whole[t] = static_cast<u32>(i);
+    });
+    // Per input vertex: the one operand whose pieces use it, or -2 for several.
+    std::vector<std::atomic<std::int32_t>> owner(nin);
+    parallel_for(0, nin, [&](std::size_t v) { owner[v].store(-1, std::memory_order_relaxed); });
+    parallel_for(0, np, [&](std::size_t i) {
+      const std::int32_t o = soup.operand[pieces[i].tri];
+      for (u32 v : pieces[i].v) {
+        if (v >= nin) continue;
+        std::int32_t cur = owner[v].load(std::memory_order_relaxed);
+        while (cur != o && cur != -2)
+          if (owner[v].compare_exchange_weak(cur, cur == -1 ? o : -2, std::memory_order_relaxed)) break;
+      }
+    });
+    soup.poll();
+    parallel_for(0, nt, [&](std::size_t t) {
+      const u32 i = whole[t];
+      if (i == kNone) return;
+      for (int e = 0; e < 3; ++e) {
+        const u32 u = (*adj)[t][e];
+        // Known from both sides (each side's vertex saw a disk), so both skip the edge's record.
+        if (u == kNone || whole[u] == kNone || ((*adj)[u][0] != t && (*adj)[u][1] != t && (*adj)[u][2] != t)) continue;
+        const u32 a = soup.tris[t][e], b = soup.tris[t][(e + 1) % 3];
+        if (owner[a].load(std::memory_order_relaxed) == -2 || owner[b].load(std::memory_order_relaxed) == -2) continue;
+        direct[i] |= static_cast<std::uint8_t>(1u << e);
+        if (t < u) dsu.unite_shared(i, whole[u]);
+      }
+    });
+  }
+  std::vector<u32> first_rec(np + 1, 0);
+  for (std::size_t i = 0; i < np; ++i) first_rec[i + 1] = first_rec[i] + 3 - std::popcount(static_cast<unsigned>(direct[i]));
+  EdgeRecs half(first_rec[np]);
   parallel_for(0, np, [&](std::size_t i) {
+    u32 r = first_rec[i];
     for (int e = 0; e < 3; ++e) {
+      if (direct[i] >> e & 1) continue;
       u32 a = pieces[i].v[e], b = pieces[i].v[(e + 1) % 3];
       if (a > b) std::swap(a, b);
-      half[i * 3 + e] = {static_cast<std::uint64_t>(a) << 32 | b, static_cast<u32>(i)};
+      half[r++] = {static_cast<std::uint64_t>(a) << 32 | b, static_cast<u32>(i)};
     }
   });
+  soup.poll();
   sort_edges(half, pts.size(), soup.interrupt);
-  Dsu dsu(np);
   for_each_run(half, soup.interrupt, [&](std::size_t i, std::size_t j) {
     if (j - i == 2 && soup.operand[pieces[half[i].value].tri] == soup.operand[pieces[half[i + 1].value].tri])
       dsu.unite_shared(half[i].value, half[i + 1].value);

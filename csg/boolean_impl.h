@@ -555,7 +555,10 @@ Arrangement arrange(Points& pts, const std::vector<std::array<u32, 2>>& pairs);
 // For each piece: 0 drop, +1 keep, -1 keep reversed.
 // With `self`, the soup is one mesh that may cross itself, and the result is the region where its
 // winding number is at least 1 (op is not used).
-std::vector<std::int8_t> classify(const Points& pts, const Arrangement& arr, BooleanOp op, bool self = false);
+// `adj` (per soup triangle and edge, the triangle across it where known, else kNone), if given,
+// joins whole triangles into patches without sorting their edges.
+std::vector<std::int8_t> classify(const Points& pts, const Arrangement& arr, BooleanOp op, bool self = false,
+                                  const std::vector<std::array<u32, 3>>* adj = nullptr);
 
 // --- output and rounding (boolean_output.cpp) ---
 // `collapses` (if given) receives the number of edges the rounding repair collapsed.
