@@ -7,6 +7,8 @@
 #include <atomic>
 #include <cmath>
 
+#include <tbb/task_arena.h>
+
 #include "csg/boolean_impl.h"
 #include "kernel/parallel.h"
 
@@ -364,26 +366,45 @@ void Bvh::each_pair(const std::vector<char>* active, const Soup* soup, const std
 CornerLists corner_lists(const Soup& soup, const std::vector<char>* listed, const std::vector<char>* wanted) {
   const std::size_t nt = soup.tris.size(), nv = soup.verts.size();
   CornerLists cl;
-  cl.off.assign(nv + 1, 0);
   auto take = [&](std::size_t t) { return !listed || (*listed)[soup.operand[t]]; };
-  for (std::size_t t = 0; t < nt; ++t)
-    if (take(t))
-      for (u32 v : soup.tris[t])
-        if (!wanted || (*wanted)[v]) ++cl.off[v + 1];
-  for (std::size_t v = 0; v < nv; ++v) cl.off[v + 1] += cl.off[v];
+  // A counting sort of the corners by vertex, over a few chunks of the triangles at once: chunk
+  // c's corners of vertex v go after chunks 0..c-1's, so each vertex's corners are in triangle
+  // order, as one pass would put them.
+  const std::size_t chunks =
+      nt < (std::size_t(1) << 16) ? 1 : std::min<std::size_t>(8, static_cast<std::size_t>(tbb::this_task_arena::max_concurrency()));
+  const std::size_t per = (nt + chunks - 1) / chunks;
+  std::vector<std::vector<u32>> at(chunks, std::vector<u32>(nv, 0));
+  parallel_for(0, chunks, [&](std::size_t c) {
+    for (std::size_t t = c * per; t < std::min(nt, (c + 1) * per); ++t)
+      if (take(t))
+        for (u32 v : soup.tris[t])
+          if (!wanted || (*wanted)[v]) ++at[c][v];
+  });
+  soup.poll();
+  cl.off.assign(nv + 1, 0);
+  for (std::size_t v = 0, sum = 0; v < nv; ++v) {
+    cl.off[v] = static_cast<u32>(sum);
+    for (std::size_t c = 0; c < chunks; ++c) {
+      const u32 n = at[c][v];
+      at[c][v] = static_cast<u32>(sum);
+      sum += n;
+    }
+    cl.off[v + 1] = static_cast<u32>(sum);
+  }
   soup.poll();
   cl.next.resize(cl.off[nv]);
   cl.prev.resize(cl.off[nv]);
-  std::vector<u32> at(cl.off.begin(), cl.off.end() - 1);
-  for (std::size_t t = 0; t < nt; ++t)
-    if (take(t))
-      for (int c = 0; c < 3; ++c) {
-        const u32 v = soup.tris[t][c];
-        if (wanted && !(*wanted)[v]) continue;
-        const u32 k = at[v]++;
-        cl.next[k] = static_cast<std::uint64_t>(soup.tris[t][(c + 1) % 3]) << 32 | static_cast<u32>(t);
-        cl.prev[k] = static_cast<std::uint64_t>(soup.tris[t][(c + 2) % 3]) << 32 | static_cast<u32>(t);
-      }
+  parallel_for(0, chunks, [&](std::size_t c) {
+    for (std::size_t t = c * per; t < std::min(nt, (c + 1) * per); ++t)
+      if (take(t))
+        for (int k = 0; k < 3; ++k) {
+          const u32 v = soup.tris[t][k];
+          if (wanted && !(*wanted)[v]) continue;
+          const u32 i = at[c][v]++;
+          cl.next[i] = static_cast<std::uint64_t>(soup.tris[t][(k + 1) % 3]) << 32 | static_cast<u32>(t);
+          cl.prev[i] = static_cast<std::uint64_t>(soup.tris[t][(k + 2) % 3]) << 32 | static_cast<u32>(t);
+        }
+  });
   return cl;
 }
 
