@@ -757,13 +757,15 @@ BooleanResult boolean_detail::boolean_as_given(BooleanOp op, const std::vector<c
   lap(&BooleanStats::broad);
   Arrangement arr = arrange(pts, pairs);
   lap(&BooleanStats::arrange);
-  auto keep = classify(pts, arr, op, false, &adj);
+  std::vector<std::array<u32, 3>> piece_adj;
+  auto keep = classify(pts, arr, op, false, &adj, &piece_adj);
   std::vector<std::array<u32, 3>>().swap(adj);
   lap(&BooleanStats::classify);
   std::size_t collapses = 0, resolutions = 0;
   bool unresolved = false;
   std::vector<u32> crossing;
-  BooleanResult r = assemble(pts, arr, keep, &collapses, &unresolved, &crossing);
+  BooleanResult r = assemble(pts, arr, keep, &collapses, &unresolved, &crossing, &piece_adj);
+  std::vector<std::array<u32, 3>>().swap(piece_adj);
   // Rounding that leaves crossings (sheets a few ulps apart) is resolved again, exactly, on the
   // rounded result; each pass works at a finer scale than the one before.
   for (; unresolved && resolutions < 4; ++resolutions) {

@@ -59,7 +59,7 @@ bool membership(BooleanOp op, const std::vector<char>& m) {
 }  // namespace
 
 std::vector<std::int8_t> classify(const Points& pts, const Arrangement& arr, BooleanOp op, bool self,
-                                  const std::vector<std::array<u32, 3>>* adj) {
+                                  const std::vector<std::array<u32, 3>>* adj, std::vector<std::array<u32, 3>>* piece_adj) {
   const Soup& soup = pts.soup();
   const auto& pieces = arr.pieces;
   const std::size_t np = pieces.size();
@@ -71,6 +71,7 @@ std::vector<std::int8_t> classify(const Points& pts, const Arrangement& arr, Boo
   // (adj) whose end points no other operand's piece uses are the only pieces on that edge: they
   // are joined here, and that edge needs no record. Every other piece edge is sorted.
   std::vector<std::uint8_t> direct(np, 0);  // per piece: bit e, edge e joined here
+  if (piece_adj) piece_adj->assign(adj ? np : 0, {kNone, kNone, kNone});
   if (adj) {
     const std::size_t nt = soup.tris.size(), nin = soup.verts.size();
     std::vector<u32> whole(nt, kNone);
@@ -102,6 +103,7 @@ std::vector<std::int8_t> classify(const Points& pts, const Arrangement& arr, Boo
         const u32 a = soup.tris[t][e], b = soup.tris[t][(e + 1) % 3];
         if (owner[a].load(std::memory_order_relaxed) == -2 || owner[b].load(std::memory_order_relaxed) == -2) continue;
         direct[i] |= static_cast<std::uint8_t>(1u << e);
+        if (piece_adj) (*piece_adj)[i][e] = whole[u];
         if (t < u) dsu.unite_shared(i, whole[u]);
       }
     });

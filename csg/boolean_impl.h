@@ -556,9 +556,12 @@ Arrangement arrange(Points& pts, const std::vector<std::array<u32, 2>>& pairs);
 // With `self`, the soup is one mesh that may cross itself, and the result is the region where its
 // winding number is at least 1 (op is not used).
 // `adj` (per soup triangle and edge, the triangle across it where known, else kNone), if given,
-// joins whole triangles into patches without sorting their edges.
+// joins whole triangles into patches without sorting their edges; `piece_adj` (if given) then
+// receives per piece and edge the piece so joined across it (the only other piece on that edge,
+// in the same patch), else kNone.
 std::vector<std::int8_t> classify(const Points& pts, const Arrangement& arr, BooleanOp op, bool self = false,
-                                  const std::vector<std::array<u32, 3>>* adj = nullptr);
+                                  const std::vector<std::array<u32, 3>>* adj = nullptr,
+                                  std::vector<std::array<u32, 3>>* piece_adj = nullptr);
 
 // --- output and rounding (boolean_output.cpp) ---
 // `collapses` (if given) receives the number of edges the rounding repair collapsed.
@@ -566,8 +569,10 @@ std::vector<std::int8_t> classify(const Points& pts, const Arrangement& arr, Boo
 // *unresolved is set and the rounded mesh returned as it is; without, an error is thrown.
 // `crossing` (if given) receives the triangles of the returned mesh that still cross another:
 // every crossing pair has one of them.
+// `piece_adj` (classify's, if given) pairs the edges it names without sorting them.
 BooleanResult assemble(const Points& pts, const Arrangement& arr, const std::vector<std::int8_t>& keep,
                        std::size_t* collapses = nullptr, bool* unresolved = nullptr,
-                       std::vector<u32>* crossing = nullptr);
+                       std::vector<u32>* crossing = nullptr,
+                       const std::vector<std::array<u32, 3>>* piece_adj = nullptr);
 
 }  // namespace wedge::boolean_detail

@@ -298,7 +298,7 @@ bool repair_rounding(BooleanResult& r, Rounding& rd, std::vector<u32>* left = nu
 // their edges; without them nothing of the output needs rounding there.
 // Returns the number of vertices removed.
 std::size_t merge_flat(const Points& pts, std::vector<std::array<u32, 3>>& tris, std::vector<u32>& src,
-                       std::vector<char>& flipped) {
+                       std::vector<char>& flipped, std::vector<u32>& piece) {
   const Soup& soup = pts.soup();
   const std::size_t np = pts.size();
   // The candidates: the vertices of pieces that are not their whole source triangle (the rest of
@@ -492,11 +492,13 @@ std::size_t merge_flat(const Points& pts, std::vector<std::array<u32, 3>>& tris,
       tris[w] = tris[t];
       src[w] = src[t];
       flipped[w] = flipped[t];
+      piece[w] = piece[t];
       ++w;
     }
     tris.resize(w);
     src.resize(w);
     flipped.resize(w);
+    piece.resize(w);
   }
   return removed;
 }
@@ -504,10 +506,11 @@ std::size_t merge_flat(const Points& pts, std::vector<std::array<u32, 3>>& tris,
 }  // namespace
 
 BooleanResult assemble(const Points& pts, const Arrangement& arr, const std::vector<std::int8_t>& keep,
-                       std::size_t* collapses, bool* unresolved, std::vector<u32>* crossing) {
+                       std::size_t* collapses, bool* unresolved, std::vector<u32>* crossing,
+                       const std::vector<std::array<u32, 3>>* piece_adj) {
   const Soup& soup = pts.soup();
   std::vector<std::array<u32, 3>> tris;
-  std::vector<u32> src;
+  std::vector<u32> src, piece;
   std::vector<char> flipped;
   for (std::size_t p = 0; p < arr.pieces.size(); ++p) {
     if (!keep[p]) continue;
@@ -516,21 +519,51 @@ BooleanResult assemble(const Points& pts, const Arrangement& arr, const std::vec
     tris.push_back(v);
     src.push_back(arr.pieces[p].tri);
     flipped.push_back(keep[p] < 0);
+    piece.push_back(static_cast<u32>(p));
   }
-  merge_flat(pts, tris, src, flipped);
+  merge_flat(pts, tris, src, flipped, piece);
   const std::size_t nt = tris.size();
 
   // Directed edges; partner[c] for corner-edge c = 3*t+e (edge v[e] -> v[e+1]).
-  EdgeRecs half(nt * 3);  // undirected key; value: corner-edge 3*t+e
+  std::vector<u32> partner(nt * 3, kNone);
+  // Edges classify joined directly (two whole triangles, the only pieces on their edge, kept
+  // together) are paired here where merge_flat left both triangles as their pieces; the rest
+  // are sorted.
+  if (piece_adj && !piece_adj->empty()) {
+    std::vector<u32> out_of(arr.pieces.size(), kNone);  // piece -> its unchanged output triangle
+    parallel_for(0, nt, [&](std::size_t t) {
+      auto v = arr.pieces[piece[t]].v;
+      if (flipped[t]) std::swap(v[1], v[2]);
+      if (v == tris[t]) out_of[piece[t]] = static_cast<u32>(t);
+    });
+    parallel_for(0, nt, [&](std::size_t t) {
+      const u32 p = piece[t];
+      if (out_of[p] != t) return;
+      for (int e = 0; e < 3; ++e) {
+        const u32 q = (*piece_adj)[p][e];
+        if (q == kNone || out_of[q] == kNone) continue;
+        // Piece edge e is output edge e, or 2 - e where the triangle was turned over.
+        const int eo = flipped[t] ? 2 - e : e;
+        const u32 a = tris[t][eo], b = tris[t][(eo + 1) % 3], u = out_of[q];
+        for (int k = 0; k < 3; ++k)
+          if (tris[u][k] == b && tris[u][(k + 1) % 3] == a) partner[t * 3 + eo] = u * 3 + k;
+      }
+    });
+  }
+  std::vector<u32> first_rec(nt + 1, 0);
+  for (std::size_t t = 0; t < nt; ++t)
+    first_rec[t + 1] = first_rec[t] + (partner[t * 3] == kNone) + (partner[t * 3 + 1] == kNone) + (partner[t * 3 + 2] == kNone);
+  EdgeRecs half(first_rec[nt]);  // undirected key; value: corner-edge 3*t+e
   parallel_for(0, nt, [&](std::size_t t) {
+    u32 r = first_rec[t];
     for (int e = 0; e < 3; ++e) {
+      if (partner[t * 3 + e] != kNone) continue;
       u32 a = tris[t][e], b = tris[t][(e + 1) % 3];
-      half[t * 3 + e] = {static_cast<std::uint64_t>(std::min(a, b)) << 32 | std::max(a, b), static_cast<u32>(t * 3 + e)};
+      half[r++] = {static_cast<std::uint64_t>(std::min(a, b)) << 32 | std::max(a, b), static_cast<u32>(t * 3 + e)};
     }
   });
   soup.poll();
   sort_edges(half, pts.size(), soup.interrupt);
-  std::vector<u32> partner(nt * 3, kNone);
   // Each run of records (one undirected edge) writes only its own corners' partners.
   for_each_run(half, soup.interrupt, [&](std::size_t i, std::size_t j) {
     if (j - i == 2) {
