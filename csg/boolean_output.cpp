@@ -636,18 +636,39 @@ BooleanResult assemble(const Points& pts, const Arrangement& arr, const std::vec
   for (std::size_t c = 0; c < partner.size(); ++c)
     if (partner[c] == kNone) fail("boolean: internal error: the result has an open edge");
 
-  // Vertex copies: corners (3*t+k) at the same point joined across paired edges.
+  // Vertex copies: corners (3*t+k) at the same point joined across paired edges. A point none
+  // of whose edges was sorted (all paired directly: whole triangles of one disk around an input
+  // vertex) has one copy, its smallest corner; the other points' corners are joined.
   soup.poll();
+  std::vector<char> sorted_at(pts.size(), 0);
+  parallel_for(0, (half.size() + 65535) / 65536, [&](std::size_t b) {
+    for (std::size_t i = b * 65536; i < std::min(half.size(), (b + 1) * 65536); ++i) {
+      std::atomic_ref<char>(sorted_at[half[i].key >> 32]).store(1, std::memory_order_relaxed);
+      std::atomic_ref<char>(sorted_at[half[i].key & 0xffffffffu]).store(1, std::memory_order_relaxed);
+    }
+  });
+  std::vector<u32> least(pts.size(), kNone);  // per point with one copy: its smallest corner
+  parallel_for(0, (nt + 16383) / 16384, [&](std::size_t b) {
+    for (std::size_t c = b * 16384 * 3; c < std::min(nt, (b + 1) * 16384) * 3; ++c) {
+      const u32 v = tris[c / 3][c % 3];
+      if (sorted_at[v]) continue;
+      std::atomic_ref<u32> at(least[v]);
+      u32 cur = at.load(std::memory_order_relaxed);
+      while (c < cur && !at.compare_exchange_weak(cur, static_cast<u32>(c), std::memory_order_relaxed)) {
+      }
+    }
+  });
   Dsu corners(nt * 3);
   parallel_for(0, (nt + 16383) / 16384, [&](std::size_t b) {
     soup.poll();
     for (std::size_t t = b * 16384; t < std::min(nt, (b + 1) * 16384); ++t)
       for (u32 e = 0; e < 3; ++e) {
         u32 c = partner[t * 3 + e];
+        if (c < t * 3 + e) continue;  // the pair's other side joins the same corners
         u32 t2 = c / 3, e2 = c % 3;
         // Edge v[e] -> v[e+1] of t is v[e2+1] -> v[e2] of t2.
-        corners.unite_shared(static_cast<u32>(t * 3 + e), t2 * 3 + (e2 + 1) % 3);
-        corners.unite_shared(static_cast<u32>(t * 3 + (e + 1) % 3), t2 * 3 + e2);
+        if (sorted_at[tris[t][e]]) corners.unite_shared(static_cast<u32>(t * 3 + e), t2 * 3 + (e2 + 1) % 3);
+        if (sorted_at[tris[t][(e + 1) % 3]]) corners.unite_shared(static_cast<u32>(t * 3 + (e + 1) % 3), t2 * 3 + e2);
       }
   });
   // A copy's root is its smallest corner, the first met in corner order: copies are numbered in
@@ -660,7 +681,8 @@ BooleanResult assemble(const Points& pts, const Arrangement& arr, const std::vec
   parallel_for(0, blocks, [&](std::size_t b) {
     u32 n = 0;
     for (std::size_t c = b * 65536; c < std::min(nc, (b + 1) * 65536); ++c) {
-      root[c] = corners.find_shared(static_cast<u32>(c));
+      const u32 v = tris[c / 3][c % 3];
+      root[c] = sorted_at[v] ? corners.find_shared(static_cast<u32>(c)) : least[v];
       n += root[c] == c;
     }
     first[b + 1] = n;
