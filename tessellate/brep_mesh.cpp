@@ -180,6 +180,7 @@ class ProgressReport {
 void set_tessellate_progress(const TessellateProgress* progress) { t_progress = progress; }
 
 const TessellatePoll* set_tessellate_poll(const TessellatePoll* poll) { return std::exchange(t_poll, poll); }
+const TessellatePoll* tessellate_poll() { return t_poll; }
 
 static Mesh tessellate_at_scale(const Model& m, const Tolerance& tol_in, std::vector<std::array<Vec2, 3>>* corner_uv);
 

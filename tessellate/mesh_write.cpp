@@ -18,10 +18,17 @@
 #include "kernel/kernel.h"
 #include "kernel/predicates.h"
 #include "tessellate/mesh_io.h"
+#include "tessellate/progress.h"
 
 namespace wedge {
 
 namespace {
+
+// Each block of 64 KiB asks the thread's poll (tessellate/progress.h) whether to stop: a cancel
+// (Ctrl-C in `wedge run`) throws from it, and the unfinished AtomicFile leaves the old file.
+void poll() {
+  if (const TessellatePoll* p = tessellate_poll()) (*p)();
+}
 
 // A text line builder over the file: numbers in their shortest exact form.
 class TextOut {
@@ -55,6 +62,7 @@ class TextOut {
   }
   TextOut& operator<<(std::uint32_t x) { return *this << static_cast<std::uint64_t>(x); }
   void flush() {
+    poll();
     file_.write(buf_);
     buf_.clear();
   }
@@ -161,6 +169,7 @@ void write_stl(const Mesh& double_mesh, AtomicFile& file, bool ascii) {
       for (int k = 0; k < 3; ++k) put_f32le(out, static_cast<float>(mesh.positions[v][k]));
     out.append(2, '\0');  // attribute byte count
     if (out.size() >= (1 << 16)) {
+      poll();
       file.write(out);
       out.clear();
     }
@@ -279,6 +288,7 @@ void write_ply(const Mesh& mesh, AtomicFile& file, bool ascii, bool normals, boo
   out.reserve(1 << 16);
   auto spill = [&] {
     if (out.size() >= (1 << 16)) {
+      poll();
       file.write(out);
       out.clear();
     }

@@ -20,5 +20,8 @@ void set_tessellate_progress(const TessellateProgress* progress);
 // calling thread only; returns the poll it replaces, to be put back; nullptr removes it.
 using TessellatePoll = std::function<void()>;
 const TessellatePoll* set_tessellate_poll(const TessellatePoll* poll);
+// The calling thread's poll, or nullptr. The mesh writers (write_mesh) call it between blocks of
+// 64 KiB, so a cancel stops an export at once, its old file left as it was.
+const TessellatePoll* tessellate_poll();
 
 }  // namespace wedge

@@ -17,6 +17,7 @@
 #include <fstream>
 
 #include "kernel/file_io.h"
+#include "tessellate/progress.h"
 #include "tessellate/tessellate.h"
 
 using namespace wedge;
@@ -297,4 +298,32 @@ TEST_CASE("a live writer's temporary file is never removed", "[mesh_io][write_fa
   std::ofstream(dir.file("part.stl.wedge-999999999-0.tmp")) << "not hidden";
   CHECK(remove_stale_temporaries(path) == 0);
   CHECK(dir.names().size() == 3);
+}
+
+TEST_CASE("a cancel seen by the thread's poll stops a write and keeps the old file", "[mesh_io][write_failure]") {
+  // Ctrl-C in `wedge run` throws from the poll (tessellate/progress.h); an export ran to its end
+  // before (0.7 s for a 187 MB STL) and then reported the interrupt. Every writer asks the poll
+  // between blocks, so the cancel is seen within one block, and nothing of the new file remains.
+  struct Stop {};
+  TempDir dir;
+  const Mesh mesh = big_box(24);  // several 64 KiB blocks in every format
+  for (std::string name : {"part.stl", "part.obj", "part.ply", "part.off"})
+    for (bool ascii : {false, true}) {
+      INFO(name << " ascii=" << ascii);
+      const std::string path = dir.file(name);
+      std::ofstream(path) << "the old file";
+      int calls = 0;
+      const TessellatePoll stop_at_second = [&calls] {
+        if (++calls == 2) throw Stop{};
+      };
+      const TessellatePoll* outer = set_tessellate_poll(&stop_at_second);
+      CHECK_THROWS_AS(write_mesh(mesh, path, {ascii}), Stop);
+      set_tessellate_poll(outer);
+      CHECK(calls == 2);
+      CHECK(slurp(path) == "the old file");
+      CHECK(dir.names() == std::vector<std::string>{name});
+      write_mesh(mesh, path, {ascii});  // no poll: written whole
+      CHECK(read_mesh(path).triangle_count() == mesh.triangle_count());
+      fs::remove(path);
+    }
 }
