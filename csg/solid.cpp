@@ -161,17 +161,23 @@ bool thin_for_rounding(const Mesh& moved) {
   return false;
 }
 
-// The boolean node b with every operand moved by m: the same solid, moved, made by the engine
-// from moved operands instead of by moving b's result.
+// The boolean node b with every operand moved by m, when each moved operand is a leaf: the same
+// solid, moved, made by one engine call on moved leaves (as costly as b's own) instead of by
+// moving b's result. Otherwise nullptr: remaking operands that are booleans themselves nested,
+// and a tree that shares a subtree under many moves (s = s + s:mirror("x"):translate(...),
+// repeated) was remade at every level into one pass of near-coincident copies (a minute in the
+// engine, then a failure, where the spoiled operand is reported at once).
 NodePtr moved_operands(const Solid::Node& b, const Mat4& m) {
   auto out = std::make_shared<Solid::Node>();
   out->kind = Solid::Node::Kind::Boolean;
   out->op = b.op;
   out->tag = b.tag;
   for (const NodePtr& o : b.operands()) {
-    out->parts.push_back({moved_node(o, m), false});
-    out->depth = std::max(out->depth, out->parts.back().node->depth + 1);
+    NodePtr moved = moved_node(o, m);
+    if (moved->kind != Solid::Node::Kind::Leaf) return nullptr;
+    out->parts.push_back({std::move(moved), false});
   }
+  out->depth = 2;
   out->size = out->parts.size();
   return out;
 }
@@ -260,16 +266,17 @@ std::shared_ptr<Evaluated> compute_untagged(const Solid::Node& n, const Toleranc
       // round into triangles that cross or have no area ((sphere(1) - cube(1)):scale(3) crossed
       // itself, and a boolean refused it as an operand). Unless the move is exact or the mesh has
       // no triangle that thin, the moved mesh is checked exactly, and a defective one is made
-      // again by the engine from moved operands.
+      // again by the engine from its moved leaves (when its operands are leaves: moved_operands).
       if (n.child->kind == Solid::Node::Kind::Boolean && !out->mesh.empty() && !moves_exactly(c->mesh, n.matrix) &&
           thin_for_rounding(out->mesh)) {
         const auto t0 = std::chrono::steady_clock::now();
         const bool defective = !mesh_solid_defect(out->mesh).empty();
         run.add(&EvalStats::check, elapsed_ms(t0));
-        if (defective) {
-          run.count(&EvalStats::remade);
-          return evaluate(moved_operands(*n.child, n.matrix), tol, run);
-        }
+        if (defective)
+          if (NodePtr remade = moved_operands(*n.child, n.matrix)) {
+            run.count(&EvalStats::remade);
+            return evaluate(remade, tol, run);
+          }
       }
       return out;
     }
