@@ -19,6 +19,7 @@
 #include <atomic>
 #include <bit>
 #include <cmath>
+#include <numeric>
 
 #include "csg/boolean_impl.h"
 #include "kernel/error.h"
@@ -138,8 +139,13 @@ std::vector<std::int8_t> classify(const Points& pts, const Arrangement& arr, Boo
   // A tree per operand, for the vertical rays, and each operand's box: a point outside the box
   // has winding number 0 there, so the operand's tree need not be looked at (a ray through a
   // Menger sponge meets a few bars' boxes, not every bar above it).
-  std::vector<std::vector<u32>> by_operand(nops);
-  for (std::size_t t = 0; t < soup.tris.size(); ++t) by_operand[soup.operand[t]].push_back(static_cast<u32>(t));
+  // The soup holds each operand's triangles together, in operand order: operand j's are
+  // first_tri[j] .. first_tri[j + 1] - 1.
+  std::vector<u32> first_tri(nops + 1, 0);
+  for (int j = 0; j < nops; ++j)
+    first_tri[j + 1] = static_cast<u32>(std::partition_point(soup.operand.begin(), soup.operand.end(),
+                                                             [&](std::int32_t o) { return o <= j; }) -
+                                        soup.operand.begin());
   // With a few patches (two spheres: four), a ray looks at every triangle of an operand (a box
   // test each) instead of a tree built for it: building trees over a million triangles for four
   // rays was a fifth of such a boolean.
@@ -147,12 +153,16 @@ std::vector<std::int8_t> classify(const Points& pts, const Arrangement& arr, Boo
   std::vector<Bvh> trees;
   if (!scan) {
     trees.resize(nops);
-    parallel_for(0, nops, [&](std::size_t j) { trees[j] = Bvh(soup, std::move(by_operand[j]), 3); });
+    parallel_for(0, nops, [&](std::size_t j) {
+      std::vector<u32> ids(first_tri[j + 1] - first_tri[j]);
+      std::iota(ids.begin(), ids.end(), first_tri[j]);
+      trees[j] = Bvh(soup, std::move(ids), 3);
+    });
   }
   auto query = [&](int j, const double qlo[3], const double qhi[3], auto&& f) {
     if (!scan) trees[j].query(qlo, qhi, f);
     else
-      for (u32 u : by_operand[j]) f(u);  // the callers' crossing() tests the box
+      for (u32 u = first_tri[j]; u < first_tri[j + 1]; ++u) f(u);  // the callers' crossing() tests the box
   };
   soup.poll();
   std::vector<std::array<double, 6>> op_box(nops, {INFINITY, INFINITY, INFINITY, -INFINITY, -INFINITY, -INFINITY});
