@@ -183,9 +183,14 @@ Soup boolean_detail::make_soup(const std::vector<const Mesh*>& operands, const I
 void boolean_detail::set_axis(Soup& s, std::size_t t) {
   const auto& T = s.tris[t];
   const Vec3 &a = s.verts[T[0]], &b = s.verts[T[1]], &c = s.verts[T[2]];
-  Vec3 nrm = (b - a).cross(c - a);
+  const Vec3 nrm = (b - a).cross(c - a);
+  // The axes by decreasing |n| (ties in axis order, as a stable sort of 0, 1, 2 would give).
+  const double n0 = std::abs(nrm[0]), n1 = std::abs(nrm[1]), n2 = std::abs(nrm[2]);
   int order[3] = {0, 1, 2};
-  std::sort(order, order + 3, [&](int x, int y) { return std::abs(nrm[x]) > std::abs(nrm[y]); });
+  if (n1 > n0) std::swap(order[0], order[1]);
+  const double first = std::max(n0, n1), second = std::min(n0, n1);
+  if (n2 > first) order[2] = order[1], order[1] = order[0], order[0] = 2;
+  else if (n2 > second) order[2] = order[1], order[1] = 2;
   s.axis[t] = -1;
   for (int k : order) {
     int i = (k + 1) % 3, j = (k + 2) % 3;
