@@ -82,3 +82,14 @@ TEST_CASE("a moved boolean result keeps its faces' tags and surfaces when it is 
   CHECK(seen.count({2, "plane"}) == 1);
   CHECK(result_defect(m).empty());
 }
+
+TEST_CASE("a tree whose operand fails beside busy ones reports the failure instead of crashing", "[tree][moved]") {
+  // s = s + s mirrored and moved, six times: one moved copy is spoiled by rounding and the engine
+  // refuses it while other operands are still being evaluated in parallel. Their nested loops,
+  // cut short by TBB, returned as if done, and the tree went on with a null operand (SIGSEGV).
+  Tolerance tol;
+  Solid s = Solid::boolean(BooleanOp::Difference, {brep_solid(sphere(1)), box_solid(Vec3(1, 1, 1))});
+  for (int i = 1; i <= 6; ++i)
+    s = Solid::boolean(BooleanOp::Union, {s, s.transformed(translate({0.3 * i, 0, 0}) * scale(Vec3(-1, 1, 1)))});
+  CHECK_THROWS_AS(s.mass_properties(tol), Error);
+}
