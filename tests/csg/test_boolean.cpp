@@ -273,6 +273,38 @@ TEST_CASE("boolean: zero-area operand triangles that lose no point are mended, t
   CHECK_THROWS_WITH(boolean(BooleanOp::Union, a, torn), Catch::Contains("second operand has a zero-area triangle #"));
 }
 
+TEST_CASE("boolean: many flat triangles, some on the same edge one after another, are all mended", "[boolean]") {
+  // Each step splits an edge of the mesh so far at its midpoint with a flat triangle; a later
+  // step may split an edge of an earlier flat triangle's neighbour or of the flat triangle itself
+  // (then its neighbour across the long edge is flat too, and is mended first).
+  std::mt19937 rng(11);
+  // On a grid of 2^-10, so that every midpoint is exact (and the flat triangles exactly flat).
+  Mesh base = sphere(Vec3(0, 0, 0), 1, 16);
+  for (auto& p : base.positions) p = (p * 1024.0).array().round().matrix() / 1024.0;
+  const Mesh cut = cube(0, 0, 0, 2);
+  const double expected = boolean(BooleanOp::Difference, {&base, &cut}).mesh.volume();
+  for (int trial = 0; trial < 60; ++trial) {
+    Mesh m = base;
+    const int steps = 1 + trial % 10;
+    for (int k = 0; k < steps; ++k) {
+      // Half the time the newest flat triangle itself.
+      const std::size_t t = k > 0 && rng() % 2 ? m.triangles.size() - 1
+                                                : std::uniform_int_distribution<std::size_t>(0, m.triangles.size() - 1)(rng);
+      const int e = static_cast<int>(rng() % 3);
+      // Not where the midpoint is a vertex already (a flat triangle's long edge split again at
+      // the same point): that would be a mesh touching itself.
+      const Vec3 mid = 0.5 * (m.positions[m.triangles[t][e]] + m.positions[m.triangles[t][(e + 1) % 3]]);
+      if (std::find(m.positions.begin(), m.positions.end(), mid) != m.positions.end()) continue;
+      m = with_flat_triangle(m, t, e);
+      const auto& F = m.triangles.back();
+      REQUIRE(collinear(m.positions[F[0]], m.positions[F[1]], m.positions[F[2]]));
+    }
+    BooleanResult r = boolean(BooleanOp::Difference, {&m, &cut});
+    require_solid(r.mesh);
+    CHECK(r.mesh.volume() == Approx(expected).epsilon(1e-12));
+  }
+}
+
 TEST_CASE("boolean: triangles around one vertex that cross each other are caught", "[boolean]") {
   // A double cone whose rim winds twice around its axis (a pentagram: five points taken 0, 144,
   // 288, 72, 216 degrees): closed, consistently oriented, outward, every vertex one fan;
