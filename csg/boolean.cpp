@@ -219,7 +219,11 @@ void boolean_detail::mend_flat_triangles(Soup& s, const std::vector<char>& check
   for (u32 t : flat) operand_hit[static_cast<std::size_t>(s.operand[t])] = 1;
   auto key = [](u32 a, u32 b) { return static_cast<std::uint64_t>(a) << 32 | b; };
   bool any_removed = false;
-  for (bool progress = true; progress && !flat.empty();) {
+  // Each round mends the flat triangles whose neighbour is not flat (a chain of flat neighbours
+  // takes a round a link); each scans the operands' triangles once, so rounds are capped: what a
+  // longer chain leaves is reported.
+  int rounds = 0;
+  for (bool progress = true; progress && !flat.empty() && rounds < 64; ++rounds) {
     progress = false;
     s.poll();
     // Each flat triangle's wanted neighbour edge x -> y (its own long edge reversed).
