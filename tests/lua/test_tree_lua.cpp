@@ -104,6 +104,19 @@ TEST_CASE("s:faces lists the faces a boolean kept, with their surfaces", "[lua][
     assert(k.torus == 2)
     k = kinds(cone{r1 = 1, r2 = 0.5, h = 1})
     assert(k.cone == 2)
+    -- Through a boolean: cones, revolved and extruded surfaces keep their names, and the cuts are
+    -- planes.
+    k = kinds(cone{r1 = 1, r2 = 0.5, h = 1} - cube(2))
+    assert(k.cone and k.plane == 4, "cone minus cube")
+    k = kinds(revolve(polygon{{0.5, 0}, {1, 0}, {1, 1}, {0.5, 1}}) - cube(3))
+    assert(k.revolved and k.plane == 2, "revolved minus cube")
+    k = kinds(extrude(catmull_rom{points = {{0, 0}, {1, 0}, {1, 1}, {0, 1}}, closed = true}, 1) - cube(0.5))
+    assert(k.extruded and k.plane and k.plane >= 5, "extruded minus cube")
+    for _, s in ipairs{cone{r1 = 1, h = 1} * sphere(0.8), revolve(polygon{{0.5, 0}, {1, 0}, {1, 1}}) + cube(0.2)} do
+      for name in pairs(kinds(s)) do
+        assert(({plane = 1, cone = 1, sphere = 1, revolved = 1})[name], "unexpected surface " .. name)
+      end
+    end
     local f = box(1, 2, 3):faces()
     assert(#f == 6 and f[1].surface == "plane" and f[1].loops == 1)
     local total = 0
