@@ -23,19 +23,6 @@ using namespace boolean_detail;
 
 namespace {
 
-// A position's hash; -0 and +0 are one position (make_soup maps -0 to +0 before hashing).
-std::uint64_t pos_hash(const Vec3& p) {
-  std::uint64_t h = 0x9e3779b97f4a7c15ull;
-  for (int i = 0; i < 3; ++i) {
-    std::uint64_t b;
-    const double x = p[i];
-    std::memcpy(&b, &x, sizeof b);
-    h = (h ^ b) * 0xff51afd7ed558ccdull;
-    h ^= h >> 32;
-  }
-  return h;
-}
-
 // Meshes this engine has returned: closed, 2-manifold, outward and free of self-intersections
 // after rounding, all checked exactly before they were returned. An operand equal to one of them
 // bit for bit (a result fed to the next boolean, as a CSG tree or a chain of booleans does) is
@@ -128,6 +115,31 @@ std::string at(const Vec3& p) {
 
 }  // namespace
 
+// Doubles of small integers have all-zero low bits: each coordinate is multiplied by its own odd
+// constant and every bit of the sum mixed down (splitmix64's finaliser), so both a hash's low bits
+// and its high bits pick a table slot well.
+std::uint64_t boolean_detail::position_hash(const Vec3& at) {
+  auto bits = [](double x) {
+    std::uint64_t b;
+    x += 0.0;  // -0 is 0
+    std::memcpy(&b, &x, sizeof b);
+    return b;
+  };
+  std::uint64_t z = bits(at.x()) * 0x9e3779b97f4a7c15ull ^ bits(at.y()) * 0xc2b2ae3d27d4eb4full ^
+                    bits(at.z()) * 0x165667b19e3779f9ull;
+  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+  z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+  return z ^ (z >> 31);
+}
+
+std::vector<u32> boolean_detail::operand_starts(const Soup& s) {
+  std::vector<u32> first(static_cast<std::size_t>(s.operands) + 1, 0);
+  for (int j = 0; j < s.operands; ++j)
+    first[j + 1] = static_cast<u32>(
+        std::partition_point(s.operand.begin(), s.operand.end(), [&](std::int32_t o) { return o <= j; }) - s.operand.begin());
+  return first;
+}
+
 // Merges the operands into one soup of triangles on unique positions.
 Soup boolean_detail::make_soup(const std::vector<const Mesh*>& operands, const Interrupt* interrupt) {
   Soup s;
@@ -155,7 +167,7 @@ Soup boolean_detail::make_soup(const std::vector<const Mesh*>& operands, const I
       Vec3 p = m.positions[v];
       for (int i = 0; i < 3; ++i)
         if (p[i] == 0) p[i] = 0.0;
-      std::size_t slot = pos_hash(p) >> (64 - bits);
+      std::size_t slot = position_hash(p) >> (64 - bits);
       while (table[slot] != kNone && s.verts[table[slot]] != p) slot = (slot + 1) & mask;
       if (table[slot] == kNone) {
         table[slot] = static_cast<u32>(s.verts.size());
@@ -234,7 +246,6 @@ void boolean_detail::mend_flat_triangles(Soup& s, const std::vector<char>& check
     };
     std::vector<Want> want;
     std::unordered_multimap<std::uint64_t, std::size_t> by_edge;
-    std::vector<u32> pending;
     for (u32 t : flat) {
       const auto& T = s.tris[t];
       if (T[0] == T[1] || T[1] == T[2] || T[0] == T[2]) {
@@ -258,7 +269,6 @@ void boolean_detail::mend_flat_triangles(Soup& s, const std::vector<char>& check
       Want w{t, T[(mid + 2) % 3], T[mid], T[(mid + 1) % 3]};
       by_edge.emplace(key(w.x, w.y), want.size());
       want.push_back(w);
-      pending.push_back(t);
     }
     // The triangles with those edges, in the same operands.
     for (std::size_t u = 0; u < s.tris.size(); ++u) {
@@ -502,9 +512,7 @@ std::vector<std::string> soup_defects(const Soup& s, CornerLists& corners, const
   const std::size_t nops = meshes.size();
   std::vector<std::string> out(nops);
   // Each operand's first zero-area triangle.
-  std::vector<std::size_t> first(nops + 1, 0);
-  for (std::size_t t = 0; t < s.tris.size(); ++t) first[s.operand[t] + 1] = t + 1;
-  for (std::size_t o = 0; o < nops; ++o) first[o + 1] = std::max(first[o + 1], first[o]);
+  const std::vector<u32> first = operand_starts(s);
   parallel_for(0, nops, [&](std::size_t o) {
     if (!check[o]) return;
     for (std::size_t t = first[o]; t < first[o + 1]; ++t)

@@ -31,17 +31,6 @@ void tri_box(const Soup& s, u32 t, double lo[3], double hi[3]) { triangle_box(s,
 
 namespace {
 
-// Spreads the low 21 bits of x to every third bit (Morton code).
-std::uint64_t spread(std::uint64_t x) {
-  x &= 0x1fffff;
-  x = (x | x << 32) & 0x1f00000000ffffull;
-  x = (x | x << 16) & 0x1f0000ff0000ffull;
-  x = (x | x << 8) & 0x100f00f00f00f00full;
-  x = (x | x << 4) & 0x10c30c30c30c30c3ull;
-  x = (x | x << 2) & 0x1249249249249249ull;
-  return x;
-}
-
 // Sorts v stably by key(x) (an unsigned 64-bit value): least significant digit first, 11 bits
 // at a time, passes over a digit that every element shares left out.
 template <class T, class Key>
@@ -102,7 +91,7 @@ Bvh::Bvh(const Soup& soup, std::vector<u32> ids, int d, bool by_operand) : items
       double c = 0.5 * (static_cast<double>(b[a]) + b[a + 3]);
       double f = ext > 0 ? (c - lo[a]) / ext : 0.0;
       auto q = static_cast<std::uint64_t>(std::clamp(f, 0.0, 1.0) * 2097151.0);
-      code |= spread(q) << a;
+      code |= morton_spread(q) << a;
     }
     return code;
   };
@@ -340,11 +329,7 @@ void Bvh::each_pair(const std::vector<char>* active, const Soup* soup, const std
   self_join(
       *this, active, [](std::size_t) {},
       [&](std::size_t, u32 i, u32 j) {
-        if (!item.empty()) {
-          const Item &I = item[i], &J = item[j];
-          for (int c = 0; c < 3; ++c)
-            if ((I.cert >> c & 1) && (I.v[c] == J.v[0] || I.v[c] == J.v[1] || I.v[c] == J.v[2])) return;
-        }
+        if (!item.empty() && shares_certified(item[i].v, item[i].cert, item[j].v)) return;
         const u32 t = items[i], u = items[j];
         f(std::min(t, u), std::max(t, u));
       },
@@ -640,11 +625,7 @@ std::vector<u32> near_other_operands(const Soup& soup) {
     for (std::size_t t = b * 4096; t < std::min(n, (b + 1) * 4096); ++t) {
       const std::int32_t op = soup.operand[t];
       for_cells(range[t], [&](std::atomic<std::int32_t>& o) {
-        std::int32_t cur = o.load(std::memory_order_relaxed);
-        while (cur != op && cur != -2) {
-          const std::int32_t next = cur == -1 ? op : -2;
-          if (o.compare_exchange_weak(cur, next, std::memory_order_relaxed)) break;
-        }
+        claim(o, op);
         return true;
       });
     }
@@ -748,12 +729,7 @@ std::vector<std::array<u32, 2>> candidate_pairs(const Soup& soup, std::array<u32
         const Item &I = item[i], &J = item[j];
         const bool same = I.op == J.op;
         if (same && (self ? false : !clash || clashes[k][0] != kNone || (trusted && (*trusted)[I.op]))) return;
-        if (same) {
-          bool shared = false;
-          for (int c = 0; c < 3 && !shared; ++c)
-            shared = (I.cert >> c & 1) && (I.v[c] == J.v[0] || I.v[c] == J.v[1] || I.v[c] == J.v[2]);
-          if (shared) return;
-        }
+        if (same && shares_certified(I.v, I.cert, J.v)) return;
         u32 t = tree.items[i], u = tree.items[j];
         if (t > u) std::swap(t, u);
         double lo[3], hi[3], ulo[3], uhi[3];

@@ -85,13 +85,8 @@ std::vector<std::int8_t> classify(const Points& pts, const Arrangement& arr, Boo
     std::vector<std::atomic<std::int32_t>> owner(nin);
     parallel_for(0, nin, [&](std::size_t v) { owner[v].store(-1, std::memory_order_relaxed); });
     parallel_for(0, np, [&](std::size_t i) {
-      const std::int32_t o = soup.operand[pieces[i].tri];
-      for (u32 v : pieces[i].v) {
-        if (v >= nin) continue;
-        std::int32_t cur = owner[v].load(std::memory_order_relaxed);
-        while (cur != o && cur != -2)
-          if (owner[v].compare_exchange_weak(cur, cur == -1 ? o : -2, std::memory_order_relaxed)) break;
-      }
+      for (u32 v : pieces[i].v)
+        if (v < nin) claim(owner[v], soup.operand[pieces[i].tri]);
     });
     soup.poll();
     parallel_for(0, nt, [&](std::size_t t) {
@@ -139,13 +134,7 @@ std::vector<std::int8_t> classify(const Points& pts, const Arrangement& arr, Boo
   // A tree per operand, for the vertical rays, and each operand's box: a point outside the box
   // has winding number 0 there, so the operand's tree need not be looked at (a ray through a
   // Menger sponge meets a few bars' boxes, not every bar above it).
-  // The soup holds each operand's triangles together, in operand order: operand j's are
-  // first_tri[j] .. first_tri[j + 1] - 1.
-  std::vector<u32> first_tri(nops + 1, 0);
-  for (int j = 0; j < nops; ++j)
-    first_tri[j + 1] = static_cast<u32>(std::partition_point(soup.operand.begin(), soup.operand.end(),
-                                                             [&](std::int32_t o) { return o <= j; }) -
-                                        soup.operand.begin());
+  const std::vector<u32> first_tri = operand_starts(soup);
   // With a few patches (two spheres: four), a ray looks at every triangle of an operand (a box
   // test each) instead of a tree built for it: building trees over a million triangles for four
   // rays was a fifth of such a boolean.

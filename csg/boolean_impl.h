@@ -156,6 +156,27 @@ BooleanResult boolean_as_given(BooleanOp op, const std::vector<const Mesh*>& ope
 // Merges meshes into one soup (positions equal in value become one vertex; -0 is 0). The soup
 // polls `interrupt` (if any), from here on.
 Soup make_soup(const std::vector<const Mesh*>& meshes, const Interrupt* interrupt = nullptr);
+// A hash of a position, every bit mixed (-0 hashes as 0).
+std::uint64_t position_hash(const Vec3& at);
+// Spreads the low 21 bits of x to every third bit (a Morton code's one axis).
+inline std::uint64_t morton_spread(std::uint64_t x) {
+  x &= 0x1fffff;
+  x = (x | x << 32) & 0x1f00000000ffffull;
+  x = (x | x << 16) & 0x1f0000ff0000ffull;
+  x = (x | x << 8) & 0x100f00f00f00f00full;
+  x = (x | x << 4) & 0x10c30c30c30c30c3ull;
+  x = (x | x << 2) & 0x1249249249249249ull;
+  return x;
+}
+// Where each operand's triangles start in the soup (they come operand after operand): operand j's
+// are first[j] .. first[j + 1] - 1.
+std::vector<u32> operand_starts(const Soup& s);
+// Marks `owner` as held by operand op: -1 (none) becomes op, another operand makes it -2 (several).
+inline void claim(std::atomic<std::int32_t>& owner, std::int32_t op) {
+  std::int32_t cur = owner.load(std::memory_order_relaxed);
+  while (cur != op && cur != -2)
+    if (owner.compare_exchange_weak(cur, cur == -1 ? op : -2, std::memory_order_relaxed)) break;
+}
 // Sets s.axis[t] and s.axis_sign[t] from triangle t's vertices (-1: zero area).
 void set_axis(Soup& s, std::size_t t);
 // Mends the zero-area triangles of the operands marked in `check` where no point moves (see
@@ -442,11 +463,11 @@ std::vector<std::uint8_t> star_certificates(const Soup& soup, const CornerLists&
 // one-to-one from the mean of its vertices (see boolean_broad.cpp); operands marked in `skip`
 // are not looked at (false). `corners`: the corner lists of the operands not skipped.
 std::vector<char> radially_embedded(const Soup& soup, const std::vector<char>* skip, const CornerLists& corners);
-// Whether triangles t and u share a vertex whose star is certified (so they cannot clash).
-inline bool certified_pair(const Soup& soup, const std::vector<std::uint8_t>& cert, u32 t, u32 u) {
-  const auto &T = soup.tris[t], &U = soup.tris[u];
+// Whether triangle T (its star_certificates() mask `cert`) and triangle U share a vertex whose
+// star is certified at T's corner (so they cannot clash).
+inline bool shares_certified(const std::array<u32, 3>& T, std::uint8_t cert, const std::array<u32, 3>& U) {
   for (int c = 0; c < 3; ++c)
-    if ((cert[t] >> c & 1) && (T[c] == U[0] || T[c] == U[1] || T[c] == U[2])) return true;
+    if ((cert >> c & 1) && (T[c] == U[0] || T[c] == U[1] || T[c] == U[2])) return true;
   return false;
 }
 
@@ -487,7 +508,7 @@ class Bvh {
   // per triangle: each pair of subtrees is looked at once. f is called from several threads at
   // once, in no fixed order, and nothing is collected (a self-check meets millions of
   // neighbouring pairs). `soup`, if given, is polled for a cancel request. With `cert` (and
-  // `soup`: star_certificates() of that soup), pairs that certified_pair() clears are left out
+  // `soup`: star_certificates() of that soup), pairs that shares_certified() clears are left out
   // inside the walk.
   void each_pair(const std::vector<char>* active, const Soup* soup, const std::function<void(u32, u32)>& f,
                  const std::vector<std::uint8_t>* cert = nullptr) const;

@@ -185,23 +185,6 @@ PointDef canonical(PointDef d) {
   return d;
 }
 
-// A hash of a position (-0 as 0). Doubles of small integers have all-zero low bits: every bit is
-// mixed down (splitmix64's finaliser).
-std::uint64_t position_hash(const Vec3& at) {
-  auto bits = [](double x) {
-    std::uint64_t b;
-    x += 0.0;  // -0 is 0
-    std::memcpy(&b, &x, sizeof b);
-    return b;
-  };
-  auto mix = [](std::uint64_t z) {
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-    return z ^ (z >> 31);
-  };
-  return mix(mix(mix(bits(at.x())) ^ bits(at.y())) ^ bits(at.z()));
-}
-
 class Interner {
  public:
   // `expected`: about how many points will be interned (sizes the table once).
@@ -874,26 +857,18 @@ Arrangement arrange(Points& pts, const std::vector<std::array<u32, 2>>& pairs) {
         lo[0] = std::min(lo[0], a[i]), hi[0] = std::max(hi[0], a[i]);
         lo[1] = std::min(lo[1], a[j]), hi[1] = std::max(hi[1], a[j]);
       }
-      auto spread = [](std::uint32_t x) {  // 16 bits to the even bits of 32
-        x &= 0xffff;
-        x = (x | (x << 8)) & 0x00ff00ffu;
-        x = (x | (x << 4)) & 0x0f0f0f0fu;
-        x = (x | (x << 2)) & 0x33333333u;
-        return (x | (x << 1)) & 0x55555555u;
-      };
-      std::vector<std::uint64_t> keyed(points.size());
+      std::vector<std::pair<std::uint64_t, u32>> keyed(points.size());
       for (std::size_t q = 0; q < points.size(); ++q) {
         const Vec3& a = pts.approx(points[q]);
         auto cell = [&](double v, int d) {
           const double f = hi[d] > lo[d] ? (v - lo[d]) / (hi[d] - lo[d]) : 0.0;
-          return static_cast<std::uint32_t>((f > 0 ? (f < 1 ? f : 1.0) : 0.0) * 65535.0);  // NaN: 0
+          return static_cast<std::uint64_t>((f > 0 ? (f < 1 ? f : 1.0) : 0.0) * 2097151.0);  // NaN: 0
         };
-        const std::uint64_t morton = spread(cell(a[i], 0)) | spread(cell(a[j], 1)) << 1;
-        keyed[q] = morton << 32 | static_cast<std::uint32_t>(q);
+        keyed[q] = {morton_spread(cell(a[i], 0)) | morton_spread(cell(a[j], 1)) << 1, points[q]};
       }
       std::sort(keyed.begin(), keyed.end());
       order.reserve(points.size());
-      for (std::uint64_t x : keyed) order.push_back(points[static_cast<std::uint32_t>(x)]);
+      for (const auto& x : keyed) order.push_back(x.second);
     }
     for (u32 p : order.empty() ? points : order) {
       if ((++polled & 0xff) == 0) soup.poll();
