@@ -649,15 +649,29 @@ namespace {
 // The smallest sine of an angle of the triangles any three of the four points make (from their
 // approximate positions, in the plane (i, j)): where it is large, both ways of splitting the four
 // points into two triangles are well shaped.
-double min_sine(const Vec3* p[4], int i, int j) {
-  double worst = 1;
+// Whether every triangle of three of the four points has no angle with a sine at most `well`
+// (in the projection on axes i, j). A triangle's smallest sine is at the corner between its two
+// longest edges: twice its area over their product, compared here squared (no roots).
+bool well_shaped(const Vec3* p[4], int i, int j, double well) {
+  double len[4][4];
+  for (int a = 0; a < 4; ++a)
+    for (int b = a + 1; b < 4; ++b) {
+      const double dx = (*p[b])[i] - (*p[a])[i], dy = (*p[b])[j] - (*p[a])[j];
+      len[a][b] = len[b][a] = dx * dx + dy * dy;
+    }
+  const double w2 = well * well;
   for (int skip = 0; skip < 4; ++skip) {
-    const Vec3* t[3];
-    for (int q = 0, n = 0; q < 4; ++q)
-      if (q != skip) t[n++] = p[q];
-    worst = std::min(worst, triangle_min_sine(*t[0], *t[1], *t[2], i, j));
+    int t[3], n = 0;
+    for (int q = 0; q < 4; ++q)
+      if (q != skip) t[n++] = q;
+    const Vec3 &o = *p[t[0]], &u = *p[t[1]], &v = *p[t[2]];
+    const double cross = (u[i] - o[i]) * (v[j] - o[j]) - (u[j] - o[j]) * (v[i] - o[i]);
+    const double e[3] = {len[t[0]][t[1]], len[t[1]][t[2]], len[t[0]][t[2]]};
+    const double shortest = std::min({e[0], e[1], e[2]});
+    const double product = shortest == e[0] ? e[1] * e[2] : (shortest == e[1] ? e[0] * e[2] : e[0] * e[1]);
+    if (!(cross * cross > w2 * product)) return false;
   }
-  return worst;
+  return true;
 }
 
 }  // namespace
@@ -712,7 +726,7 @@ int Points::incircle_certain(u32 a, u32 b, u32 c, u32 d, int k, double well) con
   // Where one would be a sliver, the exact test decides, so that slivers are flipped away as a
   // true Delaunay triangulation would.
   const Vec3* p[4] = {&approx(a), &approx(b), &approx(c), &approx(d)};
-  if (min_sine(p, i, j) > well) return -1;
+  if (well_shaped(p, i, j, well)) return -1;
   if (doubles) {
     auto p2 = [&](u32 x) { return Point2(approx(x)[i], approx(x)[j]); };
     return wedge::incircle(p2(a), p2(b), p2(c), p2(d)) == 1 ? 1 : -1;

@@ -421,6 +421,16 @@ class Points {
   const ExactPoint& exact(u32 p, ExactPoint& scratch) const;
 };
 
+// The constrained Delaunay triangulation of one cut triangle (boolean_cdt.cpp), in the
+// projection along e_k: `corners` (counter-clockwise there) with `points` inside or on their
+// triangle (inserted in this order; corners among them are skipped) and the `constraints`
+// between them (none passing through a point, none crossing another). The triangles, counter-
+// clockwise in the projection, are appended to `out`. `well` is incircle_certain's.
+void constrained_delaunay(const Points& pts, int k, double well, const std::array<u32, 3>& corners,
+                          const std::vector<u32>& points, const std::vector<std::array<u32, 2>>& constraints,
+                          std::vector<std::array<u32, 3>>& out);
+
+
 // Exact sign of orient3d on input vertices.
 int orient3d_v(const Soup& s, u32 a, u32 b, u32 c, u32 d);
 

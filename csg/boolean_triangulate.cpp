@@ -19,16 +19,10 @@
 //    tessellated circle cut by a plane), the split in place stays without exact arithmetic.
 // Work is split per triangle and concatenated in triangle order, so the result does not depend
 // on the number of threads.
-#include <CGAL/Constrained_Delaunay_triangulation_2.h>
-#include <CGAL/Constrained_triangulation_face_base_2.h>
-#include <CGAL/Triangulation_data_structure_2.h>
-#include <CGAL/Triangulation_vertex_base_2.h>
-
 #include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <numeric>
-#include <unordered_map>
 
 #include <tbb/task_group.h>
 
@@ -39,100 +33,6 @@
 namespace wedge::boolean_detail {
 
 namespace {
-
-// --- CGAL traits over point ids ---
-
-struct Ctx {
-  const Points* pts = nullptr;
-  int k = 2;
-  double well = 0.01;  // incircle_certain's "well shaped"
-};
-thread_local Ctx g_ctx;
-
-struct Pid {
-  u32 id = kNone;
-  Pid() = default;
-  explicit Pid(u32 i) : id(i) {}
-  bool operator==(const Pid& o) const { return id == o.id; }
-  bool operator!=(const Pid& o) const { return id != o.id; }
-  bool operator<(const Pid& o) const { return id < o.id; }
-};
-
-CGAL::Sign cgal_sign(int s) { return s > 0 ? CGAL::POSITIVE : (s < 0 ? CGAL::NEGATIVE : CGAL::ZERO); }
-int ax(int which) { return (g_ctx.k + 1 + which) % 3; }  // which 0: projected x, 1: projected y
-
-struct IdTraits {
-  using Point_2 = Pid;
-  struct Segment_2 {
-    Pid s, t;
-    Segment_2() = default;
-    Segment_2(Pid a, Pid b) : s(a), t(b) {}
-    Pid source() const { return s; }
-    Pid target() const { return t; }
-  };
-  struct Triangle_2 {
-    Pid a, b, c;
-    Triangle_2() = default;
-    Triangle_2(Pid x, Pid y, Pid z) : a(x), b(y), c(z) {}
-  };
-  struct Orientation_2 {
-    CGAL::Orientation operator()(Pid a, Pid b, Pid c) const {
-      return cgal_sign(g_ctx.pts->orient2d(a.id, b.id, c.id, g_ctx.k));
-    }
-  };
-  struct Compare_x_2 {
-    CGAL::Comparison_result operator()(Pid a, Pid b) const {
-      return cgal_sign(g_ctx.pts->compare(a.id, b.id, ax(0)));
-    }
-  };
-  struct Compare_y_2 {
-    CGAL::Comparison_result operator()(Pid a, Pid b) const {
-      return cgal_sign(g_ctx.pts->compare(a.id, b.id, ax(1)));
-    }
-  };
-  struct Less_x_2 {
-    bool operator()(Pid a, Pid b) const { return g_ctx.pts->compare(a.id, b.id, ax(0)) < 0; }
-  };
-  struct Less_y_2 {
-    bool operator()(Pid a, Pid b) const { return g_ctx.pts->compare(a.id, b.id, ax(1)) < 0; }
-  };
-  struct Compare_xy_2 {
-    CGAL::Comparison_result operator()(Pid a, Pid b) const {
-      int c = g_ctx.pts->compare(a.id, b.id, ax(0));
-      if (c == 0) c = g_ctx.pts->compare(a.id, b.id, ax(1));
-      return cgal_sign(c);
-    }
-  };
-  struct Side_of_oriented_circle_2 {
-    CGAL::Oriented_side operator()(Pid a, Pid b, Pid c, Pid d) const {
-      return cgal_sign(g_ctx.pts->incircle_certain(a.id, b.id, c.id, d.id, g_ctx.k, g_ctx.well));
-    }
-  };
-  struct Construct_segment_2 {
-    Segment_2 operator()(Pid a, Pid b) const { return Segment_2(a, b); }
-  };
-  struct Construct_triangle_2 {
-    Triangle_2 operator()(Pid a, Pid b, Pid c) const { return Triangle_2(a, b, c); }
-  };
-  struct Construct_point_2 {
-    const Pid& operator()(const Pid& p) const { return p; }
-  };
-  Construct_point_2 construct_point_2_object() const { return {}; }
-  Orientation_2 orientation_2_object() const { return {}; }
-  Compare_x_2 compare_x_2_object() const { return {}; }
-  Compare_y_2 compare_y_2_object() const { return {}; }
-  Less_x_2 less_x_2_object() const { return {}; }
-  Less_y_2 less_y_2_object() const { return {}; }
-  Compare_xy_2 compare_xy_2_object() const { return {}; }
-  Side_of_oriented_circle_2 side_of_oriented_circle_2_object() const { return {}; }
-  Construct_segment_2 construct_segment_2_object() const { return {}; }
-  Construct_triangle_2 construct_triangle_2_object() const { return {}; }
-};
-
-using Vb = CGAL::Triangulation_vertex_base_2<IdTraits>;
-using Fb = CGAL::Constrained_triangulation_face_base_2<IdTraits>;
-using Tds = CGAL::Triangulation_data_structure_2<Vb, Fb>;
-using Cdt = CGAL::Constrained_Delaunay_triangulation_2<IdTraits, Tds, CGAL::No_constraint_intersection_tag>;
 
 // --- interning ---
 
@@ -821,33 +721,21 @@ Arrangement arrange(Points& pts, const std::vector<std::array<u32, 2>>& pairs) {
       constraints.push_back({prev, b});
     }
     // Overlapping segments (an edge of T cut by two operands, say) split into the same pieces;
-    // each piece is one constraint (CGAL's CDT counts a repeated constraint as an intersection).
+    // each piece is one constraint.
     for (auto& c : constraints)
       if (c[0] > c[1]) std::swap(c[0], c[1]);
     unique_sorted(constraints);
-    g_ctx.pts = &pts;
-    g_ctx.k = k;
-    {
-      // Inside a sliver (a long cylinder's side triangle) every piece is a sliver too: the flip
-      // test settles for half of T's own smallest sine.
-      const int i = (k + 1) % 3, j = (k + 2) % 3;
-      const double sine = triangle_min_sine(soup.verts[T[0]], soup.verts[T[1]], soup.verts[T[2]], i, j);
-      g_ctx.well = std::min(0.01, 0.5 * sine);
-    }
+    // Inside a sliver (a long cylinder's side triangle) every piece is a sliver too: the flip
+    // test settles for half of T's own smallest sine.
+    const double well = std::min(
+        0.01, 0.5 * triangle_min_sine(soup.verts[T[0]], soup.verts[T[1]], soup.verts[T[2]], (k + 1) % 3, (k + 2) % 3));
     // The commonest cuts, chords from edge to edge and nothing inside T, without building a
     // triangulation.
     if (constraints.size() <= 4 && points.size() <= 9 &&
-        boundary_cuts(pts, soup, t, k, points, constraints, g_ctx.well, cut_pieces[wi]))
+        boundary_cuts(pts, soup, t, k, points, constraints, well, cut_pieces[wi]))
       return;
-    Cdt cdt;
-    std::unordered_map<u32, Cdt::Vertex_handle> vh;
-    Cdt::Face_handle hint;
-    for (u32 v : T) {
-      auto h = cdt.insert(Pid(v));
-      vh[v] = h;
-    }
     // Many points (a plate's face) go in along a Morton curve over their projection, so each
-    // insertion starts its walk beside the last one's face.
+    // insertion starts its walk beside the last one's triangle.
     std::vector<u32> order;
     if (points.size() >= 512) {
       const int i = (k + 1) % 3, j = (k + 2) % 3;
@@ -870,18 +758,10 @@ Arrangement arrange(Points& pts, const std::vector<std::array<u32, 2>>& pairs) {
       order.reserve(points.size());
       for (const auto& x : keyed) order.push_back(x.second);
     }
-    for (u32 p : order.empty() ? points : order) {
-      if ((++polled & 0xff) == 0) soup.poll();
-      if (vh.count(p)) continue;
-      auto h = cdt.insert(Pid(p), hint);
-      hint = h->face();
-      vh[p] = h;
-    }
+    const std::array<u32, 3> ccw = soup.axis_sign[t] > 0 ? T : std::array<u32, 3>{T[0], T[2], T[1]};
+    std::vector<std::array<u32, 3>> made;
     try {
-      for (const auto& c : constraints) {
-        if ((++polled & 0xff) == 0) soup.poll();
-        cdt.insert_constraint(vh.at(c[0]), vh.at(c[1]));
-      }
+      constrained_delaunay(pts, k, well, ccw, order.empty() ? points : order, constraints, made);
     } catch (const Cancelled&) {
       throw;
     } catch (const std::exception& e) {
@@ -890,8 +770,8 @@ Arrangement arrange(Points& pts, const std::vector<std::array<u32, 2>>& pairs) {
            ": ", e.what());
     }
     auto& out = cut_pieces[wi];
-    for (auto f : cdt.finite_face_handles()) {
-      std::array<u32, 3> v = {f->vertex(0)->point().id, f->vertex(1)->point().id, f->vertex(2)->point().id};
+    out.reserve(made.size());
+    for (auto v : made) {
       if (soup.axis_sign[t] < 0) std::swap(v[1], v[2]);
       out.push_back({v, t});
     }
