@@ -41,7 +41,8 @@ inline int pv(int j) { return j == 0 ? 2 : j - 1; }
 class Triangulator {
  public:
   void run(const Points& pts, int k, double well, const std::array<u32, 3>& corners, const std::vector<u32>& points,
-           const std::vector<std::array<u32, 2>>& constraints, std::vector<std::array<u32, 3>>& out) {
+           const std::vector<std::array<u32, 2>>& constraints, std::vector<std::array<u32, 3>>& out,
+           std::vector<std::array<u32, 3>>* inner) {
     pts_ = &pts;
     k_ = k;
     well_ = well;
@@ -86,6 +87,18 @@ class Triangulator {
     }
     out.reserve(out.size() + tris_.size());
     for (const Tri& t : tris_) out.push_back({ids_[t.v[0]], ids_[t.v[1]], ids_[t.v[2]]});
+    if (inner) {
+      // Edge e (v[e] -> v[e+1]) is the one opposite v[e+2].
+      inner->reserve(inner->size() + tris_.size());
+      for (const Tri& t : tris_) {
+        std::array<u32, 3> nb;
+        for (int e = 0; e < 3; ++e) {
+          const int j = pv(e);
+          nb[e] = t.n[j] == kNo || cons(t, j) ? kNone : static_cast<u32>(t.n[j]);
+        }
+        inner->push_back(nb);
+      }
+    }
   }
 
  private:
@@ -441,9 +454,9 @@ class Triangulator {
 
 void constrained_delaunay(const Points& pts, int k, double well, const std::array<u32, 3>& corners,
                           const std::vector<u32>& points, const std::vector<std::array<u32, 2>>& constraints,
-                          std::vector<std::array<u32, 3>>& out) {
+                          std::vector<std::array<u32, 3>>& out, std::vector<std::array<u32, 3>>* inner) {
   thread_local Triangulator tr;  // its arrays are kept for the thread's next triangle
-  tr.run(pts, k, well, corners, points, constraints, out);
+  tr.run(pts, k, well, corners, points, constraints, out, inner);
 }
 
 }  // namespace wedge::boolean_detail

@@ -425,10 +425,12 @@ class Points {
 // projection along e_k: `corners` (counter-clockwise there) with `points` inside or on their
 // triangle (inserted in this order; corners among them are skipped) and the `constraints`
 // between them (none passing through a point, none crossing another). The triangles, counter-
-// clockwise in the projection, are appended to `out`. `well` is incircle_certain's.
+// clockwise in the projection, are appended to `out`. `well` is incircle_certain's. With `inner`,
+// per triangle made and edge e (v[e] -> v[e+1]), the triangle across it (counted from this call's
+// first) where that edge is neither a constraint nor on the boundary, else kNone.
 void constrained_delaunay(const Points& pts, int k, double well, const std::array<u32, 3>& corners,
                           const std::vector<u32>& points, const std::vector<std::array<u32, 2>>& constraints,
-                          std::vector<std::array<u32, 3>>& out);
+                          std::vector<std::array<u32, 3>>& out, std::vector<std::array<u32, 3>>* inner = nullptr);
 
 
 // Exact sign of orient3d on input vertices.
@@ -579,6 +581,10 @@ struct Piece {               // an output candidate triangle
 struct Arrangement {
   std::vector<Piece> pieces;             // every triangle cut into pieces, uncut ones whole
   std::vector<std::vector<u32>> coplanar;  // per input triangle: overlapping coplanar triangles
+  // Per piece and edge e (v[e] -> v[e+1]): the other piece of the same input triangle across it,
+  // where the edge is inside that triangle and on no cut (so these two are the only pieces on
+  // it), else kNone. Empty: none known.
+  std::vector<std::array<u32, 3>> inner;
 };
 Arrangement arrange(Points& pts, const std::vector<std::array<u32, 2>>& pairs);
 
@@ -587,7 +593,8 @@ Arrangement arrange(Points& pts, const std::vector<std::array<u32, 2>>& pairs);
 // With `self`, the soup is one mesh that may cross itself, and the result is the region where its
 // winding number is at least 1 (op is not used).
 // `adj` (per soup triangle and edge, the triangle across it where known, else kNone), if given,
-// joins whole triangles into patches without sorting their edges; `piece_adj` (if given) then
+// joins whole triangles into patches without sorting their edges, as arr.inner joins the pieces
+// of one cut triangle across edges on no cut; `piece_adj` (if given) then
 // receives per piece and edge the piece so joined across it (the only other piece on that edge,
 // in the same patch), else kNone.
 std::vector<std::int8_t> classify(const Points& pts, const Arrangement& arr, BooleanOp op, bool self = false,

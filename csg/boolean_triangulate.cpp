@@ -665,6 +665,7 @@ Arrangement arrange(Points& pts, const std::vector<std::array<u32, 2>>& pairs) {
 
   // 4. Split segments at the points on them, and triangulate.
   std::vector<std::vector<Piece>> cut_pieces(work.size());
+  std::vector<std::vector<std::array<u32, 3>>> cut_inner(work.size());  // empty: none known
   auto triangulate_one = [&](std::size_t wi) {
     soup.poll();
     TriWork& w = work[wi];
@@ -760,8 +761,9 @@ Arrangement arrange(Points& pts, const std::vector<std::array<u32, 2>>& pairs) {
     }
     const std::array<u32, 3> ccw = soup.axis_sign[t] > 0 ? T : std::array<u32, 3>{T[0], T[2], T[1]};
     std::vector<std::array<u32, 3>> made;
+    auto& inner = cut_inner[wi];
     try {
-      constrained_delaunay(pts, k, well, ccw, order.empty() ? points : order, constraints, made);
+      constrained_delaunay(pts, k, well, ccw, order.empty() ? points : order, constraints, made, &inner);
     } catch (const Cancelled&) {
       throw;
     } catch (const std::exception& e) {
@@ -775,6 +777,9 @@ Arrangement arrange(Points& pts, const std::vector<std::array<u32, 2>>& pairs) {
       if (soup.axis_sign[t] < 0) std::swap(v[1], v[2]);
       out.push_back({v, t});
     }
+    // Turned over, edge e of a piece is edge 2 - e of the triangle made.
+    if (soup.axis_sign[t] < 0)
+      for (auto& nb : inner) std::swap(nb[0], nb[2]);
   };
   // A few large triangles (a plate's face cut by hundreds of holes) can be most of this step,
   // each on one thread: they start first, a task each, largest first, so two of them do not queue
@@ -809,10 +814,19 @@ Arrangement arrange(Points& pts, const std::vector<std::array<u32, 2>>& pairs) {
       arr.pieces.push_back({soup.tris[t], static_cast<u32>(t)});
       continue;
     }
+    const auto& inner = cut_inner[slot[t]];
+    if (!inner.empty()) {
+      const u32 base = static_cast<u32>(arr.pieces.size());
+      arr.inner.resize(base, {kNone, kNone, kNone});
+      for (const auto& nb : inner)
+        arr.inner.push_back({nb[0] == kNone ? kNone : base + nb[0], nb[1] == kNone ? kNone : base + nb[1],
+                             nb[2] == kNone ? kNone : base + nb[2]});
+    }
     for (const auto& p : cut_pieces[slot[t]]) arr.pieces.push_back(p);
     arr.coplanar[t] = std::move(work[slot[t]].coplanar);
     unique_sorted(arr.coplanar[t]);
   }
+  if (!arr.inner.empty()) arr.inner.resize(arr.pieces.size(), {kNone, kNone, kNone});
   return arr;
 }
 
