@@ -392,11 +392,16 @@ void Points::evaluate(std::size_t n) {
   }
   // Coordinates known exactly without arithmetic are the double c itself, so the point need not
   // move there when it is rounded.
+  // So are coordinates whose box is one double: the arithmetic above was exact (a segment between
+  // integer points cut by a diagonal wall through others, all over a sponge of boxes).
   std::uint8_t fixed = 0;
   for (int i = 0; i < 3; ++i) {
     double c = 0;
     if (known_coordinate(*soup_, d, i, c)) {
       ap[i] = bx[i] = bx[i + 3] = c;
+      fixed |= static_cast<std::uint8_t>(1u << i);
+    } else if (bx[i] == bx[i + 3] && std::isfinite(bx[i])) {
+      ap[i] = bx[i] == 0 ? 0.0 : bx[i];
       fixed |= static_cast<std::uint8_t>(1u << i);
     }
   }
