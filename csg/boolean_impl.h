@@ -91,10 +91,12 @@ inline int orient3d_fast(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3
     if (det > bound) return 1;
     if (-det > bound) return -1;
   }
-  // Four points on one axis-parallel plane (the faces of boxes, plates and cylinder caps) are
-  // exactly coplanar; the exact predicate would take its slowest path to say so. So are four
+  // Two of the points equal (a neighbouring triangle's corner tested against a triangle's plane),
+  // or four points on one axis-parallel plane (the faces of boxes, plates and cylinder caps): they
+  // are exactly coplanar, and the exact predicate would take its slowest path to say so. So are four
   // points that, seen along an axis, are at most two points (the quads of a cylinder's or an
   // extrusion's side: they lie in the wall over the segment between those two).
+  if (d == a || d == b || d == c || a == b || a == c || b == c) return 0;
   for (int k = 0; k < 3; ++k) {
     if (a[k] == b[k] && b[k] == c[k] && c[k] == d[k]) return 0;
     const int i = (k + 1) % 3, j = (k + 2) % 3;
