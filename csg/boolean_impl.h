@@ -58,8 +58,10 @@ inline int orient2d_fast(double ax, double ay, double bx, double by, double cx, 
     if (det > bound) return 1;
     if (-det > bound) return -1;
   }
-  // Three points on one axis-parallel line (common in CAD input) are exactly collinear.
+  // Three points on one axis-parallel line (common in CAD input), or two equal, are exactly
+  // collinear.
   if ((ax == bx && bx == cx) || (ay == by && by == cy)) return 0;
+  if ((ax == bx && ay == by) || (ax == cx && ay == cy) || (bx == cx && by == cy)) return 0;
   return wedge::orient2d(Point2(ax, ay), Point2(bx, by), Point2(cx, cy));
 }
 // The smallest sine of the angles of triangle (a, b, c) seen in the coordinate plane (i, j),
