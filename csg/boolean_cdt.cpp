@@ -42,8 +42,9 @@ class Triangulator {
  public:
   void run(const Points& pts, int k, double well, const std::array<u32, 3>& corners, const std::vector<u32>& points,
            const std::vector<std::array<u32, 2>>& constraints, std::vector<std::array<u32, 3>>& out,
-           std::vector<std::array<u32, 3>>* inner) {
+           std::vector<std::array<u32, 3>>* inner, const Points::Metric* metric) {
     pts_ = &pts;
+    metric_ = metric;
     k_ = k;
     well_ = well;
     rng_ = 0x9e3779b9u;
@@ -103,6 +104,7 @@ class Triangulator {
 
  private:
   const Points* pts_ = nullptr;
+  const Points::Metric* metric_ = nullptr;
   int k_ = 2;
   double well_ = 0.01;
   std::uint32_t rng_ = 0x9e3779b9u;
@@ -124,6 +126,7 @@ class Triangulator {
   int orient(int a, int b, int c) const { return pts_->orient2d(ids_[a], ids_[b], ids_[c], k_); }
   // +1 where d is certainly inside the circle through a, b, c (counter-clockwise).
   bool in_circle(int a, int b, int c, int d) const {
+    if (metric_) return pts_->incircle_certain(ids_[a], ids_[b], ids_[c], ids_[d], k_, well_, *metric_) > 0;
     return pts_->incircle_certain(ids_[a], ids_[b], ids_[c], ids_[d], k_, well_) > 0;
   }
   std::uint32_t next_random() {
@@ -454,9 +457,10 @@ class Triangulator {
 
 void constrained_delaunay(const Points& pts, int k, double well, const std::array<u32, 3>& corners,
                           const std::vector<u32>& points, const std::vector<std::array<u32, 2>>& constraints,
-                          std::vector<std::array<u32, 3>>& out, std::vector<std::array<u32, 3>>* inner) {
+                          std::vector<std::array<u32, 3>>& out, std::vector<std::array<u32, 3>>* inner,
+                          const Points::Metric* metric) {
   thread_local Triangulator tr;  // its arrays are kept for the thread's next triangle
-  tr.run(pts, k, well, corners, points, constraints, out, inner);
+  tr.run(pts, k, well, corners, points, constraints, out, inner, metric);
 }
 
 }  // namespace wedge::boolean_detail

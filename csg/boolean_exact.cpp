@@ -224,6 +224,30 @@ int incircle_sign(const H<NT>& a, const H<NT>& b, const H<NT>& c, const H<NT>& d
   return sign_of(det);
 }
 
+// incircle_sign with the lifting q(X, Y) of a quadratic form instead of X^2 + Y^2 (rows (X W, Y W,
+// q(X, Y), W^2): the affine rows (x, y, q(x, y), 1) times W^2).
+template <class NT>
+int incircle_sign_q(const H<NT>& a, const H<NT>& b, const H<NT>& c, const H<NT>& d, int k, const Points::Metric& q) {
+  int i = (k + 1) % 3, j = (k + 2) % 3;
+  const H<NT>* p[4] = {&a, &b, &c, &d};
+  const NT q11 = lift<NT>(q.q11), q12 = lift<NT>(2 * q.q12), q22 = lift<NT>(q.q22);
+  NT m[4][4];
+  for (int r = 0; r < 4; ++r) {
+    const NT& X = p[r]->c[i];
+    const NT& Y = p[r]->c[j];
+    const NT& W = p[r]->c[3];
+    m[r][0] = X * W;
+    m[r][1] = Y * W;
+    m[r][2] = q11 * X * X + q12 * X * Y + q22 * Y * Y;
+    m[r][3] = W * W;
+  }
+  NT det = -m[0][3] * det3(m[1][0], m[1][1], m[1][2], m[2][0], m[2][1], m[2][2], m[3][0], m[3][1], m[3][2]) +
+           m[1][3] * det3(m[0][0], m[0][1], m[0][2], m[2][0], m[2][1], m[2][2], m[3][0], m[3][1], m[3][2]) -
+           m[2][3] * det3(m[0][0], m[0][1], m[0][2], m[1][0], m[1][1], m[1][2], m[3][0], m[3][1], m[3][2]) +
+           m[3][3] * det3(m[0][0], m[0][1], m[0][2], m[1][0], m[1][1], m[1][2], m[2][0], m[2][1], m[2][2]);
+  return sign_of(det);
+}
+
 // A point's coordinate box on axes i and j as intervals; false if the box is unbounded (a point
 // whose rounding fell back to the rational quotient outside its filter's interval).
 bool box_ia(const std::array<double, 6>& b, int i, int j, IA& x, IA& y) {
@@ -739,6 +763,76 @@ int Points::incircle_certain(u32 a, u32 b, u32 c, u32 d, int k, double well) con
   ExactPoint scratch[4];
   return incircle_sign(exact(a, scratch[0]).h, exact(b, scratch[1]).h,
                        exact(c, scratch[2]).h, exact(d, scratch[3]).h, k) == 1
+             ? 1
+             : -1;
+}
+
+int Points::incircle_certain(u32 a, u32 b, u32 c, u32 d, int k, double well, const Metric& q) const {
+  const int i = (k + 1) % 3, j = (k + 2) % 3;
+  const u32 id[4] = {a, b, c, d};
+  {
+    // On the approximations, relative to d, with a bound of 32 ulps of the permanent (the plain
+    // test's stage-A bound is 10; the form adds three products and a sum to each lifted term,
+    // and |q| <= 1), plus how far the exact points may be from them: with each difference off by
+    // at most 2W and R' the largest difference plus 2W, a lifted term is off by at most 16 R' W
+    // (and at most 4 R'^2), a 2x2 minor by 8 R' W (at most 2 R'^2): 192 R'^3 W in all, 256 here.
+    const Vec3& D = approx(d);
+    double W = slack(d), R = 0;
+    double r[3][3], lift_abs[3];
+    for (int n = 0; n < 3; ++n) {
+      const Vec3& P = approx(id[n]);
+      const double x = P[i] - D[i], y = P[j] - D[j];
+      W = std::max(W, slack(id[n]));
+      R = std::max({R, std::abs(x), std::abs(y)});
+      r[n][0] = x;
+      r[n][1] = y;
+      r[n][2] = q.q11 * x * x + 2 * q.q12 * x * y + q.q22 * y * y;
+      lift_abs[n] = std::abs(q.q11) * x * x + 2 * std::abs(q.q12 * x * y) + std::abs(q.q22) * y * y;
+    }
+    const double m0 = r[1][0] * r[2][1] - r[2][0] * r[1][1], m1 = r[2][0] * r[0][1] - r[0][0] * r[2][1],
+                 m2 = r[0][0] * r[1][1] - r[1][0] * r[0][1];
+    const double det = r[0][2] * m0 + r[1][2] * m1 + r[2][2] * m2;
+    const double perm = lift_abs[0] * (std::abs(r[1][0] * r[2][1]) + std::abs(r[2][0] * r[1][1])) +
+                        lift_abs[1] * (std::abs(r[2][0] * r[0][1]) + std::abs(r[0][0] * r[2][1])) +
+                        lift_abs[2] * (std::abs(r[0][0] * r[1][1]) + std::abs(r[1][0] * r[0][1]));
+    double bound = 3.5527136788005009e-15 * perm;
+    if (W > 0) {
+      R += 2 * W;
+      bound += 256 * R * R * R * W;
+    }
+    if (bound < INFINITY && bound > 1e-280 && std::abs(det) > bound) return det > 0 ? 1 : -1;
+  }
+  {
+    Filter guard;
+    // On the coordinate boxes, relative to d, then homogeneously.
+    const IA q11(q.q11), q12(2 * q.q12), q22(q.q22);
+    IA dx0, dy0, r[3][3];
+    bool boxed = box_ia(box(d), i, j, dx0, dy0);
+    for (int n = 0; n < 3 && boxed; ++n) {
+      IA x, y;
+      boxed = box_ia(box(id[n]), i, j, x, y);
+      r[n][0] = x - dx0;
+      r[n][1] = y - dy0;
+      r[n][2] = q11 * CGAL::square(r[n][0]) + q12 * r[n][0] * r[n][1] + q22 * CGAL::square(r[n][1]);
+    }
+    int s = 2;
+    if (boxed) s = sign_of(det3(r[0][0], r[0][1], r[0][2], r[1][0], r[1][1], r[1][2], r[2][0], r[2][1], r[2][2]));
+    if (s == 2) s = incircle_sign_q(to_ia(interval(a)), to_ia(interval(b)), to_ia(interval(c)), to_ia(interval(d)), k, q);
+    if (s != 2) return s == 1 ? 1 : -1;
+  }
+  // Shapes are judged where the form is the plain one: mapped by its square root (Cholesky).
+  const double l11 = std::sqrt(q.q11), l12 = q.q12 / l11, l22 = std::sqrt(std::max(0.0, q.q22 - l12 * l12));
+  Vec3 mapped[4];
+  const Vec3* p[4];
+  for (int n = 0; n < 4; ++n) {
+    const Vec3& x = approx(id[n]);
+    mapped[n] = Vec3(l11 * x[i] + l12 * x[j], l22 * x[j], 0);
+    p[n] = &mapped[n];
+  }
+  if (well_shaped(p, 0, 1, well)) return -1;
+  ExactPoint scratch[4];
+  return incircle_sign_q(exact(a, scratch[0]).h, exact(b, scratch[1]).h, exact(c, scratch[2]).h,
+                         exact(d, scratch[3]).h, k, q) == 1
              ? 1
              : -1;
 }

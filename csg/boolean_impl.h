@@ -366,6 +366,15 @@ class Points {
   // retriangulation of an input triangle that is itself a sliver passes half its own smallest
   // sine, since every piece of it is as thin).
   int incircle_certain(u32 a, u32 b, u32 c, u32 d, int k, double well = 0.01) const;
+  // The same in the metric of a positive definite quadratic form q(x, y) = q11 x^2 + 2 q12 x y +
+  // q22 y^2 on the projection (the circles are its ellipses): the Delaunay test of the plane that
+  // the form's square root maps the points to. Inside a sliver, the map that makes the sliver
+  // equilateral spreads its points, so the filter decides where the plain test would need exact
+  // arithmetic, and "well shaped" is judged there.
+  struct Metric {
+    double q11, q12, q22;
+  };
+  int incircle_certain(u32 a, u32 b, u32 c, u32 d, int k, double well, const Metric& q) const;
   // For the centroid of triangle (a, b, c): sign of orient2d(u, v, centroid) in projection k, with
   // u, v input vertices; and the side of a plane.
   int orient2d_centroid(u32 u, u32 v, const std::array<u32, 3>& t, int k) const;
@@ -432,9 +441,11 @@ class Points {
 // clockwise in the projection, are appended to `out`. `well` is incircle_certain's. With `inner`,
 // per triangle made and edge e (v[e] -> v[e+1]), the triangle across it (counted from this call's
 // first) where that edge is neither a constraint nor on the boundary, else kNone.
+// With `metric`, the Delaunay test is in that metric (Points::incircle_certain).
 void constrained_delaunay(const Points& pts, int k, double well, const std::array<u32, 3>& corners,
                           const std::vector<u32>& points, const std::vector<std::array<u32, 2>>& constraints,
-                          std::vector<std::array<u32, 3>>& out, std::vector<std::array<u32, 3>>* inner = nullptr);
+                          std::vector<std::array<u32, 3>>& out, std::vector<std::array<u32, 3>>* inner = nullptr,
+                          const Points::Metric* metric = nullptr);
 
 
 // Exact sign of orient3d on input vertices.

@@ -405,7 +405,8 @@ int split_axis(const Points& pts, u32 a, u32 b) {
 // triangulation would keep), they go to `out`, counter-clockwise seen from outside T's operand,
 // and the answer is true; otherwise nothing is made and the answer is false.
 bool boundary_cuts(const Points& pts, const Soup& soup, u32 t, int k, const std::vector<u32>& points,
-                   const std::vector<std::array<u32, 2>>& constraints, double well, std::vector<Piece>& out) {
+                   const std::vector<std::array<u32, 2>>& constraints, double well, const Points::Metric* metric,
+                   std::vector<Piece>& out) {
   const auto& T = soup.tris[t];
   const std::array<u32, 3> p = soup.axis_sign[t] > 0 ? T : std::array<u32, 3>{T[0], T[2], T[1]};  // ccw seen along k
   // The boundary counter-clockwise: p0, the points inside edge p0 p1 in order, p1, ...
@@ -486,7 +487,8 @@ bool boundary_cuts(const Points& pts, const Soup& soup, u32 t, int k, const std:
       emit(ring[poly[0]], ring[poly[1]], ring[poly[2]]);
     } else if (m == 4) {
       const u32 q0 = ring[poly[0]], q1 = ring[poly[1]], q2 = ring[poly[2]], q3 = ring[poly[3]];
-      if (pts.incircle_certain(q0, q1, q2, q3, k, well) == 1) {
+      if ((metric ? pts.incircle_certain(q0, q1, q2, q3, k, well, *metric) : pts.incircle_certain(q0, q1, q2, q3, k, well)) ==
+          1) {
         emit(q0, q1, q3);
         emit(q1, q2, q3);
       } else {
@@ -726,14 +728,47 @@ Arrangement arrange(Points& pts, const std::vector<std::array<u32, 2>>& pairs) {
     for (auto& c : constraints)
       if (c[0] > c[1]) std::swap(c[0], c[1]);
     unique_sorted(constraints);
-    // Inside a sliver (a long cylinder's side triangle) every piece is a sliver too: the flip
-    // test settles for half of T's own smallest sine.
-    const double well = std::min(
-        0.01, 0.5 * triangle_min_sine(soup.verts[T[0]], soup.verts[T[1]], soup.verts[T[2]], (k + 1) % 3, (k + 2) % 3));
+    // Inside a sliver (a long cylinder's side triangle) every piece is a sliver too. Where T is
+    // thin (a smallest sine under 0.02: a side of a cylinder of 128 sides has 0.009) and its
+    // points are constructed (not all exact doubles in the projection), the Delaunay test works in
+    // the metric of the linear map that makes T equilateral: its pieces are as well shaped there
+    // as any triangle's, and the filter decides where the plain test needed exact arithmetic for
+    // most of its calls (the classic figure's cylinders crossing each other: 47 -> 38 ms, and its
+    // result rounds without a re-resolution). Elsewhere the plain test, on doubles where the
+    // points are, settles for half of T's own smallest sine: on a sponge's bars (0.037) the
+    // metric made recovering the constraints costlier than the filter saved, and a map too far
+    // from a rotation (a sine under 1e-3) cannot be held in doubles.
+    const int ti = (k + 1) % 3, tj = (k + 2) % 3;
+    const double sine = triangle_min_sine(soup.verts[T[0]], soup.verts[T[1]], soup.verts[T[2]], ti, tj);
+    double well = std::min(0.01, 0.5 * sine);
+    Points::Metric metric{1, 0, 1};
+    bool stretched = false;
+    const bool doubles = std::all_of(points.begin(), points.end(),
+                                     [&](u32 p) { return (pts.fixed(p) >> ti & 1) && (pts.fixed(p) >> tj & 1); });
+    if (sine < 0.02 && sine >= 1e-3 && !doubles) {
+      const std::array<u32, 3> c = soup.axis_sign[t] > 0 ? T : std::array<u32, 3>{T[0], T[2], T[1]};
+      const Vec3 &p0 = soup.verts[c[0]], &p1 = soup.verts[c[1]], &p2 = soup.verts[c[2]];
+      const double ax = p1[ti] - p0[ti], ay = p1[tj] - p0[tj], bx = p2[ti] - p0[ti], by = p2[tj] - p0[tj];
+      const double det = ax * by - bx * ay;
+      // M = F E^-1, with E the edge vectors as columns and F those of the unit equilateral
+      // triangle; q = M^T M, scaled to its largest entry (a positive factor: the same test).
+      const double h = std::sqrt(3.0) / 2;
+      const double m11 = (by - 0.5 * ay) / det, m12 = (0.5 * ax - bx) / det;
+      const double m21 = -h * ay / det, m22 = h * ax / det;
+      double q11 = m11 * m11 + m21 * m21, q12 = m11 * m12 + m21 * m22, q22 = m12 * m12 + m22 * m22;
+      const double scale = std::max(q11, q22);
+      q11 /= scale, q12 /= scale, q22 /= scale;
+      // Positive definite with room to spare, so the doubles held are too.
+      if (std::isfinite(scale) && scale > 0 && q11 > 0 && q22 > 0 && q11 * q22 - q12 * q12 > 1e-9 * q11 * q22) {
+        metric = {q11, q12, q22};
+        stretched = true;
+        well = 0.01;
+      }
+    }
     // The commonest cuts, chords from edge to edge and nothing inside T, without building a
     // triangulation.
     if (constraints.size() <= 4 && points.size() <= 9 &&
-        boundary_cuts(pts, soup, t, k, points, constraints, well, cut_pieces[wi]))
+        boundary_cuts(pts, soup, t, k, points, constraints, well, stretched ? &metric : nullptr, cut_pieces[wi]))
       return;
     // Many points (a plate's face) go in along a Morton curve over their projection, so each
     // insertion starts its walk beside the last one's triangle.
@@ -763,7 +798,8 @@ Arrangement arrange(Points& pts, const std::vector<std::array<u32, 2>>& pairs) {
     std::vector<std::array<u32, 3>> made;
     auto& inner = cut_inner[wi];
     try {
-      constrained_delaunay(pts, k, well, ccw, order.empty() ? points : order, constraints, made, &inner);
+      constrained_delaunay(pts, k, well, ccw, order.empty() ? points : order, constraints, made, &inner,
+                           stretched ? &metric : nullptr);
     } catch (const Cancelled&) {
       throw;
     } catch (const std::exception& e) {

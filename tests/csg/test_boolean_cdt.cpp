@@ -102,8 +102,8 @@ Case make_case(int n, int loose, int wanted, unsigned seed) {
 }
 
 // Checks that `tris` triangulates the case's triangle with all its points and constraints, and is
-// Delaunay across every other edge.
-void check(const Case& c, const std::vector<std::array<u32, 3>>& tris) {
+// Delaunay across every other edge (in the metric x^2 + (stretch y)^2).
+void check(const Case& c, const std::vector<std::array<u32, 3>>& tris, double stretch = 1) {
   const Soup& s = c.soup;
   double area = 0;
   std::map<std::pair<u32, u32>, int> edges;  // directed edge -> its triangle
@@ -141,7 +141,8 @@ void check(const Case& c, const std::vector<std::array<u32, 3>>& tris) {
     const auto& T = tris[static_cast<std::size_t>(t)];
     const auto& U = tris[static_cast<std::size_t>(twin->second)];
     u32 far = U[0] + U[1] + U[2] - e.first - e.second;
-    CHECK(wedge::incircle(p2(s, T[0]), p2(s, T[1]), p2(s, T[2]), p2(s, far)) <= 0);
+    auto q = [&](u32 v) { return Point2(s.verts[v].x(), stretch * s.verts[v].y()); };  // exact: a power of 2
+    CHECK(wedge::incircle(q(T[0]), q(T[1]), q(T[2]), q(far)) <= 0);
   }
 }
 
@@ -185,4 +186,25 @@ TEST_CASE("boolean cdt: a constraint through collinear points is split at them",
   for (int y = 0; y < 64; y += 4) c.constraints.push_back({id(0, y), id(0, y + 4)});
   for (int x = 4; x < 40; x += 4) c.constraints.push_back({id(x, 4), id(x + 4, 4)});
   check(c, tris);
+}
+
+TEST_CASE("boolean cdt: in a metric, the triangulation is Delaunay where that metric maps the points", "[boolean]") {
+  // q(x, y) = x^2 + 4 y^2: the circles are the ellipses of the plane stretched by 2 along y.
+  const Points::Metric metric{1, 0, 4};
+  for (unsigned seed = 1; seed <= 6; ++seed) {
+    Case c = make_case(64, 60, 40, seed);
+    Points pts(c.soup);
+    std::vector<std::array<u32, 3>> tris, plain;
+    constrained_delaunay(pts, 2, 0.01, {0, 1, 2}, c.points, c.constraints, tris, nullptr, &metric);
+    INFO("seed " << seed);
+    check(c, tris, 2);
+    // Not the plain triangulation: the metric changed some edges.
+    constrained_delaunay(pts, 2, 0.01, {0, 1, 2}, c.points, c.constraints, plain);
+    auto sorted = [](std::vector<std::array<u32, 3>> v) {
+      for (auto& t : v) std::rotate(t.begin(), std::min_element(t.begin(), t.end()), t.end());
+      std::sort(v.begin(), v.end());
+      return v;
+    };
+    CHECK(sorted(tris) != sorted(plain));
+  }
 }
