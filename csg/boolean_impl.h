@@ -588,6 +588,47 @@ struct PairCut {       // what T ∩ U adds to T's and to U's retriangulation
 };
 PairCut intersect_pair(const Points& pts, u32 t, u32 u);
 
+// --- interning of the retriangulation's points (boolean_intern.cpp) ---
+// What one input triangle's retriangulation gathers from its pairs (point ids).
+struct TriWork {
+  std::vector<std::array<u32, 2>> segs;
+  std::vector<Plane> cuts;  // per segment, the plane that cuts T along it
+  std::vector<u32> points;
+  std::vector<u32> coplanar;
+};
+// One id per point: per symbolic definition (canonical: the same planes in any order), or per
+// position for a point whose definition fixes all three coordinates (the many definitions of one
+// corner of a sponge get one id), where an input vertex at that position keeps its own id.
+struct InternRun;
+class Interner {
+ public:
+  explicit Interner(Points& pts);
+  ~Interner();
+  // Interns every point of `cuts` (per pair of `pairs`) and gathers each cut triangle's work, with
+  // the ids a serial pass in pair order gives: new ids numbered in order of first occurrence, a
+  // triangle's vertices seeded (by position) at its first cut. The pairs are cut into runs
+  // interned in parallel, then joined; the ids do not depend on the number of runs. `touched`:
+  // the triangles cut, in order of first cut; work[w] is touched[w]'s, slot[t] its index (kNone).
+  // Called once, before any other point is interned.
+  void intern_cuts(const std::vector<std::array<u32, 2>>& pairs, const std::vector<PairCut>& cuts,
+                   std::vector<u32>& slot, std::vector<u32>& touched, std::vector<TriWork>& work);
+  // One more point (not thread-safe).
+  u32 operator()(const PointDef& raw);
+
+ private:
+  u32 find(std::uint64_t h, bool by_position, const PointDef& raw, const Vec3& at);
+  const Vec3& position(u32 id) const;
+  Points& pts_;
+  u32 base_ = 0;                  // the first id made here
+  std::vector<InternRun> runs_;   // intern_cuts()'s runs, each key in the first run that has it
+  std::vector<std::vector<u32>> map_;  // per run, per point it made: its id
+  // The keys interned since (open addressing: (the hash's high 31 bits, 1 where by position) << 32
+  // | id, ~0 where empty).
+  std::vector<std::uint64_t> table_;
+  std::size_t keys_ = 0;
+  std::vector<Vec3> at_;  // per id made here (from base_): its position, where interned by it
+};
+
 // --- retriangulation (boolean_triangulate.cpp) ---
 struct Piece {               // an output candidate triangle
   std::array<u32, 3> v;      // point ids, counter-clockwise seen from outside its operand

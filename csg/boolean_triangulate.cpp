@@ -2,7 +2,8 @@
 // its intersection segments, so that the pieces of all operands meet edge to edge.
 //
 // 1. Each candidate pair is intersected exactly (boolean_intersect.cpp), in parallel.
-// 2. The implicit points are interned in pair order (one id per symbolic definition), and every
+// 2. The implicit points are interned (one id per symbolic definition or exact position, with the
+//    ids of a pass in pair order, in parallel runs: boolean_intern.cpp), and every
 //    triangle's points are compared exactly with each other: equal points get one id (the
 //    smallest, so an input vertex wins) through a union-find over the whole run. Two points
 //    equal anywhere both lie on some triangle that lists both, so this finds every coincidence
@@ -21,7 +22,6 @@
 // on the number of threads.
 #include <algorithm>
 #include <cmath>
-#include <cstring>
 #include <numeric>
 
 #include <tbb/task_group.h>
@@ -33,152 +33,6 @@
 namespace wedge::boolean_detail {
 
 namespace {
-
-// --- interning ---
-
-struct DefKey {
-  std::uint64_t h[5];
-};
-struct DefKeyHash {
-  std::size_t operator()(const DefKey& k) const {
-    std::uint64_t x = 0x9e3779b97f4a7c15ull;
-    for (auto v : k.h) x = (x ^ v) * 0xff51afd7ed558ccdull;
-    return static_cast<std::size_t>(x ^ (x >> 29));
-  }
-};
-
-Plane canonical(Plane p) {
-  if (p.axis < 0) {
-    // A cyclic rotation names the same oriented plane.
-    while (p.a > p.b || p.a > p.c) {
-      u32 t = p.a;
-      p.a = p.b;
-      p.b = p.c;
-      p.c = t;
-    }
-  }
-  return p;
-}
-std::uint64_t pack(const Plane& p) {
-  // axis in 2 bits + three 20-bit... ids can be large: hash-combine instead.
-  std::uint64_t x = static_cast<std::uint64_t>(p.axis + 1);
-  x = x * 0x100000001b3ull ^ p.a;
-  x = x * 0x100000001b3ull ^ p.b;
-  x = x * 0x100000001b3ull ^ p.c;
-  return x;
-}
-bool plane_less(const Plane& x, const Plane& y) {
-  if (x.axis != y.axis) return x.axis < y.axis;
-  if (x.a != y.a) return x.a < y.a;
-  if (x.b != y.b) return x.b < y.b;
-  return x.c < y.c;
-}
-
-PointDef canonical(PointDef d) {
-  if (d.kind == PointDef::Lpi) {
-    if (d.p > d.q) std::swap(d.p, d.q);
-    d.P[0] = canonical(d.P[0]);
-  } else if (d.kind == PointDef::Tpi) {
-    for (auto& p : d.P) p = canonical(p);
-    std::sort(d.P, d.P + 3, plane_less);
-  }
-  return d;
-}
-
-class Interner {
- public:
-  // `expected`: about how many points will be interned (sizes the table once).
-  Interner(Points& pts, std::size_t expected) : pts_(pts) {
-    std::size_t size = 1024;
-    while (size < 2 * expected) size *= 2;
-    table_.assign(size, Slot{kNone, 0});
-    hashes_.reserve(expected);
-    ids_.reserve(expected);
-  }
-  u32 operator()(const PointDef& raw) {
-    if (raw.kind == PointDef::Explicit) return raw.p;
-    // A point whose definition fixes all three coordinates is interned by its position: the
-    // many definitions of one corner of a sponge (the planes of each triangle of each face
-    // through it) get one id here instead of one each, merged later by exact comparisons.
-    Vec3 at;
-    if (pts_.exact_position(raw, at)) return by_position(raw, at);
-    const PointDef d = canonical(raw);
-    // Open addressing over point ids, with the hash's high bits beside each id so that a probe
-    // reads the point table only when they match; equal definitions compared field by field.
-    const std::uint64_t h = DefKeyHash()({{static_cast<std::uint64_t>(d.kind) << 32 | d.p, d.q, pack(d.P[0]),
-                                           d.kind == PointDef::Tpi ? pack(d.P[1]) : 0,
-                                           d.kind == PointDef::Tpi ? pack(d.P[2]) : 0}});
-    const auto tag = static_cast<u32>(h >> 32);
-    std::size_t mask = table_.size() - 1, slot = h & mask;
-    for (; table_[slot].id != kNone; slot = (slot + 1) & mask) {
-      if (table_[slot].tag != tag) continue;
-      const PointDef& e = pts_.def(table_[slot].id);
-      if (e.kind == d.kind && e.p == d.p && e.q == d.q && e.P[0] == d.P[0] && e.P[1] == d.P[1] && e.P[2] == d.P[2])
-        return table_[slot].id;
-    }
-    const u32 id = pts_.add_later(d);
-    table_[slot] = {id, tag};
-    hashes_.push_back(h);
-    ids_.push_back(id);
-    if (2 * ids_.size() > table_.size()) grow();
-    return id;
-  }
-
-  // Input vertex v, so that points defined elsewhere at its position get its id.
-  void seed(u32 v, const Vec3& at) {
-    PointDef d;
-    d.p = v;
-    by_position(d, at);
-  }
-  u32 by_position(const PointDef& raw, const Vec3& at) {
-    const std::uint64_t h = position_hash(at);
-    if (2 * (placed_.size() + 1) > where_.size()) {
-      std::vector<u32> t(std::max<std::size_t>(1024, where_.size() * 2), kNone);
-      for (u32 e = 0; e < placed_.size(); ++e) {
-        std::size_t slot = placed_[e].hash & (t.size() - 1);
-        while (t[slot] != kNone) slot = (slot + 1) & (t.size() - 1);
-        t[slot] = e;
-      }
-      where_.swap(t);
-    }
-    const std::size_t mask = where_.size() - 1;
-    std::size_t slot = h & mask;
-    for (; where_[slot] != kNone; slot = (slot + 1) & mask) {
-      const Placed& e = placed_[where_[slot]];
-      if (e.hash == h && e.at == at) return e.id;
-    }
-    const u32 id = raw.kind == PointDef::Explicit ? raw.p : pts_.add_later(canonical(raw));
-    where_[slot] = static_cast<u32>(placed_.size());
-    placed_.push_back({h, at, id});
-    return id;
-  }
-
- private:
-  struct Slot {
-    u32 id, tag;
-  };
-  struct Placed {
-    std::uint64_t hash;
-    Vec3 at;
-    u32 id;
-  };
-  std::vector<u32> where_;      // open addressing over placed_ (kNone where empty)
-  std::vector<Placed> placed_;  // the points interned by position
-  void grow() {
-    std::vector<Slot> t(table_.size() * 2, Slot{kNone, 0});
-    const std::size_t mask = t.size() - 1;
-    for (std::size_t i = 0; i < ids_.size(); ++i) {
-      std::size_t slot = hashes_[i] & mask;
-      while (t[slot].id != kNone) slot = (slot + 1) & mask;
-      t[slot] = {ids_[i], static_cast<u32>(hashes_[i] >> 32)};
-    }
-    table_.swap(t);
-  }
-  Points& pts_;
-  std::vector<Slot> table_;            // point ids (kNone where empty) and their hashes' high bits
-  std::vector<std::uint64_t> hashes_;  // of each interned point, in order
-  std::vector<u32> ids_;
-};
 
 // --- union-find over point ids (the representative is the smallest id) ---
 
@@ -207,13 +61,6 @@ class Merge {
     while (parent_.size() <= x) parent_.push_back(static_cast<u32>(parent_.size()));
   }
   std::vector<u32> parent_;
-};
-
-struct TriWork {
-  std::vector<std::array<u32, 2>> segs;
-  std::vector<Plane> cuts;
-  std::vector<u32> points;
-  std::vector<u32> coplanar;
 };
 
 bool boxes_overlap(const std::array<double, 6>& a, const std::array<double, 6>& b) {
@@ -517,56 +364,11 @@ Arrangement arrange(Points& pts, const std::vector<std::array<u32, 2>>& pairs) {
     cuts[i] = intersect_pair(pts, pairs[i][0], pairs[i][1]);
   });
 
-  // 2. Interning, in pair order.
-  std::vector<u32> slot(nt, kNone);
-  std::vector<u32> touched;
+  // 2. Interning (boolean_intern.cpp): per triangle cut, its segments and points as ids.
+  std::vector<u32> slot, touched;
   std::vector<TriWork> work;
-  auto wk = [&](u32 t) -> TriWork& {
-    if (slot[t] == kNone) {
-      slot[t] = static_cast<u32>(work.size());
-      touched.push_back(t);
-      work.emplace_back();
-    }
-    return work[slot[t]];
-  };
-  std::size_t ends = 0;
-  for (const PairCut& c : cuts) ends += 2 * (c.segs_t.size() + c.segs_u.size()) + c.points.size();
-  // Most end points are shared by the two triangles of a pair (and by neighbouring pairs).
-  pts.reserve(pts.size() + ends / 2 + 16);
-  Interner intern(pts, ends / 2 + 16);
-  for (std::size_t i = 0; i < pairs.size(); ++i) {
-    if (i % 4096 == 0) soup.poll();
-    const PairCut& c = cuts[i];
-    if (c.segs_t.empty() && c.segs_u.empty() && c.points.empty() && !c.coplanar) continue;
-    u32 t = pairs[i][0], u = pairs[i][1];
-    // A triangle's first cut seeds its vertices into the interner's positions.
-    for (u32 x : {t, u})
-      if (slot[x] == kNone && (!(x == t ? c.segs_t : c.segs_u).empty() || !c.points.empty() || c.coplanar)) {
-        wk(x);
-        for (u32 v : soup.tris[x]) intern.seed(v, soup.verts[v]);
-      }
-    auto add_segments = [&](const std::vector<Segment>& segs, u32 tri) {
-      for (const auto& s : segs) {
-        u32 a = intern(s.a), b = intern(s.b);
-        TriWork& w = wk(tri);
-        w.segs.push_back({a, b});
-        w.cuts.push_back(s.cut);
-        w.points.push_back(a);
-        w.points.push_back(b);
-      }
-    };
-    add_segments(c.segs_t, t);
-    add_segments(c.segs_u, u);
-    for (const auto& p : c.points) {
-      u32 id = intern(p);
-      wk(t).points.push_back(id);
-      wk(u).points.push_back(id);
-    }
-    if (c.coplanar) {
-      wk(t).coplanar.push_back(u);
-      wk(u).coplanar.push_back(t);
-    }
-  }
+  Interner intern(pts);
+  intern.intern_cuts(pairs, cuts, slot, touched, work);
   cuts.clear();
   cuts.shrink_to_fit();
   pts.evaluate_added();

@@ -17,6 +17,7 @@
 #include <sstream>
 
 #include "csg/boolean.h"
+#include "csg/boolean_impl.h"
 #include "kernel/error.h"
 #include "kernel/predicates.h"
 #include "kernel/transform.h"
@@ -273,6 +274,87 @@ TEST_CASE("boolean: the same output bits at 1 and 2 threads", "[boolean]") {
     REQUIRE_FALSE(one.mesh.empty());
     CHECK(same_bits(one, two));
     CHECK(same_bits(one_fig, two_fig));
+  }
+}
+
+TEST_CASE("boolean: the same output bits with the points interned in several runs", "[boolean]") {
+  // The interning cuts the candidate pairs into one run per thread allowed (up to 8), and joins
+  // the runs into the ids of one pass in pair order: 1, 3 and 8 runs give the same output. The
+  // sponge's points are mostly interned by position, at input vertices seeded by several runs.
+  const std::vector<Mesh> sponge = menger_operands(2);
+  const std::vector<Mesh> spheres = overlapping_spheres(5000);
+  for (BooleanOp op : {BooleanOp::Difference, BooleanOp::Union}) {
+    INFO(boolean_op_name(op));
+    BooleanResult one, many;
+    for (const auto* operands : {&sponge, &spheres}) {
+      {
+        tbb::global_control c(tbb::global_control::max_allowed_parallelism, 1);
+        one = boolean(op, pointers(*operands));
+      }
+      REQUIRE_FALSE(one.mesh.empty());
+      for (int runs : {3, 8}) {
+        tbb::global_control c(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(runs));
+        many = boolean(op, pointers(*operands));
+        CHECK(same_bits(one, many));
+      }
+    }
+  }
+}
+
+TEST_CASE("boolean: the points interned in several runs get the ids of one pass in pair order", "[boolean]") {
+  using namespace boolean_detail;
+  for (const auto& operands : {menger_operands(2), overlapping_spheres(5000)}) {
+    const Soup soup = make_soup(pointers(operands));
+    const auto pairs = candidate_pairs(soup);
+    std::vector<PairCut> cuts(pairs.size());
+    {
+      const Points pts(soup);
+      for (std::size_t i = 0; i < pairs.size(); ++i) cuts[i] = intersect_pair(pts, pairs[i][0], pairs[i][1]);
+    }
+    struct Interned {
+      std::vector<PointDef> defs;
+      std::vector<u32> slot, touched, again;
+      std::vector<TriWork> work;
+    };
+    auto intern = [&](std::size_t runs) {
+      tbb::global_control c(tbb::global_control::max_allowed_parallelism, runs);
+      Points pts(soup);
+      Interner in(pts);
+      Interned r;
+      in.intern_cuts(pairs, cuts, r.slot, r.touched, r.work);
+      for (u32 id = 0; id < pts.size(); ++id) r.defs.push_back(pts.def(id));
+      // Interned again (as the crossings are, after), every point has its id.
+      for (const PairCut& cut : cuts)
+        for (const auto* segs : {&cut.segs_t, &cut.segs_u})
+          for (const Segment& s : *segs) {
+            r.again.push_back(in(s.a));
+            r.again.push_back(in(s.b));
+          }
+      REQUIRE(pts.size() == r.defs.size());
+      return r;
+    };
+    const Interned one = intern(1);
+    REQUIRE(one.defs.size() > soup.verts.size());
+    for (std::size_t runs : {2, 3, 8}) {
+      INFO(runs << " runs");
+      const Interned many = intern(runs);
+      REQUIRE(many.defs.size() == one.defs.size());
+      for (std::size_t id = 0; id < one.defs.size(); ++id) {
+        const PointDef &a = one.defs[id], &b = many.defs[id];
+        REQUIRE((a.kind == b.kind && a.p == b.p && a.q == b.q && a.P[0] == b.P[0] && a.P[1] == b.P[1] &&
+                 a.P[2] == b.P[2]));
+      }
+      CHECK(many.slot == one.slot);
+      CHECK(many.touched == one.touched);
+      CHECK(many.again == one.again);
+      REQUIRE(many.work.size() == one.work.size());
+      for (std::size_t w = 0; w < one.work.size(); ++w) {
+        REQUIRE(many.work[w].segs == one.work[w].segs);
+        REQUIRE(many.work[w].cuts == one.work[w].cuts);
+        REQUIRE(many.work[w].points == one.work[w].points);
+        REQUIRE(many.work[w].coplanar == one.work[w].coplanar);
+      }
+    }
   }
 }
 
