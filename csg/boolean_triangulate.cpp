@@ -256,8 +256,17 @@ bool boundary_cuts(const Points& pts, const Soup& soup, u32 t, int k, const std:
                    std::vector<Piece>& out) {
   const auto& T = soup.tris[t];
   const std::array<u32, 3> p = soup.axis_sign[t] > 0 ? T : std::array<u32, 3>{T[0], T[2], T[1]};  // ccw seen along k
+  // Per-thread arrays, reused (this runs for most cut triangles, and allocating was much of it).
+  thread_local std::array<std::vector<u32>, 3> on;
+  thread_local std::vector<u32> ring;
+  thread_local std::vector<std::array<int, 2>> chords, todo;
+  thread_local std::vector<int> pool;
+  thread_local std::vector<Piece> made;
+  for (auto& e : on) e.clear();
+  ring.clear();
+  chords.clear();
+  made.clear();
   // The boundary counter-clockwise: p0, the points inside edge p0 p1 in order, p1, ...
-  std::array<std::vector<u32>, 3> on;
   for (u32 x : points) {
     if (x == p[0] || x == p[1] || x == p[2]) continue;
     int edge = -1;
@@ -269,7 +278,6 @@ bool boundary_cuts(const Points& pts, const Soup& soup, u32 t, int k, const std:
     if (edge < 0) return false;  // inside T
     on[edge].push_back(x);
   }
-  std::vector<u32> ring;
   for (int i = 0; i < 3; ++i) {
     ring.push_back(p[i]);
     auto& e = on[i];
@@ -287,7 +295,6 @@ bool boundary_cuts(const Points& pts, const Soup& soup, u32 t, int k, const std:
       if (ring[i] == x) return i;
     return -1;
   };
-  std::vector<std::array<int, 2>> chords;
   for (const auto& c : constraints) {
     const int a = pos(c[0]), b = pos(c[1]);
     if (a < 0 || b < 0) return false;
@@ -295,21 +302,24 @@ bool boundary_cuts(const Points& pts, const Soup& soup, u32 t, int k, const std:
     chords.push_back({a, b});
   }
   if (chords.empty()) return false;
-  std::vector<Piece> made;
   auto emit = [&](u32 x, u32 y, u32 z) {
     std::array<u32, 3> v = {x, y, z};
     if (soup.axis_sign[t] < 0) std::swap(v[1], v[2]);
     made.push_back({v, t});
   };
   // Split the polygon (ring positions, counter-clockwise) by the first chord between two of its
-  // non-adjacent vertices; a polygon no chord splits is a piece.
-  std::vector<std::vector<int>> todo{std::vector<int>(static_cast<std::size_t>(n))};
-  for (int i = 0; i < n; ++i) todo[0][i] = i;
+  // non-adjacent vertices; a polygon no chord splits is a piece. The polygons to do are ranges of
+  // `pool`.
+  pool.resize(static_cast<std::size_t>(n));
+  pool.reserve(static_cast<std::size_t>(n) * (chords.size() + 2) * 2);  // every split fits: no reallocation
+  for (int i = 0; i < n; ++i) pool[i] = i;
+  todo.assign(1, {0, n});
   std::size_t used = 0;
   while (!todo.empty()) {
-    std::vector<int> poly = std::move(todo.back());
+    const auto [b, e] = todo.back();
     todo.pop_back();
-    const int m = static_cast<int>(poly.size());
+    const int* poly = pool.data() + b;
+    const int m = e - b;
     int si = -1, sj = -1;
     for (const auto& c : chords) {
       int i = -1, j = -1;
@@ -324,10 +334,14 @@ bool boundary_cuts(const Points& pts, const Soup& soup, u32 t, int k, const std:
     }
     if (si >= 0) {
       ++used;
-      todo.emplace_back(poly.begin() + si, poly.begin() + sj + 1);
-      std::vector<int> rest(poly.begin() + sj, poly.end());
-      rest.insert(rest.end(), poly.begin(), poly.begin() + si + 1);
-      todo.push_back(std::move(rest));
+      // The part from si to sj, then the rest: sj to the end and round to si.
+      const int first = static_cast<int>(pool.size());
+      for (int q = si; q <= sj; ++q) pool.push_back(pool[b + q]);
+      todo.push_back({first, static_cast<int>(pool.size())});
+      const int second = static_cast<int>(pool.size());
+      for (int q = sj; q < m; ++q) pool.push_back(pool[b + q]);
+      for (int q = 0; q <= si; ++q) pool.push_back(pool[b + q]);
+      todo.push_back({second, static_cast<int>(pool.size())});
       continue;
     }
     if (m == 3) {
@@ -477,10 +491,15 @@ Arrangement arrange(Points& pts, const std::vector<std::array<u32, 2>>& pairs) {
     int k = soup.axis[t];
     const auto& T = soup.tris[t];
 
-    std::vector<u32> points = w.points;
+    // Per-thread arrays, reused from triangle to triangle (most triangles are small, and their
+    // allocations were a good part of their time).
+    thread_local std::vector<u32> points, by_lo, on;
+    thread_local std::vector<std::array<double, 6>> pboxes;
+    thread_local std::vector<std::array<u32, 2>> constraints;
+    points.assign(w.points.begin(), w.points.end());
     for (u32 v : T) points.push_back(v);
     unique_sorted(points);
-    std::vector<std::array<double, 6>> pboxes(points.size());
+    pboxes.resize(points.size());
     for (std::size_t i = 0; i < points.size(); ++i) pboxes[i] = pts.box(points[i]);
     // Points sorted along T's longer projected axis, so each segment looks only at the points
     // in its own slab (a plate face cut by hundreds of holes has thousands of each).
@@ -491,12 +510,12 @@ Arrangement arrange(Points& pts, const std::vector<std::array<u32, 2>>& pairs) {
       auto extent = [&](int d) { return std::max({A[d], B[d], C[d]}) - std::min({A[d], B[d], C[d]}); };
       if (extent(other) > extent(sweep)) sweep = other;
     }
-    std::vector<u32> by_lo(points.size());
+    by_lo.resize(points.size());
     std::iota(by_lo.begin(), by_lo.end(), 0u);
     std::sort(by_lo.begin(), by_lo.end(), [&](u32 x, u32 y) { return pboxes[x][sweep] < pboxes[y][sweep]; });
     double widest = 0;
     for (const auto& b : pboxes) widest = std::max(widest, b[sweep + 3] - b[sweep]);
-    std::vector<std::array<u32, 2>> constraints;
+    constraints.clear();
     std::size_t polled = 0;  // a large triangle (a plate's face) is long work: poll within it
     for (std::size_t si = 0; si < w.segs.size(); ++si) {
       const auto& s = w.segs[si];
@@ -505,7 +524,7 @@ Arrangement arrange(Points& pts, const std::vector<std::array<u32, 2>>& pairs) {
       auto sb = seg_box(pts, a, b);
       int axis = split_axis(pts, a, b);
       if (axis < 0) continue;
-      std::vector<u32> on;
+      on.clear();
       auto first = std::partition_point(by_lo.begin(), by_lo.end(),
                                         [&](u32 x) { return pboxes[x][sweep] < sb[sweep] - widest; });
       for (auto it = first; it != by_lo.end() && pboxes[*it][sweep] <= sb[sweep + 3]; ++it) {
