@@ -253,7 +253,7 @@ void Interner::intern_cuts(const std::vector<std::array<u32, 2>>& pairs, const s
     while (b < nb && weight[b] * runs < weight[nb] * r) ++b;
     start[r] = std::max(start[r - 1], std::min(np, b * kBlock));
   }
-  pts_.reserve(base_ + weight[nb] / (2 * runs) + 16);
+  pts_.reserve(base_ + weight[nb] / 2 + 16);  // (room for all runs' points: no copy when joined)
   // Per run but the first: per triangle, its work (kNone); per work, its triangle; the work.
   struct alignas(64) Gathered {
     std::vector<u32> of, tris;
@@ -336,6 +336,7 @@ void Interner::intern_cuts(const std::vector<std::array<u32, 2>>& pairs, const s
     std::size_t all = 0;
     for (const InternRun& in : runs_) all += in.defs.size();
     pts_.reserve(pts_.size() + all + 16);
+    at_.reserve(at_.size() + all);
   }
   for (std::size_t r = 1; r < runs; ++r) {
     const InternRun& in = runs_[r];
@@ -352,15 +353,11 @@ void Interner::intern_cuts(const std::vector<std::array<u32, 2>>& pairs, const s
         id = runs_[q].find(h, by_position, d, p);
         if (id != kNone && id >= base_) id = map_[q][id - base_];
       }
-      m[n] = id;
+      m[n] = id != kNone || d.kind != PointDef::Explicit ? id : d.p;  // (a seeded vertex, first here)
     });
     for (std::size_t n = 0; n < in.defs.size(); ++n) {
       if ((n & 0xffff) == 0) soup.poll();
       if (m[n] != kNone) continue;
-      if (in.defs[n].kind == PointDef::Explicit) {  // a seeded vertex, first here
-        m[n] = in.defs[n].p;
-        continue;
-      }
       m[n] = pts_.add_later(in.defs[n]);
       at_.push_back(in.at[n]);
     }
