@@ -35,6 +35,7 @@
 #include <functional>
 #include <memory>
 #include <mutex>
+#include <span>
 #include <utility>
 #include <vector>
 
@@ -586,7 +587,19 @@ struct PairCut {       // what T ∩ U adds to T's and to U's retriangulation
   std::vector<PointDef> points;  // isolated touching points (in both)
   bool coplanar = false;
 };
+// T ∩ U into `cut`, cleared first (its arrays keep their room: a caller that reuses one allocates
+// nothing per pair).
+void intersect_pair(const Points& pts, u32 t, u32 u, PairCut& cut);
 PairCut intersect_pair(const Points& pts, u32 t, u32 u);
+// A PairCut's lists where they are kept elsewhere (arrange() keeps every pair's in a few flat
+// arrays).
+struct PairCutView {
+  std::span<const Segment> segs_t, segs_u;
+  std::span<const PointDef> points;
+  bool coplanar = false;
+  PairCutView() = default;
+  PairCutView(const PairCut& c) : segs_t(c.segs_t), segs_u(c.segs_u), points(c.points), coplanar(c.coplanar) {}
+};
 
 // --- interning of the retriangulation's points (boolean_intern.cpp) ---
 // What one input triangle's retriangulation gathers from its pairs (point ids).
@@ -610,7 +623,7 @@ class Interner {
   // interned in parallel, then joined; the ids do not depend on the number of runs. `touched`:
   // the triangles cut, in order of first cut; work[w] is touched[w]'s, slot[t] its index (kNone).
   // Called once, before any other point is interned.
-  void intern_cuts(const std::vector<std::array<u32, 2>>& pairs, const std::vector<PairCut>& cuts,
+  void intern_cuts(const std::vector<std::array<u32, 2>>& pairs, const std::vector<PairCutView>& cuts,
                    std::vector<u32>& slot, std::vector<u32>& touched, std::vector<TriWork>& work);
   // One more point (not thread-safe).
   u32 operator()(const PointDef& raw);

@@ -223,7 +223,7 @@ u32 Interner::find(std::uint64_t h, bool by_position, const PointDef& d, const V
   return id;
 }
 
-void Interner::intern_cuts(const std::vector<std::array<u32, 2>>& pairs, const std::vector<PairCut>& cuts,
+void Interner::intern_cuts(const std::vector<std::array<u32, 2>>& pairs, const std::vector<PairCutView>& cuts,
                            std::vector<u32>& slot, std::vector<u32>& touched, std::vector<TriWork>& work) {
   const Soup& soup = pts_.soup();
   const std::size_t np = pairs.size(), nt = soup.tris.size();
@@ -293,7 +293,7 @@ void Interner::intern_cuts(const std::vector<std::array<u32, 2>>& pairs, const s
     const PointDef none;
     for (std::size_t i = from; i < to; ++i) {
       if (i % 4096 == 0) soup.poll();
-      const PairCut& c = cuts[i];
+      const PairCutView& c = cuts[i];
       if (c.segs_t.empty() && c.segs_u.empty() && c.points.empty() && !c.coplanar) continue;
       const u32 t = pairs[i][0], u = pairs[i][1];
       // A triangle's first cut seeds its vertices into the positions.
@@ -302,7 +302,7 @@ void Interner::intern_cuts(const std::vector<std::array<u32, 2>>& pairs, const s
           wk(x);
           for (u32 v : soup.tris[x]) in.intern(position_hash(soup.verts[v]), true, none, soup.verts[v], v);
         }
-      auto add_segments = [&](const std::vector<Segment>& segs, u32 tri) {
+      auto add_segments = [&](std::span<const Segment> segs, u32 tri) {
         for (const auto& s : segs) {
           const u32 a = in(s.a), b = in(s.b);
           TriWork& w = wk(tri);

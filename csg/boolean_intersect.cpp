@@ -131,8 +131,8 @@ int segment_axis(const Soup& s, u32 p, u32 q) {
 }
 
 // Edge (p, q) of one triangle clipped to the closed triangle `tri` (coplanar, projection k): 0,
-// 1 or 2 points (2: a segment p'..q' along the edge).
-std::vector<PointDef> clip_edge(const Points& pts, u32 p, u32 q, const std::array<u32, 3>& tri, int k) {
+// 1 or 2 points (2: a segment p'..q' along the edge), in out[0..n).
+int clip_edge(const Points& pts, u32 p, u32 q, const std::array<u32, 3>& tri, int k, PointDef out[2]) {
   const Soup& s = pts.soup();
   std::array<u32, 3> t = tri;
   if (orient2d_v(s, t[0], t[1], t[2], k) < 0) std::swap(t[1], t[2]);
@@ -143,10 +143,11 @@ std::vector<PointDef> clip_edge(const Points& pts, u32 p, u32 q, const std::arra
   }
   // Quick rejection: both ends strictly outside one edge.
   for (int e = 0; e < 3; ++e)
-    if (sp[e] < 0 && sq[e] < 0) return {};
-  std::vector<PointDef> cand;
-  if (sp[0] >= 0 && sp[1] >= 0 && sp[2] >= 0) cand.push_back(explicit_point(p));
-  if (sq[0] >= 0 && sq[1] >= 0 && sq[2] >= 0) cand.push_back(explicit_point(q));
+    if (sp[e] < 0 && sq[e] < 0) return 0;
+  Keyed kc[8];  // p, q, and per edge of tri a vertex and a crossing: at most 8
+  int n = 0;
+  if (sp[0] >= 0 && sp[1] >= 0 && sp[2] >= 0) kc[n++].d = explicit_point(p);
+  if (sq[0] >= 0 && sq[1] >= 0 && sq[2] >= 0) kc[n++].d = explicit_point(q);
   int axis = segment_axis(s, p, q);
   auto strictly_between = [&](u32 v) {
     double a = s.verts[p][axis], b = s.verts[q][axis], x = s.verts[v][axis];
@@ -155,62 +156,69 @@ std::vector<PointDef> clip_edge(const Points& pts, u32 p, u32 q, const std::arra
   for (int e = 0; e < 3; ++e) {
     u32 a = t[e], b = t[(e + 1) % 3];
     int ra = orient2d_v(s, p, q, a, k);
-    if (ra == 0 && strictly_between(a)) cand.push_back(explicit_point(a));
+    if (ra == 0 && strictly_between(a)) kc[n++].d = explicit_point(a);
     int rb = orient2d_v(s, p, q, b, k);
-    if (sp[e] * sq[e] < 0 && ra * rb < 0) cand.push_back(lpi(p, q, Plane::wall(a, b, k)));
+    if (sp[e] * sq[e] < 0 && ra * rb < 0) kc[n++].d = lpi(p, q, Plane::wall(a, b, k));
   }
-  if (cand.empty()) return {};
+  if (n == 0) return 0;
   // The extreme two along the edge.
-  std::vector<Keyed> kc(cand.size());
-  for (std::size_t i = 0; i < cand.size(); ++i) {
-    kc[i].d = cand[i];
-    pts.coord_bounds(cand[i], axis, kc[i].b[0], kc[i].b[1]);
-  }
-  std::size_t lo = 0, hi = 0;
-  for (std::size_t i = 1; i < kc.size(); ++i) {
+  for (int i = 0; i < n; ++i) pts.coord_bounds(kc[i].d, axis, kc[i].b[0], kc[i].b[1]);
+  int lo = 0, hi = 0;
+  for (int i = 1; i < n; ++i) {
     if (cmp(pts, kc[i], kc[lo], axis) < 0) lo = i;
     if (cmp(pts, kc[i], kc[hi], axis) > 0) hi = i;
   }
-  if (cmp(pts, kc[lo], kc[hi], axis) == 0) return {cand[lo]};
-  return {cand[lo], cand[hi]};
+  out[0] = kc[lo].d;
+  if (cmp(pts, kc[lo], kc[hi], axis) == 0) return 1;
+  out[1] = kc[hi].d;
+  return 2;
 }
 
-void add_clip(PairCut& cut, std::vector<Segment>& segs, const std::vector<PointDef>& c, u32 p, u32 q, int k) {
-  if (c.size() == 2)
+void add_clip(PairCut& cut, std::vector<Segment>& segs, const PointDef c[2], int n, u32 p, u32 q, int k) {
+  if (n == 2)
     segs.push_back({c[0], c[1], Plane::wall(p, q, k)});
-  else if (c.size() == 1)
+  else if (n == 1)
     cut.points.push_back(c[0]);
 }
 
-PairCut coplanar_cut(const Points& pts, u32 t, u32 u) {
+void coplanar_cut(const Points& pts, u32 t, u32 u, PairCut& cut) {
   const Soup& s = pts.soup();
-  PairCut cut;
   cut.coplanar = true;
   int k = s.axis[t];
   const auto& T = s.tris[t];
   const auto& U = s.tris[u];
+  PointDef c[2];
   for (int e = 0; e < 3; ++e) {
     u32 p = U[e], q = U[(e + 1) % 3];
-    add_clip(cut, cut.segs_t, clip_edge(pts, p, q, T, k), p, q, k);
+    add_clip(cut, cut.segs_t, c, clip_edge(pts, p, q, T, k, c), p, q, k);
     p = T[e];
     q = T[(e + 1) % 3];
-    add_clip(cut, cut.segs_u, clip_edge(pts, p, q, U, k), p, q, k);
+    add_clip(cut, cut.segs_u, c, clip_edge(pts, p, q, U, k, c), p, q, k);
   }
-  return cut;
 }
 
 }  // namespace
 
 PairCut intersect_pair(const Points& pts, u32 t, u32 u) {
+  PairCut cut;
+  intersect_pair(pts, t, u, cut);
+  return cut;
+}
+
+void intersect_pair(const Points& pts, u32 t, u32 u, PairCut& cut) {
+  cut.segs_t.clear();
+  cut.segs_u.clear();
+  cut.points.clear();
+  cut.coplanar = false;
   const Soup& s = pts.soup();
   const auto& T = s.tris[t];
   const auto& U = s.tris[u];
   int su[3], st[3];
   for (int i = 0; i < 3; ++i) su[i] = orient3d_v(s, T[0], T[1], T[2], U[i]);
-  if ((su[0] > 0 && su[1] > 0 && su[2] > 0) || (su[0] < 0 && su[1] < 0 && su[2] < 0)) return {};
-  if (su[0] == 0 && su[1] == 0 && su[2] == 0) return coplanar_cut(pts, t, u);
+  if ((su[0] > 0 && su[1] > 0 && su[2] > 0) || (su[0] < 0 && su[1] < 0 && su[2] < 0)) return;
+  if (su[0] == 0 && su[1] == 0 && su[2] == 0) return coplanar_cut(pts, t, u, cut);
   for (int i = 0; i < 3; ++i) st[i] = orient3d_v(s, U[0], U[1], U[2], T[i]);
-  if ((st[0] > 0 && st[1] > 0 && st[2] > 0) || (st[0] < 0 && st[1] < 0 && st[2] < 0)) return {};
+  if ((st[0] > 0 && st[1] > 0 && st[2] > 0) || (st[0] < 0 && st[1] < 0 && st[2] < 0)) return;
 
   Plane pt = Plane::of_triangle(T), pu = Plane::of_triangle(U);
   // An axis along which L varies: a non-zero component of n_T x n_U.
@@ -227,11 +235,11 @@ PairCut intersect_pair(const Points& pts, u32 t, u32 u) {
         break;
       }
   }
-  if (axis < 0) return {};  // parallel planes that are not the same: cannot meet
+  if (axis < 0) return;  // parallel planes that are not the same: cannot meet
   Keyed a[3], b[3];
   const int na = on_plane(pts, T, st, pu, axis, a);  // T ∩ plane(U)
   const int nb = on_plane(pts, U, su, pt, axis, b);  // U ∩ plane(T)
-  if (na == 0 || nb == 0) return {};
+  if (na == 0 || nb == 0) return;
   share_crossings(pts, a, na, b, nb);
   // Each is a point or a segment: its ends in order along the axis.
   if (na == 2 && cmp(pts, a[0], a[1], axis) > 0) std::swap(a[0], a[1]);
@@ -240,15 +248,13 @@ PairCut intersect_pair(const Points& pts, u32 t, u32 u) {
   const Keyed& lo = cmp(pts, a[0], b[0], axis) >= 0 ? a[0] : b[0];
   const Keyed& hi = cmp(pts, a[na - 1], b[nb - 1], axis) <= 0 ? a[na - 1] : b[nb - 1];
   int c = cmp(pts, lo, hi, axis);
-  PairCut cut;
-  if (c > 0) return cut;
+  if (c > 0) return;
   if (c == 0) {
     cut.points.push_back(lo.d);
-    return cut;
+    return;
   }
   cut.segs_t.push_back({lo.d, hi.d, pu});
   cut.segs_u.push_back({lo.d, hi.d, pt});
-  return cut;
 }
 
 }  // namespace wedge::boolean_detail

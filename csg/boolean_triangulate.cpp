@@ -371,11 +371,46 @@ Arrangement arrange(Points& pts, const std::vector<std::array<u32, 2>>& pairs) {
   const Soup& soup = pts.soup();
   const std::size_t nt = soup.tris.size();
 
-  // 1. Exact pair intersections.
-  std::vector<PairCut> cuts(pairs.size());
-  parallel_for(0, pairs.size(), [&](std::size_t i) {
-    soup.poll();
-    cuts[i] = intersect_pair(pts, pairs[i][0], pairs[i][1]);
+  // 1. Exact pair intersections, in parallel per block of pairs, kept in the block's flat arrays
+  // (one PairCut per thread is reused: nothing is allocated per pair).
+  constexpr std::size_t kCutBlock = 1024;
+  const std::size_t cut_blocks = (pairs.size() + kCutBlock - 1) / kCutBlock;
+  std::vector<std::vector<Segment>> block_segs(cut_blocks);
+  std::vector<std::vector<PointDef>> block_points(cut_blocks);
+  std::vector<PairCutView> cuts(pairs.size());
+  parallel_for(0, cut_blocks, [&](std::size_t b) {
+    thread_local PairCut cut;
+    struct Where {
+      u32 t0, nt, u0, nu, p0, np;
+      bool coplanar;
+    };
+    std::array<Where, kCutBlock> where;
+    const std::size_t lo = b * kCutBlock, hi = std::min(pairs.size(), lo + kCutBlock);
+    auto& segs = block_segs[b];
+    auto& points = block_points[b];
+    for (std::size_t i = lo; i < hi; ++i) {
+      if ((i & 63) == 0) soup.poll();
+      intersect_pair(pts, pairs[i][0], pairs[i][1], cut);
+      Where& w = where[i - lo];
+      w.t0 = static_cast<u32>(segs.size());
+      segs.insert(segs.end(), cut.segs_t.begin(), cut.segs_t.end());
+      w.u0 = static_cast<u32>(segs.size());
+      segs.insert(segs.end(), cut.segs_u.begin(), cut.segs_u.end());
+      w.p0 = static_cast<u32>(points.size());
+      points.insert(points.end(), cut.points.begin(), cut.points.end());
+      w.nt = static_cast<u32>(cut.segs_t.size());
+      w.nu = static_cast<u32>(cut.segs_u.size());
+      w.np = static_cast<u32>(cut.points.size());
+      w.coplanar = cut.coplanar;
+    }
+    for (std::size_t i = lo; i < hi; ++i) {  // the arrays are complete: their views
+      const Where& w = where[i - lo];
+      PairCutView& v = cuts[i];
+      v.segs_t = std::span<const Segment>(segs.data() + w.t0, w.nt);
+      v.segs_u = std::span<const Segment>(segs.data() + w.u0, w.nu);
+      v.points = std::span<const PointDef>(points.data() + w.p0, w.np);
+      v.coplanar = w.coplanar;
+    }
   });
 
   // 2. Interning (boolean_intern.cpp): per triangle cut, its segments and points as ids.
@@ -383,8 +418,9 @@ Arrangement arrange(Points& pts, const std::vector<std::array<u32, 2>>& pairs) {
   std::vector<TriWork> work;
   Interner intern(pts);
   intern.intern_cuts(pairs, cuts, slot, touched, work);
-  cuts.clear();
-  cuts.shrink_to_fit();
+  std::vector<PairCutView>().swap(cuts);
+  std::vector<std::vector<Segment>>().swap(block_segs);
+  std::vector<std::vector<PointDef>>().swap(block_points);
   pts.evaluate_added();
 
   Merge merge;

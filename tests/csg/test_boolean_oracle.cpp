@@ -321,7 +321,7 @@ TEST_CASE("boolean: the points interned in several runs get the ids of one pass 
       Points pts(soup);
       Interner in(pts);
       Interned r;
-      in.intern_cuts(pairs, cuts, r.slot, r.touched, r.work);
+      in.intern_cuts(pairs, std::vector<PairCutView>(cuts.begin(), cuts.end()), r.slot, r.touched, r.work);
       for (u32 id = 0; id < pts.size(); ++id) r.defs.push_back(pts.def(id));
       // Interned again (as the crossings are, after), every point has its id.
       for (const PairCut& cut : cuts)
