@@ -406,7 +406,8 @@ class Points {
   }
   bool on_one_segment(u32 a, u32 b, u32 c) const;
   // Whether each coordinate of the point d is a double fixed by its definition (an axis-parallel
-  // segment or axis plane: every point of a sponge of boxes); if so, *out is the point.
+  // segment or axis plane: every point of a sponge of boxes); if so, *out is the point. It reads
+  // the soup only: the interning's runs call it while the first of them adds points.
   bool exact_position(const PointDef& d, Vec3& out) const;
   // Whether a, b, c certainly lie on one line, from their definitions: on one cutting plane, with
   // their segments' end points on one other plane (exact tests on input vertices only).
