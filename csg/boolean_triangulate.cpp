@@ -12,12 +12,13 @@
 //    plane with the two segments' cutting planes (a TPI); these are interned and merged the same
 //    way, so the crossing of the same three surfaces gets one id in all three triangles.
 // 4. Each segment is split at every point of its triangle that lies on it, and the triangle is
-//    triangulated: a constrained Delaunay triangulation (CGAL's, over our own traits: the points
-//    are ids, and orientation and coordinate comparison are the exact predicates of
-//    boolean_exact.cpp in the projection along the triangle's axis). The in-circle test behind
-//    the Delaunay flips (Points::incircle_certain) flips only where it is certain; where four
-//    points are too close to cocircular for its filter and both splits are well shaped (a
-//    tessellated circle cut by a plane), the split in place stays without exact arithmetic.
+//    triangulated: chords from edge to edge directly (boundary_cuts), anything else by a
+//    constrained Delaunay triangulation (boolean_cdt.cpp: the points are ids, and orientation is
+//    the exact predicate of boolean_exact.cpp in the projection along the triangle's axis). The
+//    in-circle test behind the Delaunay flips (Points::incircle_certain) flips only where it is
+//    certain; where four points are too close to cocircular for its filter and both splits are
+//    well shaped (a tessellated circle cut by a plane), the split in place stays without exact
+//    arithmetic. Inside thin slivers it works in the metric that makes the sliver equilateral.
 // Work is split per triangle and concatenated in triangle order, so the result does not depend
 // on the number of threads.
 #include <algorithm>
