@@ -200,11 +200,13 @@ int side_sign(const Soup& s, const Plane& P, const H<NT>& p) {
   return mul(sign_of(v), sign_of(p.c[3]));
 }
 
+// Rows (x W^2, y W^2, (x^2 + y^2) W^2, W^2) = (X W, Y W, X^2 + Y^2, W^2): the affine rows of the
+// classic 4x4 determinant times W^2 > 0, so the sign is the classic one. With a quadratic form q,
+// its lifting q(X, Y) instead of X^2 + Y^2.
 template <class NT>
-int incircle_sign(const H<NT>& a, const H<NT>& b, const H<NT>& c, const H<NT>& d, int k) {
+int incircle_sign(const H<NT>& a, const H<NT>& b, const H<NT>& c, const H<NT>& d, int k,
+                  const Points::Metric* q = nullptr) {
   int i = (k + 1) % 3, j = (k + 2) % 3;
-  // Rows (x W^2, y W^2, (x^2 + y^2) W^2, W^2) = (X W, Y W, X^2 + Y^2, W^2): the affine rows of
-  // the classic 4x4 determinant times W^2 > 0, so the sign is the classic one.
   const H<NT>* p[4] = {&a, &b, &c, &d};
   NT m[4][4];
   for (int r = 0; r < 4; ++r) {
@@ -213,34 +215,10 @@ int incircle_sign(const H<NT>& a, const H<NT>& b, const H<NT>& c, const H<NT>& d
     const NT& W = p[r]->c[3];
     m[r][0] = X * W;
     m[r][1] = Y * W;
-    m[r][2] = X * X + Y * Y;
+    m[r][2] = q ? lift<NT>(q->q11) * X * X + lift<NT>(2 * q->q12) * X * Y + lift<NT>(q->q22) * Y * Y : X * X + Y * Y;
     m[r][3] = W * W;
   }
   // Laplace expansion along the last column.
-  NT det = -m[0][3] * det3(m[1][0], m[1][1], m[1][2], m[2][0], m[2][1], m[2][2], m[3][0], m[3][1], m[3][2]) +
-           m[1][3] * det3(m[0][0], m[0][1], m[0][2], m[2][0], m[2][1], m[2][2], m[3][0], m[3][1], m[3][2]) -
-           m[2][3] * det3(m[0][0], m[0][1], m[0][2], m[1][0], m[1][1], m[1][2], m[3][0], m[3][1], m[3][2]) +
-           m[3][3] * det3(m[0][0], m[0][1], m[0][2], m[1][0], m[1][1], m[1][2], m[2][0], m[2][1], m[2][2]);
-  return sign_of(det);
-}
-
-// incircle_sign with the lifting q(X, Y) of a quadratic form instead of X^2 + Y^2 (rows (X W, Y W,
-// q(X, Y), W^2): the affine rows (x, y, q(x, y), 1) times W^2).
-template <class NT>
-int incircle_sign_q(const H<NT>& a, const H<NT>& b, const H<NT>& c, const H<NT>& d, int k, const Points::Metric& q) {
-  int i = (k + 1) % 3, j = (k + 2) % 3;
-  const H<NT>* p[4] = {&a, &b, &c, &d};
-  const NT q11 = lift<NT>(q.q11), q12 = lift<NT>(2 * q.q12), q22 = lift<NT>(q.q22);
-  NT m[4][4];
-  for (int r = 0; r < 4; ++r) {
-    const NT& X = p[r]->c[i];
-    const NT& Y = p[r]->c[j];
-    const NT& W = p[r]->c[3];
-    m[r][0] = X * W;
-    m[r][1] = Y * W;
-    m[r][2] = q11 * X * X + q12 * X * Y + q22 * Y * Y;
-    m[r][3] = W * W;
-  }
   NT det = -m[0][3] * det3(m[1][0], m[1][1], m[1][2], m[2][0], m[2][1], m[2][2], m[3][0], m[3][1], m[3][2]) +
            m[1][3] * det3(m[0][0], m[0][1], m[0][2], m[2][0], m[2][1], m[2][2], m[3][0], m[3][1], m[3][2]) -
            m[2][3] * det3(m[0][0], m[0][1], m[0][2], m[1][0], m[1][1], m[1][2], m[3][0], m[3][1], m[3][2]) +
@@ -817,7 +795,7 @@ int Points::incircle_certain(u32 a, u32 b, u32 c, u32 d, int k, double well, con
     }
     int s = 2;
     if (boxed) s = sign_of(det3(r[0][0], r[0][1], r[0][2], r[1][0], r[1][1], r[1][2], r[2][0], r[2][1], r[2][2]));
-    if (s == 2) s = incircle_sign_q(to_ia(interval(a)), to_ia(interval(b)), to_ia(interval(c)), to_ia(interval(d)), k, q);
+    if (s == 2) s = incircle_sign(to_ia(interval(a)), to_ia(interval(b)), to_ia(interval(c)), to_ia(interval(d)), k, &q);
     if (s != 2) return s == 1 ? 1 : -1;
   }
   // Shapes are judged where the form is the plain one: mapped by its square root (Cholesky).
@@ -831,8 +809,8 @@ int Points::incircle_certain(u32 a, u32 b, u32 c, u32 d, int k, double well, con
   }
   if (well_shaped(p, 0, 1, well)) return -1;
   ExactPoint scratch[4];
-  return incircle_sign_q(exact(a, scratch[0]).h, exact(b, scratch[1]).h, exact(c, scratch[2]).h,
-                         exact(d, scratch[3]).h, k, q) == 1
+  return incircle_sign(exact(a, scratch[0]).h, exact(b, scratch[1]).h, exact(c, scratch[2]).h,
+                       exact(d, scratch[3]).h, k, &q) == 1
              ? 1
              : -1;
 }
