@@ -74,16 +74,16 @@ std::vector<std::int8_t> classify(const Points& pts, const Arrangement& arr, Boo
   std::vector<std::uint8_t> direct(np, 0);  // per piece: bit e, edge e joined here
   if (piece_adj) piece_adj->assign(adj || !arr.inner.empty() ? np : 0, {kNone, kNone, kNone});
   // So are two pieces of one cut triangle across an edge inside it that is on no cut.
-  if (!arr.inner.empty())
-    parallel_for(0, np, [&](std::size_t i) {
-      for (int e = 0; e < 3; ++e) {
-        const u32 q = arr.inner[i][e];
-        if (q == kNone) continue;
-        direct[i] |= static_cast<std::uint8_t>(1u << e);
-        if (piece_adj) (*piece_adj)[i][e] = q;
-        if (i < q) dsu.unite_shared(static_cast<u32>(i), q);
-      }
-    });
+  parallel_for(0, arr.inner.size(), [&](std::size_t n) {
+    const auto& [i, nb] = arr.inner[n];
+    for (int e = 0; e < 3; ++e) {
+      const u32 q = nb[e];
+      if (q == kNone) continue;
+      direct[i] |= static_cast<std::uint8_t>(1u << e);
+      if (piece_adj) (*piece_adj)[i][e] = q;
+      if (i < q) dsu.unite_shared(i, q);
+    }
+  });
   if (adj) {
     const std::size_t nt = soup.tris.size(), nin = soup.verts.size();
     std::vector<u32> whole(nt, kNone);

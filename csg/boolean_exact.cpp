@@ -871,6 +871,39 @@ int Points::cross_sign(const Plane& P, const Plane& Q, int axis) const {
   return sign_of(n[i] * m[j] - n[j] * m[i]);
 }
 
+int orient2d_undecided(double ax, double ay, double bx, double by, double cx, double cy) {
+  // Three points on one axis-parallel line (common in CAD input), or two equal, are exactly
+  // collinear.
+  if ((ax == bx && bx == cx) || (ay == by && by == cy)) return 0;
+  if ((ax == bx && ay == by) || (ax == cx && ay == cy) || (bx == cx && by == cy)) return 0;
+  return wedge::orient2d(Point2(ax, ay), Point2(bx, by), Point2(cx, cy));
+}
+
+int orient3d_undecided(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
+  // Two of the points equal (a neighbouring triangle's corner tested against a triangle's plane),
+  // or four points on one axis-parallel plane (the faces of boxes, plates and cylinder caps): they
+  // are exactly coplanar, and the exact predicate would take its slowest path to say so. So are four
+  // points that, seen along an axis, are at most two points (the quads of a cylinder's or an
+  // extrusion's side: they lie in the wall over the segment between those two).
+  if (d == a || d == b || d == c || a == b || a == c || b == c) return 0;
+  for (int k = 0; k < 3; ++k) {
+    if (a[k] == b[k] && b[k] == c[k] && c[k] == d[k]) return 0;
+    const int i = (k + 1) % 3, j = (k + 2) % 3;
+    const Vec3* other = nullptr;
+    bool two = true;
+    for (const Vec3* p : {&b, &c, &d}) {
+      if ((*p)[i] == a[i] && (*p)[j] == a[j]) continue;
+      if (!other) other = p;
+      else if ((*p)[i] != (*other)[i] || (*p)[j] != (*other)[j]) {
+        two = false;
+        break;
+      }
+    }
+    if (two) return 0;
+  }
+  return wedge::orient3d(a, b, c, d);
+}
+
 int orient3d_v(const Soup& s, u32 a, u32 b, u32 c, u32 d) {
   return orient3d_fast(s.verts[a], s.verts[b], s.verts[c], s.verts[d]);
 }

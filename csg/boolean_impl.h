@@ -50,7 +50,11 @@ namespace wedge::boolean_detail {
 
 // Filtered orientation predicates on input doubles: the determinant in double with a static
 // error bound (Shewchuk's stage-A bounds for a 2x2 and a 3x3 determinant of differences); only
-// when the bound cannot decide does the exact predicate (CGAL, kernel/predicates.cpp) run.
+// when the bound cannot decide does the exact predicate (CGAL, kernel/predicates.cpp) run. What
+// follows an undecided filter is out of line (boolean_exact.cpp), so that the filter inlines
+// small into the hot loops.
+int orient2d_undecided(double ax, double ay, double bx, double by, double cx, double cy);
+int orient3d_undecided(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d);
 inline int orient2d_fast(double ax, double ay, double bx, double by, double cx, double cy) {
   const double l = (bx - ax) * (cy - ay), r = (by - ay) * (cx - ax);
   const double det = l - r;
@@ -59,11 +63,7 @@ inline int orient2d_fast(double ax, double ay, double bx, double by, double cx, 
     if (det > bound) return 1;
     if (-det > bound) return -1;
   }
-  // Three points on one axis-parallel line (common in CAD input), or two equal, are exactly
-  // collinear.
-  if ((ax == bx && bx == cx) || (ay == by && by == cy)) return 0;
-  if ((ax == bx && ay == by) || (ax == cx && ay == cy) || (bx == cx && by == cy)) return 0;
-  return wedge::orient2d(Point2(ax, ay), Point2(bx, by), Point2(cx, cy));
+  return orient2d_undecided(ax, ay, bx, by, cx, cy);
 }
 // The smallest sine of the angles of triangle (a, b, c) seen in the coordinate plane (i, j),
 // from approximate positions: 0 for a triangle that is degenerate there. It judges shapes only
@@ -94,28 +94,7 @@ inline int orient3d_fast(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3
     if (det > bound) return 1;
     if (-det > bound) return -1;
   }
-  // Two of the points equal (a neighbouring triangle's corner tested against a triangle's plane),
-  // or four points on one axis-parallel plane (the faces of boxes, plates and cylinder caps): they
-  // are exactly coplanar, and the exact predicate would take its slowest path to say so. So are four
-  // points that, seen along an axis, are at most two points (the quads of a cylinder's or an
-  // extrusion's side: they lie in the wall over the segment between those two).
-  if (d == a || d == b || d == c || a == b || a == c || b == c) return 0;
-  for (int k = 0; k < 3; ++k) {
-    if (a[k] == b[k] && b[k] == c[k] && c[k] == d[k]) return 0;
-    const int i = (k + 1) % 3, j = (k + 2) % 3;
-    const Vec3* other = nullptr;
-    bool two = true;
-    for (const Vec3* p : {&b, &c, &d}) {
-      if ((*p)[i] == a[i] && (*p)[j] == a[j]) continue;
-      if (!other) other = p;
-      else if ((*p)[i] != (*other)[i] || (*p)[j] != (*other)[j]) {
-        two = false;
-        break;
-      }
-    }
-    if (two) return 0;
-  }
-  return wedge::orient3d(a, b, c, d);
+  return orient3d_undecided(a, b, c, d);
 }
 
 using u32 = std::uint32_t;
@@ -651,10 +630,10 @@ struct Piece {               // an output candidate triangle
 struct Arrangement {
   std::vector<Piece> pieces;             // every triangle cut into pieces, uncut ones whole
   std::vector<std::vector<u32>> coplanar;  // per input triangle: overlapping coplanar triangles
-  // Per piece and edge e (v[e] -> v[e+1]): the other piece of the same input triangle across it,
-  // where the edge is inside that triangle and on no cut (so these two are the only pieces on
-  // it), else kNone. Empty: none known.
-  std::vector<std::array<u32, 3>> inner;
+  // For the pieces of triangulated triangles, in piece order: the piece, and per edge e (v[e] ->
+  // v[e+1]) the other piece of the same input triangle across it, where the edge is inside that
+  // triangle and on no cut (so these two are the only pieces on it), else kNone.
+  std::vector<std::pair<u32, std::array<u32, 3>>> inner;
 };
 Arrangement arrange(Points& pts, const std::vector<std::array<u32, 2>>& pairs);
 

@@ -709,18 +709,17 @@ Arrangement arrange(Points& pts, const std::vector<std::array<u32, 2>>& pairs) {
       continue;
     }
     const auto& inner = cut_inner[slot[t]];
-    if (!inner.empty()) {
-      const u32 base = static_cast<u32>(arr.pieces.size());
-      arr.inner.resize(base, {kNone, kNone, kNone});
-      for (const auto& nb : inner)
-        arr.inner.push_back({nb[0] == kNone ? kNone : base + nb[0], nb[1] == kNone ? kNone : base + nb[1],
-                             nb[2] == kNone ? kNone : base + nb[2]});
+    const u32 base = static_cast<u32>(arr.pieces.size());
+    for (std::size_t q = 0; q < inner.size(); ++q) {
+      const auto& nb = inner[q];
+      arr.inner.push_back({base + static_cast<u32>(q),
+                           {nb[0] == kNone ? kNone : base + nb[0], nb[1] == kNone ? kNone : base + nb[1],
+                            nb[2] == kNone ? kNone : base + nb[2]}});
     }
     for (const auto& p : cut_pieces[slot[t]]) arr.pieces.push_back(p);
     arr.coplanar[t] = std::move(work[slot[t]].coplanar);
     unique_sorted(arr.coplanar[t]);
   }
-  if (!arr.inner.empty()) arr.inner.resize(arr.pieces.size(), {kNone, kNone, kNone});
   return arr;
 }
 
