@@ -683,6 +683,28 @@ bool well_shaped(const Vec3* p[4], int i, int j, double well) {
 
 }  // namespace
 
+// The in-circle sign (in the metric q, if given) on the points' coordinate boxes, relative to d
+// (the 3x3 form), then on their homogeneous intervals; 2 where neither decides.
+int Points::incircle_interval(u32 a, u32 b, u32 c, u32 d, int k, const Metric* q) const {
+  const int i = (k + 1) % 3, j = (k + 2) % 3;
+  Filter guard;
+  const u32 id[3] = {a, b, c};
+  IA dx0, dy0, r[3][3];
+  bool boxed = box_ia(box(d), i, j, dx0, dy0);
+  for (int n = 0; n < 3 && boxed; ++n) {
+    IA x, y;
+    boxed = box_ia(box(id[n]), i, j, x, y);
+    r[n][0] = x - dx0;
+    r[n][1] = y - dy0;
+    r[n][2] = q ? IA(q->q11) * CGAL::square(r[n][0]) + IA(2 * q->q12) * r[n][0] * r[n][1] + IA(q->q22) * CGAL::square(r[n][1])
+                : r[n][0] * r[n][0] + r[n][1] * r[n][1];
+  }
+  int s = 2;
+  if (boxed) s = sign_of(det3(r[0][0], r[0][1], r[0][2], r[1][0], r[1][1], r[1][2], r[2][0], r[2][1], r[2][2]));
+  if (s == 2) s = incircle_sign(to_ia(interval(a)), to_ia(interval(b)), to_ia(interval(c)), to_ia(interval(d)), k, q);
+  return s;
+}
+
 int Points::incircle_certain(u32 a, u32 b, u32 c, u32 d, int k, double well) const {
   const int i = (k + 1) % 3, j = (k + 2) % 3;
   const std::uint8_t m = static_cast<std::uint8_t>(1u << i | 1u << j);
@@ -711,21 +733,7 @@ int Points::incircle_certain(u32 a, u32 b, u32 c, u32 d, int k, double well) con
     if (bound < INFINITY && bound > 1e-280 && std::abs(det) > bound) return det > 0 ? 1 : -1;
   }
   if (!doubles) {
-    Filter guard;
-    // On the coordinate boxes, relative to d (the classic 3x3 form), then homogeneously.
-    const u32 id[3] = {a, b, c};
-    IA dx0, dy0, r[3][3];
-    bool boxed = box_ia(box(d), i, j, dx0, dy0);
-    for (int q = 0; q < 3 && boxed; ++q) {
-      IA x, y;
-      boxed = box_ia(box(id[q]), i, j, x, y);
-      r[q][0] = x - dx0;
-      r[q][1] = y - dy0;
-      r[q][2] = r[q][0] * r[q][0] + r[q][1] * r[q][1];
-    }
-    int s = 2;
-    if (boxed) s = sign_of(det3(r[0][0], r[0][1], r[0][2], r[1][0], r[1][1], r[1][2], r[2][0], r[2][1], r[2][2]));
-    if (s == 2) s = incircle_sign(to_ia(interval(a)), to_ia(interval(b)), to_ia(interval(c)), to_ia(interval(d)), k);
+    const int s = incircle_interval(a, b, c, d, k, nullptr);
     if (s != 2) return s == 1 ? 1 : -1;
   }
   // Too close to cocircular for the filter. Where every triangle either split would make is well
@@ -780,24 +788,7 @@ int Points::incircle_certain(u32 a, u32 b, u32 c, u32 d, int k, double well, con
     }
     if (bound < INFINITY && bound > 1e-280 && std::abs(det) > bound) return det > 0 ? 1 : -1;
   }
-  {
-    Filter guard;
-    // On the coordinate boxes, relative to d, then homogeneously.
-    const IA q11(q.q11), q12(2 * q.q12), q22(q.q22);
-    IA dx0, dy0, r[3][3];
-    bool boxed = box_ia(box(d), i, j, dx0, dy0);
-    for (int n = 0; n < 3 && boxed; ++n) {
-      IA x, y;
-      boxed = box_ia(box(id[n]), i, j, x, y);
-      r[n][0] = x - dx0;
-      r[n][1] = y - dy0;
-      r[n][2] = q11 * CGAL::square(r[n][0]) + q12 * r[n][0] * r[n][1] + q22 * CGAL::square(r[n][1]);
-    }
-    int s = 2;
-    if (boxed) s = sign_of(det3(r[0][0], r[0][1], r[0][2], r[1][0], r[1][1], r[1][2], r[2][0], r[2][1], r[2][2]));
-    if (s == 2) s = incircle_sign(to_ia(interval(a)), to_ia(interval(b)), to_ia(interval(c)), to_ia(interval(d)), k, &q);
-    if (s != 2) return s == 1 ? 1 : -1;
-  }
+  if (const int s = incircle_interval(a, b, c, d, k, &q); s != 2) return s == 1 ? 1 : -1;
   // Shapes are judged where the form is the plain one: mapped by its square root (Cholesky).
   const double l11 = std::sqrt(q.q11), l12 = q.q12 / l11, l22 = std::sqrt(std::max(0.0, q.q22 - l12 * l12));
   Vec3 mapped[4];

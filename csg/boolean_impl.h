@@ -355,6 +355,7 @@ class Points {
     double q11, q12, q22;
   };
   int incircle_certain(u32 a, u32 b, u32 c, u32 d, int k, double well, const Metric& q) const;
+  int incircle_interval(u32 a, u32 b, u32 c, u32 d, int k, const Metric* q) const;  // 2: undecided
   // For the centroid of triangle (a, b, c): sign of orient2d(u, v, centroid) in projection k, with
   // u, v input vertices; and the side of a plane.
   int orient2d_centroid(u32 u, u32 v, const std::array<u32, 3>& t, int k) const;
