@@ -832,4 +832,26 @@ const char* boolean_op_name(BooleanOp op) {
 
 Mesh boolean(BooleanOp op, const Mesh& a, const Mesh& b) { return boolean(op, {&a, &b}).mesh; }
 
+BooleanResult resolve_self(const Mesh& mesh, const CancelCheck* cancel) {
+  mesh.check();
+  const boolean_detail::Interrupt interrupt(cancel);
+  BooleanResult r;
+  r.mesh = mesh;
+  if (r.mesh.face_ids.size() != r.mesh.triangles.size()) r.mesh.face_ids.assign(r.mesh.triangles.size(), -1);
+  const std::size_t n = mesh.triangles.size();
+  r.operand.assign(n, 0);
+  r.source.resize(n);
+  std::vector<boolean_detail::u32> crossing(n);  // where it crosses itself is not known: anywhere
+  for (std::size_t t = 0; t < n; ++t) r.source[t] = static_cast<std::int32_t>(t), crossing[t] = static_cast<boolean_detail::u32>(t);
+  std::size_t collapses = 0;
+  bool unresolved = true;
+  for (int pass = 0; unresolved && pass < 5; ++pass) {
+    if (cancel && *cancel && (*cancel)()) throw Cancelled();
+    r = resolve(r, &collapses, &unresolved, &interrupt, crossing);
+  }
+  if (unresolved) fail("boolean: a mesh crossing itself could not be resolved and rounded to doubles without a self-intersection");
+  verified_results().add(fingerprint(r.mesh));
+  return r;
+}
+
 }  // namespace wedge

@@ -69,6 +69,14 @@ BooleanResult boolean(BooleanOp op, const std::vector<const Mesh*>& operands, Bo
 // The two-operand shorthand: boolean(op, {&a, &b}).mesh.
 Mesh boolean(BooleanOp op, const Mesh& a, const Mesh& b);
 
+// The solid a closed, consistently oriented mesh that crosses itself only by rounding bounds (a
+// boolean result moved by an inexact transform, its thinnest triangles folded over): the region
+// where its winding number is at least 1, resolved exactly and rounded to doubles again, closed,
+// 2-manifold and free of self-intersections. operand is 0 and source the mesh's triangle each
+// result triangle lies in; face ids are kept. Throws wedge::Error where rounding cannot be made
+// valid. `cancel` as for boolean().
+BooleanResult resolve_self(const Mesh& mesh, const CancelCheck* cancel = nullptr);
+
 // "" if `mesh` is closed, 2-manifold (touching shells allowed only at distinct vertex indices),
 // consistently oriented with positive volume and free of self-intersections, all decided exactly;
 // otherwise the first defect in words, with the offending spot. `name` starts the message.
