@@ -51,7 +51,6 @@ class Triangulator {
     ids_.clear();
     tris_.clear();
     vt_.clear();
-    alias_.clear();
     for (u32 c : corners) add_vertex(c);
     if (orient(0, 1, 2) <= 0) fail("the triangle's corners are not counter-clockwise");
     tris_.push_back({{0, 1, 2}, {kNo, kNo, kNo}, 0});
@@ -67,12 +66,7 @@ class Triangulator {
       if ((++polled & 0xff) == 0) pts_->soup().poll();
       const int v = add_vertex(p);
       const int at = insert(v, hint);
-      if (at != v) {
-        alias_.push_back({v, at});  // the same point as an earlier vertex: use that one
-        local.push_back({p, at});
-      } else {
-        local.push_back({p, v});
-      }
+      local.push_back({p, at});  // at: v, or an earlier vertex at the same point
       hint = vt_[at];
     }
     std::sort(local.begin(), local.end());
@@ -111,7 +105,6 @@ class Triangulator {
   std::vector<u32> ids_;               // local vertex -> point id
   std::vector<Tri> tris_;
   std::vector<int> vt_;                // local vertex -> a triangle that has it
-  std::vector<std::pair<int, int>> alias_;
   std::vector<std::pair<u32, int>> local_;
   std::vector<std::pair<int, int>> stack_;
   std::vector<std::array<int, 2>> crossed_, made_;
@@ -373,6 +366,7 @@ class Triangulator {
       const int i = index_of(T, x);
       const int nb = T.n[pv(i)];  // across x -> y (T is (x, y, ...))
       if (nb == kNo) fail("a constraint leaves its triangle");
+      if (cons(T, pv(i))) fail("two constraints cross");
       const Tri& N = tris_[nb];
       const int z = N.v[nx(index_of(N, x))];  // N is (y, x, z)
       if (z == b) break;
@@ -385,18 +379,8 @@ class Triangulator {
       else x = z;
       cur = nb;
     }
-    if (cons_crossed()) fail("two constraints cross");
     recover(a, end);
     if (end != b) constrain(end, b, depth + 1);
-  }
-
-  bool cons_crossed() {
-    for (const auto& e : crossed_) {
-      int t, j;
-      if (!find_edge(e[0], e[1], t, j)) fail("a crossed edge is missing");
-      if (cons(tris_[t], j)) return true;
-    }
-    return false;
   }
 
   // Sloan's recovery of a -> b from the crossed edges, then Delaunay flips of the new edges.
