@@ -661,7 +661,7 @@ std::string defect(const Mesh& m, const std::string& name, bool self, const Inte
 // the region where its winding number is at least 1 kept, rounded again. Provenance (operand,
 // source triangle, face id) is carried through from `prev`.
 BooleanResult resolve(const BooleanResult& prev, std::size_t* collapses, bool* unresolved,
-                      const Interrupt* interrupt, std::vector<u32>& crossing) {
+                      const Interrupt* interrupt, std::vector<u32>& crossing, bool rounded_input = false) {
   // Zero-area triangles (rounding can flatten one) bound nothing and are left out; where their
   // vertices lie on a neighbour's edge the arrangement splits that edge.
   Mesh m;
@@ -676,6 +676,7 @@ BooleanResult resolve(const BooleanResult& prev, std::size_t* collapses, bool* u
   }
   std::vector<const Mesh*> one{&m};
   Soup soup = make_soup(one, interrupt);
+  soup.rounded_input = rounded_input;
   Points pts(soup);
   // Only around the triangles that still cross: every crossing pair has one of them, and the
   // triangles beside a flattened one (left out above) share a vertex with it.
@@ -847,7 +848,7 @@ BooleanResult resolve_self(const Mesh& mesh, const CancelCheck* cancel) {
   bool unresolved = true;
   for (int pass = 0; unresolved && pass < 5; ++pass) {
     if (cancel && *cancel && (*cancel)()) throw Cancelled();
-    r = resolve(r, &collapses, &unresolved, &interrupt, crossing);
+    r = resolve(r, &collapses, &unresolved, &interrupt, crossing, true);
   }
   if (unresolved) fail("boolean: a mesh crossing itself could not be resolved and rounded to doubles without a self-intersection");
   verified_results().add(fingerprint(r.mesh));

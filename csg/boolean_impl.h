@@ -126,6 +126,9 @@ struct Soup {
   std::vector<std::int8_t> axis;          // per triangle: k(T)
   std::vector<std::int8_t> axis_sign;     // per triangle: sign of n_k(T)
   int operands = 0;
+  // The input positions are themselves rounded (a mesh moved by an inexact transform): the
+  // rounding repair may move them too, as it moves constructed points.
+  bool rounded_input = false;
   const Interrupt* interrupt = nullptr;   // the run's cancel request (null: none)
   void poll() const {
     if (interrupt) interrupt->poll();

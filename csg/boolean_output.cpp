@@ -711,7 +711,7 @@ BooleanResult assemble(const Points& pts, const Arrangement& arr, const std::vec
       if (root[c] == c) {
         index[c] = n;
         r.mesh.positions[n] = pts.approx(tris[c / 3][c % 3]);
-        moved[n++] = !pts.is_double(tris[c / 3][c % 3]);
+        moved[n++] = soup.rounded_input || !pts.is_double(tris[c / 3][c % 3]);
       }
   });
   r.mesh.triangles.resize(nt);

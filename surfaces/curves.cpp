@@ -183,19 +183,23 @@ CircularArc::CircularArc(const Point3& center, double radius, double start, doub
 }
 
 Point3 CircularArc::eval(double t) const {
-  return center_ + radius_ * (std::cos(t) * x_ + std::sin(t) * y_);
+  double c, s;
+  cos_sin(t, c, s);
+  return center_ + radius_ * (c * x_ + s * y_);
 }
 
 Vec3 CircularArc::derivative(double t, int k) const {
   if (k == 0) return eval(t);
   // d^k/dt^k (cos t, sin t) = (cos(t + k pi/2), sin(t + k pi/2))
-  double s = t + k * kPi / 2;
-  return radius_ * (std::cos(s) * x_ + std::sin(s) * y_);
+  double c, s;
+  cos_sin(t + k * kPi / 2, c, s);
+  return radius_ * (c * x_ + s * y_);
 }
 
 void CircularArc::jet(double t, int d, Vec3* out) const {
   // The k-th derivative turns the radius vector by k pi/2: (c, s) -> (-s, c) -> (-c, -s) -> (s, -c).
-  double c = std::cos(t), s = std::sin(t);
+  double c, s;
+  cos_sin(t, c, s);
   Vec3 a = radius_ * (c * x_ + s * y_), b = radius_ * (c * y_ - s * x_);
   out[0] = center_ + a;
   if (d >= 1) out[1] = b;

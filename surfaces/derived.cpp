@@ -13,7 +13,8 @@ namespace wedge {
 namespace {
 // (x, y) rotated by angle a (the z part untouched).
 Vec3 rot(const Vec3& p, double a) {
-  double c = std::cos(a), s = std::sin(a);
+  double c, s;
+  cos_sin(a, c, s);
   return {c * p.x() - s * p.y(), s * p.x() + c * p.y(), p.z()};
 }
 }  // namespace
@@ -188,7 +189,8 @@ void RevolutionSurface::jet(double u, double v, int d, Vec3* out) const {
   // by pi/2 each, (x cos v, x sin v) -> (-x sin v, x cos v) -> (-x cos v, -x sin v).
   Vec3 c[3];
   profile_->jet(u, d, c);
-  double cv = std::cos(v), sv = std::sin(v);
+  double cv, sv;
+  cos_sin(v, cv, sv);
   out[0] = Vec3(c[0].x() * cv, c[0].x() * sv, c[0].y());
   out[1] = Vec3(c[1].x() * cv, c[1].x() * sv, c[1].y());
   out[2] = Vec3(-c[0].x() * sv, c[0].x() * cv, 0);
@@ -207,8 +209,7 @@ void RevolutionSurface::jet_grid(const double* u, int nu, const double* v, int n
   // As jet(), with each column's sine and cosine and each row's profile jet computed once.
   std::vector<double> cvs(static_cast<std::size_t>(nv)), svs(static_cast<std::size_t>(nv));
   for (int j = 0; j < nv; ++j) {
-    cvs[static_cast<std::size_t>(j)] = std::cos(v[j]);
-    svs[static_cast<std::size_t>(j)] = std::sin(v[j]);
+    cos_sin(v[j], cvs[static_cast<std::size_t>(j)], svs[static_cast<std::size_t>(j)]);
   }
   for (int i = 0; i < nu; ++i) {
     Vec3 c[3];

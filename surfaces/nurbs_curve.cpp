@@ -301,7 +301,9 @@ NurbsCurve conic_arc(const Point3& O, const Vec3& X, const Vec3& Y, double rx, d
   int narcs = std::clamp(int(std::ceil(theta / (kPi / 2) - 1e-9)), 1, 4);
   double d = theta / narcs, w1 = std::cos(d / 2);
   auto at = [&](double ang, double scale) {
-    return Point3(O + scale * (rx * std::cos(ang) * X + ry * std::sin(ang) * Y));
+    double c, s;
+    cos_sin(ang, c, s);
+    return Point3(O + scale * (rx * c * X + ry * s * Y));
   };
   std::vector<Point3> P;
   std::vector<double> W;

@@ -130,15 +130,18 @@ Cylinder::Cylinder(const Point3& origin, const Vec3& unit_axis, double radius, d
 }
 
 Point3 Cylinder::eval(double u, double v) const {
-  return origin_ + radius_ * (std::cos(u) * x_ + std::sin(u) * y_) + v * axis_;
+  double c, s;
+  cos_sin(u, c, s);
+  return origin_ + radius_ * (c * x_ + s * y_) + v * axis_;
 }
 
 Vec3 Cylinder::derivative(double u, double v, int ku, int kv) const {
   if (ku == 0 && kv == 0) return eval(u, v);
   if (kv > 1 || (kv == 1 && ku > 0)) return Vec3::Zero();
   if (kv == 1) return axis_;
-  double s = u + ku * kPi / 2;  // d^k/du^k (cos u, sin u) = (cos(u + k pi/2), sin(u + k pi/2))
-  return radius_ * (std::cos(s) * x_ + std::sin(s) * y_);
+  double c, s;  // d^k/du^k (cos u, sin u) = (cos(u + k pi/2), sin(u + k pi/2))
+  cos_sin(u + ku * kPi / 2, c, s);
+  return radius_ * (c * x_ + s * y_);
 }
 
 Vec3 Plane::derivative(double u, double v, int ku, int kv) const {
@@ -292,8 +295,10 @@ ArcTemplate arc_template(double angle) {
   double d = angle / narcs, w1 = std::cos(d / 2);
   ArcTemplate t;
   auto add = [&](double a, double scale, double w) {
-    t.c.push_back(std::cos(a));
-    t.s.push_back(std::sin(a));
+    double c, s;
+    cos_sin(a, c, s);
+    t.c.push_back(c);
+    t.s.push_back(s);
     t.scale.push_back(scale);
     t.w.push_back(w);
   };
@@ -383,7 +388,8 @@ Vec3 RevolvedSurface::derivative(double u, double v, int ku, int kv) const {
   Vec3 x = curve_->derivative(v, kv);
   if (kv == 0) x -= point_;
   Vec3 along = axis_.dot(x) * axis_, perp = x - along, side = axis_.cross(x);
-  double c = std::cos(u + ku * kPi / 2), s = std::sin(u + ku * kPi / 2);
+  double c, s;
+  cos_sin(u + ku * kPi / 2, c, s);
   Vec3 r = perp * c + side * s;
   if (ku == 0) r += along + (kv == 0 ? point_ : Vec3::Zero());
   return r;

@@ -196,3 +196,32 @@ TEST_CASE("transforms of extreme but finite numbers: axes scaled before their le
   CHECK_THROWS_WITH(inverse(scale({1, 0, 1})), "matrix is singular (rank 3 of 4): it has no inverse");
   CHECK_THROWS_WITH(inverse(scale({1e-310, 1, 1})), "the inverse of the matrix overflows (it is nearly singular)");
 }
+
+TEST_CASE("cos_sin is exact at multiples of a right angle and std's elsewhere", "[transform]") {
+  // The tessellators' circles: a quarter point must lie on its axis, whichever way the angle was
+  // computed (pi / 2, 2 pi * 1 / 4, 3 * (pi / 2), -pi).
+  struct Case {
+    double a, c, s;
+  };
+  const Case exact[] = {{0, 1, 0},          {kPi / 2, 0, 1},         {2 * kPi * 1 / 4, 0, 1}, {kPi, -1, 0},
+                        {3 * (kPi / 2), 0, -1}, {2 * kPi, 1, 0},      {-kPi / 2, 0, -1},       {-kPi, -1, 0},
+                        {5 * (kPi / 2), 0, 1},  {std::nextafter(kPi / 2, 4.0), 0, 1}};
+  for (const Case& k : exact) {
+    double c = 7, s = 7;
+    cos_sin(k.a, c, s);
+    INFO("angle " << k.a);
+    CHECK(c == k.c);
+    CHECK(s == k.s);
+  }
+  for (double a : {0.1, 1.0, kPi / 2 - 1e-9, kPi / 3, -2.5, 100.0}) {
+    double c = 7, s = 7;
+    cos_sin(a, c, s);
+    CHECK(c == std::cos(a));
+    CHECK(s == std::sin(a));
+  }
+  // Nothing but the angle decides: a NaN stays NaN.
+  double c = 0, s = 0;
+  cos_sin(std::nan(""), c, s);
+  CHECK(std::isnan(c));
+  CHECK(std::isnan(s));
+}

@@ -29,8 +29,8 @@ struct Tri {
 // True when the triangle lies on one of the cube's faces: in one of the planes x = 0, y = 0,
 // z = 0, on the side where the other two coordinates are >= 0 (the sphere's seam lies in the plane
 // y = 0 too, and a triangle from a pole to two seam points is a sphere triangle in that plane).
-// "In the plane" to 1e-12: the sphere's poles, which lie on the cube's edge x = y = 0, are at
-// x = cos(pi / 2) = 6e-17, and a cut face may end there.
+// "In the plane" to 1e-12: the sphere's poles lie on the cube's edge x = y = 0 (exactly, since
+// cos_sin; at x = cos(pi / 2) = 6e-17 before), and a cut face may end there.
 bool on_cut(const Tri& t) {
   constexpr double eps = 1e-12;
   for (int a = 0; a < 3; ++a)
