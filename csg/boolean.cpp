@@ -657,11 +657,17 @@ std::string defect(const Mesh& m, const std::string& name, bool self, const Inte
   return "";
 }
 
+bool lex_less(const Vec3& p, const Vec3& q) {
+  return p[0] != q[0] ? p[0] < q[0] : (p[1] != q[1] ? p[1] < q[1] : p[2] < q[2]);
+}
+
 // Re-resolves a rounded result that crosses itself: the exact arrangement of its own triangles,
 // the region where its winding number is at least 1 kept, rounded again. Provenance (operand,
-// source triangle, face id) is carried through from `prev`.
+// source triangle, face id) is carried through from `prev`. The positions in `fixed` (sorted; the
+// operands' own vertices) stay where they are; the others were rounded and may move again (all of
+// them, without `fixed`).
 BooleanResult resolve(const BooleanResult& prev, std::size_t* collapses, bool* unresolved,
-                      const Interrupt* interrupt, std::vector<u32>& crossing, bool rounded_input = false) {
+                      const Interrupt* interrupt, std::vector<u32>& crossing, const std::vector<Vec3>* fixed) {
   // Zero-area triangles (rounding can flatten one) bound nothing and are left out; where their
   // vertices lie on a neighbour's edge the arrangement splits that edge.
   Mesh m;
@@ -676,7 +682,9 @@ BooleanResult resolve(const BooleanResult& prev, std::size_t* collapses, bool* u
   }
   std::vector<const Mesh*> one{&m};
   Soup soup = make_soup(one, interrupt);
-  soup.rounded_input = rounded_input;
+  soup.movable.resize(soup.verts.size());
+  for (std::size_t v = 0; v < soup.verts.size(); ++v)
+    soup.movable[v] = !fixed || !std::binary_search(fixed->begin(), fixed->end(), soup.verts[v], lex_less);
   Points pts(soup);
   // Only around the triangles that still cross: every crossing pair has one of them, and the
   // triangles beside a flattened one (left out above) share a vertex with it.
@@ -786,9 +794,14 @@ BooleanResult boolean_detail::boolean_as_given(BooleanOp op, const std::vector<c
   std::vector<std::array<u32, 3>>().swap(piece_adj);
   // Rounding that leaves crossings (sheets a few ulps apart) is resolved again, exactly, on the
   // rounded result; each pass works at a finer scale than the one before.
+  std::vector<Vec3> fixed;  // the operands' vertices, which a re-resolution keeps where they are
+  if (unresolved) {
+    fixed = soup.verts;
+    std::sort(fixed.begin(), fixed.end(), lex_less);
+  }
   for (; unresolved && resolutions < 4; ++resolutions) {
     if (cancel && *cancel && (*cancel)()) throw Cancelled();
-    r = resolve(r, &collapses, &unresolved, &interrupt, crossing);
+    r = resolve(r, &collapses, &unresolved, &interrupt, crossing, &fixed);
   }
   if (unresolved) {
     const Vec3& p = r.mesh.positions.empty() ? Vec3(0, 0, 0) : r.mesh.positions[0];
@@ -844,11 +857,16 @@ BooleanResult resolve_self(const Mesh& mesh, const CancelCheck* cancel) {
   r.source.resize(n);
   std::vector<boolean_detail::u32> crossing(n);  // where it crosses itself is not known: anywhere
   for (std::size_t t = 0; t < n; ++t) r.source[t] = static_cast<std::int32_t>(t), crossing[t] = static_cast<boolean_detail::u32>(t);
-  std::size_t collapses = 0;
+  // Edges far shorter than the rounding the move made (a wall 1e-17 wide, turned) are noise: they
+  // go first, where the mesh stays a manifold. Left in, each pass's resolution and rounding around
+  // them made more crossings than it removed.
+  double reach = 0;
+  for (const Vec3& p : mesh.positions) reach = std::max(reach, p.cwiseAbs().maxCoeff());
+  std::size_t collapses = collapse_short_edges(r, std::ldexp(reach, -40));
   bool unresolved = true;
   for (int pass = 0; unresolved && pass < 5; ++pass) {
     if (cancel && *cancel && (*cancel)()) throw Cancelled();
-    r = resolve(r, &collapses, &unresolved, &interrupt, crossing, true);
+    r = resolve(r, &collapses, &unresolved, &interrupt, crossing, nullptr);
   }
   if (unresolved) fail("boolean: a mesh crossing itself could not be resolved and rounded to doubles without a self-intersection");
   verified_results().add(fingerprint(r.mesh));

@@ -126,9 +126,10 @@ struct Soup {
   std::vector<std::int8_t> axis;          // per triangle: k(T)
   std::vector<std::int8_t> axis_sign;     // per triangle: sign of n_k(T)
   int operands = 0;
-  // The input positions are themselves rounded (a mesh moved by an inexact transform): the
-  // rounding repair may move them too, as it moves constructed points.
-  bool rounded_input = false;
+  // Per vertex (or empty: none): the input position is itself a rounded one (of a mesh moved by an
+  // inexact transform, or of an earlier pass's output), which the rounding repair may move, as it
+  // moves constructed points. An operand's own vertices never move.
+  std::vector<char> movable;
   const Interrupt* interrupt = nullptr;   // the run's cancel request (null: none)
   void poll() const {
     if (interrupt) interrupt->poll();
@@ -661,6 +662,10 @@ std::vector<std::int8_t> classify(const Points& pts, const Arrangement& arr, Boo
 // `crossing` (if given) receives the triangles of the returned mesh that still cross another:
 // every crossing pair has one of them.
 // `piece_adj` (classify's, if given) pairs the edges it names without sorting them.
+// Collapses r's edges shorter than tau, shortest first, where the mesh stays closed and manifold
+// (a fold whose two triangles come to lie on each other goes); triangles keep their provenance.
+// Positions no triangle uses stay. Returns the number of collapses.
+std::size_t collapse_short_edges(BooleanResult& r, double tau);
 BooleanResult assemble(const Points& pts, const Arrangement& arr, const std::vector<std::int8_t>& keep,
                        std::size_t* collapses = nullptr, bool* unresolved = nullptr,
                        std::vector<u32>* crossing = nullptr,

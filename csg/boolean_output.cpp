@@ -188,6 +188,158 @@ double plane_gap(const Soup& s, u32 t, const Vec3& p) {
   return len > 0 ? std::abs(n.dot(p - a)) / len : 0.0;
 }
 
+// Whether the triangles `star` (each holding v) close around v as one disk: each link edge x -> y
+// (for the triangle v, x, y in turn) starts at a different x, and they join into one cycle.
+bool one_disk(u32 v, const std::vector<std::array<u32, 3>>& star) {
+  if (star.empty()) return false;
+  std::vector<std::pair<u32, u32>> link;
+  for (const auto& T : star) {
+    const int k = T[0] == v ? 0 : (T[1] == v ? 1 : 2);
+    link.push_back({T[(k + 1) % 3], T[(k + 2) % 3]});
+  }
+  std::sort(link.begin(), link.end());
+  for (std::size_t i = 1; i < link.size(); ++i)
+    if (link[i].first == link[i - 1].first) return false;
+  u32 at = link[0].first;
+  for (std::size_t steps = 0; steps < link.size(); ++steps) {
+    auto it = std::lower_bound(link.begin(), link.end(), std::make_pair(at, u32(0)));
+    if (it == link.end() || it->first != at) return false;
+    at = it->second;
+    if (at == link[0].first) return steps + 1 == link.size();
+  }
+  return false;
+}
+
+// An edge collapse a -> b where the link condition fails can still leave a closed manifold: the
+// two triangles of a fold (a, c, d) and (b, d, c) become one triangle both ways round, a film of
+// no volume, and go. (A wall thinner than rounding, turned, folds so: a short edge's ends had a
+// common neighbour beyond the two opposite vertices, and no pass could collapse it.) The collapse
+// is made where every vertex it changes keeps one disk of triangles around it, and none of them
+// is `touched` (changed earlier in the same sweep, which the stars, made once, do not know).
+// Triangles that go become {b, b, b}.
+class FoldCollapse {
+ public:
+  FoldCollapse(std::vector<std::array<u32, 3>>& tris, std::size_t nv, std::vector<char>& touched)
+      : tris_(tris), nv_(nv), touched_(touched) {}
+  std::vector<u32> changed;  // the triangles the last collapse changed
+
+  bool operator()(u32 a, u32 b) {
+    stars();
+    changed.clear();
+    std::vector<u32> set(star_tri_.begin() + star_first_[a], star_tri_.begin() + star_first_[a + 1]);
+    set.insert(set.end(), star_tri_.begin() + star_first_[b], star_tri_.begin() + star_first_[b + 1]);
+    std::sort(set.begin(), set.end());
+    set.erase(std::unique(set.begin(), set.end()), set.end());
+    std::vector<std::array<u32, 3>> now(set.size());
+    std::vector<char> gone(set.size(), 0);
+    std::vector<u32> affected;
+    for (std::size_t i = 0; i < set.size(); ++i) {
+      now[i] = tris_[set[i]];
+      for (u32& v : now[i]) {
+        affected.push_back(v);
+        if (v == a) v = b;
+      }
+      gone[i] = now[i][0] == now[i][1] || now[i][1] == now[i][2] || now[i][2] == now[i][0];
+    }
+    // A triangle and its reverse cancel; the same triangle twice is no manifold.
+    auto canon = [](std::array<u32, 3> T) {
+      while (T[0] > T[1] || T[0] > T[2]) T = {T[1], T[2], T[0]};
+      return T;
+    };
+    for (std::size_t i = 0; i < set.size(); ++i)
+      for (std::size_t j = i + 1; j < set.size() && !gone[i]; ++j) {
+        if (gone[j]) continue;
+        const auto x = canon(now[i]), y = canon(now[j]);
+        if (x == y) return false;
+        if (x == canon({now[j][0], now[j][2], now[j][1]})) gone[i] = gone[j] = 1;
+      }
+    std::sort(affected.begin(), affected.end());
+    affected.erase(std::unique(affected.begin(), affected.end()), affected.end());
+    for (u32 w : affected) {
+      if (touched_[w]) return false;
+      if (w == a) continue;
+      std::vector<std::array<u32, 3>> star;
+      for (u32 k = star_first_[w]; k < star_first_[w + 1]; ++k)
+        if (!std::binary_search(set.begin(), set.end(), star_tri_[k])) star.push_back(tris_[star_tri_[k]]);
+      for (std::size_t i = 0; i < set.size(); ++i)
+        if (!gone[i] && (now[i][0] == w || now[i][1] == w || now[i][2] == w)) star.push_back(now[i]);
+      if (star.empty() ? w == b : !one_disk(w, star)) return false;
+    }
+    for (std::size_t i = 0; i < set.size(); ++i) {
+      tris_[set[i]] = gone[i] ? std::array<u32, 3>{b, b, b} : now[i];
+      changed.push_back(set[i]);
+    }
+    for (u32 w : affected) touched_[w] = 1;
+    return true;
+  }
+
+ private:
+  // Every vertex's triangles, made when first needed.
+  void stars() {
+    if (!star_first_.empty()) return;
+    star_first_.assign(nv_ + 1, 0);
+    for (const auto& T : tris_)
+      for (u32 v : T) ++star_first_[v + 1];
+    for (std::size_t v = 0; v < nv_; ++v) star_first_[v + 1] += star_first_[v];
+    star_tri_.resize(star_first_.back());
+    std::vector<u32> fill(star_first_.begin(), star_first_.end() - 1);
+    for (std::size_t t = 0; t < tris_.size(); ++t)
+      for (u32 v : tris_[t]) star_tri_[fill[v]++] = static_cast<u32>(t);
+  }
+
+  std::vector<std::array<u32, 3>>& tris_;
+  std::size_t nv_;
+  std::vector<char>& touched_;
+  std::vector<u32> star_first_, star_tri_;
+};
+
+}  // namespace
+
+std::size_t collapse_short_edges(BooleanResult& r, double tau) {
+  auto& tris = r.mesh.triangles;
+  std::size_t total = 0;
+  for (int sweep = 0; sweep < 8; ++sweep) {
+    struct Edge {
+      double len2;
+      u32 a, b;
+    };
+    std::vector<Edge> edges;
+    for (const auto& T : tris)
+      for (int e = 0; e < 3; ++e) {
+        const u32 a = T[e], b = T[(e + 1) % 3];
+        const double l2 = (r.mesh.positions[a] - r.mesh.positions[b]).squaredNorm();
+        if (a < b && l2 < tau * tau) edges.push_back({l2, a, b});
+      }
+    if (edges.empty()) break;
+    std::sort(edges.begin(), edges.end(), [](const Edge& x, const Edge& y) {
+      return x.len2 != y.len2 ? x.len2 < y.len2 : (x.a != y.a ? x.a < y.a : x.b < y.b);
+    });
+    std::vector<char> touched(r.mesh.positions.size(), 0);
+    FoldCollapse fold(tris, r.mesh.positions.size(), touched);
+    std::size_t made = 0;
+    for (const Edge& e : edges) made += fold(e.b, e.a) || fold(e.a, e.b);  // the larger index goes, if it may
+    if (!made) break;
+    total += made;
+    std::size_t w = 0;
+    for (std::size_t t = 0; t < tris.size(); ++t) {
+      const auto& T = tris[t];
+      if (T[0] == T[1] || T[1] == T[2] || T[2] == T[0]) continue;
+      tris[w] = T;
+      r.operand[w] = r.operand[t];
+      r.source[w] = r.source[t];
+      r.mesh.face_ids[w] = r.mesh.face_ids[t];
+      ++w;
+    }
+    tris.resize(w);
+    r.operand.resize(w);
+    r.source.resize(w);
+    r.mesh.face_ids.resize(w);
+  }
+  return total;
+}
+
+namespace {
+
 // Rounding repair: each bad triangle loses its shortest edge that has a rounded end, one end
 // collapsing into the other where the collapse keeps the surface a manifold (the link
 // condition). Of the two directions the one that keeps the surviving triangles closest to their
@@ -236,6 +388,7 @@ bool repair_rounding(BooleanResult& r, Rounding& rd, std::vector<u32>* left = nu
       }
       return worst;
     };
+    FoldCollapse folds(tris, r.mesh.positions.size(), touched);
     for (u32 t : bad) {
       const auto T = tris[t];
       if (touched[T[0]] || touched[T[1]] || touched[T[2]]) continue;
@@ -263,7 +416,15 @@ bool repair_rounding(BooleanResult& r, Rounding& rd, std::vector<u32>* left = nu
               if (v != a && v != b) opposite.push_back(v);
         }
         std::sort(opposite.begin(), opposite.end());
-        if (opposite.size() != 2 || common != opposite) continue;
+        if (opposite.size() != 2 || common != opposite) {
+          if (folds(a, b)) {
+            for (u32 x : folds.changed) rd.recheck[x] = 1;
+            changed = true;
+            ++rd.collapses;
+            break;
+          }
+          continue;
+        }
         for (u32 x : around[a]) {
           for (u32& v : tris[x])
             if (v == a) v = b;
@@ -711,7 +872,8 @@ BooleanResult assemble(const Points& pts, const Arrangement& arr, const std::vec
       if (root[c] == c) {
         index[c] = n;
         r.mesh.positions[n] = pts.approx(tris[c / 3][c % 3]);
-        moved[n++] = soup.rounded_input || !pts.is_double(tris[c / 3][c % 3]);
+        const u32 p = tris[c / 3][c % 3];
+        moved[n++] = !pts.is_double(p) || (p < soup.movable.size() && soup.movable[p]);
       }
   });
   r.mesh.triangles.resize(nt);
