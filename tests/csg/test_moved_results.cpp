@@ -24,6 +24,17 @@ Solid box_solid(const Vec3& size, const Point3& corner = Point3::Zero()) { retur
 // 6e-17 off the axes (std::cos(pi / 2)) before cos_sin, left beside a cube's faces.
 constexpr double kSliver = 1.8369701987210297e-17;
 
+// The union, intersection and difference of a and b (of volumes va and vb) are made and satisfy
+// vol(a + b) + vol(a * b) = va + vb and vol(a - b) = va - vol(a * b).
+void check_volume_identities(const Solid& a, double va, const Solid& b, double vb, const Tolerance& tol) {
+  double vu = 0, vi = 0, vd = 0;
+  REQUIRE_NOTHROW(vu = Solid::boolean(BooleanOp::Union, {a, b}).mass_properties(tol).volume);
+  REQUIRE_NOTHROW(vi = Solid::boolean(BooleanOp::Intersection, {a, b}).mass_properties(tol).volume);
+  REQUIRE_NOTHROW(vd = Solid::boolean(BooleanOp::Difference, {a, b}).mass_properties(tol).volume);
+  CHECK(vu + vi == Approx(va + vb).epsilon(1e-7));
+  CHECK(vd == Approx(va - vi).epsilon(1e-7));
+}
+
 struct Installed {
   explicit Installed(const EvalControl& c) { set_eval_control(&c); }
   ~Installed() { set_eval_control(nullptr); }
@@ -127,12 +138,7 @@ TEST_CASE("a turned cube minus a cylinder is resolved where rounding folds it, a
   const double v = moved.mass_properties(tol).volume, vb = ball.mass_properties(tol).volume;
   CHECK(v == Approx(1 - M_PI * 0.09 / 4).epsilon(1e-6));  // a quarter of the cylinder is in the cube
   CHECK(result_defect(moved.mesh(tol)).empty());
-  double vu = 0, vi = 0, vd = 0;
-  REQUIRE_NOTHROW(vu = Solid::boolean(BooleanOp::Union, {moved, ball}).mass_properties(tol).volume);
-  REQUIRE_NOTHROW(vi = Solid::boolean(BooleanOp::Intersection, {moved, ball}).mass_properties(tol).volume);
-  REQUIRE_NOTHROW(vd = Solid::boolean(BooleanOp::Difference, {moved, ball}).mass_properties(tol).volume);
-  CHECK(vu + vi == Approx(v + vb).epsilon(1e-7));
-  CHECK(vd == Approx(v - vi).epsilon(1e-7));
+  check_volume_identities(moved, v, ball, vb, tol);
   CHECK(stats.remade > 0);
 }
 
@@ -167,11 +173,6 @@ TEST_CASE("a turned part with a wall far thinner than rounding is resolved by mo
     CHECK(v == Approx(1 - M_PI * 0.09 / 4).epsilon(1e-6));
     CHECK(result_defect(moved.mesh(tol)).empty());
     CHECK(stats.remade == 1);
-    double vu = 0, vi = 0, vd = 0;
-    REQUIRE_NOTHROW(vu = Solid::boolean(BooleanOp::Union, {moved, ball}).mass_properties(tol).volume);
-    REQUIRE_NOTHROW(vi = Solid::boolean(BooleanOp::Intersection, {moved, ball}).mass_properties(tol).volume);
-    REQUIRE_NOTHROW(vd = Solid::boolean(BooleanOp::Difference, {moved, ball}).mass_properties(tol).volume);
-    CHECK(vu + vi == Approx(v + vb).epsilon(1e-7));
-    CHECK(vd == Approx(v - vi).epsilon(1e-7));
+    check_volume_identities(moved, v, ball, vb, tol);
   }
 }
