@@ -89,7 +89,7 @@ TEST_CASE("full revolve: a ring of genus 1 whose volume and area follow Pappus",
   CHECK(mp.inertia(2, 2) == Approx(pi * 1.5 * (16 - 1) / 2).epsilon(1e-9));
 }
 
-TEST_CASE("partial revolve gets planar end caps; Pappus on the swept fraction", "[brep][curved][revolve]") {
+TEST_CASE("partial revolve gets planar end caps, Pappus on the swept fraction", "[brep][curved][revolve]") {
   double angle = radians(90);
   Model m = revolve(rect_section(1, 0, 2, 1.5), angle);
   check_valid(m, EulerCounts{8, 12, 6, 0, 0, 1});

@@ -161,7 +161,7 @@ TEST_CASE("polyhedron rejects open, non-manifold and inconsistent input", "[brep
   }
 }
 
-TEST_CASE("transforms move the geometry; a mirror keeps faces pointing out", "[brep][transform]") {
+TEST_CASE("transforms move the geometry, a mirror keeps faces pointing out", "[brep][transform]") {
   Model m = prism({{{0, 0}, {3, 0}, {3, 1}, {1, 1}, {1, 2}, {0, 2}}, {}}, 2);
   MassProperties before = m.mass_properties();
   SECTION("rotation and translation") {

@@ -406,7 +406,7 @@ TEST_CASE("boolean: operands seen one-to-one from their centre skip the pairwise
   CHECK(embedded({&m}) == std::vector<char>{0});
 }
 
-TEST_CASE("boolean: a result fed back is known valid; any change to it is checked again", "[boolean]") {
+TEST_CASE("boolean: a result fed back is known valid, any change to it is checked again", "[boolean]") {
   const Mesh a = cube(0, 0, 0, 2), b = cube(1, 1, 1, 2), c = cube(0.5, 0.5, -1, 1);
   BooleanStats st;
   const BooleanResult r = boolean(BooleanOp::Union, {&a, &b}, &st);
@@ -719,7 +719,7 @@ TEST_CASE("boolean: points with coordinates fixed by their definition are exact 
 }
 
 TEST_CASE("boolean: cut points round within an ulp, and the predicates on them (collinear, "
-          "near-cocircular) agree with exact rational arithmetic; the flip test is never wrong",
+          "near-cocircular) agree with exact rational arithmetic, and the flip test is never wrong",
           "[boolean]") {
   // Segments cut by axis planes (z = c: the short formula) and by generic triangle planes; their
   // points' exact coordinates computed here in rationals (GMP), independently of the engine.

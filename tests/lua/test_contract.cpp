@@ -145,7 +145,7 @@ TEST_CASE("require 'wedge' inside wedge run returns the API table the globals co
   CHECK(r.status == 0);
 }
 
-TEST_CASE("key=value script arguments become params, numbers converted; arg keeps every argument", "[lua][contract][params]") {
+TEST_CASE("key=value script arguments become params, numbers converted, arg keeps every argument", "[lua][contract][params]") {
   auto r = run_script("params_test.lua", R"LUA(
     assert(params.teeth == 24 and math.type(params.teeth) == "integer", tostring(params.teeth))
     assert(params.module == 1.5 and math.type(params.module) == "float")
@@ -172,7 +172,7 @@ TEST_CASE("key=value script arguments become params, numbers converted; arg keep
   CHECK(none.status == 0);
 }
 
-TEST_CASE("wedge run --stats reports the time per stage; --quiet silences print", "[lua][runner]") {
+TEST_CASE("wedge run --stats reports the time per stage, --quiet silences print", "[lua][runner]") {
   RunOptions stats;
   stats.stats = true;
   auto r = run_script("stats_test.lua", R"LUA(

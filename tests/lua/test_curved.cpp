@@ -102,7 +102,7 @@ TEST_CASE("curved solid arguments are checked", "[lua][curved][errors]") {
   CHECK_THAT(run("sphere(0/0)\n", "@e.lua").err, Catch::Contains("bad argument #1 to 'sphere'"));
 }
 
-TEST_CASE("patch_solid closes the teapot's body and lid from Lua; bad input is named", "[lua][curved][patches]") {
+TEST_CASE("patch_solid closes the teapot's body and lid from Lua, bad input is named", "[lua][curved][patches]") {
   auto r = run(R"(
     local pot = teapot()
     local body = {}

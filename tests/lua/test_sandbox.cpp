@@ -128,7 +128,7 @@ TEST_CASE("wedge run with the sandbox flag refuses every escape and keeps what a
 // Without out= the script's own folder is the one allowed (it was none: the params table was
 // taken for the list of folders), and a path with a NUL byte is refused, not cut short: the file
 // functions would stop at the NUL and write "evil.stl" outside while the check saw a path inside.
-TEST_CASE("wedge run --sandbox without out= writes beside the script; a NUL in a path is refused", "[lua][sandbox]") {
+TEST_CASE("wedge run --sandbox without out= writes beside the script, a NUL in a path is refused", "[lua][sandbox]") {
   const fs::path root = fs::temp_directory_path() / ("wedge-sandbox-noout-" + std::to_string(::getpid()));
   const fs::path dir = root / "model", outside = root / "outside";
   for (const auto& d : {dir, outside}) fs::create_directories(d);

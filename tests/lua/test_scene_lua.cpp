@@ -64,7 +64,7 @@ TEST_CASE("children inherit their parent's transform: M_world = M_parent * M_loc
   CHECK(r.status == 0);
 }
 
-TEST_CASE("an instance shares its prototype; a copy does not", "[lua][scene]") {
+TEST_CASE("an instance shares its prototype, a copy does not", "[lua][scene]") {
   auto r = run(std::string(kHelpers) + R"LUA(
     local wheel = group{name = "wheel"}
     wheel:add(box(1, 1, 1))

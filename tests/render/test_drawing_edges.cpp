@@ -31,7 +31,7 @@ int count(const Image& im, std::array<std::uint8_t, 3> rgb, int x0 = 0, int x1 =
 
 }  // namespace
 
-TEST_CASE("a box's feature edges are its 12 edges; the face diagonals are not", "[render][drawing][edges]") {
+TEST_CASE("a box's feature edges are its 12 edges, the face diagonals are not", "[render][drawing][edges]") {
   const Mesh m = box_mesh(Point3(0, 0, 0), Point3(1, 2, 3));
   const auto e = feature_edges(m, 30);
   REQUIRE(e.size() == 12);

@@ -58,7 +58,7 @@ TEST_CASE("a flat-shaded cube shows one colour per visible face", "[render][scen
   CHECK(colours(im).size() == 4);
 }
 
-TEST_CASE("supersampling blends edge pixels; smooth shading varies across faces", "[render][scene]") {
+TEST_CASE("supersampling blends edge pixels, smooth shading varies across faces", "[render][scene]") {
   Mesh m = cube();
   DrawItem it;
   it.mesh = &m;
@@ -71,7 +71,7 @@ TEST_CASE("supersampling blends edge pixels; smooth shading varies across faces"
   CHECK(colours(render_scene({it}, o)).size() > 10);
 }
 
-TEST_CASE("wireframe draws the outline only; culling both draws nothing", "[render][scene]") {
+TEST_CASE("wireframe draws the outline only, culling both draws nothing", "[render][scene]") {
   Mesh m = cube();
   DrawItem it;
   it.mesh = &m;
@@ -464,7 +464,7 @@ TEST_CASE("bands give the single-threaded bits where a triangle spans several: p
     }
 }
 
-TEST_CASE("a mesh's own normals are used; smooth normals are computed only when it has none", "[render][scene]") {
+TEST_CASE("a mesh's own normals are used, smooth normals are computed only when it has none", "[render][scene]") {
   Mesh m;
   m.add_vertex(Point3(-1, -1, 0)), m.add_vertex(Point3(1, -1, 0)), m.add_vertex(Point3(0, 1, 0));
   m.add_triangle(0, 1, 2);

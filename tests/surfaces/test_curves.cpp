@@ -272,7 +272,7 @@ TEST_CASE("Kochanek-Bartels with t = b = c = 0 is Catmull-Rom", "[interpolation]
   CHECK(tight.derivative(2, 1).norm() < 1e-14);
 }
 
-TEST_CASE("tessellation stays within the chordal tolerance; arc length", "[tessellation]") {
+TEST_CASE("tessellation stays within the chordal tolerance, arc length", "[tessellation]") {
   NurbsCurve c = nurbs_circle(Point3(0, 0, 0), 1);
   CHECK(c.length() == Approx(2 * kPi).epsilon(1e-12));
   CHECK(CircularArc(Point3(0, 0, 0), 2, 0, kPi).length() == Approx(2 * kPi).epsilon(1e-12));

@@ -113,7 +113,7 @@ TEST_CASE("patch solids tessellate closed and converge to their exact volume", "
   }
 }
 
-TEST_CASE("the body without its bottom gets two caps; a closed NURBS sphere needs none", "[tessellate][patches]") {
+TEST_CASE("the body without its bottom gets two caps, a closed NURBS sphere needs none", "[tessellate][patches]") {
   Model open_bottom = patch_solid(teapot_patches({{0, 11}}));
   REQUIRE(open_bottom.validate().ok);
   CHECK(open_bottom.counts() == EulerCounts{16, 28, 14, 0, 0, 1});
