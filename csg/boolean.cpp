@@ -389,6 +389,44 @@ std::vector<u32> boolean_detail::sort_edges(EdgeRecs& recs, std::size_t n, const
   return off;
 }
 
+namespace {
+
+// For triangles t and u sharing no vertex, one of them in a plane x_k = c and the other not:
+// 1 where they meet, 0 where they do not, 2 where it is not decided here (neither lies in such a
+// plane, both do, or the other touches the plane along an edge or crosses it).
+int on_axis_plane(const Soup& s, u32 t, u32 u) {
+  for (int swap = 0; swap < 2; ++swap) {
+    const auto& P = s.tris[swap ? u : t];  // the one in the plane
+    const auto& Q = s.tris[swap ? t : u];
+    const Vec3 &a = s.verts[P[0]], &b = s.verts[P[1]], &c = s.verts[P[2]];
+    for (int k = 0; k < 3; ++k) {
+      const double h = a[k];
+      if (b[k] != h || c[k] != h) continue;
+      int above = 0, below = 0, on = -1, ons = 0;
+      for (int m = 0; m < 3; ++m) {
+        const double z = s.verts[Q[m]][k];
+        if (z > h) ++above;
+        else if (z < h) ++below;
+        else on = m, ++ons;
+      }
+      if (ons == 0) return above == 3 || below == 3 ? 0 : 2;
+      if (ons != 1 || (above != 2 && below != 2)) return 2;
+      // Q meets the plane in its corner q alone: they meet where q is in P (closed).
+      const int i = (k + 1) % 3, j = (k + 2) % 3;
+      const Vec3& q = s.verts[Q[on]];
+      const int o = orient2d_fast(a[i], a[j], b[i], b[j], c[i], c[j]);
+      if (o == 0) return 2;
+      const int s0 = orient2d_fast(a[i], a[j], b[i], b[j], q[i], q[j]);
+      const int s1 = orient2d_fast(b[i], b[j], c[i], c[j], q[i], q[j]);
+      const int s2 = orient2d_fast(c[i], c[j], a[i], a[j], q[i], q[j]);
+      return s0 != -o && s1 != -o && s2 != -o ? 1 : 0;
+    }
+  }
+  return 2;
+}
+
+}  // namespace
+
 // Whether triangles t and u of a soup meet anywhere but in the vertices (or edge) they share,
 // decided exactly.
 bool boolean_detail::triangles_clash(const Soup& s, u32 t, u32 u) {
@@ -404,6 +442,13 @@ bool boolean_detail::triangles_clash(const Soup& s, u32 t, u32 u) {
       }
   const Vec3 *A = &s.verts[T[0]], *B = &s.verts[T[1]], *C = &s.verts[T[2]];
   const Vec3 *D = &s.verts[U[0]], *E = &s.verts[U[1]], *F = &s.verts[U[2]];
+  if (shared == 0) {
+    // One triangle in a plane x_k = c (a box's face, a cut face's fan) and the other not: decided
+    // by comparisons, and by one point-in-triangle test where the other touches the plane at one
+    // corner (a sphere's facet ending on the face), without the general test's predicates.
+    const int flat = on_axis_plane(s, t, u);
+    if (flat != 2) return flat != 0;
+  }
   bool hit = false;
   // Quick exact rejection: one triangle strictly on one side of the other's plane (shared
   // vertices aside).
