@@ -277,6 +277,7 @@ std::shared_ptr<Evaluated> compute_untagged(const Solid::Node& n, const Toleranc
         const bool defective = !mesh_solid_defect(out->mesh).empty();
         run.add(&EvalStats::check, elapsed_ms(t0));
         if (defective) {
+          std::string unresolved;
           try {
             const auto t1 = std::chrono::steady_clock::now();
             BooleanResult r = resolve_self(out->mesh, &run.cancel);
@@ -292,12 +293,17 @@ std::shared_ptr<Evaluated> compute_untagged(const Solid::Node& n, const Toleranc
             return out;
           } catch (const Cancelled&) {
             throw;
-          } catch (const Error&) {
+          } catch (const Error& e) {
+            unresolved = e.what();
           }
           if (NodePtr remade = moved_operands(*n.child, n.matrix)) {
             run.count(&EvalStats::remade);
             return evaluate(remade, tol, run);
           }
+          // Returned as it is, the mesh would cross itself: an export would write it, and the next
+          // boolean would refuse it as "the second operand" of a tree the script never wrote.
+          fail("a boolean result, moved by a transform that is not exact, crosses itself where its vertices "
+               "rounded, and could not be mended (", unresolved, ")");
         }
       }
       return out;
