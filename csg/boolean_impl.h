@@ -666,9 +666,22 @@ std::vector<std::int8_t> classify(const Points& pts, const Arrangement& arr, Boo
 // (a fold whose two triangles come to lie on each other goes); triangles keep their provenance.
 // Positions no triangle uses stay. Returns the number of collapses.
 std::size_t collapse_short_edges(BooleanResult& r, double tau);
+// The triangles `ids` of m (in that order) with the positions they use.
+Mesh sub_mesh(const Mesh& m, const std::vector<u32>& ids);
 BooleanResult assemble(const Points& pts, const Arrangement& arr, const std::vector<std::int8_t>& keep,
                        std::size_t* collapses = nullptr, bool* unresolved = nullptr,
                        std::vector<u32>* crossing = nullptr,
                        const std::vector<std::array<u32, 3>>* piece_adj = nullptr);
+
+// --- moving rounded vertices (boolean_snap.cpp) ---
+// Where collapsing short edges cannot mend the triangles `bad` of m (rounding turned them over in
+// their source's projection or made them cross another), each of their vertices marked `movable`
+// whose own triangles are not sound may move to a double next to it (an ulp or none in each
+// coordinate; the nearest first) where every triangle around it has its orientation `sign` in the
+// projection of its soup triangle `src` and meets no triangle near it beyond what they share
+// (exact checks). The triangles of a moved vertex are marked in `recheck`. Returns the number of
+// vertices moved (none where the bad triangles are too many for moves of an ulp to mend).
+std::size_t snap_rounded(Mesh& m, const Soup& soup, const std::vector<u32>& src, const std::vector<std::int8_t>& sign,
+                         const std::vector<char>& movable, const std::vector<u32>& bad, std::vector<char>& recheck);
 
 }  // namespace wedge::boolean_detail

@@ -85,7 +85,8 @@ int projected_sign(const Mesh& m, const Rounding& rd, std::size_t t) {
   return orient2d(p2(0), p2(1), p2(2));
 }
 
-// The triangles `ids` of m (in that order) with the positions they use.
+}  // namespace
+
 Mesh sub_mesh(const Mesh& m, const std::vector<u32>& ids) {
   Mesh out;
   std::vector<u32> index(m.positions.size(), kNone);
@@ -103,6 +104,8 @@ Mesh sub_mesh(const Mesh& m, const std::vector<u32>& ids) {
   }
   return out;
 }
+
+namespace {
 
 // Triangles to recheck (rd.recheck) that are degenerate, turned over in their source's
 // projection, or meet another triangle beyond their shared vertices, decided exactly on the
@@ -343,14 +346,16 @@ namespace {
 // Rounding repair: each bad triangle loses its shortest edge that has a rounded end, one end
 // collapsing into the other where the collapse keeps the surface a manifold (the link
 // condition). Of the two directions the one that keeps the surviving triangles closest to their
-// source planes is taken, and an input vertex never moves. Repeated until the exact check finds
-// nothing.
+// source planes is taken, and an input vertex never moves. Where no edge can go, rounded vertices
+// of the bad triangles move to neighbouring doubles (snap_rounded, boolean_snap.cpp). Repeated
+// until the exact check finds nothing.
 bool repair_rounding(BooleanResult& r, Rounding& rd, std::vector<u32>* left = nullptr) {
   // Only edges that rounding itself could have made (a billionth of the model's size) are
   // collapsed: collapsing a longer one would move the surface by more than rounding did.
   Box3 bounds = r.mesh.bounds();
   double limit = 1e-9 * (bounds.max - bounds.min).norm();
   double limit2 = limit * limit;
+  int snaps = 0;
   for (int round = 0; round < 16; ++round) {
     rd.soup->poll();
     std::vector<u32> bad = rounding_defects(r.mesh, rd);
@@ -437,7 +442,11 @@ bool repair_rounding(BooleanResult& r, Rounding& rd, std::vector<u32>* left = nu
         break;
       }
     }
-    if (!changed) break;
+    if (!changed) {
+      // No short edge to collapse: rounded vertices of the bad triangles may move by a few ulps.
+      if (++snaps > 4 || !snap_rounded(r.mesh, *rd.soup, rd.src, rd.sign, rd.moved, bad, rd.recheck)) break;
+      continue;
+    }
     compact(r, rd);
   }
   std::vector<u32> bad = rounding_defects(r.mesh, rd);

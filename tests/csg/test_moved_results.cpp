@@ -178,3 +178,31 @@ TEST_CASE("a turned part with a wall far thinner than rounding is resolved by mo
     check_volume_identities(moved, v, ball, vb, tol);
   }
 }
+
+TEST_CASE("a cut point rounded across a turned part's sliver moves a few ulps instead of crossing a fan", "[tree][moved]") {
+  // The turned thin part (above) keeps a sliver triangle along one of the cube's edges: a corner
+  // of a face lies 1e-17 off the straight edge. The sphere cuts that edge; rounded, its cut point
+  // fell on the wrong side of the sliver's line, the sliver's piece turned over and the triangle
+  // beyond the edge crossed the whole fan of long thin triangles around the corner. None of them
+  // has a short edge to collapse, and each re-resolution made the same again: the intersection
+  // and the difference failed with "cannot be rounded to doubles without a self-intersection (4
+  // re-resolutions tried)" (a stress run's seed 7, pair 4). The cut point now moves one ulp.
+  const Solid part =
+      Solid::boolean(BooleanOp::Difference,
+                     {box_solid(Vec3(1, 1, 1)), brep_solid(cylinder(0.3, 3)).transformed(translate({kSliver, 0, 0}))});
+  const Solid moved = part.transformed(
+      translate({0.46930737670657519, 0.22151018510577747, 0.16916250026170954}) *
+      rotate(174.36205728947084, Vec3(-0.43442427590903865, 0.19760939335613714, 0.94645435125006905)));
+  const Solid ball = brep_solid(sphere(0.94763830737697519))
+                         .transformed(rotate(293.18774986849257, Vec3(-0.063096067865640926, 0.5866674527032778, 0.41736628226034278)));
+  Tolerance tol;
+  const double v = moved.mass_properties(tol).volume, vb = ball.mass_properties(tol).volume;
+  CHECK(v == Approx(1 - M_PI * 0.09 / 4).epsilon(1e-6));
+  for (BooleanOp op : {BooleanOp::Intersection, BooleanOp::Difference}) {
+    INFO(boolean_op_name(op));
+    Mesh m;
+    REQUIRE_NOTHROW(m = Solid::boolean(op, {ball, moved}).mesh(tol));
+    CHECK(result_defect(m).empty());
+  }
+  check_volume_identities(ball, vb, moved, v, tol);
+}
