@@ -182,6 +182,17 @@ inline void triangle_box(const Soup& s, u32 t, double lo[3], double hi[3]) {
   }
 }
 
+// The box of triangle t of mesh m (the min and max of its vertices).
+inline void mesh_triangle_box(const Mesh& m, std::size_t t, double lo[3], double hi[3]) {
+  for (int d = 0; d < 3; ++d) {
+    lo[d] = hi[d] = m.positions[m.triangles[t][0]][d];
+    for (int k = 1; k < 3; ++k) {
+      lo[d] = std::min(lo[d], m.positions[m.triangles[t][k]][d]);
+      hi[d] = std::max(hi[d], m.positions[m.triangles[t][k]][d]);
+    }
+  }
+}
+
 // Union-find over 0..n-1; a set's representative is its smallest member (so results do not
 // depend on the order of unions).
 class Dsu {

@@ -136,13 +136,7 @@ std::vector<u32> rounding_defects(const Mesh& m, const Rounding& rd) {
         return;
       }
       double lo[3], hi[3];
-      for (int d = 0; d < 3; ++d) {
-        lo[d] = hi[d] = m.positions[m.triangles[u][0]][d];
-        for (int k = 1; k < 3; ++k) {
-          lo[d] = std::min(lo[d], m.positions[m.triangles[u][k]][d]);
-          hi[d] = std::max(hi[d], m.positions[m.triangles[u][k]][d]);
-        }
-      }
+      mesh_triangle_box(m, u, lo, hi);
       near.query(lo, hi, [&](u32) { take[u] = 1; });
     });
     for (std::size_t t = 0; t < nt; ++t)

@@ -64,12 +64,8 @@ std::size_t snap_rounded(Mesh& m, const Soup& soup, const std::vector<u32>& src,
     std::vector<u32> hit;
     for (std::size_t u = 0; u < nt; ++u) {
       double lo[3], hi[3];
+      mesh_triangle_box(m, u, lo, hi);
       for (int d = 0; d < 3; ++d) {
-        lo[d] = hi[d] = m.positions[m.triangles[u][0]][d];
-        for (int k = 1; k < 3; ++k) {
-          lo[d] = std::min(lo[d], m.positions[m.triangles[u][k]][d]);
-          hi[d] = std::max(hi[d], m.positions[m.triangles[u][k]][d]);
-        }
         lo[d] -= margin;
         hi[d] += margin;
       }
