@@ -835,7 +835,7 @@ BooleanResult boolean_detail::boolean_as_given(BooleanOp op, const std::vector<c
   std::size_t collapses = 0, resolutions = 0;
   bool unresolved = false;
   std::vector<u32> crossing;
-  BooleanResult r = assemble(pts, arr, keep, &collapses, &unresolved, &crossing, &piece_adj);
+  BooleanResult r = assemble(pts, arr, keep, &collapses, &unresolved, &crossing, &piece_adj, true);
   std::vector<std::array<u32, 3>>().swap(piece_adj);
   // Rounding that leaves crossings (sheets a few ulps apart) is resolved again, exactly, on the
   // rounded result; each pass works at a finer scale than the one before.

@@ -673,6 +673,10 @@ std::vector<std::int8_t> classify(const Points& pts, const Arrangement& arr, Boo
 // `crossing` (if given) receives the triangles of the returned mesh that still cross another:
 // every crossing pair has one of them.
 // `piece_adj` (classify's, if given) pairs the edges it names without sorting them.
+// With `snap`, the repair may also move rounded vertices by an ulp (snap_rounded): only in a
+// boolean's own rounding, not in a re-resolution's. There, on sheets that nearly coincide, moves
+// that mended some crossings let a moved result's resolution succeed, and the next union of the
+// tree then spent minutes in re-resolutions before failing in its own right.
 // Collapses r's edges shorter than tau, shortest first, where the mesh stays closed and manifold
 // (a fold whose two triangles come to lie on each other goes); triangles keep their provenance.
 // Positions no triangle uses stay. Returns the number of collapses.
@@ -682,7 +686,7 @@ Mesh sub_mesh(const Mesh& m, const std::vector<u32>& ids);
 BooleanResult assemble(const Points& pts, const Arrangement& arr, const std::vector<std::int8_t>& keep,
                        std::size_t* collapses = nullptr, bool* unresolved = nullptr,
                        std::vector<u32>* crossing = nullptr,
-                       const std::vector<std::array<u32, 3>>* piece_adj = nullptr);
+                       const std::vector<std::array<u32, 3>>* piece_adj = nullptr, bool snap = false);
 
 // --- moving rounded vertices (boolean_snap.cpp) ---
 // Where collapsing short edges cannot mend the triangles `bad` of m (rounding turned them over in

@@ -340,10 +340,10 @@ namespace {
 // Rounding repair: each bad triangle loses its shortest edge that has a rounded end, one end
 // collapsing into the other where the collapse keeps the surface a manifold (the link
 // condition). Of the two directions the one that keeps the surviving triangles closest to their
-// source planes is taken, and an input vertex never moves. Where no edge can go, rounded vertices
-// of the bad triangles move to neighbouring doubles (snap_rounded, boolean_snap.cpp). Repeated
-// until the exact check finds nothing.
-bool repair_rounding(BooleanResult& r, Rounding& rd, std::vector<u32>* left = nullptr) {
+// source planes is taken, and an input vertex never moves. Where no edge can go, and `snap` is
+// set, rounded vertices of the bad triangles move to neighbouring doubles (snap_rounded,
+// boolean_snap.cpp). Repeated until the exact check finds nothing.
+bool repair_rounding(BooleanResult& r, Rounding& rd, std::vector<u32>* left, bool snap) {
   // Only edges that rounding itself could have made (a billionth of the model's size) are
   // collapsed: collapsing a longer one would move the surface by more than rounding did.
   Box3 bounds = r.mesh.bounds();
@@ -438,7 +438,7 @@ bool repair_rounding(BooleanResult& r, Rounding& rd, std::vector<u32>* left = nu
     }
     if (!changed) {
       // No short edge to collapse: rounded vertices of the bad triangles may move by a few ulps.
-      if (++snaps > 4 || !snap_rounded(r.mesh, *rd.soup, rd.src, rd.sign, rd.moved, bad, rd.recheck)) break;
+      if (!snap || ++snaps > 4 || !snap_rounded(r.mesh, *rd.soup, rd.src, rd.sign, rd.moved, bad, rd.recheck)) break;
       continue;
     }
     compact(r, rd);
@@ -686,7 +686,7 @@ std::size_t merge_flat(const Points& pts, std::vector<std::array<u32, 3>>& tris,
 
 BooleanResult assemble(const Points& pts, const Arrangement& arr, const std::vector<std::int8_t>& keep,
                        std::size_t* collapses, bool* unresolved, std::vector<u32>* crossing,
-                       const std::vector<std::array<u32, 3>>* piece_adj) {
+                       const std::vector<std::array<u32, 3>>* piece_adj, bool snap) {
   const Soup& soup = pts.soup();
   std::vector<std::array<u32, 3>> tris;
   std::vector<u32> src, piece;
@@ -900,7 +900,7 @@ BooleanResult assemble(const Points& pts, const Arrangement& arr, const std::vec
       if (rd.moved[v]) rd.recheck[t] = 1;
   });
   soup.poll();
-  const bool ok = repair_rounding(r, rd, crossing);
+  const bool ok = repair_rounding(r, rd, crossing, snap);
   if (collapses) *collapses += rd.collapses;
   if (unresolved) *unresolved = !ok;
   if (!ok && !unresolved) {
