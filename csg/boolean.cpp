@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cstring>
 #include <mutex>
+#include <numeric>
 #include <sstream>
 #include <unordered_map>
 
@@ -900,14 +901,16 @@ BooleanResult resolve_self(const Mesh& mesh, const CancelCheck* cancel) {
   const std::size_t n = mesh.triangles.size();
   r.operand.assign(n, 0);
   r.source.resize(n);
-  std::vector<boolean_detail::u32> crossing(n);  // where it crosses itself is not known: anywhere
-  for (std::size_t t = 0; t < n; ++t) r.source[t] = static_cast<std::int32_t>(t), crossing[t] = static_cast<boolean_detail::u32>(t);
+  for (std::size_t t = 0; t < n; ++t) r.source[t] = static_cast<std::int32_t>(t);
   // Edges far shorter than the rounding the move made (a wall 1e-17 wide, turned) are noise: they
   // go first, where the mesh stays a manifold. Left in, each pass's resolution and rounding around
   // them made more crossings than it removed.
   double reach = 0;
   for (const Vec3& p : mesh.positions) reach = std::max(reach, p.cwiseAbs().maxCoeff());
   std::size_t collapses = collapse_short_edges(r, std::ldexp(reach, -40));
+  // Where it crosses itself is not known: anywhere (the triangles the collapses left).
+  std::vector<boolean_detail::u32> crossing(r.mesh.triangles.size());
+  std::iota(crossing.begin(), crossing.end(), boolean_detail::u32(0));
   bool unresolved = true;
   for (int pass = 0; unresolved && pass < 5; ++pass) {
     if (cancel && *cancel && (*cancel)()) throw Cancelled();
