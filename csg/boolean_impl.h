@@ -679,7 +679,7 @@ std::vector<std::int8_t> classify(const Points& pts, const Arrangement& arr, Boo
 // tree then spent minutes in re-resolutions before failing in its own right.
 // Collapses r's edges shorter than tau, shortest first, where the mesh stays closed and manifold
 // (a fold whose two triangles come to lie on each other goes); triangles keep their provenance.
-// Positions no triangle uses stay. Returns the number of collapses.
+// Positions no triangle uses are dropped. Returns the number of collapses.
 std::size_t collapse_short_edges(BooleanResult& r, double tau);
 // The triangles `ids` of m (in that order) with the positions they use.
 Mesh sub_mesh(const Mesh& m, const std::vector<u32>& ids);

@@ -39,8 +39,8 @@ struct Rounding {
 };
 
 // Removes triangles with a repeated vertex and positions no triangle uses (keeping the
-// per-triangle arrays in step).
-void compact(BooleanResult& r, Rounding& rd) {
+// per-triangle arrays in step, and the rounding's, if given).
+void compact(BooleanResult& r, Rounding* rd) {
   std::size_t w = 0;
   for (std::size_t t = 0; t < r.mesh.triangles.size(); ++t) {
     const auto& T = r.mesh.triangles[t];
@@ -49,18 +49,22 @@ void compact(BooleanResult& r, Rounding& rd) {
     r.operand[w] = r.operand[t];
     r.source[w] = r.source[t];
     r.mesh.face_ids[w] = r.mesh.face_ids[t];
-    rd.src[w] = rd.src[t];
-    rd.sign[w] = rd.sign[t];
-    rd.recheck[w] = rd.recheck[t];
+    if (rd) {
+      rd->src[w] = rd->src[t];
+      rd->sign[w] = rd->sign[t];
+      rd->recheck[w] = rd->recheck[t];
+    }
     ++w;
   }
   r.mesh.triangles.resize(w);
   r.operand.resize(w);
   r.source.resize(w);
   r.mesh.face_ids.resize(w);
-  rd.src.resize(w);
-  rd.sign.resize(w);
-  rd.recheck.resize(w);
+  if (rd) {
+    rd->src.resize(w);
+    rd->sign.resize(w);
+    rd->recheck.resize(w);
+  }
   std::vector<u32> index(r.mesh.positions.size(), kNone);
   std::vector<Vec3> pos;
   std::vector<char> mv;
@@ -69,12 +73,12 @@ void compact(BooleanResult& r, Rounding& rd) {
       if (index[v] == kNone) {
         index[v] = static_cast<u32>(pos.size());
         pos.push_back(r.mesh.positions[v]);
-        mv.push_back(rd.moved[v]);
+        if (rd) mv.push_back(rd->moved[v]);
       }
       v = index[v];
     }
   r.mesh.positions.swap(pos);
-  rd.moved.swap(mv);
+  if (rd) rd->moved.swap(mv);
 }
 
 // The orientation of rounded triangle t in the projection along its source's axis (exact).
@@ -317,20 +321,7 @@ std::size_t collapse_short_edges(BooleanResult& r, double tau) {
     for (const Edge& e : edges) made += fold(e.b, e.a) || fold(e.a, e.b);  // the larger index goes, if it may
     if (!made) break;
     total += made;
-    std::size_t w = 0;
-    for (std::size_t t = 0; t < tris.size(); ++t) {
-      const auto& T = tris[t];
-      if (T[0] == T[1] || T[1] == T[2] || T[2] == T[0]) continue;
-      tris[w] = T;
-      r.operand[w] = r.operand[t];
-      r.source[w] = r.source[t];
-      r.mesh.face_ids[w] = r.mesh.face_ids[t];
-      ++w;
-    }
-    tris.resize(w);
-    r.operand.resize(w);
-    r.source.resize(w);
-    r.mesh.face_ids.resize(w);
+    compact(r, nullptr);
   }
   return total;
 }
@@ -441,7 +432,7 @@ bool repair_rounding(BooleanResult& r, Rounding& rd, std::vector<u32>* left, boo
       if (!snap || ++snaps > 4 || !snap_rounded(r.mesh, *rd.soup, rd.src, rd.sign, rd.moved, bad, rd.recheck)) break;
       continue;
     }
-    compact(r, rd);
+    compact(r, &rd);
   }
   std::vector<u32> bad = rounding_defects(r.mesh, rd);
   const bool ok = bad.empty();
