@@ -341,10 +341,15 @@ bool repair_rounding(BooleanResult& r, Rounding& rd, std::vector<u32>* left, boo
   double limit = 1e-9 * (bounds.max - bounds.min).norm();
   double limit2 = limit * limit;
   int snaps = 0;
-  for (int round = 0; round < 16; ++round) {
+  // Each round changes a triangle's neighbourhood once: a cluster of defects (a strip of caps
+  // along a wall thinner than rounding) takes many rounds. The repair goes on while the number of
+  // defects keeps reaching new lows, and stops 16 rounds after the last one.
+  std::size_t fewest = SIZE_MAX;
+  for (int round = 0, since = 0; round < 1024 && since < 16; ++round, ++since) {
     rd.soup->poll();
     std::vector<u32> bad = rounding_defects(r.mesh, rd);
     if (bad.empty()) return true;
+    if (bad.size() < fewest) fewest = bad.size(), since = 0;
     // What the next round checks: the triangles still bad and those a collapse changes.
     std::fill(rd.recheck.begin(), rd.recheck.end(), 0);
     for (u32 t : bad) rd.recheck[t] = 1;
@@ -378,6 +383,49 @@ bool repair_rounding(BooleanResult& r, Rounding& rd, std::vector<u32>* left, boo
       }
       return worst;
     };
+    // A cap: t's vertex v lies within rounding of its longest edge a -> b (a wall thinner than
+    // rounding, met by a face of another copy, leaves these with every edge long: no collapse
+    // removes them). The edge is flipped: t and its neighbour (b, a, w) become (a, w, v) and
+    // (w, b, v), which cover the neighbour's part of the surface to within t's height. The
+    // neighbour's source and orientation go to both; the next check decides if they hold.
+    auto flip_cap = [&](u32 t) {
+      const auto T = tris[t];
+      int e = 0;
+      double longest = -1;
+      for (int k = 0; k < 3; ++k) {
+        const double l = (r.mesh.positions[T[k]] - r.mesh.positions[T[(k + 1) % 3]]).squaredNorm();
+        if (l > longest) longest = l, e = k;
+      }
+      const u32 a = T[e], b = T[(e + 1) % 3], v = T[(e + 2) % 3];
+      if (touched[a] || touched[b] || touched[v]) return false;
+      const Vec3 &pa = r.mesh.positions[a], &pb = r.mesh.positions[b], &pv = r.mesh.positions[v];
+      const double height = (pb - pa).cross(pv - pa).norm() / std::sqrt(longest);
+      if (!(height <= limit)) return false;
+      u32 u = kNone, w = kNone;
+      for (u32 x : around[a]) {
+        const auto& X = tris[x];
+        for (int k = 0; k < 3; ++k)
+          if (X[k] == b && X[(k + 1) % 3] == a) {
+            if (u != kNone) return false;  // not a manifold edge
+            u = x, w = X[(k + 2) % 3];
+          }
+      }
+      if (u == kNone || w == v || touched[w]) return false;
+      for (u32 x : around[v])
+        for (u32 y : tris[x])
+          if (y == w) return false;  // v - w is an edge already
+      tris[t] = {a, w, v};
+      tris[u] = {w, b, v};
+      rd.src[t] = rd.src[u];
+      rd.sign[t] = rd.sign[u];
+      r.operand[t] = r.operand[u];
+      r.source[t] = r.source[u];
+      r.mesh.face_ids[t] = r.mesh.face_ids[u];
+      rd.recheck[t] = rd.recheck[u] = 1;
+      touched[a] = touched[b] = touched[v] = touched[w] = 1;
+      ++rd.collapses;
+      return true;
+    };
     FoldCollapse folds(tris, r.mesh.positions.size(), touched);
     for (u32 t : bad) {
       const auto T = tris[t];
@@ -386,6 +434,7 @@ bool repair_rounding(BooleanResult& r, Rounding& rd, std::vector<u32>* left, boo
       std::array<int, 3> order = {0, 1, 2};
       auto len = [&](int e) { return (r.mesh.positions[T[e]] - r.mesh.positions[T[(e + 1) % 3]]).squaredNorm(); };
       std::sort(order.begin(), order.end(), [&](int x, int y) { return len(x) < len(y); });
+      bool done = false;
       for (int e : order) {
         u32 a = T[e], b = T[(e + 1) % 3];
         if (!rd.moved[a] && !rd.moved[b]) continue;
@@ -409,7 +458,7 @@ bool repair_rounding(BooleanResult& r, Rounding& rd, std::vector<u32>* left, boo
         if (opposite.size() != 2 || common != opposite) {
           if (folds(a, b)) {
             for (u32 x : folds.changed) rd.recheck[x] = 1;
-            changed = true;
+            changed = done = true;
             ++rd.collapses;
             break;
           }
@@ -422,10 +471,11 @@ bool repair_rounding(BooleanResult& r, Rounding& rd, std::vector<u32>* left, boo
         }
         for (u32 v : na) touched[v] = 1;
         touched[a] = touched[b] = 1;
-        changed = true;
+        changed = done = true;
         ++rd.collapses;
         break;
       }
+      if (!done && flip_cap(t)) changed = true;
     }
     if (!changed) {
       // No short edge to collapse: rounded vertices of the bad triangles may move by a few ulps.
