@@ -279,7 +279,13 @@ TEST_CASE("Ctrl-C stops a running script and a CSG evaluation cleanly", "[lua][t
     auto r = interrupt("print(sphere(1):triangles{tolerance = 2e-6})\n", std::chrono::milliseconds(500));
     CHECK(r.exit_code == 130);
     CHECK_THAT(r.err, Catch::Contains("interrupted by Ctrl-C"));
+    // Under AddressSanitizer, on a busy 2-core machine, a clean-clone CI run measured 2.3 s from
+    // the signal to the exit (the whole tessellation takes many times longer there).
+#if defined(__SANITIZE_ADDRESS__)
+    CHECK(r.seconds_after_signal < 6);
+#else
     CHECK(r.seconds_after_signal < 1.5);
+#endif
   }
 }
 
