@@ -383,9 +383,19 @@ void Points::evaluate(std::size_t n) {
         bx[i + 3] = hi;
         continue;
       }
-      // Far from any double guess (huge or tiny magnitudes): the exact rational quotient.
+      // Far from any double guess (huge or tiny magnitudes, or a filter interval hundreds of ulps
+      // wide): the exact rational quotient, and from it as the guess, the box of two doubles.
+      // (Left as the filter's interval, the box of a point where nearly coincident operands cross
+      // spanned the scene: 6,384 such points of five spheres turned by 1e-13 degrees were compared
+      // exactly with every other point when merging equal points, three minutes.)
       const CGAL::Gmpq w = static_cast<CGAL::Gmpq>(e.c[3]);
       ap[i] = CGAL::to_double(static_cast<CGAL::Gmpq>(e.c[i]) / w);
+      if (std::isfinite(ap[i]) && faithful(e.c[i], e.c[3], ws, ap[i], ap[i], ap[i], lo, hi)) {
+        ap[i] = lo >= 0 ? lo : hi;
+        bx[i] = lo;
+        bx[i + 3] = hi;
+        continue;
+      }
       if (!std::isfinite(bx[i]) || !std::isfinite(bx[i + 3]) || !(bx[i] <= ap[i] && ap[i] <= bx[i + 3])) {
         bx[i] = -INFINITY;
         bx[i + 3] = INFINITY;
