@@ -12,6 +12,8 @@
 // Both steps are checked: a coordinate that would not survive the round trip (a vertex near zero
 // whose scaled value is subnormal) leaves the operands as given.
 #include <cmath>
+#include <exception>
+#include <unordered_map>
 
 #include "csg/boolean_impl.h"
 
@@ -44,36 +46,110 @@ bool scale_exactly(const std::vector<Point3>& in, double factor, std::vector<Poi
   return true;
 }
 
+// Operands with vertices a rounding apart (a solid and its copy turned by 1e-14 degrees, or a
+// result and a mirrored, moved copy of it whose sheets nearly coincide) can leave a result that no
+// re-resolution rounds: each pass's rounded intersection points cross the sheet beside them
+// again. Welded, those vertices coincide and the sheets are the same exactly, which the engine
+// decides as it decides any coplanar overlap. Each vertex of a later operand within kWeld steps of
+// the largest coordinate's rounding (2^-46 of it: 64 ulps) of an earlier operand's vertex moves
+// onto the nearest such vertex. False when nothing moved.
+constexpr int kWeld = 64;
+
+bool weld_operands(const std::vector<const Mesh*>& operands, std::vector<Mesh>& welded) {
+  double reach = 0;
+  for (const Mesh* m : operands)
+    for (const Point3& p : m->positions) reach = std::max(reach, p.cwiseAbs().maxCoeff());
+  if (!(reach > 0) || !std::isfinite(reach)) return false;
+  const double delta = kWeld * std::ldexp(1.0, std::ilogb(reach) - 52);
+  // Earlier operands' vertices in a grid of cells 2 delta wide: a vertex's partners are in the
+  // 27 cells around its own.
+  const double cell = 2 * delta;
+  auto key = [&](long long x, long long y, long long z) {
+    return static_cast<std::uint64_t>(x) * 0x9E3779B97F4A7C15ull ^ static_cast<std::uint64_t>(y) * 0xC2B2AE3D27D4EB4Full ^
+           static_cast<std::uint64_t>(z) * 0x165667B19E3779F9ull;
+  };
+  auto coord = [&](double v) { return static_cast<long long>(std::floor(v / cell)); };
+  std::unordered_multimap<std::uint64_t, Point3> grid;
+  welded.resize(operands.size());
+  bool moved = false;
+  for (std::size_t i = 0; i < operands.size(); ++i) {
+    welded[i] = *operands[i];
+    if (i > 0)
+      for (Point3& p : welded[i].positions) {
+        const long long cx = coord(p.x()), cy = coord(p.y()), cz = coord(p.z());
+        const Point3* best = nullptr;
+        double best_d = delta;
+        for (long long dx = -1; dx <= 1; ++dx)
+          for (long long dy = -1; dy <= 1; ++dy)
+            for (long long dz = -1; dz <= 1; ++dz) {
+              auto range = grid.equal_range(key(cx + dx, cy + dy, cz + dz));
+              for (auto it = range.first; it != range.second; ++it) {
+                const double d = (it->second - p).cwiseAbs().maxCoeff();
+                if (d <= best_d && (best == nullptr || d < best_d)) best = &it->second, best_d = d;
+              }
+            }
+        if (best && *best != p) {
+          p = *best;
+          moved = true;
+        }
+      }
+    for (const Point3& p : operands[i]->positions) grid.emplace(key(coord(p.x()), coord(p.y()), coord(p.z())), p);
+  }
+  return moved;
+}
+
+// boolean_as_given, and where its result cannot be rounded, again on welded operands. The welded
+// run is checked as any operands are (a weld that folds an operand is refused there); if it fails
+// too, the first run's error is the one reported.
+BooleanResult engine(BooleanOp op, const std::vector<const Mesh*>& operands, BooleanStats* stats, const CancelCheck* cancel,
+                     std::size_t max_crossings) {
+  try {
+    return boolean_detail::boolean_as_given(op, operands, stats, cancel, max_crossings);
+  } catch (const boolean_detail::Unroundable&) {
+    const std::exception_ptr first = std::current_exception();
+    std::vector<Mesh> welded;
+    if (!weld_operands(operands, welded)) throw;
+    std::vector<const Mesh*> ptrs;
+    for (const Mesh& m : welded) ptrs.push_back(&m);
+    try {
+      return boolean_detail::boolean_as_given(op, ptrs, stats, cancel, max_crossings);
+    } catch (const Cancelled&) {
+      throw;
+    } catch (const Error&) {
+      std::rethrow_exception(first);
+    }
+  }
+}
+
 }  // namespace
 
 BooleanResult boolean(BooleanOp op, const std::vector<const Mesh*>& operands, BooleanStats* stats, const CancelCheck* cancel,
                       std::size_t max_crossings) {
-  using boolean_detail::boolean_as_given;
   for (const Mesh* m : operands)
-    if (!m) return boolean_as_given(op, operands, stats, cancel, max_crossings);  // its error
+    if (!m) return engine(op, operands, stats, cancel, max_crossings);  // its error
   const double s = frame_scale(operands);
-  if (s == 1) return boolean_as_given(op, operands, stats, cancel, max_crossings);
+  if (s == 1) return engine(op, operands, stats, cancel, max_crossings);
   std::vector<Mesh> framed(operands.size());
   std::vector<const Mesh*> ptrs(operands.size());
   for (std::size_t i = 0; i < operands.size(); ++i) {
     if (!scale_exactly(operands[i]->positions, 1 / s, framed[i].positions))
-      return boolean_as_given(op, operands, stats, cancel, max_crossings);
+      return engine(op, operands, stats, cancel, max_crossings);
     framed[i].triangles = operands[i]->triangles;
     framed[i].face_ids = operands[i]->face_ids;
     ptrs[i] = &framed[i];
   }
   BooleanResult r;
   try {
-    r = boolean_as_given(op, ptrs, stats, cancel, max_crossings);
+    r = engine(op, ptrs, stats, cancel, max_crossings);
   } catch (const Cancelled&) {
     throw;
   } catch (const Error&) {
     // An operand's defect (or the work budget): said again on the operands as given, so that its
     // coordinates are the caller's.
-    return boolean_as_given(op, operands, stats, cancel, max_crossings);
+    return engine(op, operands, stats, cancel, max_crossings);
   }
   std::vector<Point3> back;
-  if (!scale_exactly(r.mesh.positions, s, back)) return boolean_as_given(op, operands, stats, cancel, max_crossings);
+  if (!scale_exactly(r.mesh.positions, s, back)) return engine(op, operands, stats, cancel, max_crossings);
   r.mesh.positions = std::move(back);
   // Fed to a boolean whose frame is the same, the result becomes the frame's result again, bit
   // for bit, which the engine remembers as verified: it is not checked again.

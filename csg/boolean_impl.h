@@ -136,6 +136,13 @@ struct Soup {
   }
 };
 
+// What boolean_as_given throws when its result cannot be rounded to doubles without a
+// self-intersection, after every re-resolution (boolean_frame.cpp then tries welded operands).
+class Unroundable : public Error {
+ public:
+  using Error::Error;
+};
+
 // boolean() on the operands' own coordinates (boolean_frame.cpp runs it on copies scaled by a
 // power of two where that is exact and the coordinates are far from 1).
 BooleanResult boolean_as_given(BooleanOp op, const std::vector<const Mesh*>& operands, BooleanStats* stats,

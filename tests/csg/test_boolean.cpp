@@ -952,3 +952,20 @@ TEST_CASE("boolean: two edges that cross get one point definition from all four 
     REQUIRE(d.P[0] == at_origin[0].P[0]);
   }
 }
+
+TEST_CASE("boolean: a sphere and its copy turned by 1e-14 degrees, vertices a rounding apart, are welded", "[boolean]") {
+  // The copy's vertices are the sphere's moved by at most a few ulps. The result of the
+  // difference was slivers between two sheets a rounding apart, and no re-resolution could round
+  // it ("cannot be rounded to doubles without a self-intersection (4 re-resolutions tried)").
+  // The engine now welds such operands' vertices and decides the coinciding sheets exactly.
+  const Mesh a = sphere(Vec3(0, 0, 0), 1, 32);
+  const Mesh b = a.transformed(rotate(1e-14, Vec3(0.3, 1, 0.2)));
+  REQUIRE(b.positions != a.positions);
+  const double va = a.volume();
+  BooleanResult d, u;
+  REQUIRE_NOTHROW(d = boolean(BooleanOp::Difference, {&a, &b}));
+  CHECK(d.mesh.triangles.empty());
+  REQUIRE_NOTHROW(u = boolean(BooleanOp::Union, {&a, &b}));
+  CHECK(u.mesh.volume() == Approx(va).epsilon(1e-12));
+  CHECK(mesh_solid_defect(u.mesh).empty());  // closed, manifold, outward, no self-intersection (exact)
+}
