@@ -85,7 +85,7 @@ bool weld_operands(const std::vector<const Mesh*>& operands, std::vector<Mesh>& 
               auto range = grid.equal_range(key(cx + dx, cy + dy, cz + dz));
               for (auto it = range.first; it != range.second; ++it) {
                 const double d = (it->second - p).cwiseAbs().maxCoeff();
-                if (d <= best_d && (best == nullptr || d < best_d)) best = &it->second, best_d = d;
+                if (best ? d < best_d : d <= best_d) best = &it->second, best_d = d;
               }
             }
         if (best && *best != p) {
@@ -98,13 +98,50 @@ bool weld_operands(const std::vector<const Mesh*>& operands, std::vector<Mesh>& 
   return moved;
 }
 
-// boolean_as_given, and where its result cannot be rounded, again on welded operands. The welded
-// run is checked as any operands are (a weld that folds an operand is refused there); if it fails
-// too, the first run's error is the one reported.
-BooleanResult engine(BooleanOp op, const std::vector<const Mesh*>& operands, BooleanStats* stats, const CancelCheck* cancel,
-                     std::size_t max_crossings) {
+// The engine in the frame (above), on the operands' own coordinates where framing does not apply.
+BooleanResult in_frame(BooleanOp op, const std::vector<const Mesh*>& operands, BooleanStats* stats,
+                       const CancelCheck* cancel, std::size_t max_crossings) {
+  using boolean_detail::boolean_as_given;
+  for (const Mesh* m : operands)
+    if (!m) return boolean_as_given(op, operands, stats, cancel, max_crossings);  // its error
+  const double s = frame_scale(operands);
+  if (s == 1) return boolean_as_given(op, operands, stats, cancel, max_crossings);
+  std::vector<Mesh> framed(operands.size());
+  std::vector<const Mesh*> ptrs(operands.size());
+  for (std::size_t i = 0; i < operands.size(); ++i) {
+    if (!scale_exactly(operands[i]->positions, 1 / s, framed[i].positions))
+      return boolean_as_given(op, operands, stats, cancel, max_crossings);
+    framed[i].triangles = operands[i]->triangles;
+    framed[i].face_ids = operands[i]->face_ids;
+    ptrs[i] = &framed[i];
+  }
+  BooleanResult r;
   try {
-    return boolean_detail::boolean_as_given(op, operands, stats, cancel, max_crossings);
+    r = boolean_as_given(op, ptrs, stats, cancel, max_crossings);
+  } catch (const Cancelled&) {
+    throw;
+  } catch (const Error&) {
+    // An operand's defect (or the work budget): said again on the operands as given, so that its
+    // coordinates are the caller's.
+    return boolean_as_given(op, operands, stats, cancel, max_crossings);
+  }
+  std::vector<Point3> back;
+  if (!scale_exactly(r.mesh.positions, s, back)) return boolean_as_given(op, operands, stats, cancel, max_crossings);
+  r.mesh.positions = std::move(back);
+  // Fed to a boolean whose frame is the same, the result becomes the frame's result again, bit
+  // for bit, which the engine remembers as verified: it is not checked again.
+  return r;
+}
+
+}  // namespace
+
+// The engine, and where its result cannot be rounded, the engine again on welded operands. The
+// welded run is checked as any operands are (a weld that folds an operand is refused there); if
+// it fails too, the first run's error is the one reported.
+BooleanResult boolean(BooleanOp op, const std::vector<const Mesh*>& operands, BooleanStats* stats, const CancelCheck* cancel,
+                      std::size_t max_crossings) {
+  try {
+    return in_frame(op, operands, stats, cancel, max_crossings);
   } catch (const boolean_detail::Unroundable&) {
     const std::exception_ptr first = std::current_exception();
     std::vector<Mesh> welded;
@@ -112,48 +149,13 @@ BooleanResult engine(BooleanOp op, const std::vector<const Mesh*>& operands, Boo
     std::vector<const Mesh*> ptrs;
     for (const Mesh& m : welded) ptrs.push_back(&m);
     try {
-      return boolean_detail::boolean_as_given(op, ptrs, stats, cancel, max_crossings);
+      return in_frame(op, ptrs, stats, cancel, max_crossings);
     } catch (const Cancelled&) {
       throw;
     } catch (const Error&) {
       std::rethrow_exception(first);
     }
   }
-}
-
-}  // namespace
-
-BooleanResult boolean(BooleanOp op, const std::vector<const Mesh*>& operands, BooleanStats* stats, const CancelCheck* cancel,
-                      std::size_t max_crossings) {
-  for (const Mesh* m : operands)
-    if (!m) return engine(op, operands, stats, cancel, max_crossings);  // its error
-  const double s = frame_scale(operands);
-  if (s == 1) return engine(op, operands, stats, cancel, max_crossings);
-  std::vector<Mesh> framed(operands.size());
-  std::vector<const Mesh*> ptrs(operands.size());
-  for (std::size_t i = 0; i < operands.size(); ++i) {
-    if (!scale_exactly(operands[i]->positions, 1 / s, framed[i].positions))
-      return engine(op, operands, stats, cancel, max_crossings);
-    framed[i].triangles = operands[i]->triangles;
-    framed[i].face_ids = operands[i]->face_ids;
-    ptrs[i] = &framed[i];
-  }
-  BooleanResult r;
-  try {
-    r = engine(op, ptrs, stats, cancel, max_crossings);
-  } catch (const Cancelled&) {
-    throw;
-  } catch (const Error&) {
-    // An operand's defect (or the work budget): said again on the operands as given, so that its
-    // coordinates are the caller's.
-    return engine(op, operands, stats, cancel, max_crossings);
-  }
-  std::vector<Point3> back;
-  if (!scale_exactly(r.mesh.positions, s, back)) return engine(op, operands, stats, cancel, max_crossings);
-  r.mesh.positions = std::move(back);
-  // Fed to a boolean whose frame is the same, the result becomes the frame's result again, bit
-  // for bit, which the engine remembers as verified: it is not checked again.
-  return r;
 }
 
 }  // namespace wedge
