@@ -77,15 +77,14 @@ bool cap(const Mesh& mesh, std::size_t t, const FaceSurface& fs, const CornerUvs
   // corners' mean weighted by b, so the edge from it to a corner follows that corner's generator
   // line, the same line for both triangles on the edge (a fixed parameter per triangle made
   // neighbours' walls differ: a first-order error along a cone's apex fan).
-  int pole = -1, free = -1;
-  if (uv)
-    for (int k = 0; k < 3 && pole < 0; ++k) {
-      Vec3 J[3];
-      fs.surface->jet((*uv)[k].x(), (*uv)[k].y(), 1, J);
-      const double su = J[1].norm(), sv = J[2].norm();
-      if (su <= 1e-9 * sv) pole = k, free = 0;
-      else if (sv <= 1e-9 * su) pole = k, free = 1;
-    }
+  // Two corners on the pole (a piece between the poles of two operands 1e-13 apart and a corner
+  // below them) leave the third's generator line: the patch is that line, not a lune.
+  int free = -1;
+  const unsigned poles = uv ? pole_corners(*fs.surface, *uv, free) : 0u;
+  if (poles == 7u) return true;  // all three on the pole: no patch
+  int pole = -1;
+  for (int k = 0; k < 3 && pole < 0; ++k)
+    if (poles >> k & 1u) pole = k;
   // The rule: Dunavant's; on a triangle with a pole corner, whose parameters are a ratio that is
   // not smooth at the pole (a polynomial rule on it left a first-order error along a cone's apex
   // fan), 3 x 3 Gauss points in the collapsed square: t from the pole to the opposite side, s
@@ -117,7 +116,7 @@ bool cap(const Mesh& mesh, std::size_t t, const FaceSurface& fs, const CornerUvs
         const double db1[3] = {-1, 1, 0}, db2[3] = {-1, 0, 1};
         double N = 0, D = 0, N1 = 0, D1 = 0, N2 = 0, D2 = 0;
         for (int j = 0; j < 3; ++j) {
-          if (j == pole) continue;
+          if (poles >> j & 1u) continue;
           const double x = (*uv)[static_cast<std::size_t>(j)][free];
           N += b[j] * x, D += b[j];
           N1 += db1[j] * x, D1 += db1[j];

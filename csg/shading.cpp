@@ -70,8 +70,28 @@ Vec2 closest_parameters(const Surface& S, const Point3& p, const Vec2& guess) {
   return uv;
 }
 
+unsigned pole_corners(const Surface& S, const std::array<Vec2, 3>& uv, int& free) {
+  unsigned mask = 0;
+  for (int k = 2; k >= 0; --k) {
+    Vec3 J[3];
+    S.jet(uv[static_cast<std::size_t>(k)].x(), uv[static_cast<std::size_t>(k)].y(), 1, J);
+    const double su = J[1].norm(), sv = J[2].norm();
+    if (su <= 1e-9 * sv) mask |= 1u << k, free = 0;
+    else if (sv <= 1e-9 * su) mask |= 1u << k, free = 1;
+  }
+  return mask;
+}
+
+const Surface* parametric_surface(const Mesh& mesh, const std::vector<FaceSurface>& surfaces, std::size_t t) {
+  if (t >= mesh.face_ids.size()) return nullptr;
+  const std::int32_t id = mesh.face_ids[t];
+  if (id < 0 || static_cast<std::size_t>(id) >= surfaces.size()) return nullptr;
+  const FaceSurface& fs = surfaces[static_cast<std::size_t>(id)];
+  return fs.parametric ? fs.surface.get() : nullptr;
+}
+
 std::array<Vec2, 3> interpolated_uv(const Mesh& in, const CornerUvs& in_uv, std::size_t source, const Mesh& out,
-                                    std::size_t t) {
+                                    std::size_t t, const Surface* S) {
   const double nan = std::numeric_limits<double>::quiet_NaN();
   std::array<Vec2, 3> res{Vec2(nan, nan), Vec2(nan, nan), Vec2(nan, nan)};
   if (source >= in_uv.size()) return res;
@@ -86,13 +106,25 @@ std::array<Vec2, 3> interpolated_uv(const Mesh& in, const CornerUvs& in_uv, std:
   if (!(unit > 0) || !std::isfinite(unit)) return res;
   const Vec3 e1 = (b - a) / unit, e2 = (c - a) / unit;
   const double d11 = e1.dot(e1), d12 = e1.dot(e2), d22 = e2.dot(e2), det = d11 * d22 - d12 * d12;
+  int free = -1;
+  const unsigned poles = S ? pole_corners(*S, uv, free) : 0u;
   for (int k = 0; k < 3; ++k) {
     const Point3& p = out.positions[out.triangles[t][static_cast<std::size_t>(k)]];
     // Barycentric coordinates of p's projection into the source triangle's plane.
     const Vec3 w = (p - a) / unit;
     const double w1 = w.dot(e1), w2 = w.dot(e2);
     double l1 = det > 0 ? (d22 * w1 - d12 * w2) / det : 0, l2 = det > 0 ? (d11 * w2 - d12 * w1) / det : 0;
-    res[static_cast<std::size_t>(k)] = uv[0] + l1 * (uv[1] - uv[0]) + l2 * (uv[2] - uv[0]);
+    Vec2& r = res[static_cast<std::size_t>(k)];
+    r = uv[0] + l1 * (uv[1] - uv[0]) + l2 * (uv[2] - uv[0]);
+    if (poles != 0u && poles != 7u) {
+      // The free parameter as the mean of the corners off the pole, weighted by their barycentric
+      // coordinates; a corner at the pole (those weights about zero) keeps the linear value.
+      const double b[3] = {std::max(1 - l1 - l2, 0.0), std::max(l1, 0.0), std::max(l2, 0.0)};
+      double num = 0, den = 0;
+      for (int j = 0; j < 3; ++j)
+        if (!(poles >> j & 1u)) num += b[j] * uv[static_cast<std::size_t>(j)][free], den += b[j];
+      if (den > 1e-12) r[free] = num / den;
+    }
   }
   return res;
 }

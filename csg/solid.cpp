@@ -285,8 +285,11 @@ std::shared_ptr<Evaluated> compute_untagged(const Solid::Node& n, const Toleranc
             run.count(&EvalStats::remade);
             if (!out->corner_uv.empty()) {
               CornerUvs uv(r.mesh.triangles.size());
-              for (std::size_t t = 0; t < uv.size(); ++t)
-                uv[t] = interpolated_uv(out->mesh, out->corner_uv, static_cast<std::size_t>(r.source[t]), r.mesh, t);
+              for (std::size_t t = 0; t < uv.size(); ++t) {
+                const auto source = static_cast<std::size_t>(r.source[t]);
+                uv[t] = interpolated_uv(out->mesh, out->corner_uv, source, r.mesh, t,
+                                        parametric_surface(out->mesh, out->surfaces, source));
+              }
               out->corner_uv = std::move(uv);
             }
             out->mesh = std::move(r.mesh);

@@ -101,8 +101,11 @@ std::shared_ptr<Evaluated> engine(BooleanOp op, const std::vector<std::shared_pt
     const std::size_t o = static_cast<std::size_t>(r.operand[t]);
     out->mesh.face_ids[t] = offset[o] + in[o]->mesh.face_ids[static_cast<std::size_t>(r.source[t])];
     // Where the triangle lies in its source triangle: the guess for its corners' parameters.
-    if (!in[o]->corner_uv.empty())
-      out->corner_uv[t] = interpolated_uv(in[o]->mesh, in[o]->corner_uv, static_cast<std::size_t>(r.source[t]), out->mesh, t);
+    if (!in[o]->corner_uv.empty()) {
+      const auto source = static_cast<std::size_t>(r.source[t]);
+      out->corner_uv[t] = interpolated_uv(in[o]->mesh, in[o]->corner_uv, source, out->mesh, t,
+                                          parametric_surface(in[o]->mesh, in[o]->surfaces, source));
+    }
   }
   return out;
 }
