@@ -70,8 +70,9 @@ struct Patch {
   int pole = -1, free = -1;
 
   // False where the triangle has no map: a plane, or a parametric face without finite corner
-  // parameters, or all three corners on a pole.
-  bool make(const Mesh& mesh, std::size_t t, const FaceSurface& fs, const CornerUvs& corner_uv) {
+  // parameters, or all three corners on a pole. `known`: the pole corners as code() gave them
+  // (the cut edges' pass reuses the caps' finding: each test evaluates the surface three times).
+  bool make(const Mesh& mesh, std::size_t t, const FaceSurface& fs, const CornerUvs& corner_uv, int known = -1) {
     const auto& T = mesh.triangles[t];
     q0 = mesh.positions[T[0]];
     a1 = mesh.positions[T[1]] - q0, a2 = mesh.positions[T[2]] - q0;
@@ -89,12 +90,16 @@ struct Patch {
     // neighbours' walls differ: a first-order error along a cone's apex fan). Two corners on the
     // pole (a piece between the poles of two operands 1e-13 apart and a corner below them) leave
     // the third's generator line: the patch is that line, not a lune.
-    poles = pole_corners(*S, uv, free);
+    if (known >= 0) poles = static_cast<unsigned>(known) & 7u, free = known >> 3 & 1;
+    else poles = pole_corners(*S, uv, free);
     if (poles == 7u) return false;
     for (int k = 0; k < 3 && pole < 0; ++k)
       if (poles >> k & 1u) pole = k;
     return true;
   }
+
+  // What make() found, for make()'s `known`.
+  std::uint8_t code() const { return static_cast<std::uint8_t>(poles | (free == 1 ? 8u : 0u)); }
 
   OnSurface at(double b1, double b2) const {
     const Point3 q = q0 + b1 * a1 + b2 * a2;
@@ -124,10 +129,12 @@ struct Patch {
 };
 
 // The cap of triangle t into `out`; false (nothing added) when its surface points are not near it.
+// `code`: the patch's Patch::code().
 bool cap(const Mesh& mesh, std::size_t t, const FaceSurface& fs, const CornerUvs& corner_uv, double far, const Point3& ref,
-         Sums& out) {
+         Sums& out, std::uint8_t& code) {
   Patch patch;
   if (!patch.make(mesh, t, fs, corner_uv)) return false;
+  code = patch.code();
   const Vec3 &a1 = patch.a1, &a2 = patch.a2;
   const Vec3 normal = a1.cross(a2).normalized();
   const double side = std::max({a1.norm(), a2.norm(), (a2 - a1).norm()});
@@ -237,7 +244,7 @@ void cut_edge(const CutSide& A, const CutSide& B, const Point3& v1, const Point3
 
 // The edges between two faces (one of them curved) and their cut_edge terms, summed in edge order.
 Sums cut_edges(const Mesh& mesh, const std::vector<FaceSurface>& surfaces, const CornerUvs& corner_uv,
-               const std::vector<char>& capped, double far, const Point3& ref) {
+               const std::vector<char>& capped, const std::vector<std::uint8_t>& codes, double far, const Point3& ref) {
   const std::size_t n = mesh.triangles.size();
   auto face = [&](std::size_t t) { return t < mesh.face_ids.size() ? mesh.face_ids[t] : -1; };
   // Vertices where two faces meet; only edges between two of them can be such an edge.
@@ -259,15 +266,27 @@ Sums cut_edges(const Mesh& mesh, const std::vector<FaceSurface>& surfaces, const
     std::uint32_t t;
     int k;  // the edge from corner k to corner k + 1
   };
-  std::vector<HalfEdge> half;
+  // Bucketed by their lower vertex (a counting sort), then each small bucket sorted by the other.
+  std::vector<std::uint32_t> start(mesh.positions.size() + 1, 0);
   for (std::size_t t = 0; t < n; ++t)
     for (int k = 0; k < 3; ++k) {
       const std::uint32_t a = mesh.triangles[t][static_cast<std::size_t>(k)], b = mesh.triangles[t][static_cast<std::size_t>((k + 1) % 3)];
-      if (mixed[a] && mixed[b]) half.push_back({std::min(a, b), std::max(a, b), static_cast<std::uint32_t>(t), k});
+      if (mixed[a] && mixed[b]) ++start[std::min(a, b) + 1];
     }
-  std::sort(half.begin(), half.end(), [](const HalfEdge& x, const HalfEdge& y) {
-    return x.lo != y.lo ? x.lo < y.lo : x.hi != y.hi ? x.hi < y.hi : x.t < y.t;
-  });
+  for (std::size_t v = 0; v + 1 < start.size(); ++v) start[v + 1] += start[v];
+  std::vector<HalfEdge> half(start.back());
+  {
+    std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
+    for (std::size_t t = 0; t < n; ++t)
+      for (int k = 0; k < 3; ++k) {
+        const std::uint32_t a = mesh.triangles[t][static_cast<std::size_t>(k)], b = mesh.triangles[t][static_cast<std::size_t>((k + 1) % 3)];
+        if (mixed[a] && mixed[b]) half[fill[std::min(a, b)]++] = {std::min(a, b), std::max(a, b), static_cast<std::uint32_t>(t), k};
+      }
+  }
+  for (std::size_t v = 0; v + 1 < start.size(); ++v)
+    if (start[v + 1] - start[v] > 1)
+      std::sort(half.begin() + start[v], half.begin() + start[v + 1],
+                [](const HalfEdge& x, const HalfEdge& y) { return x.hi != y.hi ? x.hi < y.hi : x.t < y.t; });
   std::vector<std::pair<std::size_t, std::size_t>> pairs;  // indices into half: a cut edge's two sides
   for (std::size_t i = 0; i < half.size();) {
     std::size_t j = i;
@@ -285,7 +304,7 @@ Sums cut_edges(const Mesh& mesh, const std::vector<FaceSurface>& surfaces, const
     const int a = h.k, b = (h.k + 1) % 3;
     S.at1 = T[static_cast<std::size_t>(a)] == v1 ? a : b;
     S.at2 = S.at1 == a ? b : a;
-    S.curved = capped[h.t] && S.patch.make(mesh, h.t, surfaces[static_cast<std::size_t>(face(h.t))], corner_uv);
+    S.curved = capped[h.t] && S.patch.make(mesh, h.t, surfaces[static_cast<std::size_t>(face(h.t))], corner_uv, codes[h.t]);
   };
   const std::size_t block = 1024, blocks = (pairs.size() + block - 1) / block;
   std::vector<Sums> part(blocks);
@@ -317,6 +336,7 @@ MassProperties curved_mass_properties(const Mesh& mesh, const std::vector<FaceSu
   const std::size_t n = mesh.triangles.size(), block = 4096, blocks = (n + block - 1) / block;
   std::vector<Sums> part(blocks);
   std::vector<char> capped(n, 0);
+  std::vector<std::uint8_t> codes(n, 0);
   parallel_for(0, blocks, [&](std::size_t b) {
     Sums& s = part[b];
     for (std::size_t t = b * block; t < std::min(n, (b + 1) * block); ++t) {
@@ -333,12 +353,12 @@ MassProperties curved_mass_properties(const Mesh& mesh, const std::vector<FaceSu
       if (id < 0 || static_cast<std::size_t>(id) >= surfaces.size()) continue;
       const FaceSurface& fs = surfaces[static_cast<std::size_t>(id)];
       if (fs.plane() || !fs.surface) continue;
-      capped[t] = cap(mesh, t, fs, corner_uv, far, ref, s);
+      capped[t] = cap(mesh, t, fs, corner_uv, far, ref, s, codes[t]);
     }
   });
   Sums total;
   for (const Sums& s : part) total.add(s);
-  total.add(cut_edges(mesh, surfaces, corner_uv, capped, far, ref));
+  total.add(cut_edges(mesh, surfaces, corner_uv, capped, codes, far, ref));
   mp.volume = total.volume;
   mp.area = total.area;
   if (total.volume == 0) return mp;
