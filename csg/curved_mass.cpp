@@ -204,9 +204,10 @@ struct CutSide {
 
 void cut_edge(const CutSide& A, const CutSide& B, const Point3& v1, const Point3& v2, double far, const Point3& ref, Sums& out) {
   const Vec3 d = v2 - v1;  // v1 -> v2: the edge as A's triangle runs it
-  for (std::size_t j = 0; j < kL.size(); ++j) {
-    const double l = kL[j];
-    const Point3 e = v1 + l * d;
+  // The quadrilateral's vector area along d at edge parameter l (times the rule's weight), with
+  // the point; 0 where a wall is longer than `far` or a side has no normal.
+  auto term = [&](double l, Point3& e, double& wall) {
+    e = v1 + l * d;
     auto on = [&](const CutSide& S, Point3& s, Vec3& n) {
       s = e, n = S.normal;
       if (!S.curved) return;
@@ -221,8 +222,8 @@ void cut_edge(const CutSide& A, const CutSide& B, const Point3& v1, const Point3
     Vec3 na, nb;
     on(A, sa, na);
     on(B, sb, nb);
-    const double wall = std::max((sa - e).norm(), (sb - e).norm());
-    if (!(wall > 0) || !(wall <= far)) continue;
+    wall = std::max((sa - e).norm(), (sb - e).norm());
+    if (!(wall > 0) || !(wall <= far)) return 0.0;
     // C = e + alpha na + beta nb on both tangent planes: na.(C - sa) = 0, nb.(C - sb) = 0.
     Point3 c = sa + 0.5 * (sb - sa);
     const double cos_ab = na.dot(nb), det = 1 - cos_ab * cos_ab;
@@ -233,12 +234,28 @@ void cut_edge(const CutSide& A, const CutSide& B, const Point3& v1, const Point3
       if ((meet - e).norm() <= 4 * wall) c = meet;
     }
     // The quadrilateral (e, sa, c, sb): vector area (c - e) x (sb - sa) / 2, swept along d.
-    const double dv = kLw[j] * 0.5 * (c - e).cross(sb - sa).dot(d);
-    if (!std::isfinite(dv)) continue;  // a side's triangle without area: no normal
+    const double a = 0.5 * (c - e).cross(sb - sa).dot(d);
+    return std::isfinite(a) ? a : 0.0;  // not finite: a side's triangle without area
+  };
+  auto add = [&](double dv, const Point3& e) {
     const Vec3 x = e - ref;
     out.volume += dv;
     out.first += dv * x;
     out.second += dv * x * x.transpose();
+  };
+  // The middle point first: on an edge of a leaf (a cylinder's rim on its cap, where both walls
+  // end on the exact curve) the term vanishes there, by symmetry, and the other two points,
+  // whose terms are of higher order again, are not evaluated (each costs a surface evaluation a
+  // side: on the 400-boss plate, whose 89,600 edges between faces are nearly all such, the pass
+  // took half as long as the caps).
+  Point3 e;
+  double wall = 0;
+  const double mid = term(kL[1], e, wall);
+  if (!(std::abs(mid) > 1e-6 * wall * wall * d.norm())) return;
+  add(kLw[1] * mid, e);
+  for (const std::size_t j : {std::size_t(0), std::size_t(2)}) {
+    const double a = term(kL[j], e, wall);
+    add(kLw[j] * a, e);
   }
 }
 
