@@ -106,23 +106,32 @@ std::array<Vec2, 3> interpolated_uv(const Mesh& in, const CornerUvs& in_uv, std:
   if (!(unit > 0) || !std::isfinite(unit)) return res;
   const Vec3 e1 = (b - a) / unit, e2 = (c - a) / unit;
   const double d11 = e1.dot(e1), d12 = e1.dot(e2), d22 = e2.dot(e2), det = d11 * d22 - d12 * d12;
+  // The poles are looked for only when a corner is not one of the source's: most output
+  // triangles of a boolean are whole operand triangles, and each test evaluates S three times.
   int free = -1;
-  const unsigned poles = S ? pole_corners(*S, uv, free) : 0u;
+  unsigned poles = 0;
+  bool looked = false;
   for (int k = 0; k < 3; ++k) {
     const Point3& p = out.positions[out.triangles[t][static_cast<std::size_t>(k)]];
+    Vec2& r = res[static_cast<std::size_t>(k)];
+    const int at = p == a ? 0 : p == b ? 1 : p == c ? 2 : -1;
+    if (at >= 0) {
+      r = uv[static_cast<std::size_t>(at)];
+      continue;
+    }
     // Barycentric coordinates of p's projection into the source triangle's plane.
     const Vec3 w = (p - a) / unit;
     const double w1 = w.dot(e1), w2 = w.dot(e2);
     double l1 = det > 0 ? (d22 * w1 - d12 * w2) / det : 0, l2 = det > 0 ? (d11 * w2 - d12 * w1) / det : 0;
-    Vec2& r = res[static_cast<std::size_t>(k)];
     r = uv[0] + l1 * (uv[1] - uv[0]) + l2 * (uv[2] - uv[0]);
+    if (S && !looked) poles = pole_corners(*S, uv, free), looked = true;
     if (poles != 0u && poles != 7u) {
       // The free parameter as the mean of the corners off the pole, weighted by their barycentric
       // coordinates; a corner at the pole (those weights about zero) keeps the linear value.
-      const double b[3] = {std::max(1 - l1 - l2, 0.0), std::max(l1, 0.0), std::max(l2, 0.0)};
+      const double bc[3] = {std::max(1 - l1 - l2, 0.0), std::max(l1, 0.0), std::max(l2, 0.0)};
       double num = 0, den = 0;
       for (int j = 0; j < 3; ++j)
-        if (!(poles >> j & 1u)) num += b[j] * uv[static_cast<std::size_t>(j)][free], den += b[j];
+        if (!(poles >> j & 1u)) num += bc[j] * uv[static_cast<std::size_t>(j)][free], den += bc[j];
       if (den > 1e-12) r[free] = num / den;
     }
   }

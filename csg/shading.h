@@ -38,15 +38,16 @@ Mesh shaded_mesh(const Mesh& mesh, const std::vector<FaceSurface>& surfaces, con
 // by b, so that the edge from the pole to a corner follows that corner's generator line.
 unsigned pole_corners(const Surface& S, const std::array<Vec2, 3>& uv, int& free);
 
-// The guesses for a boolean's output triangles: corner k of output triangle t lies in triangle
-// source[t] of the operand mesh `in` (whose corners have the parameters in_uv), and gets the
-// parameters interpolated there by its barycentric coordinates. With the source's surface S given
-// and source corners on a pole of S, the free parameter is interpolated as pole_corner says, so
-// that the pieces of a pole triangle follow its generator lines as the whole triangle does (the
-// pieces of sphere(1) and of a copy moved by 1e-13 differed by 7e-7 in volume near the poles).
 // The parametric surface triangle t of `mesh` lies on (its face id indexing `surfaces`), or nullptr.
 const Surface* parametric_surface(const Mesh& mesh, const std::vector<FaceSurface>& surfaces, std::size_t t);
 
+// The guesses for a boolean's output triangles: corner k of output triangle t lies in triangle
+// source[t] of the operand mesh `in` (whose corners have the parameters in_uv), and gets the
+// parameters interpolated there by its barycentric coordinates (a source corner, its own). With
+// the source's surface S given and source corners on a pole of S, the free parameter is
+// interpolated as pole_corners says, so that the pieces of a pole triangle follow its generator
+// lines as the whole triangle does (the pieces of sphere(1) and of a copy moved by 1e-13 differed
+// by 7e-7 in volume near the poles).
 std::array<Vec2, 3> interpolated_uv(const Mesh& in, const CornerUvs& in_uv, std::size_t source, const Mesh& out,
                                     std::size_t t, const Surface* S = nullptr);
 
