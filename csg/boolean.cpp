@@ -854,11 +854,13 @@ BooleanResult boolean_detail::boolean_as_given(BooleanOp op, const std::vector<c
   }
   if (unresolved) {
     const Vec3& p = r.mesh.positions.empty() ? Vec3(0, 0, 0) : r.mesh.positions[0];
-    std::ostringstream msg;
-    msg.precision(17);
-    msg << "boolean: the result cannot be rounded to doubles without a self-intersection (" << resolutions
-        << " re-resolutions tried; first vertex (" << p.x() << ", " << p.y() << ", " << p.z() << "))";
-    throw Unroundable(msg.str());
+    // fail()'s message, thrown as the kind boolean() retries on welded operands.
+    try {
+      fail("boolean: the result cannot be rounded to doubles without a self-intersection (", resolutions,
+           " re-resolutions tried; first vertex (", p.x(), ", ", p.y(), ", ", p.z(), "))");
+    } catch (const Error& e) {
+      throw Unroundable(e.what());
+    }
   }
   verified_results().add(fingerprint(r.mesh));
   lap(&BooleanStats::output);
