@@ -450,14 +450,18 @@ bool Points::on_one_segment(u32 a, u32 b, u32 c) const {
 
 namespace {
 
-// Whether input vertex v lies on plane P (exact; a wall through a, b containing e_k holds v when
-// a, b, v are collinear seen along e_k).
-bool vertex_on(const Soup& s, const Plane& P, u32 v) {
-  const Vec3& x = s.verts[v];
-  if (P.axis < 0) return v == P.a || v == P.b || v == P.c || orient3d_fast(s.verts[P.a], s.verts[P.b], s.verts[P.c], x) == 0;
+// Whether the point x (doubles) lies on plane P (exact; a wall through a, b containing e_k holds
+// x when a, b, x are collinear seen along e_k).
+bool point_on(const Soup& s, const Plane& P, const Vec3& x) {
+  if (P.axis < 0) return orient3d_fast(s.verts[P.a], s.verts[P.b], s.verts[P.c], x) == 0;
   const int i = (P.axis + 1) % 3, j = (P.axis + 2) % 3;
   const Vec3 &a = s.verts[P.a], &b = s.verts[P.b];
-  return v == P.a || v == P.b || orient2d_fast(a[i], a[j], b[i], b[j], x[i], x[j]) == 0;
+  return orient2d_fast(a[i], a[j], b[i], b[j], x[i], x[j]) == 0;
+}
+
+// Whether input vertex v lies on plane P.
+bool vertex_on(const Soup& s, const Plane& P, u32 v) {
+  return v == P.a || v == P.b || (P.axis < 0 && v == P.c) || point_on(s, P, s.verts[v]);
 }
 
 // Whether planes X and P are the same plane (exact; false where not sure: walls against walls).
@@ -476,11 +480,15 @@ bool Points::on_plane(u32 p, const Plane& P) const {
     case PointDef::Explicit:
       return vertex_on(*soup_, P, d.p);
     case PointDef::Lpi:
-      return same_plane(*soup_, d.P[0], P) || (vertex_on(*soup_, P, d.p) && vertex_on(*soup_, P, d.q));
+      if (same_plane(*soup_, d.P[0], P) || (vertex_on(*soup_, P, d.p) && vertex_on(*soup_, P, d.q))) return true;
+      break;
     case PointDef::Tpi:
-      return same_plane(*soup_, d.P[0], P) || same_plane(*soup_, d.P[1], P) || same_plane(*soup_, d.P[2], P);
+      if (same_plane(*soup_, d.P[0], P) || same_plane(*soup_, d.P[1], P) || same_plane(*soup_, d.P[2], P)) return true;
+      break;
   }
-  return false;
+  // A point whose coordinates are all doubles (a cut of two axis-parallel segments' planes, as
+  // where two cylinders sampled at the same angles cross): the exact test on them.
+  return fixed(p) == 7 && point_on(*soup_, P, approx(p));
 }
 
 bool Points::exact_position(const PointDef& d, Vec3& out) const {
@@ -489,7 +497,23 @@ bool Points::exact_position(const PointDef& d, Vec3& out) const {
   return true;
 }
 
-bool Points::collinear_by_definition(u32 a, u32 b, u32 c) const {
+namespace {
+
+// Whether plane P contains the direction e_k (exact on input vertices): a wall along e_k; a wall
+// along another axis over a segment whose ends share the third coordinate; a triangle whose
+// projection along e_k is degenerate.
+bool contains_axis(const Soup& s, const Plane& P, int k) {
+  const Vec3 &a = s.verts[P.a], &b = s.verts[P.b];
+  if (P.axis == k) return true;
+  const int i = (k + 1) % 3, j = (k + 2) % 3;
+  if (P.axis >= 0) return a[3 - k - P.axis] == b[3 - k - P.axis];
+  const Vec3& c = s.verts[P.c];
+  return orient2d_fast(a[i], a[j], b[i], b[j], c[i], c[j]) == 0;
+}
+
+}  // namespace
+
+bool Points::collinear_by_definition(u32 a, u32 b, u32 c, int k) const {
   // The definitions held here: planes found below are kept by address.
   const PointDef defs[3] = {def(a), def(b), def(c)};
   const u32 ids[3] = {a, b, c};
@@ -512,7 +536,11 @@ bool Points::collinear_by_definition(u32 a, u32 b, u32 c) const {
             all = false;
             break;
           }
-        if (all) found[nf++] = &P;
+        if (!all) continue;
+        // On one plane that contains e_k: on its trace, seen along e_k (a sphere's triangle cut
+        // by the side of a cylinder along e_k, the cut seen along the cylinder's axis).
+        if (k >= 0 && contains_axis(*soup_, P, k)) return true;
+        found[nf++] = &P;
       }
     }
     if (nf == 2) return true;
@@ -560,6 +588,7 @@ bool Points::collinear_by_definition(u32 a, u32 b, u32 c) const {
 
 
 int Points::orient2d(u32 a, u32 b, u32 c, int k, const Plane* line) const {
+  if (a == b || b == c || a == c) return 0;
   const int i = (k + 1) % 3, j = (k + 2) % 3;
   const std::uint8_t m = static_cast<std::uint8_t>(1u << i | 1u << j);
   const Vec3 &A = approx(a), &B = approx(b), &C = approx(c);
@@ -589,7 +618,7 @@ int Points::orient2d(u32 a, u32 b, u32 c, int k, const Plane* line) const {
     int s = orient2d_sign(to_ia(interval(a)), to_ia(interval(b)), to_ia(interval(c)), k);
     if (s != 2) return s;
   }
-  if (on_one_segment(a, b, c) || (line && on_plane(c, *line)) || collinear_by_definition(a, b, c)) return 0;
+  if (on_one_segment(a, b, c) || (line && on_plane(c, *line)) || collinear_by_definition(a, b, c, k)) return 0;
   ExactPoint scratch[4];
   return orient2d_sign(exact(a, scratch[0]).h, exact(b, scratch[1]).h,
                        exact(c, scratch[2]).h, k);

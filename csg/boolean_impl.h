@@ -412,8 +412,9 @@ class Points {
   // the soup only: the interning's runs call it while the first of them adds points.
   bool exact_position(const PointDef& d, Vec3& out) const;
   // Whether a, b, c certainly lie on one line, from their definitions: on one cutting plane, with
-  // their segments' end points on one other plane (exact tests on input vertices only).
-  bool collinear_by_definition(u32 a, u32 b, u32 c) const;
+  // their segments' end points on one other plane (exact tests on input vertices only). With
+  // k >= 0, also whether they lie on one line seen along e_k: on one plane containing e_k.
+  bool collinear_by_definition(u32 a, u32 b, u32 c, int k = -1) const;
   // Whether point p certainly lies on plane P, from its definition (exact tests on input
   // vertices only; false where that does not settle it).
   bool on_plane(u32 p, const Plane& P) const;
