@@ -3,6 +3,7 @@
 #include "csg/boolean.h"
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cstring>
 #include <mutex>
@@ -141,53 +142,134 @@ std::vector<u32> boolean_detail::operand_starts(const Soup& s) {
   return first;
 }
 
-// Merges the operands into one soup of triangles on unique positions.
+// Merges the operands into one soup of triangles on unique positions. Equal positions become one
+// vertex, numbered in the order of their first use (operand by operand, position by position):
+// the same numbering at any thread count. In parallel over blocks of positions: each position
+// goes into an open-addressing table (linear probing) of (hash tag, lowest index of the class),
+// inserted or lowered by compare-and-swap; a class never moves once in the table, so every
+// position finds its class where it put it. The table is touched at random (a miss per position,
+// 2M of them for two 1M-triangle spheres), so each block looks its slots up a few ahead.
 Soup boolean_detail::make_soup(const std::vector<const Mesh*>& operands, const Interrupt* interrupt) {
   Soup s;
   s.interrupt = interrupt;
   s.operands = static_cast<int>(operands.size());
-  // Equal positions become one vertex: an open-addressing table of vertex ids (linear probing).
-  std::size_t positions = 0;
-  for (const Mesh* m : operands) positions += m->positions.size();
-  int bits = 4;
-  while ((std::size_t(1) << bits) < 2 * positions) ++bits;
-  std::vector<u32> table(std::size_t(1) << bits, kNone);
-  const std::size_t mask = table.size() - 1;
-  s.verts.reserve(positions);
-  std::size_t triangles = 0;
-  for (const Mesh* m : operands) triangles += m->triangles.size();
-  s.tris.reserve(triangles);
-  s.operand.reserve(triangles);
-  s.local.reserve(triangles);
-  s.face_id.reserve(triangles);
-  for (std::size_t o = 0; o < operands.size(); ++o) {
-    const Mesh& m = *operands[o];
-    std::vector<u32> map(m.positions.size());
-    for (std::size_t v = 0; v < m.positions.size(); ++v) {
-      if ((v & 0xffff) == 0) s.poll();
-      Vec3 p = m.positions[v];
-      for (int i = 0; i < 3; ++i)
-        if (p[i] == 0) p[i] = 0.0;
-      std::size_t slot = position_hash(p) >> (64 - bits);
-      while (table[slot] != kNone && s.verts[table[slot]] != p) slot = (slot + 1) & mask;
-      if (table[slot] == kNone) {
-        table[slot] = static_cast<u32>(s.verts.size());
-        s.verts.push_back(p);
-      }
-      map[v] = table[slot];
-    }
-    for (std::size_t t = 0; t < m.triangles.size(); ++t) {
-      const auto& tr = m.triangles[t];
-      s.tris.push_back({map[tr[0]], map[tr[1]], map[tr[2]]});
-      s.operand.push_back(static_cast<std::int32_t>(o));
-      s.local.push_back(static_cast<std::int32_t>(t));
-      s.face_id.push_back(m.face_ids.empty() ? -1 : m.face_ids[t]);
-    }
+  const std::size_t nops = operands.size();
+  std::vector<std::size_t> vbase(nops + 1, 0), tbase(nops + 1, 0);
+  for (std::size_t o = 0; o < nops; ++o) {
+    vbase[o + 1] = vbase[o] + operands[o]->positions.size();
+    tbase[o + 1] = tbase[o] + operands[o]->triangles.size();
   }
-  std::size_t n = s.tris.size();
-  s.axis.resize(n);
-  s.axis_sign.resize(n);
-  parallel_for(0, n, [&](std::size_t t) { set_axis(s, t); });
+  const std::size_t np = vbase[nops], nt = tbase[nops];
+  if (np >= (std::size_t(1) << 31)) fail("boolean: more than 2^31 positions in the operands");
+  // Every position, -0 made 0 (so that equal positions have equal bits), with its hash.
+  std::vector<Vec3> all(np);
+  std::vector<std::uint64_t> hash(np);
+  constexpr std::size_t kBlock = 1 << 14;
+  parallel_for(0, nops, [&](std::size_t o) {
+    const Mesh& m = *operands[o];
+    parallel_for(0, (m.positions.size() + kBlock - 1) / kBlock, [&](std::size_t b) {
+      for (std::size_t v = b * kBlock; v < std::min(m.positions.size(), (b + 1) * kBlock); ++v) {
+        Vec3 p = m.positions[v];
+        for (int i = 0; i < 3; ++i)
+          if (p[i] == 0) p[i] = 0.0;
+        all[vbase[o] + v] = p;
+        hash[vbase[o] + v] = position_hash(p);
+      }
+    });
+  });
+  s.poll();
+  int bits = 4;
+  while ((std::size_t(1) << bits) < 2 * np) ++bits;
+  // An entry: the hash's low 32 bits (a tag that settles most mismatches without reading the
+  // position) and the class's lowest index; kEmpty where free.
+  constexpr std::uint64_t kEmpty = ~std::uint64_t(0);
+  std::vector<std::atomic<std::uint64_t>> table(std::size_t(1) << bits);
+  parallel_for(0, (table.size() + kBlock - 1) / kBlock, [&](std::size_t b) {
+    for (std::size_t i = b * kBlock; i < std::min(table.size(), (b + 1) * kBlock); ++i)
+      table[i].store(kEmpty, std::memory_order_relaxed);
+  });
+  const std::size_t mask = table.size() - 1;
+  std::vector<u32> slot_of(np);
+  parallel_for(0, (np + kBlock - 1) / kBlock, [&](std::size_t b) {
+    s.poll();
+    const std::size_t end = std::min(np, (b + 1) * kBlock);
+    constexpr std::size_t kAhead = 8;
+    for (std::size_t g = b * kBlock; g < std::min(end, b * kBlock + kAhead); ++g)
+      __builtin_prefetch(&table[hash[g] >> (64 - bits)]);
+    for (std::size_t g = b * kBlock; g < end; ++g) {
+      if (g + kAhead < end) __builtin_prefetch(&table[hash[g + kAhead] >> (64 - bits)]);
+      const std::uint64_t tag = hash[g] & 0xffffffffu;
+      const std::uint64_t mine = tag << 32 | g;
+      std::size_t slot = hash[g] >> (64 - bits);
+      for (;;) {
+        std::uint64_t cur = table[slot].load(std::memory_order_relaxed);
+        if (cur == kEmpty) {
+          if (table[slot].compare_exchange_strong(cur, mine, std::memory_order_relaxed)) break;
+          // Taken meanwhile: cur now holds what is there; look at it below.
+        }
+        if ((cur >> 32) == tag && all[cur & 0xffffffffu] == all[g]) {
+          // g's class: keep its lowest index.
+          while ((cur & 0xffffffffu) > g && !table[slot].compare_exchange_weak(cur, mine, std::memory_order_relaxed)) {
+          }
+          break;
+        }
+        slot = (slot + 1) & mask;
+      }
+      slot_of[g] = static_cast<u32>(slot);
+    }
+  });
+  s.poll();
+  // Each position's class (its lowest index), and the classes numbered in the order of their
+  // first positions: a count per block, then the blocks' offsets.
+  std::vector<u32> rep(np);
+  const std::size_t blocks = (np + kBlock - 1) / kBlock;
+  std::vector<u32> firsts(blocks + 1, 0);
+  parallel_for(0, blocks, [&](std::size_t b) {
+    u32 n = 0;
+    for (std::size_t g = b * kBlock; g < std::min(np, (b + 1) * kBlock); ++g) {
+      rep[g] = static_cast<u32>(table[slot_of[g]].load(std::memory_order_relaxed) & 0xffffffffu);
+      n += rep[g] == g;
+    }
+    firsts[b + 1] = n;
+  });
+  for (std::size_t b = 0; b < blocks; ++b) firsts[b + 1] += firsts[b];
+  s.verts.resize(firsts[blocks]);
+  std::vector<u32> id(np);
+  parallel_for(0, blocks, [&](std::size_t b) {
+    u32 next = firsts[b];
+    for (std::size_t g = b * kBlock; g < std::min(np, (b + 1) * kBlock); ++g)
+      if (rep[g] == g) {
+        s.verts[next] = all[g];
+        id[g] = next++;
+      }
+  });
+  // A class's index is its first position's, which precedes every other of its positions.
+  parallel_for(0, blocks, [&](std::size_t b) {
+    for (std::size_t g = b * kBlock; g < std::min(np, (b + 1) * kBlock); ++g)
+      if (rep[g] != g) id[g] = id[rep[g]];
+  });
+  s.poll();
+  s.tris.resize(nt);
+  s.operand.resize(nt);
+  s.local.resize(nt);
+  s.face_id.resize(nt);
+  parallel_for(0, nops, [&](std::size_t o) {
+    const Mesh& m = *operands[o];
+    const u32* map = id.data() + vbase[o];
+    parallel_for(0, (m.triangles.size() + kBlock - 1) / kBlock, [&](std::size_t b) {
+      for (std::size_t t = b * kBlock; t < std::min(m.triangles.size(), (b + 1) * kBlock); ++t) {
+        const auto& tr = m.triangles[t];
+        const std::size_t x = tbase[o] + t;
+        s.tris[x] = {map[tr[0]], map[tr[1]], map[tr[2]]};
+        s.operand[x] = static_cast<std::int32_t>(o);
+        s.local[x] = static_cast<std::int32_t>(t);
+        s.face_id[x] = m.face_ids.empty() ? -1 : m.face_ids[t];
+      }
+    });
+  });
+  s.axis.resize(nt);
+  s.axis_sign.resize(nt);
+  parallel_for(0, nt, [&](std::size_t t) { set_axis(s, t); });
   return s;
 }
 

@@ -19,6 +19,8 @@
 #include <tbb/global_control.h>
 
 #include "csg/boolean.h"
+#include "csg/boolean_impl.h"
+#include <chrono>
 #include "kernel/transform.h"
 #include "tests/support/boolean_cases.h"
 #include "kernel/memory.h"
@@ -93,6 +95,21 @@ int main(int argc, char** argv) {
   if (all || which == "menger") run("Menger sponge, level 3", BooleanOp::Difference, menger_operands(3));
   if (all || which == "sph65") run("spheres 65k, union", BooleanOp::Union, overlapping_spheres(65536));
   if (which == "sph1m") run("spheres 1M, union", BooleanOp::Union, overlapping_spheres(1048576));
+  if (which == "soup") {
+    const auto ops = overlapping_spheres(1048576);
+    std::vector<const Mesh*> p;
+    for (const auto& m : ops) p.push_back(&m);
+    double best = 1e300;
+    std::size_t nv = 0;
+    for (int i = 0; i < g_repeats; ++i) {
+      const auto t0 = std::chrono::steady_clock::now();
+      const auto s = boolean_detail::make_soup(p, nullptr);
+      best = std::min(best, std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+      nv = s.verts.size();
+    }
+    std::printf("make_soup, two 1M spheres: %.1f ms (%zu vertices)\n", best, nv);
+  }
+  if (which == "sph1md") run("spheres 1M, difference", BooleanOp::Difference, overlapping_spheres(1048576));
   if (all || which == "classic") {
     const std::vector<Mesh> ops = classic_figure_operands(16384, 128);
     const Mesh a = run("classic figure: cube n sphere", BooleanOp::Intersection, {ops[0], ops[1]});
