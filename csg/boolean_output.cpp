@@ -508,16 +508,24 @@ std::size_t merge_flat(const Points& pts, std::vector<std::array<u32, 3>>& tris,
   const std::size_t np = pts.size();
   // The candidates: the vertices of pieces that are not their whole source triangle (the rest of
   // an operand is left as it came).
+  // (The passes over every triangle run in parallel blocks, flags set by relaxed atomic stores:
+  // on two 1M-triangle spheres they were most of this function.)
+  constexpr std::size_t kBlock = 16384;
+  auto mark = [](std::vector<char>& flag, const std::array<u32, 3>& T) {
+    for (u32 v : T) std::atomic_ref<char>(flag[v]).store(1, std::memory_order_relaxed);
+  };
   std::vector<char> candidate(np, 0);
-  for (std::size_t t = 0; t < tris.size(); ++t) {
-    const auto& T = tris[t];
-    const auto& S = soup.tris[src[t]];
-    for (u32 v : T)
-      if (v != S[0] && v != S[1] && v != S[2]) {
-        candidate[T[0]] = candidate[T[1]] = candidate[T[2]] = 1;
-        break;
-      }
-  }
+  parallel_for(0, (tris.size() + kBlock - 1) / kBlock, [&](std::size_t b) {
+    for (std::size_t t = b * kBlock; t < std::min(tris.size(), (b + 1) * kBlock); ++t) {
+      const auto& T = tris[t];
+      const auto& S = soup.tris[src[t]];
+      for (u32 v : T)
+        if (v != S[0] && v != S[1] && v != S[2]) {
+          mark(candidate, T);
+          break;
+        }
+    }
+  });
   std::vector<u32> cands;
   for (std::size_t v = 0; v < np; ++v)
     if (candidate[v]) cands.push_back(static_cast<u32>(v));
@@ -540,19 +548,39 @@ std::size_t merge_flat(const Points& pts, std::vector<std::array<u32, 3>>& tris,
     // Triangles around each point (counting sort), per pass: for the points whose lists are
     // read, the candidates and their neighbours (on a million-triangle result most points are
     // neither, and listing every point's triangles was most of this function).
+    const std::size_t blocks = (nt + kBlock - 1) / kBlock;
     std::vector<char> near(np, 0);
-    for (const auto& T : tris)
-      if (candidate[T[0]] || candidate[T[1]] || candidate[T[2]]) near[T[0]] = near[T[1]] = near[T[2]] = 1;
+    parallel_for(0, blocks, [&](std::size_t b) {
+      for (std::size_t t = b * kBlock; t < std::min(nt, (b + 1) * kBlock); ++t) {
+        const auto& T = tris[t];
+        if (candidate[T[0]] || candidate[T[1]] || candidate[T[2]]) mark(near, T);
+      }
+    });
+    // The triangles with a point whose list is made (the only ones in a list), in order.
+    std::vector<u32> listed_from(blocks + 1, 0);
+    parallel_for(0, blocks, [&](std::size_t b) {
+      u32 n = 0;
+      for (std::size_t t = b * kBlock; t < std::min(nt, (b + 1) * kBlock); ++t)
+        n += near[tris[t][0]] || near[tris[t][1]] || near[tris[t][2]];
+      listed_from[b + 1] = n;
+    });
+    for (std::size_t b = 0; b < blocks; ++b) listed_from[b + 1] += listed_from[b];
+    std::vector<u32> listed(listed_from[blocks]);
+    parallel_for(0, blocks, [&](std::size_t b) {
+      u32 n = listed_from[b];
+      for (std::size_t t = b * kBlock; t < std::min(nt, (b + 1) * kBlock); ++t)
+        if (near[tris[t][0]] || near[tris[t][1]] || near[tris[t][2]]) listed[n++] = static_cast<u32>(t);
+    });
     std::vector<u32> off(np + 1, 0);
-    for (const auto& T : tris)
-      for (u32 v : T) off[v + 1] += near[v];
+    for (u32 t : listed)
+      for (u32 v : tris[t]) off[v + 1] += near[v];
     for (std::size_t v = 0; v < np; ++v) off[v + 1] += off[v];
     std::vector<u32> around(off[np]);
     {
       std::vector<u32> next(off.begin(), off.end() - 1);
-      for (std::size_t t = 0; t < nt; ++t)
+      for (u32 t : listed)
         for (u32 v : tris[t])
-          if (near[v]) around[next[v]++] = static_cast<u32>(t);
+          if (near[v]) around[next[v]++] = t;
     }
     std::vector<char> locked(np, 0), gone(nt, 0), changed(np, 0);  // changed: in a triangle changed
     std::size_t collapsed = 0;
@@ -692,26 +720,46 @@ std::size_t merge_flat(const Points& pts, std::vector<std::array<u32, 3>>& tris,
     }
     if (!collapsed) break;
     removed += collapsed;
-    std::size_t w = 0;
-    for (std::size_t t = 0; t < nt; ++t) {
-      if (gone[t]) continue;
-      tris[w] = tris[t];
-      src[w] = src[t];
-      flipped[w] = flipped[t];
-      piece[w] = piece[t];
-      ++w;
+    // The triangles that stay, in order (into new arrays: blocks are copied in parallel).
+    std::vector<u32> kept_from(blocks + 1, 0);
+    parallel_for(0, blocks, [&](std::size_t b) {
+      u32 n = 0;
+      for (std::size_t t = b * kBlock; t < std::min(nt, (b + 1) * kBlock); ++t) n += !gone[t];
+      kept_from[b + 1] = n;
+    });
+    for (std::size_t b = 0; b < blocks; ++b) kept_from[b + 1] += kept_from[b];
+    {
+      const std::size_t w = kept_from[blocks];
+      std::vector<std::array<u32, 3>> tris2(w);
+      std::vector<u32> src2(w), piece2(w);
+      std::vector<char> flipped2(w);
+      parallel_for(0, blocks, [&](std::size_t b) {
+        u32 n = kept_from[b];
+        for (std::size_t t = b * kBlock; t < std::min(nt, (b + 1) * kBlock); ++t) {
+          if (gone[t]) continue;
+          tris2[n] = tris[t];
+          src2[n] = src[t];
+          flipped2[n] = flipped[t];
+          piece2[n] = piece[t];
+          ++n;
+        }
+      });
+      tris.swap(tris2);
+      src.swap(src2);
+      flipped.swap(flipped2);
+      piece.swap(piece2);
     }
-    tris.resize(w);
-    src.resize(w);
-    flipped.resize(w);
-    piece.resize(w);
     // The next pass looks again only at the candidates with a changed triangle around them or
     // around a neighbour: a candidate's decision reads its own triangles and its target's (a
     // neighbour), so the others would fail again (plate: 51 thousand candidates looked at in each
     // later pass for 10 collapses).
     std::vector<char> reach(np, 0);
-    for (const auto& T : tris)
-      if (changed[T[0]] || changed[T[1]] || changed[T[2]]) reach[T[0]] = reach[T[1]] = reach[T[2]] = 1;
+    parallel_for(0, (tris.size() + kBlock - 1) / kBlock, [&](std::size_t b) {
+      for (std::size_t t = b * kBlock; t < std::min(tris.size(), (b + 1) * kBlock); ++t) {
+        const auto& T = tris[t];
+        if (changed[T[0]] || changed[T[1]] || changed[T[2]]) mark(reach, T);
+      }
+    });
     std::size_t kept = 0;
     for (u32 v : cands) {
       candidate[v] = reach[v];
