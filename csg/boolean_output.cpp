@@ -584,7 +584,7 @@ std::size_t merge_flat(const Points& pts, std::vector<std::array<u32, 3>>& tris,
     }
     std::vector<char> locked(np, 0), gone(nt, 0), changed(np, 0);  // changed: in a triangle changed
     std::size_t collapsed = 0;
-    std::vector<u32> fan, order, targets, nbv, nbx, common, opposite;
+    std::vector<u32> fan, order, targets, nbx, opposite;
     std::vector<std::array<u32, 2>> ab;
     std::vector<char> group, used;
     for (std::size_t ci = 0; ci < cands.size(); ++ci) {
@@ -660,27 +660,32 @@ std::size_t merge_flat(const Points& pts, std::vector<std::array<u32, 3>>& tris,
       }
       for (u32 x : targets) {
         // Link condition: the neighbours v and x share are the third vertices of the two
-        // triangles on edge v x.
-        nbv.clear();
-        nbx.clear();
-        for (const auto& e : ab) nbv.push_back(e[0]);
+        // triangles on edge v x. (v's neighbours are each once in ab[.][0], the fan being closed;
+        // a few of each, so looked up by scanning.)
         if (locked[x]) continue;  // x has taken triangles this pass: its list is not complete
-        for (u32 i = off[x]; i < off[x + 1]; ++i)
-          if (!gone[around[i]])
-            for (u32 w : tris[around[i]])
-              if (w != x) nbx.push_back(w);
-        std::sort(nbv.begin(), nbv.end());
-        std::sort(nbx.begin(), nbx.end());
-        nbx.erase(std::unique(nbx.begin(), nbx.end()), nbx.end());
-        common.clear();
         opposite.clear();
-        std::set_intersection(nbv.begin(), nbv.end(), nbx.begin(), nbx.end(), std::back_inserter(common));
         for (std::size_t y = 0; y < n; ++y) {
           if (ab[y][0] == x) opposite.push_back(ab[y][1]);
           if (ab[y][1] == x) opposite.push_back(ab[y][0]);
         }
-        std::sort(opposite.begin(), opposite.end());
-        if (opposite.size() != 2 || common != opposite) continue;
+        if (opposite.size() != 2 || opposite[0] == opposite[1]) continue;
+        nbx.clear();
+        for (u32 i = off[x]; i < off[x + 1]; ++i)
+          if (!gone[around[i]])
+            for (u32 w : tris[around[i]])
+              if (w != x) nbx.push_back(w);
+        int shared = 0;
+        bool link = true;
+        for (const auto& e : ab) {
+          const u32 w = e[0];
+          if (std::find(nbx.begin(), nbx.end(), w) == nbx.end()) continue;
+          if (w != opposite[0] && w != opposite[1]) {
+            link = false;
+            break;
+          }
+          ++shared;
+        }
+        if (!link || shared != 2) continue;
         // Every remaining triangle keeps its orientation in its source's projection.
         bool keeps = true;
         for (std::size_t y = 0; y < n && keeps; ++y) {
