@@ -577,14 +577,31 @@ namespace {
 // grid would be too coarse or too busy to tell (huge triangles, one operand).
 std::vector<u32> near_other_operands(const Soup& soup) {
   const std::size_t n = soup.tris.size();
-  std::vector<u32> all(n);
-  for (std::size_t i = 0; i < n; ++i) all[i] = static_cast<u32>(i);
-  if (soup.operands < 2 || n < 4096) return all;
+  constexpr std::size_t kBlock = 65536;
+  auto every = [&] {
+    std::vector<u32> all(n);
+    parallel_for(0, (n + kBlock - 1) / kBlock, [&](std::size_t b) {
+      for (std::size_t i = b * kBlock; i < std::min(n, (b + 1) * kBlock); ++i) all[i] = static_cast<u32>(i);
+    });
+    return all;
+  };
+  if (soup.operands < 2 || n < 4096) return every();
   double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
-  for (const Vec3& v : soup.verts)
-    for (int a = 0; a < 3; ++a) lo[a] = std::min(lo[a], v[a]), hi[a] = std::max(hi[a], v[a]);
+  {
+    // Per block, then merged (min and max: the same at any thread count).
+    const std::size_t nv = soup.verts.size(), vblocks = (nv + kBlock - 1) / kBlock;
+    std::vector<std::array<double, 6>> part(vblocks);
+    parallel_for(0, vblocks, [&](std::size_t b) {
+      std::array<double, 6> bb = {INFINITY, INFINITY, INFINITY, -INFINITY, -INFINITY, -INFINITY};
+      for (std::size_t i = b * kBlock; i < std::min(nv, (b + 1) * kBlock); ++i)
+        for (int a = 0; a < 3; ++a) bb[a] = std::min(bb[a], soup.verts[i][a]), bb[a + 3] = std::max(bb[a + 3], soup.verts[i][a]);
+      part[b] = bb;
+    });
+    for (const auto& bb : part)
+      for (int a = 0; a < 3; ++a) lo[a] = std::min(lo[a], bb[a]), hi[a] = std::max(hi[a], bb[a + 3]);
+  }
   const double extent = std::max({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]});
-  if (!(extent > 0) || !std::isfinite(extent)) return all;
+  if (!(extent > 0) || !std::isfinite(extent)) return every();
   const int g = static_cast<int>(std::clamp(1.5 * std::cbrt(static_cast<double>(n)), 8.0, 160.0));
   const double inv = g / extent;
   int dim[3];
@@ -608,12 +625,15 @@ std::vector<u32> near_other_operands(const Soup& soup) {
     }
     visits += local;
   });
-  if (visits.load() > 8 * n + 1000000) return all;
+  if (visits.load() > 8 * n + 1000000) return every();
   soup.poll();
   // Per cell: -1 untouched, the one operand that touches it, or -2 for several (the same at any
   // thread count: only the set of operands matters).
   std::vector<std::atomic<std::int32_t>> owner(static_cast<std::size_t>(dim[0]) * dim[1] * dim[2]);
-  for (auto& o : owner) o.store(-1, std::memory_order_relaxed);
+  parallel_for(0, (owner.size() + kBlock - 1) / kBlock, [&](std::size_t b) {
+    for (std::size_t i = b * kBlock; i < std::min(owner.size(), (b + 1) * kBlock); ++i)
+      owner[i].store(-1, std::memory_order_relaxed);
+  });
   auto for_cells = [&](const std::array<std::int16_t, 6>& r, auto&& f) {
     for (int x = r[0]; x <= r[3]; ++x)
       for (int y = r[1]; y <= r[4]; ++y)
@@ -636,9 +656,21 @@ std::vector<u32> near_other_operands(const Soup& soup) {
     for (std::size_t t = b * 4096; t < std::min(n, (b + 1) * 4096); ++t)
       keep[t] = !for_cells(range[t], [](const std::atomic<std::int32_t>& o) { return o.load(std::memory_order_relaxed) != -2; });
   });
-  std::vector<u32> out;
-  for (std::size_t t = 0; t < n; ++t)
-    if (keep[t]) out.push_back(static_cast<u32>(t));
+  // The kept triangles in order: per-block counts, then each block's ids in parallel.
+  const std::size_t blocks = (n + kBlock - 1) / kBlock;
+  std::vector<std::size_t> from(blocks + 1, 0);
+  parallel_for(0, blocks, [&](std::size_t b) {
+    std::size_t k = 0;
+    for (std::size_t t = b * kBlock; t < std::min(n, (b + 1) * kBlock); ++t) k += keep[t] != 0;
+    from[b + 1] = k;
+  });
+  for (std::size_t b = 0; b < blocks; ++b) from[b + 1] += from[b];
+  std::vector<u32> out(from[blocks]);
+  parallel_for(0, blocks, [&](std::size_t b) {
+    std::size_t w = from[b];
+    for (std::size_t t = b * kBlock; t < std::min(n, (b + 1) * kBlock); ++t)
+      if (keep[t]) out[w++] = static_cast<u32>(t);
+  });
   return out;
 }
 

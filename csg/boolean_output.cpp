@@ -782,18 +782,32 @@ BooleanResult assemble(const Points& pts, const Arrangement& arr, const std::vec
                        std::size_t* collapses, bool* unresolved, std::vector<u32>* crossing,
                        const std::vector<std::array<u32, 3>>* piece_adj, bool snap) {
   const Soup& soup = pts.soup();
-  std::vector<std::array<u32, 3>> tris;
-  std::vector<u32> src, piece;
-  std::vector<char> flipped;
-  for (std::size_t p = 0; p < arr.pieces.size(); ++p) {
-    if (!keep[p]) continue;
-    auto v = arr.pieces[p].v;
-    if (keep[p] < 0) std::swap(v[1], v[2]);
-    tris.push_back(v);
-    src.push_back(arr.pieces[p].tri);
-    flipped.push_back(keep[p] < 0);
-    piece.push_back(static_cast<u32>(p));
-  }
+  // The kept pieces, in order (per-block counts, then each block copied in parallel).
+  constexpr std::size_t kBlock = 65536;
+  const std::size_t npieces = arr.pieces.size(), pblocks = (npieces + kBlock - 1) / kBlock;
+  std::vector<u32> kept_from(pblocks + 1, 0);
+  parallel_for(0, pblocks, [&](std::size_t b) {
+    u32 n = 0;
+    for (std::size_t p = b * kBlock; p < std::min(npieces, (b + 1) * kBlock); ++p) n += keep[p] != 0;
+    kept_from[b + 1] = n;
+  });
+  for (std::size_t b = 0; b < pblocks; ++b) kept_from[b + 1] += kept_from[b];
+  std::vector<std::array<u32, 3>> tris(kept_from[pblocks]);
+  std::vector<u32> src(tris.size()), piece(tris.size());
+  std::vector<char> flipped(tris.size());
+  parallel_for(0, pblocks, [&](std::size_t b) {
+    u32 w = kept_from[b];
+    for (std::size_t p = b * kBlock; p < std::min(npieces, (b + 1) * kBlock); ++p) {
+      if (!keep[p]) continue;
+      auto v = arr.pieces[p].v;
+      if (keep[p] < 0) std::swap(v[1], v[2]);
+      tris[w] = v;
+      src[w] = arr.pieces[p].tri;
+      flipped[w] = keep[p] < 0;
+      piece[w] = static_cast<u32>(p);
+      ++w;
+    }
+  });
   merge_flat(pts, tris, src, flipped, piece);
   const std::size_t nt = tris.size();
 
@@ -823,9 +837,24 @@ BooleanResult assemble(const Points& pts, const Arrangement& arr, const std::vec
       }
     });
   }
+  // Where each triangle's records start: per block, then the blocks' offsets.
   std::vector<u32> first_rec(nt + 1, 0);
-  for (std::size_t t = 0; t < nt; ++t)
-    first_rec[t + 1] = first_rec[t] + (partner[t * 3] == kNone) + (partner[t * 3 + 1] == kNone) + (partner[t * 3 + 2] == kNone);
+  {
+    const std::size_t tblocks = (nt + kBlock - 1) / kBlock;
+    std::vector<u32> from(tblocks + 1, 0);
+    parallel_for(0, tblocks, [&](std::size_t b) {
+      u32 n = 0;
+      for (std::size_t t = b * kBlock; t < std::min(nt, (b + 1) * kBlock); ++t) {
+        n += (partner[t * 3] == kNone) + (partner[t * 3 + 1] == kNone) + (partner[t * 3 + 2] == kNone);
+        first_rec[t + 1] = n;
+      }
+      from[b + 1] = n;
+    });
+    for (std::size_t b = 0; b < tblocks; ++b) from[b + 1] += from[b];
+    parallel_for(0, tblocks, [&](std::size_t b) {
+      for (std::size_t t = b * kBlock; t < std::min(nt, (b + 1) * kBlock); ++t) first_rec[t + 1] += from[b];
+    });
+  }
   EdgeRecs half(first_rec[nt]);  // undirected key; value: corner-edge 3*t+e
   parallel_for(0, nt, [&](std::size_t t) {
     u32 r = first_rec[t];
@@ -906,8 +935,14 @@ BooleanResult assemble(const Points& pts, const Arrangement& arr, const std::vec
       }
     }
   });
-  for (std::size_t c = 0; c < partner.size(); ++c)
-    if (partner[c] == kNone) fail("boolean: internal error: the result has an open edge");
+  {
+    std::atomic<bool> open{false};
+    parallel_for(0, (partner.size() + kBlock - 1) / kBlock, [&](std::size_t b) {
+      for (std::size_t c = b * kBlock; c < std::min(partner.size(), (b + 1) * kBlock); ++c)
+        if (partner[c] == kNone) open.store(true, std::memory_order_relaxed);
+    });
+    if (open.load()) fail("boolean: internal error: the result has an open edge");
+  }
 
   // Vertex copies: corners (3*t+k) at the same point joined across paired edges. A point none
   // of whose edges was sorted (all paired directly: whole triangles of one disk around an input
