@@ -162,8 +162,8 @@ Soup boolean_detail::make_soup(const std::vector<const Mesh*>& operands, const I
   const std::size_t np = vbase[nops], nt = tbase[nops];
   if (np >= (std::size_t(1) << 31)) fail("boolean: more than 2^31 positions in the operands");
   // Every position, -0 made 0 (so that equal positions have equal bits), with its hash.
-  std::vector<Vec3> all(np);
-  std::vector<std::uint64_t> hash(np);
+  std::vector<Vec3, NoInit<Vec3>> all(np);
+  std::vector<std::uint64_t, NoInit<std::uint64_t>> hash(np);
   constexpr std::size_t kBlock = 1 << 14;
   parallel_for(0, nops, [&](std::size_t o) {
     const Mesh& m = *operands[o];
@@ -183,13 +183,15 @@ Soup boolean_detail::make_soup(const std::vector<const Mesh*>& operands, const I
   // An entry: the hash's low 32 bits (a tag that settles most mismatches without reading the
   // position) and the class's lowest index; kEmpty where free.
   constexpr std::uint64_t kEmpty = ~std::uint64_t(0);
-  std::vector<std::atomic<std::uint64_t>> table(std::size_t(1) << bits);
+  // (Raw words under atomic_ref: a vector of atomics would be zeroed first, serially.)
+  std::vector<std::uint64_t, NoInit<std::uint64_t>> table(std::size_t(1) << bits);
+  auto entry = [&](std::size_t i) { return std::atomic_ref<std::uint64_t>(table[i]); };
   parallel_for(0, (table.size() + kBlock - 1) / kBlock, [&](std::size_t b) {
     for (std::size_t i = b * kBlock; i < std::min(table.size(), (b + 1) * kBlock); ++i)
-      table[i].store(kEmpty, std::memory_order_relaxed);
+      table[i] = kEmpty;
   });
   const std::size_t mask = table.size() - 1;
-  std::vector<u32> slot_of(np);
+  std::vector<u32, NoInit<u32>> slot_of(np);
   parallel_for(0, (np + kBlock - 1) / kBlock, [&](std::size_t b) {
     s.poll();
     const std::size_t end = std::min(np, (b + 1) * kBlock);
@@ -202,14 +204,14 @@ Soup boolean_detail::make_soup(const std::vector<const Mesh*>& operands, const I
       const std::uint64_t mine = tag << 32 | g;
       std::size_t slot = hash[g] >> (64 - bits);
       for (;;) {
-        std::uint64_t cur = table[slot].load(std::memory_order_relaxed);
+        std::uint64_t cur = entry(slot).load(std::memory_order_relaxed);
         if (cur == kEmpty) {
-          if (table[slot].compare_exchange_strong(cur, mine, std::memory_order_relaxed)) break;
+          if (entry(slot).compare_exchange_strong(cur, mine, std::memory_order_relaxed)) break;
           // Taken meanwhile: cur now holds what is there; look at it below.
         }
         if ((cur >> 32) == tag && all[cur & 0xffffffffu] == all[g]) {
           // g's class: keep its lowest index.
-          while ((cur & 0xffffffffu) > g && !table[slot].compare_exchange_weak(cur, mine, std::memory_order_relaxed)) {
+          while ((cur & 0xffffffffu) > g && !entry(slot).compare_exchange_weak(cur, mine, std::memory_order_relaxed)) {
           }
           break;
         }
@@ -221,20 +223,20 @@ Soup boolean_detail::make_soup(const std::vector<const Mesh*>& operands, const I
   s.poll();
   // Each position's class (its lowest index), and the classes numbered in the order of their
   // first positions: a count per block, then the blocks' offsets.
-  std::vector<u32> rep(np);
+  std::vector<u32, NoInit<u32>> rep(np);
   const std::size_t blocks = (np + kBlock - 1) / kBlock;
   std::vector<u32> firsts(blocks + 1, 0);
   parallel_for(0, blocks, [&](std::size_t b) {
     u32 n = 0;
     for (std::size_t g = b * kBlock; g < std::min(np, (b + 1) * kBlock); ++g) {
-      rep[g] = static_cast<u32>(table[slot_of[g]].load(std::memory_order_relaxed) & 0xffffffffu);
+      rep[g] = static_cast<u32>(table[slot_of[g]] & 0xffffffffu);
       n += rep[g] == g;
     }
     firsts[b + 1] = n;
   });
   for (std::size_t b = 0; b < blocks; ++b) firsts[b + 1] += firsts[b];
   s.verts.resize(firsts[blocks]);
-  std::vector<u32> id(np);
+  std::vector<u32, NoInit<u32>> id(np);
   parallel_for(0, blocks, [&](std::size_t b) {
     u32 next = firsts[b];
     for (std::size_t g = b * kBlock; g < std::min(np, (b + 1) * kBlock); ++g)
