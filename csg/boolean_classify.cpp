@@ -17,7 +17,6 @@
 // Coplanar pieces of several operands that are kept are kept once: by the lowest operand.
 #include <algorithm>
 #include <atomic>
-#include <bit>
 #include <cmath>
 #include <numeric>
 
@@ -115,8 +114,26 @@ std::vector<std::int8_t> classify(const Points& pts, const Arrangement& arr, Boo
       }
     });
   }
+  // Where each piece's records start (its edges not joined directly): per block of pieces, then
+  // the blocks' offsets.
+  constexpr std::size_t kBlock = 65536;
+  const std::size_t blocks = (np + kBlock - 1) / kBlock;
   std::vector<u32> first_rec(np + 1, 0);
-  for (std::size_t i = 0; i < np; ++i) first_rec[i + 1] = first_rec[i] + 3 - std::popcount(static_cast<unsigned>(direct[i]));
+  {
+    std::vector<u32> from(blocks + 1, 0);
+    parallel_for(0, blocks, [&](std::size_t b) {
+      u32 n = 0;
+      for (std::size_t i = b * kBlock; i < std::min(np, (b + 1) * kBlock); ++i) {
+        n += 3u - (direct[i] & 1u) - (direct[i] >> 1 & 1u) - (direct[i] >> 2 & 1u);
+        first_rec[i + 1] = n;
+      }
+      from[b + 1] = n;
+    });
+    for (std::size_t b = 0; b < blocks; ++b) from[b + 1] += from[b];
+    parallel_for(0, blocks, [&](std::size_t b) {
+      for (std::size_t i = b * kBlock; i < std::min(np, (b + 1) * kBlock); ++i) first_rec[i + 1] += from[b];
+    });
+  }
   EdgeRecs half(first_rec[np]);
   parallel_for(0, np, [&](std::size_t i) {
     u32 r = first_rec[i];
@@ -134,13 +151,23 @@ std::vector<std::int8_t> classify(const Points& pts, const Arrangement& arr, Boo
       dsu.unite_shared(half[i].value, half[i + 1].value);
   });
   std::vector<u32> patch_of(np);
-  parallel_for(0, (np + 65535) / 65536, [&](std::size_t b) {
-    for (std::size_t i = b * 65536; i < std::min(np, (b + 1) * 65536); ++i) patch_of[i] = dsu.find_shared(static_cast<u32>(i));
+  std::vector<u32> reps_from(blocks + 1, 0);
+  parallel_for(0, blocks, [&](std::size_t b) {
+    u32 n = 0;
+    for (std::size_t i = b * kBlock; i < std::min(np, (b + 1) * kBlock); ++i) {
+      patch_of[i] = dsu.find_shared(static_cast<u32>(i));
+      n += patch_of[i] == i;
+    }
+    reps_from[b + 1] = n;
   });
-  std::vector<u32> reps;  // representative piece per patch (its smallest piece)
   soup.poll();
-  for (std::size_t i = 0; i < np; ++i)
-    if (patch_of[i] == i) reps.push_back(static_cast<u32>(i));
+  for (std::size_t b = 0; b < blocks; ++b) reps_from[b + 1] += reps_from[b];
+  std::vector<u32> reps(reps_from[blocks]);  // representative piece per patch (its smallest piece), in order
+  parallel_for(0, blocks, [&](std::size_t b) {
+    u32 n = reps_from[b];
+    for (std::size_t i = b * kBlock; i < std::min(np, (b + 1) * kBlock); ++i)
+      if (patch_of[i] == i) reps[n++] = static_cast<u32>(i);
+  });
 
   // A tree per operand, for the vertical rays, and each operand's box: a point outside the box
   // has winding number 0 there, so the operand's tree need not be looked at (a ray through a
@@ -411,7 +438,9 @@ std::vector<std::int8_t> classify(const Points& pts, const Arrangement& arr, Boo
     patch_keep[pi] = keep;
   });
   std::vector<std::int8_t> keep(np);
-  for (std::size_t p = 0; p < np; ++p) keep[p] = patch_keep[patch_of[p]];
+  parallel_for(0, blocks, [&](std::size_t b) {
+    for (std::size_t p = b * kBlock; p < std::min(np, (b + 1) * kBlock); ++p) keep[p] = patch_keep[patch_of[p]];
+  });
   return keep;
 }
 
