@@ -3,9 +3,11 @@
 // test_boolean_oracle.cpp.
 #include <CGAL/Gmpq.h>
 #include <catch2/catch.hpp>
+#include <tbb/global_control.h>
 
 #include <atomic>
 #include <cmath>
+#include <map>
 #include <random>
 
 #include "csg/boolean.h"
@@ -968,4 +970,57 @@ TEST_CASE("boolean: a sphere and its copy turned by 1e-14 degrees, vertices a ro
   REQUIRE_NOTHROW(u = boolean(BooleanOp::Union, {&a, &b}));
   CHECK(u.mesh.volume() == Approx(va).epsilon(1e-12));
   CHECK(mesh_solid_defect(u.mesh).empty());  // closed, manifold, outward, no self-intersection (exact)
+}
+
+TEST_CASE("boolean: make_soup welds equal positions into the vertices a serial pass numbers, at any thread count",
+          "[boolean]") {
+  using namespace boolean_detail;
+  // Three operands of 40,000 positions each (several of make_soup's parallel blocks), half of
+  // them drawn from a pool of 343 positions (equal positions within an operand, across operands
+  // and across blocks, -0 beside 0), half distinct; triangles on random indices.
+  std::mt19937 rng(7);
+  const double pool[7] = {-1.0, -0.0, 0.0, 0.5, 1.0, 2.5, 1e-300};
+  std::uniform_int_distribution<int> pick(0, 6), coin(0, 1);
+  std::uniform_real_distribution<double> any(-10, 10);
+  std::vector<Mesh> ms(3);
+  std::size_t distinct = 0;  // positions drawn outside the pool
+  for (Mesh& m : ms) {
+    for (int v = 0; v < 40000; ++v) {
+      const bool from_pool = coin(rng);
+      distinct += !from_pool;
+      m.positions.push_back(from_pool ? Vec3(pool[pick(rng)], pool[pick(rng)], pool[pick(rng)])
+                                      : Vec3(any(rng), any(rng), any(rng)));
+    }
+    std::uniform_int_distribution<std::uint32_t> idx(0, 39999);
+    for (int t = 0; t < 30000; ++t) m.triangles.push_back({idx(rng), idx(rng), idx(rng)});
+  }
+  const std::vector<const Mesh*> ops{&ms[0], &ms[1], &ms[2]};
+  // The reference: one serial pass, a vertex per new position (-0 as 0) in the order met.
+  std::map<std::array<double, 3>, std::uint32_t> seen;
+  std::vector<Vec3> verts;
+  std::vector<std::array<std::uint32_t, 3>> tris;
+  for (const Mesh* m : ops) {
+    std::vector<std::uint32_t> id(m->positions.size());
+    for (std::size_t v = 0; v < m->positions.size(); ++v) {
+      const Vec3& p = m->positions[v];
+      const std::array<double, 3> key{p.x() + 0.0, p.y() + 0.0, p.z() + 0.0};
+      auto [it, fresh] = seen.emplace(key, static_cast<std::uint32_t>(verts.size()));
+      if (fresh) verts.push_back(Vec3(key[0], key[1], key[2]));
+      id[v] = it->second;
+    }
+    for (const auto& T : m->triangles) tris.push_back({id[T[0]], id[T[1]], id[T[2]]});
+  }
+  REQUIRE(verts.size() > distinct);
+  REQUIRE(verts.size() <= distinct + 343);  // the pool's positions, drawn some 60,000 times, were welded
+  for (int threads : {1, 2}) {
+    tbb::global_control gc(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
+    const Soup soup = make_soup(ops);
+    REQUIRE(soup.verts.size() == verts.size());
+    CHECK(soup.verts == verts);
+    CHECK(soup.tris == tris);
+    for (const Vec3& p : soup.verts)
+      for (int i = 0; i < 3; ++i) CHECK_FALSE((std::signbit(p[i]) && p[i] == 0));
+    CHECK(soup.operand[30000] == 1);
+    CHECK(soup.local[30001] == 1);
+  }
 }
