@@ -691,6 +691,12 @@ std::vector<std::int8_t> classify(const Points& pts, const Arrangement& arr, Boo
 std::size_t collapse_short_edges(BooleanResult& r, double tau);
 // The triangles `ids` of m (in that order) with the positions they use.
 Mesh sub_mesh(const Mesh& m, const std::vector<u32>& ids);
+// Collapses the cut vertices that lie inside one flat region or on one straight crease of the
+// kept pieces (tris, with their sources, flips and pieces), where the surface stays the same set
+// of points and every triangle keeps its exact orientation (boolean_merge.cpp). Returns the
+// number of vertices removed.
+std::size_t merge_flat(const Points& pts, std::vector<std::array<u32, 3>>& tris, std::vector<u32>& src,
+                       std::vector<char>& flipped, std::vector<u32>& piece);
 BooleanResult assemble(const Points& pts, const Arrangement& arr, const std::vector<std::int8_t>& keep,
                        std::size_t* collapses = nullptr, bool* unresolved = nullptr,
                        std::vector<u32>* crossing = nullptr,
