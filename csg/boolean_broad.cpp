@@ -580,8 +580,8 @@ std::vector<u32> near_other_operands(const Soup& soup) {
   constexpr std::size_t kBlock = 65536;
   auto every = [&] {
     std::vector<u32> all(n);
-    parallel_for(0, (n + kBlock - 1) / kBlock, [&](std::size_t b) {
-      for (std::size_t i = b * kBlock; i < std::min(n, (b + 1) * kBlock); ++i) all[i] = static_cast<u32>(i);
+    parallel_blocks(n, kBlock, [&](std::size_t lo, std::size_t hi) {
+      for (std::size_t i = lo; i < hi; ++i) all[i] = static_cast<u32>(i);
     });
     return all;
   };
@@ -610,9 +610,9 @@ std::vector<u32> near_other_operands(const Soup& soup) {
   // Cell ranges of every triangle; give up when they would visit too many cells.
   std::vector<std::array<std::int16_t, 6>> range(n);
   std::atomic<std::size_t> visits{0};
-  parallel_for(0, (n + 4095) / 4096, [&](std::size_t b) {
+  parallel_blocks(n, 4096, [&](std::size_t lo, std::size_t hi) {
     std::size_t local = 0;
-    for (std::size_t t = b * 4096; t < std::min(n, (b + 1) * 4096); ++t) {
+    for (std::size_t t = lo; t < hi; ++t) {
       double blo[3], bhi[3];
       triangle_box(soup, static_cast<u32>(t), blo, bhi);
       std::size_t cells = 1;
@@ -630,8 +630,8 @@ std::vector<u32> near_other_operands(const Soup& soup) {
   // Per cell: -1 untouched, the one operand that touches it, or -2 for several (the same at any
   // thread count: only the set of operands matters).
   std::vector<std::atomic<std::int32_t>> owner(static_cast<std::size_t>(dim[0]) * dim[1] * dim[2]);
-  parallel_for(0, (owner.size() + kBlock - 1) / kBlock, [&](std::size_t b) {
-    for (std::size_t i = b * kBlock; i < std::min(owner.size(), (b + 1) * kBlock); ++i)
+  parallel_blocks(owner.size(), kBlock, [&](std::size_t lo, std::size_t hi) {
+    for (std::size_t i = lo; i < hi; ++i)
       owner[i].store(-1, std::memory_order_relaxed);
   });
   auto for_cells = [&](const std::array<std::int16_t, 6>& r, auto&& f) {
@@ -641,8 +641,8 @@ std::vector<u32> near_other_operands(const Soup& soup) {
           if (!f(owner[(static_cast<std::size_t>(x) * dim[1] + y) * dim[2] + z])) return false;
     return true;
   };
-  parallel_for(0, (n + 4095) / 4096, [&](std::size_t b) {
-    for (std::size_t t = b * 4096; t < std::min(n, (b + 1) * 4096); ++t) {
+  parallel_blocks(n, 4096, [&](std::size_t lo, std::size_t hi) {
+    for (std::size_t t = lo; t < hi; ++t) {
       const std::int32_t op = soup.operand[t];
       for_cells(range[t], [&](std::atomic<std::int32_t>& o) {
         claim(o, op);
@@ -652,23 +652,19 @@ std::vector<u32> near_other_operands(const Soup& soup) {
   });
   soup.poll();
   std::vector<char> keep(n);
-  parallel_for(0, (n + 4095) / 4096, [&](std::size_t b) {
-    for (std::size_t t = b * 4096; t < std::min(n, (b + 1) * 4096); ++t)
+  parallel_blocks(n, 4096, [&](std::size_t lo, std::size_t hi) {
+    for (std::size_t t = lo; t < hi; ++t)
       keep[t] = !for_cells(range[t], [](const std::atomic<std::int32_t>& o) { return o.load(std::memory_order_relaxed) != -2; });
   });
   // The kept triangles in order: per-block counts, then each block's ids in parallel.
-  const std::size_t blocks = (n + kBlock - 1) / kBlock;
-  std::vector<std::size_t> from(blocks + 1, 0);
-  parallel_for(0, blocks, [&](std::size_t b) {
+  const auto from = block_starts(n, kBlock, [&](std::size_t lo, std::size_t hi) {
     std::size_t k = 0;
-    for (std::size_t t = b * kBlock; t < std::min(n, (b + 1) * kBlock); ++t) k += keep[t] != 0;
-    from[b + 1] = k;
+    for (std::size_t t = lo; t < hi; ++t) k += keep[t] != 0;
+    return k;
   });
-  for (std::size_t b = 0; b < blocks; ++b) from[b + 1] += from[b];
-  std::vector<u32> out(from[blocks]);
-  parallel_for(0, blocks, [&](std::size_t b) {
-    std::size_t w = from[b];
-    for (std::size_t t = b * kBlock; t < std::min(n, (b + 1) * kBlock); ++t)
+  std::vector<u32> out(from.back());
+  fill_blocks(from, n, kBlock, [&](std::size_t lo, std::size_t hi, std::size_t w) {
+    for (std::size_t t = lo; t < hi; ++t)
       if (keep[t]) out[w++] = static_cast<u32>(t);
   });
   return out;

@@ -114,26 +114,12 @@ std::vector<std::int8_t> classify(const Points& pts, const Arrangement& arr, Boo
       }
     });
   }
-  // Where each piece's records start (its edges not joined directly): per block of pieces, then
-  // the blocks' offsets.
+  // Where each piece's records start (its edges not joined directly).
   constexpr std::size_t kBlock = 65536;
-  const std::size_t blocks = (np + kBlock - 1) / kBlock;
-  std::vector<u32> first_rec(np + 1, 0);
-  {
-    std::vector<u32> from(blocks + 1, 0);
-    parallel_for(0, blocks, [&](std::size_t b) {
-      u32 n = 0;
-      for (std::size_t i = b * kBlock; i < std::min(np, (b + 1) * kBlock); ++i) {
-        n += 3u - (direct[i] & 1u) - (direct[i] >> 1 & 1u) - (direct[i] >> 2 & 1u);
-        first_rec[i + 1] = n;
-      }
-      from[b + 1] = n;
-    });
-    for (std::size_t b = 0; b < blocks; ++b) from[b + 1] += from[b];
-    parallel_for(0, blocks, [&](std::size_t b) {
-      for (std::size_t i = b * kBlock; i < std::min(np, (b + 1) * kBlock); ++i) first_rec[i + 1] += from[b];
-    });
-  }
+  std::vector<u32> first_rec;
+  parallel_prefix(first_rec, np, kBlock, [&](std::size_t i) {
+    return 3u - (direct[i] & 1u) - (direct[i] >> 1 & 1u) - (direct[i] >> 2 & 1u);
+  });
   EdgeRecs half(first_rec[np]);
   parallel_for(0, np, [&](std::size_t i) {
     u32 r = first_rec[i];
@@ -151,21 +137,18 @@ std::vector<std::int8_t> classify(const Points& pts, const Arrangement& arr, Boo
       dsu.unite_shared(half[i].value, half[i + 1].value);
   });
   std::vector<u32> patch_of(np);
-  std::vector<u32> reps_from(blocks + 1, 0);
-  parallel_for(0, blocks, [&](std::size_t b) {
-    u32 n = 0;
-    for (std::size_t i = b * kBlock; i < std::min(np, (b + 1) * kBlock); ++i) {
+  const auto reps_from = block_starts(np, kBlock, [&](std::size_t lo, std::size_t hi) {
+    std::size_t n = 0;
+    for (std::size_t i = lo; i < hi; ++i) {
       patch_of[i] = dsu.find_shared(static_cast<u32>(i));
       n += patch_of[i] == i;
     }
-    reps_from[b + 1] = n;
+    return n;
   });
   soup.poll();
-  for (std::size_t b = 0; b < blocks; ++b) reps_from[b + 1] += reps_from[b];
-  std::vector<u32> reps(reps_from[blocks]);  // representative piece per patch (its smallest piece), in order
-  parallel_for(0, blocks, [&](std::size_t b) {
-    u32 n = reps_from[b];
-    for (std::size_t i = b * kBlock; i < std::min(np, (b + 1) * kBlock); ++i)
+  std::vector<u32> reps(reps_from.back());  // representative piece per patch (its smallest piece), in order
+  fill_blocks(reps_from, np, kBlock, [&](std::size_t lo, std::size_t hi, std::size_t n) {
+    for (std::size_t i = lo; i < hi; ++i)
       if (patch_of[i] == i) reps[n++] = static_cast<u32>(i);
   });
 
@@ -195,13 +178,13 @@ std::vector<std::int8_t> classify(const Points& pts, const Arrangement& arr, Boo
   std::vector<std::array<double, 6>> op_box(nops, {INFINITY, INFINITY, INFINITY, -INFINITY, -INFINITY, -INFINITY});
   {
     // Per block of triangles, then merged (min and max: the same at any thread count).
-    const std::size_t nt = soup.tris.size(), blocks = (nt + 65535) / 65536;
-    std::vector<std::vector<std::array<double, 6>>> part(blocks, op_box);
-    parallel_for(0, blocks, [&](std::size_t bi) {
-      for (std::size_t t = bi * 65536; t < std::min(nt, (bi + 1) * 65536); ++t) {
+    const std::size_t nt = soup.tris.size();
+    std::vector<std::vector<std::array<double, 6>>> part((nt + kBlock - 1) / kBlock, op_box);
+    parallel_blocks(nt, kBlock, [&](std::size_t from, std::size_t to) {
+      for (std::size_t t = from; t < to; ++t) {
         double lo[3], hi[3];
         triangle_box(soup, static_cast<u32>(t), lo, hi);
-        auto& b = part[bi][soup.operand[t]];
+        auto& b = part[from / kBlock][soup.operand[t]];
         for (int d = 0; d < 3; ++d) {
           b[d] = std::min(b[d], lo[d]);
           b[d + 3] = std::max(b[d + 3], hi[d]);
@@ -438,8 +421,8 @@ std::vector<std::int8_t> classify(const Points& pts, const Arrangement& arr, Boo
     patch_keep[pi] = keep;
   });
   std::vector<std::int8_t> keep(np);
-  parallel_for(0, blocks, [&](std::size_t b) {
-    for (std::size_t p = b * kBlock; p < std::min(np, (b + 1) * kBlock); ++p) keep[p] = patch_keep[patch_of[p]];
+  parallel_blocks(np, kBlock, [&](std::size_t lo, std::size_t hi) {
+    for (std::size_t p = lo; p < hi; ++p) keep[p] = patch_keep[patch_of[p]];
   });
   return keep;
 }

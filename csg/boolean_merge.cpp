@@ -34,8 +34,8 @@ std::size_t merge_flat(const Points& pts, std::vector<std::array<u32, 3>>& tris,
     for (u32 v : T) std::atomic_ref<char>(flag[v]).store(1, std::memory_order_relaxed);
   };
   std::vector<char> candidate(np, 0);
-  parallel_for(0, (tris.size() + kBlock - 1) / kBlock, [&](std::size_t b) {
-    for (std::size_t t = b * kBlock; t < std::min(tris.size(), (b + 1) * kBlock); ++t) {
+  parallel_blocks(tris.size(), kBlock, [&](std::size_t lo, std::size_t hi) {
+    for (std::size_t t = lo; t < hi; ++t) {
       const auto& T = tris[t];
       const auto& S = soup.tris[src[t]];
       for (u32 v : T)
@@ -67,28 +67,24 @@ std::size_t merge_flat(const Points& pts, std::vector<std::array<u32, 3>>& tris,
     // Triangles around each point (counting sort), per pass: for the points whose lists are
     // read, the candidates and their neighbours (on a million-triangle result most points are
     // neither, and listing every point's triangles was most of this function).
-    const std::size_t blocks = (nt + kBlock - 1) / kBlock;
     std::vector<char> near(np, 0);
-    parallel_for(0, blocks, [&](std::size_t b) {
-      for (std::size_t t = b * kBlock; t < std::min(nt, (b + 1) * kBlock); ++t) {
+    parallel_blocks(nt, kBlock, [&](std::size_t lo, std::size_t hi) {
+      for (std::size_t t = lo; t < hi; ++t) {
         const auto& T = tris[t];
         if (candidate[T[0]] || candidate[T[1]] || candidate[T[2]]) mark(near, T);
       }
     });
     // The triangles with a point whose list is made (the only ones in a list), in order.
-    std::vector<u32> listed_from(blocks + 1, 0);
-    parallel_for(0, blocks, [&](std::size_t b) {
-      u32 n = 0;
-      for (std::size_t t = b * kBlock; t < std::min(nt, (b + 1) * kBlock); ++t)
-        n += near[tris[t][0]] || near[tris[t][1]] || near[tris[t][2]];
-      listed_from[b + 1] = n;
+    auto is_near = [&](std::size_t t) { return near[tris[t][0]] || near[tris[t][1]] || near[tris[t][2]]; };
+    const auto listed_from = block_starts(nt, kBlock, [&](std::size_t lo, std::size_t hi) {
+      std::size_t n = 0;
+      for (std::size_t t = lo; t < hi; ++t) n += is_near(t);
+      return n;
     });
-    for (std::size_t b = 0; b < blocks; ++b) listed_from[b + 1] += listed_from[b];
-    std::vector<u32> listed(listed_from[blocks]);
-    parallel_for(0, blocks, [&](std::size_t b) {
-      u32 n = listed_from[b];
-      for (std::size_t t = b * kBlock; t < std::min(nt, (b + 1) * kBlock); ++t)
-        if (near[tris[t][0]] || near[tris[t][1]] || near[tris[t][2]]) listed[n++] = static_cast<u32>(t);
+    std::vector<u32> listed(listed_from.back());
+    fill_blocks(listed_from, nt, kBlock, [&](std::size_t lo, std::size_t hi, std::size_t n) {
+      for (std::size_t t = lo; t < hi; ++t)
+        if (is_near(t)) listed[n++] = static_cast<u32>(t);
     });
     std::vector<u32> off(np + 1, 0);
     for (u32 t : listed)
@@ -245,21 +241,18 @@ std::size_t merge_flat(const Points& pts, std::vector<std::array<u32, 3>>& tris,
     if (!collapsed) break;
     removed += collapsed;
     // The triangles that stay, in order (into new arrays: blocks are copied in parallel).
-    std::vector<u32> kept_from(blocks + 1, 0);
-    parallel_for(0, blocks, [&](std::size_t b) {
-      u32 n = 0;
-      for (std::size_t t = b * kBlock; t < std::min(nt, (b + 1) * kBlock); ++t) n += !gone[t];
-      kept_from[b + 1] = n;
+    const auto kept_from = block_starts(nt, kBlock, [&](std::size_t lo, std::size_t hi) {
+      std::size_t n = 0;
+      for (std::size_t t = lo; t < hi; ++t) n += !gone[t];
+      return n;
     });
-    for (std::size_t b = 0; b < blocks; ++b) kept_from[b + 1] += kept_from[b];
     {
-      const std::size_t w = kept_from[blocks];
+      const std::size_t w = kept_from.back();
       std::vector<std::array<u32, 3>> tris2(w);
       std::vector<u32> src2(w), piece2(w);
       std::vector<char> flipped2(w);
-      parallel_for(0, blocks, [&](std::size_t b) {
-        u32 n = kept_from[b];
-        for (std::size_t t = b * kBlock; t < std::min(nt, (b + 1) * kBlock); ++t) {
+      fill_blocks(kept_from, nt, kBlock, [&](std::size_t lo, std::size_t hi, std::size_t n) {
+        for (std::size_t t = lo; t < hi; ++t) {
           if (gone[t]) continue;
           tris2[n] = tris[t];
           src2[n] = src[t];
@@ -278,8 +271,8 @@ std::size_t merge_flat(const Points& pts, std::vector<std::array<u32, 3>>& tris,
     // neighbour), so the others would fail again (plate: 51 thousand candidates looked at in each
     // later pass for 10 collapses).
     std::vector<char> reach(np, 0);
-    parallel_for(0, (tris.size() + kBlock - 1) / kBlock, [&](std::size_t b) {
-      for (std::size_t t = b * kBlock; t < std::min(tris.size(), (b + 1) * kBlock); ++t) {
+    parallel_blocks(tris.size(), kBlock, [&](std::size_t lo, std::size_t hi) {
+      for (std::size_t t = lo; t < hi; ++t) {
         const auto& T = tris[t];
         if (changed[T[0]] || changed[T[1]] || changed[T[2]]) mark(reach, T);
       }

@@ -498,20 +498,17 @@ BooleanResult assemble(const Points& pts, const Arrangement& arr, const std::vec
   const Soup& soup = pts.soup();
   // The kept pieces, in order (per-block counts, then each block copied in parallel).
   constexpr std::size_t kBlock = 65536;
-  const std::size_t npieces = arr.pieces.size(), pblocks = (npieces + kBlock - 1) / kBlock;
-  std::vector<u32> kept_from(pblocks + 1, 0);
-  parallel_for(0, pblocks, [&](std::size_t b) {
-    u32 n = 0;
-    for (std::size_t p = b * kBlock; p < std::min(npieces, (b + 1) * kBlock); ++p) n += keep[p] != 0;
-    kept_from[b + 1] = n;
+  const std::size_t npieces = arr.pieces.size();
+  const auto kept_from = block_starts(npieces, kBlock, [&](std::size_t lo, std::size_t hi) {
+    std::size_t n = 0;
+    for (std::size_t p = lo; p < hi; ++p) n += keep[p] != 0;
+    return n;
   });
-  for (std::size_t b = 0; b < pblocks; ++b) kept_from[b + 1] += kept_from[b];
-  std::vector<std::array<u32, 3>> tris(kept_from[pblocks]);
+  std::vector<std::array<u32, 3>> tris(kept_from.back());
   std::vector<u32> src(tris.size()), piece(tris.size());
   std::vector<char> flipped(tris.size());
-  parallel_for(0, pblocks, [&](std::size_t b) {
-    u32 w = kept_from[b];
-    for (std::size_t p = b * kBlock; p < std::min(npieces, (b + 1) * kBlock); ++p) {
+  fill_blocks(kept_from, npieces, kBlock, [&](std::size_t lo, std::size_t hi, std::size_t w) {
+    for (std::size_t p = lo; p < hi; ++p) {
       if (!keep[p]) continue;
       auto v = arr.pieces[p].v;
       if (keep[p] < 0) std::swap(v[1], v[2]);
@@ -551,24 +548,11 @@ BooleanResult assemble(const Points& pts, const Arrangement& arr, const std::vec
       }
     });
   }
-  // Where each triangle's records start: per block, then the blocks' offsets.
-  std::vector<u32> first_rec(nt + 1, 0);
-  {
-    const std::size_t tblocks = (nt + kBlock - 1) / kBlock;
-    std::vector<u32> from(tblocks + 1, 0);
-    parallel_for(0, tblocks, [&](std::size_t b) {
-      u32 n = 0;
-      for (std::size_t t = b * kBlock; t < std::min(nt, (b + 1) * kBlock); ++t) {
-        n += (partner[t * 3] == kNone) + (partner[t * 3 + 1] == kNone) + (partner[t * 3 + 2] == kNone);
-        first_rec[t + 1] = n;
-      }
-      from[b + 1] = n;
-    });
-    for (std::size_t b = 0; b < tblocks; ++b) from[b + 1] += from[b];
-    parallel_for(0, tblocks, [&](std::size_t b) {
-      for (std::size_t t = b * kBlock; t < std::min(nt, (b + 1) * kBlock); ++t) first_rec[t + 1] += from[b];
-    });
-  }
+  // Where each triangle's records start (its edges not paired directly).
+  std::vector<u32> first_rec;
+  parallel_prefix(first_rec, nt, kBlock, [&](std::size_t t) {
+    return u32(partner[t * 3] == kNone) + (partner[t * 3 + 1] == kNone) + (partner[t * 3 + 2] == kNone);
+  });
   EdgeRecs half(first_rec[nt]);  // undirected key; value: corner-edge 3*t+e
   parallel_for(0, nt, [&](std::size_t t) {
     u32 r = first_rec[t];
@@ -651,8 +635,8 @@ BooleanResult assemble(const Points& pts, const Arrangement& arr, const std::vec
   });
   {
     std::atomic<bool> open{false};
-    parallel_for(0, (partner.size() + kBlock - 1) / kBlock, [&](std::size_t b) {
-      for (std::size_t c = b * kBlock; c < std::min(partner.size(), (b + 1) * kBlock); ++c)
+    parallel_blocks(partner.size(), kBlock, [&](std::size_t lo, std::size_t hi) {
+      for (std::size_t c = lo; c < hi; ++c)
         if (partner[c] == kNone) open.store(true, std::memory_order_relaxed);
     });
     if (open.load()) fail("boolean: internal error: the result has an open edge");
@@ -663,15 +647,15 @@ BooleanResult assemble(const Points& pts, const Arrangement& arr, const std::vec
   // vertex) has one copy, its smallest corner; the other points' corners are joined.
   soup.poll();
   std::vector<char> sorted_at(pts.size(), 0);
-  parallel_for(0, (half.size() + 65535) / 65536, [&](std::size_t b) {
-    for (std::size_t i = b * 65536; i < std::min(half.size(), (b + 1) * 65536); ++i) {
+  parallel_blocks(half.size(), 65536, [&](std::size_t lo, std::size_t hi) {
+    for (std::size_t i = lo; i < hi; ++i) {
       std::atomic_ref<char>(sorted_at[half[i].key >> 32]).store(1, std::memory_order_relaxed);
       std::atomic_ref<char>(sorted_at[half[i].key & 0xffffffffu]).store(1, std::memory_order_relaxed);
     }
   });
   std::vector<u32> least(pts.size(), kNone);  // per point with one copy: its smallest corner
-  parallel_for(0, (nt + 16383) / 16384, [&](std::size_t b) {
-    for (std::size_t c = b * 16384 * 3; c < std::min(nt, (b + 1) * 16384) * 3; ++c) {
+  parallel_blocks(nt, 16384, [&](std::size_t lo, std::size_t hi) {
+    for (std::size_t c = lo * 3; c < hi * 3; ++c) {
       const u32 v = tris[c / 3][c % 3];
       if (sorted_at[v]) continue;
       std::atomic_ref<u32> at(least[v]);
@@ -681,9 +665,9 @@ BooleanResult assemble(const Points& pts, const Arrangement& arr, const std::vec
     }
   });
   Dsu corners(nt * 3);
-  parallel_for(0, (nt + 16383) / 16384, [&](std::size_t b) {
+  parallel_blocks(nt, 16384, [&](std::size_t lo, std::size_t hi) {
     soup.poll();
-    for (std::size_t t = b * 16384; t < std::min(nt, (b + 1) * 16384); ++t)
+    for (std::size_t t = lo; t < hi; ++t)
       for (u32 e = 0; e < 3; ++e) {
         u32 c = partner[t * 3 + e];
         if (c < t * 3 + e) continue;  // the pair's other side joins the same corners
@@ -697,26 +681,23 @@ BooleanResult assemble(const Points& pts, const Arrangement& arr, const std::vec
   // the order of their roots (a count per block of corners, then the blocks' offsets).
   BooleanResult r;
   soup.poll();
-  const std::size_t nc = nt * 3, blocks = (nc + 65535) / 65536;
+  const std::size_t nc = nt * 3;
   std::vector<u32, NoInit<u32>> root(nc), index(nc);  // index: of roots only
-  std::vector<u32> first(blocks + 1, 0);
-  parallel_for(0, blocks, [&](std::size_t b) {
-    u32 n = 0;
-    for (std::size_t c = b * 65536; c < std::min(nc, (b + 1) * 65536); ++c) {
+  const auto first = block_starts(nc, 65536, [&](std::size_t lo, std::size_t hi) {
+    std::size_t n = 0;
+    for (std::size_t c = lo; c < hi; ++c) {
       const u32 v = tris[c / 3][c % 3];
       root[c] = sorted_at[v] ? corners.find_shared(static_cast<u32>(c)) : least[v];
       n += root[c] == c;
     }
-    first[b + 1] = n;
+    return n;
   });
-  for (std::size_t b = 0; b < blocks; ++b) first[b + 1] += first[b];
-  r.mesh.positions.resize(first[blocks]);
-  std::vector<char> moved(first[blocks]);  // the copies whose point rounding moved
-  parallel_for(0, blocks, [&](std::size_t b) {
-    u32 n = first[b];
-    for (std::size_t c = b * 65536; c < std::min(nc, (b + 1) * 65536); ++c)
+  r.mesh.positions.resize(first.back());
+  std::vector<char> moved(first.back());  // the copies whose point rounding moved
+  fill_blocks(first, nc, 65536, [&](std::size_t lo, std::size_t hi, std::size_t n) {
+    for (std::size_t c = lo; c < hi; ++c)
       if (root[c] == c) {
-        index[c] = n;
+        index[c] = static_cast<u32>(n);
         r.mesh.positions[n] = pts.approx(tris[c / 3][c % 3]);
         const u32 p = tris[c / 3][c % 3];
         moved[n++] = !pts.is_double(p) || (p < soup.movable.size() && soup.movable[p]);

@@ -64,8 +64,8 @@ Soup boolean_detail::make_soup(const std::vector<const Mesh*>& operands, const I
   constexpr std::size_t kBlock = 1 << 14;
   parallel_for(0, nops, [&](std::size_t o) {
     const Mesh& m = *operands[o];
-    parallel_for(0, (m.positions.size() + kBlock - 1) / kBlock, [&](std::size_t b) {
-      for (std::size_t v = b * kBlock; v < std::min(m.positions.size(), (b + 1) * kBlock); ++v) {
+    parallel_blocks(m.positions.size(), kBlock, [&](std::size_t lo, std::size_t hi) {
+      for (std::size_t v = lo; v < hi; ++v) {
         Vec3 p = m.positions[v];
         for (int i = 0; i < 3; ++i)
           if (p[i] == 0) p[i] = 0.0;
@@ -83,19 +83,16 @@ Soup boolean_detail::make_soup(const std::vector<const Mesh*>& operands, const I
   // (Raw words under atomic_ref: a vector of atomics would be zeroed first, serially.)
   std::vector<std::uint64_t, NoInit<std::uint64_t>> table(std::size_t(1) << bits);
   auto entry = [&](std::size_t i) { return std::atomic_ref<std::uint64_t>(table[i]); };
-  parallel_for(0, (table.size() + kBlock - 1) / kBlock, [&](std::size_t b) {
-    for (std::size_t i = b * kBlock; i < std::min(table.size(), (b + 1) * kBlock); ++i)
-      table[i] = kEmpty;
+  parallel_blocks(table.size(), kBlock, [&](std::size_t lo, std::size_t hi) {
+    for (std::size_t i = lo; i < hi; ++i) table[i] = kEmpty;
   });
   const std::size_t mask = table.size() - 1;
   std::vector<u32, NoInit<u32>> slot_of(np);
-  parallel_for(0, (np + kBlock - 1) / kBlock, [&](std::size_t b) {
+  parallel_blocks(np, kBlock, [&](std::size_t lo, std::size_t end) {
     s.poll();
-    const std::size_t end = std::min(np, (b + 1) * kBlock);
     constexpr std::size_t kAhead = 8;
-    for (std::size_t g = b * kBlock; g < std::min(end, b * kBlock + kAhead); ++g)
-      __builtin_prefetch(&table[hash[g] >> (64 - bits)]);
-    for (std::size_t g = b * kBlock; g < end; ++g) {
+    for (std::size_t g = lo; g < std::min(end, lo + kAhead); ++g) __builtin_prefetch(&table[hash[g] >> (64 - bits)]);
+    for (std::size_t g = lo; g < end; ++g) {
       if (g + kAhead < end) __builtin_prefetch(&table[hash[g + kAhead] >> (64 - bits)]);
       const std::uint64_t tag = hash[g] & 0xffffffffu;
       const std::uint64_t mine = tag << 32 | g;
@@ -121,30 +118,26 @@ Soup boolean_detail::make_soup(const std::vector<const Mesh*>& operands, const I
   // Each position's class (its lowest index), and the classes numbered in the order of their
   // first positions: a count per block, then the blocks' offsets.
   std::vector<u32, NoInit<u32>> rep(np);
-  const std::size_t blocks = (np + kBlock - 1) / kBlock;
-  std::vector<u32> firsts(blocks + 1, 0);
-  parallel_for(0, blocks, [&](std::size_t b) {
-    u32 n = 0;
-    for (std::size_t g = b * kBlock; g < std::min(np, (b + 1) * kBlock); ++g) {
+  const auto firsts = block_starts(np, kBlock, [&](std::size_t lo, std::size_t hi) {
+    std::size_t n = 0;
+    for (std::size_t g = lo; g < hi; ++g) {
       rep[g] = static_cast<u32>(table[slot_of[g]] & 0xffffffffu);
       n += rep[g] == g;
     }
-    firsts[b + 1] = n;
+    return n;
   });
-  for (std::size_t b = 0; b < blocks; ++b) firsts[b + 1] += firsts[b];
-  s.verts.resize(firsts[blocks]);
+  s.verts.resize(firsts.back());
   std::vector<u32, NoInit<u32>> id(np);
-  parallel_for(0, blocks, [&](std::size_t b) {
-    u32 next = firsts[b];
-    for (std::size_t g = b * kBlock; g < std::min(np, (b + 1) * kBlock); ++g)
+  fill_blocks(firsts, np, kBlock, [&](std::size_t lo, std::size_t hi, std::size_t next) {
+    for (std::size_t g = lo; g < hi; ++g)
       if (rep[g] == g) {
         s.verts[next] = all[g];
-        id[g] = next++;
+        id[g] = static_cast<u32>(next++);
       }
   });
   // A class's index is its first position's, which precedes every other of its positions.
-  parallel_for(0, blocks, [&](std::size_t b) {
-    for (std::size_t g = b * kBlock; g < std::min(np, (b + 1) * kBlock); ++g)
+  parallel_blocks(np, kBlock, [&](std::size_t lo, std::size_t hi) {
+    for (std::size_t g = lo; g < hi; ++g)
       if (rep[g] != g) id[g] = id[rep[g]];
   });
   s.poll();
@@ -155,8 +148,8 @@ Soup boolean_detail::make_soup(const std::vector<const Mesh*>& operands, const I
   parallel_for(0, nops, [&](std::size_t o) {
     const Mesh& m = *operands[o];
     const u32* map = id.data() + vbase[o];
-    parallel_for(0, (m.triangles.size() + kBlock - 1) / kBlock, [&](std::size_t b) {
-      for (std::size_t t = b * kBlock; t < std::min(m.triangles.size(), (b + 1) * kBlock); ++t) {
+    parallel_blocks(m.triangles.size(), kBlock, [&](std::size_t lo, std::size_t hi) {
+      for (std::size_t t = lo; t < hi; ++t) {
         const auto& tr = m.triangles[t];
         const std::size_t x = tbase[o] + t;
         s.tris[x] = {map[tr[0]], map[tr[1]], map[tr[2]]};
@@ -354,9 +347,9 @@ std::vector<u32> boolean_detail::sort_edges(EdgeRecs& recs, std::size_t n, const
   next.clear();
   poll();
   auto less = [](const EdgeRec& x, const EdgeRec& y) { return x.key < y.key || (x.key == y.key && x.value < y.value); };
-  parallel_for(0, (n + 4095) / 4096, [&](std::size_t block) {
+  parallel_blocks(n, 4096, [&](std::size_t lo, std::size_t hi) {
     poll();
-    for (std::size_t v = block * 4096; v < std::min(n, (block + 1) * 4096); ++v) {
+    for (std::size_t v = lo; v < hi; ++v) {
       EdgeRec* first = out.data() + off[v];
       EdgeRec* last = out.data() + off[v + 1];
       if (last - first <= 16) {

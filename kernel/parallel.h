@@ -1,7 +1,9 @@
 // Parallel helpers over oneTBB. Work items must be independent; exceptions thrown by a body
 // propagate to the caller (TBB rethrows the first one).
 #pragma once
+#include <algorithm>
 #include <cstddef>
+#include <vector>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -22,6 +24,46 @@ void parallel_for(std::size_t begin, std::size_t end, F&& body) {
   // tree, a missing block of the boolean's sums: a crash, for a tree with a failing operand beside
   // a busy one). It throws here instead; TBB keeps the first exception, so the sibling's is seen.
   if (tbb::is_current_task_group_canceling()) throw Error("parallel work cancelled by a failure beside it");
+}
+
+// body(lo, hi) for the blocks [lo, hi) of `block` items that cover [0, n), in parallel.
+template <class F>
+void parallel_blocks(std::size_t n, std::size_t block, F&& body) {
+  parallel_for(0, (n + block - 1) / block, [&](std::size_t b) { body(b * block, std::min(n, (b + 1) * block)); });
+}
+
+// The first half of a compaction whose output is in item order at any thread count:
+// count(lo, hi), in parallel over the blocks of `block` items of [0, n), says how many outputs a
+// block makes; returned are the blocks' starts in the output (one more than the blocks: the last
+// is the total). fill_blocks then writes each block's outputs from its start.
+template <class Count>
+std::vector<std::size_t> block_starts(std::size_t n, std::size_t block, Count&& count) {
+  const std::size_t blocks = (n + block - 1) / block;
+  std::vector<std::size_t> from(blocks + 1, 0);
+  parallel_for(0, blocks, [&](std::size_t b) { from[b + 1] = count(b * block, std::min(n, (b + 1) * block)); });
+  for (std::size_t b = 0; b < blocks; ++b) from[b + 1] += from[b];
+  return from;
+}
+
+// fill(lo, hi, start) for each block of block_starts(n, block, ...), in parallel.
+template <class Fill>
+void fill_blocks(const std::vector<std::size_t>& from, std::size_t n, std::size_t block, Fill&& fill) {
+  parallel_for(0, from.size() - 1, [&](std::size_t b) { fill(b * block, std::min(n, (b + 1) * block), from[b]); });
+}
+
+// out[0] = 0 and out[i + 1] = count(0) + ... + count(i) for i in [0, n) (where each item's
+// outputs start): sums within blocks of `block` items in parallel, then each block's start added.
+template <class T, class Count>
+void parallel_prefix(std::vector<T>& out, std::size_t n, std::size_t block, Count&& count) {
+  out.assign(n + 1, T(0));
+  const auto from = block_starts(n, block, [&](std::size_t lo, std::size_t hi) {
+    T sum = 0;
+    for (std::size_t i = lo; i < hi; ++i) out[i + 1] = sum += count(i);
+    return static_cast<std::size_t>(sum);
+  });
+  fill_blocks(from, n, block, [&](std::size_t lo, std::size_t hi, std::size_t start) {
+    for (std::size_t i = lo; i < hi; ++i) out[i + 1] += static_cast<T>(start);
+  });
 }
 
 }  // namespace wedge

@@ -5,10 +5,12 @@
 // must throw instead, and the sibling's exception must be the one the outer caller sees.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <stdexcept>
 #include <thread>
+#include <vector>
 
 #include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
@@ -51,4 +53,44 @@ TEST_CASE("a nested parallel_for cut short by a sibling's failure throws instead
   }
   CHECK(inner_done < kInner);  // the loop was cut short ...
   CHECK_FALSE(inner_returned);  // ... and said so
+}
+
+TEST_CASE("block compaction and prefix sums give the serial result, blocks of any size, at one and two threads",
+          "[kernel][parallel]") {
+  // Keep every item whose value is divisible by 3; each item counts value % 5 outputs.
+  std::vector<unsigned> value(100003);
+  for (std::size_t i = 0; i < value.size(); ++i) value[i] = static_cast<unsigned>((i * 2654435761u) >> 7);
+  std::vector<unsigned> kept_serial, prefix_serial{0};
+  for (unsigned v : value) {
+    if (v % 3 == 0) kept_serial.push_back(v);
+    prefix_serial.push_back(prefix_serial.back() + v % 5);
+  }
+  for (int threads : {1, 2})
+    for (std::size_t block : {std::size_t(1), std::size_t(7), std::size_t(4096), std::size_t(1) << 20}) {
+      tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
+      const auto from = block_starts(value.size(), block, [&](std::size_t lo, std::size_t hi) {
+        std::size_t n = 0;
+        for (std::size_t i = lo; i < hi; ++i) n += value[i] % 3 == 0;
+        return n;
+      });
+      REQUIRE(from.size() == (value.size() + block - 1) / block + 1);
+      std::vector<unsigned> kept(from.back());
+      fill_blocks(from, value.size(), block, [&](std::size_t lo, std::size_t hi, std::size_t w) {
+        for (std::size_t i = lo; i < hi; ++i)
+          if (value[i] % 3 == 0) kept[w++] = value[i];
+      });
+      CHECK(kept == kept_serial);
+      std::vector<unsigned> prefix;
+      parallel_prefix(prefix, value.size(), block, [&](std::size_t i) { return value[i] % 5; });
+      CHECK(prefix == prefix_serial);
+      std::vector<char> seen(value.size(), 0);
+      parallel_blocks(value.size(), block, [&](std::size_t lo, std::size_t hi) {
+        for (std::size_t i = lo; i < hi; ++i) ++seen[i];
+      });
+      CHECK(std::count(seen.begin(), seen.end(), 1) == static_cast<std::ptrdiff_t>(value.size()));
+    }
+  std::vector<unsigned> none;
+  parallel_prefix(none, 0, 64, [](std::size_t) { return 1u; });
+  CHECK(none == std::vector<unsigned>{0});
+  CHECK(block_starts(0, 64, [](std::size_t, std::size_t) { return std::size_t(1); }) == std::vector<std::size_t>{0});
 }
