@@ -490,11 +490,15 @@ std::vector<std::uint8_t> star_certificates(const Soup& soup, const CornerLists&
         // Winding number of the rim about v: the last step ends on the direction of a1 (one turn);
         // any earlier step that reaches or passes it adds a turn (a step ending on the line of a1
         // is not sorted out here: no certificate).
+        // (A step's start, orient(P, A1), is the last step's end orient(A1, P) negated: the
+        // predicate is exact, and swapping two points negates it. One orientation per step.)
         const Vec3& A1 = soup.verts[rim[0]];
+        int start = n > 2 ? -orient(A1, soup.verts[rim[1]]) : 0;
         for (std::size_t m = 1; m + 1 < n && ok; ++m) {
-          const Vec3 &P = soup.verts[rim[m]], &Q = soup.verts[rim[m + 1]];
-          if (s * orient(P, A1) <= 0) continue;  // the step starts on or past the direction of a1
-          if (s * orient(A1, Q) >= 0) ok = false;
+          const int end = orient(A1, soup.verts[rim[m + 1]]);
+          // A step that starts on or past the direction of a1 is passed over.
+          if (s * start > 0 && s * end >= 0) ok = false;
+          start = -end;
         }
         if (!ok) continue;
         for (u32 r = first; r < r1; ++r) {
