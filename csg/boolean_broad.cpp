@@ -504,7 +504,9 @@ std::vector<std::uint8_t> star_certificates(const Soup& soup, const CornerLists&
         for (u32 r = first; r < r1; ++r) {
           const u32 t = static_cast<u32>(cl.next[r]);
           const u32 c = soup.tris[t][0] == v ? 0 : (soup.tris[t][1] == v ? 1 : 2);
-          mask[t] |= static_cast<std::uint8_t>(1u << c);
+          // (A triangle's three corners are certified from three vertices, in any blocks: with a
+          // plain |= a bit set at the same time by another block could be lost.)
+          std::atomic_ref<std::uint8_t>(mask[t]).fetch_or(static_cast<std::uint8_t>(1u << c), std::memory_order_relaxed);
         }
       }
     }

@@ -407,6 +407,26 @@ TEST_CASE("boolean: operands seen one-to-one from their centre skip the pairwise
   CHECK(embedded({&m}) == std::vector<char>{0});
 }
 
+TEST_CASE("boolean: star certificates set every corner's bit at two threads, run after run", "[boolean]") {
+  // Each triangle's three corner bits are set from its three vertices, which parallel blocks of
+  // vertices certify at once. With a plain |= on the shared byte, one in about a hundred runs on
+  // these spheres lost a bit: the operand was then not seen as radially embedded and went to the
+  // pairwise self-check (some 30 million pairs for a 1M-triangle sphere: a boolean's time changed
+  // from run to run). Each run must certify both spheres whole.
+  tbb::global_control threads(tbb::global_control::max_allowed_parallelism, 2);
+  using namespace boolean_detail;
+  const Mesh a = sphere(Vec3(0, 0, 0), 1, 256), b = sphere(Vec3(0.5, 0.1, 0.2), 1, 256);
+  const Soup soup = make_soup({&a, &b});
+  const CornerLists corners = corner_lists(soup, nullptr);
+  int both = 0;
+  constexpr int kRuns = 600;
+  for (int run = 0; run < kRuns; ++run) {
+    const auto pass = radially_embedded(soup, nullptr, corners);
+    both += pass[0] && pass[1];
+  }
+  CHECK(both == kRuns);
+}
+
 TEST_CASE("boolean: a result fed back is known valid, any change to it is checked again", "[boolean]") {
   const Mesh a = cube(0, 0, 0, 2), b = cube(1, 1, 1, 2), c = cube(0.5, 0.5, -1, 1);
   BooleanStats st;
