@@ -493,7 +493,7 @@ std::vector<std::uint8_t> star_certificates(const Soup& soup, const CornerLists&
         // (A step's start, orient(P, A1), is the last step's end orient(A1, P) negated: the
         // predicate is exact, and swapping two points negates it. One orientation per step.)
         const Vec3& A1 = soup.verts[rim[0]];
-        int start = n > 2 ? -orient(A1, soup.verts[rim[1]]) : 0;
+        int start = -orient(A1, soup.verts[rim[1]]);  // a star has three spokes or more
         for (std::size_t m = 1; m + 1 < n && ok; ++m) {
           const int end = orient(A1, soup.verts[rim[m + 1]]);
           // A step that starts on or past the direction of a1 is passed over.
@@ -668,8 +668,8 @@ std::vector<u32> near_other_operands(const Soup& soup) {
     for (std::size_t t = lo; t < hi; ++t) k += keep[t] != 0;
     return k;
   });
-  std::vector<u32> out(from.back());
-  fill_blocks(from, n, kBlock, [&](std::size_t lo, std::size_t hi, std::size_t w) {
+  std::vector<u32> out(from.total());
+  fill_blocks(from, [&](std::size_t lo, std::size_t hi, std::size_t w) {
     for (std::size_t t = lo; t < hi; ++t)
       if (keep[t]) out[w++] = static_cast<u32>(t);
   });

@@ -114,7 +114,8 @@ std::vector<std::int8_t> classify(const Points& pts, const Arrangement& arr, Boo
       }
     });
   }
-  // Where each piece's records start (its edges not joined directly).
+  // Where each piece's records start (its edges not joined directly; three bits counted by hand:
+  // std::popcount was a libgcc call on this target).
   constexpr std::size_t kBlock = 65536;
   std::vector<u32> first_rec;
   parallel_prefix(first_rec, np, kBlock, [&](std::size_t i) {
@@ -146,8 +147,8 @@ std::vector<std::int8_t> classify(const Points& pts, const Arrangement& arr, Boo
     return n;
   });
   soup.poll();
-  std::vector<u32> reps(reps_from.back());  // representative piece per patch (its smallest piece), in order
-  fill_blocks(reps_from, np, kBlock, [&](std::size_t lo, std::size_t hi, std::size_t n) {
+  std::vector<u32> reps(reps_from.total());  // representative piece per patch (its smallest piece), in order
+  fill_blocks(reps_from, [&](std::size_t lo, std::size_t hi, std::size_t n) {
     for (std::size_t i = lo; i < hi; ++i)
       if (patch_of[i] == i) reps[n++] = static_cast<u32>(i);
   });

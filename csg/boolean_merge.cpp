@@ -81,8 +81,8 @@ std::size_t merge_flat(const Points& pts, std::vector<std::array<u32, 3>>& tris,
       for (std::size_t t = lo; t < hi; ++t) n += is_near(t);
       return n;
     });
-    std::vector<u32> listed(listed_from.back());
-    fill_blocks(listed_from, nt, kBlock, [&](std::size_t lo, std::size_t hi, std::size_t n) {
+    std::vector<u32> listed(listed_from.total());
+    fill_blocks(listed_from, [&](std::size_t lo, std::size_t hi, std::size_t n) {
       for (std::size_t t = lo; t < hi; ++t)
         if (is_near(t)) listed[n++] = static_cast<u32>(t);
     });
@@ -247,11 +247,11 @@ std::size_t merge_flat(const Points& pts, std::vector<std::array<u32, 3>>& tris,
       return n;
     });
     {
-      const std::size_t w = kept_from.back();
+      const std::size_t w = kept_from.total();
       std::vector<std::array<u32, 3>> tris2(w);
       std::vector<u32> src2(w), piece2(w);
       std::vector<char> flipped2(w);
-      fill_blocks(kept_from, nt, kBlock, [&](std::size_t lo, std::size_t hi, std::size_t n) {
+      fill_blocks(kept_from, [&](std::size_t lo, std::size_t hi, std::size_t n) {
         for (std::size_t t = lo; t < hi; ++t) {
           if (gone[t]) continue;
           tris2[n] = tris[t];

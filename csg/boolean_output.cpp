@@ -504,10 +504,10 @@ BooleanResult assemble(const Points& pts, const Arrangement& arr, const std::vec
     for (std::size_t p = lo; p < hi; ++p) n += keep[p] != 0;
     return n;
   });
-  std::vector<std::array<u32, 3>> tris(kept_from.back());
+  std::vector<std::array<u32, 3>> tris(kept_from.total());
   std::vector<u32> src(tris.size()), piece(tris.size());
   std::vector<char> flipped(tris.size());
-  fill_blocks(kept_from, npieces, kBlock, [&](std::size_t lo, std::size_t hi, std::size_t w) {
+  fill_blocks(kept_from, [&](std::size_t lo, std::size_t hi, std::size_t w) {
     for (std::size_t p = lo; p < hi; ++p) {
       if (!keep[p]) continue;
       auto v = arr.pieces[p].v;
@@ -692,9 +692,9 @@ BooleanResult assemble(const Points& pts, const Arrangement& arr, const std::vec
     }
     return n;
   });
-  r.mesh.positions.resize(first.back());
-  std::vector<char> moved(first.back());  // the copies whose point rounding moved
-  fill_blocks(first, nc, 65536, [&](std::size_t lo, std::size_t hi, std::size_t n) {
+  r.mesh.positions.resize(first.total());
+  std::vector<char> moved(first.total());  // the copies whose point rounding moved
+  fill_blocks(first, [&](std::size_t lo, std::size_t hi, std::size_t n) {
     for (std::size_t c = lo; c < hi; ++c)
       if (root[c] == c) {
         index[c] = static_cast<u32>(n);

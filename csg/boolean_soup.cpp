@@ -126,9 +126,9 @@ Soup boolean_detail::make_soup(const std::vector<const Mesh*>& operands, const I
     }
     return n;
   });
-  s.verts.resize(firsts.back());
+  s.verts.resize(firsts.total());
   std::vector<u32, NoInit<u32>> id(np);
-  fill_blocks(firsts, np, kBlock, [&](std::size_t lo, std::size_t hi, std::size_t next) {
+  fill_blocks(firsts, [&](std::size_t lo, std::size_t hi, std::size_t next) {
     for (std::size_t g = lo; g < hi; ++g)
       if (rep[g] == g) {
         s.verts[next] = all[g];

@@ -34,21 +34,28 @@ void parallel_blocks(std::size_t n, std::size_t block, F&& body) {
 
 // The first half of a compaction whose output is in item order at any thread count:
 // count(lo, hi), in parallel over the blocks of `block` items of [0, n), says how many outputs a
-// block makes; returned are the blocks' starts in the output (one more than the blocks: the last
-// is the total). fill_blocks then writes each block's outputs from its start.
+// block makes; block_starts returns where each block's outputs start. fill_blocks then writes
+// each block's outputs from its start, over the same blocks.
+struct BlockStarts {
+  std::size_t n = 0, block = 1;
+  std::vector<std::size_t> from;  // per block, its first output; one entry more: the total
+  std::size_t total() const { return from.back(); }
+};
+
 template <class Count>
-std::vector<std::size_t> block_starts(std::size_t n, std::size_t block, Count&& count) {
+BlockStarts block_starts(std::size_t n, std::size_t block, Count&& count) {
   const std::size_t blocks = (n + block - 1) / block;
-  std::vector<std::size_t> from(blocks + 1, 0);
-  parallel_for(0, blocks, [&](std::size_t b) { from[b + 1] = count(b * block, std::min(n, (b + 1) * block)); });
-  for (std::size_t b = 0; b < blocks; ++b) from[b + 1] += from[b];
-  return from;
+  BlockStarts s{n, block, std::vector<std::size_t>(blocks + 1, 0)};
+  parallel_for(0, blocks, [&](std::size_t b) { s.from[b + 1] = count(b * block, std::min(n, (b + 1) * block)); });
+  for (std::size_t b = 0; b < blocks; ++b) s.from[b + 1] += s.from[b];
+  return s;
 }
 
-// fill(lo, hi, start) for each block of block_starts(n, block, ...), in parallel.
+// fill(lo, hi, start) for each block of s, in parallel.
 template <class Fill>
-void fill_blocks(const std::vector<std::size_t>& from, std::size_t n, std::size_t block, Fill&& fill) {
-  parallel_for(0, from.size() - 1, [&](std::size_t b) { fill(b * block, std::min(n, (b + 1) * block), from[b]); });
+void fill_blocks(const BlockStarts& s, Fill&& fill) {
+  parallel_for(0, s.from.size() - 1,
+               [&](std::size_t b) { fill(b * s.block, std::min(s.n, (b + 1) * s.block), s.from[b]); });
 }
 
 // out[0] = 0 and out[i + 1] = count(0) + ... + count(i) for i in [0, n) (where each item's
@@ -61,7 +68,7 @@ void parallel_prefix(std::vector<T>& out, std::size_t n, std::size_t block, Coun
     for (std::size_t i = lo; i < hi; ++i) out[i + 1] = sum += count(i);
     return static_cast<std::size_t>(sum);
   });
-  fill_blocks(from, n, block, [&](std::size_t lo, std::size_t hi, std::size_t start) {
+  fill_blocks(from, [&](std::size_t lo, std::size_t hi, std::size_t start) {
     for (std::size_t i = lo; i < hi; ++i) out[i + 1] += static_cast<T>(start);
   });
 }

@@ -73,9 +73,9 @@ TEST_CASE("block compaction and prefix sums give the serial result, blocks of an
         for (std::size_t i = lo; i < hi; ++i) n += value[i] % 3 == 0;
         return n;
       });
-      REQUIRE(from.size() == (value.size() + block - 1) / block + 1);
-      std::vector<unsigned> kept(from.back());
-      fill_blocks(from, value.size(), block, [&](std::size_t lo, std::size_t hi, std::size_t w) {
+      REQUIRE(from.from.size() == (value.size() + block - 1) / block + 1);
+      std::vector<unsigned> kept(from.total());
+      fill_blocks(from, [&](std::size_t lo, std::size_t hi, std::size_t w) {
         for (std::size_t i = lo; i < hi; ++i)
           if (value[i] % 3 == 0) kept[w++] = value[i];
       });
@@ -92,5 +92,5 @@ TEST_CASE("block compaction and prefix sums give the serial result, blocks of an
   std::vector<unsigned> none;
   parallel_prefix(none, 0, 64, [](std::size_t) { return 1u; });
   CHECK(none == std::vector<unsigned>{0});
-  CHECK(block_starts(0, 64, [](std::size_t, std::size_t) { return std::size_t(1); }) == std::vector<std::size_t>{0});
+  CHECK(block_starts(0, 64, [](std::size_t, std::size_t) { return std::size_t(1); }).from == std::vector<std::size_t>{0});
 }
