@@ -13,6 +13,7 @@
 // cuts first; where an earlier run cut one already, that run has its vertices' positions, so the
 // lookup finds them there.
 #include <algorithm>
+#include <bit>
 
 #include "csg/boolean_impl.h"
 #include "kernel/parallel.h"
@@ -35,42 +36,62 @@ Plane canonical(Plane p) {
   }
   return p;
 }
-std::uint64_t pack(const Plane& p) {
-  // axis in 2 bits + three 20-bit... ids can be large: hash-combine instead.
-  std::uint64_t x = static_cast<std::uint64_t>(p.axis + 1);
-  x = x * 0x100000001b3ull ^ p.a;
-  x = x * 0x100000001b3ull ^ p.b;
-  x = x * 0x100000001b3ull ^ p.c;
-  return x;
-}
-bool plane_less(const Plane& x, const Plane& y) {
-  if (x.axis != y.axis) return x.axis < y.axis;
-  if (x.a != y.a) return x.a < y.a;
-  if (x.b != y.b) return x.b < y.b;
-  return x.c < y.c;
+// A plane's identity for interning: x_i = c (a triangle whose corners share coordinate i, or a
+// wall over a segment whose ends do, across e_i) is named by i and c, whichever triangle or wall
+// gave it, so that a point cut from the same segment by two faces on one axis plane (a sponge's
+// bars side by side, a plate's face and a boss's) is one point from the start rather than two
+// that the equal-point pass pairs later; any other plane by its (canonical) vertices.
+struct PlaneId {
+  std::uint64_t hi, lo;
+  bool operator==(const PlaneId& o) const { return hi == o.hi && lo == o.lo; }
+  bool operator<(const PlaneId& o) const { return hi != o.hi ? hi < o.hi : lo < o.lo; }
+};
+PlaneId plane_id(const Soup& s, const Plane& P) {
+  const Vec3& a = s.verts[P.a];
+  const Vec3& b = s.verts[P.b];
+  for (int i = 0; i < 3; ++i) {
+    if (a[i] != b[i] || P.axis == i || (P.axis < 0 && s.verts[P.c][i] != a[i])) continue;
+    const double c = a[i] == 0 ? 0.0 : a[i];  // (-0 and +0 name one plane)
+    return {static_cast<std::uint64_t>(5 + i) << 32, std::bit_cast<std::uint64_t>(c)};
+  }
+  return {static_cast<std::uint64_t>(P.axis + 1) << 32 | P.a, static_cast<std::uint64_t>(P.b) << 32 | P.c};
 }
 
-PointDef canonical(PointDef d) {
+PointDef canonical(const Soup& s, PointDef d) {
   if (d.kind == PointDef::Lpi) {
     if (d.p > d.q) std::swap(d.p, d.q);
     d.P[0] = canonical(d.P[0]);
   } else if (d.kind == PointDef::Tpi) {
     for (auto& p : d.P) p = canonical(p);
-    std::sort(d.P, d.P + 3, plane_less);
+    const PlaneId id[3] = {plane_id(s, d.P[0]), plane_id(s, d.P[1]), plane_id(s, d.P[2])};
+    int o[3] = {0, 1, 2};
+    std::sort(o, o + 3, [&](int x, int y) { return id[x] < id[y]; });
+    const Plane P[3] = {d.P[o[0]], d.P[o[1]], d.P[o[2]]};
+    std::copy(P, P + 3, d.P);
   }
   return d;
 }
 
 // Of a canonical definition.
-std::uint64_t def_hash(const PointDef& d) {
-  const std::uint64_t k[5] = {static_cast<std::uint64_t>(d.kind) << 32 | d.p, d.q, pack(d.P[0]),
-                              d.kind == PointDef::Tpi ? pack(d.P[1]) : 0, d.kind == PointDef::Tpi ? pack(d.P[2]) : 0};
+std::uint64_t def_hash(const Soup& s, const PointDef& d) {
+  const int np = d.kind == PointDef::Tpi ? 3 : 1;
   std::uint64_t x = 0x9e3779b97f4a7c15ull;
-  for (auto v : k) x = (x ^ v) * 0xff51afd7ed558ccdull;
+  auto mix = [&](std::uint64_t v) { x = (x ^ v) * 0xff51afd7ed558ccdull; };
+  mix(static_cast<std::uint64_t>(d.kind) << 32 | d.p);
+  mix(d.q);
+  for (int k = 0; k < np; ++k) {
+    const PlaneId id = plane_id(s, d.P[k]);
+    mix(id.hi);
+    mix(id.lo);
+  }
   return x ^ (x >> 29);
 }
-bool same_def(const PointDef& e, const PointDef& d) {
-  return e.kind == d.kind && e.p == d.p && e.q == d.q && e.P[0] == d.P[0] && e.P[1] == d.P[1] && e.P[2] == d.P[2];
+bool same_def(const Soup& s, const PointDef& e, const PointDef& d) {
+  if (e.kind != d.kind || e.p != d.p || e.q != d.q) return false;
+  const int np = d.kind == PointDef::Tpi ? 3 : 1;
+  for (int k = 0; k < np; ++k)
+    if (!(e.P[k] == d.P[k]) && !(plane_id(s, e.P[k]) == plane_id(s, d.P[k]))) return false;
+  return true;
 }
 
 // A table slot: the hash's high 31 bits and a bit that says whether the key is a position, then
@@ -147,12 +168,12 @@ struct alignas(64) InternRun {
   const Vec3& position(u32 id) const { return id < soup->verts.size() ? soup->verts[id] : at[id - base]; }
   std::uint64_t rehash(std::uint64_t v) const {
     const u32 id = static_cast<u32>(v);
-    return (v & kPlaceBit) ? position_hash(position(id)) : def_hash(def(id));
+    return (v & kPlaceBit) ? position_hash(position(id)) : def_hash(*soup, def(id));
   }
   PointDef def(u32 id) const { return direct ? pts->def(id) : defs[id - base]; }
   u32 find(std::uint64_t h, bool by_position, const PointDef& d, const Vec3& p) const {
     return lookup(table, h, by_position,
-                  [&](u32 id) { return by_position ? position(id) == p : same_def(def(id), d); });
+                  [&](u32 id) { return by_position ? position(id) == p : same_def(*soup, def(id), d); });
   }
   // The id of a key (a position p, with d its raw definition; or a canonical definition d), made
   // if new (a position as vertex `vertex` where given).
@@ -171,7 +192,7 @@ struct alignas(64) InternRun {
       placed.push_back(1);
     } else {
       id = base + static_cast<u32>(at.size());
-      const PointDef c = by_position ? canonical(d) : d;  // (d: the raw definition where by position)
+      const PointDef c = by_position ? canonical(*soup, d) : d;  // (d: the raw definition where by position)
       if (direct) pts->add_later(c);
       else defs.push_back(c);
       at.push_back(by_position ? p : Vec3(0, 0, 0));
@@ -184,8 +205,8 @@ struct alignas(64) InternRun {
     if (raw.kind == PointDef::Explicit) return raw.p;
     Vec3 p;
     if (pts->exact_position(raw, p)) return intern(position_hash(p), true, raw, p);
-    const PointDef d = canonical(raw);
-    return intern(def_hash(d), false, d, p);
+    const PointDef d = canonical(*soup, raw);
+    return intern(def_hash(*soup, d), false, d, p);
   }
 };
 
@@ -201,24 +222,24 @@ u32 Interner::operator()(const PointDef& raw) {
   if (raw.kind == PointDef::Explicit) return raw.p;
   Vec3 at;
   if (pts_.exact_position(raw, at)) return find(position_hash(at), true, raw, at);
-  const PointDef d = canonical(raw);
-  return find(def_hash(d), false, d, at);
+  const PointDef d = canonical(pts_.soup(), raw);
+  return find(def_hash(pts_.soup(), d), false, d, at);
 }
 
 // The id of key (h, by_position: at, else the canonical definition d), made if new.
 u32 Interner::find(std::uint64_t h, bool by_position, const PointDef& d, const Vec3& at) {
   u32 id = lookup(table_, h, by_position,
-                  [&](u32 e) { return by_position ? position(e) == at : same_def(pts_.def(e), d); });
+                  [&](u32 e) { return by_position ? position(e) == at : same_def(pts_.soup(), pts_.def(e), d); });
   if (id != kNone) return id;
   for (std::size_t r = 1; r < runs_.size(); ++r) {
     id = runs_[r].find(h, by_position, d, at);
     if (id != kNone) return id < base_ ? id : map_[r][id - base_];
   }
-  id = pts_.add_later(by_position ? canonical(d) : d);
+  id = pts_.add_later(by_position ? canonical(pts_.soup(), d) : d);
   at_.push_back(by_position ? at : Vec3(0, 0, 0));
   put(table_, keys_, h, tag_of(h, by_position), id, [&](std::uint64_t v) {
     const u32 e = static_cast<u32>(v);
-    return (v & kPlaceBit) ? position_hash(position(e)) : def_hash(pts_.def(e));
+    return (v & kPlaceBit) ? position_hash(position(e)) : def_hash(pts_.soup(), pts_.def(e));
   });
   return id;
 }
@@ -346,9 +367,9 @@ void Interner::intern_cuts(const std::vector<std::array<u32, 2>>& pairs, const s
       const PointDef& d = in.defs[n];
       const Vec3& p = in.at[n];
       const bool by_position = in.placed[n];
-      const std::uint64_t h = by_position ? position_hash(p) : def_hash(d);
+      const std::uint64_t h = by_position ? position_hash(p) : def_hash(soup, d);
       u32 id = lookup(table_, h, by_position,
-                      [&](u32 e) { return by_position ? position(e) == p : same_def(pts_.def(e), d); });
+                      [&](u32 e) { return by_position ? position(e) == p : same_def(pts_.soup(), pts_.def(e), d); });
       for (std::size_t q = 1; q < r && id == kNone; ++q) {
         id = runs_[q].find(h, by_position, d, p);
         if (id != kNone && id >= base_) id = map_[q][id - base_];

@@ -599,3 +599,36 @@ TEST_CASE("boolean: points inside a flat region or on a straight crease of the r
   CHECK(b.mesh.triangles.size() == 12);
   require_volume(b.mesh, 1 + 15 / 1024.0);
 }
+
+TEST_CASE("boolean points: a cut met through two faces on one axis plane, or two crossing edges, is interned once", "[boolean]") {
+  using namespace boolean_detail;
+  // Boxes a and b share the plane x = 1 with different faces (b's is smaller), and a bar turned
+  // 17 degrees about z crosses that plane inside both: each of its edges meets x = 1 at one point
+  // whose y is no double, cut once by a's face and once by b's. The two faces' diagonals also cross
+  // each other on the plane, seen from a's triangle and from b's. Each such point must come out of
+  // interning as one id (a sponge's bars side by side made 79,512 loose points of which half were
+  // copies, each pair later found equal by exact arithmetic).
+  const Mesh a = box_mesh({0, 0, 0}, {1, 1, 1});
+  const Mesh b = box_mesh({0.5, 0.1, 0.2}, {0.5, 0.8, 0.4});
+  const Mesh c = box_mesh({0.7, 0.3, 0.3}, {0.6, 0.2, 0.2}, rotate_z(17));
+  const std::vector<const Mesh*> ops{&a, &b, &c};
+  const Soup soup = make_soup(ops);
+  const auto pairs = candidate_pairs(soup);
+  std::vector<PairCut> cuts(pairs.size());
+  Points pts(soup);
+  for (std::size_t i = 0; i < pairs.size(); ++i) cuts[i] = intersect_pair(pts, pairs[i][0], pairs[i][1]);
+  Interner in(pts);
+  std::vector<u32> slot, touched;
+  std::vector<TriWork> work;
+  in.intern_cuts(pairs, std::vector<PairCutView>(cuts.begin(), cuts.end()), slot, touched, work);
+  pts.evaluate_added();
+  std::vector<u32> loose;
+  for (u32 id = static_cast<u32>(soup.verts.size()); id < pts.size(); ++id)
+    if (!pts.is_double(id)) loose.push_back(id);
+  // The bar's four long edges at x = 1, and the diagonals' crossing.
+  REQUIRE(loose.size() >= 5);
+  int copies = 0;
+  for (std::size_t i = 0; i < loose.size(); ++i)
+    for (std::size_t j = i + 1; j < loose.size(); ++j) copies += pts.equal(loose[i], loose[j]);
+  CHECK(copies == 0);
+}
