@@ -90,16 +90,19 @@ void overlapping(const std::vector<std::array<double, 6>>& boxes, F&& f) {
       if (boxes_overlap(boxes[order[x]], boxes[order[y]])) f(std::min(order[x], order[y]), std::max(order[x], order[y]));
 }
 
-// Every pair of equal points among `ids` (exact). Points whose coordinates are doubles (input
+// Unites every two equal points among `ids` (exact) in `merge`. Points whose coordinates are doubles (input
 // vertices, and the points interned by their exact position) are equal where their coordinates
 // are: grouped by a hash of them. The others ("loose") go through a hash grid: each into every
 // cell its box meets, with the double points that fall in a cell holding a loose one; two
 // points whose boxes overlap in a cell are compared exactly. Equal points share the cell of
-// their exact position, so none is missed.
-std::vector<std::array<u32, 2>> equal_points(const Points& pts, const std::vector<u32>& ids) {
-  if (ids.size() < 2) return {};
+// their exact position, so none is missed. Points already united (the same point met by several
+// definitions, a sponge's cut of one diagonal by a dozen faces on one plane) are not compared
+// again: a class of m points costs about m exact tests rather than m^2 / 2.
+void equal_points(const Points& pts, const std::vector<u32>& ids, Merge& merge) {
+  if (ids.size() < 2) return;
   const Soup& soup = pts.soup();
-  std::vector<std::array<u32, 2>> out;
+  auto unite = [&](u32 x, u32 y) { merge.unite(x, y); };
+  auto known = [&](u32 x, u32 y) { return merge.find(x) == merge.find(y); };
   std::vector<u32> loose, doubles;
   for (u32 p : ids) (pts.is_double(p) ? doubles : loose).push_back(p);
   {
@@ -114,13 +117,13 @@ std::vector<std::array<u32, 2>> equal_points(const Points& pts, const std::vecto
       std::size_t slot = position_hash(at) & (size - 1);
       for (; table[slot] != kNone; slot = (slot + 1) & (size - 1))
         if (pts.approx(table[slot]) == at) {
-          out.push_back({std::min(p, table[slot]), std::max(p, table[slot])});
+          unite(p, table[slot]);
           break;
         }
       if (table[slot] == kNone) table[slot] = p;
     }
   }
-  if (loose.empty()) return out;
+  if (loose.empty()) return;
   double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
   for (u32 p : loose)
     for (int i = 0; i < 3; ++i) {
@@ -199,12 +202,20 @@ std::vector<std::array<u32, 2>> equal_points(const Points& pts, const std::vecto
     std::size_t j = i;
     while (j < entries.size() && entries[j].key == entries[i].key) ++j;
     if (j - i <= 16) {
-      for (std::size_t a = i; a < j; ++a)
-        for (std::size_t b = a + 1; b < j; ++b) {
-          u32 x = entries[a].id, y = entries[b].id;
-          if (compare(x, y) && boxes_overlap(pts.box(x), pts.box(y)) && pts.equal(x, y))
-            out.push_back({std::min(x, y), std::max(x, y)});
+      // Each point against one point of each class met so far in the cell: equality is
+      // transitive, and two equal points' boxes both hold their exact position.
+      u32 reps[16];
+      std::size_t nr = 0;
+      for (std::size_t a = i; a < j; ++a) {
+        const u32 x = entries[a].id;
+        bool found = false;
+        for (std::size_t r = 0; r < nr && !found; ++r) {
+          const u32 y = reps[r];
+          found = known(x, y) || (compare(x, y) && boxes_overlap(pts.box(x), pts.box(y)) && pts.equal(x, y));
+          if (found) unite(x, y);
         }
+        if (!found) reps[nr++] = x;
+      }
     } else {
       // A crowded cell (nearly coincident operands put all their points near a few corners):
       // a sweep along x compares only the points whose boxes overlap there.
@@ -216,8 +227,8 @@ std::vector<std::array<u32, 2>> equal_points(const Points& pts, const std::vecto
       }
       overlapping(boxes, [&](u32 a, u32 b) {
         if ((++polled & 0xfff) == 0) soup.poll();
-        if (compare(crowd[a], crowd[b]) && pts.equal(crowd[a], crowd[b]))
-          out.push_back({std::min(crowd[a], crowd[b]), std::max(crowd[a], crowd[b])});
+        if (compare(crowd[a], crowd[b]) && !known(crowd[a], crowd[b]) && pts.equal(crowd[a], crowd[b]))
+          unite(crowd[a], crowd[b]);
       });
     }
     i = j;
@@ -225,9 +236,8 @@ std::vector<std::array<u32, 2>> equal_points(const Points& pts, const std::vecto
   for (u32 w : wide) {
     soup.poll();
     for (u32 p : ids)
-      if (p != w && boxes_overlap(pts.box(w), pts.box(p)) && pts.equal(w, p)) out.push_back({std::min(w, p), std::max(w, p)});
+      if (p != w && boxes_overlap(pts.box(w), pts.box(p)) && !known(w, p) && pts.equal(w, p)) unite(w, p);
   }
-  return out;
 }
 
 template <class T>
@@ -441,7 +451,7 @@ Arrangement arrange(Points& pts, const std::vector<std::array<u32, 2>>& pairs) {
       for (u32 v : soup.tris[touched[w]]) take(v);
     }
     soup.poll();
-    for (const auto& p : equal_points(pts, ids)) merge.unite(p[0], p[1]);
+    equal_points(pts, ids, merge);
   };
   merge_round();
 
