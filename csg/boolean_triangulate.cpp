@@ -540,7 +540,7 @@ Arrangement arrange(Points& pts, const std::vector<std::array<u32, 2>>& pairs) {
 
     // Per-thread arrays, reused from triangle to triangle (most triangles are small, and their
     // allocations were a good part of their time).
-    thread_local std::vector<u32> points, by_lo, on;
+    thread_local std::vector<u32> points, by_lo, on, cell_start, cell_points, stamp;
     thread_local std::vector<std::array<double, 6>> pboxes;
     thread_local std::vector<std::array<u32, 2>> constraints;
     points.assign(w.points.begin(), w.points.end());
@@ -548,8 +548,8 @@ Arrangement arrange(Points& pts, const std::vector<std::array<u32, 2>>& pairs) {
     unique_sorted(points);
     pboxes.resize(points.size());
     for (std::size_t i = 0; i < points.size(); ++i) pboxes[i] = pts.box(points[i]);
-    // Points sorted along T's longer projected axis, so each segment looks only at the points
-    // in its own slab (a plate face cut by hundreds of holes has thousands of each).
+    // The points that may lie on a segment: few points are sorted along T's longer projected
+    // axis, so each segment looks only at the points in its own slab.
     int sweep = (k + 1) % 3;
     {
       const Vec3 &A = soup.verts[T[0]], &B = soup.verts[T[1]], &C = soup.verts[T[2]];
@@ -559,9 +559,59 @@ Arrangement arrange(Points& pts, const std::vector<std::array<u32, 2>>& pairs) {
     }
     by_lo.resize(points.size());
     std::iota(by_lo.begin(), by_lo.end(), 0u);
-    std::sort(by_lo.begin(), by_lo.end(), [&](u32 x, u32 y) { return pboxes[x][sweep] < pboxes[y][sweep]; });
     double widest = 0;
-    for (const auto& b : pboxes) widest = std::max(widest, b[sweep + 3] - b[sweep]);
+    // Many points (a plate's face cut by hundreds of holes, thousands of points and segments):
+    // a slab there holds every hole in its column, so they go in a grid over T's projection
+    // instead, about one point a cell, each in the cells its box meets (the plate's four faces:
+    // 8 -> 3 ms each).
+    const bool grid = points.size() >= 512;
+    const int gu = (k + 1) % 3, gv = (k + 2) % 3;
+    double glo[2] = {INFINITY, INFINITY}, gscale[2] = {0, 0};
+    std::size_t gn[2] = {1, 1};
+    auto cell_range = [&](const std::array<double, 6>& b, int d, std::size_t& c0, std::size_t& c1) {
+      const int axis = d == 0 ? gu : gv;
+      auto cell = [&](double x) {
+        const double f = std::floor((x - glo[d]) * gscale[d]);
+        return f > 0 ? (f < static_cast<double>(gn[d] - 1) ? static_cast<std::size_t>(f) : gn[d] - 1) : 0;  // NaN: 0
+      };
+      c0 = cell(b[axis]);
+      c1 = cell(b[axis + 3]);
+    };
+    if (grid) {
+      double ghi[2] = {-INFINITY, -INFINITY};
+      for (const auto& b : pboxes) {
+        glo[0] = std::min(glo[0], b[gu]), ghi[0] = std::max(ghi[0], b[gu + 3]);
+        glo[1] = std::min(glo[1], b[gv]), ghi[1] = std::max(ghi[1], b[gv + 3]);
+      }
+      const double eu = ghi[0] - glo[0], ev = ghi[1] - glo[1], n = static_cast<double>(points.size());
+      const double nu = eu > 0 && ev > 0 ? std::sqrt(n * eu / ev) : 1.0;
+      gn[0] = static_cast<std::size_t>(std::clamp(nu, 1.0, 4096.0));
+      gn[1] = static_cast<std::size_t>(std::clamp(n / static_cast<double>(gn[0]), 1.0, 4096.0));
+      gscale[0] = eu > 0 ? static_cast<double>(gn[0]) / eu : 0.0;
+      gscale[1] = ev > 0 ? static_cast<double>(gn[1]) / ev : 0.0;
+      cell_start.assign(gn[0] * gn[1] + 1, 0);
+      for (const auto& b : pboxes) {
+        std::size_t u0, u1, v0, v1;
+        cell_range(b, 0, u0, u1);
+        cell_range(b, 1, v0, v1);
+        for (std::size_t v = v0; v <= v1; ++v)
+          for (std::size_t u = u0; u <= u1; ++u) ++cell_start[v * gn[0] + u + 1];
+      }
+      for (std::size_t c = 0; c + 1 < cell_start.size(); ++c) cell_start[c + 1] += cell_start[c];
+      cell_points.resize(cell_start.back());
+      by_lo.assign(cell_start.begin(), cell_start.end() - 1);  // (the fill positions)
+      for (std::size_t q = 0; q < pboxes.size(); ++q) {
+        std::size_t u0, u1, v0, v1;
+        cell_range(pboxes[q], 0, u0, u1);
+        cell_range(pboxes[q], 1, v0, v1);
+        for (std::size_t v = v0; v <= v1; ++v)
+          for (std::size_t u = u0; u <= u1; ++u) cell_points[by_lo[v * gn[0] + u]++] = static_cast<u32>(q);
+      }
+      stamp.assign(points.size(), 0);
+    } else {
+      std::sort(by_lo.begin(), by_lo.end(), [&](u32 x, u32 y) { return pboxes[x][sweep] < pboxes[y][sweep]; });
+      for (const auto& b : pboxes) widest = std::max(widest, b[sweep + 3] - b[sweep]);
+    }
     constraints.clear();
     std::size_t polled = 0;  // a large triangle (a plate's face) is long work: poll within it
     for (std::size_t si = 0; si < w.segs.size(); ++si) {
@@ -572,15 +622,32 @@ Arrangement arrange(Points& pts, const std::vector<std::array<u32, 2>>& pairs) {
       int axis = split_axis(pts, a, b);
       if (axis < 0) continue;
       on.clear();
-      auto first = std::partition_point(by_lo.begin(), by_lo.end(),
-                                        [&](u32 x) { return pboxes[x][sweep] < sb[sweep] - widest; });
-      for (auto it = first; it != by_lo.end() && pboxes[*it][sweep] <= sb[sweep + 3]; ++it) {
-        const std::size_t i = *it;
-        u32 p = points[i];
-        if (p == a || p == b || !boxes_overlap(sb, pboxes[i])) continue;
+      auto consider = [&](std::size_t i) {
+        const u32 p = points[i];
+        if (p == a || p == b || !boxes_overlap(sb, pboxes[i])) return;
         // The segment is T's plane cut by w.cuts[si]: a point on that plane is on its line.
-        if (pts.orient2d(a, b, p, k, &w.cuts[si]) != 0) continue;
+        if (pts.orient2d(a, b, p, k, &w.cuts[si]) != 0) return;
         if (pts.compare(a, p, axis) * pts.compare(p, b, axis) > 0) on.push_back(p);
+      };
+      if (grid) {
+        std::size_t u0, u1, v0, v1;
+        cell_range(sb, 0, u0, u1);
+        cell_range(sb, 1, v0, v1);
+        const u32 mark = static_cast<u32>(si + 1);
+        for (std::size_t v = v0; v <= v1; ++v)
+          for (std::size_t u = u0; u <= u1; ++u) {
+            const std::size_t c = v * gn[0] + u;
+            for (std::size_t x = cell_start[c]; x < cell_start[c + 1]; ++x) {
+              const u32 i = cell_points[x];
+              if (stamp[i] == mark) continue;  // (a box over several cells)
+              stamp[i] = mark;
+              consider(i);
+            }
+          }
+      } else {
+        auto first = std::partition_point(by_lo.begin(), by_lo.end(),
+                                          [&](u32 x) { return pboxes[x][sweep] < sb[sweep] - widest; });
+        for (auto it = first; it != by_lo.end() && pboxes[*it][sweep] <= sb[sweep + 3]; ++it) consider(*it);
       }
       int dir = pts.compare(a, b, axis);
       std::sort(on.begin(), on.end(), [&](u32 x, u32 y) { return pts.compare(x, y, axis) == dir; });
