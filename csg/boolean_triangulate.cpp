@@ -202,8 +202,10 @@ void equal_points(const Points& pts, const std::vector<u32>& ids, Merge& merge) 
     std::size_t j = i;
     while (j < entries.size() && entries[j].key == entries[i].key) ++j;
     if (j - i <= 16) {
-      // Each point against one point of each class met so far in the cell: equality is
-      // transitive, and two equal points' boxes both hold their exact position.
+      // Each point against one point of each class met so far in the cell (at most one test
+      // per class: equality is transitive, and two equal points' boxes both hold their exact
+      // position). Two doubles were paired above and are not compared here; boxes that meet
+      // are checked for a union already made before the exact test.
       u32 reps[16];
       std::size_t nr = 0;
       for (std::size_t a = i; a < j; ++a) {
@@ -211,7 +213,7 @@ void equal_points(const Points& pts, const std::vector<u32>& ids, Merge& merge) 
         bool found = false;
         for (std::size_t r = 0; r < nr && !found; ++r) {
           const u32 y = reps[r];
-          found = known(x, y) || (compare(x, y) && boxes_overlap(pts.box(x), pts.box(y)) && pts.equal(x, y));
+          found = compare(x, y) && boxes_overlap(pts.box(x), pts.box(y)) && (known(x, y) || pts.equal(x, y));
           if (found) unite(x, y);
         }
         if (!found) reps[nr++] = x;
