@@ -68,20 +68,6 @@ void plane_eval(const Soup& s, const Plane& P, NT n[3], NT& d) {
   d = -(n[0] * ax + n[1] * ay + n[2] * az);
 }
 
-// Whether plane P is x_i = c for a double c (then set).
-bool fixes_coordinate(const Soup& s, const Plane& P, int i, double& c) {
-  const Vec3& a = s.verts[P.a];
-  const Vec3& b = s.verts[P.b];
-  if (a[i] != b[i]) return false;
-  if (P.axis < 0) {
-    if (s.verts[P.c][i] != a[i]) return false;
-  } else if (P.axis == i) {
-    return false;  // a wall contains e_axis, so it is never x_axis = c
-  }
-  c = a[i] == 0 ? 0.0 : a[i];
-  return true;
-}
-
 // Whether coordinate i of point d is a double known without arithmetic (then set): an input
 // vertex's; on a plane x_i = c (a triangle whose three vertices share coordinate i, or a wall
 // over a segment with a_i = b_i); or, for an LPI, on a segment with p_i = q_i.

@@ -307,6 +307,21 @@ struct Plane {
   bool operator==(const Plane& o) const { return axis == o.axis && a == o.a && b == o.b && c == o.c; }
 };
 
+// Whether plane P is x_i = c for a double c (then set; -0 as +0): a triangle whose corners share
+// coordinate i, or a wall over a segment whose ends do, across e_i.
+inline bool fixes_coordinate(const Soup& s, const Plane& P, int i, double& c) {
+  const Vec3& a = s.verts[P.a];
+  const Vec3& b = s.verts[P.b];
+  if (a[i] != b[i]) return false;
+  if (P.axis < 0) {
+    if (s.verts[P.c][i] != a[i]) return false;
+  } else if (P.axis == i) {
+    return false;  // a wall contains e_axis, so it is never x_axis = c
+  }
+  c = a[i] == 0 ? 0.0 : a[i];
+  return true;
+}
+
 struct PointDef {
   enum Kind : std::uint8_t { Explicit, Lpi, Tpi } kind = Explicit;
   u32 p = kNone, q = kNone;  // Explicit: vertex p; Lpi: segment p q

@@ -36,24 +36,20 @@ Plane canonical(Plane p) {
   }
   return p;
 }
-// A plane's identity for interning: x_i = c (a triangle whose corners share coordinate i, or a
-// wall over a segment whose ends do, across e_i) is named by i and c, whichever triangle or wall
-// gave it, so that a point cut from the same segment by two faces on one axis plane (a sponge's
-// bars side by side, a plate's face and a boss's) is one point from the start rather than two
-// that the equal-point pass pairs later; any other plane by its (canonical) vertices.
+// A plane's identity for interning: x_i = c (fixes_coordinate) is named by i and c, whichever
+// triangle or wall gave it, so that a point cut from the same segment by two faces on one axis
+// plane (a sponge's bars side by side, a plate's face and a boss's) is one point from the start
+// rather than two that the equal-point pass pairs later; any other plane by its (canonical)
+// vertices.
 struct PlaneId {
   std::uint64_t hi, lo;
   bool operator==(const PlaneId& o) const { return hi == o.hi && lo == o.lo; }
   bool operator<(const PlaneId& o) const { return hi != o.hi ? hi < o.hi : lo < o.lo; }
 };
 PlaneId plane_id(const Soup& s, const Plane& P) {
-  const Vec3& a = s.verts[P.a];
-  const Vec3& b = s.verts[P.b];
-  for (int i = 0; i < 3; ++i) {
-    if (a[i] != b[i] || P.axis == i || (P.axis < 0 && s.verts[P.c][i] != a[i])) continue;
-    const double c = a[i] == 0 ? 0.0 : a[i];  // (-0 and +0 name one plane)
-    return {static_cast<std::uint64_t>(5 + i) << 32, std::bit_cast<std::uint64_t>(c)};
-  }
+  double c = 0;
+  for (int i = 0; i < 3; ++i)
+    if (fixes_coordinate(s, P, i, c)) return {static_cast<std::uint64_t>(5 + i) << 32, std::bit_cast<std::uint64_t>(c)};
   return {static_cast<std::uint64_t>(P.axis + 1) << 32 | P.a, static_cast<std::uint64_t>(P.b) << 32 | P.c};
 }
 

@@ -158,8 +158,11 @@ int clip_edge(const Points& pts, u32 p, u32 q, const std::array<u32, 3>& tri, in
     int ra = orient2d_v(s, p, q, a, k);
     if (ra == 0 && strictly_between(a)) kc[n++].d = explicit_point(a);
     int rb = orient2d_v(s, p, q, b, k);
-    // Two edges crossing properly: the one definition the other triangle's clip gives it too.
-    if (sp[e] * sq[e] < 0 && ra * rb < 0 && !crossing_def(s, p, q, a, b, kc[n++].d)) kc[n - 1].d = lpi(p, q, Plane::wall(a, b, k));
+    if (sp[e] * sq[e] < 0 && ra * rb < 0) {
+      // Two edges crossing properly: the one definition the other triangle's clip gives it too.
+      PointDef& d = kc[n++].d;
+      if (!crossing_def(s, p, q, a, b, d)) d = lpi(p, q, Plane::wall(a, b, k));
+    }
   }
   if (n == 0) return 0;
   // The extreme two along the edge.

@@ -101,7 +101,6 @@ void overlapping(const std::vector<std::array<double, 6>>& boxes, F&& f) {
 void equal_points(const Points& pts, const std::vector<u32>& ids, Merge& merge) {
   if (ids.size() < 2) return;
   const Soup& soup = pts.soup();
-  auto unite = [&](u32 x, u32 y) { merge.unite(x, y); };
   auto known = [&](u32 x, u32 y) { return merge.find(x) == merge.find(y); };
   std::vector<u32> loose, doubles;
   for (u32 p : ids) (pts.is_double(p) ? doubles : loose).push_back(p);
@@ -117,7 +116,7 @@ void equal_points(const Points& pts, const std::vector<u32>& ids, Merge& merge) 
       std::size_t slot = position_hash(at) & (size - 1);
       for (; table[slot] != kNone; slot = (slot + 1) & (size - 1))
         if (pts.approx(table[slot]) == at) {
-          unite(p, table[slot]);
+          merge.unite(p, table[slot]);
           break;
         }
       if (table[slot] == kNone) table[slot] = p;
@@ -214,7 +213,7 @@ void equal_points(const Points& pts, const std::vector<u32>& ids, Merge& merge) 
         for (std::size_t r = 0; r < nr && !found; ++r) {
           const u32 y = reps[r];
           found = compare(x, y) && boxes_overlap(pts.box(x), pts.box(y)) && (known(x, y) || pts.equal(x, y));
-          if (found) unite(x, y);
+          if (found) merge.unite(x, y);
         }
         if (!found) reps[nr++] = x;
       }
@@ -230,7 +229,7 @@ void equal_points(const Points& pts, const std::vector<u32>& ids, Merge& merge) 
       overlapping(boxes, [&](u32 a, u32 b) {
         if ((++polled & 0xfff) == 0) soup.poll();
         if (compare(crowd[a], crowd[b]) && !known(crowd[a], crowd[b]) && pts.equal(crowd[a], crowd[b]))
-          unite(crowd[a], crowd[b]);
+          merge.unite(crowd[a], crowd[b]);
       });
     }
     i = j;
@@ -238,7 +237,7 @@ void equal_points(const Points& pts, const std::vector<u32>& ids, Merge& merge) 
   for (u32 w : wide) {
     soup.poll();
     for (u32 p : ids)
-      if (p != w && boxes_overlap(pts.box(w), pts.box(p)) && !known(w, p) && pts.equal(w, p)) unite(w, p);
+      if (p != w && boxes_overlap(pts.box(w), pts.box(p)) && !known(w, p) && pts.equal(w, p)) merge.unite(w, p);
   }
 }
 
@@ -247,6 +246,76 @@ void unique_sorted(std::vector<T>& v) {
   std::sort(v.begin(), v.end());
   v.erase(std::unique(v.begin(), v.end()), v.end());
 }
+
+// A uniform grid over a cut triangle's projection (axes u, v), about one cell a point, each point
+// in every cell its box meets. A plate's face cut by 200 holes holds 12,800 points and as many
+// segments; a slab along one axis holds every hole in its column, a cell a few points (the
+// points on each segment: 8 -> 3 ms a face).
+class PointGrid {
+ public:
+  static constexpr std::size_t kFrom = 512;  // points from which a triangle's are gridded
+
+  void build(const std::vector<std::array<double, 6>>& boxes, int u, int v) {
+    axis_[0] = u;
+    axis_[1] = v;
+    double hi[2] = {-INFINITY, -INFINITY};
+    lo_[0] = lo_[1] = INFINITY;
+    for (const auto& b : boxes)
+      for (int d = 0; d < 2; ++d) {
+        lo_[d] = std::min(lo_[d], b[axis_[d]]);
+        hi[d] = std::max(hi[d], b[axis_[d] + 3]);
+      }
+    const double eu = hi[0] - lo_[0], ev = hi[1] - lo_[1], n = static_cast<double>(boxes.size());
+    const double nu = eu > 0 && ev > 0 ? std::sqrt(n * eu / ev) : 1.0;
+    n_[0] = static_cast<std::size_t>(std::clamp(nu, 1.0, 4096.0));
+    n_[1] = static_cast<std::size_t>(std::clamp(n / static_cast<double>(n_[0]), 1.0, 4096.0));
+    scale_[0] = eu > 0 ? static_cast<double>(n_[0]) / eu : 0.0;  // (infinite or NaN boxes: cell 0)
+    scale_[1] = ev > 0 ? static_cast<double>(n_[1]) / ev : 0.0;
+    // Counts per cell, their prefix, then each point at its cells' next free places.
+    start_.assign(n_[0] * n_[1] + 1, 0);
+    for (const auto& b : boxes) cells(b, [&](std::size_t c) { ++start_[c + 1]; });
+    for (std::size_t c = 0; c + 1 < start_.size(); ++c) start_[c + 1] += start_[c];
+    points_.resize(start_.back());
+    next_.assign(start_.begin(), start_.end() - 1);
+    for (std::size_t q = 0; q < boxes.size(); ++q)
+      cells(boxes[q], [&](std::size_t c) { points_[next_[c]++] = static_cast<u32>(q); });
+    stamp_.assign(boxes.size(), 0);
+    mark_ = 0;
+  }
+
+  // Calls f(i) once for each point i in the cells that box b meets.
+  template <class F>
+  void near(const std::array<double, 6>& b, F&& f) {
+    ++mark_;
+    cells(b, [&](std::size_t c) {
+      for (std::size_t x = start_[c]; x < start_[c + 1]; ++x) {
+        const u32 i = points_[x];
+        if (stamp_[i] == mark_) continue;  // (a box over several cells)
+        stamp_[i] = mark_;
+        f(i);
+      }
+    });
+  }
+
+ private:
+  int axis_[2] = {0, 1};
+  double lo_[2] = {0, 0}, scale_[2] = {0, 0};
+  std::size_t n_[2] = {1, 1};
+  std::vector<u32> start_, points_, next_, stamp_;
+  u32 mark_ = 0;
+
+  std::size_t cell(double x, int d) const {
+    const double f = std::floor((x - lo_[d]) * scale_[d]);
+    return f > 0 ? (f < static_cast<double>(n_[d] - 1) ? static_cast<std::size_t>(f) : n_[d] - 1) : 0;  // NaN: 0
+  }
+  template <class F>
+  void cells(const std::array<double, 6>& b, F&& f) const {
+    const std::size_t u0 = cell(b[axis_[0]], 0), u1 = cell(b[axis_[0] + 3], 0);
+    const std::size_t v0 = cell(b[axis_[1]], 1), v1 = cell(b[axis_[1] + 3], 1);
+    for (std::size_t v = v0; v <= v1; ++v)
+      for (std::size_t u = u0; u <= u1; ++u) f(v * n_[0] + u);
+  }
+};
 
 // An axis along which a != b, preferring the longest approximate extent.
 int split_axis(const Points& pts, u32 a, u32 b) {
@@ -542,7 +611,8 @@ Arrangement arrange(Points& pts, const std::vector<std::array<u32, 2>>& pairs) {
 
     // Per-thread arrays, reused from triangle to triangle (most triangles are small, and their
     // allocations were a good part of their time).
-    thread_local std::vector<u32> points, by_lo, on, cell_start, cell_points, stamp;
+    thread_local std::vector<u32> points, by_lo, on;
+    thread_local PointGrid grid;
     thread_local std::vector<std::array<double, 6>> pboxes;
     thread_local std::vector<std::array<u32, 2>> constraints;
     points.assign(w.points.begin(), w.points.end());
@@ -550,67 +620,21 @@ Arrangement arrange(Points& pts, const std::vector<std::array<u32, 2>>& pairs) {
     unique_sorted(points);
     pboxes.resize(points.size());
     for (std::size_t i = 0; i < points.size(); ++i) pboxes[i] = pts.box(points[i]);
-    // The points that may lie on a segment: few points are sorted along T's longer projected
-    // axis, so each segment looks only at the points in its own slab.
+    // The points that may lie on a segment. Many (a plate's face cut by hundreds of holes) go in
+    // a grid over T's projection; few are sorted along T's longer projected axis, so each segment
+    // looks only at the points in its own slab.
+    const bool gridded = points.size() >= PointGrid::kFrom;
     int sweep = (k + 1) % 3;
-    {
+    double widest = 0;
+    if (gridded) {
+      grid.build(pboxes, (k + 1) % 3, (k + 2) % 3);
+    } else {
       const Vec3 &A = soup.verts[T[0]], &B = soup.verts[T[1]], &C = soup.verts[T[2]];
       const int other = (k + 2) % 3;
       auto extent = [&](int d) { return std::max({A[d], B[d], C[d]}) - std::min({A[d], B[d], C[d]}); };
       if (extent(other) > extent(sweep)) sweep = other;
-    }
-    by_lo.resize(points.size());
-    std::iota(by_lo.begin(), by_lo.end(), 0u);
-    double widest = 0;
-    // Many points (a plate's face cut by hundreds of holes, thousands of points and segments):
-    // a slab there holds every hole in its column, so they go in a grid over T's projection
-    // instead, about one point a cell, each in the cells its box meets (the plate's four faces:
-    // 8 -> 3 ms each).
-    const bool grid = points.size() >= 512;
-    const int gu = (k + 1) % 3, gv = (k + 2) % 3;
-    double glo[2] = {INFINITY, INFINITY}, gscale[2] = {0, 0};
-    std::size_t gn[2] = {1, 1};
-    auto cell_range = [&](const std::array<double, 6>& b, int d, std::size_t& c0, std::size_t& c1) {
-      const int axis = d == 0 ? gu : gv;
-      auto cell = [&](double x) {
-        const double f = std::floor((x - glo[d]) * gscale[d]);
-        return f > 0 ? (f < static_cast<double>(gn[d] - 1) ? static_cast<std::size_t>(f) : gn[d] - 1) : 0;  // NaN: 0
-      };
-      c0 = cell(b[axis]);
-      c1 = cell(b[axis + 3]);
-    };
-    if (grid) {
-      double ghi[2] = {-INFINITY, -INFINITY};
-      for (const auto& b : pboxes) {
-        glo[0] = std::min(glo[0], b[gu]), ghi[0] = std::max(ghi[0], b[gu + 3]);
-        glo[1] = std::min(glo[1], b[gv]), ghi[1] = std::max(ghi[1], b[gv + 3]);
-      }
-      const double eu = ghi[0] - glo[0], ev = ghi[1] - glo[1], n = static_cast<double>(points.size());
-      const double nu = eu > 0 && ev > 0 ? std::sqrt(n * eu / ev) : 1.0;
-      gn[0] = static_cast<std::size_t>(std::clamp(nu, 1.0, 4096.0));
-      gn[1] = static_cast<std::size_t>(std::clamp(n / static_cast<double>(gn[0]), 1.0, 4096.0));
-      gscale[0] = eu > 0 ? static_cast<double>(gn[0]) / eu : 0.0;
-      gscale[1] = ev > 0 ? static_cast<double>(gn[1]) / ev : 0.0;
-      cell_start.assign(gn[0] * gn[1] + 1, 0);
-      for (const auto& b : pboxes) {
-        std::size_t u0, u1, v0, v1;
-        cell_range(b, 0, u0, u1);
-        cell_range(b, 1, v0, v1);
-        for (std::size_t v = v0; v <= v1; ++v)
-          for (std::size_t u = u0; u <= u1; ++u) ++cell_start[v * gn[0] + u + 1];
-      }
-      for (std::size_t c = 0; c + 1 < cell_start.size(); ++c) cell_start[c + 1] += cell_start[c];
-      cell_points.resize(cell_start.back());
-      by_lo.assign(cell_start.begin(), cell_start.end() - 1);  // (the fill positions)
-      for (std::size_t q = 0; q < pboxes.size(); ++q) {
-        std::size_t u0, u1, v0, v1;
-        cell_range(pboxes[q], 0, u0, u1);
-        cell_range(pboxes[q], 1, v0, v1);
-        for (std::size_t v = v0; v <= v1; ++v)
-          for (std::size_t u = u0; u <= u1; ++u) cell_points[by_lo[v * gn[0] + u]++] = static_cast<u32>(q);
-      }
-      stamp.assign(points.size(), 0);
-    } else {
+      by_lo.resize(points.size());
+      std::iota(by_lo.begin(), by_lo.end(), 0u);
       std::sort(by_lo.begin(), by_lo.end(), [&](u32 x, u32 y) { return pboxes[x][sweep] < pboxes[y][sweep]; });
       for (const auto& b : pboxes) widest = std::max(widest, b[sweep + 3] - b[sweep]);
     }
@@ -631,21 +655,8 @@ Arrangement arrange(Points& pts, const std::vector<std::array<u32, 2>>& pairs) {
         if (pts.orient2d(a, b, p, k, &w.cuts[si]) != 0) return;
         if (pts.compare(a, p, axis) * pts.compare(p, b, axis) > 0) on.push_back(p);
       };
-      if (grid) {
-        std::size_t u0, u1, v0, v1;
-        cell_range(sb, 0, u0, u1);
-        cell_range(sb, 1, v0, v1);
-        const u32 mark = static_cast<u32>(si + 1);
-        for (std::size_t v = v0; v <= v1; ++v)
-          for (std::size_t u = u0; u <= u1; ++u) {
-            const std::size_t c = v * gn[0] + u;
-            for (std::size_t x = cell_start[c]; x < cell_start[c + 1]; ++x) {
-              const u32 i = cell_points[x];
-              if (stamp[i] == mark) continue;  // (a box over several cells)
-              stamp[i] = mark;
-              consider(i);
-            }
-          }
+      if (gridded) {
+        grid.near(sb, consider);
       } else {
         auto first = std::partition_point(by_lo.begin(), by_lo.end(),
                                           [&](u32 x) { return pboxes[x][sweep] < sb[sweep] - widest; });
