@@ -6,7 +6,10 @@
 // interval coordinates of its points (CGAL::Interval_nt, rounding mode set upward for the
 // duration of the filter), and, only when the interval contains zero, again in exact
 // arithmetic (CGAL::Mpzf: exact sums and products of doubles). The filter decides almost every
-// call; the exact path makes every answer the one exact real arithmetic would give.
+// call; the exact path makes every answer the one exact real arithmetic would give. Between the
+// two, double-double arithmetic with a proven error bound (boolean_dd.h) decides most of what
+// the filter leaves (points within ulps of each other, cut points to be rounded) for a fraction
+// of the exact path's cost, and gives the same answers, since it answers only where it is sure.
 #include <CGAL/Interval_nt.h>
 #include <CGAL/Gmpq.h>
 #include <CGAL/Mpzf.h>
@@ -15,6 +18,7 @@
 #include <cmath>
 #include <limits>
 
+#include "csg/boolean_dd.h"
 #include "csg/boolean_impl.h"
 #include "kernel/parallel.h"
 #include "kernel/error.h"
@@ -254,31 +258,104 @@ bool faithful(const EX& X, const EX& W, int ws, double mid, double ilo, double i
   return false;
 }
 
+// faithful() in double-double arithmetic: false where a sign it needs is not decided (among them
+// every x that is itself a double, unless X and W are exact), or the doubles' quotient is more
+// than a few ulps off. The answer, where there is one, is faithful()'s: the pair of adjacent
+// doubles around x, or x twice, is unique.
+bool faithful_dd(const DD& X, const DD& W, int ws, double& lo, double& hi) {
+  double g = X.hi / W.hi;
+  if (!std::isfinite(g)) return false;
+  auto above = [&](double y) {  // sign of x - y, or 2
+    const int s = sign_of(X - DD(y) * W);
+    return s == 2 ? 2 : s * ws;
+  };
+  int s = above(g);
+  if (s == 2) return false;
+  if (s == 0) {
+    lo = hi = g;
+    return true;
+  }
+  const double dir = s > 0 ? INFINITY : -INFINITY;
+  for (int step = 0; step < 8; ++step) {
+    const double h = std::nextafter(g, dir);
+    if (!std::isfinite(h)) return false;
+    const int t = above(h);
+    if (t == 2) return false;
+    if (t == 0) {
+      lo = hi = h;
+      return true;
+    }
+    if (t != s) {
+      lo = std::min(g, h);
+      hi = std::max(g, h);
+      return true;
+    }
+    g = h;
+  }
+  return false;
+}
+
+// Whether one of a box's three intervals holds a double whose significand ends in 26 zero bits or
+// more (0 and the integers among them; 1 in 2^26 doubles otherwise). Infinite bounds: true.
+bool holds_round_double(const std::array<double, 6>& b) {
+  for (int i = 0; i < 3; ++i) {
+    const double lo = b[i], hi = b[i + 3];
+    if (!(std::isfinite(lo) && std::isfinite(hi))) return true;
+    if (lo <= 0 && hi >= 0) return true;
+    // The round doubles near x are the multiples of q = 2^(e - 26) (x in [2^e, 2^(e+1))): one lies
+    // in [lo, hi] where the multiples of q next to lo and hi differ. (lo and hi share a sign and,
+    // the box being a few ulps wide, nearly always an exponent; where not, q of the smaller.)
+    const double m = std::min(std::abs(lo), std::abs(hi));
+    int e = 0;
+    std::frexp(m, &e);  // m in [2^(e-1), 2^e)
+    const double q = std::ldexp(1.0, e - 1 - 26);
+    if (std::floor(lo / q) != std::floor(hi / q) || lo / q == std::floor(lo / q)) return true;
+  }
+  return false;
+}
+
 }  // namespace
 
 struct ExactPoint {
   H<EX> h;
 };
+struct DdPoint {
+  H<DD> h;
+};
 
 Points::~Points() {
   for (ExactPoint* e : exact_) delete e;
+  for (DdPoint* e : dd_) delete e;
 }
 
-const ExactPoint& Points::exact(u32 p, ExactPoint& scratch) const {
-  if (p < nin_) {
-    PointDef d;
-    d.p = p;
-    scratch.h = point_eval<EX>(*soup_, d);
+namespace {
+
+// The coordinates of point p kept in `cache` (made once, by whichever thread is first), or, for an
+// input vertex, made in `scratch`.
+template <class Kept, class Eval>
+const Kept& kept_point(std::vector<Kept*>& cache, u32 nin, u32 p, Kept& scratch, Eval&& eval) {
+  if (p < nin) {
+    scratch.h = eval();
     return scratch;
   }
-  std::atomic_ref<ExactPoint*> slot(exact_[p - nin_]);
-  ExactPoint* e = slot.load(std::memory_order_acquire);
+  std::atomic_ref<Kept*> slot(cache[p - nin]);
+  Kept* e = slot.load(std::memory_order_acquire);
   if (!e) {
-    auto* made = new ExactPoint{point_eval<EX>(*soup_, defs_[p - nin_])};
+    auto* made = new Kept{eval()};
     if (slot.compare_exchange_strong(e, made, std::memory_order_acq_rel)) e = made;
     else delete made;  // another thread was first: e holds its result
   }
   return *e;
+}
+
+}  // namespace
+
+const ExactPoint& Points::exact(u32 p, ExactPoint& scratch) const {
+  return kept_point(exact_, nin_, p, scratch, [&] { return point_eval<EX>(*soup_, def(p)); });
+}
+
+const DdPoint& Points::dd(u32 p, DdPoint& scratch) const {
+  return kept_point(dd_, nin_, p, scratch, [&] { return point_eval<DD>(*soup_, def(p)); });
 }
 
 Points::Points(const Soup& soup) : soup_(&soup), nin_(static_cast<u32>(soup.verts.size())) {}
@@ -300,6 +377,7 @@ void Points::reserve(std::size_t n) {
   box_.reserve(n);
   slack_.reserve(n);
   exact_.reserve(n);
+  dd_.reserve(n);
 }
 
 u32 Points::add(const PointDef& d) {
@@ -322,6 +400,7 @@ void Points::evaluate_added() {
   box_.resize(to);
   slack_.resize(to);
   exact_.resize(to, nullptr);
+  dd_.resize(to, nullptr);
   parallel_for(from, to, [&](std::size_t n) {
     if ((n & 0xfff) == 0) soup_->poll();
     evaluate(n);
@@ -354,6 +433,24 @@ void Points::evaluate(std::size_t n) {
   for (int i = 0; i < 3 && tight; ++i)
     if (bx[i + 3] - bx[i] > 2 * std::numeric_limits<double>::epsilon() * std::max(std::abs(bx[i]), std::abs(bx[i + 3])))
       tight = false;
+  // In double-double arithmetic next: it rounds every point it can decide, but not one with a
+  // coordinate that is itself a double (it cannot prove a difference zero), which is nearly always
+  // a round one (the plane of symmetry y = 0.75 between two spheres of a lattice, a cube's face
+  // x = 1 met by a sphere's edge on it): where the box holds a double with 26 or more trailing
+  // zero bits, the exact path is taken at once. Either way the answer is the same.
+  if (!tight && ap.allFinite() && !holds_round_double(bx)) {
+    const H<DD> dd = point_eval<DD>(*soup_, d);
+    const int ws = sign_of(dd.c[3]);
+    double lo[3], hi[3];
+    tight = ws == 1 || ws == -1;
+    for (int i = 0; i < 3 && tight; ++i) tight = faithful_dd(dd.c[i], dd.c[3], ws, lo[i], hi[i]);
+    if (tight)
+      for (int i = 0; i < 3; ++i) {
+        ap[i] = lo[i] >= 0 ? lo[i] : hi[i];  // toward zero, as below
+        bx[i] = lo[i];
+        bx[i + 3] = hi[i];
+      }
+  }
   if (!tight) {
     H<EX> e = point_eval<EX>(*soup_, d);
     const int ws = sign_of(e.c[3]);
@@ -605,6 +702,8 @@ int Points::orient2d(u32 a, u32 b, u32 c, int k, const Plane* line) const {
     if (s != 2) return s;
   }
   if (on_one_segment(a, b, c) || (line && on_plane(c, *line)) || collinear_by_definition(a, b, c, k)) return 0;
+  DdPoint ds[5];
+  if (const int s = orient2d_sign(dd(a, ds[0]).h, dd(b, ds[1]).h, dd(c, ds[2]).h, k); s != 2) return s;
   ExactPoint scratch[4];
   return orient2d_sign(exact(a, scratch[0]).h, exact(b, scratch[1]).h,
                        exact(c, scratch[2]).h, k);
@@ -621,6 +720,8 @@ int Points::compare(u32 a, u32 b, int axis) const {
     int s = compare_sign(to_ia(interval(a)), to_ia(interval(b)), axis);
     if (s != 2) return s;
   }
+  DdPoint ds[5];
+  if (const int s = compare_sign(dd(a, ds[0]).h, dd(b, ds[1]).h, axis); s != 2) return s;
   ExactPoint scratch[4];
   return compare_sign(exact(a, scratch[0]).h, exact(b, scratch[1]).h, axis);
 }
@@ -635,6 +736,7 @@ int Points::compare_def(const PointDef& a, const PointDef& b, int axis) const {
     int s = compare_sign(point_eval<IA>(*soup_, a), point_eval<IA>(*soup_, b), axis);
     if (s != 2) return s;
   }
+  if (const int s = compare_sign(point_eval<DD>(*soup_, a), point_eval<DD>(*soup_, b), axis); s != 2) return s;
   return compare_sign(point_eval<EX>(*soup_, a), point_eval<EX>(*soup_, b), axis);
 }
 
@@ -672,6 +774,8 @@ int Points::side(const Plane& P, u32 p) const {
     int s = side_sign(*soup_, P, to_ia(interval(p)));
     if (s != 2) return s;
   }
+  DdPoint ds[5];
+  if (const int s = side_sign(*soup_, P, dd(p, ds[0]).h); s != 2) return s;
   ExactPoint scratch[4];
   return side_sign(*soup_, P, exact(p, scratch[0]).h);
 }
@@ -771,6 +875,9 @@ int Points::incircle_certain(u32 a, u32 b, u32 c, u32 d, int k, double well) con
     auto p2 = [&](u32 x) { return Point2(approx(x)[i], approx(x)[j]); };
     return wedge::incircle(p2(a), p2(b), p2(c), p2(d)) == 1 ? 1 : -1;
   }
+  DdPoint ds[5];
+  if (const int s = incircle_sign(dd(a, ds[0]).h, dd(b, ds[1]).h, dd(c, ds[2]).h, dd(d, ds[3]).h, k); s != 2)
+    return s == 1 ? 1 : -1;
   ExactPoint scratch[4];
   return incircle_sign(exact(a, scratch[0]).h, exact(b, scratch[1]).h,
                        exact(c, scratch[2]).h, exact(d, scratch[3]).h, k) == 1
@@ -824,6 +931,10 @@ int Points::incircle_certain(u32 a, u32 b, u32 c, u32 d, int k, double well, con
     p[n] = &mapped[n];
   }
   if (well_shaped(p, 0, 1, well)) return -1;
+  DdPoint ds[5];
+  if (const int s = incircle_sign(dd(a, ds[0]).h, dd(b, ds[1]).h, dd(c, ds[2]).h, dd(d, ds[3]).h, k, &q);
+      s != 2)
+    return s == 1 ? 1 : -1;
   ExactPoint scratch[4];
   return incircle_sign(exact(a, scratch[0]).h, exact(b, scratch[1]).h, exact(c, scratch[2]).h,
                        exact(d, scratch[3]).h, k, &q) == 1
@@ -838,6 +949,11 @@ int Points::orient2d_centroid(u32 u, u32 v, const std::array<u32, 3>& t, int k) 
     int s = orient2d_sign(to_ia(interval(u)), to_ia(interval(v)), c, k);
     if (s != 2) return s;
   }
+  {
+    DdPoint ds[5];
+    const H<DD> c = centroid_of(dd(t[0], ds[0]).h, dd(t[1], ds[1]).h, dd(t[2], ds[2]).h);
+    if (const int s = orient2d_sign(dd(u, ds[3]).h, dd(v, ds[4]).h, c, k); s != 2) return s;
+  }
   ExactPoint scratch[4];
   H<EX> c = centroid_of(exact(t[0], scratch[0]).h, exact(t[1], scratch[1]).h,
                         exact(t[2], scratch[2]).h);
@@ -850,6 +966,11 @@ int Points::side_centroid(const Plane& P, const std::array<u32, 3>& t) const {
     H<IA> c = centroid_of(to_ia(interval(t[0])), to_ia(interval(t[1])), to_ia(interval(t[2])));
     int s = side_sign(*soup_, P, c);
     if (s != 2) return s;
+  }
+  {
+    DdPoint ds[5];
+    const H<DD> c = centroid_of(dd(t[0], ds[0]).h, dd(t[1], ds[1]).h, dd(t[2], ds[2]).h);
+    if (const int s = side_sign(*soup_, P, c); s != 2) return s;
   }
   ExactPoint scratch[4];
   H<EX> c = centroid_of(exact(t[0], scratch[0]).h, exact(t[1], scratch[1]).h,
@@ -880,6 +1001,12 @@ int Points::cross_sign(const Plane& P, const Plane& Q, int axis) const {
     plane_eval(*soup_, Q, m, e);
     int s = sign_of(n[i] * m[j] - n[j] * m[i]);
     if (s != 2) return s;
+  }
+  {
+    DD n[3], m[3], d, e;
+    plane_eval(*soup_, P, n, d);
+    plane_eval(*soup_, Q, m, e);
+    if (const int s = sign_of(n[i] * m[j] - n[j] * m[i]); s != 2) return s;
   }
   EX n[3], m[3], d, e;
   plane_eval(*soup_, P, n, d);

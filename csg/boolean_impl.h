@@ -332,6 +332,7 @@ struct IntervalH { double lo[4], hi[4]; };  // interval homogeneous coordinates 
 
 // The table of every point of a run. Ids below soup.verts.size() are the input vertices.
 struct ExactPoint;  // a point's exact homogeneous coordinates, kept once computed (boolean_exact.cpp)
+struct DdPoint;     // the same in double-double arithmetic with an error bound (boolean_dd.h)
 
 class Points {
  public:
@@ -448,10 +449,12 @@ class Points {
   // Per added point, its exact coordinates once a predicate has needed them (null before): set by
   // any thread, once (an atomic compare-and-swap), freed with the table.
   mutable std::vector<ExactPoint*> exact_;
+  mutable std::vector<DdPoint*> dd_;  // the same for the double-double coordinates
   void evaluate(std::size_t n);  // the filter data of added point n (at id nin_ + n)
   double slack(u32 p) const { return p < nin_ ? 0.0 : slack_[p - nin_]; }
   // The exact coordinates: an input vertex's are made in `scratch`, an added point's are kept.
   const ExactPoint& exact(u32 p, ExactPoint& scratch) const;
+  const DdPoint& dd(u32 p, DdPoint& scratch) const;
 };
 
 // The constrained Delaunay triangulation of one cut triangle (boolean_cdt.cpp), in the
