@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <cstring>
 
 #include <tbb/task_arena.h>
 
@@ -17,13 +18,29 @@ namespace wedge::boolean_detail {
 
 namespace {
 
+// The floats next to f (not NaN) below and above it, by their bits (std::nextafter is a call into
+// the maths library, and a tree over a million triangles takes six of these each).
+float float_below(float f) {
+  std::uint32_t b;
+  std::memcpy(&b, &f, 4);
+  b = f > 0 ? b - 1 : (f < 0 ? b + 1 : 0x80000001u);  // below +-0: the least negative float
+  std::memcpy(&f, &b, 4);
+  return f;
+}
+float float_above(float f) {
+  std::uint32_t b;
+  std::memcpy(&b, &f, 4);
+  b = f < 0 ? b - 1 : (f > 0 ? b + 1 : 0x00000001u);
+  std::memcpy(&f, &b, 4);
+  return f;
+}
 float down(double x) {
-  float f = static_cast<float>(x);
-  return static_cast<double>(f) > x ? std::nextafter(f, -INFINITY) : f;
+  const float f = static_cast<float>(x);
+  return static_cast<double>(f) > x ? float_below(f) : f;
 }
 float up(double x) {
-  float f = static_cast<float>(x);
-  return static_cast<double>(f) < x ? std::nextafter(f, INFINITY) : f;
+  const float f = static_cast<float>(x);
+  return static_cast<double>(f) < x ? float_above(f) : f;
 }
 
 void tri_box(const Soup& s, u32 t, double lo[3], double hi[3]) { triangle_box(s, t, lo, hi); }
@@ -122,18 +139,21 @@ Bvh::Bvh(const Soup& soup, std::vector<u32> ids, int d, bool by_operand) : items
   struct Key {
     std::uint64_t code;
     u32 i;
+    u32 rank;  // the operand's, with by_operand (else 0)
   };
   std::vector<Key> order(n);
-  parallel_for(0, n, [&](std::size_t i) { order[i] = {morton(box[i].data()), static_cast<u32>(i)}; });
+  parallel_for(0, n, [&](std::size_t i) {
+    order[i] = {morton(box[i].data()), static_cast<u32>(i), by_operand ? rank[soup.operand[items[i]]] : 0u};
+  });
   soup.poll();
   radix_sort(order, [](const Key& k) { return k.code; });
   soup.poll();
   if (by_operand) {
     std::vector<Key> spare(n);
     std::vector<u32> at(static_cast<std::size_t>(soup.operands) + 1, 0);
-    for (const Key& k : order) ++at[rank[soup.operand[items[k.i]]] + 1];
+    for (const Key& k : order) ++at[k.rank + 1];
     for (int o = 0; o < soup.operands; ++o) at[o + 1] += at[o];
-    for (const Key& k : order) spare[at[rank[soup.operand[items[k.i]]]]++] = k;
+    for (const Key& k : order) spare[at[k.rank]++] = k;
     order.swap(spare);
   }
   soup.poll();
@@ -145,7 +165,7 @@ Bvh::Bvh(const Soup& soup, std::vector<u32> ids, int d, bool by_operand) : items
     sorted[i] = items[order[i].i];
     sbox[i] = box[order[i].i];
     scode[i] = order[i].code;
-    if (by_operand) srank[i] = rank[soup.operand[sorted[i]]];
+    srank[i] = order[i].rank;
   });
   // Where a range splits: at the highest bit in which its first and last keys differ (the rank's
   // bits above the code's), so that each node is one cell of the Morton grid (or one run of
@@ -175,7 +195,7 @@ Bvh::Bvh(const Soup& soup, std::vector<u32> ids, int d, bool by_operand) : items
   };
   items.swap(sorted);
   boxes.swap(sbox);
-  nodes.reserve(2 * (n / 4 + 1) + 1);
+  nodes.reserve(2 * n);  // the splits leave leaves of 1 to 4: at most 2n - 1 nodes
   // Build top-down by halving ranges; fill boxes bottom-up afterwards (children follow parents).
   struct Task { u32 node, first, count; };
   std::vector<Task> stack;
