@@ -263,58 +263,19 @@ bool box_ia(const std::array<double, 6>& b, int i, int j, IA& x, IA& y) {
   return true;
 }
 
-// The exact quotient x = X / W (W of sign ws) between two adjacent doubles: lo <= x <= hi, with
-// lo == hi when x is a double. Found from a double guess (the filter's interval midpoint, or
-// the doubles' quotient) by the exact sign of X - g W (a double times an Mpzf is exact), stepping
-// an ulp at a time. False if the guess is not finite or more than a few ulps off.
-bool faithful(const EX& X, const EX& W, int ws, double mid, double ilo, double ihi, double& lo, double& hi) {
-  double g = mid;
-  if (!(std::isfinite(ilo) && std::isfinite(ihi) && std::isfinite(g))) g = CGAL::to_double(X) / CGAL::to_double(W);
-  if (!std::isfinite(g)) return false;
-  auto above = [&](double y) { return sign_of(X - EX(y) * W) * ws; };  // sign of x - y
-  int s = above(g);
-  if (s == 0) {
-    lo = hi = g;
-    return true;
-  }
-  const double dir = s > 0 ? INFINITY : -INFINITY;
-  for (int step = 0; step < 64; ++step) {
-    const double h = std::nextafter(g, dir);
-    if (!std::isfinite(h)) return false;
-    const int t = above(h);
-    if (t == 0) {
-      lo = hi = h;
-      return true;
-    }
-    if (t != s) {
-      lo = std::min(g, h);
-      hi = std::max(g, h);
-      return true;
-    }
-    g = h;
-  }
-  return false;
-}
-
-// faithful() in double-double arithmetic: false where a sign it needs is not decided (among them
-// every x that is itself a double, unless X and W are exact), or the doubles' quotient is more
-// than a few ulps off. The answer, where there is one, is faithful()'s: the pair of adjacent
-// doubles around x, or x twice, is unique.
-bool faithful_dd(const DD& X, const DD& W, int ws, double& lo, double& hi) {
-  double g = X.hi / W.hi;
-  if (!std::isfinite(g)) return false;
-  auto above = [&](double y) {  // sign of x - y, or 2
-    const int s = sign_of(X - DD(y) * W);
-    return s == 2 ? 2 : s * ws;
-  };
-  int s = above(g);
+// From a double guess g, the pair of adjacent doubles lo <= x <= hi around a number x (lo == hi
+// where x is a double), stepping an ulp at a time; above(y) is the sign of x - y, or 2 where it is
+// not known (then false). False too after `steps` steps or at an infinity.
+template <class Above>
+bool bracket(double g, int steps, Above&& above, double& lo, double& hi) {
+  const int s = above(g);
   if (s == 2) return false;
   if (s == 0) {
     lo = hi = g;
     return true;
   }
   const double dir = s > 0 ? INFINITY : -INFINITY;
-  for (int step = 0; step < 8; ++step) {
+  for (int step = 0; step < steps; ++step) {
     const double h = std::nextafter(g, dir);
     if (!std::isfinite(h)) return false;
     const int t = above(h);
@@ -331,6 +292,30 @@ bool faithful_dd(const DD& X, const DD& W, int ws, double& lo, double& hi) {
     g = h;
   }
   return false;
+}
+
+// The exact quotient x = X / W (W of sign ws) between two adjacent doubles: lo <= x <= hi, with
+// lo == hi when x is a double. Found from a double guess (the filter's interval midpoint, or
+// the doubles' quotient) by the exact sign of X - g W (a double times an Mpzf is exact), stepping
+// an ulp at a time. False if the guess is not finite or more than a few ulps off.
+bool faithful(const EX& X, const EX& W, int ws, double mid, double ilo, double ihi, double& lo, double& hi) {
+  double g = mid;
+  if (!(std::isfinite(ilo) && std::isfinite(ihi) && std::isfinite(g))) g = CGAL::to_double(X) / CGAL::to_double(W);
+  if (!std::isfinite(g)) return false;
+  return bracket(g, 64, [&](double y) { return sign_of(X - EX(y) * W) * ws; }, lo, hi);
+}
+
+// faithful() in double-double arithmetic: false where a sign it needs is not decided (among them
+// every x that is itself a double, unless X and W are exact), or the doubles' quotient is more
+// than a few ulps off. The answer, where there is one, is faithful()'s: the pair of adjacent
+// doubles around x, or x twice, is unique.
+bool faithful_dd(const DD& X, const DD& W, int ws, double& lo, double& hi) {
+  const double g = X.hi / W.hi;
+  if (!std::isfinite(g)) return false;
+  return bracket(g, 8, [&](double y) {
+    const int s = sign_of(X - DD(y) * W);
+    return s == 2 ? 2 : s * ws;
+  }, lo, hi);
 }
 
 // Whether one of a box's three intervals holds a double whose significand ends in 26 zero bits or
