@@ -109,11 +109,13 @@ WEDGE_DD_INLINE DD operator*(const DD& a, const DD& b) {
     dd::fast_two_sum(ph, pl + (a.hi * b.lo + a.lo * b.hi), r.hi, r.lo);
     r.err = (std::abs(a.hi) * b.err + std::abs(b.hi) * a.err + a.err * b.err + 8 * dd::kU2 * std::abs(ph)) * dd::kInflate;
   }
-  // Dekker's product is exact only away from underflow (and from overflow, which reaches hi).
-  // (A product of two non-zero numbers that underflowed to 0 is not zero.)
+  // Dekker's product is exact only away from underflow (a product of two non-zero numbers that
+  // underflowed to 0 is not zero) and where the split does not overflow (|a|, |b| < 2^995; an
+  // overflow of the product itself reaches hi).
   const bool tiny = a.hi != 0 && b.hi != 0 &&
                     (!(std::abs(ph) >= dd::kLeast) || !(std::abs(a.hi) >= 0x1p-960) || !(std::abs(b.hi) >= 0x1p-960));
-  if (tiny || !std::isfinite(r.hi)) r.err = INFINITY;
+  const bool huge = !(std::abs(a.hi) < 0x1p995) || !(std::abs(b.hi) < 0x1p995);
+  if (tiny || huge || !std::isfinite(r.hi)) r.err = INFINITY;
   return r;
 }
 

@@ -150,6 +150,7 @@ TEST_CASE("boolean dd: overflow, underflow and NaN are declined, exact zeros of 
   CHECK(sign_of(DD(std::nan("")) + DD(1)) == 2);
   CHECK(sign_of(DD(INFINITY) - DD(INFINITY)) == 2);
   CHECK(sign_of(DD(3e250) * DD(1e-250)) == 1);
+  CHECK(sign_of(DD(0x1p1000) * DD(0x1p-990)) == 2);             // a finite product whose split overflows
   // Products and sums of two doubles are exact: their zeros are certain.
   CHECK(sign_of(DD(0.1) * DD(0.3) - DD(0.3) * DD(0.1)) == 0);
   CHECK(sign_of(DD(0.1) - DD(0.1)) == 0);
