@@ -196,7 +196,8 @@ Bvh::Bvh(const Soup& soup, std::vector<u32> ids, int d, bool by_operand) : items
   items.swap(sorted);
   boxes.swap(sbox);
   nodes.reserve(2 * n);  // the splits leave leaves of 1 to 4: at most 2n - 1 nodes
-  // Build top-down by halving ranges; fill boxes bottom-up afterwards (children follow parents).
+  // Build top-down by splitting ranges (split_of); fill boxes bottom-up afterwards (children follow
+  // parents).
   struct Task { u32 node, first, count; };
   std::vector<Task> stack;
   nodes.push_back({});
