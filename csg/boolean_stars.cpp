@@ -1,0 +1,245 @@
+// Star certificates and radial embedding: the operand checks that need no pairwise test (a
+// vertex's star seen one-to-one along a direction; a whole operand one-to-one on the sphere of
+// directions around a point), for the broad phase and the rounding check.
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+
+#include <tbb/task_arena.h>
+
+#include "csg/boolean_impl.h"
+#include "kernel/parallel.h"
+
+namespace wedge::boolean_detail {
+
+// Star certificates for the self-intersection check. The star of vertex v in one operand (its
+// triangles around v) is *certified* when, seen along some direction d, every star triangle has
+// the same non-zero orientation and the rim winds once around v: then the projection along d is
+// one-to-one on the star, so two star triangles meet only in what they share (v, or an edge from
+// v) and need no pairwise test. d is W - V for a double W near V + the star's mean normal, and
+// each orientation is orient3d(V, a, b, W), exact: the certificate is exact whatever W is.
+// Closed meshes' stars are nearly all certified (a sphere's, a cylinder's cap fans and rims, a
+// box's corners); a star that is not is tested pairwise as before. Returns per triangle a 3-bit
+// mask: bit c set when the star at corner c is certified.
+CornerLists corner_lists(const Soup& soup, const std::vector<char>* listed, const std::vector<char>* wanted) {
+  const std::size_t nt = soup.tris.size(), nv = soup.verts.size();
+  CornerLists cl;
+  auto take = [&](std::size_t t) { return !listed || (*listed)[soup.operand[t]]; };
+  // A counting sort of the corners by vertex, over a few chunks of the triangles at once: chunk
+  // c's corners of vertex v go after chunks 0..c-1's, so each vertex's corners are in triangle
+  // order, as one pass would put them.
+  const std::size_t chunks =
+      nt < (std::size_t(1) << 16) ? 1 : std::min<std::size_t>(8, static_cast<std::size_t>(tbb::this_task_arena::max_concurrency()));
+  const std::size_t per = (nt + chunks - 1) / chunks;
+  std::vector<std::vector<u32>> at(chunks, std::vector<u32>(nv, 0));
+  parallel_for(0, chunks, [&](std::size_t c) {
+    for (std::size_t t = c * per; t < std::min(nt, (c + 1) * per); ++t)
+      if (take(t))
+        for (u32 v : soup.tris[t])
+          if (!wanted || (*wanted)[v]) ++at[c][v];
+  });
+  soup.poll();
+  cl.off.assign(nv + 1, 0);
+  for (std::size_t v = 0, sum = 0; v < nv; ++v) {
+    cl.off[v] = static_cast<u32>(sum);
+    for (std::size_t c = 0; c < chunks; ++c) {
+      const u32 n = at[c][v];
+      at[c][v] = static_cast<u32>(sum);
+      sum += n;
+    }
+    cl.off[v + 1] = static_cast<u32>(sum);
+  }
+  soup.poll();
+  cl.next.resize(cl.off[nv]);
+  cl.prev.resize(cl.off[nv]);
+  parallel_for(0, chunks, [&](std::size_t c) {
+    for (std::size_t t = c * per; t < std::min(nt, (c + 1) * per); ++t)
+      if (take(t))
+        for (int k = 0; k < 3; ++k) {
+          const u32 v = soup.tris[t][k];
+          if (wanted && !(*wanted)[v]) continue;
+          const u32 i = at[c][v]++;
+          cl.next[i] = static_cast<std::uint64_t>(soup.tris[t][(k + 1) % 3]) << 32 | static_cast<u32>(t);
+          cl.prev[i] = static_cast<std::uint64_t>(soup.tris[t][(k + 2) % 3]) << 32 | static_cast<u32>(t);
+        }
+  });
+  return cl;
+}
+
+std::vector<std::uint8_t> star_certificates(const Soup& soup, const std::vector<char>* trusted,
+                                            const std::vector<char>* active, const std::vector<Vec3>* centers) {
+  std::vector<char> listed(soup.operands, 1), wanted;
+  if (trusted)
+    for (int o = 0; o < soup.operands; ++o) listed[o] = !(*trusted)[o];
+  if (active) {
+    wanted.assign(soup.verts.size(), 0);
+    for (std::size_t t = 0; t < soup.tris.size(); ++t)
+      if ((*active)[t])
+        for (u32 v : soup.tris[t]) wanted[v] = 1;
+  }
+  return star_certificates(soup, corner_lists(soup, &listed, active ? &wanted : nullptr), centers);
+}
+
+std::vector<std::uint8_t> star_certificates(const Soup& soup, const CornerLists& cl, const std::vector<Vec3>* centers) {
+  const std::size_t nt = soup.tris.size(), nv = soup.verts.size();
+  std::vector<std::uint8_t> mask(nt, 0);
+  const std::vector<u32>& off = cl.off;
+  soup.poll();
+  // Seen from an operand's centre, a triangle's orientation is the same from each of its three
+  // corners' stars (orient3d is unchanged by turning its first three points): once per triangle.
+  std::vector<std::int8_t> from_center;
+  if (centers) {
+    from_center.resize(nt);
+    parallel_for(0, nt, [&](std::size_t t) {
+      const auto& T = soup.tris[t];
+      from_center[t] = static_cast<std::int8_t>(
+          orient3d_fast(soup.verts[T[0]], soup.verts[T[1]], soup.verts[T[2]], (*centers)[soup.operand[t]]));
+    });
+  }
+  parallel_for(0, (nv + 1023) / 1024, [&](std::size_t block) {
+    soup.poll();
+    struct Spoke {
+      u32 a, b, rec;  // triangle (v, a, b) counter-clockwise, its record
+    };
+    std::vector<Spoke> star;
+    std::vector<u32> rim, rim_rec;
+    for (std::size_t v = block * 1024; v < std::min(nv, (block + 1) * 1024); ++v) {
+      for (u32 r0 = off[v]; r0 < off[v + 1];) {
+        u32 r1 = r0;
+        const std::int32_t op = soup.operand[static_cast<u32>(cl.next[r0])];
+        while (r1 < off[v + 1] && soup.operand[static_cast<u32>(cl.next[r1])] == op) ++r1;  // one operand's star of v
+        star.clear();
+        for (u32 r = r0; r < r1; ++r) star.push_back({static_cast<u32>(cl.next[r] >> 32), static_cast<u32>(cl.prev[r] >> 32), r});
+        const u32 first = r0;
+        r0 = r1;
+        if (star.size() < 3) continue;
+        // The rim as one cycle a1 -> a2 -> ... -> a1 (each spoke's b is the next spoke's a); a
+        // star that is not one cycle (a vertex where two cones touch) gets no certificate.
+        std::sort(star.begin(), star.end(), [](const Spoke& x, const Spoke& y) { return x.a < y.a; });
+        bool ok = true;
+        for (std::size_t i = 1; i < star.size() && ok; ++i) ok = star[i].a != star[i - 1].a;
+        if (!ok) continue;
+        auto next = [&](u32 a) -> const Spoke* {
+          auto it = std::lower_bound(star.begin(), star.end(), a, [](const Spoke& x, u32 y) { return x.a < y; });
+          return it != star.end() && it->a == a ? &*it : nullptr;
+        };
+        rim.clear();
+        rim_rec.clear();
+        const Spoke* sp = &star[0];
+        for (std::size_t n = 0; n < star.size() && sp; ++n) {
+          rim.push_back(sp->a);
+          rim_rec.push_back(sp->rec);
+          sp = next(sp->b);
+        }
+        if (!sp || sp != &star[0] || rim.size() != star.size()) continue;  // not one cycle
+        // Seen along d = W - V, W a double near V + (the star's mean normal), or the operand's
+        // centre where one is given: any W would be exact, these make most stars pass.
+        const Vec3& V = soup.verts[v];
+        Vec3 W;
+        if (centers) {
+          W = (*centers)[op];
+        } else {
+          Vec3 nrm = Vec3::Zero();
+          for (std::size_t m = 0; m < rim.size(); ++m) {
+            const Vec3 &P = soup.verts[rim[m]], &Q = soup.verts[rim[(m + 1) % rim.size()]];
+            nrm += (P - V).cross(Q - V);
+          }
+          const double len = (soup.verts[rim[0]] - V).norm(), nn = nrm.norm();
+          if (!(nn > 0) || !(len > 0)) continue;
+          W = V + nrm * (len / nn);
+        }
+        if (W == V || !W.allFinite()) continue;
+        auto orient = [&](const Vec3& a, const Vec3& b) { return orient3d_fast(V, a, b, W); };
+        // Spoke m's triangle (v, rim[m], rim[m + 1]) seen from W.
+        auto spoke = [&](std::size_t m) {
+          if (centers) return static_cast<int>(from_center[static_cast<u32>(cl.next[rim_rec[m]])]);
+          return orient(soup.verts[rim[m]], soup.verts[rim[(m + 1) % rim.size()]]);
+        };
+        const std::size_t n = rim.size();
+        const int s = spoke(0);
+        if (s == 0) continue;
+        for (std::size_t m = 1; m < n && ok; ++m) ok = spoke(m) == s;
+        if (!ok) continue;
+        // Winding number of the rim about v: the last step ends on the direction of a1 (one turn);
+        // any earlier step that reaches or passes it adds a turn (a step ending on the line of a1
+        // is not sorted out here: no certificate).
+        // (A step's start, orient(P, A1), is the last step's end orient(A1, P) negated: the
+        // predicate is exact, and swapping two points negates it. One orientation per step.)
+        const Vec3& A1 = soup.verts[rim[0]];
+        int start = -orient(A1, soup.verts[rim[1]]);  // a star has three spokes or more
+        for (std::size_t m = 1; m + 1 < n && ok; ++m) {
+          const int end = orient(A1, soup.verts[rim[m + 1]]);
+          // A step that starts on or past the direction of a1 is passed over.
+          if (s * start > 0 && s * end >= 0) ok = false;
+          start = -end;
+        }
+        if (!ok) continue;
+        for (u32 r = first; r < r1; ++r) {
+          const u32 t = static_cast<u32>(cl.next[r]);
+          const u32 c = soup.tris[t][0] == v ? 0 : (soup.tris[t][1] == v ? 1 : 2);
+          // (A triangle's three corners are certified from three vertices, in any blocks: with a
+          // plain |= a bit set at the same time by another block could be lost.)
+          std::atomic_ref<std::uint8_t>(mask[t]).fetch_or(static_cast<std::uint8_t>(1u << c), std::memory_order_relaxed);
+        }
+      }
+    }
+  });
+  return mask;
+}
+
+// An operand all of whose triangles and stars, seen from one point c, keep their orientation
+// and wind once (its stars certified with W = c) maps onto the sphere of directions around c
+// locally one-to-one: a covering of the sphere, so each of its shells has Euler characteristic
+// 2k for k sheets. With V - E + F = 2 it is one shell of one sheet: the map is one-to-one, and
+// no two of its triangles meet beyond what they share. Convex and star-shaped operands (boxes,
+// cylinders, spheres: nearly every primitive) pass with c the mean of their vertices, in linear
+// time and without looking at pairs.
+std::vector<char> radially_embedded(const Soup& soup, const std::vector<char>* skip, const CornerLists& corners) {
+  const int nops = soup.operands;
+  std::vector<std::size_t> faces(nops, 0);
+  for (std::size_t t = 0; t < soup.tris.size(); ++t) ++faces[soup.operand[t]];
+  // Each operand's vertices (a vertex's corners of one operand are one run of its list): their
+  // number and mean, per block of vertices in parallel, the blocks summed in order.
+  const std::size_t nv = soup.verts.size(), blocks = (nv + 65535) / 65536;
+  std::vector<std::vector<Vec3>> sums(blocks);
+  std::vector<std::vector<std::size_t>> counts(blocks);
+  parallel_for(0, blocks, [&](std::size_t b) {
+    sums[b].assign(nops, Vec3::Zero());
+    counts[b].assign(nops, 0);
+    for (std::size_t v = b * 65536; v < std::min(nv, (b + 1) * 65536); ++v) {
+      std::int32_t prev = -1;
+      for (u32 k = corners.off[v]; k < corners.off[v + 1]; ++k) {
+        const std::int32_t op = soup.operand[static_cast<u32>(corners.next[k])];
+        if (op == prev) continue;
+        prev = op;
+        sums[b][op] += soup.verts[v];
+        ++counts[b][op];
+      }
+    }
+  });
+  std::vector<Vec3> centers(nops, Vec3::Zero());
+  std::vector<std::size_t> verts(nops, 0);
+  for (std::size_t b = 0; b < blocks; ++b)
+    for (int op = 0; op < nops; ++op) {
+      centers[op] += sums[b][op];
+      verts[op] += counts[b][op];
+    }
+  std::vector<char> pass(nops, 0);
+  std::vector<char> todo(nops, 0);
+  for (int op = 0; op < nops; ++op) {
+    todo[op] = (!skip || !(*skip)[op]) && faces[op] > 0 && faces[op] % 2 == 0;
+    centers[op] /= static_cast<double>(std::max<std::size_t>(verts[op], 1));
+  }
+  const auto cert = star_certificates(soup, corners, &centers);
+  std::vector<char> all(nops, 1);
+  for (std::size_t t = 0; t < soup.tris.size(); ++t)
+    if (cert[t] != 7) all[soup.operand[t]] = 0;
+  for (int op = 0; op < nops; ++op) {
+    // V - E + F with E = 3F / 2 (closed: every edge in two triangles).
+    const auto chi = static_cast<std::int64_t>(verts[op]) - static_cast<std::int64_t>(faces[op] / 2);
+    pass[op] = todo[op] && all[op] && chi == 2;
+  }
+  return pass;
+}
+
+}  // namespace wedge::boolean_detail
