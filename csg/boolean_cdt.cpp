@@ -17,6 +17,7 @@
 // replaces), there are no handles, no hash map from ids to vertices, no infinite faces and no
 // per-triangulation allocation beyond a few flat arrays, reused by each thread.
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -49,6 +50,7 @@ class Triangulator {
     well_ = well;
     rng_ = 0x9e3779b9u;
     ids_.clear();
+    lv_.clear();
     tris_.clear();
     vt_.clear();
     for (u32 c : corners) add_vertex(c);
@@ -102,7 +104,13 @@ class Triangulator {
   int k_ = 2;
   double well_ = 0.01;
   std::uint32_t rng_ = 0x9e3779b9u;
+  // A local vertex's point projected (x, y), its slack, and whether x and y are exact.
+  struct Local {
+    Approx2 p;
+    bool exact;
+  };
   std::vector<u32> ids_;               // local vertex -> point id
+  std::vector<Local> lv_;
   std::vector<Tri> tris_;
   std::vector<int> vt_;                // local vertex -> a triangle that has it
   std::vector<std::pair<u32, int>> local_;
@@ -114,12 +122,32 @@ class Triangulator {
   int add_vertex(u32 id) {
     ids_.push_back(id);
     vt_.push_back(kNo);
+    const int i = (k_ + 1) % 3, j = (k_ + 2) % 3;
+    const std::uint8_t m = static_cast<std::uint8_t>(1u << i | 1u << j);
+    const Vec3& p = pts_->approx(id);
+    lv_.push_back({{p[i], p[j], pts_->slack(id)}, (pts_->fixed(id) & m) == m});
     return static_cast<int>(ids_.size()) - 1;
   }
-  int orient(int a, int b, int c) const { return pts_->orient2d(ids_[a], ids_[b], ids_[c], k_); }
+  // The predicates' first stages (orient2d_first, incircle_first) on the local copies, as
+  // Points::orient2d and Points::incircle_certain run them (so they decide exactly where those
+  // would); the rest there.
+  int orient(int a, int b, int c) const {
+    const Local &A = lv_[a], &B = lv_[b], &C = lv_[c];
+    if (A.exact && B.exact && C.exact) return orient2d_fast(A.p.x, A.p.y, B.p.x, B.p.y, C.p.x, C.p.y);
+    if (const int s = orient2d_first(A.p, B.p, C.p); s != 2) return s;
+    return pts_->orient2d(ids_[a], ids_[b], ids_[c], k_);
+  }
   // +1 where d is certainly inside the circle through a, b, c (counter-clockwise).
   bool in_circle(int a, int b, int c, int d) const {
-    if (metric_) return pts_->incircle_certain(ids_[a], ids_[b], ids_[c], ids_[d], k_, well_, *metric_) > 0;
+    const Local &A = lv_[a], &B = lv_[b], &C = lv_[c], &D = lv_[d];
+    if (metric_) {
+      const Approx2* p[4] = {&A.p, &B.p, &C.p, &D.p};
+      if (const int s = incircle_first(p, metric_->q11, metric_->q12, metric_->q22); s != 2) return s > 0;
+      return pts_->incircle_certain(ids_[a], ids_[b], ids_[c], ids_[d], k_, well_, *metric_) > 0;
+    }
+    const bool doubles = A.exact && B.exact && C.exact && D.exact;
+    const double W = doubles ? 0.0 : std::max({A.p.w, B.p.w, C.p.w, D.p.w});
+    if (const int s = incircle_first(A.p, B.p, C.p, D.p, W); s != 2) return s > 0;
     return pts_->incircle_certain(ids_[a], ids_[b], ids_[c], ids_[d], k_, well_) > 0;
   }
   std::uint32_t next_random() {

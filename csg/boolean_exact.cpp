@@ -549,20 +549,8 @@ int Points::orient2d(u32 a, u32 b, u32 c, int k, const Plane* line) const {
   const std::uint8_t m = static_cast<std::uint8_t>(1u << i | 1u << j);
   const Vec3 &A = approx(a), &B = approx(b), &C = approx(c);
   if ((fixed(a) & fixed(b) & fixed(c) & m) == m) return orient2d_fast(A[i], A[j], B[i], B[j], C[i], C[j]);
-  {
-    // On the approximations, with Shewchuk's stage-A bound for their determinant plus how far
-    // the exact points may be from them: each difference moves by at most 2W (W the largest
-    // slack), so the determinant by at most 8 R' W, R' the largest difference plus 2W.
-    const double W = std::max({slack(a), slack(b), slack(c)});
-    const double bx = B[i] - A[i], by = B[j] - A[j], cx = C[i] - A[i], cy = C[j] - A[j];
-    const double l = bx * cy, r = by * cx, det = l - r;
-    const double R = std::max({std::abs(bx), std::abs(by), std::abs(cx), std::abs(cy)}) + 2 * W;
-    const double bound = 3.3306690738754716e-16 * (std::abs(l) + std::abs(r)) + 16 * R * W;
-    if (bound < INFINITY && bound > 1e-280) {
-      if (det > bound) return 1;
-      if (-det > bound) return -1;
-    }
-  }
+  if (const int s = orient2d_first({A[i], A[j], slack(a)}, {B[i], B[j], slack(b)}, {C[i], C[j], slack(c)}); s != 2)
+    return s;
   {
     Filter guard;
     // First on the coordinate boxes (each an ulp or two wide), then on the homogeneous intervals.
@@ -718,27 +706,12 @@ int Points::incircle_certain(u32 a, u32 b, u32 c, u32 d, int k, double well) con
   const std::uint8_t m = static_cast<std::uint8_t>(1u << i | 1u << j);
   const bool doubles = (fixed(a) & fixed(b) & fixed(c) & fixed(d) & m) == m;
   {
-    // The classic determinant relative to d on the approximations, with Shewchuk's stage-A error
-    // bound, plus (where they are not exact) how far the exact points may be from them: each
-    // difference moves by at most 2W (W the largest slack), so each of the three products of a
-    // squared length and a cross product by at most 32 R'^3 W (R' the largest difference plus
-    // 2W); 128 R'^3 W bounds the sum.
     const Vec3 &A = approx(a), &B = approx(b), &C = approx(c), &D = approx(d);
     const double W = doubles ? 0.0 : std::max({slack(a), slack(b), slack(c), slack(d)});
-    const double adx = A[i] - D[i], ady = A[j] - D[j], bdx = B[i] - D[i], bdy = B[j] - D[j];
-    const double cdx = C[i] - D[i], cdy = C[j] - D[j];
-    const double bc = bdx * cdy, cb = cdx * bdy, ca = cdx * ady, ac = adx * cdy, ab = adx * bdy, ba = bdx * ady;
-    const double al = adx * adx + ady * ady, bl = bdx * bdx + bdy * bdy, cl = cdx * cdx + cdy * cdy;
-    const double det = al * (bc - cb) + bl * (ca - ac) + cl * (ab - ba);
-    const double perm = (std::abs(bc) + std::abs(cb)) * al + (std::abs(ca) + std::abs(ac)) * bl +
-                        (std::abs(ab) + std::abs(ba)) * cl;
-    double bound = 1.1102230246251577e-15 * perm;
-    if (W > 0) {
-      const double R =
-          std::max({std::abs(adx), std::abs(ady), std::abs(bdx), std::abs(bdy), std::abs(cdx), std::abs(cdy)}) + 2 * W;
-      bound += 128 * R * R * R * W;
-    }
-    if (bound < INFINITY && bound > 1e-280 && std::abs(det) > bound) return det > 0 ? 1 : -1;
+    if (const int s = incircle_first({A[i], A[j], slack(a)}, {B[i], B[j], slack(b)}, {C[i], C[j], slack(c)},
+                                     {D[i], D[j], slack(d)}, W);
+        s != 2)
+      return s;
   }
   if (!doubles) {
     const int s = incircle_interval(a, b, c, d, k, nullptr);
@@ -768,36 +741,13 @@ int Points::incircle_certain(u32 a, u32 b, u32 c, u32 d, int k, double well, con
   const int i = (k + 1) % 3, j = (k + 2) % 3;
   const u32 id[4] = {a, b, c, d};
   {
-    // On the approximations, relative to d, with a bound of 32 ulps of the permanent (the plain
-    // test's stage-A bound is 10; the form adds three products and a sum to each lifted term,
-    // and |q| <= 1), plus how far the exact points may be from them: with each difference off by
-    // at most 2W and R' the largest difference plus 2W, a lifted term is off by at most 16 R' W
-    // (and at most 4 R'^2), a 2x2 minor by 8 R' W (at most 2 R'^2): 192 R'^3 W in all, 256 here.
-    const Vec3& D = approx(d);
-    double W = slack(d), R = 0;
-    double r[3][3], lift_abs[3];
-    for (int n = 0; n < 3; ++n) {
-      const Vec3& P = approx(id[n]);
-      const double x = P[i] - D[i], y = P[j] - D[j];
-      W = std::max(W, slack(id[n]));
-      R = std::max({R, std::abs(x), std::abs(y)});
-      r[n][0] = x;
-      r[n][1] = y;
-      r[n][2] = q.q11 * x * x + 2 * q.q12 * x * y + q.q22 * y * y;
-      lift_abs[n] = std::abs(q.q11) * x * x + 2 * std::abs(q.q12 * x * y) + std::abs(q.q22) * y * y;
+    Approx2 ap[4];
+    const Approx2* p[4];
+    for (int n = 0; n < 4; ++n) {
+      ap[n] = {approx(id[n])[i], approx(id[n])[j], slack(id[n])};
+      p[n] = &ap[n];
     }
-    const double m0 = r[1][0] * r[2][1] - r[2][0] * r[1][1], m1 = r[2][0] * r[0][1] - r[0][0] * r[2][1],
-                 m2 = r[0][0] * r[1][1] - r[1][0] * r[0][1];
-    const double det = r[0][2] * m0 + r[1][2] * m1 + r[2][2] * m2;
-    const double perm = lift_abs[0] * (std::abs(r[1][0] * r[2][1]) + std::abs(r[2][0] * r[1][1])) +
-                        lift_abs[1] * (std::abs(r[2][0] * r[0][1]) + std::abs(r[0][0] * r[2][1])) +
-                        lift_abs[2] * (std::abs(r[0][0] * r[1][1]) + std::abs(r[1][0] * r[0][1]));
-    double bound = 3.5527136788005009e-15 * perm;
-    if (W > 0) {
-      R += 2 * W;
-      bound += 256 * R * R * R * W;
-    }
-    if (bound < INFINITY && bound > 1e-280 && std::abs(det) > bound) return det > 0 ? 1 : -1;
+    if (const int s = incircle_first(p, q.q11, q.q12, q.q22); s != 2) return s;
   }
   if (const int s = incircle_interval(a, b, c, d, k, &q); s != 2) return s == 1 ? 1 : -1;
   // Shapes are judged where the form is the plain one: mapped by its square root (Cholesky).

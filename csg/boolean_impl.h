@@ -30,6 +30,7 @@
 #pragma once
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <atomic>
 #include <cstdint>
 #include <functional>
@@ -64,6 +65,83 @@ inline int orient2d_fast(double ax, double ay, double bx, double by, double cx, 
     if (-det > bound) return -1;
   }
   return orient2d_undecided(ax, ay, bx, by, cx, cy);
+}
+// The first stages of the point predicates (Points::orient2d, Points::incircle_certain), on
+// projected approximations (x, y) each at most w from its exact point: the sign where the error
+// bound settles it, else 2. The triangulation runs them on its own copies of its points. (Their
+// bounds assume each operation rounded on its own: the files that call them are compiled with
+// -ffp-contract=off.)
+struct Approx2 {
+  double x, y, w;
+};
+// Shewchuk's stage-A bound for the determinant, plus how far the exact points may be from the
+// approximations: each difference moves by at most 2W (W the largest slack), so the determinant
+// by at most 8 R' W, R' the largest difference plus 2W.
+inline int orient2d_first(const Approx2& A, const Approx2& B, const Approx2& C) {
+  const double W = std::max({A.w, B.w, C.w});
+  const double bx = B.x - A.x, by = B.y - A.y, cx = C.x - A.x, cy = C.y - A.y;
+  const double l = bx * cy, r = by * cx, det = l - r;
+  const double R = std::max({std::abs(bx), std::abs(by), std::abs(cx), std::abs(cy)}) + 2 * W;
+  const double bound = 3.3306690738754716e-16 * (std::abs(l) + std::abs(r)) + 16 * R * W;
+  if (bound < INFINITY && bound > 1e-280) {
+    if (det > bound) return 1;
+    if (-det > bound) return -1;
+  }
+  return 2;
+}
+// The classic in-circle determinant relative to D, with Shewchuk's stage-A error bound, plus
+// (where the points are not exact: W > 0) how far they may be: each difference moves by at most
+// 2W, so each of the three products of a squared length and a cross product by at most
+// 32 R'^3 W (R' the largest difference plus 2W); 128 R'^3 W bounds the sum.
+inline int incircle_first(const Approx2& A, const Approx2& B, const Approx2& C, const Approx2& D, double W) {
+  const double adx = A.x - D.x, ady = A.y - D.y, bdx = B.x - D.x, bdy = B.y - D.y;
+  const double cdx = C.x - D.x, cdy = C.y - D.y;
+  const double bc = bdx * cdy, cb = cdx * bdy, ca = cdx * ady, ac = adx * cdy, ab = adx * bdy, ba = bdx * ady;
+  const double al = adx * adx + ady * ady, bl = bdx * bdx + bdy * bdy, cl = cdx * cdx + cdy * cdy;
+  const double det = al * (bc - cb) + bl * (ca - ac) + cl * (ab - ba);
+  const double perm = (std::abs(bc) + std::abs(cb)) * al + (std::abs(ca) + std::abs(ac)) * bl +
+                      (std::abs(ab) + std::abs(ba)) * cl;
+  double bound = 1.1102230246251577e-15 * perm;
+  if (W > 0) {
+    const double R =
+        std::max({std::abs(adx), std::abs(ady), std::abs(bdx), std::abs(bdy), std::abs(cdx), std::abs(cdy)}) + 2 * W;
+    bound += 128 * R * R * R * W;
+  }
+  if (bound < INFINITY && bound > 1e-280 && std::abs(det) > bound) return det > 0 ? 1 : -1;
+  return 2;
+}
+// The same in the metric of the quadratic form (q11, q12, q22), with a bound of 32 ulps of the
+// permanent (the plain test's stage-A bound is 10; the form adds three products and a sum to
+// each lifted term, and |q| <= 1), plus how far the exact points may be: with each difference
+// off by at most 2W and R' the largest difference plus 2W, a lifted term is off by at most
+// 16 R' W (and at most 4 R'^2), a 2x2 minor by 8 R' W (at most 2 R'^2): 192 R'^3 W in all,
+// 256 here.
+inline int incircle_first(const Approx2* p[4], double q11, double q12, double q22) {
+  const Approx2& D = *p[3];
+  double W = D.w, R = 0;
+  double r[3][3], lift_abs[3];
+  for (int n = 0; n < 3; ++n) {
+    const double x = p[n]->x - D.x, y = p[n]->y - D.y;
+    W = std::max(W, p[n]->w);
+    R = std::max({R, std::abs(x), std::abs(y)});
+    r[n][0] = x;
+    r[n][1] = y;
+    r[n][2] = q11 * x * x + 2 * q12 * x * y + q22 * y * y;
+    lift_abs[n] = std::abs(q11) * x * x + 2 * std::abs(q12 * x * y) + std::abs(q22) * y * y;
+  }
+  const double m0 = r[1][0] * r[2][1] - r[2][0] * r[1][1], m1 = r[2][0] * r[0][1] - r[0][0] * r[2][1],
+               m2 = r[0][0] * r[1][1] - r[1][0] * r[0][1];
+  const double det = r[0][2] * m0 + r[1][2] * m1 + r[2][2] * m2;
+  const double perm = lift_abs[0] * (std::abs(r[1][0] * r[2][1]) + std::abs(r[2][0] * r[1][1])) +
+                      lift_abs[1] * (std::abs(r[2][0] * r[0][1]) + std::abs(r[0][0] * r[2][1])) +
+                      lift_abs[2] * (std::abs(r[0][0] * r[1][1]) + std::abs(r[1][0] * r[0][1]));
+  double bound = 3.5527136788005009e-15 * perm;
+  if (W > 0) {
+    R += 2 * W;
+    bound += 256 * R * R * R * W;
+  }
+  if (bound < INFINITY && bound > 1e-280 && std::abs(det) > bound) return det > 0 ? 1 : -1;
+  return 2;
 }
 // The smallest sine of the angles of triangle (a, b, c) seen in the coordinate plane (i, j),
 // from approximate positions: 0 for a triangle that is degenerate there. It judges shapes only
@@ -365,6 +443,8 @@ class Points {
   bool is_double(u32 p) const { return fixed(p) == 7; }
   // Bit i set: coordinate i of approx(p) is exact.
   std::uint8_t fixed(u32 p) const { return p < nin_ ? 7 : fixed_[p - nin_]; }
+  // How far approx(p) may be from the point in any coordinate (0 for an input vertex).
+  double slack(u32 p) const { return p < nin_ ? 0.0 : slack_[p - nin_]; }
   const Soup& soup() const { return *soup_; }
 
   // Exact predicates.
@@ -451,7 +531,6 @@ class Points {
   mutable std::vector<ExactPoint*> exact_;
   mutable std::vector<DdPoint*> dd_;  // the same for the double-double coordinates
   void evaluate(std::size_t n);  // the filter data of added point n (at id nin_ + n)
-  double slack(u32 p) const { return p < nin_ ? 0.0 : slack_[p - nin_]; }
   // The exact coordinates: an input vertex's are made in `scratch`, an added point's are kept.
   const ExactPoint& exact(u32 p, ExactPoint& scratch) const;
   const DdPoint& dd(u32 p, DdPoint& scratch) const;
