@@ -104,13 +104,8 @@ class Triangulator {
   int k_ = 2;
   double well_ = 0.01;
   std::uint32_t rng_ = 0x9e3779b9u;
-  // A local vertex's point projected (x, y), its slack, and whether x and y are exact.
-  struct Local {
-    Approx2 p;
-    bool exact;
-  };
   std::vector<u32> ids_;               // local vertex -> point id
-  std::vector<Local> lv_;
+  std::vector<Approx2> lv_;            // local vertex -> its point projected (Points::projected)
   std::vector<Tri> tris_;
   std::vector<int> vt_;                // local vertex -> a triangle that has it
   std::vector<std::pair<u32, int>> local_;
@@ -122,32 +117,24 @@ class Triangulator {
   int add_vertex(u32 id) {
     ids_.push_back(id);
     vt_.push_back(kNo);
-    const int i = (k_ + 1) % 3, j = (k_ + 2) % 3;
-    const std::uint8_t m = static_cast<std::uint8_t>(1u << i | 1u << j);
-    const Vec3& p = pts_->approx(id);
-    lv_.push_back({{p[i], p[j], pts_->slack(id)}, (pts_->fixed(id) & m) == m});
+    lv_.push_back(pts_->projected(id, k_));
     return static_cast<int>(ids_.size()) - 1;
   }
   // The predicates' first stages (orient2d_first, incircle_first) on the local copies, as
   // Points::orient2d and Points::incircle_certain run them (so they decide exactly where those
   // would); the rest there.
   int orient(int a, int b, int c) const {
-    const Local &A = lv_[a], &B = lv_[b], &C = lv_[c];
-    if (A.exact && B.exact && C.exact) return orient2d_fast(A.p.x, A.p.y, B.p.x, B.p.y, C.p.x, C.p.y);
-    if (const int s = orient2d_first(A.p, B.p, C.p); s != 2) return s;
+    if (const int s = orient2d_first(lv_[a], lv_[b], lv_[c]); s != 2) return s;
     return pts_->orient2d(ids_[a], ids_[b], ids_[c], k_);
   }
   // +1 where d is certainly inside the circle through a, b, c (counter-clockwise).
   bool in_circle(int a, int b, int c, int d) const {
-    const Local &A = lv_[a], &B = lv_[b], &C = lv_[c], &D = lv_[d];
     if (metric_) {
-      const Approx2* p[4] = {&A.p, &B.p, &C.p, &D.p};
+      const Approx2* p[4] = {&lv_[a], &lv_[b], &lv_[c], &lv_[d]};
       if (const int s = incircle_first(p, metric_->q11, metric_->q12, metric_->q22); s != 2) return s > 0;
       return pts_->incircle_certain(ids_[a], ids_[b], ids_[c], ids_[d], k_, well_, *metric_) > 0;
     }
-    const bool doubles = A.exact && B.exact && C.exact && D.exact;
-    const double W = doubles ? 0.0 : std::max({A.p.w, B.p.w, C.p.w, D.p.w});
-    if (const int s = incircle_first(A.p, B.p, C.p, D.p, W); s != 2) return s > 0;
+    if (const int s = incircle_first(lv_[a], lv_[b], lv_[c], lv_[d]); s != 2) return s > 0;
     return pts_->incircle_certain(ids_[a], ids_[b], ids_[c], ids_[d], k_, well_) > 0;
   }
   std::uint32_t next_random() {

@@ -546,11 +546,7 @@ bool Points::exact_position(const PointDef& d, Vec3& out) const {
 int Points::orient2d(u32 a, u32 b, u32 c, int k, const Plane* line) const {
   if (a == b || b == c || a == c) return 0;
   const int i = (k + 1) % 3, j = (k + 2) % 3;
-  const std::uint8_t m = static_cast<std::uint8_t>(1u << i | 1u << j);
-  const Vec3 &A = approx(a), &B = approx(b), &C = approx(c);
-  if ((fixed(a) & fixed(b) & fixed(c) & m) == m) return orient2d_fast(A[i], A[j], B[i], B[j], C[i], C[j]);
-  if (const int s = orient2d_first({A[i], A[j], slack(a)}, {B[i], B[j], slack(b)}, {C[i], C[j], slack(c)}); s != 2)
-    return s;
+  if (const int s = orient2d_first(projected(a, k), projected(b, k), projected(c, k)); s != 2) return s;
   {
     Filter guard;
     // First on the coordinate boxes (each an ulp or two wide), then on the homogeneous intervals.
@@ -705,14 +701,8 @@ int Points::incircle_certain(u32 a, u32 b, u32 c, u32 d, int k, double well) con
   const int i = (k + 1) % 3, j = (k + 2) % 3;
   const std::uint8_t m = static_cast<std::uint8_t>(1u << i | 1u << j);
   const bool doubles = (fixed(a) & fixed(b) & fixed(c) & fixed(d) & m) == m;
-  {
-    const Vec3 &A = approx(a), &B = approx(b), &C = approx(c), &D = approx(d);
-    const double W = doubles ? 0.0 : std::max({slack(a), slack(b), slack(c), slack(d)});
-    if (const int s = incircle_first({A[i], A[j], slack(a)}, {B[i], B[j], slack(b)}, {C[i], C[j], slack(c)},
-                                     {D[i], D[j], slack(d)}, W);
-        s != 2)
-      return s;
-  }
+  if (const int s = incircle_first(projected(a, k), projected(b, k), projected(c, k), projected(d, k)); s != 2)
+    return s;
   if (!doubles) {
     const int s = incircle_interval(a, b, c, d, k, nullptr);
     if (s != 2) return s == 1 ? 1 : -1;
@@ -741,12 +731,8 @@ int Points::incircle_certain(u32 a, u32 b, u32 c, u32 d, int k, double well, con
   const int i = (k + 1) % 3, j = (k + 2) % 3;
   const u32 id[4] = {a, b, c, d};
   {
-    Approx2 ap[4];
-    const Approx2* p[4];
-    for (int n = 0; n < 4; ++n) {
-      ap[n] = {approx(id[n])[i], approx(id[n])[j], slack(id[n])};
-      p[n] = &ap[n];
-    }
+    const Approx2 ap[4] = {projected(a, k), projected(b, k), projected(c, k), projected(d, k)};
+    const Approx2* p[4] = {&ap[0], &ap[1], &ap[2], &ap[3]};
     if (const int s = incircle_first(p, q.q11, q.q12, q.q22); s != 2) return s;
   }
   if (const int s = incircle_interval(a, b, c, d, k, &q); s != 2) return s == 1 ? 1 : -1;

@@ -30,8 +30,8 @@
 #pragma once
 #include <algorithm>
 #include <array>
-#include <cmath>
 #include <atomic>
+#include <cmath>
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -73,11 +73,14 @@ inline int orient2d_fast(double ax, double ay, double bx, double by, double cx, 
 // -ffp-contract=off.)
 struct Approx2 {
   double x, y, w;
+  bool exact;  // x and y are the point's own (then w does not count)
 };
-// Shewchuk's stage-A bound for the determinant, plus how far the exact points may be from the
+// Where all three are exact, the filtered predicate on doubles (never undecided). Else Shewchuk's
+// stage-A bound for the determinant, plus how far the exact points may be from the
 // approximations: each difference moves by at most 2W (W the largest slack), so the determinant
 // by at most 8 R' W, R' the largest difference plus 2W.
 inline int orient2d_first(const Approx2& A, const Approx2& B, const Approx2& C) {
+  if (A.exact && B.exact && C.exact) return orient2d_fast(A.x, A.y, B.x, B.y, C.x, C.y);
   const double W = std::max({A.w, B.w, C.w});
   const double bx = B.x - A.x, by = B.y - A.y, cx = C.x - A.x, cy = C.y - A.y;
   const double l = bx * cy, r = by * cx, det = l - r;
@@ -90,10 +93,11 @@ inline int orient2d_first(const Approx2& A, const Approx2& B, const Approx2& C) 
   return 2;
 }
 // The classic in-circle determinant relative to D, with Shewchuk's stage-A error bound, plus
-// (where the points are not exact: W > 0) how far they may be: each difference moves by at most
-// 2W, so each of the three products of a squared length and a cross product by at most
-// 32 R'^3 W (R' the largest difference plus 2W); 128 R'^3 W bounds the sum.
-inline int incircle_first(const Approx2& A, const Approx2& B, const Approx2& C, const Approx2& D, double W) {
+// (where the points are not all exact) how far they may be: each difference moves by at most 2W
+// (W the largest slack), so each of the three products of a squared length and a cross product
+// by at most 32 R'^3 W (R' the largest difference plus 2W); 128 R'^3 W bounds the sum.
+inline int incircle_first(const Approx2& A, const Approx2& B, const Approx2& C, const Approx2& D) {
+  const double W = A.exact && B.exact && C.exact && D.exact ? 0.0 : std::max({A.w, B.w, C.w, D.w});
   const double adx = A.x - D.x, ady = A.y - D.y, bdx = B.x - D.x, bdy = B.y - D.y;
   const double cdx = C.x - D.x, cdy = C.y - D.y;
   const double bc = bdx * cdy, cb = cdx * bdy, ca = cdx * ady, ac = adx * cdy, ab = adx * bdy, ba = bdx * ady;
@@ -110,7 +114,8 @@ inline int incircle_first(const Approx2& A, const Approx2& B, const Approx2& C, 
   if (bound < INFINITY && bound > 1e-280 && std::abs(det) > bound) return det > 0 ? 1 : -1;
   return 2;
 }
-// The same in the metric of the quadratic form (q11, q12, q22), with a bound of 32 ulps of the
+// The same in the metric of the quadratic form (q11, q12, q22) (the slacks count whether or not
+// the points are exact), with a bound of 32 ulps of the
 // permanent (the plain test's stage-A bound is 10; the form adds three products and a sum to
 // each lifted term, and |q| <= 1), plus how far the exact points may be: with each difference
 // off by at most 2W and R' the largest difference plus 2W, a lifted term is off by at most
@@ -443,8 +448,14 @@ class Points {
   bool is_double(u32 p) const { return fixed(p) == 7; }
   // Bit i set: coordinate i of approx(p) is exact.
   std::uint8_t fixed(u32 p) const { return p < nin_ ? 7 : fixed_[p - nin_]; }
-  // How far approx(p) may be from the point in any coordinate (0 for an input vertex).
-  double slack(u32 p) const { return p < nin_ ? 0.0 : slack_[p - nin_]; }
+  // approx(p) in the projection along e_k, with its slack and whether it is exact there: what
+  // the predicates' first stages read.
+  Approx2 projected(u32 p, int k) const {
+    const int i = (k + 1) % 3, j = (k + 2) % 3;
+    const std::uint8_t m = static_cast<std::uint8_t>(1u << i | 1u << j);
+    const Vec3& v = approx(p);
+    return {v[i], v[j], slack(p), (fixed(p) & m) == m};
+  }
   const Soup& soup() const { return *soup_; }
 
   // Exact predicates.
@@ -531,6 +542,7 @@ class Points {
   mutable std::vector<ExactPoint*> exact_;
   mutable std::vector<DdPoint*> dd_;  // the same for the double-double coordinates
   void evaluate(std::size_t n);  // the filter data of added point n (at id nin_ + n)
+  double slack(u32 p) const { return p < nin_ ? 0.0 : slack_[p - nin_]; }
   // The exact coordinates: an input vertex's are made in `scratch`, an added point's are kept.
   const ExactPoint& exact(u32 p, ExactPoint& scratch) const;
   const DdPoint& dd(u32 p, DdPoint& scratch) const;
