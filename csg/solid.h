@@ -95,6 +95,12 @@ struct EvalOptions {
   // (csg/solid.cpp). 0: all in one pass. (Named for the union, where it came first; it bounds the
   // intersection and the difference the same way.)
   std::size_t union_fan_in = 32;
+  // The fan-in where more than this many operands' boxes hold one point (spokes through one hub,
+  // copies of a shape shifted or turned a little): one pass over operands piled on one another
+  // grows far faster than their number (24 cylinders through one point: 1.6 s in one pass, 0.2 s
+  // as a tree of passes of 4), and 32 boxes shifted by 1/1024 crossed past the engine's work
+  // budget in one pass. Used where it is below union_fan_in; below 2, no separate bound.
+  std::size_t stack_fan_in = 4;
 };
 void set_eval_options(const EvalOptions& options);
 

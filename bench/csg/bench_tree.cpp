@@ -13,7 +13,8 @@
 // Models (fresh trees for every run, so nothing is cached across runs):
 //   plate: a 42 x 42 x 2 plate with 400 instances (20 x 20) of one drilled boss (a cylinder r 0.6,
 //          h 2 on top, drilled r 0.3 through boss and plate), all one n-ary union minus the drills;
-//   gear:  a disc r 10 with 60 teeth (boxes) unioned, drilled by a centre hole and 6 lightening holes.
+//   gear:  a disc r 10 with 60 teeth (boxes) unioned, drilled by a centre hole and 6 lightening holes;
+//   spokes: 24 cylinders through one point, unioned (operands piled on one another).
 #include <algorithm>
 #include <atomic>
 #include <chrono>
@@ -67,6 +68,14 @@ Solid gear_model() {
   return Solid::boolean(BooleanOp::Difference, ops);
 }
 
+// 24 spokes through one point: cylinders r 0.2, 4 long, centred on the origin and turned by 7.5
+// degrees about x, unioned (every centre in every box: a stack of 24, EvalOptions::stack_fan_in).
+Solid spokes_model() {
+  std::vector<Solid> parts;
+  for (int k = 0; k < 24; ++k) parts.push_back(brep_solid(cylinder(0.2, 4, Point3(0, 0, -2))).transformed(rotate_x(7.5 * k)));
+  return Solid::boolean(BooleanOp::Union, parts);
+}
+
 struct Row {
   double seconds;
   double build;
@@ -110,7 +119,9 @@ int main(int argc, char** argv) {
   struct Model {
     const char* name;
     Solid (*make)();
-  } models[] = {{"plate of drilled bosses", plate_model}, {"gear, 60 teeth, drilled", gear_model}};
+  } models[] = {{"plate of drilled bosses", plate_model},
+                {"gear, 60 teeth, drilled", gear_model},
+                {"24 spokes through one point", spokes_model}};
   std::printf("plate: %d x %d bosses\n", g_n, g_n);
   struct Config {
     const char* name;

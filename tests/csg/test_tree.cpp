@@ -14,6 +14,8 @@
 
 #include "csg/brep_leaf.h"
 #include "csg/csg.h"
+#include "kernel/transform.h"
+#include "tests/support/cgal_oracle.h"
 
 using namespace wedge;
 
@@ -679,6 +681,7 @@ TEST_CASE("tree: a plate under more bosses than the fan-in is one engine pass of
   control.stats = &crowded;
   EvalOptions eight;
   eight.union_fan_in = 8;
+  eight.stack_fan_in = 0;  // the hub rule alone (the 8 crowded bosses are a stack of 9 with the plate)
   set_eval_options(eight);
   std::vector<Solid> parts{box_solid(Vec3(21, 21, 1))};
   for (int i = 0; i < 20; ++i) parts.push_back(box_solid(Vec3(1, 1, 2), Point3(1 + 2 * (i % 10), 5 + 2 * (i / 10), 0.5)));
@@ -857,6 +860,54 @@ TEST_CASE("tree: near-coincident intersections and differences go to the engine 
   CHECK(s0.mass_properties(tol).volume == Approx((10 - 9 * step) * 100).epsilon(1e-12));
   CHECK(stats.widest == 10);
   set_eval_options({});
+}
+
+TEST_CASE("tree: operands piled on one point go to the engine in passes of the stack fan-in", "[tree][balanced][stack]") {
+  // 32 unit boxes shifted by i/1024 along x, every centre inside every box: in one pass their
+  // faces crossed three at a time past the engine's work budget and the union was an error. Most
+  // are more than a hundredth apart (not copies of one another), so the stack fan-in (4) cuts them
+  // into 4 runs; each run of 8, within a hundredth, is one pass, and one pass joins the runs. The
+  // union is [0, 1 + 31/1024] x [0, 1]^2 exactly.
+  Tolerance tol;
+  EvalStats stats;
+  EvalControl control;
+  control.stats = &stats;
+  Installed on(control);
+  std::vector<Solid> boxes;
+  for (int i = 0; i < 32; ++i) boxes.push_back(box_solid(Vec3(1, 1, 1), Point3(i / 1024.0, 0, 0)));
+  const Solid u = Solid::boolean(BooleanOp::Union, boxes);
+  CHECK(u.mass_properties(tol).volume == Approx(1 + 31 / 1024.0).epsilon(1e-14));
+  CHECK(stats.widest == 8);
+  CHECK(stats.booleans == 5);
+  CHECK(u.validate(tol) == "");
+  // 12 spokes through one point (cylinders turned by 15 degrees about x): a stack of 12, unioned
+  // in passes of 4 and in one pass (no stack fan-in). The same solid: the meshes' volumes agree to
+  // rounding, and the passes of 4 give the same bits at one and two threads.
+  tol.chordal = 0.01;
+  std::vector<Solid> spokes;
+  for (int i = 0; i < 12; ++i)
+    spokes.push_back(brep_solid(cylinder(0.2, 4, Point3(0, 0, -2))).transformed(rotate_x(15.0 * i)));
+  stats = EvalStats();
+  const Mesh tree = Solid::boolean(BooleanOp::Union, spokes).mesh(tol);
+  CHECK(stats.widest == 4);
+  CHECK(stats.booleans > 3);
+  EvalOptions one_pass;
+  one_pass.stack_fan_in = 0;
+  set_eval_options(one_pass);
+  stats = EvalStats();
+  const Mesh one = Solid::boolean(BooleanOp::Union, spokes).mesh(tol);
+  set_eval_options({});
+  CHECK(stats.widest == 12);
+  CHECK(stats.booleans == 1);
+  CHECK(tree.volume() == Approx(one.volume()).epsilon(1e-12));
+  CHECK(testing::result_defect(tree).empty());
+  CHECK(testing::result_defect(one).empty());
+  {
+    tbb::global_control g(tbb::global_control::max_allowed_parallelism, 1);
+    const Mesh single = Solid::boolean(BooleanOp::Union, spokes).mesh(tol);
+    CHECK(single.positions == tree.positions);
+    CHECK(single.triangles == tree.triangles);
+  }
 }
 
 TEST_CASE("rebuild: two cubes that share only an edge, or only a vertex, are a valid solid of two shells", "[tree][rebuild]") {
