@@ -59,8 +59,10 @@ void append_evaluated(Evaluated& a, const Evaluated& b) {
   a.surfaces.insert(a.surfaces.end(), b.surfaces.begin(), b.surfaces.end());
 }
 
-// How deep the boxes lie on one another: the most of them that hold one box's centre (a lower
-// bound of the deepest point's count), found by a sweep along x; the count stops above `enough`.
+// How deep the boxes lie on one another: the most of them whose middle halves (a quarter of the
+// box in from each side) hold one box's centre, found by a sweep along x; the count stops above
+// `enough`. Operands that only meet at their ends (a lattice's struts at a node, each node's box
+// corner) are no pile: their one pass costs no more than passes would, and leaves fewer triangles.
 // Boxes within a hundredth of the centre's box (its diagonal) count as that box: copies of one
 // shape turned or shifted a little are one in a pile. (Their surfaces cross everywhere; passes of a
 // few do not make their union cheaper, and in one pass the engine's work budget refuses them at once:
@@ -80,7 +82,9 @@ std::size_t stack_depth(const std::vector<Box3>& box, std::size_t enough) {
       if (j == i || ((box[j].min - box[i].min).cwiseAbs().maxCoeff() <= near &&
                      (box[j].max - box[i].max).cwiseAbs().maxCoeff() <= near))
         continue;
-      n += (box[j].min.array() <= c.array()).all() && (c.array() <= box[j].max.array()).all();
+      const Vec3 quarter = 0.25 * (box[j].max - box[j].min);
+      n += (box[j].min.array() + quarter.array() <= c.array()).all() &&
+           (c.array() <= box[j].max.array() - quarter.array()).all();
     }
     deepest = std::max(deepest, n);
     if (deepest > enough) break;
