@@ -724,10 +724,11 @@ std::size_t candidate_triples(const Soup& soup, const std::vector<std::array<u32
   std::vector<std::size_t> off(nt + 1, 0);
   for (const auto& p : pairs) ++off[p[0] + 1];
   for (std::size_t t = 0; t < nt; ++t) off[t + 1] += off[t];
-  // Each triple t < u < w once: from its pair (t, u), as a w in both N+(t) (after u) and N+(u),
-  // looked up from the shorter list in the longer (a plate's face has thousands of partners,
-  // each of them a few). Blocks of pairs in a shuffled order, so that a count stopped early
-  // (above stop_above) scales up to an estimate of the whole.
+  // Each triple t < u < w once: from its pair (t, u), as a w in both N+(t) (after u) and N+(u):
+  // N+(u) read against marks of N+(t) (per thread, made once per t), or where N+(u) is much the
+  // longer (a plate's face has thousands of partners, each of them a few) N+(t)'s few looked up
+  // in it. Blocks of pairs in a shuffled order, so that a count stopped early (above stop_above)
+  // scales up to an estimate of the whole.
   constexpr std::size_t kBlock = 1024;
   const std::size_t blocks = (pairs.size() + kBlock - 1) / kBlock;
   std::atomic<std::size_t> found{0}, done{0};
@@ -742,27 +743,55 @@ std::size_t candidate_triples(const Soup& soup, const std::vector<std::array<u32
   parallel_for(0, blocks, [&](std::size_t k) {
     if (found.load(std::memory_order_relaxed) > stop_above) return;
     soup.poll();
+    // Per thread, per triangle w: the stamp of the t whose partners were marked last and the
+    // index of the pair (t, w). (Pairs come sorted by t: a block marks a few t's lists once each.)
+    thread_local std::vector<std::uint64_t> mark;
+    thread_local std::uint32_t stamp = 0;
+    if (mark.size() < nt) mark.resize(nt, 0);
+    u32 marked = kNone;
+    auto mark_partners = [&](u32 t) {
+      if (marked == t) return;
+      if (++stamp == 0) {  // wrapped: no stale entry may look current
+        std::fill(mark.begin(), mark.end(), 0);
+        stamp = 1;
+      }
+      marked = t;
+      for (std::size_t j = off[t]; j < off[t + 1]; ++j)
+        mark[pairs[j][1]] = static_cast<std::uint64_t>(stamp) << 32 | static_cast<std::uint32_t>(j);
+    };
     constexpr std::size_t kPrime = 1000003;
     const std::size_t b = blocks % kPrime != 0 ? k * kPrime % blocks : k;
     std::size_t c = 0;
     for (std::size_t i = b * kBlock; i < std::min(pairs.size(), (b + 1) * kBlock); ++i) {
       const u32 t = pairs[i][0], u = pairs[i][1];
-      auto a0 = pairs.begin() + static_cast<std::ptrdiff_t>(i + 1), a1 = pairs.begin() + static_cast<std::ptrdiff_t>(off[t + 1]);
-      auto b0 = pairs.begin() + static_cast<std::ptrdiff_t>(off[u]), b1 = pairs.begin() + static_cast<std::ptrdiff_t>(off[u + 1]);
-      if (a1 - a0 > b1 - b0) std::swap(a0, b0), std::swap(a1, b1);
+      const std::size_t a_len = off[t + 1] - (i + 1), b0 = off[u], b1 = off[u + 1];
       // Many lookups to make (the long tunnels of a sponge meet hundreds of others): first
       // whether t and u cross at all (boxes that touch do not).
-      if (a1 - a0 >= 8 && kind(i) == 2) continue;
-      for (auto it = a0; it != a1; ++it) {
-        const u32 w = (*it)[1];
-        auto at = std::lower_bound(b0, b1, w, [](const std::array<u32, 2>& p, u32 x) { return p[1] < x; });
-        if (at == b1 || (*at)[1] != w) continue;
+      if (std::min(a_len, b1 - b0) >= 8 && kind(i) == 2) continue;
+      auto triple = [&](std::size_t tw, std::size_t uw, u32 w) {
         const std::uint8_t k = kind(i);
-        if (k == 2 || kind(static_cast<std::size_t>(it - pairs.begin())) != k ||
-            kind(static_cast<std::size_t>(at - pairs.begin())) != k)
-          continue;
+        if (k == 2 || kind(tw) != k || kind(uw) != k) return;
         if (k == 1) c += may_cross(soup, t, u, w);
         else c += coplanar_crossings(soup, t, u, w);
+      };
+      if (b1 - b0 <= 4 * a_len) {
+        // Each partner w of u looked up among t's marked partners (w > u, so after u in t's).
+        mark_partners(t);
+        const std::uint64_t cur = static_cast<std::uint64_t>(stamp) << 32;
+        for (std::size_t j = b0; j < b1; ++j) {
+          const u32 w = pairs[j][1];
+          const std::uint64_t m = mark[w];
+          if ((m & ~0xffffffffull) == cur) triple(static_cast<std::uint32_t>(m), j, w);
+        }
+      } else {
+        // u has many more partners (a plate's face): t's few looked up in them.
+        for (std::size_t j = i + 1; j < off[t + 1]; ++j) {
+          const u32 w = pairs[j][1];
+          auto at = std::lower_bound(pairs.begin() + static_cast<std::ptrdiff_t>(b0), pairs.begin() + static_cast<std::ptrdiff_t>(b1),
+                                     w, [](const std::array<u32, 2>& p, u32 x) { return p[1] < x; });
+          if (at == pairs.begin() + static_cast<std::ptrdiff_t>(b1) || (*at)[1] != w) continue;
+          triple(j, static_cast<std::size_t>(at - pairs.begin()), w);
+        }
       }
     }
     found += c;
