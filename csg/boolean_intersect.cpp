@@ -223,6 +223,7 @@ void intersect_pair(const Points& pts, u32 t, u32 u, PairCut& cut) {
   if (su[0] == 0 && su[1] == 0 && su[2] == 0) return coplanar_cut(pts, t, u, cut);
   for (int i = 0; i < 3; ++i) st[i] = orient3d_v(s, U[0], U[1], U[2], T[i]);
   if ((st[0] > 0 && st[1] > 0 && st[2] > 0) || (st[0] < 0 && st[1] < 0 && st[2] < 0)) return;
+  if (apart(s, t, u, true)) return;  // (the normals were tried in the broad phase)
 
   Plane pt = Plane::of_triangle(T), pu = Plane::of_triangle(U);
   // An axis along which L varies: a non-zero component of n_T x n_U.
