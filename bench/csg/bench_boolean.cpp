@@ -77,6 +77,8 @@ std::vector<Case> all_cases() {
   cases.push_back({"lattice 512 spheres union", [] { return sphere_lattice(8, 1280); }, {all_of(BooleanOp::Union, 512)}});
   cases.push_back({"plate minus 400 cylinders", [] { return plate_and_cylinders(20, 32); },
                    {all_of(BooleanOp::Difference, 401)}});
+  cases.push_back({"octet truss 3x3x3 nodes union", [] { return octet_truss(2, 0.08, 32, 320); },
+                   {all_of(BooleanOp::Union, static_cast<int>(octet_truss(2, 0.08, 32, 320).size()))}});
   cases.push_back({"menger sponge level 3", [] { return menger_operands(3); },
                    {all_of(BooleanOp::Difference, static_cast<int>(menger_operands(3).size()))}});
   for (const BooleanCase& c : degenerate_cases())

@@ -6,7 +6,7 @@
 // Cases: plate (a plate minus 400 cylinders of 32 sides), menger (the level-3 sponge), sph65
 // (two overlapping 65k-triangle spheres, union), sph1m (the same at 1M, not in all), lattice (the
 // union of 8 x 8 x 8 overlapping spheres of 1280 triangles), classic (cube n sphere, then minus
-// three cylinders), bosses (issue 16's plate as meshes: a 42 x 42 x 2
+// three cylinders), truss (the union of an octet truss: 126 struts and 27 balls), bosses (issue 16's plate as meshes: a 42 x 42 x 2
 // plate united with 400 bored bosses of 24 sides in one pass, then minus 400 drills), or all.
 // Each line gives the minimum over the repeats of the CPU time and of each stage.
 #include <algorithm>
@@ -93,6 +93,7 @@ int main(int argc, char** argv) {
   const bool all = which == "all";
   if (all || which == "plate") run("plate minus 400 cylinders", BooleanOp::Difference, plate_and_cylinders(20, 32));
   if (all || which == "menger") run("Menger sponge, level 3", BooleanOp::Difference, menger_operands(3));
+  if (all || which == "truss") run("octet truss, 3x3x3 nodes, union", BooleanOp::Union, octet_truss(2, 0.08, 32, 320));
   if (all || which == "sph65") run("spheres 65k, union", BooleanOp::Union, overlapping_spheres(65536));
   if (which == "sph1m") run("spheres 1M, union", BooleanOp::Union, overlapping_spheres(1048576));
   if (which == "soup") {

@@ -287,6 +287,33 @@ std::vector<Mesh> sphere_lattice(int n, int triangles) {
   return out;
 }
 
+std::vector<Mesh> octet_truss(int n, double r, int sides, int ball_triangles) {
+  std::vector<Mesh> out;
+  const int dirs[9][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {1, 1, 0}, {1, 0, 1}, {0, 1, 1}, {1, -1, 0}, {1, 0, -1}, {0, 1, -1}};
+  for (int x = 0; x <= n; ++x)
+    for (int y = 0; y <= n; ++y)
+      for (int z = 0; z <= n; ++z)
+        for (const auto& d : dirs) {
+          const int q[3] = {x + d[0], y + d[1], z + d[2]};
+          if (q[0] > n || q[1] < 0 || q[1] > n || q[2] < 0 || q[2] > n) continue;
+          const Vec3 dir(d[0], d[1], d[2]);
+          const double length = dir.norm();
+          // The z axis turned onto dir (about z x dir; dir is never -z here).
+          const Vec3 axis = Vec3(0, 0, 1).cross(dir);
+          const double angle = std::acos(dir.z() / length) * 180 / kPi;
+          const Mat4 turn = axis.norm() > 0 ? rotate(angle, axis) : Mat4::Identity();
+          out.push_back(cylinder_mesh(r, 0, length, sides, translate(Vec3(x, y, z)) * turn, static_cast<int>(out.size())));
+        }
+  for (int x = 0; x <= n; ++x)
+    for (int y = 0; y <= n; ++y)
+      for (int z = 0; z <= n; ++z) {
+        Mesh b = icosphere(Point3(x, y, z), 1.5 * r, ball_triangles);
+        std::fill(b.face_ids.begin(), b.face_ids.end(), static_cast<std::int32_t>(out.size()));
+        out.push_back(std::move(b));
+      }
+  return out;
+}
+
 std::vector<Mesh> plate_and_cylinders(int n, int sides) {
   std::vector<Mesh> out = {box_mesh({0, 0, 0}, {double(n), double(n), 1})};
   for (int i = 0; i < n; ++i)

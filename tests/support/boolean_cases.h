@@ -73,6 +73,13 @@ std::vector<Mesh> sphere_lattice(int n = 8, int triangles = 1280);
 std::vector<Mesh> plate_and_cylinders(int n = 20, int sides = 32);
 double plate_with_holes_volume(const std::vector<Mesh>& plate_and_cylinders);
 
+// An octet truss: on the nodes of an (n + 1)^3 grid of spacing 1, struts (cylinders of radius r,
+// `sides` sides, from node to node, caps centred on the nodes) along the cell edges and the
+// faces' diagonals, each once, and a ball (an icosphere of radius 1.5 r, about `ball_triangles`)
+// on every node: up to 18 struts and a ball meet at a node. Its union is a lattice part of the
+// kind printed in 3D.
+std::vector<Mesh> octet_truss(int n = 2, double r = 0.08, int sides = 32, int ball_triangles = 320);
+
 // The Menger sponge of `level` as cube minus bars: the cube [0, 3^level]^3 followed by the square
 // bars (running past the cube by 1 at both ends) whose removal leaves the sponge, 3 * (1 + 9 + ...)
 // of them. Integer coordinates, so every coplanarity is exact. The sponge's volume is 20^level.
