@@ -743,9 +743,10 @@ std::size_t candidate_triples(const Soup& soup, const std::vector<std::array<u32
   parallel_for(0, blocks, [&](std::size_t k) {
     if (found.load(std::memory_order_relaxed) > stop_above) return;
     soup.poll();
-    // Per thread, per triangle w: the stamp of the t whose partners were marked last and the
-    // index of the pair (t, w). (Pairs come sorted by t: a block marks a few t's lists once each.)
-    thread_local std::vector<std::uint64_t> mark;
+    // Per thread, per triangle w: the stamp of the t whose partners were marked last (4 bytes a
+    // triangle, kept for the thread's next count). Pairs come sorted by t: a block marks a few
+    // t's lists once each.
+    thread_local std::vector<std::uint32_t> mark;
     thread_local std::uint32_t stamp = 0;
     if (mark.size() < nt) mark.resize(nt, 0);
     u32 marked = kNone;
@@ -756,8 +757,14 @@ std::size_t candidate_triples(const Soup& soup, const std::vector<std::array<u32
         stamp = 1;
       }
       marked = t;
-      for (std::size_t j = off[t]; j < off[t + 1]; ++j)
-        mark[pairs[j][1]] = static_cast<std::uint64_t>(stamp) << 32 | static_cast<std::uint32_t>(j);
+      for (std::size_t j = off[t]; j < off[t + 1]; ++j) mark[pairs[j][1]] = stamp;
+    };
+    // The index of pair (t, w), w a partner of t.
+    auto index_of = [&](u32 t, u32 w) {
+      const auto at = std::lower_bound(pairs.begin() + static_cast<std::ptrdiff_t>(off[t]),
+                                       pairs.begin() + static_cast<std::ptrdiff_t>(off[t + 1]), w,
+                                       [](const std::array<u32, 2>& p, u32 x) { return p[1] < x; });
+      return static_cast<std::size_t>(at - pairs.begin());
     };
     constexpr std::size_t kPrime = 1000003;
     const std::size_t b = blocks % kPrime != 0 ? k * kPrime % blocks : k;
@@ -768,20 +775,20 @@ std::size_t candidate_triples(const Soup& soup, const std::vector<std::array<u32
       // Many lookups to make (the long tunnels of a sponge meet hundreds of others): first
       // whether t and u cross at all (boxes that touch do not).
       if (std::min(a_len, b1 - b0) >= 8 && kind(i) == 2) continue;
-      auto triple = [&](std::size_t tw, std::size_t uw, u32 w) {
+      auto triple = [&](std::size_t uw, u32 w, std::size_t tw) {  // tw: kNone, found when needed
         const std::uint8_t k = kind(i);
-        if (k == 2 || kind(tw) != k || kind(uw) != k) return;
+        if (k == 2 || kind(uw) != k) return;
+        if (tw == kNone) tw = index_of(t, w);
+        if (kind(tw) != k) return;
         if (k == 1) c += may_cross(soup, t, u, w);
         else c += coplanar_crossings(soup, t, u, w);
       };
       if (b1 - b0 <= 4 * a_len) {
         // Each partner w of u looked up among t's marked partners (w > u, so after u in t's).
         mark_partners(t);
-        const std::uint64_t cur = static_cast<std::uint64_t>(stamp) << 32;
         for (std::size_t j = b0; j < b1; ++j) {
           const u32 w = pairs[j][1];
-          const std::uint64_t m = mark[w];
-          if ((m & ~0xffffffffull) == cur) triple(static_cast<std::uint32_t>(m), j, w);
+          if (mark[w] == stamp) triple(j, w, kNone);
         }
       } else {
         // u has many more partners (a plate's face): t's few looked up in them.
@@ -790,7 +797,7 @@ std::size_t candidate_triples(const Soup& soup, const std::vector<std::array<u32
           auto at = std::lower_bound(pairs.begin() + static_cast<std::ptrdiff_t>(b0), pairs.begin() + static_cast<std::ptrdiff_t>(b1),
                                      w, [](const std::array<u32, 2>& p, u32 x) { return p[1] < x; });
           if (at == pairs.begin() + static_cast<std::ptrdiff_t>(b1) || (*at)[1] != w) continue;
-          triple(j, static_cast<std::size_t>(at - pairs.begin()), w);
+          triple(static_cast<std::size_t>(at - pairs.begin()), w, j);
         }
       }
     }

@@ -68,17 +68,25 @@ void append_evaluated(Evaluated& a, const Evaluated& b) {
 // few do not make their union cheaper, and in one pass the engine's work budget refuses them at once:
 // 17 copies of a sphere turned by a degree each went past 25 s in passes of 4 before failing.)
 std::size_t stack_depth(const std::vector<Box3>& box, std::size_t enough) {
-  std::vector<std::size_t> order;
+  // A sweep along x: the centres in order, each against the boxes begun before it and not yet
+  // ended (the others cannot hold it, nor any later centre).
+  std::vector<std::size_t> by_min, by_centre;
   for (std::size_t i = 0; i < box.size(); ++i)
-    if (!box[i].empty()) order.push_back(i);
-  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return box[a].min.x() < box[b].min.x(); });
-  std::size_t deepest = 0;
-  for (std::size_t i : order) {
-    const Vec3 c = 0.5 * (box[i].min + box[i].max);
+    if (!box[i].empty()) by_min.push_back(i);
+  by_centre = by_min;
+  auto centre = [&](std::size_t i) { return 0.5 * (box[i].min + box[i].max); };
+  std::stable_sort(by_min.begin(), by_min.end(), [&](std::size_t a, std::size_t b) { return box[a].min.x() < box[b].min.x(); });
+  std::stable_sort(by_centre.begin(), by_centre.end(), [&](std::size_t a, std::size_t b) { return centre(a).x() < centre(b).x(); });
+  std::vector<std::size_t> active;
+  std::size_t next = 0, deepest = 0;
+  for (std::size_t i : by_centre) {
+    const Vec3 c = centre(i);
+    while (next < by_min.size() && box[by_min[next]].min.x() <= c.x()) active.push_back(by_min[next++]);
     const double near = 0.01 * (box[i].max - box[i].min).norm();
-    std::size_t n = 1;
-    for (std::size_t j : order) {
-      if (box[j].min.x() > c.x()) break;
+    std::size_t n = 1, kept = 0;
+    for (std::size_t j : active) {
+      if (box[j].max.x() < c.x()) continue;  // ended: dropped
+      active[kept++] = j;
       if (j == i || ((box[j].min - box[i].min).cwiseAbs().maxCoeff() <= near &&
                      (box[j].max - box[i].max).cwiseAbs().maxCoeff() <= near))
         continue;
@@ -86,6 +94,7 @@ std::size_t stack_depth(const std::vector<Box3>& box, std::size_t enough) {
       n += (box[j].min.array() + quarter.array() <= c.array()).all() &&
            (c.array() <= box[j].max.array() - quarter.array()).all();
     }
+    active.resize(kept);
     deepest = std::max(deepest, n);
     if (deepest > enough) break;
   }
