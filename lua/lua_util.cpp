@@ -27,6 +27,13 @@ void check_no_more(lua_State* L, int n) {
     throw ArgError{n + 1, "no argument expected here (the function takes " + std::to_string(n) + "), got " + describe(L, n + 1)};
 }
 
+void check_no_more(lua_State* L, int n, const char* table_form) {
+  if (lua_gettop(L) > n && lua_type(L, n + 1) == LUA_TBOOLEAN)
+    throw ArgError{n + 1, "no argument expected here (the function takes " + std::to_string(n) + "), got " + describe(L, n + 1) +
+                              ": a centred solid is " + table_form};
+  check_no_more(L, n);
+}
+
 std::string number_text(double x) {
   if (std::isnan(x)) return "nan";
   std::ostringstream out;

@@ -151,6 +151,10 @@ std::string describe(lua_State* L, int idx);  // "number 3", "string 'abc'", "ni
 // For a function that takes exactly `n` arguments (no options table): an argument n+1 is an error
 // ("sweep(profile, path, {twist = 5})" silently ignored its third argument).
 void check_no_more(lua_State* L, int n);
+// The same for a solid's constructor, whose positional form has no place for `center`: an extra
+// true or false (OpenSCAD's cube(10, true)) is told where center goes, `table_form` ("cube{size=s,
+// center=true}").
+void check_no_more(lua_State* L, int n, const char* table_form);
 double check_number(lua_State* L, int idx);
 double opt_number(lua_State* L, int idx, double fallback);
 bool check_boolean(lua_State* L, int idx);

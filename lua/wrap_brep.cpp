@@ -307,6 +307,7 @@ int box_fn(lua_State* L) {
       size = positive_size(size, 1);
     } else {
       size = positive_size(Vec3{check_number(L, 1), check_number(L, 2), check_number(L, 3)}, 1, true);  // {}: checked in order
+      check_no_more(L, 3, "box{size={x, y, z}, center=true}");
     }
     push_solid(L, brep_solid(box(size, center ? Point3(-0.5 * size) : Point3::Zero())));
     return 1;
@@ -325,6 +326,7 @@ int cube_fn(lua_State* L) {
       o.finish();
     } else {
       s = check_number(L, 1);
+      check_no_more(L, 1, "cube{size=s, center=true}");
     }
     Vec3 size = positive_size(Vec3(s, s, s), 1);
     push_solid(L, brep_solid(box(size, center ? Point3(-0.5 * size) : Point3::Zero())));

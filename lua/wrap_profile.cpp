@@ -372,8 +372,10 @@ struct Sizes {
   }
   // "r" or "minor radius r", as the message names it.
   std::string name(const char* key, const char* what) const { return o ? key : what; }
-  void finish() {
+  // The table's unknown fields, or (positional) an argument past the `positional` it takes.
+  void finish(int positional, const char* table_form) {
     if (o) o->finish();
+    check_no_more(L, o ? 1 : positional, table_form);
   }
 };
 
@@ -383,7 +385,7 @@ int sphere_fn(lua_State* L) {
     Sizes z(L);
     const double r = z.positive("r", 1, 1, "radius r");
     const Vec3 c = z.table() ? z.o->vec3("center", Vec3::Zero(), true) : Vec3::Zero();
-    z.finish();
+    z.finish(1, "sphere{r=r, center={x, y, z}}");
     push_solid(L, brep_solid(build(1, [&] { return sphere(r, c); })));
     return 1;
   });
@@ -396,7 +398,7 @@ int cylinder_fn(lua_State* L) {
     const double r = z.positive("r", 1, 1, "radius r");
     const double h = z.positive("h", 2, 1, "height h");
     const bool center = z.table() && z.o->boolean("center", false);
-    z.finish();
+    z.finish(2, "cylinder{r=r, h=h, center=true}");
     push_solid(L, brep_solid(build(1, [&] { return cylinder(r, h, Point3(0, 0, center ? -h / 2 : 0)); })));
     return 1;
   });
@@ -410,7 +412,7 @@ int cone_fn(lua_State* L) {
     const double r2 = z.non_negative("r2", 2, 0, "radius r2");
     const double h = z.positive("h", 3, 1, "height h");
     const bool center = z.table() && z.o->boolean("center", false);
-    z.finish();
+    z.finish(3, "cone{r1=r1, r2=r2, h=h, center=true}");
     if (r1 == 0 && r2 == 0) throw ArgError{1, "radii r1 and r2 must not both be 0"};
     push_solid(L, brep_solid(build(1, [&] { return cone(r1, r2, h, Point3(0, 0, center ? -h / 2 : 0)); })));
     return 1;
@@ -424,7 +426,7 @@ int torus_fn(lua_State* L) {
     const double R = z.positive("R", 1, 2, "major radius R");
     const double r = z.positive("r", 2, 0.5, "minor radius r");
     const Vec3 c = z.table() ? z.o->vec3("center", Vec3::Zero(), true) : Vec3::Zero();
-    z.finish();
+    z.finish(2, "torus{R=R, r=r, center={x, y, z}}");
     if (!(r < R))
       throw ArgError{z.table() ? 1 : 2, z.name("r", "minor radius r") + " must be less than " + z.name("R", "major radius R") + " (" +
                                             number_text(R) + "), got " + number_text(r)};
@@ -441,7 +443,7 @@ int tube_fn(lua_State* L) {
     const double ri = z.positive("r_inner", 2, 1, "inner radius r_inner");
     const double h = z.positive("h", 3, 1, "height h");
     const bool center = z.table() && z.o->boolean("center", false);
-    z.finish();
+    z.finish(3, "tube{r_outer=ro, r_inner=ri, h=h, center=true}");
     if (!(ri < ro))
       throw ArgError{z.table() ? 1 : 2, z.name("r_inner", "inner radius r_inner") + " must be less than " +
                                             z.name("r_outer", "outer radius r_outer") + " (" + number_text(ro) + "), got " +

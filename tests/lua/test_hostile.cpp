@@ -352,6 +352,16 @@ const Case kCases[] = {
     {"import('$/x.stl', {scale = 2})", "bad argument #2 to 'import' (no argument expected here (the function takes 1), got table"},
     {"circle(1, 64)", "bad argument #2 to 'circle' (no argument expected here (the function takes 1), got number 64)"},
     {"teapot(5)", "bad argument #1 to 'teapot' (no argument expected here (the function takes 0), got number 5)"},
+    // OpenSCAD's cube(10, true) centres the cube; here the positional forms have no center, and
+    // the extra argument was ignored (a cube at the origin, silently).
+    {"cube(10, true)", "bad argument #2 to 'cube' (no argument expected here (the function takes 1), got true: a centred solid is cube{size=s, center=true})"},
+    {"box(1, 2, 3, true)", "bad argument #4 to 'box' (no argument expected here (the function takes 3), got true: a centred solid is box{size={x, y, z}, center=true})"},
+    {"cylinder(1, 2, true)", "bad argument #3 to 'cylinder' (no argument expected here (the function takes 2), got true: a centred solid is cylinder{r=r, h=h, center=true})"},
+    {"sphere(1, 32)", "bad argument #2 to 'sphere' (no argument expected here (the function takes 1), got number 32)"},
+    {"cone(1, 0, 2, 64)", "bad argument #4 to 'cone' (no argument expected here (the function takes 3), got number 64)"},
+    {"torus(2, 0.5, {0, 0, 1})", "bad argument #3 to 'torus' (no argument expected here (the function takes 2), got table"},
+    {"tube(2, 1, 3, false)", "bad argument #4 to 'tube' (no argument expected here (the function takes 3), got false"},
+    {"cube{size = 2}:volume(cube(1, 1))", "bad argument #2 to 'cube' (no argument expected here (the function takes 1), got number 1)"},
     {"circle(1e-300)", "bad argument #1 to 'circle' (radius 1e-300 is below 1e-100 (the area would underflow to zero))"},
     {"bezier{{0,0},{0,0}}:tangent(0.5)", "hostile.lua:2: tangent: the curve has no tangent at t = 0.5: it does not move there (its points coincide)"},
     {"bezier_surface{{{0,0,0},{0,0,0}},{{0,0,0},{0,0,0}}}:normal(0.5, 0.5)", "hostile.lua:2: normal: the surface has no normal at (0.5, 0.5)"},
