@@ -27,6 +27,11 @@ void check_no_more(lua_State* L, int n) {
     throw ArgError{n + 1, "no argument expected here (the function takes " + std::to_string(n) + "), got " + describe(L, n + 1)};
 }
 
+void check_no_more_method(lua_State* L, int n) {
+  if (lua_gettop(L) > n)
+    throw ArgError{n + 1, "no argument expected here (the method takes " + std::to_string(n - 1) + "), got " + describe(L, n + 1)};
+}
+
 void check_no_more(lua_State* L, int n, const char* table_form) {
   if (lua_gettop(L) > n && lua_type(L, n + 1) == LUA_TBOOLEAN)
     throw ArgError{n + 1, "no argument expected here (the function takes " + std::to_string(n) + "), got " + describe(L, n + 1) +

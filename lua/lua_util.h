@@ -155,6 +155,8 @@ void check_no_more(lua_State* L, int n);
 // true or false (OpenSCAD's cube(10, true)) is told where center goes, `table_form` ("cube{size=s,
 // center=true}").
 void check_no_more(lua_State* L, int n, const char* table_form);
+// For a method (self at index 1, not counted in the message: s:translate(x, y, z) takes 3).
+void check_no_more_method(lua_State* L, int n);
 double check_number(lua_State* L, int idx);
 double opt_number(lua_State* L, int idx, double fallback);
 bool check_boolean(lua_State* L, int idx);

@@ -35,6 +35,7 @@ int translate_m(lua_State* L) {
   return guarded(L, [&] {
     Vec3 d = lua_type(L, 2) == LUA_TTABLE ? check_vec3(L, 2, true)
                                            : Vec3{check_number(L, 2), check_number(L, 3), opt_number(L, 4, 0)};
+    check_no_more_method(L, lua_type(L, 2) == LUA_TTABLE ? 2 : 4);
     return push_transformed(L, translate(d));
   });
 }
@@ -44,19 +45,25 @@ int rotate_m(lua_State* L) {
     double a = check_number(L, 2);
     Vec3 axis = lua_isnoneornil(L, 3) ? Vec3::UnitZ() : check_axis(L, 3);
     Mat4 m = lua_isnoneornil(L, 4) ? rotate(a, axis) : rotate(a, axis, check_vec3(L, 4, true));
+    check_no_more_method(L, 4);
     return push_transformed(L, m);
   });
 }
 
 template <Mat4 (*F)(double)>
 int rotate_axis_m(lua_State* L) {
-  return guarded(L, [&] { return push_transformed(L, F(check_number(L, 2))); });
+  return guarded(L, [&] {
+    const double a = check_number(L, 2);
+    check_no_more_method(L, 2);
+    return push_transformed(L, F(a));
+  });
 }
 
 int scale_m(lua_State* L) {
   return guarded(L, [&] {
     double kx = check_number(L, 2);
     Vec3 k = lua_isnoneornil(L, 3) ? Vec3(kx, kx, kx) : Vec3{kx, check_number(L, 3), check_number(L, 4)};
+    check_no_more_method(L, 4);
     if (k.x() == 0 || k.y() == 0 || k.z() == 0)
       throw ArgError{2, "scale factors must be non-zero (a zero factor flattens the solid)"};
     return push_transformed(L, scale(k));
@@ -66,7 +73,9 @@ int scale_m(lua_State* L) {
 int mirror_m(lua_State* L) {
   return guarded(L, [&] {
     Vec3 p = lua_isnoneornil(L, 3) ? Vec3::Zero() : check_vec3(L, 3, true);
-    return push_transformed(L, reflect(check_axis(L, 2), p));
+    const Vec3 n = check_axis(L, 2);
+    check_no_more_method(L, 3);
+    return push_transformed(L, reflect(n, p));
   });
 }
 
@@ -77,7 +86,11 @@ int shear_m(lua_State* L) {
 }
 
 int transform_m(lua_State* L) {
-  return guarded(L, [&] { return push_transformed(L, check_matrix(L, 2)); });
+  return guarded(L, [&] {
+    const Mat4 m = check_matrix(L, 2);
+    check_no_more_method(L, 2);
+    return push_transformed(L, m);
+  });
 }
 
 int volume_m(lua_State* L) {
