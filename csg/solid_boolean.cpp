@@ -329,20 +329,13 @@ std::shared_ptr<Evaluated> balanced_intersection(const std::vector<std::shared_p
 // intersection of them does (balanced_intersection).
 std::shared_ptr<Evaluated> difference_of(const std::shared_ptr<Evaluated>& first,
                                          const std::vector<std::shared_ptr<Evaluated>>& subtrahends, Run& run) {
-  std::vector<std::shared_ptr<Evaluated>> all{first};
+  std::vector<std::shared_ptr<Evaluated>> all{first};  // first, then the subtrahends
   all.insert(all.end(), subtrahends.begin(), subtrahends.end());
   const std::size_t k = fan_in(all, run);
-  if (k < 2 || subtrahends.size() <= k) {
-    std::vector<std::shared_ptr<Evaluated>> use{first};
-    use.insert(use.end(), subtrahends.begin(), subtrahends.end());
-    return engine(BooleanOp::Difference, use, run);
-  }
-  // Subtrahends apart from one another (400 drills): one pass, as for a sparse union.
-  if (run.options.prune && overlaps(subtrahends, k - 1).sparse) {
-    std::vector<std::shared_ptr<Evaluated>> use{first};
-    use.insert(use.end(), subtrahends.begin(), subtrahends.end());
-    return engine(BooleanOp::Difference, use, run);
-  }
+  // Up to the fan-in, or subtrahends apart from one another (400 drills, as for a sparse union):
+  // one pass.
+  if (k < 2 || subtrahends.size() <= k || (run.options.prune && overlaps(subtrahends, k - 1).sparse))
+    return engine(BooleanOp::Difference, all, run);
   auto cut = run.options.prune ? union_of(subtrahends, run) : balanced_union(subtrahends, run);
   run.check();
   if (cut->mesh.empty()) return engine(BooleanOp::Difference, {first}, run);

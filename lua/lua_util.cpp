@@ -22,21 +22,26 @@ std::string format_number(double v) {
 }
 }  // namespace
 
+namespace {
+// Argument n + 1 where none is expected: `takes` arguments are (`what`: "function" or "method"),
+// and `after` follows the value shown.
+[[noreturn]] void extra_argument(lua_State* L, int n, const char* what, int takes, const std::string& after = "") {
+  throw ArgError{n + 1, "no argument expected here (the " + std::string(what) + " takes " + std::to_string(takes) + "), got " +
+                            describe(L, n + 1) + after};
+}
+}  // namespace
+
 void check_no_more(lua_State* L, int n) {
-  if (lua_gettop(L) > n)
-    throw ArgError{n + 1, "no argument expected here (the function takes " + std::to_string(n) + "), got " + describe(L, n + 1)};
+  if (lua_gettop(L) > n) extra_argument(L, n, "function", n);
 }
 
 void check_no_more_method(lua_State* L, int n) {
-  if (lua_gettop(L) > n)
-    throw ArgError{n + 1, "no argument expected here (the method takes " + std::to_string(n - 1) + "), got " + describe(L, n + 1)};
+  if (lua_gettop(L) > n) extra_argument(L, n, "method", n - 1);
 }
 
 void check_no_more(lua_State* L, int n, const char* table_form) {
-  if (lua_gettop(L) > n && lua_type(L, n + 1) == LUA_TBOOLEAN)
-    throw ArgError{n + 1, "no argument expected here (the function takes " + std::to_string(n) + "), got " + describe(L, n + 1) +
-                              ": a centred solid is " + table_form};
-  check_no_more(L, n);
+  if (lua_gettop(L) > n)
+    extra_argument(L, n, "function", n, lua_type(L, n + 1) == LUA_TBOOLEAN ? std::string(": a centred solid is ") + table_form : "");
 }
 
 std::string number_text(double x) {
