@@ -540,6 +540,9 @@ BooleanResult boolean_detail::boolean_as_given(BooleanOp op, const std::vector<c
     fail("boolean: ", operand_name(soup.operand[t], operands.size()), " intersects itself: triangles ", tri(t), " and ",
          tri(u));
   }
+  // Triangles buried in an operand that drops them leave with their pairs.
+  const std::vector<char> settled = settle(soup, pairs, op);
+  if (stats) stats->settled = static_cast<std::size_t>(std::count(settled.begin(), settled.end(), 1));
   // The work budget, before the exact work (the arrangement) that would take minutes above it.
   if (operands.size() >= 3) {
     const std::size_t crossings = candidate_triples(soup, pairs, max_crossings);
@@ -553,7 +556,7 @@ BooleanResult boolean_detail::boolean_as_given(BooleanOp op, const std::vector<c
   Arrangement arr = arrange(pts, pairs);
   lap(&BooleanStats::arrange);
   std::vector<std::array<u32, 3>> piece_adj;
-  auto keep = classify(pts, arr, op, false, &adj, &piece_adj);
+  auto keep = classify(pts, arr, op, false, &adj, &piece_adj, &settled);
   std::vector<std::array<u32, 3>>().swap(adj);
   lap(&BooleanStats::classify);
   std::size_t collapses = 0, resolutions = 0;

@@ -37,6 +37,7 @@ struct BooleanStats {
   std::size_t collapses = 0;  // edges the rounding repair collapsed (0 on most inputs)
   std::size_t resolutions = 0;  // passes that re-resolved a rounded result crossing itself (0 on most)
   std::size_t trusted = 0;  // operands known as results of earlier booleans, not checked again
+  std::size_t settled = 0;  // triangles buried in an operand that drops them, left out of the arrangement
 };
 
 // Thrown when an evaluation is cancelled (boolean()'s `cancel`, Solid evaluation's EvalControl).

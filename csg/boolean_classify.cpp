@@ -59,7 +59,9 @@ bool membership(BooleanOp op, const std::vector<char>& m) {
 }  // namespace
 
 std::vector<std::int8_t> classify(const Points& pts, const Arrangement& arr, BooleanOp op, bool self,
-                                  const std::vector<std::array<u32, 3>>* adj, std::vector<std::array<u32, 3>>* piece_adj) {
+                                  const std::vector<std::array<u32, 3>>* adj, std::vector<std::array<u32, 3>>* piece_adj,
+                                  const std::vector<char>* settled) {
+  if (settled && settled->empty()) settled = nullptr;
   const Soup& soup = pts.soup();
   const auto& pieces = arr.pieces;
   const std::size_t np = pieces.size();
@@ -237,6 +239,13 @@ std::vector<std::int8_t> classify(const Points& pts, const Arrangement& arr, Boo
     u32 t = piece.tri;
     int i = soup.operand[t];
     int k = soup.axis[t];
+    if (settled && (*settled)[t]) {  // strictly inside an operand that drops it
+      patch_keep[pi] = 0;
+      return;
+    }
+    // Set where the centroid lies on a settled triangle: strictly inside the operand that settled
+    // it, and so dropped (settle() left that triangle's cut out).
+    bool on_settled = false;
     // A tight box around the centroid decides most tests on doubles: the box wholly on one side
     // of a line or plane (its corners, exactly) puts the centroid there.
     const std::array<double, 6> cb = pts.centroid_box(piece.v);
@@ -335,6 +344,10 @@ std::vector<std::int8_t> classify(const Points& pts, const Arrangement& arr, Boo
       }
       int side = cb_ok ? plane_side(soup.verts[U[0]], soup.verts[U[1]], soup.verts[U[2]]) : 0;
       if (side == 0) side = pts.side_centroid(Plane::of_triangle(U), piece.v);
+      if (side == 0 && settled && (*settled)[u]) {
+        on_settled = true;
+        return 0;
+      }
       if (side == 0) fail("boolean: internal error: a piece's centroid lies on a triangle of operand ", soup.operand[u] + 1);
       return side * o < 0 ? o : 0;
     };
@@ -403,7 +416,7 @@ std::vector<std::int8_t> classify(const Points& pts, const Arrangement& arr, Boo
     for (int j : *candidates)
       if (j != i && near(j) && !coplanar_with(j)) {
         query(j, lo, hi, hit);
-        if (settles(j)) {
+        if (on_settled || settles(j)) {
           patch_keep[pi] = 0;
           return;
         }

@@ -806,6 +806,13 @@ struct Arrangement {
 };
 Arrangement arrange(Points& pts, const std::vector<std::array<u32, 2>>& pairs);
 
+// --- settling (boolean_settle.cpp) ---
+// Per triangle (empty: none), whether it is settled: it lies strictly inside another operand
+// whose inside drops it whatever the other operands say (any other operand of a union, a
+// subtrahend of a difference), met by no triangle of that operand. Their pairs are removed from
+// `pairs` (the rest keep their order): no cut they would make reaches the result's boundary.
+std::vector<char> settle(const Soup& soup, std::vector<std::array<u32, 2>>& pairs, BooleanOp op);
+
 // --- classification (boolean_classify.cpp) ---
 // For each piece: 0 drop, +1 keep, -1 keep reversed.
 // With `self`, the soup is one mesh that may cross itself, and the result is the region where its
@@ -815,9 +822,13 @@ Arrangement arrange(Points& pts, const std::vector<std::array<u32, 2>>& pairs);
 // of one cut triangle across edges on no cut; `piece_adj` (if given) then
 // receives per piece and edge the piece so joined across it (the only other piece on that edge,
 // in the same patch), else kNone.
+// `settled` (settle()'s, if given and not empty): the pieces of settled triangles are dropped, and
+// so is a piece whose centroid lies on a settled triangle (the cut it would have made is missing,
+// and the centroid is strictly inside the operand that settled it).
 std::vector<std::int8_t> classify(const Points& pts, const Arrangement& arr, BooleanOp op, bool self = false,
                                   const std::vector<std::array<u32, 3>>* adj = nullptr,
-                                  std::vector<std::array<u32, 3>>* piece_adj = nullptr);
+                                  std::vector<std::array<u32, 3>>* piece_adj = nullptr,
+                                  const std::vector<char>* settled = nullptr);
 
 // --- output and rounding (boolean_output.cpp) ---
 // `collapses` (if given) receives the number of edges the rounding repair collapsed.

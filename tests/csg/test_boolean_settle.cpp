@@ -1,0 +1,179 @@
+// Settling (csg/boolean_settle.cpp): triangles buried in an operand that drops them leave the
+// arrangement with their pairs. The results must be the solids the whole arrangement gives: boxes
+// against the exact volumes of their grid cells, a truss against its unions two at a time.
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <random>
+
+#include "csg/boolean.h"
+#include "tests/support/boolean_cases.h"
+
+using namespace wedge;
+using wedge::testing::box_mesh;
+
+namespace {
+
+Mesh box_between(const Vec3& lo, const Vec3& hi) { return box_mesh(lo, hi - lo); }
+
+// The box [lo, hi] with each side cut into n x n squares of two triangles: a triangle of a coarse
+// operand crossing it meets many of them (settle() looks only at triangles with 8 pairs or more).
+Mesh grid_box(const Vec3& lo, const Vec3& hi, int n) {
+  Mesh m;
+  for (int axis = 0; axis < 3; ++axis)
+    for (int side = 0; side < 2; ++side) {
+      const int u = (axis + 1) % 3, v = (axis + 2) % 3;
+      const std::uint32_t base = static_cast<std::uint32_t>(m.positions.size());
+      for (int i = 0; i <= n; ++i)
+        for (int j = 0; j <= n; ++j) {
+          Vec3 p;
+          p[axis] = side ? hi[axis] : lo[axis];
+          p[u] = i == n ? hi[u] : lo[u] + (hi[u] - lo[u]) * i / n;
+          p[v] = j == n ? hi[v] : lo[v] + (hi[v] - lo[v]) * j / n;
+          m.add_vertex(p);
+        }
+      auto id = [&](int i, int j) { return base + static_cast<std::uint32_t>(i * (n + 1) + j); };
+      for (int i = 0; i < n; ++i)
+        for (int j = 0; j < n; ++j) {
+          // Counter-clockwise seen from outside: (u, v, axis) is right-handed, so the far side
+          // (side 1) turns u to v, the near side v to u.
+          if (side) {
+            m.add_triangle(id(i, j), id(i + 1, j), id(i + 1, j + 1));
+            m.add_triangle(id(i, j), id(i + 1, j + 1), id(i, j + 1));
+          } else {
+            m.add_triangle(id(i, j), id(i + 1, j + 1), id(i + 1, j));
+            m.add_triangle(id(i, j), id(i, j + 1), id(i + 1, j + 1));
+          }
+        }
+    }
+  // The sides share their edges' positions; weld them into one closed mesh.
+  return m.welded();
+}
+
+void require_solid(const Mesh& m) {
+  INFO(mesh_solid_defect(m, "result"));
+  REQUIRE(mesh_solid_defect(m, "result").empty());
+}
+
+// The volume of a union (or of the first box minus the others) of axis-parallel boxes, exactly
+// as their doubles say: per cell of the grid of all their coordinates, the cell's centre in or out.
+double boxes_volume(BooleanOp op, const std::vector<std::array<Vec3, 2>>& boxes) {
+  std::vector<double> c[3];
+  for (const auto& b : boxes)
+    for (int d = 0; d < 3; ++d) c[d].push_back(b[0][d]), c[d].push_back(b[1][d]);
+  for (auto& v : c) {
+    std::sort(v.begin(), v.end());
+    v.erase(std::unique(v.begin(), v.end()), v.end());
+  }
+  long double total = 0;
+  for (std::size_t i = 0; i + 1 < c[0].size(); ++i)
+    for (std::size_t j = 0; j + 1 < c[1].size(); ++j)
+      for (std::size_t k = 0; k + 1 < c[2].size(); ++k) {
+        const Vec3 m((c[0][i] + c[0][i + 1]) / 2, (c[1][j] + c[1][j + 1]) / 2, (c[2][k] + c[2][k + 1]) / 2);
+        auto in = [&](const std::array<Vec3, 2>& b) {
+          return (m.array() > b[0].array()).all() && (m.array() < b[1].array()).all();
+        };
+        const bool inside = op == BooleanOp::Union ? std::any_of(boxes.begin(), boxes.end(), in)
+                                                   : in(boxes[0]) && std::none_of(boxes.begin() + 1, boxes.end(), in);
+        if (inside)
+          total += static_cast<long double>(c[0][i + 1] - c[0][i]) * (c[1][j + 1] - c[1][j]) * (c[2][k + 1] - c[2][k]);
+      }
+  return static_cast<double>(total);
+}
+
+}  // namespace
+
+TEST_CASE("boolean: triangles buried in an operand that drops them leave the arrangement, the result unchanged",
+          "[boolean][settle]") {
+  SECTION("a bar's end inside a cube, crossing a second bar's face there") {
+    // The bar a's end cap (x = -0.3) lies inside the cube and meets only c's bottom face (z = 0):
+    // settled by the cube, and the cut it would make in c's face left out.
+    const Mesh cube = box_between(Vec3(-1, -1, -1), Vec3(1, 1, 1));
+    const Mesh a = box_between(Vec3(-0.3, -0.1, -0.1), Vec3(2, 0.1, 0.1));
+    const Mesh c = grid_box(Vec3(-0.5, -0.3, 0), Vec3(0.5, 2, 0.2), 64);
+    BooleanStats st;
+    const BooleanResult r = boolean(BooleanOp::Union, {&cube, &a, &c}, &st);
+    require_solid(r.mesh);
+    CHECK(st.settled >= 2);
+    CHECK(r.mesh.volume() == Approx(8 + 0.04 + 0.2).epsilon(1e-12));
+    // In a difference the cube is not a subtrahend: nothing settles, and the same region goes.
+    BooleanStats sd;
+    const BooleanResult d = boolean(BooleanOp::Difference, {&cube, &a, &c}, &sd);
+    require_solid(d.mesh);
+    CHECK(sd.settled == 0);
+    const std::vector<std::array<Vec3, 2>> boxes = {
+        {Vec3(-1, -1, -1), Vec3(1, 1, 1)}, {Vec3(-0.3, -0.1, -0.1), Vec3(2, 0.1, 0.1)}, {Vec3(-0.5, -0.3, 0), Vec3(0.5, 2, 0.2)}};
+    CHECK(d.mesh.volume() == Approx(boxes_volume(BooleanOp::Difference, boxes)).epsilon(1e-12));
+  }
+  SECTION("a subtrahend's end inside another subtrahend") {
+    // b's end (z = -0.3) is inside the drill d and crosses the bar e there: settled by d.
+    const Mesh plate = box_between(Vec3(-2, -2, -1), Vec3(2, 2, 1));
+    const Mesh b = box_between(Vec3(-0.1, -0.1, -0.3), Vec3(0.1, 0.1, 3));
+    const Mesh d = box_between(Vec3(-0.5, -0.5, -3), Vec3(0.5, 0.5, 0));
+    const Mesh e = grid_box(Vec3(0, -3, -0.4), Vec3(0.05, 3, -0.2), 64);
+    BooleanStats st;
+    const BooleanResult r = boolean(BooleanOp::Difference, {&plate, &b, &d, &e}, &st);
+    require_solid(r.mesh);
+    CHECK(st.settled >= 2);
+    std::vector<std::array<Vec3, 2>> boxes = {{Vec3(-2, -2, -1), Vec3(2, 2, 1)}, {Vec3(-0.1, -0.1, -0.3), Vec3(0.1, 0.1, 3)},
+                                              {Vec3(-0.5, -0.5, -3), Vec3(0.5, 0.5, 0)}, {Vec3(0, -3, -0.4), Vec3(0.05, 3, -0.2)}};
+    CHECK(r.mesh.volume() == Approx(boxes_volume(BooleanOp::Difference, boxes)).epsilon(1e-12));
+  }
+  SECTION("inside an operand's box but outside the operand: not settled") {
+    // Two crossing bars in the corner of a ball's box, outside the ball: each bar's triangles
+    // meet the other bar and not the ball, and a ray finds them outside it.
+    const Mesh ball = wedge::testing::icosphere(Point3(0, 0, 0), 1, 320);
+    const std::vector<std::array<Vec3, 2>> bars = {{Vec3(0.8, 0.7, 0.8), Vec3(0.95, 0.9, 0.9)},
+                                                   {Vec3(0.85, 0.75, 0.7), Vec3(0.9, 0.85, 0.95)}};
+    const Mesh a = grid_box(bars[0][0], bars[0][1], 16), b = box_between(bars[1][0], bars[1][1]);
+    BooleanStats st;
+    const BooleanResult r = boolean(BooleanOp::Union, {&ball, &a, &b}, &st);
+    require_solid(r.mesh);
+    CHECK(st.settled == 0);
+    CHECK(r.mesh.volume() == Approx(ball.volume() + boxes_volume(BooleanOp::Union, bars)).epsilon(1e-12));
+  }
+  SECTION("a lattice truss: struts' caps at the nodes' centres, inside the balls") {
+    const std::vector<Mesh> truss = wedge::testing::octet_truss(1, 0.08, 12, 80);
+    std::vector<const Mesh*> ops;
+    for (const auto& m : truss) ops.push_back(&m);
+    BooleanStats st;
+    const BooleanResult r = boolean(BooleanOp::Union, ops, &st);
+    require_solid(r.mesh);
+    CHECK(st.settled > 0);
+    // Folded two at a time (nothing settles with two operands): the same solid.
+    Mesh folded = truss[0];
+    for (std::size_t i = 1; i < truss.size(); ++i) folded = boolean(BooleanOp::Union, folded, truss[i]);
+    CHECK(r.mesh.volume() == Approx(folded.volume()).epsilon(1e-9));
+  }
+  SECTION("random boxes on a coarse grid: touching, nested and crossing") {
+    std::mt19937 rng(7);
+    std::size_t settled = 0;
+    for (int round = 0; round < 40; ++round) {
+      std::vector<std::array<Vec3, 2>> boxes;
+      std::vector<Mesh> meshes;
+      const int n = 3 + round % 5;
+      for (int i = 0; i < n; ++i) {
+        Vec3 lo, hi;
+        for (int d = 0; d < 3; ++d) {
+          int a = static_cast<int>(rng() % 9), b = static_cast<int>(rng() % 9);
+          if (a == b) b = a + 1;
+          lo[d] = std::min(a, b) * 0.25;
+          hi[d] = std::max(a, b) * 0.25;
+        }
+        boxes.push_back({lo, hi});
+        meshes.push_back(grid_box(lo, hi, 1 + static_cast<int>(rng() % 12)));
+      }
+      std::vector<const Mesh*> ops;
+      for (const auto& m : meshes) ops.push_back(&m);
+      for (BooleanOp op : {BooleanOp::Union, BooleanOp::Difference}) {
+        INFO("round " << round << ", " << boolean_op_name(op));
+        BooleanStats st;
+        const BooleanResult r = boolean(op, ops, &st);
+        settled += st.settled;
+        if (!r.mesh.empty()) require_solid(r.mesh);
+        CHECK(r.mesh.volume() == Approx(boxes_volume(op, boxes)).margin(1e-12));
+      }
+    }
+    CHECK(settled > 0);
+  }
+}
