@@ -540,9 +540,12 @@ BooleanResult boolean_detail::boolean_as_given(BooleanOp op, const std::vector<c
     fail("boolean: ", operand_name(soup.operand[t], operands.size()), " intersects itself: triangles ", tri(t), " and ",
          tri(u));
   }
-  // Triangles buried in an operand that drops them leave with their pairs.
-  const std::vector<char> settled = settle(soup, pairs, op);
-  if (stats) stats->settled = static_cast<std::size_t>(std::count(settled.begin(), settled.end(), 1));
+  // Cuts buried in an operand that drops everything there leave the arrangement.
+  const Settlement settled = settle(soup, pairs, op);
+  if (stats) {
+    stats->settled = settled.settled_triangles();
+    stats->settled_pairs = settled.pairs.size();
+  }
   // The work budget, before the exact work (the arrangement) that would take minutes above it.
   if (operands.size() >= 3) {
     const std::size_t crossings = candidate_triples(soup, pairs, max_crossings);

@@ -38,6 +38,7 @@ struct BooleanStats {
   std::size_t resolutions = 0;  // passes that re-resolved a rounded result crossing itself (0 on most)
   std::size_t trusted = 0;  // operands known as results of earlier booleans, not checked again
   std::size_t settled = 0;  // triangles buried in an operand that drops them, left out of the arrangement
+  std::size_t settled_pairs = 0;  // other pairs whose cut lies deep inside such an operand, left out
 };
 
 // Thrown when an evaluation is cancelled (boolean()'s `cancel`, Solid evaluation's EvalControl).

@@ -60,7 +60,7 @@ bool membership(BooleanOp op, const std::vector<char>& m) {
 
 std::vector<std::int8_t> classify(const Points& pts, const Arrangement& arr, BooleanOp op, bool self,
                                   const std::vector<std::array<u32, 3>>* adj, std::vector<std::array<u32, 3>>* piece_adj,
-                                  const std::vector<char>* settled) {
+                                  const Settlement* settled) {
   if (settled && settled->empty()) settled = nullptr;
   const Soup& soup = pts.soup();
   const auto& pieces = arr.pieces;
@@ -239,12 +239,12 @@ std::vector<std::int8_t> classify(const Points& pts, const Arrangement& arr, Boo
     u32 t = piece.tri;
     int i = soup.operand[t];
     int k = soup.axis[t];
-    if (settled && (*settled)[t]) {  // strictly inside an operand that drops it
+    if (settled && !settled->triangles.empty() && settled->triangles[t]) {  // inside an operand that drops it
       patch_keep[pi] = 0;
       return;
     }
-    // Set where the centroid lies on a settled triangle: strictly inside the operand that settled
-    // it, and so dropped (settle() left that triangle's cut out).
+    // Set where the centroid lies on a triangle whose cut with t settle() left out: strictly inside
+    // the operand that settled it, and so dropped.
     bool on_settled = false;
     // A tight box around the centroid decides most tests on doubles: the box wholly on one side
     // of a line or plane (its corners, exactly) puts the centroid there.
@@ -344,7 +344,7 @@ std::vector<std::int8_t> classify(const Points& pts, const Arrangement& arr, Boo
       }
       int side = cb_ok ? plane_side(soup.verts[U[0]], soup.verts[U[1]], soup.verts[U[2]]) : 0;
       if (side == 0) side = pts.side_centroid(Plane::of_triangle(U), piece.v);
-      if (side == 0 && settled && (*settled)[u]) {
+      if (side == 0 && settled && settled->left_out(t, u)) {
         on_settled = true;
         return 0;
       }

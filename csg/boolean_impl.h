@@ -807,11 +807,26 @@ struct Arrangement {
 Arrangement arrange(Points& pts, const std::vector<std::array<u32, 2>>& pairs);
 
 // --- settling (boolean_settle.cpp) ---
-// Per triangle (empty: none), whether it is settled: it lies strictly inside another operand
-// whose inside drops it whatever the other operands say (any other operand of a union, a
-// subtrahend of a difference), met by no triangle of that operand. Their pairs are removed from
-// `pairs` (the rest keep their order): no cut they would make reaches the result's boundary.
-std::vector<char> settle(const Soup& soup, std::vector<std::array<u32, 2>>& pairs, BooleanOp op);
+// The cuts left out of the arrangement because they lie strictly inside an operand whose inside
+// drops every point of the other operands there (any other operand of a union, a subtrahend of a
+// difference): no such cut reaches the result's boundary.
+struct Settlement {
+  // Per triangle (empty: none), whether it lies strictly inside such an operand, met by none of
+  // its triangles: every pair of it left out.
+  std::vector<char> triangles;
+  // Pairs of unsettled triangles whose cut lies in the core of such an operand (sorted).
+  std::vector<std::array<u32, 2>> pairs;
+  std::size_t settled_triangles() const { return static_cast<std::size_t>(std::count(triangles.begin(), triangles.end(), 1)); }
+  bool empty() const { return triangles.empty() && pairs.empty(); }
+  // Whether the cut of triangles t and u was left out.
+  bool left_out(u32 t, u32 u) const {
+    if (!triangles.empty() && (triangles[t] || triangles[u])) return true;
+    return std::binary_search(pairs.begin(), pairs.end(), std::array<u32, 2>{std::min(t, u), std::max(t, u)});
+  }
+};
+// The settlement of a boolean's candidate pairs; its pairs are removed from `pairs` (the rest keep
+// their order).
+Settlement settle(const Soup& soup, std::vector<std::array<u32, 2>>& pairs, BooleanOp op);
 
 // --- classification (boolean_classify.cpp) ---
 // For each piece: 0 drop, +1 keep, -1 keep reversed.
@@ -822,13 +837,13 @@ std::vector<char> settle(const Soup& soup, std::vector<std::array<u32, 2>>& pair
 // of one cut triangle across edges on no cut; `piece_adj` (if given) then
 // receives per piece and edge the piece so joined across it (the only other piece on that edge,
 // in the same patch), else kNone.
-// `settled` (settle()'s, if given and not empty): the pieces of settled triangles are dropped, and
-// so is a piece whose centroid lies on a settled triangle (the cut it would have made is missing,
-// and the centroid is strictly inside the operand that settled it).
+// `settled` (settle()'s, if given): the pieces of settled triangles are dropped, and so is a piece
+// whose centroid lies on a triangle whose cut with the piece's own triangle was left out (the
+// centroid is on that cut, strictly inside the operand that settled it).
 std::vector<std::int8_t> classify(const Points& pts, const Arrangement& arr, BooleanOp op, bool self = false,
                                   const std::vector<std::array<u32, 3>>* adj = nullptr,
                                   std::vector<std::array<u32, 3>>* piece_adj = nullptr,
-                                  const std::vector<char>* settled = nullptr);
+                                  const Settlement* settled = nullptr);
 
 // --- output and rounding (boolean_output.cpp) ---
 // `collapses` (if given) receives the number of edges the rounding repair collapsed.
