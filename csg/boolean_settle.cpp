@@ -194,7 +194,7 @@ std::vector<char> settle_triangles(const Scene& sc, const std::vector<u32>& degr
       if (off[p[1]] != off[p[1] + 1]) below[at[p[1]]++] = p[0];
   }
   soup.poll();
-  // Per held triangle, the first holder it has no pair with (kNone: none). A triangle with a
+  // Per held triangle, the first holder it has no pair with (-1: none). A triangle with a
   // partner in the holder meets its surface, or may.
   std::vector<std::int32_t> candidate(nt, -1);
   parallel_for(0, nt, [&](std::size_t ti) {

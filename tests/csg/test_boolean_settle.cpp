@@ -55,6 +55,15 @@ void require_solid(const Mesh& m) {
   REQUIRE(mesh_solid_defect(m, "result").empty());
 }
 
+// The boolean of all `meshes` in one pass, required to be a valid solid (or empty); its stats in st.
+BooleanResult one_pass(BooleanOp op, const std::vector<Mesh>& meshes, BooleanStats& st) {
+  std::vector<const Mesh*> ops;
+  for (const auto& m : meshes) ops.push_back(&m);
+  BooleanResult r = boolean(op, ops, &st);
+  if (!r.mesh.empty()) require_solid(r.mesh);
+  return r;
+}
+
 // The volume of a union (or of the first box minus the others) of axis-parallel boxes, exactly
 // as their doubles say: per cell of the grid of all their coordinates, the cell's centre in or out.
 double boxes_volume(BooleanOp op, const std::vector<std::array<Vec3, 2>>& boxes) {
@@ -134,11 +143,8 @@ TEST_CASE("boolean: triangles buried in an operand that drops them leave the arr
   }
   SECTION("a lattice truss: struts' caps at the nodes' centres, inside the balls") {
     const std::vector<Mesh> truss = wedge::testing::octet_truss(1, 0.08, 12, 80);
-    std::vector<const Mesh*> ops;
-    for (const auto& m : truss) ops.push_back(&m);
     BooleanStats st;
-    const BooleanResult r = boolean(BooleanOp::Union, ops, &st);
-    require_solid(r.mesh);
+    const BooleanResult r = one_pass(BooleanOp::Union, truss, st);
     CHECK(st.settled > 0);
     CHECK(st.settled_pairs > 0);  // struts' walls crossing near a node, inside its ball's core
     // Folded two at a time (nothing settles with two operands): the same solid.
@@ -167,15 +173,12 @@ TEST_CASE("boolean: triangles buried in an operand that drops them leave the arr
           boxes.push_back({lo, hi});
           meshes.push_back(grid_box(lo, hi, 1 + static_cast<int>(rng() % 12)));
         }
-        std::vector<const Mesh*> ops;
-        for (const auto& m : meshes) ops.push_back(&m);
         for (BooleanOp op : {BooleanOp::Union, BooleanOp::Difference}) {
           INFO("seed " << seed << ", round " << round << ", " << boolean_op_name(op));
           BooleanStats st;
-          const BooleanResult r = boolean(op, ops, &st);
+          const BooleanResult r = one_pass(op, meshes, st);
           settled += st.settled;
           settled_pairs += st.settled_pairs;
-          if (!r.mesh.empty()) require_solid(r.mesh);
           CHECK(r.mesh.volume() == Approx(boxes_volume(op, boxes)).margin(1e-12));
         }
       }
@@ -192,11 +195,8 @@ TEST_CASE("boolean: triangles buried in an operand that drops them leave the arr
                                                    {Vec3(-0.15, -0.15, -2), Vec3(0.15, 0.15, 2)}};
     std::vector<Mesh> meshes = {ball};
     for (const auto& b : bars) meshes.push_back(box_between(b[0], b[1]));  // faces from end to end
-    std::vector<const Mesh*> ops;
-    for (const auto& m : meshes) ops.push_back(&m);
     BooleanStats st;
-    const BooleanResult r = boolean(BooleanOp::Union, ops, &st);
-    require_solid(r.mesh);
+    const BooleanResult r = one_pass(BooleanOp::Union, meshes, st);
     CHECK(st.settled_pairs > 0);
     // The bars' union outside the ball, exactly: the bars' union minus the parts inside the ball,
     // the latter from the engine's own intersection of each bar with the ball (no settling: two
