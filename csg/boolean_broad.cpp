@@ -625,14 +625,14 @@ namespace {
 // segments inside a triangle of the arrangement): false only where double arithmetic is sure
 // that the point is outside one of them, or on its boundary (where segments meet end to end: the
 // T-junctions of a Menger sponge's tunnels), or that the planes do not meet in one point.
-bool may_cross(const Soup& s, u32 t, u32 u, u32 w) {
+bool may_cross(const Soup& s, const std::vector<std::array<double, 4>>& plane, u32 t, u32 u, u32 w) {
   const u32 ids[3] = {t, u, w};
   Vec3 n[3];
   double d[3];
   for (int i = 0; i < 3; ++i) {
-    const auto& T = s.tris[ids[i]];
-    n[i] = (s.verts[T[1]] - s.verts[T[0]]).cross(s.verts[T[2]] - s.verts[T[0]]);
-    d[i] = n[i].dot(s.verts[T[0]]);
+    const auto& P = plane[ids[i]];
+    n[i] = Vec3(P[0], P[1], P[2]);
+    d[i] = P[3];
   }
   const Vec3 c12 = n[1].cross(n[2]), c20 = n[2].cross(n[0]), c01 = n[0].cross(n[1]);
   const double det = n[0].dot(c12);
@@ -735,6 +735,14 @@ std::size_t candidate_triples(const Soup& soup, const std::vector<std::array<u32
   // Per pair, once looked at by a triple: 0 not yet, else its pair_kind (most triples of boxes
   // that touch, as in the Menger sponge, end here, before may_cross).
   std::vector<std::atomic<std::uint8_t>> kinds(pairs.size());
+  // Each triangle's plane n . x = d, made once: a triangle of a truss's node is in thousands of
+  // triples, and making the three planes was a third of each triple's look.
+  std::vector<std::array<double, 4>> plane(nt);
+  parallel_for(0, nt, [&](std::size_t t) {
+    const auto& T = soup.tris[t];
+    const Vec3 n = (soup.verts[T[1]] - soup.verts[T[0]]).cross(soup.verts[T[2]] - soup.verts[T[0]]);
+    plane[t] = {n.x(), n.y(), n.z(), n.dot(soup.verts[T[0]])};
+  });
   auto kind = [&](std::size_t i) {
     std::uint8_t c = kinds[i].load(std::memory_order_relaxed);
     if (!c) kinds[i].store(c = pair_kind(soup, pairs[i][0], pairs[i][1]), std::memory_order_relaxed);
@@ -780,7 +788,7 @@ std::size_t candidate_triples(const Soup& soup, const std::vector<std::array<u32
         if (k == 2 || kind(uw) != k) return;
         if (tw == kNone) tw = index_of(t, w);
         if (kind(tw) != k) return;
-        if (k == 1) c += may_cross(soup, t, u, w);
+        if (k == 1) c += may_cross(soup, plane, t, u, w);
         else c += coplanar_crossings(soup, t, u, w);
       };
       if (b1 - b0 <= 4 * a_len) {
