@@ -23,7 +23,9 @@
 // - A *segment* of T is a constraint of T's retriangulation: a piece of T's intersection with
 //   another operand, given by its two end points and the plane that cuts T along it.
 // - A *patch* is a set of output candidate triangles of one operand joined across edges that no
-//   other operand touches; a patch is all inside or all outside every other operand.
+//   other operand touches; a patch is all inside or all outside every other operand, but where it
+//   lies strictly inside an operand that drops everything there (settling, boolean_settle.cpp:
+//   the cuts there are left out, and the patch is dropped whatever it straddles).
 // - w_j(P) is the winding number of point P with respect to operand j.
 //
 // Where rounding happens: only in output.cpp, once, when exact output vertices become doubles.
