@@ -2,6 +2,7 @@
 // arrangement with their pairs. The results must be the solids the whole arrangement gives: boxes
 // against the exact volumes of their grid cells, a truss against its unions two at a time.
 #include <catch2/catch.hpp>
+#include <tbb/global_control.h>
 
 #include <algorithm>
 #include <random>
@@ -147,6 +148,16 @@ TEST_CASE("boolean: triangles buried in an operand that drops them leave the arr
     const BooleanResult r = one_pass(BooleanOp::Union, truss, st);
     CHECK(st.settled > 0);
     CHECK(st.settled_pairs > 0);  // struts' walls crossing near a node, inside its ball's core
+    {
+      // The same bits with one thread as with all of them.
+      tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
+      BooleanStats s1;
+      const BooleanResult r1 = one_pass(BooleanOp::Union, truss, s1);
+      CHECK(r1.mesh.positions == r.mesh.positions);
+      CHECK(r1.mesh.triangles == r.mesh.triangles);
+      CHECK(s1.settled == st.settled);
+      CHECK(s1.settled_pairs == st.settled_pairs);
+    }
     // Folded two at a time (nothing settles with two operands): the same solid.
     Mesh folded = truss[0];
     for (std::size_t i = 1; i < truss.size(); ++i) folded = boolean(BooleanOp::Union, folded, truss[i]);
