@@ -540,12 +540,9 @@ BooleanResult boolean_detail::boolean_as_given(BooleanOp op, const std::vector<c
     fail("boolean: ", operand_name(soup.operand[t], operands.size()), " intersects itself: triangles ", tri(t), " and ",
          tri(u));
   }
-  // Cuts buried in an operand that drops everything there leave the arrangement.
-  const Settlement settled = settle(soup, pairs, op);
-  if (stats) {
-    stats->settled = settled.settled_triangles();
-    stats->settled_pairs = settled.pairs.size();
-  }
+  // Cuts buried in an operand that drops everything there leave the arrangement: settled
+  // triangles now, pairs in cores after the budget.
+  Settlement settled = settle(soup, pairs, op);
   // The work budget, before the exact work (the arrangement) that would take minutes above it.
   if (operands.size() >= 3) {
     const std::size_t crossings = candidate_triples(soup, pairs, max_crossings);
@@ -554,6 +551,11 @@ BooleanResult boolean_detail::boolean_as_given(BooleanOp op, const std::vector<c
            "time at about ", crossings, " points, more than the budget of ", max_crossings,
            " (operands that nearly coincide, such as copies turned by a degree, cross everywhere): use fewer such "
            "operands or raise max_crossings");
+  }
+  settle_pairs(soup, pairs, op, settled);
+  if (stats) {
+    stats->settled = settled.settled_triangles();
+    stats->settled_pairs = settled.pairs.size();
   }
   lap(&BooleanStats::broad);
   Arrangement arr = arrange(pts, pairs);

@@ -826,9 +826,13 @@ struct Settlement {
     return std::binary_search(pairs.begin(), pairs.end(), std::array<u32, 2>{std::min(t, u), std::max(t, u)});
   }
 };
-// The settlement of a boolean's candidate pairs; its pairs are removed from `pairs` (the rest keep
-// their order).
+// The settled triangles of a boolean's candidate pairs; their pairs are removed from `pairs` (the
+// rest keep their order).
 Settlement settle(const Soup& soup, std::vector<std::array<u32, 2>>& pairs, BooleanOp op);
+// Then the pairs in cores (s.pairs), removed from `pairs` as well. Run after the work budget's
+// count: on operands that nearly coincide (17 copies of a sphere turned by a degree each, 4.4M
+// pairs, every core in every cell) the cores' look took 1.1 s where the count refuses in 0.1 s.
+void settle_pairs(const Soup& soup, std::vector<std::array<u32, 2>>& pairs, BooleanOp op, Settlement& s);
 
 // --- classification (boolean_classify.cpp) ---
 // For each piece: 0 drop, +1 keep, -1 keep reversed.

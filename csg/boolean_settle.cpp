@@ -474,21 +474,39 @@ std::vector<std::array<u32, 2>> drop_core_pairs(const Scene& sc, const std::vect
 
 }  // namespace
 
-Settlement settle(const Soup& soup, std::vector<std::array<u32, 2>>& pairs, BooleanOp op) {
+namespace {
+
+// Runs f(scene, degree, settles) where settling can do anything (three operands or more, a union
+// or a difference, a scene with an extent).
+template <class F>
+void with_scene(const Soup& soup, const std::vector<std::array<u32, 2>>& pairs, BooleanOp op, F&& f) {
   // With two operands every pair is with the other one: nothing to settle.
-  if (soup.operands < 3 || op == BooleanOp::Intersection || pairs.empty()) return {};
+  if (soup.operands < 3 || op == BooleanOp::Intersection || pairs.empty()) return;
   // Whether the inside of operand j drops the points of operand i there, whatever else holds them.
-  auto settles = [&](int i, int j) { return j != i && (op == BooleanOp::Union || j != 0); };
+  auto settles = [op](int i, int j) { return j != i && (op == BooleanOp::Union || j != 0); };
   const Scene sc(soup);
-  if (!sc.usable()) return {};
+  if (!sc.usable()) return;
   // Per triangle, its pairs (one pass: the pairs of a neighbourhood sit together, and plain
   // increments beat atomic ones threefold here).
   std::vector<u32> degree(soup.tris.size(), 0);
   for (const auto& p : pairs) ++degree[p[0]], ++degree[p[1]];
+  f(sc, degree, settles);
+}
+
+}  // namespace
+
+Settlement settle(const Soup& soup, std::vector<std::array<u32, 2>>& pairs, BooleanOp op) {
   Settlement s;
-  s.triangles = settle_triangles(sc, degree, pairs, settles);
-  s.pairs = drop_core_pairs(sc, degree, pairs, settles);
+  with_scene(soup, pairs, op, [&](const Scene& sc, const std::vector<u32>& degree, auto&& settles) {
+    s.triangles = settle_triangles(sc, degree, pairs, settles);
+  });
   return s;
+}
+
+void settle_pairs(const Soup& soup, std::vector<std::array<u32, 2>>& pairs, BooleanOp op, Settlement& s) {
+  with_scene(soup, pairs, op, [&](const Scene& sc, const std::vector<u32>& degree, auto&& settles) {
+    s.pairs = drop_core_pairs(sc, degree, pairs, settles);
+  });
 }
 
 }  // namespace wedge::boolean_detail
