@@ -178,29 +178,7 @@ std::vector<std::int8_t> classify(const Points& pts, const Arrangement& arr, Boo
       for (u32 u = first_tri[j]; u < first_tri[j + 1]; ++u) f(u);  // the callers' crossing() tests the box
   };
   soup.poll();
-  std::vector<std::array<double, 6>> op_box(nops, {INFINITY, INFINITY, INFINITY, -INFINITY, -INFINITY, -INFINITY});
-  {
-    // Per block of triangles, then merged (min and max: the same at any thread count).
-    const std::size_t nt = soup.tris.size();
-    std::vector<std::vector<std::array<double, 6>>> part((nt + kBlock - 1) / kBlock, op_box);
-    parallel_blocks(nt, kBlock, [&](std::size_t from, std::size_t to) {
-      for (std::size_t t = from; t < to; ++t) {
-        double lo[3], hi[3];
-        triangle_box(soup, static_cast<u32>(t), lo, hi);
-        auto& b = part[from / kBlock][soup.operand[t]];
-        for (int d = 0; d < 3; ++d) {
-          b[d] = std::min(b[d], lo[d]);
-          b[d + 3] = std::max(b[d + 3], hi[d]);
-        }
-      }
-    });
-    for (const auto& p : part)
-      for (int j = 0; j < nops; ++j)
-        for (int d = 0; d < 3; ++d) {
-          op_box[j][d] = std::min(op_box[j][d], p[j][d]);
-          op_box[j][d + 3] = std::max(op_box[j][d + 3], p[j][d + 3]);
-        }
-  }
+  const std::vector<std::array<double, 6>> op_box = operand_boxes(soup);
 
   // The operands whose boxes meet a vertical line, by a grid over the scene's xy extent: a piece
   // looks at the operands listed in the cell of its centroid, not at every operand (a sponge has

@@ -251,6 +251,8 @@ inline std::uint64_t morton_spread(std::uint64_t x) {
 // Where each operand's triangles start in the soup (they come operand after operand): operand j's
 // are first[j] .. first[j + 1] - 1.
 std::vector<u32> operand_starts(const Soup& s);
+// Each operand's box (lo, hi) over its triangles; an operand without triangles gets (inf, -inf).
+std::vector<std::array<double, 6>> operand_boxes(const Soup& s);
 // Marks `owner` as held by operand op: -1 (none) becomes op, another operand makes it -2 (several).
 inline void claim(std::atomic<std::int32_t>& owner, std::int32_t op) {
   std::int32_t cur = owner.load(std::memory_order_relaxed);

@@ -86,16 +86,7 @@ struct Scene {
   std::vector<std::array<double, 6>> box;  // per operand (lo, hi)
   double g0[3], g1[3];                     // every operand's box
 
-  explicit Scene(const Soup& s) : soup(s), first(operand_starts(s)), box(s.operands) {
-    parallel_for(0, static_cast<std::size_t>(s.operands), [&](std::size_t j) {
-      auto& b = box[j];
-      b = {INFINITY, INFINITY, INFINITY, -INFINITY, -INFINITY, -INFINITY};
-      for (u32 t = first[j]; t < first[j + 1]; ++t) {
-        double lo[3], hi[3];
-        triangle_box(soup, t, lo, hi);
-        for (int d = 0; d < 3; ++d) b[d] = std::min(b[d], lo[d]), b[d + 3] = std::max(b[d + 3], hi[d]);
-      }
-    });
+  explicit Scene(const Soup& s) : soup(s), first(operand_starts(s)), box(operand_boxes(s)) {
     for (int d = 0; d < 3; ++d) g0[d] = INFINITY, g1[d] = -INFINITY;
     for (const auto& b : box)
       for (int d = 0; d < 3; ++d) g0[d] = std::min(g0[d], b[d]), g1[d] = std::max(g1[d], b[d + 3]);

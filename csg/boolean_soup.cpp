@@ -39,6 +39,33 @@ std::vector<u32> boolean_detail::operand_starts(const Soup& s) {
   return first;
 }
 
+std::vector<std::array<double, 6>> boolean_detail::operand_boxes(const Soup& s) {
+  const int nops = s.operands;
+  std::vector<std::array<double, 6>> box(nops, {INFINITY, INFINITY, INFINITY, -INFINITY, -INFINITY, -INFINITY});
+  // Per block of triangles, then merged (min and max: the same at any thread count).
+  constexpr std::size_t kBlock = 65536;
+  const std::size_t nt = s.tris.size();
+  std::vector<std::vector<std::array<double, 6>>> part((nt + kBlock - 1) / kBlock, box);
+  parallel_blocks(nt, kBlock, [&](std::size_t from, std::size_t to) {
+    for (std::size_t t = from; t < to; ++t) {
+      double lo[3], hi[3];
+      triangle_box(s, static_cast<u32>(t), lo, hi);
+      auto& b = part[from / kBlock][s.operand[t]];
+      for (int d = 0; d < 3; ++d) {
+        b[d] = std::min(b[d], lo[d]);
+        b[d + 3] = std::max(b[d + 3], hi[d]);
+      }
+    }
+  });
+  for (const auto& p : part)
+    for (int j = 0; j < nops; ++j)
+      for (int d = 0; d < 3; ++d) {
+        box[j][d] = std::min(box[j][d], p[j][d]);
+        box[j][d + 3] = std::max(box[j][d + 3], p[j][d + 3]);
+      }
+  return box;
+}
+
 // Merges the operands into one soup of triangles on unique positions. Equal positions become one
 // vertex, numbered in the order of their first use (operand by operand, position by position):
 // the same numbering at any thread count. In parallel over blocks of positions: each position
