@@ -558,7 +558,7 @@ BooleanResult boolean_detail::boolean_as_given(BooleanOp op, const std::vector<c
     stats->settled_pairs = settled.pairs.size();
   }
   lap(&BooleanStats::broad);
-  Arrangement arr = arrange(pts, pairs);
+  Arrangement arr = arrange(pts, pairs, true, &settled);
   lap(&BooleanStats::arrange);
   std::vector<std::array<u32, 3>> piece_adj;
   auto keep = classify(pts, arr, op, false, &adj, &piece_adj, &settled);

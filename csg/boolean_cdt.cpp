@@ -41,7 +41,8 @@ inline int pv(int j) { return j == 0 ? 2 : j - 1; }
 
 class Triangulator {
  public:
-  void run(const Points& pts, int k, double well, const std::array<u32, 3>& corners, const std::vector<u32>& points,
+  // corners: nc = 3 (a triangle) or 4 (a convex quadrilateral), counter-clockwise.
+  void run(const Points& pts, int k, double well, const u32* corners, int nc, const std::vector<u32>& points,
            const std::vector<std::array<u32, 2>>& constraints, std::vector<std::array<u32, 3>>& out,
            std::vector<std::array<u32, 3>>* inner, const Points::Metric* metric) {
     pts_ = &pts;
@@ -53,18 +54,27 @@ class Triangulator {
     lv_.clear();
     tris_.clear();
     vt_.clear();
-    for (u32 c : corners) add_vertex(c);
-    if (orient(0, 1, 2) <= 0) fail("the triangle's corners are not counter-clockwise");
-    tris_.push_back({{0, 1, 2}, {kNo, kNo, kNo}, 0});
-    vt_ = {0, 0, 0};
+    for (int i = 0; i < nc; ++i) add_vertex(corners[i]);
+    if (nc == 3) {
+      if (orient(0, 1, 2) <= 0) fail("the triangle's corners are not counter-clockwise");
+      tris_.push_back({{0, 1, 2}, {kNo, kNo, kNo}, 0});
+      vt_ = {0, 0, 0};
+    } else {
+      // Two triangles across the diagonal 0-2, which is no constraint.
+      if (orient(0, 1, 2) <= 0 || orient(2, 3, 0) <= 0 || orient(1, 2, 3) <= 0 || orient(3, 0, 1) <= 0)
+        fail("the quadrilateral's corners are not convex and counter-clockwise");
+      tris_.push_back({{0, 1, 2}, {kNo, 1, kNo}, 0});
+      tris_.push_back({{2, 3, 0}, {kNo, 0, kNo}, 0});
+      vt_ = {0, 0, 0, 1};
+    }
     // Local numbers by id, for the constraints: (id, local), sorted.
     std::vector<std::pair<u32, int>>& local = local_;
     local.clear();
-    for (int i = 0; i < 3; ++i) local.push_back({corners[i], i});
+    for (int i = 0; i < nc; ++i) local.push_back({corners[i], i});
     int hint = 0;
     std::size_t polled = 0;
     for (u32 p : points) {
-      if (p == corners[0] || p == corners[1] || p == corners[2]) continue;
+      if (std::find(corners, corners + nc, p) != corners + nc) continue;
       if ((++polled & 0xff) == 0) pts_->soup().poll();
       const int v = add_vertex(p);
       const int at = insert(v, hint);
@@ -459,7 +469,14 @@ void constrained_delaunay(const Points& pts, int k, double well, const std::arra
                           std::vector<std::array<u32, 3>>& out, std::vector<std::array<u32, 3>>* inner,
                           const Points::Metric* metric) {
   thread_local Triangulator tr;  // its arrays are kept for the thread's next triangle
-  tr.run(pts, k, well, corners, points, constraints, out, inner, metric);
+  tr.run(pts, k, well, corners.data(), 3, points, constraints, out, inner, metric);
+}
+
+void constrained_delaunay_quad(const Points& pts, int k, double well, const std::array<u32, 4>& corners,
+                          const std::vector<u32>& points, const std::vector<std::array<u32, 2>>& constraints,
+                          std::vector<std::array<u32, 3>>& out, std::vector<std::array<u32, 3>>* inner) {
+  thread_local Triangulator tr;
+  tr.run(pts, k, well, corners.data(), 4, points, constraints, out, inner, nullptr);
 }
 
 }  // namespace wedge::boolean_detail

@@ -564,6 +564,11 @@ void constrained_delaunay(const Points& pts, int k, double well, const std::arra
                           const std::vector<u32>& points, const std::vector<std::array<u32, 2>>& constraints,
                           std::vector<std::array<u32, 3>>& out, std::vector<std::array<u32, 3>>* inner = nullptr,
                           const Points::Metric* metric = nullptr);
+// The same in a convex quadrilateral (two coplanar triangles of one face, flat_quads()): its
+// corners counter-clockwise, their diagonal 0-2 no constraint.
+void constrained_delaunay_quad(const Points& pts, int k, double well, const std::array<u32, 4>& corners,
+                          const std::vector<u32>& points, const std::vector<std::array<u32, 2>>& constraints,
+                          std::vector<std::array<u32, 3>>& out, std::vector<std::array<u32, 3>>* inner = nullptr);
 
 
 // Exact sign of orient3d on input vertices.
@@ -762,6 +767,24 @@ struct TriWork {
   std::vector<u32> points;
   std::vector<u32> coplanar;
 };
+// Flat quadrilaterals (boolean_quads.cpp): two cut triangles of one operand and one face id that
+// share an edge, lie in one plane and make a strictly convex quadrilateral are retriangulated as
+// one (the work of the first holds both; its pieces name it as their source), so their shared
+// edge, a diagonal of a face the tessellator split, is no constraint. A cut point strictly inside
+// such a diagonal, where in every work that holds it it joins two collinear segments and nothing
+// else, is then no point of the arrangement at all: its segments are joined. (A plane crossing a
+// long box face or a cylinder's side cuts each diagonal it meets: two thirds of a Menger sponge's
+// points and half a plate's were such points, rounded when output, and merged away afterwards.)
+// Works must be canonical (sorted points, unique segments); `fixed` triangles are not grouped.
+struct FlatQuads {
+  // Per work: the corners (p, b, q, a) of its quadrilateral, in its triangles' orientation, where
+  // it holds one (else kNone in [0]); and whether it was merged into its partner's (now empty).
+  std::vector<std::array<u32, 4>> quad;
+  std::vector<char> absorbed;
+  std::size_t groups = 0, dropped = 0;
+};
+FlatQuads flat_quads(const Points& pts, const std::vector<u32>& touched, std::vector<TriWork>& work,
+                     const std::vector<char>* fixed);
 // One id per point: per symbolic definition (canonical: the same planes in any order), or per
 // position for a point whose definition fixes all three coordinates (the many definitions of one
 // corner of a sponge get one id), where an input vertex at that position keeps its own id.
@@ -808,7 +831,12 @@ struct Arrangement {
   // triangle and on no cut (so these two are the only pieces on it), else kNone.
   std::vector<std::pair<u32, std::array<u32, 3>>> inner;
 };
-Arrangement arrange(Points& pts, const std::vector<std::array<u32, 2>>& pairs);
+struct Settlement;
+// With `quads`, cut triangles are grouped into flat quadrilaterals (flat_quads), but for the
+// triangles of cuts `settled` left out (classify asks about those per source triangle). Not for
+// a mesh classified against itself (classify's `self`), whose rays must not meet the partner.
+Arrangement arrange(Points& pts, const std::vector<std::array<u32, 2>>& pairs, bool quads = false,
+                    const Settlement* settled = nullptr);
 
 // --- settling (boolean_settle.cpp) ---
 // The cuts left out of the arrangement because they lie strictly inside an operand whose inside

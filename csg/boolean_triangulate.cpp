@@ -449,7 +449,8 @@ bool boundary_cuts(const Points& pts, const Soup& soup, u32 t, int k, const std:
 
 }  // namespace
 
-Arrangement arrange(Points& pts, const std::vector<std::array<u32, 2>>& pairs) {
+Arrangement arrange(Points& pts, const std::vector<std::array<u32, 2>>& pairs, bool group_quads,
+                    const Settlement* settled) {
   const Soup& soup = pts.soup();
   const std::size_t nt = soup.tris.size();
 
@@ -558,6 +559,21 @@ Arrangement arrange(Points& pts, const std::vector<std::array<u32, 2>>& pairs) {
     });
   };
   canon_all();
+  // Flat quadrilaterals: two cut triangles of one face in one work, the cut points on their
+  // diagonal left out (boolean_quads.cpp). Not where classify asks about left-out cuts per triangle.
+  FlatQuads quads;
+  quads.quad.assign(work.size(), {kNone, kNone, kNone, kNone});
+  quads.absorbed.assign(work.size(), 0);
+  if (group_quads) {
+    std::vector<char> fixed;
+    if (settled && !settled->empty()) {
+      fixed.assign(nt, 0);
+      if (!settled->triangles.empty())
+        for (std::size_t t = 0; t < nt; ++t) fixed[t] = settled->triangles[t];
+      for (const auto& p : settled->pairs) fixed[p[0]] = fixed[p[1]] = 1;
+    }
+    quads = flat_quads(pts, touched, work, fixed.empty() ? nullptr : &fixed);
+  }
   {
     std::vector<std::vector<PointDef>> crossings(work.size());
     parallel_for(0, work.size(), [&](std::size_t wi) {
@@ -604,10 +620,13 @@ Arrangement arrange(Points& pts, const std::vector<std::array<u32, 2>>& pairs) {
   std::vector<std::vector<std::array<u32, 3>>> cut_inner(work.size());  // empty: none known
   auto triangulate_one = [&](std::size_t wi) {
     soup.poll();
+    if (quads.absorbed[wi]) return;  // its triangle's pieces are its partner's
     TriWork& w = work[wi];
     u32 t = touched[wi];
     int k = soup.axis[t];
     const auto& T = soup.tris[t];
+    const std::array<u32, 4>& quad = quads.quad[wi];
+    const bool is_quad = quad[0] != kNone;
 
     // Per-thread arrays, reused from triangle to triangle (most triangles are small, and their
     // allocations were a good part of their time).
@@ -617,6 +636,7 @@ Arrangement arrange(Points& pts, const std::vector<std::array<u32, 2>>& pairs) {
     thread_local std::vector<std::array<u32, 2>> constraints;
     points.assign(w.points.begin(), w.points.end());
     for (u32 v : T) points.push_back(v);
+    if (is_quad) points.push_back(quad[1]);  // the partner's far corner
     unique_sorted(points);
     pboxes.resize(points.size());
     for (std::size_t i = 0; i < points.size(); ++i) pboxes[i] = pts.box(points[i]);
@@ -687,13 +707,15 @@ Arrangement arrange(Points& pts, const std::vector<std::array<u32, 2>>& pairs) {
     // metric made recovering the constraints costlier than the filter saved, and a map too far
     // from a rotation (a sine under 1e-3) cannot be held in doubles.
     const int ti = (k + 1) % 3, tj = (k + 2) % 3;
-    const double sine = triangle_min_sine(soup.verts[T[0]], soup.verts[T[1]], soup.verts[T[2]], ti, tj);
+    double sine = triangle_min_sine(soup.verts[T[0]], soup.verts[T[1]], soup.verts[T[2]], ti, tj);
+    if (is_quad)
+      sine = std::min(sine, triangle_min_sine(soup.verts[quad[0]], soup.verts[quad[1]], soup.verts[quad[2]], ti, tj));
     double well = std::min(0.01, 0.5 * sine);
     Points::Metric metric{1, 0, 1};
     bool stretched = false;
     const bool doubles = std::all_of(points.begin(), points.end(),
                                      [&](u32 p) { return (pts.fixed(p) >> ti & 1) && (pts.fixed(p) >> tj & 1); });
-    if (sine < 0.02 && sine >= 1e-3 && !doubles) {
+    if (!is_quad && sine < 0.02 && sine >= 1e-3 && !doubles) {
       const std::array<u32, 3> c = soup.axis_sign[t] > 0 ? T : std::array<u32, 3>{T[0], T[2], T[1]};
       const Vec3 &p0 = soup.verts[c[0]], &p1 = soup.verts[c[1]], &p2 = soup.verts[c[2]];
       const double ax = p1[ti] - p0[ti], ay = p1[tj] - p0[tj], bx = p2[ti] - p0[ti], by = p2[tj] - p0[tj];
@@ -715,7 +737,7 @@ Arrangement arrange(Points& pts, const std::vector<std::array<u32, 2>>& pairs) {
     }
     // The commonest cuts, chords from edge to edge and nothing inside T, without building a
     // triangulation.
-    if (constraints.size() <= 4 && points.size() <= 9 &&
+    if (!is_quad && constraints.size() <= 4 && points.size() <= 9 &&
         boundary_cuts(pts, soup, t, k, points, constraints, well, stretched ? &metric : nullptr, cut_pieces[wi]))
       return;
     // Many points (a plate's face) go in along a Morton curve over their projection, so each
@@ -746,8 +768,13 @@ Arrangement arrange(Points& pts, const std::vector<std::array<u32, 2>>& pairs) {
     std::vector<std::array<u32, 3>> made;
     auto& inner = cut_inner[wi];
     try {
-      constrained_delaunay(pts, k, well, ccw, order.empty() ? points : order, constraints, made, &inner,
-                           stretched ? &metric : nullptr);
+      if (is_quad) {
+        const std::array<u32, 4> ccw4 = soup.axis_sign[t] > 0 ? quad : std::array<u32, 4>{quad[0], quad[3], quad[2], quad[1]};
+        constrained_delaunay_quad(pts, k, well, ccw4, order.empty() ? points : order, constraints, made, &inner);
+      } else {
+        constrained_delaunay(pts, k, well, ccw, order.empty() ? points : order, constraints, made, &inner,
+                             stretched ? &metric : nullptr);
+      }
     } catch (const Cancelled&) {
       throw;
     } catch (const std::exception& e) {
@@ -798,6 +825,7 @@ Arrangement arrange(Points& pts, const std::vector<std::array<u32, 2>>& pairs) {
       arr.pieces.push_back({soup.tris[t], static_cast<u32>(t)});
       continue;
     }
+    if (quads.absorbed[slot[t]]) continue;  // in its partner's pieces
     const auto& inner = cut_inner[slot[t]];
     const u32 base = static_cast<u32>(arr.pieces.size());
     for (std::size_t q = 0; q < inner.size(); ++q) {

@@ -1,0 +1,300 @@
+// Flat quadrilaterals: two cut triangles of one face retriangulated as one, and the cut points on
+// their shared diagonal left out (boolean_impl.h, FlatQuads). A step of arrange()
+// (boolean_triangulate.cpp), between the first canonical works and the crossings.
+//
+// Every decision is exact: coplanarity and convexity by orientation tests on input vertices,
+// whether a point joins two collinear segments by orient2d and comparisons on its exact
+// definition. Groups are chosen in the order of the shared edges' keys, points in id order: the
+// result does not depend on the number of threads.
+#include <algorithm>
+#include <atomic>
+#include <iterator>
+#include <numeric>
+
+#include <tbb/parallel_sort.h>
+
+#include "csg/boolean_impl.h"
+#include "kernel/parallel.h"
+
+namespace wedge::boolean_detail {
+
+namespace {
+
+}  // namespace
+
+FlatQuads flat_quads(const Points& pts, const std::vector<u32>& touched, std::vector<TriWork>& work,
+                     const std::vector<char>* fixed) {
+  const Soup& soup = pts.soup();
+  const std::size_t nw = work.size();
+  FlatQuads fq;
+  fq.quad.assign(nw, {kNone, kNone, kNone, kNone});
+  fq.absorbed.assign(nw, 0);
+
+  // 1. The edges two cut triangles share, and of those the pairs that make a flat quadrilateral.
+  struct Rec {
+    std::uint64_t key;
+    u32 wi;
+    int e;
+  };
+  std::vector<Rec> recs;
+  recs.reserve(3 * nw);
+  for (std::size_t wi = 0; wi < nw; ++wi) {
+    const u32 t = touched[wi];
+    if ((fixed && (*fixed)[t]) || soup.axis[t] < 0) continue;
+    const auto& T = soup.tris[t];
+    for (int e = 0; e < 3; ++e) {
+      const u32 a = T[e], b = T[(e + 1) % 3];
+      recs.push_back({static_cast<std::uint64_t>(std::min(a, b)) << 32 | std::max(a, b), static_cast<u32>(wi), e});
+    }
+  }
+  // (key, work) is a total order: the same result at any thread count.
+  tbb::parallel_sort(recs.begin(), recs.end(), [](const Rec& x, const Rec& y) { return x.key != y.key ? x.key < y.key : x.wi < y.wi; });
+  soup.poll();
+  std::vector<char> taken(nw, 0);
+  struct Group {
+    u32 first, second;  // works: the first's triangle has the smaller index
+  };
+  std::vector<Group> groups;
+  for (std::size_t i = 0; i + 1 < recs.size(); ++i) {
+    if (recs[i].key != recs[i + 1].key || (i + 2 < recs.size() && recs[i + 2].key == recs[i].key) ||
+        (i > 0 && recs[i - 1].key == recs[i].key))
+      continue;  // an edge of one cut triangle, or of more than two
+    const u32 wi = recs[i].wi, wj = recs[i + 1].wi;
+    if (taken[wi] || taken[wj]) continue;
+    const u32 t = touched[wi], u = touched[wj];
+    if (soup.operand[t] != soup.operand[u] || soup.face_id[t] != soup.face_id[u] || soup.axis[t] != soup.axis[u] ||
+        soup.axis_sign[t] != soup.axis_sign[u])
+      continue;
+    const auto& T = soup.tris[t];
+    const auto& U = soup.tris[u];
+    const int e = recs[i].e;
+    const u32 p = T[e], q = T[(e + 1) % 3], a = T[(e + 2) % 3];
+    int f = 0;
+    while (f < 3 && !(U[f] == q && U[(f + 1) % 3] == p)) ++f;
+    if (f == 3) continue;  // not the edge q -> p in u: the two are not oriented alike
+    const u32 b = U[(f + 2) % 3];
+    if (orient3d_v(soup, T[0], T[1], T[2], b) != 0) continue;
+    // Strictly convex: a and b on either side of p q, and p and q on either side of a b.
+    const int k = soup.axis[t];
+    if (pts.orient2d(p, q, a, k) * pts.orient2d(p, q, b, k) >= 0) continue;
+    if (pts.orient2d(a, b, p, k) * pts.orient2d(a, b, q, k) >= 0) continue;
+    taken[wi] = taken[wj] = 1;
+    const bool t_first = t < u;
+    groups.push_back({t_first ? wi : wj, t_first ? wj : wi});
+    // The boundary p -> b -> q -> a -> p runs as t's and u's edges do.
+    fq.quad[t_first ? wi : wj] = {p, b, q, a};
+  }
+  fq.groups = groups.size();
+  if (groups.empty()) return fq;
+
+  // 2. The points on the diagonals (in both works: t and u meet only there; not its ends), then
+  //    each group's works in one. A group whose diagonal is itself a cut somewhere keeps its
+  //    points: there a crossing found later (step 3 of arrange) would make them again, in that
+  //    work alone. Such a diagonal lies in a plane of another operand: one over a half (a
+  //    coplanar triangle's edges, the diagonal among them, cut it), or one through the
+  //    diagonal (then a cut in the quadrilateral runs along it, checked once merged).
+  std::vector<char> on_diagonal(pts.size(), 0);
+  std::vector<std::vector<u32>> on(groups.size());
+  std::vector<char> veto(groups.size(), 0);
+  for (std::size_t gi = 0; gi < groups.size(); ++gi) {
+    const Group& g = groups[gi];
+    veto[gi] = !work[g.first].coplanar.empty() || !work[g.second].coplanar.empty();
+    const auto& A = work[g.first].points;
+    const auto& B = work[g.second].points;
+    std::size_t x = 0, y = 0;
+    while (x < A.size() && y < B.size()) {
+      if (A[x] < B[y]) ++x;
+      else if (B[y] < A[x]) ++y;
+      else {
+        // (An operand's vertex there stays: the whole triangles around it use it.)
+        if (A[x] >= soup.verts.size()) on[gi].push_back(A[x]);
+        ++x, ++y;
+      }
+    }
+  }
+  parallel_for(0, groups.size(), [&](std::size_t gi) {
+    TriWork& w = work[groups[gi].first];
+    TriWork& o = work[groups[gi].second];
+    // Both canonical: merged in order, a segment in both once (the first work's cut plane kept).
+    std::vector<u32> points;
+    points.reserve(w.points.size() + o.points.size());
+    std::set_union(w.points.begin(), w.points.end(), o.points.begin(), o.points.end(), std::back_inserter(points));
+    std::vector<std::array<u32, 2>> segs;
+    std::vector<Plane> cuts;
+    segs.reserve(w.segs.size() + o.segs.size());
+    cuts.reserve(w.segs.size() + o.segs.size());
+    std::size_t x = 0, y = 0;
+    while (x < w.segs.size() || y < o.segs.size()) {
+      if (y == o.segs.size() || (x < w.segs.size() && !(o.segs[y] < w.segs[x]))) {
+        if (y < o.segs.size() && o.segs[y] == w.segs[x]) ++y;
+        segs.push_back(w.segs[x]);
+        cuts.push_back(w.cuts[x++]);
+      } else {
+        segs.push_back(o.segs[y]);
+        cuts.push_back(o.cuts[y++]);
+      }
+    }
+    w.points.swap(points);
+    w.segs.swap(segs);
+    w.cuts.swap(cuts);
+    // Coplanar triangles of other operands over either half (classify tests each for covering a
+    // piece's centroid: one over the other half covers none of this half's pieces).
+    w.coplanar.insert(w.coplanar.end(), o.coplanar.begin(), o.coplanar.end());
+    o = TriWork{};
+    fq.absorbed[groups[gi].second] = 1;
+    // A cut along the diagonal: both its ends on it (the diagonal's own ends are vertices, never
+    // in `on`).
+    const auto& quad = fq.quad[groups[gi].first];
+    auto on_it = [&](u32 v) { return v == quad[0] || v == quad[2] || std::binary_search(on[gi].begin(), on[gi].end(), v); };
+    for (const auto& sg : w.segs)
+      if (on_it(sg[0]) && on_it(sg[1])) veto[gi] = 1;
+  });
+  // (A point on two diagonals, two faces' diagonals crossing there, goes only where neither
+  // vetoes.)
+  std::vector<char> vetoed(pts.size(), 0);
+  for (std::size_t gi = 0; gi < groups.size(); ++gi)
+    if (veto[gi])
+      for (u32 m : on[gi]) vetoed[m] = 1;
+  std::vector<u32> candidates;
+  for (std::size_t gi = 0; gi < groups.size(); ++gi)
+    if (!veto[gi])
+      for (u32 m : on[gi])
+        if (!vetoed[m] && !on_diagonal[m]) {
+          on_diagonal[m] = 1;
+          candidates.push_back(m);
+        }
+  std::sort(candidates.begin(), candidates.end());
+  soup.poll();
+  if (candidates.empty()) return fq;
+
+  // 3. Whether segments s1 and s2 of a work (on its triangle's plane) lie on one line: their
+  //    cut planes are one plane (the same, one axis plane x_i = c, or the two halves of a group),
+  //    else exactly by orient2d through the far ends e1, e2 and the point m they share.
+  std::vector<std::pair<std::array<u32, 3>, std::array<u32, 3>>> halves;  // both ways round, sorted
+  for (const Group& g : groups) {
+    const auto& A = soup.tris[touched[g.first]];
+    const auto& B = soup.tris[touched[g.second]];
+    halves.push_back({A, B});
+    halves.push_back({B, A});
+  }
+  std::sort(halves.begin(), halves.end());
+  auto one_plane = [&](const Plane& P, const Plane& Q) {
+    if (P == Q) return true;
+    double c = 0, d = 0;
+    for (int i = 0; i < 3; ++i)
+      if (fixes_coordinate(soup, P, i, c) && fixes_coordinate(soup, Q, i, d) && c == d) return true;
+    if (P.axis >= 0 || Q.axis >= 0) return false;
+    const std::pair<std::array<u32, 3>, std::array<u32, 3>> key{{P.a, P.b, P.c}, {Q.a, Q.b, Q.c}};
+    return std::binary_search(halves.begin(), halves.end(), key);
+  };
+  // Points::compare, its boxes first (most of these points are far apart on every axis).
+  auto compare = [&](u32 a, u32 b, int axis) {
+    const auto A = pts.box(a), B = pts.box(b);
+    if (A[axis + 3] < B[axis]) return -1;
+    if (A[axis] > B[axis + 3]) return 1;
+    return pts.compare(a, b, axis);
+  };
+  // 4. A point goes where, in every work that holds it, exactly two segments end at it, on one
+  //    line, on either side of it: each work clears the points it holds that fail that there.
+  std::vector<char> keep(pts.size(), 0);
+  parallel_for(0, nw, [&](std::size_t wi) {
+    if ((wi & 0xfff) == 0) soup.poll();
+    const TriWork& w = work[wi];
+    bool held = false;
+    for (u32 m : w.points) held = held || on_diagonal[m];
+    if (!held) return;
+    // Per point of the work (by its place in the sorted points): how many segments end there,
+    // and the first two.
+    thread_local std::vector<std::array<u32, 3>> at;
+    at.assign(w.points.size(), {0, kNone, kNone});
+    for (std::size_t s = 0; s < w.segs.size(); ++s)
+      for (u32 m : w.segs[s])
+        if (on_diagonal[m]) {
+          auto& a = at[static_cast<std::size_t>(std::lower_bound(w.points.begin(), w.points.end(), m) - w.points.begin())];
+          if (a[0] < 2) a[1 + a[0]] = static_cast<u32>(s);
+          ++a[0];
+        }
+    const int k = soup.axis[touched[wi]];
+    for (std::size_t i = 0; i < w.points.size(); ++i) {
+      const u32 m = w.points[i];
+      if (!on_diagonal[m]) continue;
+      bool ok = at[i][0] == 2;
+      if (ok) {
+        const u32 s1 = at[i][1], s2 = at[i][2];
+        const u32 e1 = w.segs[s1][0] == m ? w.segs[s1][1] : w.segs[s1][0];
+        const u32 e2 = w.segs[s2][0] == m ? w.segs[s2][1] : w.segs[s2][0];
+        ok = e1 != e2 && (one_plane(w.cuts[s1], w.cuts[s2]) || pts.orient2d(e1, m, e2, k) == 0);
+        if (ok) {
+          int axis = 0;
+          while (axis < 3 && compare(e1, e2, axis) == 0) ++axis;
+          const int o = axis < 3 ? compare(e1, m, axis) : 0;
+          ok = o != 0 && o == compare(m, e2, axis);
+        }
+      }
+      if (!ok) std::atomic_ref<char>(keep[m]).store(1, std::memory_order_relaxed);
+    }
+  });
+  soup.poll();
+  std::vector<char> drop(pts.size(), 0);
+  std::vector<u32> dropped;
+  for (u32 m : candidates)
+    if (!keep[m]) {
+      drop[m] = 1;
+      dropped.push_back(m);
+    }
+  fq.dropped = dropped.size();
+  if (dropped.empty()) return fq;
+
+  // 5. In each work, the chains of segments through dropped points become one segment each (the
+  //    cut plane of its first: every segment's plane holds the whole line), and the points go.
+  parallel_for(0, nw, [&](std::size_t wi) {
+    TriWork& w = work[wi];
+    bool any = false;
+    for (u32 m : w.points) any = any || drop[m];
+    if (!any) return;
+    const std::size_t ns = w.segs.size();
+    thread_local std::vector<u32> parent, first_at;
+    thread_local std::vector<std::array<u32, 2>> chain_ends;
+    parent.resize(ns);
+    std::iota(parent.begin(), parent.end(), 0u);
+    auto root = [&](u32 x) {
+      while (parent[x] != x) x = parent[x] = parent[parent[x]];
+      return x;
+    };
+    // The two segments at each dropped point (by its place in the sorted points) are joined.
+    first_at.assign(w.points.size(), kNone);
+    for (std::size_t s = 0; s < ns; ++s)
+      for (u32 m : w.segs[s]) {
+        if (!drop[m]) continue;
+        u32& f = first_at[static_cast<std::size_t>(std::lower_bound(w.points.begin(), w.points.end(), m) - w.points.begin())];
+        if (f == kNone) {
+          f = static_cast<u32>(s);
+          continue;
+        }
+        const u32 a = root(f), b = root(static_cast<u32>(s));
+        parent[std::max(a, b)] = std::min(a, b);
+      }
+    std::vector<std::array<u32, 2>> segs;
+    std::vector<Plane> cuts;
+    chain_ends.assign(ns, {kNone, kNone});
+    for (std::size_t s = 0; s < ns; ++s) {
+      const u32 r = root(static_cast<u32>(s));
+      for (u32 v : w.segs[s])
+        if (!drop[v]) (chain_ends[r][0] == kNone ? chain_ends[r][0] : chain_ends[r][1]) = v;
+    }
+    for (std::size_t s = 0; s < ns; ++s) {
+      if (root(static_cast<u32>(s)) != s) continue;
+      const auto& c = chain_ends[s];
+      if (c[0] == kNone || c[1] == kNone) fail("boolean: internal error: a chain of joined cuts has no two ends");
+      segs.push_back({std::min(c[0], c[1]), std::max(c[0], c[1])});
+      cuts.push_back(w.cuts[s]);
+    }
+    w.segs.swap(segs);
+    w.cuts.swap(cuts);
+    // (A joined segment may repeat one the work has: the retriangulation takes each once.)
+    w.points.erase(std::remove_if(w.points.begin(), w.points.end(), [&](u32 m) { return drop[m] != 0; }), w.points.end());
+  });
+  return fq;
+}
+
+}  // namespace wedge::boolean_detail
