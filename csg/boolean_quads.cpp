@@ -90,15 +90,34 @@ FlatQuads flat_quads(const Points& pts, const std::vector<u32>& touched, std::ve
   // 2. The points on the diagonals (in both works: t and u meet only there; not its ends), then
   //    each group's works in one. A group whose diagonal is itself a cut somewhere keeps its
   //    points: there a crossing found later (step 3 of arrange) would make them again, in that
-  //    work alone. Such a diagonal lies in a plane of another operand: one over a half (a
-  //    coplanar triangle's edges, the diagonal among them, cut it), or one through the
-  //    diagonal (then a cut in the quadrilateral runs along it, checked once merged).
+  //    work alone. Such a diagonal lies in a plane of another operand: a triangle over a half
+  //    that the diagonal crosses (the halves' edges clipped to it cut it, the diagonal among
+  //    them: a segment on the wall over the diagonal), or one through the diagonal (then a cut
+  //    in the quadrilateral runs along it, checked once merged).
   std::vector<char> on_diagonal(pts.size(), 0);
   std::vector<std::vector<u32>> on(groups.size());
   std::vector<char> veto(groups.size(), 0);
+  std::vector<u32> work_of;  // triangle -> its work, for the coplanar triangles' works
+  auto diagonal_cut_over = [&](const Group& g) {
+    const auto& quad = fq.quad[g.first];
+    const u32 p = quad[0], q = quad[2];
+    // (A wall over the diagonal along whichever axis the pair's first triangle projects.)
+    auto over = [&](const Plane& c) { return c.axis >= 0 && ((c.a == p && c.b == q) || (c.a == q && c.b == p)); };
+    for (u32 wi : {g.first, g.second})
+      for (u32 f : work[wi].coplanar) {
+        if (work_of.empty()) {
+          work_of.assign(soup.tris.size(), kNone);
+          for (std::size_t x = 0; x < nw; ++x) work_of[touched[x]] = static_cast<u32>(x);
+        }
+        if (work_of[f] == kNone) continue;
+        for (const Plane& c : work[work_of[f]].cuts)
+          if (over(c)) return true;
+      }
+    return false;
+  };
   for (std::size_t gi = 0; gi < groups.size(); ++gi) {
     const Group& g = groups[gi];
-    veto[gi] = !work[g.first].coplanar.empty() || !work[g.second].coplanar.empty();
+    veto[gi] = diagonal_cut_over(g);
     const auto& A = work[g.first].points;
     const auto& B = work[g.second].points;
     std::size_t x = 0, y = 0;
