@@ -600,6 +600,8 @@ BooleanResult boolean_detail::boolean_as_given(BooleanOp op, const std::vector<c
     stats->collapses = collapses;
     stats->resolutions = resolutions;
     stats->pieces = arr.pieces.size();
+    stats->quads = arr.quads;
+    stats->quad_points = arr.quad_points;
   }
   return r;
 }

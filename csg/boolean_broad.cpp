@@ -47,27 +47,6 @@ void tri_box(const Soup& s, u32 t, double lo[3], double hi[3]) { triangle_box(s,
 
 }  // namespace
 
-namespace {
-
-// Sorts v stably by key(x) (an unsigned 64-bit value): least significant digit first, 11 bits
-// at a time, passes over a digit that every element shares left out.
-template <class T, class Key>
-void radix_sort(std::vector<T>& v, Key&& key) {
-  const std::size_t n = v.size();
-  if (n < 2) return;
-  std::vector<T> spare(n);
-  std::vector<u32> count(2049);
-  for (int shift = 0; shift < 64; shift += 11) {
-    std::fill(count.begin(), count.end(), 0u);
-    for (const T& x : v) ++count[((key(x) >> shift) & 0x7ff) + 1];
-    if (count[1 + ((key(v[0]) >> shift) & 0x7ff)] == n) continue;  // one digit everywhere
-    for (std::size_t d = 0; d < 2048; ++d) count[d + 1] += count[d];
-    for (const T& x : v) spare[count[(key(x) >> shift) & 0x7ff]++] = x;
-    v.swap(spare);
-  }
-}
-
-}  // namespace
 
 // Built in linear time after one sort: triangles in Morton order of their box centres, the tree
 // that order split where the codes' highest differing bit changes (leaves of up to 4), boxes

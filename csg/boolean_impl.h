@@ -830,7 +830,26 @@ struct Arrangement {
   // v[e+1]) the other piece of the same input triangle across it, where the edge is inside that
   // triangle and on no cut (so these two are the only pieces on it), else kNone.
   std::vector<std::pair<u32, std::array<u32, 3>>> inner;
+  std::size_t quads = 0, quad_points = 0;  // flat_quads()' groups and points left out
 };
+// Sorts v stably by key(x) (an unsigned 64-bit value): least significant digit first, 11 bits
+// at a time, passes over a digit that every element shares left out.
+template <class T, class Key>
+inline void radix_sort(std::vector<T>& v, Key&& key) {
+  const std::size_t n = v.size();
+  if (n < 2) return;
+  std::vector<T> spare(n);
+  std::vector<u32> count(2049);
+  for (int shift = 0; shift < 64; shift += 11) {
+    std::fill(count.begin(), count.end(), 0u);
+    for (const T& x : v) ++count[((key(x) >> shift) & 0x7ff) + 1];
+    if (count[1 + ((key(v[0]) >> shift) & 0x7ff)] == n) continue;  // one digit everywhere
+    for (std::size_t d = 0; d < 2048; ++d) count[d + 1] += count[d];
+    for (const T& x : v) spare[count[(key(x) >> shift) & 0x7ff]++] = x;
+    v.swap(spare);
+  }
+}
+
 struct Settlement;
 // With `quads`, cut triangles are grouped into flat quadrilaterals (flat_quads), but for the
 // triangles of cuts `settled` left out (classify asks about those per source triangle). Not for

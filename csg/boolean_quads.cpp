@@ -11,8 +11,6 @@
 #include <iterator>
 #include <numeric>
 
-#include <tbb/parallel_sort.h>
-
 #include "csg/boolean_impl.h"
 #include "kernel/parallel.h"
 
@@ -36,53 +34,63 @@ FlatQuads flat_quads(const Points& pts, const std::vector<u32>& touched, std::ve
     u32 wi;
     int e;
   };
-  std::vector<Rec> recs;
-  recs.reserve(3 * nw);
-  for (std::size_t wi = 0; wi < nw; ++wi) {
+  // (Made in parallel, each work's three in its place; the others last, with the largest key.)
+  std::vector<Rec> recs(3 * nw);
+  parallel_for(0, nw, [&](std::size_t wi) {
     const u32 t = touched[wi];
-    if ((fixed && (*fixed)[t]) || soup.axis[t] < 0) continue;
+    const bool can = !(fixed && (*fixed)[t]) && soup.axis[t] >= 0;
     const auto& T = soup.tris[t];
     for (int e = 0; e < 3; ++e) {
       const u32 a = T[e], b = T[(e + 1) % 3];
-      recs.push_back({static_cast<std::uint64_t>(std::min(a, b)) << 32 | std::max(a, b), static_cast<u32>(wi), e});
+      recs[3 * wi + e] = {can ? static_cast<std::uint64_t>(std::min(a, b)) << 32 | std::max(a, b) : ~std::uint64_t(0),
+                          static_cast<u32>(wi), e};
     }
-  }
-  // (key, work) is a total order: the same result at any thread count.
-  tbb::parallel_sort(recs.begin(), recs.end(), [](const Rec& x, const Rec& y) { return x.key != y.key ? x.key < y.key : x.wi < y.wi; });
+  });
+  // By key, then work (the order they were made in: the sort is stable).
+  radix_sort(recs, [](const Rec& r) { return r.key; });
+  while (!recs.empty() && recs.back().key == ~std::uint64_t(0)) recs.pop_back();
   soup.poll();
-  std::vector<char> taken(nw, 0);
-  struct Group {
-    u32 first, second;  // works: the first's triangle has the smaller index
-  };
-  std::vector<Group> groups;
-  for (std::size_t i = 0; i + 1 < recs.size(); ++i) {
-    if (recs[i].key != recs[i + 1].key || (i + 2 < recs.size() && recs[i + 2].key == recs[i].key) ||
+  // Whether the two triangles of the edge at recs[i] (an edge of exactly two cut triangles) make a
+  // flat quadrilateral, and its corners; decided for every such edge in parallel, then taken in
+  // order where neither triangle is taken yet.
+  std::vector<std::array<u32, 4>> quad_at(recs.size(), {kNone, kNone, kNone, kNone});
+  parallel_for(0, recs.size(), [&](std::size_t i) {
+    if (i + 1 >= recs.size() || recs[i].key != recs[i + 1].key || (i + 2 < recs.size() && recs[i + 2].key == recs[i].key) ||
         (i > 0 && recs[i - 1].key == recs[i].key))
-      continue;  // an edge of one cut triangle, or of more than two
-    const u32 wi = recs[i].wi, wj = recs[i + 1].wi;
-    if (taken[wi] || taken[wj]) continue;
-    const u32 t = touched[wi], u = touched[wj];
+      return;  // an edge of one cut triangle, or of more than two
+    const u32 t = touched[recs[i].wi], u = touched[recs[i + 1].wi];
     if (soup.operand[t] != soup.operand[u] || soup.face_id[t] != soup.face_id[u] || soup.axis[t] != soup.axis[u] ||
         soup.axis_sign[t] != soup.axis_sign[u])
-      continue;
+      return;
     const auto& T = soup.tris[t];
     const auto& U = soup.tris[u];
     const int e = recs[i].e;
     const u32 p = T[e], q = T[(e + 1) % 3], a = T[(e + 2) % 3];
     int f = 0;
     while (f < 3 && !(U[f] == q && U[(f + 1) % 3] == p)) ++f;
-    if (f == 3) continue;  // not the edge q -> p in u: the two are not oriented alike
+    if (f == 3) return;  // not the edge q -> p in u: the two are not oriented alike
     const u32 b = U[(f + 2) % 3];
-    if (orient3d_v(soup, T[0], T[1], T[2], b) != 0) continue;
+    if (orient3d_v(soup, T[0], T[1], T[2], b) != 0) return;
     // Strictly convex: a and b on either side of p q, and p and q on either side of a b.
     const int k = soup.axis[t];
-    if (pts.orient2d(p, q, a, k) * pts.orient2d(p, q, b, k) >= 0) continue;
-    if (pts.orient2d(a, b, p, k) * pts.orient2d(a, b, q, k) >= 0) continue;
-    taken[wi] = taken[wj] = 1;
-    const bool t_first = t < u;
-    groups.push_back({t_first ? wi : wj, t_first ? wj : wi});
+    if (pts.orient2d(p, q, a, k) * pts.orient2d(p, q, b, k) >= 0) return;
+    if (pts.orient2d(a, b, p, k) * pts.orient2d(a, b, q, k) >= 0) return;
     // The boundary p -> b -> q -> a -> p runs as t's and u's edges do.
-    fq.quad[t_first ? wi : wj] = {p, b, q, a};
+    quad_at[i] = {p, b, q, a};
+  });
+  std::vector<char> taken(nw, 0);
+  struct Group {
+    u32 first, second;  // works: the first's triangle has the smaller index
+  };
+  std::vector<Group> groups;
+  for (std::size_t i = 0; i < recs.size(); ++i) {
+    if (quad_at[i][0] == kNone) continue;
+    const u32 wi = recs[i].wi, wj = recs[i + 1].wi;
+    if (taken[wi] || taken[wj]) continue;
+    taken[wi] = taken[wj] = 1;
+    const bool t_first = touched[wi] < touched[wj];
+    groups.push_back({t_first ? wi : wj, t_first ? wj : wi});
+    fq.quad[t_first ? wi : wj] = quad_at[i];
   }
   fq.groups = groups.size();
   if (groups.empty()) return fq;

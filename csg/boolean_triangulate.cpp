@@ -815,6 +815,8 @@ Arrangement arrange(Points& pts, const std::vector<std::array<u32, 2>>& pairs, b
   group.wait();
 
   Arrangement arr;
+  arr.quads = quads.groups;
+  arr.quad_points = quads.dropped;
   arr.coplanar.resize(nt);
   std::size_t total = nt;
   for (const auto& c : cut_pieces) total += c.size();

@@ -12,44 +12,12 @@
 
 using namespace wedge;
 using wedge::testing::box_mesh;
+using wedge::testing::boxes_volume;
+using wedge::testing::grid_box;
 
 namespace {
 
 Mesh box_between(const Vec3& lo, const Vec3& hi) { return box_mesh(lo, hi - lo); }
-
-// The box [lo, hi] with each side cut into n x n squares of two triangles: a triangle of a coarse
-// operand crossing it meets many of them (settle() looks only at triangles with 8 pairs or more).
-Mesh grid_box(const Vec3& lo, const Vec3& hi, int n) {
-  Mesh m;
-  for (int axis = 0; axis < 3; ++axis)
-    for (int side = 0; side < 2; ++side) {
-      const int u = (axis + 1) % 3, v = (axis + 2) % 3;
-      const std::uint32_t base = static_cast<std::uint32_t>(m.positions.size());
-      for (int i = 0; i <= n; ++i)
-        for (int j = 0; j <= n; ++j) {
-          Vec3 p;
-          p[axis] = side ? hi[axis] : lo[axis];
-          p[u] = i == n ? hi[u] : lo[u] + (hi[u] - lo[u]) * i / n;
-          p[v] = j == n ? hi[v] : lo[v] + (hi[v] - lo[v]) * j / n;
-          m.add_vertex(p);
-        }
-      auto id = [&](int i, int j) { return base + static_cast<std::uint32_t>(i * (n + 1) + j); };
-      for (int i = 0; i < n; ++i)
-        for (int j = 0; j < n; ++j) {
-          // Counter-clockwise seen from outside: (u, v, axis) is right-handed, so the far side
-          // (side 1) turns u to v, the near side v to u.
-          if (side) {
-            m.add_triangle(id(i, j), id(i + 1, j), id(i + 1, j + 1));
-            m.add_triangle(id(i, j), id(i + 1, j + 1), id(i, j + 1));
-          } else {
-            m.add_triangle(id(i, j), id(i + 1, j + 1), id(i + 1, j));
-            m.add_triangle(id(i, j), id(i, j + 1), id(i + 1, j + 1));
-          }
-        }
-    }
-  // The sides share their edges' positions; weld them into one closed mesh.
-  return m.welded();
-}
 
 void require_solid(const Mesh& m) {
   INFO(mesh_solid_defect(m, "result"));
@@ -63,32 +31,6 @@ BooleanResult one_pass(BooleanOp op, const std::vector<Mesh>& meshes, BooleanSta
   BooleanResult r = boolean(op, ops, &st);
   if (!r.mesh.empty()) require_solid(r.mesh);
   return r;
-}
-
-// The volume of a union (or of the first box minus the others) of axis-parallel boxes, exactly
-// as their doubles say: per cell of the grid of all their coordinates, the cell's centre in or out.
-double boxes_volume(BooleanOp op, const std::vector<std::array<Vec3, 2>>& boxes) {
-  std::vector<double> c[3];
-  for (const auto& b : boxes)
-    for (int d = 0; d < 3; ++d) c[d].push_back(b[0][d]), c[d].push_back(b[1][d]);
-  for (auto& v : c) {
-    std::sort(v.begin(), v.end());
-    v.erase(std::unique(v.begin(), v.end()), v.end());
-  }
-  long double total = 0;
-  for (std::size_t i = 0; i + 1 < c[0].size(); ++i)
-    for (std::size_t j = 0; j + 1 < c[1].size(); ++j)
-      for (std::size_t k = 0; k + 1 < c[2].size(); ++k) {
-        const Vec3 m((c[0][i] + c[0][i + 1]) / 2, (c[1][j] + c[1][j + 1]) / 2, (c[2][k] + c[2][k + 1]) / 2);
-        auto in = [&](const std::array<Vec3, 2>& b) {
-          return (m.array() > b[0].array()).all() && (m.array() < b[1].array()).all();
-        };
-        const bool inside = op == BooleanOp::Union ? std::any_of(boxes.begin(), boxes.end(), in)
-                                                   : in(boxes[0]) && std::none_of(boxes.begin() + 1, boxes.end(), in);
-        if (inside)
-          total += static_cast<long double>(c[0][i + 1] - c[0][i]) * (c[1][j + 1] - c[1][j]) * (c[2][k + 1] - c[2][k]);
-      }
-  return static_cast<double>(total);
 }
 
 }  // namespace

@@ -7,6 +7,7 @@
 // form is the polyhedron's own volume (polyhedron_volume), not that of the smooth solid, since
 // the engine combines the polyhedra.
 #pragma once
+#include <array>
 #include <optional>
 #include <string>
 #include <vector>
@@ -85,5 +86,13 @@ std::vector<Mesh> octet_truss(int n = 2, double r = 0.08, int sides = 32, int ba
 // of them. Integer coordinates, so every coplanarity is exact. The sponge's volume is 20^level.
 std::vector<Mesh> menger_operands(int level = 3);
 double menger_volume(int level);
+
+// The box [lo, hi] with each side cut into n x n squares of two triangles, welded into one closed
+// mesh (a coarse operand crossing it meets many of its triangles).
+Mesh grid_box(const Vec3& lo, const Vec3& hi, int n);
+// The volume of a union (or of the first box minus the others) of axis-parallel boxes (lo, hi),
+// exactly as their doubles say: per cell of the grid of all their coordinates, its centre in or
+// out.
+double boxes_volume(BooleanOp op, const std::vector<std::array<Vec3, 2>>& boxes);
 
 }  // namespace wedge::testing
