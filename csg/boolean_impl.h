@@ -22,6 +22,9 @@
 //   projection keeps T's orientation when n_k > 0.
 // - A *segment* of T is a constraint of T's retriangulation: a piece of T's intersection with
 //   another operand, given by its two end points and the plane that cuts T along it.
+// - A *flat quadrilateral* is two cut triangles of one operand and face, coplanar and strictly
+//   convex together, retriangulated as one (boolean_quads.cpp); its pieces name the first as
+//   their source.
 // - A *patch* is a set of output candidate triangles of one operand joined across edges that no
 //   other operand touches; a patch is all inside or all outside every other operand, but where it
 //   lies strictly inside an operand that drops everything there (settling, boolean_settle.cpp:

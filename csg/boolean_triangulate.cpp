@@ -8,6 +8,9 @@
 //    smallest, so an input vertex wins) through a union-find over the whole run. Two points
 //    equal anywhere both lie on some triangle that lists both, so this finds every coincidence
 //    that matters.
+//    Then two cut triangles of one face that make a flat convex quadrilateral become one work,
+//    and the cut points on their shared diagonal that only join two collinear segments go
+//    (flat_quads, boolean_quads.cpp).
 // 3. Within each triangle, segments that cross properly make a new point, the meeting of T's
 //    plane with the two segments' cutting planes (a TPI); these are interned and merged the same
 //    way, so the crossing of the same three surfaces gets one id in all three triangles.
