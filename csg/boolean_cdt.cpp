@@ -462,21 +462,26 @@ class Triangulator {
   }
 };
 
+// One per thread, for triangles and quadrilaterals alike: its arrays are kept for the thread's
+// next one.
+Triangulator& local_triangulator() {
+  thread_local Triangulator tr;
+  return tr;
+}
+
 }  // namespace
 
 void constrained_delaunay(const Points& pts, int k, double well, const std::array<u32, 3>& corners,
                           const std::vector<u32>& points, const std::vector<std::array<u32, 2>>& constraints,
                           std::vector<std::array<u32, 3>>& out, std::vector<std::array<u32, 3>>* inner,
                           const Points::Metric* metric) {
-  thread_local Triangulator tr;  // its arrays are kept for the thread's next triangle
-  tr.run(pts, k, well, corners.data(), 3, points, constraints, out, inner, metric);
+  local_triangulator().run(pts, k, well, corners.data(), 3, points, constraints, out, inner, metric);
 }
 
 void constrained_delaunay_quad(const Points& pts, int k, double well, const std::array<u32, 4>& corners,
                           const std::vector<u32>& points, const std::vector<std::array<u32, 2>>& constraints,
                           std::vector<std::array<u32, 3>>& out, std::vector<std::array<u32, 3>>* inner) {
-  thread_local Triangulator tr;
-  tr.run(pts, k, well, corners.data(), 4, points, constraints, out, inner, nullptr);
+  local_triangulator().run(pts, k, well, corners.data(), 4, points, constraints, out, inner, nullptr);
 }
 
 }  // namespace wedge::boolean_detail

@@ -16,10 +16,6 @@
 
 namespace wedge::boolean_detail {
 
-namespace {
-
-}  // namespace
-
 FlatQuads flat_quads(const Points& pts, const std::vector<u32>& touched, std::vector<TriWork>& work,
                      const std::vector<char>* fixed) {
   const Soup& soup = pts.soup();
@@ -113,17 +109,20 @@ FlatQuads flat_quads(const Points& pts, const std::vector<u32>& touched, std::ve
     auto over = [&](const Plane& c) { return c.axis >= 0 && ((c.a == p && c.b == q) || (c.a == q && c.b == p)); };
     for (u32 wi : {g.first, g.second})
       for (u32 f : work[wi].coplanar) {
-        if (work_of.empty()) {
-          work_of.assign(soup.tris.size(), kNone);
-          for (std::size_t x = 0; x < nw; ++x) work_of[touched[x]] = static_cast<u32>(x);
-        }
         if (work_of[f] == kNone) continue;
         for (const Plane& c : work[work_of[f]].cuts)
           if (over(c)) return true;
       }
     return false;
   };
-  for (std::size_t gi = 0; gi < groups.size(); ++gi) {
+  for (const Group& g : groups)
+    if (!work[g.first].coplanar.empty() || !work[g.second].coplanar.empty()) {
+      work_of.assign(soup.tris.size(), kNone);
+      for (std::size_t x = 0; x < nw; ++x) work_of[touched[x]] = static_cast<u32>(x);
+      break;
+    }
+  // (Every group looked at before any is merged: a veto reads other works.)
+  parallel_for(0, groups.size(), [&](std::size_t gi) {
     const Group& g = groups[gi];
     veto[gi] = diagonal_cut_over(g);
     const auto& A = work[g.first].points;
@@ -138,7 +137,7 @@ FlatQuads flat_quads(const Points& pts, const std::vector<u32>& touched, std::ve
         ++x, ++y;
       }
     }
-  }
+  });
   parallel_for(0, groups.size(), [&](std::size_t gi) {
     TriWork& w = work[groups[gi].first];
     TriWork& o = work[groups[gi].second];
