@@ -95,9 +95,9 @@ void overlapping(const std::vector<std::array<double, 6>>& boxes, F&& f) {
 
 // Unites every two equal points among `ids` (exact) in `merge`. Points whose coordinates are doubles (input
 // vertices, and the points interned by their exact position) are equal where their coordinates
-// are: grouped by a hash of them. The others ("loose") go through a hash grid: each into every
-// cell its box meets, with the double points that fall in a cell holding a loose one; two
-// points whose boxes overlap in a cell are compared exactly. Equal points share the cell of
+// are: grouped by a hash of them. The others ("loose") go through a grid: each into every cell
+// its box meets, each double point into the cell of its position, all sorted by cell (radix), and
+// in each cell that holds a loose point two points whose boxes overlap are compared exactly. Equal points share the cell of
 // their exact position, so none is missed. Points already united (the same point met by several
 // definitions, a sponge's cut of one diagonal by a dozen faces on one plane) are not compared
 // again: a class of m points costs about m exact tests rather than m^2 / 2.
@@ -137,21 +137,24 @@ void equal_points(const Points& pts, const std::vector<u32>& ids, Merge& merge) 
   struct Entry {
     std::uint64_t key;
     u32 id;
+    u32 loose;  // 1 for a loose point's entry, 0 for a double's
   };
   std::vector<Entry> entries;
   std::vector<u32> wide;  // boxes too wide for the grid (exact fallbacks): compared with all
-  entries.reserve(loose.size());
+  entries.reserve(loose.size() + doubles.size());
   // Cell numbers are clamped in double before they become integers: an exact fallback's box can
   // be far wider than the whole scene at extreme scales, and converted as it was, its cell number
   // overflowed, the box visited no cell, and its point was never compared (two equal points left
   // apart: "Unauthorized intersections of constraints" at 1e-90). Cells -8 and beyond the far
   // side hold no loose point.
-  const double top[3] = {(hi[0] - lo[0]) / cell, (hi[1] - lo[1]) / cell, (hi[2] - lo[2]) / cell};
+  // (A product by the inverse rather than a quotient: any rounding serves that keeps the cell
+  // number monotone in x, as both do.)
+  const double inv = 1.0 / cell;
+  const double top[3] = {(hi[0] - lo[0]) * inv, (hi[1] - lo[1]) * inv, (hi[2] - lo[2]) * inv};
   auto cell_of = [&](double x, int i) {
-    const double f = std::floor((x - lo[i]) / cell);
+    const double f = std::floor((x - lo[i]) * inv);
     return f >= -4 && f <= top[i] + 4 ? f : -8.0;  // NaN too
   };
-  auto coord = [&](double x, int i) { return static_cast<std::int64_t>(cell_of(x, i)); };
   // A loose box's cells along axis i, or false where it spans more than three (then it is
   // compared with every point).
   auto cells = [&](double b0, double b1, int i, std::int64_t& c0, std::int64_t& c1) {
@@ -161,9 +164,14 @@ void equal_points(const Points& pts, const std::vector<u32>& ids, Merge& merge) 
     c1 = static_cast<std::int64_t>(f1);
     return true;
   };
-  auto key_of = [](std::int64_t x, std::int64_t y, std::int64_t z) {
-    return (static_cast<std::uint64_t>(x + 1) & 0x1fffff) << 42 | (static_cast<std::uint64_t>(y + 1) & 0x1fffff) << 21 |
-           (static_cast<std::uint64_t>(z + 1) & 0x1fffff);
+  // Cells are numbered densely (cell -4 of each axis first): the keys span about as many values
+  // as there are loose points, so a radix sort orders them in two or three passes. (cell is at
+  // least the largest extent / cbrt(loose points): top[i] + 9 cells per axis fit in 21 bits.)
+  std::uint64_t dim[3];
+  for (int i = 0; i < 3; ++i) dim[i] = static_cast<std::uint64_t>(top[i] >= 0 && top[i] < 4e6 ? top[i] : 0.0) + 10;
+  auto key_of = [&](std::int64_t x, std::int64_t y, std::int64_t z) {
+    return (static_cast<std::uint64_t>(z + 4) * dim[1] + static_cast<std::uint64_t>(y + 4)) * dim[0] +
+           static_cast<std::uint64_t>(x + 4);
   };
   std::size_t polled = 0;
   for (u32 p : loose) {
@@ -178,47 +186,54 @@ void equal_points(const Points& pts, const std::vector<u32>& ids, Merge& merge) 
     }
     for (std::int64_t x = c0[0]; x <= c1[0]; ++x)
       for (std::int64_t y = c0[1]; y <= c1[1]; ++y)
-        for (std::int64_t z = c0[2]; z <= c1[2]; ++z) entries.push_back({key_of(x, y, z), p});
+        for (std::int64_t z = c0[2]; z <= c1[2]; ++z) entries.push_back({key_of(x, y, z), p, 1});
   }
-  auto by_key = [](const Entry& a, const Entry& b) { return a.key < b.key || (a.key == b.key && a.id < b.id); };
-  soup.poll();
-  std::sort(entries.begin(), entries.end(), by_key);
-  {
-    // The double points in a cell that holds a loose point (a double's box is its point).
-    const std::size_t nl = entries.size();
-    for (u32 p : doubles) {
-      if ((++polled & 0xffff) == 0) soup.poll();
-      const Vec3& at = pts.approx(p);
-      const std::uint64_t key = key_of(coord(at[0], 0), coord(at[1], 1), coord(at[2], 2));
-      auto it = std::lower_bound(entries.begin(), entries.begin() + static_cast<std::ptrdiff_t>(nl), Entry{key, 0}, by_key);
-      if (it != entries.begin() + static_cast<std::ptrdiff_t>(nl) && it->key == key) entries.push_back({key, p});
-    }
-    std::sort(entries.begin() + static_cast<std::ptrdiff_t>(nl), entries.end(), by_key);
-    std::inplace_merge(entries.begin(), entries.begin() + static_cast<std::ptrdiff_t>(nl), entries.end(), by_key);
+  // The double points, each in the cell of its position (a double's box is its point; one
+  // outside every loose point's cells is in none); cells without a loose point are passed over
+  // below.
+  for (u32 p : doubles) {
+    if ((++polled & 0xffff) == 0) soup.poll();
+    const Vec3& at = pts.approx(p);
+    const double f[3] = {cell_of(at[0], 0), cell_of(at[1], 1), cell_of(at[2], 2)};
+    if (f[0] > -8 && f[1] > -8 && f[2] > -8)
+      entries.push_back({key_of(static_cast<std::int64_t>(f[0]), static_cast<std::int64_t>(f[1]), static_cast<std::int64_t>(f[2])), p, 0});
   }
   soup.poll();
-  // Two doubles were paired above.
-  auto compare = [&](u32 x, u32 y) { return x != y && !(pts.is_double(x) && pts.is_double(y)); };
+  // (The order within a cell does not matter: the classes, and their representatives, the
+  // smallest ids, are the same in any order of comparison.)
+  radix_sort(entries, [](const Entry& e) { return e.key; });
+  soup.poll();
+  // Two doubles were paired above: a pair is compared here where one of them is loose.
   for (std::size_t i = 0; i < entries.size();) {
     if ((++polled & 0xffff) == 0) soup.poll();
     std::size_t j = i;
-    while (j < entries.size() && entries[j].key == entries[i].key) ++j;
+    u32 loose_here = 0;
+    while (j < entries.size() && entries[j].key == entries[i].key) loose_here |= entries[j++].loose;
+    if (!loose_here) {  // doubles only
+      i = j;
+      continue;
+    }
     if (j - i <= 16) {
       // Each point against one point of each class met so far in the cell (at most one test
       // per class: equality is transitive, and two equal points' boxes both hold their exact
-      // position). Two doubles were paired above and are not compared here; boxes that meet
-      // are checked for a union already made before the exact test.
+      // position); boxes that meet are checked for a union already made before the exact test.
       u32 reps[16];
+      std::array<double, 6> rep_box[16];
       std::size_t nr = 0;
       for (std::size_t a = i; a < j; ++a) {
-        const u32 x = entries[a].id;
+        const Entry& x = entries[a];
+        const std::array<double, 6> xb = pts.box(x.id);
         bool found = false;
         for (std::size_t r = 0; r < nr && !found; ++r) {
-          const u32 y = reps[r];
-          found = compare(x, y) && boxes_overlap(pts.box(x), pts.box(y)) && (known(x, y) || pts.equal(x, y));
-          if (found) merge.unite(x, y);
+          const Entry& y = entries[reps[r]];
+          found = x.id != y.id && (x.loose | y.loose) && boxes_overlap(xb, rep_box[r]) &&
+                  (known(x.id, y.id) || pts.equal(x.id, y.id));
+          if (found) merge.unite(x.id, y.id);
         }
-        if (!found) reps[nr++] = x;
+        if (!found) {
+          rep_box[nr] = xb;
+          reps[nr++] = static_cast<u32>(a);
+        }
       }
     } else {
       // A crowded cell (nearly coincident operands put all their points near a few corners):
@@ -226,13 +241,13 @@ void equal_points(const Points& pts, const std::vector<u32>& ids, Merge& merge) 
       std::vector<u32> crowd;
       std::vector<std::array<double, 6>> boxes;
       for (std::size_t a = i; a < j; ++a) {
-        crowd.push_back(entries[a].id);
+        crowd.push_back(static_cast<u32>(a));
         boxes.push_back(pts.box(entries[a].id));
       }
       overlapping(boxes, [&](u32 a, u32 b) {
         if ((++polled & 0xfff) == 0) soup.poll();
-        if (compare(crowd[a], crowd[b]) && !known(crowd[a], crowd[b]) && pts.equal(crowd[a], crowd[b]))
-          merge.unite(crowd[a], crowd[b]);
+        const Entry &x = entries[crowd[a]], &y = entries[crowd[b]];
+        if (x.id != y.id && (x.loose | y.loose) && !known(x.id, y.id) && pts.equal(x.id, y.id)) merge.unite(x.id, y.id);
       });
     }
     i = j;
