@@ -53,10 +53,12 @@ Mesh run(const char* name, BooleanOp op, const std::vector<Mesh>& ops) {
     best.pieces = st.pieces;
     best.collapses = st.collapses;
     best.resolutions = st.resolutions;
+    best.quads = st.quads;
+    best.quad_points = st.quad_points;
   }
-  std::printf("| %s | %.0f | %.0f, %.0f, %.0f, %.0f, %.0f | %zu | %.9f | %zu / %zu | %zu / %zu |\n", name, cpu, best.check,
-              best.broad, best.arrange, best.classify, best.output, r.mesh.triangles.size(), r.mesh.volume(),
-              best.collapses, best.resolutions, best.pairs, best.pieces);
+  std::printf("| %s | %.0f | %.0f, %.0f, %.0f, %.0f, %.0f | %zu | %.9f | %zu / %zu | %zu / %zu | %zu / %zu |\n", name, cpu,
+              best.check, best.broad, best.arrange, best.classify, best.output, r.mesh.triangles.size(), r.mesh.volume(),
+              best.collapses, best.resolutions, best.pairs, best.pieces, best.quads, best.quad_points);
   std::fflush(stdout);
   return r.mesh;
 }
@@ -88,7 +90,7 @@ int main(int argc, char** argv) {
   g_repeats = argc > 3 ? std::max(1, std::atoi(argv[3])) : 3;
   tbb::global_control gc(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
   std::printf("threads %d, minimum of %d runs\n\n| case | CPU ms | check, broad, arrange, classify, output ms (wall) | "
-              "triangles | volume | collapses / resolutions | pairs / pieces |\n|---|---|---|---|---|---|---|\n",
+              "triangles | volume | collapses / resolutions | pairs / pieces | quads / points |\n|---|---|---|---|---|---|---|---|\n",
               threads, g_repeats);
   const bool all = which == "all";
   if (all || which == "plate") run("plate minus 400 cylinders", BooleanOp::Difference, plate_and_cylinders(20, 32));
