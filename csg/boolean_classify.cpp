@@ -262,10 +262,36 @@ std::vector<std::int8_t> classify(const Points& pts, const Arrangement& arr, Boo
           if (d != k && (cb[d + 3] < ulo[d] || cb[d] > uhi[d])) return 0;
       }
       const int o = pts.orient2d(U[0], U[1], U[2], k);  // U's orientation seen along k
+      auto side_of = [&](u32 a, u32 b) {
+        const int f = edge_side(soup.verts[a], soup.verts[b], k);
+        return f != 0 ? f : pts.orient2d_centroid(a, b, piece.v, k);
+      };
+      // U's other half across a diagonal whose cuts were erased (pieces of this triangle may
+      // cross it): a centroid on the diagonal is inside the quadrilateral where it is strictly
+      // inside the other half's two other edges.
+      const u32 half = arr.quad_partner.empty() ? kNone : arr.quad_partner[u];
+      int diagonal = -1;
       for (int e = 0; e < 3; ++e) {
-        int f = edge_side(soup.verts[U[e]], soup.verts[U[(e + 1) % 3]], k);
-        if (f == 0) f = pts.orient2d_centroid(U[e], U[(e + 1) % 3], piece.v, k);
+        const int f = side_of(U[e], U[(e + 1) % 3]);
+        if (f == 0 && half != kNone && diagonal < 0) {
+          const auto& H = soup.tris[half];
+          auto in_h = [&](u32 v) { return v == H[0] || v == H[1] || v == H[2]; };
+          if (in_h(U[e]) && in_h(U[(e + 1) % 3])) {
+            diagonal = e;
+            continue;
+          }
+        }
         if (f * o <= 0) return 0;
+      }
+      if (diagonal >= 0) {
+        // The other half, seen along k, turns as U does (one plane, one facing): its edges other
+        // than the diagonal, with the centroid strictly on their inner side.
+        const auto& H = soup.tris[half];
+        for (int e = 0; e < 3; ++e) {
+          const u32 a = H[e], b = H[(e + 1) % 3];
+          if ((a == U[diagonal] || a == U[(diagonal + 1) % 3]) && (b == U[diagonal] || b == U[(diagonal + 1) % 3])) continue;
+          if (side_of(a, b) * o <= 0) return 0;
+        }
       }
       return (o > 0) == (soup.axis_sign[t] > 0) ? 1 : -1;
     };

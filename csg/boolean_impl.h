@@ -774,8 +774,9 @@ struct TriWork {
 // share an edge, lie in one plane and make a strictly convex quadrilateral are retriangulated as
 // one (the work of the first holds both; its pieces name it as their source), so their shared
 // edge, a diagonal of a face the tessellator split, is no constraint. A cut point strictly inside
-// such a diagonal, where in every work that holds it it joins two collinear segments and nothing
-// else, is then no point of the arrangement at all: its segments are joined. (A plane crossing a
+// such a diagonal, where in every work that holds it it joins collinear segments and nothing
+// else (or, in a coplanar triangle's work, ends only cuts of the diagonal itself, which are then
+// erased there), is then no point of the arrangement at all: its segments are joined. (A plane crossing a
 // long box face or a cylinder's side cuts each diagonal it meets: two thirds of a Menger sponge's
 // points and half a plate's were such points, rounded when output, and merged away afterwards.)
 // Works must be canonical (sorted points, unique segments); `fixed` triangles are not grouped.
@@ -784,6 +785,9 @@ struct FlatQuads {
   // it holds one (else kNone in [0]); and whether it was merged into its partner's (now empty).
   std::vector<std::array<u32, 4>> quad;
   std::vector<char> absorbed;
+  // The groups (their two triangles) whose diagonal's cuts in coplanar triangles' works were
+  // erased: those triangles' pieces may cross the diagonal.
+  std::vector<std::array<u32, 2>> erased;
   std::size_t groups = 0, dropped = 0;
 };
 FlatQuads flat_quads(const Points& pts, const std::vector<u32>& touched, std::vector<TriWork>& work,
@@ -834,6 +838,11 @@ struct Arrangement {
   // triangle and on no cut (so these two are the only pieces on it), else kNone.
   std::vector<std::pair<u32, std::array<u32, 3>>> inner;
   std::size_t quads = 0, quad_points = 0;  // flat_quads()' groups and points left out
+  // Per input triangle (empty: none), the other half of its flat quadrilateral where the cuts of
+  // their diagonal were erased from coplanar triangles' works (FlatQuads::erased), else kNone: a
+  // piece of such a coplanar triangle may have its centroid on the diagonal, inside neither half
+  // alone.
+  std::vector<u32> quad_partner;
 };
 // Sorts v stably by key(x) (an unsigned 64-bit value): least significant digit first, 11 bits
 // at a time, passes over a digit that every element shares left out.

@@ -94,13 +94,15 @@ FlatQuads flat_quads(const Points& pts, const std::vector<u32>& touched, std::ve
   // 2. The points on the diagonals (in both works: t and u meet only there; not its ends), then
   //    each group's works in one. A group whose diagonal is itself a cut somewhere keeps its
   //    points: there a crossing found later (step 3 of arrange) would make them again, in that
-  //    work alone. Such a diagonal lies in a plane of another operand: a triangle over a half
-  //    that the diagonal crosses (the halves' edges clipped to it cut it, the diagonal among
-  //    them: a segment on the wall over the diagonal), or one through the diagonal (then a cut
-  //    in the quadrilateral runs along it, checked once merged).
+  //    work alone. Such a diagonal lies in a plane of another operand: one through the diagonal
+  //    (then a cut in the quadrilateral runs along it, checked once merged), or a coplanar
+  //    triangle over a half that the diagonal crosses (the halves' edges clipped to it cut it,
+  //    the diagonal among them: a segment on the wall over the diagonal). The latter cuts are
+  //    erased instead where they can be (below): a sponge's flush bars cut each other's
+  //    diagonals so.
   std::vector<char> on_diagonal(pts.size(), 0);
   std::vector<std::vector<u32>> on(groups.size());
-  std::vector<char> veto(groups.size(), 0);
+  std::vector<char> veto(groups.size(), 0), over(groups.size(), 0);
   std::vector<u32> work_of;  // triangle -> its work, for the coplanar triangles' works
   auto diagonal_cut_over = [&](const Group& g) {
     const auto& quad = fq.quad[g.first];
@@ -124,7 +126,7 @@ FlatQuads flat_quads(const Points& pts, const std::vector<u32>& touched, std::ve
   // (Every group looked at before any is merged: a veto reads other works.)
   parallel_for(0, groups.size(), [&](std::size_t gi) {
     const Group& g = groups[gi];
-    veto[gi] = diagonal_cut_over(g);
+    over[gi] = diagonal_cut_over(g);
     const auto& A = work[g.first].points;
     const auto& B = work[g.second].points;
     std::size_t x = 0, y = 0;
@@ -175,6 +177,32 @@ FlatQuads flat_quads(const Points& pts, const std::vector<u32>& touched, std::ve
     for (const auto& sg : w.segs)
       if (on_it(sg[0]) && on_it(sg[1])) veto[gi] = 1;
   });
+  // A group whose diagonal only coplanar triangles over it cut (not a cut along it in the
+  // quadrilateral) may instead erase those cuts, the walls over its diagonal in their works: their
+  // pieces then cross the diagonal as the group's own do, and classify tests their centroids
+  // against the quadrilateral (Arrangement::quad_partner). Erased only where every point of the
+  // diagonal goes (below): a crossing of the diagonal with another cut in such a work would make
+  // a point there that no other work has.
+  auto diagonal_key = [](u32 a, u32 b) { return static_cast<std::uint64_t>(std::min(a, b)) << 32 | std::max(a, b); };
+  std::vector<char> erase(groups.size(), 0);
+  std::vector<std::uint64_t> erasable;  // the diagonals of those groups, sorted
+  for (std::size_t gi = 0; gi < groups.size(); ++gi)
+    if (over[gi] && !veto[gi]) {
+      // (Not where a coplanar triangle's cuts settling left out: classify asks about those per
+      // triangle.)
+      const auto& cop = work[groups[gi].first].coplanar;
+      if (fixed && std::any_of(cop.begin(), cop.end(), [&](u32 f) { return (*fixed)[f] != 0; })) {
+        veto[gi] = 1;
+        continue;
+      }
+      erase[gi] = 1;
+      const auto& quad = fq.quad[groups[gi].first];
+      erasable.push_back(diagonal_key(quad[0], quad[2]));
+    }
+  std::sort(erasable.begin(), erasable.end());
+  auto erasable_cut = [&](const Plane& c) {
+    return c.axis >= 0 && !erasable.empty() && std::binary_search(erasable.begin(), erasable.end(), diagonal_key(c.a, c.b));
+  };
   // (A point on two diagonals, two faces' diagonals crossing there, goes only where neither
   // vetoes.)
   std::vector<char> vetoed(pts.size(), 0);
@@ -220,47 +248,112 @@ FlatQuads flat_quads(const Points& pts, const std::vector<u32>& touched, std::ve
     if (A[axis] > B[axis + 3]) return 1;
     return pts.compare(a, b, axis);
   };
-  // 4. A point goes where, in every work that holds it, exactly two segments end at it, on one
-  //    line, on either side of it: each work clears the points it holds that fail that there.
+  // 4. A point goes where, in every work that holds it, the segments that end at it (two or more)
+  //    lie on one line, some on either side of it, or (a point where erasable cuts end) none but
+  //    erasable ones end there: each work clears the points it holds that fail that there.
+  //    (Overlapping collinear segments of different planes, two flush faces' cuts along one line,
+  //    are not merged yet: a line through m may be several segments on one side.)
   std::vector<char> keep(pts.size(), 0);
-  parallel_for(0, nw, [&](std::size_t wi) {
-    if ((wi & 0xfff) == 0) soup.poll();
-    const TriWork& w = work[wi];
-    bool held = false;
-    for (u32 m : w.points) held = held || on_diagonal[m];
-    if (!held) return;
-    // Per point of the work (by its place in the sorted points): how many segments end there,
-    // and the first two.
-    thread_local std::vector<std::array<u32, 3>> at;
-    at.assign(w.points.size(), {0, kNone, kNone});
-    for (std::size_t s = 0; s < w.segs.size(); ++s)
-      for (u32 m : w.segs[s])
-        if (on_diagonal[m]) {
-          auto& a = at[static_cast<std::size_t>(std::lower_bound(w.points.begin(), w.points.end(), m) - w.points.begin())];
-          if (a[0] < 2) a[1 + a[0]] = static_cast<u32>(s);
-          ++a[0];
-        }
-    const int k = soup.axis[touched[wi]];
-    for (std::size_t i = 0; i < w.points.size(); ++i) {
-      const u32 m = w.points[i];
-      if (!on_diagonal[m]) continue;
-      bool ok = at[i][0] == 2;
-      if (ok) {
-        const u32 s1 = at[i][1], s2 = at[i][2];
-        const u32 e1 = w.segs[s1][0] == m ? w.segs[s1][1] : w.segs[s1][0];
-        const u32 e2 = w.segs[s2][0] == m ? w.segs[s2][1] : w.segs[s2][0];
-        ok = e1 != e2 && (one_plane(w.cuts[s1], w.cuts[s2]) || pts.orient2d(e1, m, e2, k) == 0);
-        if (ok) {
-          int axis = 0;
-          while (axis < 3 && compare(e1, e2, axis) == 0) ++axis;
-          const int o = axis < 3 ? compare(e1, m, axis) : 0;
-          ok = o != 0 && o == compare(m, e2, axis);
-        }
+  auto keep_points = [&] {
+    parallel_for(0, nw, [&](std::size_t wi) {
+      if ((wi & 0xfff) == 0) soup.poll();
+      const TriWork& w = work[wi];
+      bool held = false;
+      for (u32 m : w.points) held = held || on_diagonal[m];
+      if (!held) return;
+      // The segments ending at each point on a diagonal (by its place in the sorted points).
+      thread_local std::vector<std::array<u32, 2>> ends;  // (place, segment)
+      thread_local std::vector<char> erased_end;
+      ends.clear();
+      erased_end.assign(w.points.size(), 0);
+      for (std::size_t s = 0; s < w.segs.size(); ++s) {
+        const bool erased = erasable_cut(w.cuts[s]);
+        for (u32 m : w.segs[s])
+          if (on_diagonal[m]) {
+            const auto i = static_cast<u32>(std::lower_bound(w.points.begin(), w.points.end(), m) - w.points.begin());
+            if (erased) erased_end[i] = 1;
+            else ends.push_back({i, static_cast<u32>(s)});
+          }
       }
-      if (!ok) std::atomic_ref<char>(keep[m]).store(1, std::memory_order_relaxed);
-    }
-  });
+      std::sort(ends.begin(), ends.end());
+      const int k = soup.axis[touched[wi]];
+      std::size_t r = 0;
+      for (u32 i = 0; i < w.points.size(); ++i) {
+        const u32 m = w.points[i];
+        const std::size_t r0 = r;
+        while (r < ends.size() && ends[r][0] == i) ++r;
+        if (!on_diagonal[m]) continue;
+        const std::size_t n = r - r0;
+        bool ok = n == 0 ? erased_end[i] != 0 : n >= 2;
+        if (n >= 2) {
+          auto far_end = [&](std::size_t x) {
+            const auto& sg = w.segs[ends[x][1]];
+            return sg[0] == m ? sg[1] : sg[0];
+          };
+          const u32 s1 = ends[r0][1], e1 = far_end(r0);
+          int axis = 0;  // one along which the line through m and e1 varies
+          while (axis < 3 && compare(e1, m, axis) == 0) ++axis;
+          bool before = false, after = false;
+          for (std::size_t x = r0; x < r && ok; ++x) {
+            const u32 e = far_end(x);
+            ok = axis < 3 && (x == r0 || one_plane(w.cuts[s1], w.cuts[ends[x][1]]) || pts.orient2d(e1, m, e, k) == 0);
+            if (!ok) break;
+            const int o = compare(e, m, axis);
+            before = before || o < 0;
+            after = after || o > 0;
+          }
+          ok = ok && before && after;
+        }
+        if (!ok) std::atomic_ref<char>(keep[m]).store(1, std::memory_order_relaxed);
+      }
+    });
+  };
+  keep_points();
   soup.poll();
+  // A group that erases its diagonal's cuts keeps none of its points. Where one stays, the cuts
+  // stay, and so do all its points: the others' decisions are made again without those cuts
+  // erased (a point on two diagonals may hold another such group back in turn).
+  if (!erasable.empty()) {
+    std::vector<char> held_back(groups.size(), 0);
+    for (bool again = true; again;) {
+      again = false;
+      for (std::size_t gi = 0; gi < groups.size(); ++gi) {
+        if (!erase[gi] || std::none_of(on[gi].begin(), on[gi].end(), [&](u32 m) { return keep[m] || vetoed[m]; }))
+          continue;
+        erase[gi] = 0;
+        held_back[gi] = 1;
+        again = true;
+      }
+      erasable.clear();
+      for (std::size_t gi = 0; gi < groups.size(); ++gi)
+        if (erase[gi]) {
+          const auto& quad = fq.quad[groups[gi].first];
+          erasable.push_back(diagonal_key(quad[0], quad[2]));
+        }
+      std::sort(erasable.begin(), erasable.end());
+      if (!again) break;
+      std::fill(keep.begin(), keep.end(), 0);
+      keep_points();
+      for (std::size_t gi = 0; gi < groups.size(); ++gi)
+        if (held_back[gi])
+          for (u32 m : on[gi]) keep[m] = 1;
+      soup.poll();
+    }
+    for (std::size_t gi = 0; gi < groups.size(); ++gi)
+      if (erase[gi]) fq.erased.push_back({touched[groups[gi].first], touched[groups[gi].second]});
+    if (!erasable.empty())
+      parallel_for(0, nw, [&](std::size_t wi) {
+        TriWork& w = work[wi];
+        std::size_t n = 0;
+        for (std::size_t s = 0; s < w.segs.size(); ++s)
+          if (!erasable_cut(w.cuts[s])) {
+            w.segs[n] = w.segs[s];
+            w.cuts[n++] = w.cuts[s];
+          }
+        w.segs.resize(n);
+        w.cuts.resize(n);
+      });
+  }
   std::vector<char> drop(pts.size(), 0);
   std::vector<u32> dropped;
   for (u32 m : candidates)
@@ -271,8 +364,9 @@ FlatQuads flat_quads(const Points& pts, const std::vector<u32>& touched, std::ve
   fq.dropped = dropped.size();
   if (dropped.empty()) return fq;
 
-  // 5. In each work, the chains of segments through dropped points become one segment each (the
-  //    cut plane of its first: every segment's plane holds the whole line), and the points go.
+  // 5. In each work, the chains of segments through dropped points (each on one line) become one
+  //    segment each, between the chain's farthest ends (the cut plane of its first: every
+  //    segment's plane holds the whole line; nearer ends stay as points on it), and the points go.
   parallel_for(0, nw, [&](std::size_t wi) {
     TriWork& w = work[wi];
     bool any = false;
@@ -281,13 +375,14 @@ FlatQuads flat_quads(const Points& pts, const std::vector<u32>& touched, std::ve
     const std::size_t ns = w.segs.size();
     thread_local std::vector<u32> parent, first_at;
     thread_local std::vector<std::array<u32, 2>> chain_ends;
+    thread_local std::vector<int> chain_axis;
     parent.resize(ns);
     std::iota(parent.begin(), parent.end(), 0u);
     auto root = [&](u32 x) {
       while (parent[x] != x) x = parent[x] = parent[parent[x]];
       return x;
     };
-    // The two segments at each dropped point (by its place in the sorted points) are joined.
+    // The segments at each dropped point (by its place in the sorted points) are joined.
     first_at.assign(w.points.size(), kNone);
     for (std::size_t s = 0; s < ns; ++s)
       for (u32 m : w.segs[s]) {
@@ -303,15 +398,26 @@ FlatQuads flat_quads(const Points& pts, const std::vector<u32>& touched, std::ve
     std::vector<std::array<u32, 2>> segs;
     std::vector<Plane> cuts;
     chain_ends.assign(ns, {kNone, kNone});
+    chain_axis.assign(ns, -1);
     for (std::size_t s = 0; s < ns; ++s) {
       const u32 r = root(static_cast<u32>(s));
-      for (u32 v : w.segs[s])
-        if (!drop[v]) (chain_ends[r][0] == kNone ? chain_ends[r][0] : chain_ends[r][1]) = v;
+      if (chain_axis[r] < 0) {  // an axis along which the chain's line varies
+        int axis = 0;
+        while (axis < 3 && compare(w.segs[r][0], w.segs[r][1], axis) == 0) ++axis;
+        if (axis == 3) fail("boolean: internal error: a joined cut has one point for both ends");
+        chain_axis[r] = axis;
+      }
+      auto& c = chain_ends[r];
+      for (u32 v : w.segs[s]) {
+        if (drop[v]) continue;
+        if (c[0] == kNone || compare(v, c[0], chain_axis[r]) < 0) c[0] = v;
+        if (c[1] == kNone || compare(v, c[1], chain_axis[r]) > 0) c[1] = v;
+      }
     }
     for (std::size_t s = 0; s < ns; ++s) {
       if (root(static_cast<u32>(s)) != s) continue;
       const auto& c = chain_ends[s];
-      if (c[0] == kNone || c[1] == kNone) fail("boolean: internal error: a chain of joined cuts has no two ends");
+      if (c[0] == kNone || c[1] == kNone || c[0] == c[1]) fail("boolean: internal error: a chain of joined cuts has no two ends");
       segs.push_back({std::min(c[0], c[1]), std::max(c[0], c[1])});
       cuts.push_back(w.cuts[s]);
     }

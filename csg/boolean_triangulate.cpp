@@ -835,6 +835,13 @@ Arrangement arrange(Points& pts, const std::vector<std::array<u32, 2>>& pairs, b
   Arrangement arr;
   arr.quads = quads.groups;
   arr.quad_points = quads.dropped;
+  if (!quads.erased.empty()) {
+    arr.quad_partner.assign(nt, kNone);
+    for (const auto& e : quads.erased) {
+      arr.quad_partner[e[0]] = e[1];
+      arr.quad_partner[e[1]] = e[0];
+    }
+  }
   arr.coplanar.resize(nt);
   std::size_t total = nt;
   for (const auto& c : cut_pieces) total += c.size();

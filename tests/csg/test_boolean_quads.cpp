@@ -2,6 +2,7 @@
 // one, the cut points on their shared diagonal left out. The results must be the exact solids,
 // valid, with their provenance, and the same at any thread count; the counts say the step ran.
 #include <catch2/catch.hpp>
+#include <random>
 #include <tbb/global_control.h>
 
 #include "csg/boolean.h"
@@ -113,4 +114,84 @@ TEST_CASE("boolean: cut triangles of one flat face are retriangulated as quadril
     const BooleanResult r = run(BooleanOp::Intersection, {a, c}, st);
     CHECK(r.mesh.volume() == Approx(0.125).epsilon(1e-12));
   }
+  SECTION("two cubes face to face, their diagonals crossing: both faces' cuts along them go") {
+    // b stands on a's top, turned a quarter about the vertical axis through the face's middle, so
+    // that the two coplanar faces are split along crossing diagonals. Each diagonal is a cut of
+    // the other face only (a coplanar triangle's edge clipped to it): those cuts are erased, the
+    // middle point goes, and a piece of one face whose centroid lies on the other's diagonal is
+    // inside the other's quadrilateral, though inside neither of its triangles alone.
+    const Mesh a = box_mesh(Point3(0, 0, 0), Vec3(1, 1, 1));
+    Mesh b = box_mesh(Point3(0, 0, 1), Vec3(1, 1, 1));
+    for (auto& p : b.positions) p = Vec3(1 - p.y(), p.x(), p.z());  // exact: a quarter turn
+    for (BooleanOp op : {BooleanOp::Union, BooleanOp::Difference, BooleanOp::Intersection}) {
+      INFO(boolean_op_name(op));
+      BooleanStats st;
+      const BooleanResult r = run(op, {a, b}, st);
+      CHECK(r.mesh.volume() == Approx(op == BooleanOp::Union ? 2.0 : op == BooleanOp::Difference ? 1.0 : 0.0).margin(1e-12));
+      if (op == BooleanOp::Union) {
+        CHECK(st.quad_points >= 1);
+        CHECK(r.mesh.triangles.size() == 12);  // the 1 x 1 x 2 box
+      }
+    }
+  }
+  SECTION("a Menger sponge: flush bars' faces, cut along their diagonals only by one another") {
+    // The bars of each level lie flush with their neighbours; a bar's long face is two triangles
+    // whose diagonal the neighbour's faces cut, and nothing else does: the cut points there go.
+    const auto ops = testing::menger_operands(2);
+    BooleanStats st;
+    const BooleanResult r = run(BooleanOp::Difference, ops, st);
+    CHECK(r.mesh.volume() == Approx(testing::menger_volume(2)).epsilon(1e-12));
+    CHECK(st.quad_points > 0);
+    BooleanStats s2;
+    BooleanResult r2;
+    {
+      tbb::global_control two(tbb::global_control::max_allowed_parallelism, 2);
+      r2 = run(BooleanOp::Difference, ops, s2);
+    }
+    CHECK(r2.mesh.positions == r.mesh.positions);
+    CHECK(r2.mesh.triangles == r.mesh.triangles);
+    CHECK(s2.quad_points == st.quad_points);
+  }
+}
+
+TEST_CASE("boolean: boxes on a coarse grid, flush everywhere, their faces' diagonals turned at random", "[boolean][quads]") {
+  // Hostile input for the flat quadrilaterals: boxes whose faces lie in a few planes, overlap and
+  // touch along edges, with each box's squares split along one diagonal or the other (a quarter
+  // turn about its own axis) and some faces split into a grid. Every result exact and valid.
+  std::mt19937 rng(20261204);
+  std::uniform_int_distribution<int> coord(0, 4), extent(1, 3), pick(0, 3);
+  int erased_runs = 0;
+  for (int trial = 0; trial < 60; ++trial) {
+    INFO("trial " << trial);
+    const int n = 2 + trial % 3;
+    std::vector<std::array<Vec3, 2>> boxes;
+    std::vector<Mesh> ops;
+    for (int b = 0; b < n; ++b) {
+      const Vec3 lo(coord(rng), coord(rng), coord(rng) / 2.0);
+      const Vec3 hi = lo + Vec3(extent(rng), extent(rng), extent(rng) / 2.0);
+      boxes.push_back({lo, hi});
+      Mesh m = pick(rng) == 0 ? grid_box(lo, hi, 2) : box_mesh(lo, hi - lo);
+      if (pick(rng) < 2) {
+        // The other diagonals: a quarter turn about the box's vertical axis where it is square in
+        // x and y, else a mirror across its middle x plane (triangles turned back). Exact either
+        // way (small integers and halves).
+        const double cx = (lo.x() + hi.x()) / 2, cy = (lo.y() + hi.y()) / 2;
+        if (hi.x() - lo.x() == hi.y() - lo.y()) {
+          for (auto& p : m.positions) p = Vec3(cx - (p.y() - cy), cy + (p.x() - cx), p.z());
+        } else {
+          for (auto& p : m.positions) p = Vec3(2 * cx - p.x(), p.y(), p.z());
+          for (auto& t : m.triangles) std::swap(t[1], t[2]);
+        }
+      }
+      ops.push_back(m);
+    }
+    for (BooleanOp op : {BooleanOp::Union, BooleanOp::Difference}) {
+      INFO(boolean_op_name(op));
+      BooleanStats st;
+      const BooleanResult r = run(op, ops, st);
+      CHECK(r.mesh.volume() == Approx(boxes_volume(op, boxes)).margin(1e-12));
+      erased_runs += st.quad_points > 0;
+    }
+  }
+  CHECK(erased_runs > 0);
 }
