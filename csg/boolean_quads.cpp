@@ -185,7 +185,6 @@ FlatQuads flat_quads(const Points& pts, const std::vector<u32>& touched, std::ve
   // a point there that no other work has.
   auto diagonal_key = [](u32 a, u32 b) { return static_cast<std::uint64_t>(std::min(a, b)) << 32 | std::max(a, b); };
   std::vector<char> erase(groups.size(), 0);
-  std::vector<std::uint64_t> erasable;  // the diagonals of those groups, sorted
   for (std::size_t gi = 0; gi < groups.size(); ++gi)
     if (over[gi] && !veto[gi]) {
       // (Not where a coplanar triangle's cuts settling left out: classify asks about those per
@@ -196,12 +195,34 @@ FlatQuads flat_quads(const Points& pts, const std::vector<u32>& touched, std::ve
         continue;
       }
       erase[gi] = 1;
-      const auto& quad = fq.quad[groups[gi].first];
-      erasable.push_back(diagonal_key(quad[0], quad[2]));
     }
-  std::sort(erasable.begin(), erasable.end());
-  auto erasable_cut = [&](const Plane& c) {
-    return c.axis >= 0 && !erasable.empty() && std::binary_search(erasable.begin(), erasable.end(), diagonal_key(c.a, c.b));
+  // The cuts to erase: per (work, diagonal), in the works of the groups' coplanar triangles only
+  // (after the merge a group's second half's work is its first's). (Positions are welded across
+  // operands, so another operand's edge may join the same two vertices; its walls are not the
+  // group's business elsewhere.)
+  std::vector<u32> owner(nw);
+  std::iota(owner.begin(), owner.end(), 0u);
+  for (const Group& g : groups) owner[g.second] = g.first;
+  struct Erasable {
+    u32 work;
+    std::uint64_t diagonal;
+    bool operator<(const Erasable& o) const { return work < o.work || (work == o.work && diagonal < o.diagonal); }
+  };
+  std::vector<Erasable> erasable;  // sorted
+  auto list_erasable = [&] {
+    erasable.clear();
+    for (std::size_t gi = 0; gi < groups.size(); ++gi) {
+      if (!erase[gi]) continue;
+      const auto& quad = fq.quad[groups[gi].first];
+      for (u32 f : work[groups[gi].first].coplanar)
+        if (work_of[f] != kNone) erasable.push_back({owner[work_of[f]], diagonal_key(quad[0], quad[2])});
+    }
+    std::sort(erasable.begin(), erasable.end());
+  };
+  list_erasable();
+  auto erasable_cut = [&](std::size_t wi, const Plane& c) {
+    return c.axis >= 0 && !erasable.empty() &&
+           std::binary_search(erasable.begin(), erasable.end(), Erasable{static_cast<u32>(wi), diagonal_key(c.a, c.b)});
   };
   // (A point on two diagonals, two faces' diagonals crossing there, goes only where neither
   // vetoes.)
@@ -267,7 +288,7 @@ FlatQuads flat_quads(const Points& pts, const std::vector<u32>& touched, std::ve
       ends.clear();
       erased_end.assign(w.points.size(), 0);
       for (std::size_t s = 0; s < w.segs.size(); ++s) {
-        const bool erased = erasable_cut(w.cuts[s]);
+        const bool erased = erasable_cut(wi, w.cuts[s]);
         for (u32 m : w.segs[s])
           if (on_diagonal[m]) {
             const auto i = static_cast<u32>(std::lower_bound(w.points.begin(), w.points.end(), m) - w.points.begin());
@@ -324,13 +345,7 @@ FlatQuads flat_quads(const Points& pts, const std::vector<u32>& touched, std::ve
         held_back[gi] = 1;
         again = true;
       }
-      erasable.clear();
-      for (std::size_t gi = 0; gi < groups.size(); ++gi)
-        if (erase[gi]) {
-          const auto& quad = fq.quad[groups[gi].first];
-          erasable.push_back(diagonal_key(quad[0], quad[2]));
-        }
-      std::sort(erasable.begin(), erasable.end());
+      list_erasable();
       if (!again) break;
       std::fill(keep.begin(), keep.end(), 0);
       keep_points();
@@ -346,7 +361,7 @@ FlatQuads flat_quads(const Points& pts, const std::vector<u32>& touched, std::ve
         TriWork& w = work[wi];
         std::size_t n = 0;
         for (std::size_t s = 0; s < w.segs.size(); ++s)
-          if (!erasable_cut(w.cuts[s])) {
+          if (!erasable_cut(wi, w.cuts[s])) {
             w.segs[n] = w.segs[s];
             w.cuts[n++] = w.cuts[s];
           }
