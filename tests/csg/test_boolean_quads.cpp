@@ -27,6 +27,21 @@ BooleanResult run(BooleanOp op, const std::vector<Mesh>& meshes, BooleanStats& s
   return r;
 }
 
+// The same boolean at two threads: the same bits, sources and counts as `r` and `st`.
+void same_at_two_threads(BooleanOp op, const std::vector<Mesh>& meshes, const BooleanResult& r, const BooleanStats& st) {
+  BooleanStats s2;
+  BooleanResult r2;
+  {
+    tbb::global_control two(tbb::global_control::max_allowed_parallelism, 2);
+    r2 = run(op, meshes, s2);
+  }
+  CHECK(r2.mesh.positions == r.mesh.positions);
+  CHECK(r2.mesh.triangles == r.mesh.triangles);
+  CHECK(r2.source == r.source);
+  CHECK(s2.quads == st.quads);
+  CHECK(s2.quad_points == st.quad_points);
+}
+
 }  // namespace
 
 TEST_CASE("boolean: cut triangles of one flat face are retriangulated as quadrilaterals", "[boolean][quads]") {
@@ -49,18 +64,7 @@ TEST_CASE("boolean: cut triangles of one flat face are retriangulated as quadril
       for (int k = 0; k < 3; ++k)
         CHECK(std::abs(n.normalized().dot(r.mesh.positions[r.mesh.triangles[t][k]] - src.positions[s[0]])) < 1e-12);
     }
-    // The same bits at two threads.
-    BooleanStats s2;
-    BooleanResult r2;
-    {
-      tbb::global_control two(tbb::global_control::max_allowed_parallelism, 2);
-      r2 = run(BooleanOp::Difference, ops, s2);
-    }
-    CHECK(r2.mesh.positions == r.mesh.positions);
-    CHECK(r2.mesh.triangles == r.mesh.triangles);
-    CHECK(r2.source == r.source);
-    CHECK(s2.quads == st.quads);
-    CHECK(s2.quad_points == st.quad_points);
+    same_at_two_threads(BooleanOp::Difference, ops, r, st);
   }
   SECTION("a slab through faces of many squares: each cut line crosses a chain of diagonals") {
     // The cube's sides are 8 x 8 squares of two triangles; the slabs cut every side square they
@@ -142,15 +146,7 @@ TEST_CASE("boolean: cut triangles of one flat face are retriangulated as quadril
     const BooleanResult r = run(BooleanOp::Difference, ops, st);
     CHECK(r.mesh.volume() == Approx(testing::menger_volume(2)).epsilon(1e-12));
     CHECK(st.quad_points > 0);
-    BooleanStats s2;
-    BooleanResult r2;
-    {
-      tbb::global_control two(tbb::global_control::max_allowed_parallelism, 2);
-      r2 = run(BooleanOp::Difference, ops, s2);
-    }
-    CHECK(r2.mesh.positions == r.mesh.positions);
-    CHECK(r2.mesh.triangles == r.mesh.triangles);
-    CHECK(s2.quad_points == st.quad_points);
+    same_at_two_threads(BooleanOp::Difference, ops, r, st);
   }
 }
 
