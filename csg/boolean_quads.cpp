@@ -171,9 +171,15 @@ FlatQuads flat_quads(const Points& pts, const std::vector<u32>& touched, std::ve
     o = TriWork{};
     fq.absorbed[groups[gi].second] = 1;
     // A cut along the diagonal: both its ends on it (the diagonal's own ends are vertices, never
-    // in `on`).
+    // in `on`; nor is another operand's vertex on the diagonal, the end of a cut along it: an
+    // edge of a flush face lying on the line; a point of the work on the diagonal's line is on
+    // the diagonal, the quadrilateral being convex).
     const auto& quad = fq.quad[groups[gi].first];
-    auto on_it = [&](u32 v) { return v == quad[0] || v == quad[2] || std::binary_search(on[gi].begin(), on[gi].end(), v); };
+    const int k = soup.axis[touched[groups[gi].first]];
+    auto on_it = [&](u32 v) {
+      return v == quad[0] || v == quad[2] || std::binary_search(on[gi].begin(), on[gi].end(), v) ||
+             (v < soup.verts.size() && pts.orient2d(quad[0], quad[2], v, k) == 0);
+    };
     for (const auto& sg : w.segs)
       if (on_it(sg[0]) && on_it(sg[1])) veto[gi] = 1;
   });

@@ -138,6 +138,24 @@ TEST_CASE("boolean: cut triangles of one flat face are retriangulated as quadril
       }
     }
   }
+  SECTION("another face's diagonal along a flush face's diagonal: a cut along it, so it stays") {
+    // a's and b's faces x = 4 overlap (b mirrored: its diagonal runs the other way); c's face
+    // x = 4 lies inside both, and its diagonal, from (4, 3, 2) to (4, 4, 2.5), lies on b's.
+    // b's diagonal is cut along by c's: its cuts must stay in the coplanar faces' works (erased,
+    // c's face had pieces along a line that b's face no longer had: "an open edge").
+    const Mesh a = box_mesh(Point3(4, 3, 1), Vec3(2, 3, 1.5));
+    Mesh b = box_mesh(Point3(4, 2, 1.5), Vec3(2, 3, 1.5));
+    for (auto& p : b.positions) p = Vec3(10 - p.x(), p.y(), p.z());
+    for (auto& t : b.triangles) std::swap(t[1], t[2]);
+    const Mesh c = box_mesh(Point3(1, 3, 2), Vec3(3, 1, 0.5));
+    const std::vector<std::array<Vec3, 2>> boxes = {
+        {Vec3(4, 3, 1), Vec3(6, 6, 2.5)}, {Vec3(4, 2, 1.5), Vec3(6, 5, 3)}, {Vec3(1, 3, 2), Vec3(4, 4, 2.5)}};
+    for (BooleanOp op : {BooleanOp::Union, BooleanOp::Difference}) {
+      BooleanStats st;
+      const BooleanResult r = run(op, {a, b, c}, st);
+      CHECK(r.mesh.volume() == Approx(boxes_volume(op, boxes)).epsilon(1e-12));
+    }
+  }
   SECTION("a Menger sponge: flush bars' faces, cut along their diagonals only by one another") {
     // The bars of each level lie flush with their neighbours; a bar's long face is two triangles
     // whose diagonal the neighbour's faces cut, and nothing else does: the cut points there go.
