@@ -16,6 +16,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <mutex>
 #include <numeric>
 
 #include "csg/boolean_impl.h"
@@ -564,6 +565,12 @@ BooleanResult assemble(const Points& pts, const Arrangement& arr, const std::vec
   });
   soup.poll();
   sort_edges(half, pts.size(), soup.interrupt);
+  // The edges of more than two triangles, their corner-edges in order about the edge.
+  struct Sheets {
+    std::vector<u32> ce;
+  };
+  std::vector<Sheets> sheets;
+  std::mutex sheets_mutex;
   // Each run of records (one undirected edge) writes only its own corners' partners.
   for_each_run(half, soup.interrupt, [&](std::size_t i, std::size_t j) {
     if (j - i == 2) {
@@ -631,6 +638,10 @@ BooleanResult assemble(const Points& pts, const Arrangement& arr, const std::vec
         partner[sh[x].ce] = sh[y].ce;
         partner[sh[y].ce] = sh[x].ce;
       }
+      Sheets around;
+      for (const Sheet& x : sh) around.ce.push_back(x.ce);
+      std::lock_guard<std::mutex> lock(sheets_mutex);
+      sheets.push_back(std::move(around));
     }
   });
   {
@@ -664,19 +675,69 @@ BooleanResult assemble(const Points& pts, const Arrangement& arr, const std::vec
       }
     }
   });
+  auto join_corners = [&](Dsu& corners) {
+    parallel_blocks(nt, 16384, [&](std::size_t lo, std::size_t hi) {
+      soup.poll();
+      for (std::size_t t = lo; t < hi; ++t)
+        for (u32 e = 0; e < 3; ++e) {
+          u32 c = partner[t * 3 + e];
+          if (c < t * 3 + e) continue;  // the pair's other side joins the same corners
+          u32 t2 = c / 3, e2 = c % 3;
+          // Edge v[e] -> v[e+1] of t is v[e2+1] -> v[e2] of t2.
+          if (sorted_at[tris[t][e]]) corners.unite_shared(static_cast<u32>(t * 3 + e), t2 * 3 + (e2 + 1) % 3);
+          if (sorted_at[tris[t][(e + 1) % 3]]) corners.unite_shared(static_cast<u32>(t * 3 + (e + 1) % 3), t2 * 3 + e2);
+        }
+    });
+  };
   Dsu corners(nt * 3);
-  parallel_blocks(nt, 16384, [&](std::size_t lo, std::size_t hi) {
-    soup.poll();
-    for (std::size_t t = lo; t < hi; ++t)
-      for (u32 e = 0; e < 3; ++e) {
-        u32 c = partner[t * 3 + e];
-        if (c < t * 3 + e) continue;  // the pair's other side joins the same corners
-        u32 t2 = c / 3, e2 = c % 3;
-        // Edge v[e] -> v[e+1] of t is v[e2+1] -> v[e2] of t2.
-        if (sorted_at[tris[t][e]]) corners.unite_shared(static_cast<u32>(t * 3 + e), t2 * 3 + (e2 + 1) % 3);
-        if (sorted_at[tris[t][(e + 1) % 3]]) corners.unite_shared(static_cast<u32>(t * 3 + (e + 1) % 3), t2 * 3 + e2);
+  join_corners(corners);
+  // Pairing each triangle with its neighbour behind it about an edge of more than two keeps the
+  // solids apart there (two cubes that share an edge: two shells). Where the solid is one
+  // around both ends of that edge (a third solid joins the two near each end), the pairs get the
+  // same copies of both ends, and the edge would have four triangles: there the neighbours in
+  // front are paired instead (the empty wedges kept apart; around each end they are apart, the
+  // solid being one), which gives each end one copy per wedge. (Around a vertex, the wedges of
+  // one kind that meet at an edge are either joined elsewhere or not, and those of the other
+  // kind then the opposite. Decided edge by edge in the order of their first corners; a few
+  // rounds at most.)
+  std::sort(sheets.begin(), sheets.end(), [](const Sheets& x, const Sheets& y) { return x.ce[0] < y.ce[0]; });
+  std::vector<char> in_front(sheets.size(), 0);
+  for (int round = 0; round < 4 && !sheets.empty(); ++round) {
+    bool switched = false;
+    for (std::size_t k = 0; k < sheets.size(); ++k) {
+      if (in_front[k]) continue;
+      const auto& ce = sheets[k].ce;
+      // The copies of the edge's two ends in each triangle on it.
+      auto ends = [&](u32 c) {
+        const u32 t = c / 3, e = c % 3;
+        const u32 x = corners.find_shared(t * 3 + e), y = corners.find_shared(t * 3 + (e + 1) % 3);
+        const bool forward = tris[t][e] < tris[t][(e + 1) % 3];
+        return forward ? std::array<u32, 2>{x, y} : std::array<u32, 2>{y, x};
+      };
+      // Each pair's two triangles have the same copies; two pairs with the same copies conflict.
+      std::vector<std::array<u32, 2>> copies;
+      for (u32 c : ce) copies.push_back(ends(c));
+      std::sort(copies.begin(), copies.end());
+      if (static_cast<std::size_t>(std::unique(copies.begin(), copies.end()) - copies.begin()) * 2 >= ce.size()) continue;
+      const u32 a = tris[ce[0] / 3][ce[0] % 3] < tris[ce[0] / 3][(ce[0] % 3 + 1) % 3] ? tris[ce[0] / 3][ce[0] % 3]
+                                                                                         : tris[ce[0] / 3][(ce[0] % 3 + 1) % 3];
+      const std::size_t n = ce.size();
+      auto fwd = [&](std::size_t x) { return tris[ce[x] / 3][ce[x] % 3] == a; };
+      for (std::size_t x = 0; x < n; ++x) partner[ce[x]] = kNone;
+      for (std::size_t x = 0; x < n; ++x) {
+        if (!fwd(x)) continue;
+        const std::size_t y = (x + 1) % n;
+        if (fwd(y)) continue;
+        partner[ce[x]] = ce[y];
+        partner[ce[y]] = ce[x];
       }
-  });
+      in_front[k] = 1;
+      switched = true;
+    }
+    if (!switched) break;
+    corners = Dsu(nt * 3);
+    join_corners(corners);
+  }
   // A copy's root is its smallest corner, the first met in corner order: copies are numbered in
   // the order of their roots (a count per block of corners, then the blocks' offsets).
   BooleanResult r;

@@ -211,6 +211,24 @@ TEST_CASE("boolean: non-manifold regularised results come back as touching shell
   CHECK(at_corner == 2);
 }
 
+TEST_CASE("boolean: two boxes touching along an edge, joined around both its ends by others", "[boolean]") {
+  // a and b meet only along y = 4, z = 1 for 2 < x < 3; c (on a's top, beside b) and d (beside
+  // a and b) join them around each end of that edge, so neither end's solid falls apart there.
+  // Pairing the edge's triangles by solid gave each end one copy for both pairs: the edge had
+  // four triangles. The empty wedges are kept apart there instead, and the union is 2-manifold.
+  const Mesh a = box_mesh({1, 3, 0.5}, {2, 1, 0.5});
+  const Mesh b = box_mesh({2, 4, 1}, {3, 3, 1});
+  const Mesh c = box_mesh({0, 3, 1}, {2, 3, 0.5});
+  const Mesh d = box_mesh({3, 2, 0.5}, {2, 2, 1.5});
+  const BooleanResult r = checked(BooleanOp::Union, {&a, &b, &c, &d});
+  // The boxes only touch: 1 + 9 + 3 + 6.
+  require_volume(r.mesh, 19.0);
+  std::size_t at_end = 0;
+  for (const Point3& p : r.mesh.positions)
+    if (p == Point3(2, 4, 1)) ++at_end;
+  CHECK(at_end == 2);
+}
+
 TEST_CASE("boolean: A u A = A n A = A and A - A is empty", "[boolean]") {
   const Mesh a = uv_sphere({0.3, 0.1, -0.2}, 1, 1000);
   const double v = exact_volume(a);
