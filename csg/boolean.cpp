@@ -558,30 +558,43 @@ BooleanResult boolean_detail::boolean_as_given(BooleanOp op, const std::vector<c
     stats->settled_pairs = settled.pairs.size();
   }
   lap(&BooleanStats::broad);
-  Arrangement arr = arrange(pts, pairs, true, &settled);
-  lap(&BooleanStats::arrange);
-  std::vector<std::array<u32, 3>> piece_adj;
-  auto keep = classify(pts, arr, op, false, &adj, &piece_adj, &settled);
-  std::vector<std::array<u32, 3>>().swap(adj);
-  lap(&BooleanStats::classify);
   std::size_t collapses = 0, resolutions = 0;
   bool unresolved = false;
-  std::vector<u32> crossing;
-  BooleanResult r = assemble(pts, arr, keep, &collapses, &unresolved, &crossing, &piece_adj, true);
-  std::vector<std::array<u32, 3>>().swap(piece_adj);
-  // Rounding that leaves crossings (sheets a few ulps apart) is resolved again, exactly, on the
-  // rounded result; each pass works at a finer scale than the one before.
   std::vector<Vec3> fixed;  // the operands' vertices, which a re-resolution keeps where they are
+  Arrangement arr;
+  // The arrangement, its classification and the rounded result, resolved again where rounding
+  // leaves crossings (sheets a few ulps apart), exactly, on the rounded result; each pass works
+  // at a finer scale than the one before.
+  auto solve = [&](Points& at, bool quads, std::vector<std::array<u32, 3>>* joined) {
+    arr = arrange(at, pairs, quads, &settled);
+    lap(&BooleanStats::arrange);
+    std::vector<std::array<u32, 3>> piece_adj;
+    auto keep = classify(at, arr, op, false, joined, &piece_adj, &settled);
+    if (joined) std::vector<std::array<u32, 3>>().swap(*joined);
+    lap(&BooleanStats::classify);
+    std::vector<u32> crossing;
+    BooleanResult out = assemble(at, arr, keep, &collapses, &unresolved, &crossing, &piece_adj, true);
+    std::vector<std::array<u32, 3>>().swap(piece_adj);
+    if (unresolved && fixed.empty()) {
+      fixed = soup.verts;
+      std::sort(fixed.begin(), fixed.end(), lex_less);
+    }
+    for (std::size_t fewest = crossing.size(), tried = 0; unresolved && tried < 4; ++tried) {
+      if (cancel && *cancel && (*cancel)()) throw Cancelled();
+      out = resolve(out, &collapses, &unresolved, &interrupt, crossing, &fixed);
+      ++resolutions;
+      if (unresolved && crossing.size() > 4 * fewest + 64) break;  // diverging, as in resolve_self
+      fewest = std::min(fewest, crossing.size());
+    }
+    return out;
+  };
+  BooleanResult r = solve(pts, true, &adj);
   if (unresolved) {
-    fixed = soup.verts;
-    std::sort(fixed.begin(), fixed.end(), lex_less);
-  }
-  for (std::size_t fewest = crossing.size(); unresolved && resolutions < 4;) {
-    if (cancel && *cancel && (*cancel)()) throw Cancelled();
-    r = resolve(r, &collapses, &unresolved, &interrupt, crossing, &fixed);
-    ++resolutions;
-    if (unresolved && crossing.size() > 4 * fewest + 64) break;  // diverging, as in resolve_self
-    fewest = std::min(fewest, crossing.size());
+    // Once more without the flat quadrilaterals (an optimization; the result is the same solid):
+    // a quadrilateral's triangulation across its diagonal has left pieces that rounding folds
+    // where the two triangles' own would not (flush boxes on planes such as x + y = c).
+    Points again(soup);
+    r = solve(again, false, nullptr);
   }
   if (unresolved) {
     const Vec3& p = r.mesh.positions.empty() ? Vec3(0, 0, 0) : r.mesh.positions[0];
