@@ -156,12 +156,13 @@ TEST_CASE("boolean: cut triangles of one flat face are retriangulated as quadril
       CHECK(r.mesh.volume() == Approx(boxes_volume(op, boxes)).epsilon(1e-12));
     }
   }
-  SECTION("flush boxes on slanted planes: where the quadrilaterals' pieces cannot be rounded") {
-    // Three boxes (two with faces split into 3 x 3 squares, one mirrored) mapped by the exact
-    // (x, y, z) -> (x + y, y + z, x + z): every face flush with others on planes such as
-    // x + y = c. Triangulated across their diagonals, the faces left pieces that rounding folded
-    // and four re-resolutions could not mend ("cannot be rounded"); the boolean is then made
-    // again without the flat quadrilaterals.
+  SECTION("nearly flush boxes on slanted planes: where the quadrilaterals' pieces cannot be rounded") {
+    // Three boxes (two with faces split into 3 x 3 squares, one mirrored) mapped by
+    // (x, y, z) -> (x + y, y + z, x + z), faces flush with others on planes such as x + y = c;
+    // the grids' thirds are rounded, and the map rounds them again, so their vertices lie a few
+    // ulps off those planes. Triangulated across their diagonals, the faces left pieces that
+    // rounding folded and four re-resolutions could not mend ("cannot be rounded"); the boolean
+    // is then made again without the flat quadrilaterals.
     auto mapped = [](Mesh m) {
       for (auto& p : m.positions) p = Vec3(p.x() + p.y(), p.y() + p.z(), p.x() + p.z());
       return m;
@@ -174,7 +175,7 @@ TEST_CASE("boolean: cut triangles of one flat face are retriangulated as quadril
     const Mesh a = mapped(grid_box(Vec3(1, 0, 0.5), Vec3(4, 2, 1), 3));
     const Mesh b = mapped(mirrored(box_mesh(Point3(2, 0, 0.5), Vec3(1, 2, 1.5)), 5));
     const Mesh c = mapped(mirrored(grid_box(Vec3(3, 1, 1), Vec3(4, 3, 2.5), 3), 7));
-    // The map's determinant is 2.
+    // The map's determinant is 2 (the ulps off the planes are far below the tolerance).
     const std::vector<std::array<Vec3, 2>> boxes = {
         {Vec3(1, 0, 0.5), Vec3(4, 2, 1)}, {Vec3(2, 0, 0.5), Vec3(3, 2, 2)}, {Vec3(3, 1, 1), Vec3(4, 3, 2.5)}};
     BooleanStats st;
