@@ -565,12 +565,27 @@ BooleanResult assemble(const Points& pts, const Arrangement& arr, const std::vec
   });
   soup.poll();
   sort_edges(half, pts.size(), soup.interrupt);
-  // The edges of more than two triangles, their corner-edges in order about the edge.
+  // The edges of more than two triangles: their corner-edges in order about the edge, and the
+  // edge's smaller end (a triangle running from it faces increasing angle).
   struct Sheets {
     std::vector<u32> ce;
+    u32 a;
   };
   std::vector<Sheets> sheets;
   std::mutex sheets_mutex;
+  // Pairs each triangle about such an edge with its neighbour behind it (the side its solid is
+  // on), or in front of it (its empty side).
+  auto pair_about = [&](const Sheets& s, bool in_front) {
+    const std::size_t n = s.ce.size();
+    auto fwd = [&](std::size_t x) { return tris[s.ce[x] / 3][s.ce[x] % 3] == s.a; };
+    for (std::size_t x = 0; x < n; ++x) {
+      if (!fwd(x)) continue;
+      const std::size_t y = in_front ? (x + 1) % n : (x + n - 1) % n;
+      if (fwd(y)) continue;
+      partner[s.ce[x]] = s.ce[y];
+      partner[s.ce[y]] = s.ce[x];
+    }
+  };
   // Each run of records (one undirected edge) writes only its own corners' partners.
   for_each_run(half, soup.interrupt, [&](std::size_t i, std::size_t j) {
     if (j - i == 2) {
@@ -629,17 +644,9 @@ BooleanResult assemble(const Points& pts, const Arrangement& arr, const std::vec
       });
       // A triangle with edge a->b has its front towards increasing angle about a->b; its solid is
       // behind it, towards decreasing angle. For b->a the other way round.
-      std::size_t n = sh.size();
-      auto fwd = [&](std::size_t x) { return tris[sh[x].ce / 3][sh[x].ce % 3] == a; };
-      for (std::size_t x = 0; x < n; ++x) {
-        if (!fwd(x)) continue;
-        std::size_t y = (x + n - 1) % n;
-        if (fwd(y)) continue;
-        partner[sh[x].ce] = sh[y].ce;
-        partner[sh[y].ce] = sh[x].ce;
-      }
-      Sheets around;
+      Sheets around{{}, a};
       for (const Sheet& x : sh) around.ce.push_back(x.ce);
+      pair_about(around, false);
       std::lock_guard<std::mutex> lock(sheets_mutex);
       sheets.push_back(std::move(around));
     }
@@ -719,18 +726,8 @@ BooleanResult assemble(const Points& pts, const Arrangement& arr, const std::vec
       for (u32 c : ce) copies.push_back(ends(c));
       std::sort(copies.begin(), copies.end());
       if (static_cast<std::size_t>(std::unique(copies.begin(), copies.end()) - copies.begin()) * 2 >= ce.size()) continue;
-      const u32 a = tris[ce[0] / 3][ce[0] % 3] < tris[ce[0] / 3][(ce[0] % 3 + 1) % 3] ? tris[ce[0] / 3][ce[0] % 3]
-                                                                                         : tris[ce[0] / 3][(ce[0] % 3 + 1) % 3];
-      const std::size_t n = ce.size();
-      auto fwd = [&](std::size_t x) { return tris[ce[x] / 3][ce[x] % 3] == a; };
-      for (std::size_t x = 0; x < n; ++x) partner[ce[x]] = kNone;
-      for (std::size_t x = 0; x < n; ++x) {
-        if (!fwd(x)) continue;
-        const std::size_t y = (x + 1) % n;
-        if (fwd(y)) continue;
-        partner[ce[x]] = ce[y];
-        partner[ce[y]] = ce[x];
-      }
+      for (u32 c : ce) partner[c] = kNone;
+      pair_about(sheets[k], true);
       in_front[k] = 1;
       switched = true;
     }
