@@ -36,17 +36,31 @@ bool point_on(const Soup& s, const Plane& P, const Vec3& x) {
   return orient2d_fast(a[i], a[j], b[i], b[j], x[i], x[j]) == 0;
 }
 
+// Whether plane P contains the direction e_k (exact on input vertices): a wall along e_k; a wall
+// along another axis over a segment whose ends share the third coordinate; a triangle whose
+// projection along e_k is degenerate.
+bool contains_axis(const Soup& s, const Plane& P, int k) {
+  const Vec3 &a = s.verts[P.a], &b = s.verts[P.b];
+  if (P.axis == k) return true;
+  const int i = (k + 1) % 3, j = (k + 2) % 3;
+  if (P.axis >= 0) return a[3 - k - P.axis] == b[3 - k - P.axis];
+  const Vec3& c = s.verts[P.c];
+  return orient2d_fast(a[i], a[j], b[i], b[j], c[i], c[j]) == 0;
+}
+
 // Whether input vertex v lies on plane P.
 bool vertex_on(const Soup& s, const Plane& P, u32 v) {
   return v == P.a || v == P.b || (P.axis < 0 && v == P.c) || point_on(s, P, s.verts[v]);
 }
 
-// Whether planes X and P are the same plane (exact; false where not sure: walls against walls).
+// Whether planes X and P are the same plane (exact): X's points lie on P and, where X is a wall,
+// P holds its direction too. (Two walls over one plane through different pairs of vertices used
+// to count as different planes: collinear_by_definition then put three points on "their line"
+// that were not collinear, one of them a few ulps off it.)
 bool same_plane(const Soup& s, const Plane& X, const Plane& P) {
   if (X == P) return true;
   if (X.axis < 0) return vertex_on(s, P, X.a) && vertex_on(s, P, X.b) && vertex_on(s, P, X.c);
-  if (P.axis < 0) return same_plane(s, P, X);
-  return false;
+  return vertex_on(s, P, X.a) && vertex_on(s, P, X.b) && contains_axis(s, P, X.axis);
 }
 
 }  // namespace
@@ -67,22 +81,6 @@ bool Points::on_plane(u32 p, const Plane& P) const {
   // where two cylinders sampled at the same angles cross): the exact test on them.
   return fixed(p) == 7 && point_on(*soup_, P, approx(p));
 }
-
-namespace {
-
-// Whether plane P contains the direction e_k (exact on input vertices): a wall along e_k; a wall
-// along another axis over a segment whose ends share the third coordinate; a triangle whose
-// projection along e_k is degenerate.
-bool contains_axis(const Soup& s, const Plane& P, int k) {
-  const Vec3 &a = s.verts[P.a], &b = s.verts[P.b];
-  if (P.axis == k) return true;
-  const int i = (k + 1) % 3, j = (k + 2) % 3;
-  if (P.axis >= 0) return a[3 - k - P.axis] == b[3 - k - P.axis];
-  const Vec3& c = s.verts[P.c];
-  return orient2d_fast(a[i], a[j], b[i], b[j], c[i], c[j]) == 0;
-}
-
-}  // namespace
 
 bool Points::collinear_by_definition(u32 a, u32 b, u32 c, int k) const {
   // The definitions held here: planes found below are kept by address.
