@@ -436,7 +436,8 @@ bool lex_less(const Vec3& p, const Vec3& q) {
 // operands' own vertices) stay where they are; the others were rounded and may move again (all of
 // them, without `fixed`).
 BooleanResult resolve(const BooleanResult& prev, std::size_t* collapses, bool* unresolved,
-                      const Interrupt* interrupt, std::vector<u32>& crossing, const std::vector<Vec3>* fixed) {
+                      const Interrupt* interrupt, std::vector<u32>& crossing, const std::vector<Vec3>* fixed,
+                      std::size_t* flat_shells = nullptr) {
   // Zero-area triangles (rounding can flatten one) bound nothing and are left out; where their
   // vertices lie on a neighbour's edge the arrangement splits that edge.
   Mesh m;
@@ -465,7 +466,7 @@ BooleanResult resolve(const BooleanResult& prev, std::size_t* collapses, bool* u
   auto pairs = candidate_pairs(soup, nullptr, true, nullptr, &active);
   Arrangement arr = arrange(pts, pairs);
   auto keep = classify(pts, arr, BooleanOp::Union, true);
-  BooleanResult r = assemble(pts, arr, keep, collapses, unresolved, &crossing);
+  BooleanResult r = assemble(pts, arr, keep, collapses, unresolved, &crossing, nullptr, false, flat_shells);
   for (std::size_t t = 0; t < r.mesh.triangles.size(); ++t) {
     const std::size_t orig = from[static_cast<std::size_t>(r.source[t])];
     r.operand[t] = prev.operand[orig];
@@ -558,7 +559,7 @@ BooleanResult boolean_detail::boolean_as_given(BooleanOp op, const std::vector<c
     stats->settled_pairs = settled.pairs.size();
   }
   lap(&BooleanStats::broad);
-  std::size_t collapses = 0, resolutions = 0;
+  std::size_t collapses = 0, resolutions = 0, flat_shells = 0;
   bool unresolved = false;
   std::vector<Vec3> fixed;  // the operands' vertices, which a re-resolution keeps where they are
   Arrangement arr;
@@ -573,7 +574,7 @@ BooleanResult boolean_detail::boolean_as_given(BooleanOp op, const std::vector<c
     if (joined) std::vector<std::array<u32, 3>>().swap(*joined);
     lap(&BooleanStats::classify);
     std::vector<u32> crossing;
-    BooleanResult out = assemble(at, arr, keep, &collapses, &unresolved, &crossing, &piece_adj, true);
+    BooleanResult out = assemble(at, arr, keep, &collapses, &unresolved, &crossing, &piece_adj, true, &flat_shells);
     std::vector<std::array<u32, 3>>().swap(piece_adj);
     if (unresolved && fixed.empty()) {
       fixed = soup.verts;
@@ -581,7 +582,7 @@ BooleanResult boolean_detail::boolean_as_given(BooleanOp op, const std::vector<c
     }
     for (std::size_t fewest = crossing.size(), tried = 0; unresolved && tried < 4; ++tried) {
       if (cancel && *cancel && (*cancel)()) throw Cancelled();
-      out = resolve(out, &collapses, &unresolved, &interrupt, crossing, &fixed);
+      out = resolve(out, &collapses, &unresolved, &interrupt, crossing, &fixed, &flat_shells);
       ++resolutions;
       if (unresolved && crossing.size() > 4 * fewest + 64) break;  // diverging, as in resolve_self
       fewest = std::min(fewest, crossing.size());
@@ -611,6 +612,7 @@ BooleanResult boolean_detail::boolean_as_given(BooleanOp op, const std::vector<c
   if (stats) {
     stats->pairs = pairs.size();
     stats->collapses = collapses;
+    stats->flat_shells = flat_shells;
     stats->resolutions = resolutions;
     stats->pieces = arr.pieces.size();
     stats->quads = arr.quads;

@@ -34,7 +34,8 @@ struct BooleanResult {
 struct BooleanStats {
   double check = 0, broad = 0, arrange = 0, classify = 0, output = 0;
   std::size_t pairs = 0, pieces = 0;
-  std::size_t collapses = 0;  // edges the rounding repair collapsed (0 on most inputs)
+  std::size_t collapses = 0;  // edges the rounding repair collapsed or split (0 on most inputs)
+  std::size_t flat_shells = 0;  // shells thinner than rounding, left out (0 on most inputs)
   std::size_t resolutions = 0;  // passes that re-resolved a rounded result crossing itself (0 on most)
   std::size_t trusted = 0;  // operands known as results of earlier booleans, not checked again
   std::size_t settled = 0;  // triangles buried in an operand that drops them, left out of the arrangement

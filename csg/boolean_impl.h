@@ -913,7 +913,8 @@ std::vector<std::int8_t> classify(const Points& pts, const Arrangement& arr, Boo
                                   const Settlement* settled = nullptr);
 
 // --- output and rounding (boolean_output.cpp) ---
-// `collapses` (if given) receives the number of edges the rounding repair collapsed.
+// `collapses` (if given) receives the number of edges the rounding repair collapsed or split,
+// `flat_shells` (if given) the number of shells thinner than rounding it left out.
 // Where rounding leaves crossings that collapsing short edges cannot remove: with `unresolved`,
 // *unresolved is set and the rounded mesh returned as it is; without, an error is thrown.
 // `crossing` (if given) receives the triangles of the returned mesh that still cross another:
@@ -938,7 +939,8 @@ std::size_t merge_flat(const Points& pts, std::vector<std::array<u32, 3>>& tris,
 BooleanResult assemble(const Points& pts, const Arrangement& arr, const std::vector<std::int8_t>& keep,
                        std::size_t* collapses = nullptr, bool* unresolved = nullptr,
                        std::vector<u32>* crossing = nullptr,
-                       const std::vector<std::array<u32, 3>>* piece_adj = nullptr, bool snap = false);
+                       const std::vector<std::array<u32, 3>>* piece_adj = nullptr, bool snap = false,
+                       std::size_t* flat_shells = nullptr);
 
 // --- moving rounded vertices (boolean_snap.cpp) ---
 // Where collapsing short edges cannot mend the triangles `bad` of m (rounding turned them over in

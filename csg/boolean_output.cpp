@@ -341,6 +341,7 @@ bool repair_rounding(BooleanResult& r, Rounding& rd, std::vector<u32>* left, boo
   Box3 bounds = r.mesh.bounds();
   double limit = 1e-9 * (bounds.max - bounds.min).norm();
   double limit2 = limit * limit;
+  const double flat_tol = 0x1p-46 * std::max(bounds.max.cwiseAbs().maxCoeff(), bounds.min.cwiseAbs().maxCoeff());
   int snaps = 0;
   // Each round changes a triangle's neighbourhood once: a cluster of defects (a strip of caps
   // along a wall thinner than rounding) takes many rounds. The repair goes on while the number of
@@ -428,6 +429,36 @@ bool repair_rounding(BooleanResult& r, Rounding& rd, std::vector<u32>* left, boo
       return true;
     };
     FoldCollapse folds(tris, r.mesh.positions.size(), touched);
+    // a -> b: a goes, its triangles take b, where the link condition holds (the common
+    // neighbours of a and b are the two opposite vertices), or else (with `fold`) where a fold's
+    // two triangles come to lie on each other and both go.
+    auto collapse = [&](u32 a, u32 b, bool fold) {
+      const std::vector<u32> na = neighbours(a), nb = neighbours(b);
+      std::vector<u32> common, opposite;
+      std::set_intersection(na.begin(), na.end(), nb.begin(), nb.end(), std::back_inserter(common));
+      for (u32 x : around[a]) {
+        const auto& X = tris[x];
+        if (X[0] == b || X[1] == b || X[2] == b)
+          for (u32 v : X)
+            if (v != a && v != b) opposite.push_back(v);
+      }
+      std::sort(opposite.begin(), opposite.end());
+      if (opposite.size() != 2 || common != opposite) {
+        if (!fold || !folds(a, b)) return false;
+        for (u32 x : folds.changed) rd.recheck[x] = 1;
+        ++rd.collapses;
+        return true;
+      }
+      for (u32 x : around[a]) {
+        for (u32& v : tris[x])
+          if (v == a) v = b;
+        rd.recheck[x] = 1;
+      }
+      for (u32 v : na) touched[v] = 1;
+      touched[a] = touched[b] = 1;
+      ++rd.collapses;
+      return true;
+    };
     for (u32 t : bad) {
       const auto T = tris[t];
       if (touched[T[0]] || touched[T[1]] || touched[T[2]]) continue;
@@ -445,43 +476,41 @@ bool repair_rounding(BooleanResult& r, Rounding& rd, std::vector<u32>* left, boo
           const double ab = cost(a, b), ba = cost(b, a);
           if (ba < ab || (ba == ab && b > a)) std::swap(a, b);
         }
-        // Link condition: the common neighbours of a and b are the two opposite vertices.
-        const std::vector<u32> na = neighbours(a), nb = neighbours(b);
-        std::vector<u32> common, opposite;
-        std::set_intersection(na.begin(), na.end(), nb.begin(), nb.end(), std::back_inserter(common));
-        for (u32 x : around[a]) {
-          const auto& X = tris[x];
-          if (X[0] == b || X[1] == b || X[2] == b)
-            for (u32 v : X)
-              if (v != a && v != b) opposite.push_back(v);
+        if (collapse(a, b, true)) {
+          changed = done = true;
+          break;
         }
-        std::sort(opposite.begin(), opposite.end());
-        if (opposite.size() != 2 || common != opposite) {
-          if (folds(a, b)) {
-            for (u32 x : folds.changed) rd.recheck[x] = 1;
-            changed = done = true;
-            ++rd.collapses;
-            break;
-          }
-          continue;
-        }
-        for (u32 x : around[a]) {
-          for (u32& v : tris[x])
-            if (v == a) v = b;
-          rd.recheck[x] = 1;
-        }
-        for (u32 v : na) touched[v] = 1;
-        touched[a] = touched[b] = 1;
-        changed = done = true;
-        ++rd.collapses;
-        break;
       }
       if (!done && flip_cap(t)) changed = true;
     }
     if (!changed) {
       // No short edge to collapse: rounded vertices of the bad triangles may move by a few ulps.
-      if (!snap || ++snaps > 4 || !snap_rounded(r.mesh, *rd.soup, rd.src, rd.sign, rd.moved, bad, rd.recheck)) break;
-      continue;
+      if (snap && snaps < 4 && (++snaps, snap_rounded(r.mesh, *rd.soup, rd.src, rd.sign, rd.moved, bad, rd.recheck) > 0))
+        continue;
+      // Last, a bad triangle's rounded vertex goes into a neighbour across an edge of any
+      // length where every triangle around it stays within flat_tol of its source's plane:
+      // sheets a few ulps apart (nearly flush faces, one of them split off its plane by its own
+      // rounding) whose pieces rounding made overlap; the surface moves by no more than that.
+      for (u32 t : bad) {
+        const auto T = tris[t];
+        if (touched[T[0]] || touched[T[1]] || touched[T[2]]) continue;
+        std::array<std::pair<double, std::array<u32, 2>>, 6> ways;
+        int n = 0;
+        for (int e = 0; e < 3; ++e)
+          for (int d = 0; d < 2; ++d) {
+            const u32 a = d ? T[(e + 1) % 3] : T[e], b = d ? T[e] : T[(e + 1) % 3];
+            if (!rd.moved[a]) continue;
+            const double c = cost(a, b);
+            if (c <= flat_tol) ways[n++] = {c, {a, b}};
+          }
+        std::sort(ways.begin(), ways.begin() + n);
+        for (int i = 0; i < n; ++i)
+          if (collapse(ways[i].second[0], ways[i].second[1], false)) {
+            changed = true;
+            break;
+          }
+      }
+      if (!changed) break;
     }
     compact(r, &rd);
   }
@@ -491,11 +520,120 @@ bool repair_rounding(BooleanResult& r, Rounding& rd, std::vector<u32>* left, boo
   return ok;
 }
 
+// Removes the shells thinner than rounding: a shell with a vertex that rounding moved whose
+// volume is within what moving its vertices by a few ulps could change (and the error of
+// computing it). Rounding can turn such a shell inside out without any triangle crossing another
+// or turning over in its source's projection (a sliver tetrahedron between nearly coincident
+// faces, three of its corners nearly on one line: the checks above find nothing), and its exact
+// volume is below what doubles hold at its size. Shells are the components joined through shared
+// vertices (touching solids have their own copies). Returns the number removed.
+std::size_t drop_flat_shells(BooleanResult& r, Rounding& rd) {
+  const auto& P = r.mesh.positions;
+  auto& tris = r.mesh.triangles;
+  const std::size_t nv = P.size(), nt = tris.size();
+  if (nt == 0) return 0;
+  Dsu shell(nv);
+  parallel_for(0, nt, [&](std::size_t t) {
+    shell.unite_shared(tris[t][0], tris[t][1]);
+    shell.unite_shared(tris[t][0], tris[t][2]);
+  });
+  std::vector<u32> root(nv);
+  parallel_for(0, nv, [&](std::size_t v) { root[v] = shell.find_shared(static_cast<u32>(v)); });
+  // Per shell (by root, its smallest vertex: the origin of its sums, so that their error scales
+  // with the shell's size and not its place): whether a vertex moved, the largest coordinate,
+  // six times the volume (Kahan sums), twice the area, and what bounds the sums' errors. Summed
+  // per block of triangles in order, and the blocks in order: the same bits at any thread count.
+  struct Sums {
+    u32 root;
+    bool moved = false;
+    double reach = 0, vol = 0, comp = 0, area = 0, size = 0, magnitude = 0;
+  };
+  constexpr std::size_t kBlock = 16384;
+  std::vector<double> bigs((nv + kBlock - 1) / kBlock, 0);
+  parallel_for(0, bigs.size(), [&](std::size_t b) {
+    for (std::size_t v = b * kBlock; v < std::min(nv, (b + 1) * kBlock); ++v)
+      bigs[b] = std::max(bigs[b], P[v].cwiseAbs().maxCoeff());
+  });
+  const double big = *std::max_element(bigs.begin(), bigs.end());
+  if (!(big > 0) || !std::isfinite(big)) return 0;
+  const double scale = std::ldexp(1.0, -std::ilogb(big));
+  const std::size_t nb = (nt + kBlock - 1) / kBlock;
+  std::vector<std::vector<Sums>> blocks(nb);
+  parallel_for(0, nb, [&](std::size_t b) {
+    auto& out = blocks[b];
+    for (std::size_t t = b * kBlock; t < std::min(nt, (b + 1) * kBlock); ++t) {
+      const auto& T = tris[t];
+      const u32 s = root[T[0]];
+      if (out.empty() || out.back().root != s) {
+        auto it = std::find_if(out.begin(), out.end(), [&](const Sums& x) { return x.root == s; });
+        if (it == out.end()) out.push_back({s});
+        else std::rotate(it, it + 1, out.end());  // the last one used goes last
+      }
+      Sums& x = out.back();
+      const Vec3& o = P[s];
+      // Scaled by a power of two (exact) to the model's size: no underflow at 1e-150.
+      const Vec3 a = (P[T[0]] - o) * scale, e1 = (P[T[1]] - P[T[0]]) * scale, e2 = (P[T[2]] - P[T[0]]) * scale;
+      const Vec3 n = e1.cross(e2);
+      const double det = a.dot(n);
+      const double y = det - x.comp, sum = x.vol + y;
+      x.comp = (sum - x.vol) - y;
+      x.vol = sum;
+      x.area += n.norm();
+      x.size += a.norm() * e1.norm() * e2.norm();
+      x.magnitude += std::abs(det);
+      for (u32 v : T) {
+        x.moved |= rd.moved[v] != 0;
+        x.reach = std::max(x.reach, P[v].cwiseAbs().maxCoeff());
+      }
+    }
+    std::sort(out.begin(), out.end(), [](const Sums& x, const Sums& y) { return x.root < y.root; });
+  });
+  std::vector<Sums> all;
+  for (const auto& out : blocks)
+    for (const Sums& x : out) {
+      auto it = std::lower_bound(all.begin(), all.end(), x.root, [](const Sums& y, u32 r) { return y.root < r; });
+      if (it == all.end() || it->root != x.root) {
+        all.insert(it, x);
+        continue;
+      }
+      it->moved |= x.moved;
+      it->reach = std::max(it->reach, x.reach);
+      const double y = x.vol - it->comp, sum = it->vol + y;
+      it->comp = (sum - it->vol) - y + x.comp;
+      it->vol = sum;
+      it->area += x.area;
+      it->size += x.size;
+      it->magnitude += x.magnitude;
+    }
+  constexpr double eps = 0x1p-53;
+  std::vector<u32> flat;
+  for (const Sums& x : all) {
+    if (!x.moved) continue;  // exact: its volume has the sign classification gave it
+    // Each vertex within delta of its exact place (sqrt(3) / 2 ulps). Moving vertex v by d
+    // changes six times the volume by d . sum over v's triangles of (b - v) x (c - v): at most
+    // 3 delta times the sum of |(b - a) x (c - a)| (first order; taken four times over). Each
+    // term (a - o) . ((b - a) x (c - a)) is within about 10 eps |a - o| |b - a| |c - a| of the
+    // computed one (its differences and products rounded), the Kahan sum within 2 eps of the sum
+    // of their sizes.
+    const double delta = 0x1p-52 * x.reach * scale;
+    const double moves = 4 * 3 * delta * x.area;
+    const double error = 16 * eps * x.size + 4 * eps * x.magnitude;
+    if (std::abs(x.vol) <= moves + error) flat.push_back(x.root);
+  }
+  if (flat.empty()) return 0;
+  parallel_for(0, nt, [&](std::size_t t) {
+    auto& T = tris[t];
+    if (std::binary_search(flat.begin(), flat.end(), root[T[0]])) T = {T[0], T[0], T[0]};  // compact() drops it
+  });
+  compact(r, &rd);
+  return flat.size();
+}
+
 }  // namespace
 
 BooleanResult assemble(const Points& pts, const Arrangement& arr, const std::vector<std::int8_t>& keep,
                        std::size_t* collapses, bool* unresolved, std::vector<u32>* crossing,
-                       const std::vector<std::array<u32, 3>>* piece_adj, bool snap) {
+                       const std::vector<std::array<u32, 3>>* piece_adj, bool snap, std::size_t* flat_shells) {
   const Soup& soup = pts.soup();
   // The kept pieces, in order (per-block counts, then each block copied in parallel).
   constexpr std::size_t kBlock = 65536;
@@ -703,24 +841,24 @@ BooleanResult assemble(const Points& pts, const Arrangement& arr, const std::vec
   // around both ends of that edge (a third solid joins the two near each end), the pairs get the
   // same copies of both ends, and the edge would have four triangles: there the neighbours in
   // front are paired instead (the empty wedges kept apart; around each end they are apart, the
-  // solid being one), which gives each end one copy per wedge. (Around a vertex, the wedges of
-  // one kind that meet at an edge are either joined elsewhere or not, and those of the other
-  // kind then the opposite. Decided edge by edge in the order of their first corners; a few
-  // rounds at most.)
+  // solid being one), which gives each end one copy per wedge. (Where two solids meet at an
+  // edge, the solid wedges are joined elsewhere around a vertex or the empty ones are, not both;
+  // with three or more, both can be: see below. Decided edge by edge in the order of their first
+  // corners; a few rounds at most.)
   std::sort(sheets.begin(), sheets.end(), [](const Sheets& x, const Sheets& y) { return x.ce[0] < y.ce[0]; });
   std::vector<char> in_front(sheets.size(), 0);
+  // The copies of an edge's two ends in a triangle on it (corner-edge c).
+  auto ends = [&](u32 c) {
+    const u32 t = c / 3, e = c % 3;
+    const u32 x = corners.find_shared(t * 3 + e), y = corners.find_shared(t * 3 + (e + 1) % 3);
+    const bool forward = tris[t][e] < tris[t][(e + 1) % 3];
+    return forward ? std::array<u32, 2>{x, y} : std::array<u32, 2>{y, x};
+  };
   for (int round = 0; round < 4 && !sheets.empty(); ++round) {
     bool switched = false;
     for (std::size_t k = 0; k < sheets.size(); ++k) {
       if (in_front[k]) continue;
       const auto& ce = sheets[k].ce;
-      // The copies of the edge's two ends in each triangle on it.
-      auto ends = [&](u32 c) {
-        const u32 t = c / 3, e = c % 3;
-        const u32 x = corners.find_shared(t * 3 + e), y = corners.find_shared(t * 3 + (e + 1) % 3);
-        const bool forward = tris[t][e] < tris[t][(e + 1) % 3];
-        return forward ? std::array<u32, 2>{x, y} : std::array<u32, 2>{y, x};
-      };
       // Each pair's two triangles have the same copies; two pairs with the same copies conflict.
       std::vector<std::array<u32, 2>> copies;
       for (u32 c : ce) copies.push_back(ends(c));
@@ -734,6 +872,22 @@ BooleanResult assemble(const Points& pts, const Arrangement& arr, const std::vec
     if (!switched) break;
     corners = Dsu(nt * 3);
     join_corners(corners);
+  }
+  // Where the empty wedges conflict too, no pairing of neighbours keeps the copies apart: three
+  // solids at an edge, two of them joined around both its ends and two of the empty wedges as
+  // well (around a vertex both can hold once three solids meet: the two solids' joining path
+  // closes a loop that leaves the third solid and both empty wedges beside it on one side).
+  // There each pair but the first with the same copies gets its own copy of the edge's midpoint:
+  // its two triangles are split there (below), and no edge has more than two triangles.
+  std::vector<u32> split;  // corner-edges of pairs to split (the forward one of each)
+  for (std::size_t k = 0; k < sheets.size(); ++k) {
+    if (!in_front[k]) continue;
+    std::vector<std::pair<std::array<u32, 2>, u32>> pairs;  // (copies, forward corner-edge)
+    for (u32 c : sheets[k].ce)
+      if (tris[c / 3][c % 3] == sheets[k].a) pairs.push_back({ends(c), c});
+    std::stable_sort(pairs.begin(), pairs.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
+    for (std::size_t x = 1; x < pairs.size(); ++x)
+      if (pairs[x].first == pairs[x - 1].first) split.push_back(pairs[x].second);
   }
   // A copy's root is its smallest corner, the first met in corner order: copies are numbered in
   // the order of their roots (a count per block of corners, then the blocks' offsets).
@@ -781,9 +935,56 @@ BooleanResult assemble(const Points& pts, const Arrangement& arr, const std::vec
     for (u32 v : r.mesh.triangles[t])
       if (rd.moved[v]) rd.recheck[t] = 1;
   });
+  if (!split.empty()) {
+    // The split: each triangle (p, q, w) of a pair on edge p -> q becomes (p, m, w) and
+    // (m, q, w), m a new copy at the edge's midpoint (rounded: it moved); the halves keep the
+    // triangle's source and orientation. A triangle split before is looked for among its halves.
+    std::vector<std::vector<u32>> halves(nt);
+    auto& T = r.mesh.triangles;
+    auto split_at = [&](u32 t, u32 p, u32 q, u32 m) {
+      for (u32 x : halves[t].empty() ? std::vector<u32>{t} : halves[t])
+        for (int e = 0; e < 3; ++e)
+          if (T[x][e] == p && T[x][(e + 1) % 3] == q) {
+            const u32 w = T[x][(e + 2) % 3], y = static_cast<u32>(T.size());
+            T[x] = {p, m, w};
+            T.push_back({m, q, w});
+            r.operand.push_back(r.operand[x]);
+            r.source.push_back(r.source[x]);
+            r.mesh.face_ids.push_back(r.mesh.face_ids[x]);
+            rd.src.push_back(rd.src[x]);
+            rd.sign.push_back(rd.sign[x]);
+            rd.recheck[x] = 1;
+            rd.recheck.push_back(1);
+            if (halves[t].empty()) halves[t].push_back(t);
+            halves[t].push_back(y);
+            return;
+          }
+      fail("boolean: internal error: an edge to split is not in its triangle");
+    };
+    for (u32 c : split) {
+      const u32 t = c / 3, e = c % 3, u = partner[c] / 3;
+      const u32 p = T[t][e], q = T[t][(e + 1) % 3];
+      const u32 m = static_cast<u32>(r.mesh.positions.size());
+      r.mesh.positions.push_back(0.5 * (r.mesh.positions[p] + r.mesh.positions[q]));
+      rd.moved.push_back(1);
+      split_at(t, p, q, m);
+      split_at(u, q, p, m);
+    }
+    rd.collapses += split.size();
+  }
+  std::size_t flat = 0;
   soup.poll();
-  const bool ok = repair_rounding(r, rd, crossing, snap);
+  bool ok = repair_rounding(r, rd, crossing, snap);
+  if (!ok) {
+    // Shells thinner than rounding, left out, may have been all that was wrong (or be what keeps
+    // the repair from mending the rest).
+    const std::size_t n = drop_flat_shells(r, rd);
+    flat += n;
+    if (n) ok = repair_rounding(r, rd, crossing, snap);
+  }
+  if (ok) flat += drop_flat_shells(r, rd);
   if (collapses) *collapses += rd.collapses;
+  if (flat_shells) *flat_shells += flat;
   if (unresolved) *unresolved = !ok;
   if (!ok && !unresolved) {
     std::vector<u32> bad = rounding_defects(r.mesh, rd);
