@@ -37,6 +37,7 @@ struct Rounding {
   std::vector<std::int8_t> sign;    // per triangle: exact orientation in the projection along k(src)
   std::vector<char> recheck;        // per triangle: to be checked (it has changed since the last check)
   std::size_t collapses = 0;
+  std::vector<char> altered;        // per vertex: the repair changed its triangles (empty: none did)
 };
 
 // Removes triangles with a repeated vertex and positions no triangle uses (keeping the
@@ -68,18 +69,21 @@ void compact(BooleanResult& r, Rounding* rd) {
   }
   std::vector<u32> index(r.mesh.positions.size(), kNone);
   std::vector<Vec3> pos;
-  std::vector<char> mv;
+  std::vector<char> mv, alt;
+  const bool altered = rd && !rd->altered.empty();
   for (auto& T : r.mesh.triangles)
     for (auto& v : T) {
       if (index[v] == kNone) {
         index[v] = static_cast<u32>(pos.size());
         pos.push_back(r.mesh.positions[v]);
         if (rd) mv.push_back(rd->moved[v]);
+        if (altered) alt.push_back(rd->altered[v]);
       }
       v = index[v];
     }
   r.mesh.positions.swap(pos);
   if (rd) rd->moved.swap(mv);
+  if (altered) rd->altered.swap(alt);
 }
 
 // The orientation of rounded triangle t in the projection along its source's axis (exact).
@@ -171,8 +175,10 @@ std::vector<u32> rounding_defects(const Mesh& m, const Rounding& rd) {
         const bool want_t = active[t] && !bad[t].load(std::memory_order_relaxed);
         const bool want_u = active[u] && !bad[u].load(std::memory_order_relaxed);
         if ((want_t || want_u) && triangles_clash(s, t, u)) {
-          if (active[t]) bad[t] = 1;
-          if (active[u]) bad[u] = 1;
+          // Both: the one not rechecked may be the one whose vertex can move (a rounded cut
+          // point tilting it into an input triangle that nothing moved).
+          bad[t] = 1;
+          bad[u] = 1;
         }
       },
       &cert);
@@ -512,6 +518,12 @@ bool repair_rounding(BooleanResult& r, Rounding& rd, std::vector<u32>* left, boo
       }
       if (!changed) break;
     }
+    // The vertices whose triangles changed: their shells are no longer as classification made
+    // them (drop_flat_shells looks at those too).
+    rd.altered.resize(r.mesh.positions.size(), 0);
+    for (std::size_t t = 0; t < tris.size(); ++t)
+      if (rd.recheck[t])
+        for (u32 v : tris[t]) rd.altered[v] = 1;
     compact(r, &rd);
   }
   std::vector<u32> bad = rounding_defects(r.mesh, rd);
@@ -582,7 +594,7 @@ std::size_t drop_flat_shells(BooleanResult& r, Rounding& rd) {
       x.size += a.norm() * e1.norm() * e2.norm();
       x.magnitude += std::abs(det);
       for (u32 v : T) {
-        x.moved |= rd.moved[v] != 0;
+        x.moved |= rd.moved[v] != 0 || (!rd.altered.empty() && rd.altered[v] != 0);
         x.reach = std::max(x.reach, P[v].cwiseAbs().maxCoeff());
       }
     }
@@ -608,7 +620,7 @@ std::size_t drop_flat_shells(BooleanResult& r, Rounding& rd) {
   constexpr double eps = 0x1p-53;
   std::vector<u32> flat;
   for (const Sums& x : all) {
-    if (!x.moved) continue;  // exact: its volume has the sign classification gave it
+    if (!x.moved) continue;  // exact and untouched: its volume has the sign classification gave it
     // Each vertex within delta of its exact place (sqrt(3) / 2 ulps). Moving vertex v by d
     // changes six times the volume by d . sum over v's triangles of (b - v) x (c - v): at most
     // 3 delta times the sum of |(b - a) x (c - a)| (first order; taken four times over). Each
@@ -967,6 +979,7 @@ BooleanResult assemble(const Points& pts, const Arrangement& arr, const std::vec
       const u32 m = static_cast<u32>(r.mesh.positions.size());
       r.mesh.positions.push_back(0.5 * (r.mesh.positions[p] + r.mesh.positions[q]));
       rd.moved.push_back(1);
+      if (!rd.altered.empty()) rd.altered.push_back(1);
       split_at(t, p, q, m);
       split_at(u, q, p, m);
     }

@@ -51,6 +51,12 @@ struct FlushTrial {
   std::vector<std::array<Vec3, 2>> boxes;
   std::vector<Mesh> ops;
 };
+// A turn by 0.5 rad about (1, 2, 3), rounded: every box's faces a few ulps off their planes.
+Vec3 turned(const Vec3& p) {
+  const Vec3 k = Vec3(1, 2, 3).normalized();
+  const double c = std::cos(0.5), s = std::sin(0.5);
+  return p * c + k.cross(p) * s + k * (k.dot(p)) * (1 - c);
+}
 FlushTrial flush_boxes(std::mt19937& rng, int trial, int map) {
   std::uniform_int_distribution<int> coord(0, 4), extent(1, 3), pick(0, 3);
   FlushTrial f;
@@ -75,6 +81,7 @@ FlushTrial flush_boxes(std::mt19937& rng, int trial, int map) {
     for (auto& p : m.positions) {
       if (map == 1) p = Vec3(p.x() - p.y(), p.x() + p.y(), p.z());
       if (map == 2) p = Vec3(p.x() + p.y(), p.y() + p.z(), p.x() + p.z());
+      if (map == 3) p = turned(p);
     }
     f.ops.push_back(m);
   }
@@ -327,6 +334,24 @@ TEST_CASE("boolean: nearly flush boxes on slanted planes, where rounding fails i
     const BooleanResult r = run(BooleanOp::Difference, f.ops, st);
     CHECK(r.mesh.volume() == Approx(2 * boxes_volume(BooleanOp::Difference, f.boxes)).margin(1e-11));
     CHECK(st.collapses > 0);
+  }
+  SECTION("turned boxes: a piece tilted into one that nothing moved, and a sliver the repair made") {
+    // Turned by 0.5 rad, three boxes' faces and edges nearly coincide. In the union a rounded cut
+    // point tilted two pieces into a box's bottom, whose triangles nothing had moved: those were
+    // the ones found (the pair's other side was not being checked), and with no rounded vertex
+    // there was nothing to mend. In the difference (one box inside another, faces shared) the
+    // repair's collapses left a sliver whose vertices were all the operands': it kept its
+    // inside-out volume (-1.5e-17) as an untouched shell would.
+    const FlushTrial u = flush_trial(12, 9, 3);
+    BooleanStats su;
+    const BooleanResult ru = run(BooleanOp::Union, u.ops, su);
+    CHECK(ru.mesh.volume() == Approx(boxes_volume(BooleanOp::Union, u.boxes)).epsilon(1e-12));
+    const FlushTrial d = flush_trial(14, 77, 3);
+    BooleanStats sd;
+    const BooleanResult rd = run(BooleanOp::Difference, d.ops, sd);
+    CHECK(boxes_volume(BooleanOp::Difference, d.boxes) == 0);
+    CHECK(rd.mesh.triangles.empty());
+    CHECK(sd.flat_shells > 0);
   }
   SECTION("six triangles on an edge that neither pairing keeps apart: one pair's edge is split") {
     // Three solids meet at an edge; two of them are joined around both its ends, and so are two
