@@ -96,6 +96,18 @@ FlushTrial flush_trial(unsigned seed, int trial, int map) {
   return flush_boxes(rng, trial, map);
 }
 
+// That trial's boolean, checked valid and against the boxes' exact volume (twice it on the
+// slanted maps); its stats, and the result in `out` if given.
+BooleanStats flush_case(unsigned seed, int trial, int map, BooleanOp op, BooleanResult* out = nullptr) {
+  const FlushTrial f = flush_trial(seed, trial, map);
+  BooleanStats st;
+  const BooleanResult r = run(op, f.ops, st);
+  const double scale = map == 1 || map == 2 ? 2 : 1;
+  CHECK(r.mesh.volume() == Approx(scale * boxes_volume(op, f.boxes)).margin(1e-11));
+  if (out) *out = r;
+  return st;
+}
+
 }  // namespace
 
 TEST_CASE("boolean: cut triangles of one flat face are retriangulated as quadrilaterals", "[boolean][quads]") {
@@ -301,15 +313,13 @@ TEST_CASE("boolean: boxes on a coarse grid, flush everywhere, their faces' diago
   }
 }
 
-TEST_CASE("boolean: nearly flush boxes on slanted planes, where rounding fails in ways no triangle shows", "[boolean][quads]") {
+TEST_CASE("boolean: nearly flush boxes, slanted or turned: where rounding fails in ways no triangle shows", "[boolean][quads]") {
+  BooleanResult r;
   SECTION("a sliver shell turned inside out: shells thinner than rounding go") {
     // The difference leaves one shell between nearly flush faces: a tetrahedron three of whose
     // corners are nearly on one line. Rounded, it was turned inside out (its volume -2.5e-17)
     // while no triangle crossed another or turned over in its source's projection.
-    const FlushTrial f = flush_trial(20, 250, 2);
-    BooleanStats st;
-    const BooleanResult r = run(BooleanOp::Difference, f.ops, st);
-    CHECK(boxes_volume(BooleanOp::Difference, f.boxes) == 0);
+    const BooleanStats st = flush_case(20, 250, 2, BooleanOp::Difference, &r);
     CHECK(r.mesh.triangles.empty());
     CHECK(st.flat_shells == 1);
   }
@@ -317,11 +327,7 @@ TEST_CASE("boolean: nearly flush boxes on slanted planes, where rounding fails i
     // Nearly flush faces' pieces that rounding makes cross (no short edge to collapse, no ulp
     // to move): the rounded mesh's own exact arrangement, winding number >= 1 kept, rounds
     // cleanly.
-    const FlushTrial f = flush_trial(1, 135, 2);
-    BooleanStats st;
-    const BooleanResult r = run(BooleanOp::Difference, f.ops, st);
-    CHECK(r.mesh.volume() == Approx(2 * boxes_volume(BooleanOp::Difference, f.boxes)).margin(1e-11));
-    CHECK(st.resolutions > 0);
+    CHECK(flush_case(1, 135, 2, BooleanOp::Difference).resolutions > 0);
   }
   SECTION("pieces of sheets a few ulps apart that rounding makes overlap: a vertex goes across a flat edge") {
     // A box's face and a grid box's face nearly flush: rounded, a cut point tilted a piece of
@@ -329,11 +335,7 @@ TEST_CASE("boolean: nearly flush boxes on slanted planes, where rounding fails i
     // and each re-resolution made more such crossings ("cannot be rounded"). The cut point now
     // goes into a neighbour across an edge around which everything lies within 64 ulps of its
     // source's plane.
-    const FlushTrial f = flush_trial(25, 59, 2);
-    BooleanStats st;
-    const BooleanResult r = run(BooleanOp::Difference, f.ops, st);
-    CHECK(r.mesh.volume() == Approx(2 * boxes_volume(BooleanOp::Difference, f.boxes)).margin(1e-11));
-    CHECK(st.collapses > 0);
+    CHECK(flush_case(25, 59, 2, BooleanOp::Difference).collapses > 0);
   }
   SECTION("turned boxes: a piece tilted into one that nothing moved, and a sliver the repair made") {
     // Turned by 0.5 rad, three boxes' faces and edges nearly coincide. In the union a rounded cut
@@ -342,25 +344,16 @@ TEST_CASE("boolean: nearly flush boxes on slanted planes, where rounding fails i
     // there was nothing to mend. In the difference (one box inside another, faces shared) the
     // repair's collapses left a sliver whose vertices were all the operands': it kept its
     // inside-out volume (-1.5e-17) as an untouched shell would.
-    const FlushTrial u = flush_trial(12, 9, 3);
-    BooleanStats su;
-    const BooleanResult ru = run(BooleanOp::Union, u.ops, su);
-    CHECK(ru.mesh.volume() == Approx(boxes_volume(BooleanOp::Union, u.boxes)).epsilon(1e-12));
-    const FlushTrial d = flush_trial(14, 77, 3);
-    BooleanStats sd;
-    const BooleanResult rd = run(BooleanOp::Difference, d.ops, sd);
-    CHECK(boxes_volume(BooleanOp::Difference, d.boxes) == 0);
-    CHECK(rd.mesh.triangles.empty());
-    CHECK(sd.flat_shells > 0);
+    flush_case(12, 9, 3, BooleanOp::Union);
+    const BooleanStats st = flush_case(14, 77, 3, BooleanOp::Difference, &r);
+    CHECK(r.mesh.triangles.empty());
+    CHECK(st.flat_shells > 0);
   }
   SECTION("six triangles on an edge that neither pairing keeps apart: one pair's edge is split") {
     // Three solids meet at an edge; two of them are joined around both its ends, and so are two
     // of the empty wedges between them. Paired either way, two pairs had the same copies of both
     // ends: an edge of four triangles. One pair now has its own copy of the edge's midpoint.
-    const FlushTrial f = flush_trial(99, 99, 2);
-    BooleanStats st;
-    const BooleanResult r = run(BooleanOp::Union, f.ops, st);
-    CHECK(r.mesh.volume() == Approx(2 * boxes_volume(BooleanOp::Union, f.boxes)).epsilon(1e-12));
-    same_at_two_threads(BooleanOp::Union, f.ops, r, st);
+    const BooleanStats st = flush_case(99, 99, 2, BooleanOp::Union, &r);
+    same_at_two_threads(BooleanOp::Union, flush_trial(99, 99, 2).ops, r, st);
   }
 }
