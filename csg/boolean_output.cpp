@@ -600,23 +600,25 @@ std::size_t drop_flat_shells(BooleanResult& r, Rounding& rd) {
     }
     std::sort(out.begin(), out.end(), [](const Sums& x, const Sums& y) { return x.root < y.root; });
   });
-  std::vector<Sums> all;
-  for (const auto& out : blocks)
-    for (const Sums& x : out) {
-      auto it = std::lower_bound(all.begin(), all.end(), x.root, [](const Sums& y, u32 r) { return y.root < r; });
-      if (it == all.end() || it->root != x.root) {
-        all.insert(it, x);
-        continue;
-      }
-      it->moved |= x.moved;
-      it->reach = std::max(it->reach, x.reach);
-      const double y = x.vol - it->comp, sum = it->vol + y;
-      it->comp = (sum - it->vol) - y + x.comp;
-      it->vol = sum;
-      it->area += x.area;
-      it->size += x.size;
-      it->magnitude += x.magnitude;
+  // The blocks' sums of each shell, in block order (a stable sort), folded into the first.
+  std::vector<Sums> parts, all;
+  for (const auto& out : blocks) parts.insert(parts.end(), out.begin(), out.end());
+  std::stable_sort(parts.begin(), parts.end(), [](const Sums& x, const Sums& y) { return x.root < y.root; });
+  for (const Sums& x : parts) {
+    if (all.empty() || all.back().root != x.root) {
+      all.push_back(x);
+      continue;
     }
+    Sums& a = all.back();
+    a.moved |= x.moved;
+    a.reach = std::max(a.reach, x.reach);
+    const double y = x.vol - a.comp, sum = a.vol + y;
+    a.comp = (sum - a.vol) - y + x.comp;
+    a.vol = sum;
+    a.area += x.area;
+    a.size += x.size;
+    a.magnitude += x.magnitude;
+  }
   constexpr double eps = 0x1p-53;
   std::vector<u32> flat;
   for (const Sums& x : all) {
