@@ -936,6 +936,25 @@ Mesh sub_mesh(const Mesh& m, const std::vector<u32>& ids);
 // number of vertices removed.
 std::size_t merge_flat(const Points& pts, std::vector<std::array<u32, 3>>& tris, std::vector<u32>& src,
                        std::vector<char>& flipped, std::vector<u32>& piece);
+// What the rounding check knows of each output triangle besides the mesh: its source triangle in
+// the soup and the orientation its exact piece has in its source's projection.
+struct Rounding {
+  const Soup* soup;
+  std::vector<char> moved;          // per vertex: its position was rounded (not an input vertex)
+  std::vector<u32> src;             // per triangle: soup triangle
+  std::vector<std::int8_t> sign;    // per triangle: exact orientation in the projection along k(src)
+  std::vector<char> recheck;        // per triangle: to be checked (it has changed since the last check)
+  std::size_t collapses = 0;
+  std::vector<char> altered;        // per vertex: the repair changed its triangles (empty: none did)
+};
+// The triangles to recheck (rd.recheck) that are degenerate, turned over in their source's
+// projection, or meet another beyond their shared vertices, and the triangles they meet (exact,
+// on the rounded doubles) (boolean_round.cpp).
+std::vector<u32> rounding_defects(const Mesh& m, const Rounding& rd);
+// Mends rounding defects where it can (the bad ones left in `left`); true when none is left.
+bool repair_rounding(BooleanResult& r, Rounding& rd, std::vector<u32>* left, bool snap);
+// Leaves out the shells thinner than rounding; returns how many.
+std::size_t drop_flat_shells(BooleanResult& r, Rounding& rd);
 BooleanResult assemble(const Points& pts, const Arrangement& arr, const std::vector<std::int8_t>& keep,
                        std::size_t* collapses = nullptr, bool* unresolved = nullptr,
                        std::vector<u32>* crossing = nullptr,

@@ -1,0 +1,625 @@
+// Rounding repair: the rounded result checked exactly and mended where rounding broke it
+// (boolean_output.cpp's assemble rounds it). Defects are triangles turned over in their source's
+// projection or meeting another beyond what they share; they are mended by collapsing short
+// edges and folds, flipping caps, moving rounded vertices by an ulp (boolean_snap.cpp) and, last,
+// collapsing a rounded vertex across a flat edge. Shells thinner than rounding are left out.
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <numeric>
+
+#include "csg/boolean_impl.h"
+#include "kernel/error.h"
+#include "kernel/parallel.h"
+#include "kernel/predicates.h"
+
+namespace wedge::boolean_detail {
+
+namespace {
+
+
+
+// Removes triangles with a repeated vertex and positions no triangle uses (keeping the
+// per-triangle arrays in step, and the rounding's, if given).
+void compact(BooleanResult& r, Rounding* rd) {
+  std::size_t w = 0;
+  for (std::size_t t = 0; t < r.mesh.triangles.size(); ++t) {
+    const auto& T = r.mesh.triangles[t];
+    if (T[0] == T[1] || T[1] == T[2] || T[2] == T[0]) continue;
+    r.mesh.triangles[w] = T;
+    r.operand[w] = r.operand[t];
+    r.source[w] = r.source[t];
+    r.mesh.face_ids[w] = r.mesh.face_ids[t];
+    if (rd) {
+      rd->src[w] = rd->src[t];
+      rd->sign[w] = rd->sign[t];
+      rd->recheck[w] = rd->recheck[t];
+    }
+    ++w;
+  }
+  r.mesh.triangles.resize(w);
+  r.operand.resize(w);
+  r.source.resize(w);
+  r.mesh.face_ids.resize(w);
+  if (rd) {
+    rd->src.resize(w);
+    rd->sign.resize(w);
+    rd->recheck.resize(w);
+  }
+  std::vector<u32> index(r.mesh.positions.size(), kNone);
+  std::vector<Vec3> pos;
+  std::vector<char> mv, alt;
+  const bool altered = rd && !rd->altered.empty();
+  for (auto& T : r.mesh.triangles)
+    for (auto& v : T) {
+      if (index[v] == kNone) {
+        index[v] = static_cast<u32>(pos.size());
+        pos.push_back(r.mesh.positions[v]);
+        if (rd) mv.push_back(rd->moved[v]);
+        if (altered) alt.push_back(rd->altered[v]);
+      }
+      v = index[v];
+    }
+  r.mesh.positions.swap(pos);
+  if (rd) rd->moved.swap(mv);
+  if (altered) rd->altered.swap(alt);
+}
+
+// The orientation of rounded triangle t in the projection along its source's axis (exact).
+int projected_sign(const Mesh& m, const Rounding& rd, std::size_t t) {
+  const int k = rd.soup->axis[rd.src[t]], i = (k + 1) % 3, j = (k + 2) % 3;
+  const auto& T = m.triangles[t];
+  auto p2 = [&](int c) { return Point2(m.positions[T[c]][i], m.positions[T[c]][j]); };
+  return orient2d(p2(0), p2(1), p2(2));
+}
+
+}  // namespace
+
+Mesh sub_mesh(const Mesh& m, const std::vector<u32>& ids) {
+  Mesh out;
+  std::vector<u32> index(m.positions.size(), kNone);
+  for (u32 t : ids) {
+    std::array<u32, 3> T;
+    for (int k = 0; k < 3; ++k) {
+      u32& i = index[m.triangles[t][k]];
+      if (i == kNone) {
+        i = static_cast<u32>(out.positions.size());
+        out.positions.push_back(m.positions[m.triangles[t][k]]);
+      }
+      T[k] = i;
+    }
+    out.triangles.push_back(T);
+  }
+  return out;
+}
+
+
+// Triangles to recheck (rd.recheck) that are degenerate, turned over in their source's
+// projection, or meet another triangle beyond their shared vertices, decided exactly on the
+// rounded doubles. Pairs of triangles neither of which is to be rechecked are not looked at: they
+// were found apart by an earlier check and have not changed since.
+std::vector<u32> rounding_defects(const Mesh& m, const Rounding& rd) {
+  const std::size_t nt = m.triangles.size();
+  std::vector<u32> check;
+  for (std::size_t t = 0; t < nt; ++t)
+    if (rd.recheck[t]) check.push_back(static_cast<u32>(t));
+  if (check.empty()) return {};
+  // The triangles looked at: all of them, or (a few to recheck, as after a repair round) those
+  // whose boxes meet a rechecked one's, found through a tree over the rechecked ones alone.
+  Mesh part_mesh;
+  const Mesh* mesh = &m;
+  std::vector<u32> part;  // soup triangle -> mesh triangle, when a part is taken
+  if (check.size() * 32 < nt) {
+    const Mesh few = sub_mesh(m, check);
+    std::vector<const Mesh*> one{&few};
+    const Soup fs = make_soup(one, rd.soup->interrupt);
+    std::vector<u32> ids(check.size());
+    std::iota(ids.begin(), ids.end(), 0u);
+    const Bvh near(fs, std::move(ids), 3);
+    std::vector<char> take(nt, 0);
+    parallel_for(0, nt, [&](std::size_t u) {
+      if (rd.recheck[u]) {
+        take[u] = 1;
+        return;
+      }
+      double lo[3], hi[3];
+      mesh_triangle_box(m, u, lo, hi);
+      near.query(lo, hi, [&](u32) { take[u] = 1; });
+    });
+    for (std::size_t t = 0; t < nt; ++t)
+      if (take[t]) part.push_back(static_cast<u32>(t));
+    part_mesh = sub_mesh(m, part);
+    mesh = &part_mesh;
+  }
+  auto orig = [&](u32 i) { return part.empty() ? i : part[i]; };
+  std::vector<const Mesh*> one{mesh};
+  const Soup s = make_soup(one, rd.soup->interrupt);
+  const std::size_t n = s.tris.size();
+  std::vector<char> active(n);
+  for (std::size_t i = 0; i < n; ++i) active[i] = rd.recheck[orig(static_cast<u32>(i))];
+  std::vector<std::atomic<char>> bad(n);
+  parallel_for(0, n, [&](std::size_t i) {
+    const u32 t = orig(static_cast<u32>(i));
+    if (active[i] && (s.axis[i] < 0 || projected_sign(m, rd, t) != rd.sign[t])) bad[i] = 1;
+  });
+  std::vector<u32> all(n);
+  std::iota(all.begin(), all.end(), 0u);
+  const Bvh bvh(s, std::move(all), 3);
+  // Pairs around a vertex whose star is certified embedded cannot cross.
+  const auto cert = star_certificates(s, nullptr, &active);
+  bvh.each_pair(
+      &active, &s,
+      [&](u32 t, u32 u) {
+        const bool want_t = active[t] && !bad[t].load(std::memory_order_relaxed);
+        const bool want_u = active[u] && !bad[u].load(std::memory_order_relaxed);
+        if ((want_t || want_u) && triangles_clash(s, t, u)) {
+          // Both: the one not rechecked may be the one whose vertex can move (a rounded cut
+          // point tilting it into an input triangle that nothing moved).
+          bad[t] = 1;
+          bad[u] = 1;
+        }
+      },
+      &cert);
+  std::vector<u32> out;
+  for (std::size_t i = 0; i < n; ++i)
+    if (bad[i]) out.push_back(orig(static_cast<u32>(i)));
+  return out;
+}
+
+namespace {
+
+// How far (approximately) position p is from the plane of soup triangle t.
+double plane_gap(const Soup& s, u32 t, const Vec3& p) {
+  const Vec3 &a = s.verts[s.tris[t][0]], &b = s.verts[s.tris[t][1]], &c = s.verts[s.tris[t][2]];
+  const Vec3 n = (b - a).cross(c - a);
+  const double len = n.norm();
+  return len > 0 ? std::abs(n.dot(p - a)) / len : 0.0;
+}
+
+// Whether the triangles `star` (each holding v) close around v as one disk: each link edge x -> y
+// (for the triangle v, x, y in turn) starts at a different x, and they join into one cycle.
+bool one_disk(u32 v, const std::vector<std::array<u32, 3>>& star) {
+  if (star.empty()) return false;
+  std::vector<std::pair<u32, u32>> link;
+  for (const auto& T : star) {
+    const int k = T[0] == v ? 0 : (T[1] == v ? 1 : 2);
+    link.push_back({T[(k + 1) % 3], T[(k + 2) % 3]});
+  }
+  std::sort(link.begin(), link.end());
+  for (std::size_t i = 1; i < link.size(); ++i)
+    if (link[i].first == link[i - 1].first) return false;
+  u32 at = link[0].first;
+  for (std::size_t steps = 0; steps < link.size(); ++steps) {
+    auto it = std::lower_bound(link.begin(), link.end(), std::make_pair(at, u32(0)));
+    if (it == link.end() || it->first != at) return false;
+    at = it->second;
+    if (at == link[0].first) return steps + 1 == link.size();
+  }
+  return false;
+}
+
+// An edge collapse a -> b where the link condition fails can still leave a closed manifold: the
+// two triangles of a fold (a, c, d) and (b, d, c) become one triangle both ways round, a film of
+// no volume, and go. (A wall thinner than rounding, turned, folds so: a short edge's ends had a
+// common neighbour beyond the two opposite vertices, and no pass could collapse it.) The collapse
+// is made where every vertex it changes keeps one disk of triangles around it, and none of them
+// is `touched` (changed earlier in the same sweep, which the stars, made once, do not know).
+// Triangles that go become {b, b, b}.
+class FoldCollapse {
+ public:
+  FoldCollapse(std::vector<std::array<u32, 3>>& tris, std::size_t nv, std::vector<char>& touched)
+      : tris_(tris), nv_(nv), touched_(touched) {}
+  std::vector<u32> changed;  // the triangles the last collapse changed
+
+  bool operator()(u32 a, u32 b) {
+    stars();
+    changed.clear();
+    std::vector<u32> set(star_tri_.begin() + star_first_[a], star_tri_.begin() + star_first_[a + 1]);
+    set.insert(set.end(), star_tri_.begin() + star_first_[b], star_tri_.begin() + star_first_[b + 1]);
+    std::sort(set.begin(), set.end());
+    set.erase(std::unique(set.begin(), set.end()), set.end());
+    std::vector<std::array<u32, 3>> now(set.size());
+    std::vector<char> gone(set.size(), 0);
+    std::vector<u32> affected;
+    for (std::size_t i = 0; i < set.size(); ++i) {
+      now[i] = tris_[set[i]];
+      for (u32& v : now[i]) {
+        affected.push_back(v);
+        if (v == a) v = b;
+      }
+      gone[i] = now[i][0] == now[i][1] || now[i][1] == now[i][2] || now[i][2] == now[i][0];
+    }
+    // A triangle and its reverse cancel; the same triangle twice is no manifold.
+    auto canon = [](std::array<u32, 3> T) {
+      while (T[0] > T[1] || T[0] > T[2]) T = {T[1], T[2], T[0]};
+      return T;
+    };
+    for (std::size_t i = 0; i < set.size(); ++i)
+      for (std::size_t j = i + 1; j < set.size() && !gone[i]; ++j) {
+        if (gone[j]) continue;
+        const auto x = canon(now[i]), y = canon(now[j]);
+        if (x == y) return false;
+        if (x == canon({now[j][0], now[j][2], now[j][1]})) gone[i] = gone[j] = 1;
+      }
+    std::sort(affected.begin(), affected.end());
+    affected.erase(std::unique(affected.begin(), affected.end()), affected.end());
+    for (u32 w : affected) {
+      if (touched_[w]) return false;
+      if (w == a) continue;
+      std::vector<std::array<u32, 3>> star;
+      for (u32 k = star_first_[w]; k < star_first_[w + 1]; ++k)
+        if (!std::binary_search(set.begin(), set.end(), star_tri_[k])) star.push_back(tris_[star_tri_[k]]);
+      for (std::size_t i = 0; i < set.size(); ++i)
+        if (!gone[i] && (now[i][0] == w || now[i][1] == w || now[i][2] == w)) star.push_back(now[i]);
+      if (star.empty() ? w == b : !one_disk(w, star)) return false;
+    }
+    for (std::size_t i = 0; i < set.size(); ++i) {
+      tris_[set[i]] = gone[i] ? std::array<u32, 3>{b, b, b} : now[i];
+      changed.push_back(set[i]);
+    }
+    for (u32 w : affected) touched_[w] = 1;
+    return true;
+  }
+
+ private:
+  // Every vertex's triangles, made when first needed.
+  void stars() {
+    if (!star_first_.empty()) return;
+    star_first_.assign(nv_ + 1, 0);
+    for (const auto& T : tris_)
+      for (u32 v : T) ++star_first_[v + 1];
+    for (std::size_t v = 0; v < nv_; ++v) star_first_[v + 1] += star_first_[v];
+    star_tri_.resize(star_first_.back());
+    std::vector<u32> fill(star_first_.begin(), star_first_.end() - 1);
+    for (std::size_t t = 0; t < tris_.size(); ++t)
+      for (u32 v : tris_[t]) star_tri_[fill[v]++] = static_cast<u32>(t);
+  }
+
+  std::vector<std::array<u32, 3>>& tris_;
+  std::size_t nv_;
+  std::vector<char>& touched_;
+  std::vector<u32> star_first_, star_tri_;
+};
+
+}  // namespace
+
+std::size_t collapse_short_edges(BooleanResult& r, double tau) {
+  auto& tris = r.mesh.triangles;
+  std::size_t total = 0;
+  for (int sweep = 0; sweep < 8; ++sweep) {
+    struct Edge {
+      double len2;
+      u32 a, b;
+    };
+    std::vector<Edge> edges;
+    for (const auto& T : tris)
+      for (int e = 0; e < 3; ++e) {
+        const u32 a = T[e], b = T[(e + 1) % 3];
+        const double l2 = (r.mesh.positions[a] - r.mesh.positions[b]).squaredNorm();
+        if (a < b && l2 < tau * tau) edges.push_back({l2, a, b});
+      }
+    if (edges.empty()) break;
+    std::sort(edges.begin(), edges.end(), [](const Edge& x, const Edge& y) {
+      return x.len2 != y.len2 ? x.len2 < y.len2 : (x.a != y.a ? x.a < y.a : x.b < y.b);
+    });
+    std::vector<char> touched(r.mesh.positions.size(), 0);
+    FoldCollapse fold(tris, r.mesh.positions.size(), touched);
+    std::size_t made = 0;
+    for (const Edge& e : edges) made += fold(e.b, e.a) || fold(e.a, e.b);  // the larger index goes, if it may
+    if (!made) break;
+    total += made;
+    compact(r, nullptr);
+  }
+  return total;
+}
+
+
+// Rounding repair: each bad triangle loses its shortest edge that has a rounded end, one end
+// collapsing into the other where the collapse keeps the surface a manifold (the link
+// condition). Of the two directions the one that keeps the surviving triangles closest to their
+// source planes is taken, and an input vertex never moves. Where no edge can go, and `snap` is
+// set, rounded vertices of the bad triangles move to neighbouring doubles (snap_rounded,
+// boolean_snap.cpp). Repeated until the exact check finds nothing.
+bool repair_rounding(BooleanResult& r, Rounding& rd, std::vector<u32>* left, bool snap) {
+  // Only edges that rounding itself could have made (a billionth of the model's size) are
+  // collapsed: collapsing a longer one would move the surface by more than rounding did.
+  Box3 bounds = r.mesh.bounds();
+  double limit = 1e-9 * (bounds.max - bounds.min).norm();
+  double limit2 = limit * limit;
+  const double flat_tol = 0x1p-46 * std::max(bounds.max.cwiseAbs().maxCoeff(), bounds.min.cwiseAbs().maxCoeff());
+  int snaps = 0;
+  // Each round changes a triangle's neighbourhood once: a cluster of defects (a strip of caps
+  // along a wall thinner than rounding) takes many rounds. The repair goes on while the number of
+  // defects keeps reaching new lows, and stops 16 rounds after the last one.
+  std::size_t fewest = SIZE_MAX;
+  for (int round = 0, since = 0; round < 1024 && since < 16; ++round, ++since) {
+    rd.soup->poll();
+    std::vector<u32> bad = rounding_defects(r.mesh, rd);
+    if (bad.empty()) return true;
+    if (bad.size() < fewest) fewest = bad.size(), since = 0;
+    // What the next round checks: the triangles still bad and those a collapse changes.
+    std::fill(rd.recheck.begin(), rd.recheck.end(), 0);
+    for (u32 t : bad) rd.recheck[t] = 1;
+    auto& tris = r.mesh.triangles;
+    // The triangles around each vertex of a bad triangle (the only vertices a collapse moves).
+    std::vector<char> wanted(r.mesh.positions.size(), 0);
+    for (u32 t : bad)
+      for (u32 v : tris[t]) wanted[v] = 1;
+    std::vector<std::vector<u32>> around(r.mesh.positions.size());
+    for (std::size_t t = 0; t < tris.size(); ++t)
+      for (u32 v : tris[t])
+        if (wanted[v]) around[v].push_back(static_cast<u32>(t));
+    std::vector<char> touched(r.mesh.positions.size(), 0);
+    bool changed = false;
+    auto neighbours = [&](u32 a) {
+      std::vector<u32> n;
+      for (u32 x : around[a])
+        for (u32 v : tris[x])
+          if (v != a) n.push_back(v);
+      std::sort(n.begin(), n.end());
+      n.erase(std::unique(n.begin(), n.end()), n.end());
+      return n;
+    };
+    // The largest distance of b from the source planes of a's triangles that survive a -> b.
+    auto cost = [&](u32 a, u32 b) {
+      double worst = 0;
+      for (u32 x : around[a]) {
+        const auto& X = tris[x];
+        if (X[0] == b || X[1] == b || X[2] == b) continue;
+        worst = std::max(worst, plane_gap(*rd.soup, rd.src[x], r.mesh.positions[b]));
+      }
+      return worst;
+    };
+    // A cap: t's vertex v lies within rounding of its longest edge a -> b (a wall thinner than
+    // rounding, met by a face of another copy, leaves these with every edge long: no collapse
+    // removes them). The edge is flipped: t and its neighbour (b, a, w) become (a, w, v) and
+    // (w, b, v), which cover the neighbour's part of the surface to within t's height. The
+    // neighbour's source and orientation go to both; the next check decides if they hold.
+    auto flip_cap = [&](u32 t) {
+      const auto T = tris[t];
+      int e = 0;
+      double longest = -1;
+      for (int k = 0; k < 3; ++k) {
+        const double l = (r.mesh.positions[T[k]] - r.mesh.positions[T[(k + 1) % 3]]).squaredNorm();
+        if (l > longest) longest = l, e = k;
+      }
+      const u32 a = T[e], b = T[(e + 1) % 3], v = T[(e + 2) % 3];
+      if (touched[a] || touched[b] || touched[v]) return false;
+      const Vec3 &pa = r.mesh.positions[a], &pb = r.mesh.positions[b], &pv = r.mesh.positions[v];
+      const double height = (pb - pa).cross(pv - pa).norm() / std::sqrt(longest);
+      if (!(height <= limit)) return false;
+      u32 u = kNone, w = kNone;
+      for (u32 x : around[a]) {
+        const auto& X = tris[x];
+        for (int k = 0; k < 3; ++k)
+          if (X[k] == b && X[(k + 1) % 3] == a) {
+            if (u != kNone) return false;  // not a manifold edge
+            u = x, w = X[(k + 2) % 3];
+          }
+      }
+      if (u == kNone || w == v || touched[w]) return false;
+      for (u32 x : around[v])
+        for (u32 y : tris[x])
+          if (y == w) return false;  // v - w is an edge already
+      tris[t] = {a, w, v};
+      tris[u] = {w, b, v};
+      rd.src[t] = rd.src[u];
+      rd.sign[t] = rd.sign[u];
+      r.operand[t] = r.operand[u];
+      r.source[t] = r.source[u];
+      r.mesh.face_ids[t] = r.mesh.face_ids[u];
+      rd.recheck[t] = rd.recheck[u] = 1;
+      touched[a] = touched[b] = touched[v] = touched[w] = 1;
+      ++rd.collapses;
+      return true;
+    };
+    FoldCollapse folds(tris, r.mesh.positions.size(), touched);
+    // a -> b: a goes, its triangles take b, where the link condition holds (the common
+    // neighbours of a and b are the two opposite vertices), or else (with `fold`) where a fold's
+    // two triangles come to lie on each other and both go.
+    auto collapse = [&](u32 a, u32 b, bool fold) {
+      const std::vector<u32> na = neighbours(a), nb = neighbours(b);
+      std::vector<u32> common, opposite;
+      std::set_intersection(na.begin(), na.end(), nb.begin(), nb.end(), std::back_inserter(common));
+      for (u32 x : around[a]) {
+        const auto& X = tris[x];
+        if (X[0] == b || X[1] == b || X[2] == b)
+          for (u32 v : X)
+            if (v != a && v != b) opposite.push_back(v);
+      }
+      std::sort(opposite.begin(), opposite.end());
+      if (opposite.size() != 2 || common != opposite) {
+        if (!fold || !folds(a, b)) return false;
+        for (u32 x : folds.changed) rd.recheck[x] = 1;
+        ++rd.collapses;
+        return true;
+      }
+      for (u32 x : around[a]) {
+        for (u32& v : tris[x])
+          if (v == a) v = b;
+        rd.recheck[x] = 1;
+      }
+      for (u32 v : na) touched[v] = 1;
+      touched[a] = touched[b] = 1;
+      ++rd.collapses;
+      return true;
+    };
+    for (u32 t : bad) {
+      const auto T = tris[t];
+      if (touched[T[0]] || touched[T[1]] || touched[T[2]]) continue;
+      // Candidate edges, shortest first.
+      std::array<int, 3> order = {0, 1, 2};
+      auto len = [&](int e) { return (r.mesh.positions[T[e]] - r.mesh.positions[T[(e + 1) % 3]]).squaredNorm(); };
+      std::sort(order.begin(), order.end(), [&](int x, int y) { return len(x) < len(y); });
+      bool done = false;
+      for (int e : order) {
+        u32 a = T[e], b = T[(e + 1) % 3];
+        if (!rd.moved[a] && !rd.moved[b]) continue;
+        if (len(e) > limit2) break;  // sorted: every later edge is longer
+        if (!rd.moved[a]) std::swap(a, b);  // a is removed, b kept
+        else if (rd.moved[b]) {
+          const double ab = cost(a, b), ba = cost(b, a);
+          if (ba < ab || (ba == ab && b > a)) std::swap(a, b);
+        }
+        if (collapse(a, b, true)) {
+          changed = done = true;
+          break;
+        }
+      }
+      if (!done && flip_cap(t)) changed = true;
+    }
+    if (!changed) {
+      // No short edge to collapse: rounded vertices of the bad triangles may move by a few ulps.
+      if (snap && snaps < 4 && (++snaps, snap_rounded(r.mesh, *rd.soup, rd.src, rd.sign, rd.moved, bad, rd.recheck) > 0))
+        continue;
+      // Last, a bad triangle's rounded vertex goes into a neighbour across an edge of any
+      // length where every triangle around it stays within flat_tol of its source's plane:
+      // sheets a few ulps apart (nearly flush faces, one of them split off its plane by its own
+      // rounding) whose pieces rounding made overlap; the surface moves by no more than that.
+      for (u32 t : bad) {
+        const auto T = tris[t];
+        if (touched[T[0]] || touched[T[1]] || touched[T[2]]) continue;
+        std::array<std::pair<double, std::array<u32, 2>>, 6> ways;
+        int n = 0;
+        for (int e = 0; e < 3; ++e)
+          for (int d = 0; d < 2; ++d) {
+            const u32 a = d ? T[(e + 1) % 3] : T[e], b = d ? T[e] : T[(e + 1) % 3];
+            if (!rd.moved[a]) continue;
+            const double c = cost(a, b);
+            if (c <= flat_tol) ways[n++] = {c, {a, b}};
+          }
+        std::sort(ways.begin(), ways.begin() + n);
+        for (int i = 0; i < n; ++i)
+          if (collapse(ways[i].second[0], ways[i].second[1], false)) {
+            changed = true;
+            break;
+          }
+      }
+      if (!changed) break;
+    }
+    // The vertices whose triangles changed: their shells are no longer as classification made
+    // them (drop_flat_shells looks at those too).
+    rd.altered.resize(r.mesh.positions.size(), 0);
+    for (std::size_t t = 0; t < tris.size(); ++t)
+      if (rd.recheck[t])
+        for (u32 v : tris[t]) rd.altered[v] = 1;
+    compact(r, &rd);
+  }
+  std::vector<u32> bad = rounding_defects(r.mesh, rd);
+  const bool ok = bad.empty();
+  if (left) *left = std::move(bad);
+  return ok;
+}
+
+// Removes the shells thinner than rounding: a shell with a vertex that rounding moved whose
+// volume is within what moving its vertices by a few ulps could change (and the error of
+// computing it). Rounding can turn such a shell inside out without any triangle crossing another
+// or turning over in its source's projection (a sliver tetrahedron between nearly coincident
+// faces, three of its corners nearly on one line: the checks above find nothing), and its exact
+// volume is below what doubles hold at its size. Shells are the components joined through shared
+// vertices (touching solids have their own copies). Returns the number removed.
+std::size_t drop_flat_shells(BooleanResult& r, Rounding& rd) {
+  const auto& P = r.mesh.positions;
+  auto& tris = r.mesh.triangles;
+  const std::size_t nv = P.size(), nt = tris.size();
+  if (nt == 0) return 0;
+  Dsu shell(nv);
+  parallel_for(0, nt, [&](std::size_t t) {
+    shell.unite_shared(tris[t][0], tris[t][1]);
+    shell.unite_shared(tris[t][0], tris[t][2]);
+  });
+  std::vector<u32> root(nv);
+  parallel_for(0, nv, [&](std::size_t v) { root[v] = shell.find_shared(static_cast<u32>(v)); });
+  // Per shell (by root, its smallest vertex: the origin of its sums, so that their error scales
+  // with the shell's size and not its place): whether a vertex moved, the largest coordinate,
+  // six times the volume (Kahan sums), twice the area, and what bounds the sums' errors. Summed
+  // per block of triangles in order, and the blocks in order: the same bits at any thread count.
+  struct Sums {
+    u32 root;
+    bool moved = false;
+    double reach = 0, vol = 0, comp = 0, area = 0, size = 0, magnitude = 0;
+  };
+  constexpr std::size_t kBlock = 16384;
+  std::vector<double> bigs((nv + kBlock - 1) / kBlock, 0);
+  parallel_for(0, bigs.size(), [&](std::size_t b) {
+    for (std::size_t v = b * kBlock; v < std::min(nv, (b + 1) * kBlock); ++v)
+      bigs[b] = std::max(bigs[b], P[v].cwiseAbs().maxCoeff());
+  });
+  const double big = *std::max_element(bigs.begin(), bigs.end());
+  if (!(big > 0) || !std::isfinite(big)) return 0;
+  const double scale = std::ldexp(1.0, -std::ilogb(big));
+  const std::size_t nb = (nt + kBlock - 1) / kBlock;
+  std::vector<std::vector<Sums>> blocks(nb);
+  parallel_for(0, nb, [&](std::size_t b) {
+    auto& out = blocks[b];
+    for (std::size_t t = b * kBlock; t < std::min(nt, (b + 1) * kBlock); ++t) {
+      const auto& T = tris[t];
+      const u32 s = root[T[0]];
+      if (out.empty() || out.back().root != s) {
+        auto it = std::find_if(out.begin(), out.end(), [&](const Sums& x) { return x.root == s; });
+        if (it == out.end()) out.push_back({s});
+        else std::rotate(it, it + 1, out.end());  // the last one used goes last
+      }
+      Sums& x = out.back();
+      const Vec3& o = P[s];
+      // Scaled by a power of two (exact) to the model's size: no underflow at 1e-150.
+      const Vec3 a = (P[T[0]] - o) * scale, e1 = (P[T[1]] - P[T[0]]) * scale, e2 = (P[T[2]] - P[T[0]]) * scale;
+      const Vec3 n = e1.cross(e2);
+      const double det = a.dot(n);
+      const double y = det - x.comp, sum = x.vol + y;
+      x.comp = (sum - x.vol) - y;
+      x.vol = sum;
+      x.area += n.norm();
+      x.size += a.norm() * e1.norm() * e2.norm();
+      x.magnitude += std::abs(det);
+      for (u32 v : T) {
+        x.moved |= rd.moved[v] != 0 || (!rd.altered.empty() && rd.altered[v] != 0);
+        x.reach = std::max(x.reach, P[v].cwiseAbs().maxCoeff());
+      }
+    }
+    std::sort(out.begin(), out.end(), [](const Sums& x, const Sums& y) { return x.root < y.root; });
+  });
+  // The blocks' sums of each shell, in block order (a stable sort), folded into the first.
+  std::vector<Sums> parts, all;
+  for (const auto& out : blocks) parts.insert(parts.end(), out.begin(), out.end());
+  std::stable_sort(parts.begin(), parts.end(), [](const Sums& x, const Sums& y) { return x.root < y.root; });
+  for (const Sums& x : parts) {
+    if (all.empty() || all.back().root != x.root) {
+      all.push_back(x);
+      continue;
+    }
+    Sums& a = all.back();
+    a.moved |= x.moved;
+    a.reach = std::max(a.reach, x.reach);
+    const double y = x.vol - a.comp, sum = a.vol + y;
+    a.comp = (sum - a.vol) - y + x.comp;
+    a.vol = sum;
+    a.area += x.area;
+    a.size += x.size;
+    a.magnitude += x.magnitude;
+  }
+  constexpr double eps = 0x1p-53;
+  std::vector<u32> flat;
+  for (const Sums& x : all) {
+    if (!x.moved) continue;  // exact and untouched: its volume has the sign classification gave it
+    // Each vertex within delta of its exact place (sqrt(3) / 2 ulps). Moving vertex v by d
+    // changes six times the volume by d . sum over v's triangles of (b - v) x (c - v): at most
+    // 3 delta times the sum of |(b - a) x (c - a)| (first order; taken four times over). Each
+    // term (a - o) . ((b - a) x (c - a)) is within about 10 eps |a - o| |b - a| |c - a| of the
+    // computed one (its differences and products rounded), the Kahan sum within 2 eps of the sum
+    // of their sizes.
+    const double delta = 0x1p-52 * x.reach * scale;
+    const double moves = 4 * 3 * delta * x.area;
+    const double error = 16 * eps * x.size + 4 * eps * x.magnitude;
+    if (std::abs(x.vol) <= moves + error) flat.push_back(x.root);
+  }
+  if (flat.empty()) return 0;
+  parallel_for(0, nt, [&](std::size_t t) {
+    auto& T = tris[t];
+    if (std::binary_search(flat.begin(), flat.end(), root[T[0]])) T = {T[0], T[0], T[0]};  // compact() drops it
+  });
+  compact(r, &rd);
+  return flat.size();
+}
+
+}  // namespace wedge::boolean_detail
