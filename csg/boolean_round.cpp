@@ -137,11 +137,15 @@ std::vector<u32> rounding_defects(const Mesh& m, const Rounding& rd) {
   const std::size_t n = s.tris.size();
   std::vector<char> active(n);
   for (std::size_t i = 0; i < n; ++i) active[i] = rd.recheck[orig(static_cast<u32>(i))];
-  std::vector<std::atomic<char>> bad(n);
+  // Triangles turned over (or degenerate): bad, and their clashes not looked for. Decided before
+  // the pairs, so that which pairs are tested does not depend on the order threads visit them in.
+  std::vector<char> turned(n, 0);
   parallel_for(0, n, [&](std::size_t i) {
     const u32 t = orig(static_cast<u32>(i));
-    if (active[i] && (s.axis[i] < 0 || projected_sign(m, rd, t) != rd.sign[t])) bad[i] = 1;
+    if (active[i] && (s.axis[i] < 0 || projected_sign(m, rd, t) != rd.sign[t])) turned[i] = 1;
   });
+  std::vector<std::atomic<char>> bad(n);
+  for (std::size_t i = 0; i < n; ++i) bad[i].store(turned[i], std::memory_order_relaxed);
   std::vector<u32> all(n);
   std::iota(all.begin(), all.end(), 0u);
   const Bvh bvh(s, std::move(all), 3);
@@ -150,8 +154,8 @@ std::vector<u32> rounding_defects(const Mesh& m, const Rounding& rd) {
   bvh.each_pair(
       &active, &s,
       [&](u32 t, u32 u) {
-        const bool want_t = active[t] && !bad[t].load(std::memory_order_relaxed);
-        const bool want_u = active[u] && !bad[u].load(std::memory_order_relaxed);
+        const bool want_t = active[t] && !turned[t];
+        const bool want_u = active[u] && !turned[u];
         if ((want_t || want_u) && triangles_clash(s, t, u)) {
           // Both: the one not rechecked may be the one whose vertex can move (a rounded cut
           // point tilting it into an input triangle that nothing moved).
