@@ -470,7 +470,9 @@ bool repair_rounding(BooleanResult& r, Rounding& rd, std::vector<u32>* left, boo
           break;
         }
       }
-      if (!done && flip_cap(t)) changed = true;
+      // Flips can undo each other round after round (a cap flipped, a cap beside it flipped
+      // back): after 4 rounds without a new low they stop, and the means below get their turn.
+      if (!done && since < 4 && flip_cap(t)) changed = true;
     }
     if (!changed) {
       // No short edge to collapse: rounded vertices of the bad triangles may move by a few ulps.

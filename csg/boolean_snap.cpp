@@ -109,15 +109,18 @@ std::size_t snap_rounded(Mesh& m, const Soup& soup, const std::vector<u32>& src,
     Mesh lm = sub_mesh(m, local);
     std::vector<const Mesh*> one{&lm};
     Soup ls = make_soup(one, soup.interrupt);
-    // v's vertex in the local soup; another vertex at its position (a copy of a non-manifold
-    // vertex) would move with it: such a vertex is left alone.
+    // v's vertex in the local soup and in the local mesh.
     const auto& T0 = m.triangles[local[0]];
     const int k0 = T0[0] == v ? 0 : (T0[1] == v ? 1 : 2);
-    const u32 lv = ls.tris[0][k0];
+    const u32 lv = ls.tris[0][k0], mv = lm.triangles[0][k0];
+    // A copy of v at its position (two sheets touching at a point, kept apart; rounded, they may
+    // cross there): the soup, which merges equal positions, is made again for each move, so that
+    // v leaves its copy rather than taking it along.
+    bool copy = false;
     if (ls.verts.size() != lm.positions.size()) {
       std::size_t same = 0;
       for (const Vec3& p : lm.positions) same += p == m.positions[v];
-      if (same > 1) continue;
+      copy = same > 1;
     }
     // Whether the star is sound with v where it is now: each triangle of it has its orientation
     // in its source's projection and meets no local triangle beyond what they share.
@@ -139,8 +142,13 @@ std::size_t snap_rounded(Mesh& m, const Soup& soup, const std::vector<u32>& src,
     bool found = false;
     for (const auto& o : offsets) {
       const Vec3 q(step(at.x(), o[0]), step(at.y(), o[1]), step(at.z(), o[2]));
-      ls.verts[lv] = q;
-      for (std::size_t s = 0; s < ns; ++s) set_axis(ls, s);
+      if (copy) {
+        lm.positions[mv] = q;
+        ls = make_soup(one, soup.interrupt);
+      } else {
+        ls.verts[lv] = q;
+        for (std::size_t s = 0; s < ns; ++s) set_axis(ls, s);
+      }
       if (sound()) {
         found = true;
         m.positions[v] = q;
