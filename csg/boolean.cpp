@@ -597,6 +597,7 @@ BooleanResult boolean_detail::boolean_as_given(BooleanOp op, const std::vector<c
     Points again(soup);
     r = solve(again, false, nullptr);
   }
+  if (!unresolved && resolutions > 0) rename_reversed(r, soup, op);
   if (unresolved) {
     const Vec3& p = r.mesh.positions.empty() ? Vec3(0, 0, 0) : r.mesh.positions[0];
     // fail()'s message, thrown as the kind boolean() retries on welded operands.

@@ -955,6 +955,14 @@ std::vector<u32> rounding_defects(const Mesh& m, const Rounding& rd);
 bool repair_rounding(BooleanResult& r, Rounding& rd, std::vector<u32>* left, bool snap);
 // Leaves out the shells thinner than rounding; returns how many.
 std::size_t drop_flat_shells(BooleanResult& r, Rounding& rd);
+// A re-resolution takes the rounded result as it is: where the repair had collapsed a vertex
+// across a flat edge and turned a triangle over in its plane (sheets a few ulps apart, one
+// facing each way), the triangle can come out bounding the result the other way round from its
+// source (the sheet facing that way is another operand's). Such triangles (exact orientation in
+// their source's projection) are named after a source triangle that faces their way and whose
+// plane they lie in (within a billionth of the model's size), one holding their centroid where
+// there is one. `soup` is the boolean's own (the operands as given).
+std::size_t rename_reversed(BooleanResult& r, const Soup& soup, BooleanOp op);
 BooleanResult assemble(const Points& pts, const Arrangement& arr, const std::vector<std::int8_t>& keep,
                        std::size_t* collapses = nullptr, bool* unresolved = nullptr,
                        std::vector<u32>* crossing = nullptr,

@@ -7,6 +7,7 @@
 #include <atomic>
 #include <cmath>
 #include <numeric>
+#include <unordered_map>
 
 #include "csg/boolean_impl.h"
 #include "kernel/error.h"
@@ -626,6 +627,75 @@ std::size_t drop_flat_shells(BooleanResult& r, Rounding& rd) {
   });
   compact(r, &rd);
   return flat.size();
+}
+
+// Sources named again where a re-resolution left a triangle facing against its source (see
+// boolean_impl.h). Returns the number renamed.
+std::size_t rename_reversed(BooleanResult& r, const Soup& soup, BooleanOp op) {
+  const auto& P = r.mesh.positions;
+  const std::size_t nt = r.mesh.triangles.size();
+  auto key = [](std::int32_t o, std::int32_t l) {
+    return static_cast<std::uint64_t>(static_cast<std::uint32_t>(o)) << 32 | static_cast<std::uint32_t>(l);
+  };
+  std::unordered_map<std::uint64_t, u32> of;
+  of.reserve(soup.tris.size());
+  for (u32 u = 0; u < soup.tris.size(); ++u) of.emplace(key(soup.operand[u], soup.local[u]), u);
+  // The way soup triangle u's pieces face in the result, in its axis's projection.
+  auto facing = [&](u32 u) { return soup.axis_sign[u] * (op == BooleanOp::Difference && soup.operand[u] > 0 ? -1 : 1); };
+  auto projected = [&](std::size_t t, u32 u) {
+    const int k = soup.axis[u], i = (k + 1) % 3, j = (k + 2) % 3;
+    const auto& T = r.mesh.triangles[t];
+    auto p2 = [&](int c) { return Point2(P[T[c]][i], P[T[c]][j]); };
+    return orient2d(p2(0), p2(1), p2(2));
+  };
+  std::vector<u32> wrong;
+  for (std::size_t t = 0; t < nt; ++t) {
+    const auto it = of.find(key(r.operand[t], r.source[t]));
+    if (it == of.end() || soup.axis[it->second] < 0) continue;
+    const int o = projected(t, it->second);
+    if (o != 0 && o != facing(it->second)) wrong.push_back(static_cast<u32>(t));
+  }
+  if (wrong.empty()) return 0;
+  Box3 bounds = r.mesh.bounds();
+  const double tol = 1e-9 * (bounds.max - bounds.min).norm();
+  std::vector<u32> ids(soup.tris.size());
+  std::iota(ids.begin(), ids.end(), 0u);
+  const Bvh tree(soup, std::move(ids), 3);
+  std::size_t renamed = 0;
+  for (u32 t : wrong) {
+    const auto& T = r.mesh.triangles[t];
+    double lo[3], hi[3];
+    mesh_triangle_box(r.mesh, t, lo, hi);
+    for (int d = 0; d < 3; ++d) lo[d] -= tol, hi[d] += tol;
+    const Vec3 c = (P[T[0]] + P[T[1]] + P[T[2]]) / 3;
+    u32 best = kNone;
+    double best_gap = tol;
+    bool best_holds = false;
+    tree.query(lo, hi, [&](u32 u) {
+      if (soup.axis[u] < 0 || projected(t, u) != facing(u)) return;
+      const auto& U = soup.tris[u];
+      const Vec3 &a = soup.verts[U[0]], &b = soup.verts[U[1]], &e = soup.verts[U[2]];
+      const Vec3 n = (b - a).cross(e - a).normalized();
+      double gap = 0;
+      for (u32 v : T) gap = std::max(gap, std::abs(n.dot(P[v] - a)));
+      if (!(gap <= tol)) return;
+      // Whether u holds the centroid (in its projection): such a source is preferred.
+      const int k = soup.axis[u], i = (k + 1) % 3, j = (k + 2) % 3;
+      auto side = [&](const Vec3& p, const Vec3& q) {
+        return orient2d(Point2(p[i], p[j]), Point2(q[i], q[j]), Point2(c[i], c[j])) * soup.axis_sign[u];
+      };
+      const bool holds = side(a, b) >= 0 && side(b, e) >= 0 && side(e, a) >= 0;
+      if ((holds && !best_holds) || (holds == best_holds && (gap < best_gap || (gap == best_gap && u < best)))) {
+        best = u, best_gap = gap, best_holds = holds;
+      }
+    });
+    if (best == kNone) continue;
+    r.operand[t] = soup.operand[best];
+    r.source[t] = soup.local[best];
+    r.mesh.face_ids[t] = soup.face_id[best];
+    ++renamed;
+  }
+  return renamed;
 }
 
 }  // namespace wedge::boolean_detail

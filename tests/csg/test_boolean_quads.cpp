@@ -96,6 +96,25 @@ FlushTrial flush_trial(unsigned seed, int trial, int map) {
   return flush_boxes(rng, trial, map);
 }
 
+// The result's triangles that face against their source (reversed, for a difference's later
+// operands) or lie off its plane: 0 where every triangle names its source.
+int wrong_facing(const FlushTrial& f, BooleanOp op, const BooleanResult& r) {
+  int wrong = 0;
+  for (std::size_t t = 0; t < r.mesh.triangles.size(); ++t) {
+    const Mesh& m = f.ops.at(r.operand[t]);
+    const auto& S = m.triangles.at(r.source[t]);
+    const Vec3 n = (m.positions[S[1]] - m.positions[S[0]]).cross(m.positions[S[2]] - m.positions[S[0]]).normalized();
+    const auto& T = r.mesh.triangles[t];
+    const auto& P = r.mesh.positions;
+    const double d = n.dot((P[T[1]] - P[T[0]]).cross(P[T[2]] - P[T[0]]));
+    bool off = false;
+    for (auto v : T) off |= !(std::abs(n.dot(P[v] - m.positions[S[0]])) < 1e-12);
+    // Slivers that rounding leaves (areas near 1e-17) may face anywhere: they are left alone.
+    if (off || (op == BooleanOp::Difference && r.operand[t] > 0 ? -d : d) < -1e-12) ++wrong;
+  }
+  return wrong;
+}
+
 // That trial's boolean, checked valid and against the boxes' exact volume (twice it on the
 // slanted maps); its stats, and the result in `out` if given.
 BooleanStats flush_case(unsigned seed, int trial, int map, BooleanOp op, BooleanResult* out = nullptr) {
@@ -105,6 +124,7 @@ BooleanStats flush_case(unsigned seed, int trial, int map, BooleanOp op, Boolean
   const double scale = map == 1 || map == 2 ? 2 : 1;
   CHECK(r.mesh.volume() == Approx(scale * boxes_volume(op, f.boxes)).margin(1e-11));
   if (out) *out = r;
+  CHECK(wrong_facing(f, op, r) == 0);
   return st;
 }
 
