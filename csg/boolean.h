@@ -37,6 +37,8 @@ struct BooleanStats {
   std::size_t collapses = 0;  // edges the rounding repair collapsed or split (0 on most inputs)
   std::size_t flat_shells = 0;  // shells thinner than rounding, left out (0 on most inputs)
   std::size_t resolutions = 0;  // passes that re-resolved a rounded result crossing itself (0 on most)
+  std::size_t welded = 0;  // 1 where the result is of operands welded after the first run could not be rounded
+  std::size_t reorders = 0;  // other orders of the operands tried after the result could not be rounded
   std::size_t trusted = 0;  // operands known as results of earlier booleans, not checked again
   std::size_t settled = 0;  // triangles buried in an operand that drops them, left out of the arrangement
   std::size_t settled_pairs = 0;  // other pairs whose cut lies deep inside such an operand, left out

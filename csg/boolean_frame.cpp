@@ -11,8 +11,10 @@
 // rounding (faithful, toward zero) scales back exactly where it stays among the normal doubles.
 // Both steps are checked: a coordinate that would not survive the round trip (a vertex near zero
 // whose scaled value is subnormal) leaves the operands as given.
+#include <algorithm>
 #include <cmath>
 #include <exception>
+#include <numeric>
 #include <unordered_map>
 
 #include "csg/boolean_impl.h"
@@ -135,9 +137,16 @@ BooleanResult in_frame(BooleanOp op, const std::vector<const Mesh*>& operands, B
 
 }  // namespace
 
-// The engine, and where its result cannot be rounded, the engine again on welded operands. The
-// welded run is checked as any operands are (a weld that folds an operand is refused there); if
-// it fails too, the first run's error is the one reported.
+// The engine, and where its result cannot be rounded, the engine again on welded operands, then
+// on the operands in other orders. The welded run is checked as any operands are (a weld that
+// folds an operand is refused there); if every run fails, the first run's error is the one
+// reported.
+//
+// The order changes nothing exact (the same solid, the same decisions), but the rounding repair
+// visits triangles, and breaks ties, in the order the operands give them: on turned boxes with
+// nearly flush faces, where about 1 boolean in 4,000 cannot be rounded, another order rounds half
+// of those. Union and intersection take the operands turned by one place, up to 3 times (and
+// fewer than their number); a difference keeps its first operand and turns the rest.
 BooleanResult boolean(BooleanOp op, const std::vector<const Mesh*>& operands, BooleanStats* stats, const CancelCheck* cancel,
                       std::size_t max_crossings) {
   try {
@@ -145,16 +154,37 @@ BooleanResult boolean(BooleanOp op, const std::vector<const Mesh*>& operands, Bo
   } catch (const boolean_detail::Unroundable&) {
     const std::exception_ptr first = std::current_exception();
     std::vector<Mesh> welded;
-    if (!weld_operands(operands, welded)) throw;
-    std::vector<const Mesh*> ptrs;
-    for (const Mesh& m : welded) ptrs.push_back(&m);
-    try {
-      return in_frame(op, ptrs, stats, cancel, max_crossings);
-    } catch (const Cancelled&) {
-      throw;
-    } catch (const Error&) {
-      std::rethrow_exception(first);
+    if (weld_operands(operands, welded)) {
+      std::vector<const Mesh*> ptrs;
+      for (const Mesh& m : welded) ptrs.push_back(&m);
+      try {
+        BooleanResult r = in_frame(op, ptrs, stats, cancel, max_crossings);
+        if (stats) stats->welded = 1;
+        return r;
+      } catch (const Cancelled&) {
+        throw;
+      } catch (const Error&) {
+      }
     }
+    const std::size_t fixed = op == BooleanOp::Difference ? 1 : 0;
+    const std::size_t turning = operands.size() - fixed;
+    std::vector<std::size_t> order(operands.size());
+    std::iota(order.begin(), order.end(), std::size_t{0});
+    for (std::size_t turn = 1; turn < turning && turn <= 3; ++turn) {
+      std::rotate(order.begin() + fixed, order.begin() + fixed + 1, order.end());
+      std::vector<const Mesh*> ptrs;
+      for (std::size_t i : order) ptrs.push_back(operands[i]);
+      try {
+        BooleanResult r = in_frame(op, ptrs, stats, cancel, max_crossings);
+        for (auto& o : r.operand) o = static_cast<std::int32_t>(order[o]);
+        if (stats) stats->reorders = turn;
+        return r;
+      } catch (const Cancelled&) {
+        throw;
+      } catch (const Error&) {
+      }
+    }
+    std::rethrow_exception(first);
   }
 }
 

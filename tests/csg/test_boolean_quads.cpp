@@ -384,6 +384,13 @@ TEST_CASE("boolean: nearly flush boxes, slanted or turned: where rounding fails 
     // both copies into the diagonals' ends, which cross with no vertex between them.
     flush_case(3, 223, 3, BooleanOp::Union);
   }
+  SECTION("a result no repair rounds: the operands in another order") {
+    // Two turned boxes, one face of each nearly flush with the other's: no repair rounds the
+    // union of the boxes in the given order; the other order (the same solid) rounds. The
+    // result's triangles name the caller's operands: each lies in its source's plane and faces
+    // its way.
+    CHECK(flush_case(8, 252, 3, BooleanOp::Union).reorders == 1);
+  }
   SECTION("caps flipped back and forth: flips stop, other means get their turn") {
     // A cap flipped, then the cap its flip made flipped back, round after round: every round
     // changed something, so the ulp moves and the flat collapses were never tried.
