@@ -483,6 +483,30 @@ bool repair_rounding(BooleanResult& r, Rounding& rd, std::vector<u32>* left, boo
       // length where every triangle around it stays within flat_tol of its source's plane:
       // sheets a few ulps apart (nearly flush faces, one of them split off its plane by its own
       // rounding) whose pieces rounding made overlap; the surface moves by no more than that.
+      // A vertex with a copy at its position (sheets touching there) stays: collapsed into a
+      // neighbour, it would leave the two sheets' edges crossing with no vertex between them.
+      std::vector<char> twin(r.mesh.positions.size(), 0);
+      {
+        std::vector<u32> at;
+        for (u32 t : bad)
+          for (u32 v : tris[t])
+            if (rd.moved[v]) at.push_back(v);
+        std::sort(at.begin(), at.end());
+        at.erase(std::unique(at.begin(), at.end()), at.end());
+        std::vector<u32> order(r.mesh.positions.size());
+        std::iota(order.begin(), order.end(), 0u);
+        if (!at.empty()) {
+          auto less = [&](u32 x, u32 y) {
+            const Vec3 &p = r.mesh.positions[x], &q = r.mesh.positions[y];
+            return p.x() != q.x() ? p.x() < q.x() : p.y() != q.y() ? p.y() < q.y() : p.z() < q.z();
+          };
+          std::sort(order.begin(), order.end(), less);
+          for (u32 v : at) {
+            auto range = std::equal_range(order.begin(), order.end(), v, less);
+            twin[v] = range.second - range.first > 1;
+          }
+        }
+      }
       for (u32 t : bad) {
         const auto T = tris[t];
         if (touched[T[0]] || touched[T[1]] || touched[T[2]]) continue;
@@ -491,7 +515,7 @@ bool repair_rounding(BooleanResult& r, Rounding& rd, std::vector<u32>* left, boo
         for (int e = 0; e < 3; ++e)
           for (int d = 0; d < 2; ++d) {
             const u32 a = d ? T[(e + 1) % 3] : T[e], b = d ? T[e] : T[(e + 1) % 3];
-            if (!rd.moved[a]) continue;
+            if (!rd.moved[a] || twin[a]) continue;
             const double c = cost(a, b);
             if (c <= flat_tol) ways[n++] = {c, {a, b}};
           }
