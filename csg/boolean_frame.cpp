@@ -15,6 +15,7 @@
 #include <cmath>
 #include <exception>
 #include <numeric>
+#include <optional>
 #include <unordered_map>
 
 #include "csg/boolean_impl.h"
@@ -153,17 +154,23 @@ BooleanResult boolean(BooleanOp op, const std::vector<const Mesh*>& operands, Bo
     return in_frame(op, operands, stats, cancel, max_crossings);
   } catch (const boolean_detail::Unroundable&) {
     const std::exception_ptr first = std::current_exception();
+    // Another run: its result, or nothing where it fails too (a cancel still ends it all).
+    auto attempt = [&](const std::vector<const Mesh*>& ptrs) -> std::optional<BooleanResult> {
+      try {
+        return in_frame(op, ptrs, stats, cancel, max_crossings);
+      } catch (const Cancelled&) {
+        throw;
+      } catch (const Error&) {
+        return std::nullopt;
+      }
+    };
     std::vector<Mesh> welded;
     if (weld_operands(operands, welded)) {
       std::vector<const Mesh*> ptrs;
       for (const Mesh& m : welded) ptrs.push_back(&m);
-      try {
-        BooleanResult r = in_frame(op, ptrs, stats, cancel, max_crossings);
+      if (auto r = attempt(ptrs)) {
         if (stats) stats->welded = 1;
-        return r;
-      } catch (const Cancelled&) {
-        throw;
-      } catch (const Error&) {
+        return std::move(*r);
       }
     }
     const std::size_t fixed = op == BooleanOp::Difference ? 1 : 0;
@@ -174,14 +181,10 @@ BooleanResult boolean(BooleanOp op, const std::vector<const Mesh*>& operands, Bo
       std::rotate(order.begin() + fixed, order.begin() + fixed + 1, order.end());
       std::vector<const Mesh*> ptrs;
       for (std::size_t i : order) ptrs.push_back(operands[i]);
-      try {
-        BooleanResult r = in_frame(op, ptrs, stats, cancel, max_crossings);
-        for (auto& o : r.operand) o = static_cast<std::int32_t>(order[o]);
+      if (auto r = attempt(ptrs)) {
+        for (auto& o : r->operand) o = static_cast<std::int32_t>(order[o]);
         if (stats) stats->reorders = turn;
-        return r;
-      } catch (const Cancelled&) {
-        throw;
-      } catch (const Error&) {
+        return std::move(*r);
       }
     }
     std::rethrow_exception(first);

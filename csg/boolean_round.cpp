@@ -66,12 +66,17 @@ void compact(BooleanResult& r, Rounding* rd) {
   if (altered) rd->altered.swap(alt);
 }
 
-// The orientation of rounded triangle t in the projection along its source's axis (exact).
-int projected_sign(const Mesh& m, const Rounding& rd, std::size_t t) {
-  const int k = rd.soup->axis[rd.src[t]], i = (k + 1) % 3, j = (k + 2) % 3;
+// The orientation of mesh triangle t in the projection along axis k (exact).
+int projected_orientation(const Mesh& m, std::size_t t, int k) {
+  const int i = (k + 1) % 3, j = (k + 2) % 3;
   const auto& T = m.triangles[t];
   auto p2 = [&](int c) { return Point2(m.positions[T[c]][i], m.positions[T[c]][j]); };
   return orient2d(p2(0), p2(1), p2(2));
+}
+
+// The orientation of rounded triangle t in the projection along its source's axis (exact).
+int projected_sign(const Mesh& m, const Rounding& rd, std::size_t t) {
+  return projected_orientation(m, t, rd.soup->axis[rd.src[t]]);
 }
 
 }  // namespace
@@ -141,12 +146,11 @@ std::vector<u32> rounding_defects(const Mesh& m, const Rounding& rd) {
   // Triangles turned over (or degenerate): bad, and their clashes not looked for. Decided before
   // the pairs, so that which pairs are tested does not depend on the order threads visit them in.
   std::vector<char> turned(n, 0);
+  std::vector<std::atomic<char>> bad(n);
   parallel_for(0, n, [&](std::size_t i) {
     const u32 t = orig(static_cast<u32>(i));
-    if (active[i] && (s.axis[i] < 0 || projected_sign(m, rd, t) != rd.sign[t])) turned[i] = 1;
+    if (active[i] && (s.axis[i] < 0 || projected_sign(m, rd, t) != rd.sign[t])) turned[i] = bad[i] = 1;
   });
-  std::vector<std::atomic<char>> bad(n);
-  for (std::size_t i = 0; i < n; ++i) bad[i].store(turned[i], std::memory_order_relaxed);
   std::vector<u32> all(n);
   std::iota(all.begin(), all.end(), 0u);
   const Bvh bvh(s, std::move(all), 3);
@@ -493,9 +497,9 @@ bool repair_rounding(BooleanResult& r, Rounding& rd, std::vector<u32>* left, boo
             if (rd.moved[v]) at.push_back(v);
         std::sort(at.begin(), at.end());
         at.erase(std::unique(at.begin(), at.end()), at.end());
-        std::vector<u32> order(r.mesh.positions.size());
-        std::iota(order.begin(), order.end(), 0u);
         if (!at.empty()) {
+          std::vector<u32> order(r.mesh.positions.size());
+          std::iota(order.begin(), order.end(), 0u);
           auto less = [&](u32 x, u32 y) {
             const Vec3 &p = r.mesh.positions[x], &q = r.mesh.positions[y];
             return p.x() != q.x() ? p.x() < q.x() : p.y() != q.y() ? p.y() < q.y() : p.z() < q.z();
@@ -666,12 +670,7 @@ std::size_t rename_reversed(BooleanResult& r, const Soup& soup, BooleanOp op) {
   for (u32 u = 0; u < soup.tris.size(); ++u) of.emplace(key(soup.operand[u], soup.local[u]), u);
   // The way soup triangle u's pieces face in the result, in its axis's projection.
   auto facing = [&](u32 u) { return soup.axis_sign[u] * (op == BooleanOp::Difference && soup.operand[u] > 0 ? -1 : 1); };
-  auto projected = [&](std::size_t t, u32 u) {
-    const int k = soup.axis[u], i = (k + 1) % 3, j = (k + 2) % 3;
-    const auto& T = r.mesh.triangles[t];
-    auto p2 = [&](int c) { return Point2(P[T[c]][i], P[T[c]][j]); };
-    return orient2d(p2(0), p2(1), p2(2));
-  };
+  auto projected = [&](std::size_t t, u32 u) { return projected_orientation(r.mesh, t, soup.axis[u]); };
   std::vector<u32> wrong;
   for (std::size_t t = 0; t < nt; ++t) {
     const auto it = of.find(key(r.operand[t], r.source[t]));
