@@ -600,57 +600,66 @@ std::vector<std::array<u32, 2>> candidate_pairs(const Soup& soup, std::array<u32
 
 namespace {
 
-// Whether the planes of triangles t, u, w may meet at a point inside all three (a crossing of two
-// segments inside a triangle of the arrangement): false only where double arithmetic is sure
-// that the point is outside one of them, or on its boundary (where segments meet end to end: the
-// T-junctions of a Menger sponge's tunnels), or that the planes do not meet in one point.
-bool may_cross(const Soup& s, const std::vector<std::array<double, 4>>& plane, u32 t, u32 u, u32 w) {
-  const u32 ids[3] = {t, u, w};
-  Vec3 n[3];
-  double d[3];
-  for (int i = 0; i < 3; ++i) {
-    const auto& P = plane[ids[i]];
-    n[i] = Vec3(P[0], P[1], P[2]);
-    d[i] = P[3];
-  }
-  const Vec3 c12 = n[1].cross(n[2]), c20 = n[2].cross(n[0]), c01 = n[0].cross(n[1]);
-  const double det = n[0].dot(c12);
-  const double scale = n[0].norm() * n[1].norm() * n[2].norm();
-  if (!(std::abs(det) > 1e-9 * scale)) return std::abs(det) != 0 || !(scale > 0);  // near parallel: cannot tell
-  const Vec3 p = (d[0] * c12 + d[1] * c20 + d[2] * c01) / det;
-  for (int i = 0; i < 3; ++i) {
-    const auto& T = s.tris[ids[i]];
-    const double nn = n[i].squaredNorm();
-    for (int e = 0; e < 3; ++e) {
-      const Vec3& a = s.verts[T[e]];
-      const Vec3& b = s.verts[T[(e + 1) % 3]];
-      // The barycentric coordinate of p opposite this edge, to within 1e-9.
-      if (!(n[i].dot((b - a).cross(p - a)) > 1e-9 * nn)) return false;
-    }
-  }
-  return true;
-}
-
 // How triangles t and u lie to each other's planes, as double arithmetic sees it: 1 each crosses
 // the other's plane (vertices strictly on both sides: the three pairs of a crossing point inside
-// three triangles all do), 3 both lie in one plane, 2 neither.
-std::uint8_t pair_kind(const Soup& s, u32 t, u32 u) {
-  auto side = [&](u32 a, u32 b) {  // 1 across, 3 within a's plane, 2 otherwise
+// three triangles all do), 3 both lie in one plane, 2 neither. ht gets the heights of t's vertices
+// over u's plane, hu those of u's over t's (each times its normal's length), and eps the
+// tolerance each was judged by (0 where a height is within it).
+std::uint8_t pair_kind(const Soup& s, const std::vector<std::array<double, 4>>& plane, u32 t, u32 u, double ht[3],
+                       double hu[3]) {
+  auto side = [&](u32 a, u32 b, double h[3]) {  // 1 across, 3 within a's plane, 2 otherwise
     const auto& A = s.tris[a];
     const auto& B = s.tris[b];
-    const Vec3 n = (s.verts[A[1]] - s.verts[A[0]]).cross(s.verts[A[2]] - s.verts[A[0]]);
+    const Vec3 n(plane[a][0], plane[a][1], plane[a][2]);
     const Vec3& o = s.verts[A[0]];
     double lo = 0, hi = 0, size = 0;
-    for (u32 v : B) {
-      const double h = n.dot(s.verts[v] - o);
-      lo = std::min(lo, h), hi = std::max(hi, h);
-      size = std::max(size, (s.verts[v] - o).norm());
+    for (int c = 0; c < 3; ++c) {
+      const Vec3 d = s.verts[B[c]] - o;
+      h[c] = n.dot(d);
+      lo = std::min(lo, h[c]), hi = std::max(hi, h[c]);
+      size = std::max(size, d.norm());
     }
     const double eps = 1e-12 * n.norm() * size;
+    for (int c = 0; c < 3; ++c)
+      if (std::abs(h[c]) <= eps) h[c] = 0;
     return lo < -eps && hi > eps ? 1 : lo >= -eps && hi <= eps ? 3 : 2;
   };
-  const int a = side(t, u);
-  return a == 2 ? 2 : static_cast<std::uint8_t>(a == side(u, t) ? a : 2);
+  const int a = side(t, u, hu);
+  if (a == 2) return 2;
+  return static_cast<std::uint8_t>(a == side(u, t, ht) ? a : 2);
+}
+
+// The two points where triangle t, its vertices at heights h over a plane (some above, some
+// below), meets that plane: a vertex on it, or a point on an edge across it.
+void plane_cut(const Soup& s, u32 t, const double h[3], Vec3 out[2]) {
+  int n = 0;
+  const auto& T = s.tris[t];
+  for (int e = 0; e < 3 && n < 2; ++e) {
+    const double ha = h[e], hb = h[(e + 1) % 3];
+    const Vec3& a = s.verts[T[e]];
+    if (ha == 0) out[n++] = a;
+    else if ((ha < 0 && hb > 0) || (ha > 0 && hb < 0)) out[n++] = a + (s.verts[T[(e + 1) % 3]] - a) * (ha / (ha - hb));
+  }
+  if (n < 2) out[1] = out[0];
+}
+
+// The segment where triangles t and u (kind 1) meet, in doubles: the pieces of their planes'
+// line in each triangle, overlapped along the line's main axis; false where they do not overlap.
+bool meet_segment(const Soup& s, const std::vector<std::array<double, 4>>& plane, u32 t, u32 u, const double ht[3],
+                  const double hu[3], Vec3& p, Vec3& q) {
+  Vec3 a[2], b[2];
+  plane_cut(s, t, ht, a);
+  plane_cut(s, u, hu, b);
+  const Vec3 nt(plane[t][0], plane[t][1], plane[t][2]), nu(plane[u][0], plane[u][1], plane[u][2]);
+  const Vec3 dir = nt.cross(nu);
+  int k = 0;
+  for (int i = 1; i < 3; ++i)
+    if (std::abs(dir[i]) > std::abs(dir[k])) k = i;
+  if (a[0][k] > a[1][k]) std::swap(a[0], a[1]);
+  if (b[0][k] > b[1][k]) std::swap(b[0], b[1]);
+  p = a[0][k] >= b[0][k] ? a[0] : b[0];
+  q = a[1][k] <= b[1][k] ? a[1] : b[1];
+  return p[k] < q[k];
 }
 
 // For three triangles in one plane: the crossings of two triangles' edges strictly inside the
@@ -699,101 +708,129 @@ std::size_t coplanar_crossings(const Soup& s, u32 t, u32 u, u32 w) {
 
 std::size_t candidate_triples(const Soup& soup, const std::vector<std::array<u32, 2>>& pairs, std::size_t stop_above) {
   // N+(t): the partners u > t of t, pairs[off[t] .. off[t + 1])[1], ascending (pairs are sorted).
-  const std::size_t nt = soup.tris.size();
+  const std::size_t nt = soup.tris.size(), np = pairs.size();
   std::vector<std::size_t> off(nt + 1, 0);
   for (const auto& p : pairs) ++off[p[0] + 1];
   for (std::size_t t = 0; t < nt; ++t) off[t + 1] += off[t];
-  // Each triple t < u < w once: from its pair (t, u), as a w in both N+(t) (after u) and N+(u):
-  // N+(u) read against marks of N+(t) (per thread, made once per t), or where N+(u) is much the
-  // longer (a plate's face has thousands of partners, each of them a few) N+(t)'s few looked up
-  // in it. Blocks of pairs in a shuffled order, so that a count stopped early (above stop_above)
-  // scales up to an estimate of the whole.
-  constexpr std::size_t kBlock = 1024;
-  const std::size_t blocks = (pairs.size() + kBlock - 1) / kBlock;
-  std::atomic<std::size_t> found{0}, done{0};
-  // Per pair, once looked at by a triple: 0 not yet, else its pair_kind (most triples of boxes
-  // that touch, as in the Menger sponge, end here, before may_cross).
-  std::vector<std::atomic<std::uint8_t>> kinds(pairs.size());
-  // Each triangle's plane n . x = d, made once: a triangle of a truss's node is in thousands of
-  // triples, and making the three planes was a third of each triple's look.
+  // Each triangle's plane n . x = d, made once: a triangle of a truss's node is in hundreds of
+  // pairs.
   std::vector<std::array<double, 4>> plane(nt);
   parallel_for(0, nt, [&](std::size_t t) {
     const auto& T = soup.tris[t];
     const Vec3 n = (soup.verts[T[1]] - soup.verts[T[0]]).cross(soup.verts[T[2]] - soup.verts[T[0]]);
     plane[t] = {n.x(), n.y(), n.z(), n.dot(soup.verts[T[0]])};
   });
-  auto kind = [&](std::size_t i) {
-    std::uint8_t c = kinds[i].load(std::memory_order_relaxed);
-    if (!c) kinds[i].store(c = pair_kind(soup, pairs[i][0], pairs[i][1]), std::memory_order_relaxed);
-    return c;
+  // Blocks of about kBlock pairs (each triangle's list whole, in the block where it starts), in a
+  // shuffled order, so that a count stopped early (above stop_above) scales up to an estimate of
+  // the whole.
+  constexpr std::size_t kBlock = 1024, kPrime = 1000003;
+  auto count_blocks = [&](std::size_t n, std::size_t stop, auto&& block) {
+    const std::size_t blocks = (n + kBlock - 1) / kBlock;
+    std::atomic<std::size_t> found{0}, done{0};
+    parallel_for(0, blocks, [&](std::size_t k) {
+      if (found.load(std::memory_order_relaxed) > stop) return;
+      soup.poll();
+      const std::size_t b = blocks % kPrime != 0 ? k * kPrime % blocks : k;
+      const auto [c, d] = block(b * kBlock, std::min(n, (b + 1) * kBlock));
+      found += c;
+      done += d;
+    });
+    const std::size_t f = found.load(), seen = done.load();
+    if (seen == n || seen == 0) return f;
+    return static_cast<std::size_t>(double(f) * double(n) / double(seen));
   };
-  parallel_for(0, blocks, [&](std::size_t k) {
-    if (found.load(std::memory_order_relaxed) > stop_above) return;
-    soup.poll();
-    // Per thread, per triangle w: the stamp of the t whose partners were marked last (4 bytes a
-    // triangle, kept for the thread's next count). Pairs come sorted by t: a block marks a few
-    // t's lists once each.
-    thread_local std::vector<std::uint32_t> mark;
-    thread_local std::uint32_t stamp = 0;
-    if (mark.size() < nt) mark.resize(nt, 0);
-    u32 marked = kNone;
-    auto mark_partners = [&](u32 t) {
-      if (marked == t) return;
-      if (++stamp == 0) {  // wrapped: no stale entry may look current
-        std::fill(mark.begin(), mark.end(), 0);
-        stamp = 1;
+  // The first pair of the first triangle whose list starts at or after pair i.
+  auto list_start = [&](std::size_t i) {
+    if (i >= np) return np;
+    const u32 t = pairs[i][0];
+    return off[t] == i ? i : off[t + 1];
+  };
+  // Triangles that cross each other's planes: a triple t < u < w crosses (the planes meet at a
+  // point inside all three) exactly where the segments t ∩ u and t ∩ w cross inside t, counted in
+  // t's list alone. Each list's segments, in t's projection along its normal's main axis, are swept
+  // along the first coordinate; a crossing counts where each segment's ends lie off the other's
+  // line by more than 1e-9 of their length (segments that meet end to end, as the Menger sponge's
+  // tunnels do, do not count). Kinds are kept for the coplanar count below.
+  std::vector<std::uint8_t> kinds(np, 0);
+  struct Seg {
+    double x0, x1, y0, y1;  // the box
+    Vec2 p, q;
+  };
+  const std::size_t crossing = count_blocks(np, stop_above, [&](std::size_t lo, std::size_t hi) {
+    thread_local std::vector<Seg> segs;
+    std::size_t c = 0, d = 0;
+    for (std::size_t i = list_start(lo); i < hi; i = off[pairs[i][0] + 1]) {
+      const u32 t = pairs[i][0];
+      const std::size_t end = off[t + 1];
+      d += end - i;
+      const Vec3 n(plane[t][0], plane[t][1], plane[t][2]);
+      int k = 0;
+      for (int a = 1; a < 3; ++a)
+        if (std::abs(n[a]) > std::abs(n[k])) k = a;
+      const int x = (k + 1) % 3, y = (k + 2) % 3;
+      segs.clear();
+      for (std::size_t j = i; j < end; ++j) {
+        double ht[3], hu[3];
+        kinds[j] = pair_kind(soup, plane, t, pairs[j][1], ht, hu);
+        Vec3 p, q;
+        if (kinds[j] != 1 || !meet_segment(soup, plane, t, pairs[j][1], ht, hu, p, q)) continue;
+        const Vec2 p2(p[x], p[y]), q2(q[x], q[y]);
+        segs.push_back({std::min(p2.x(), q2.x()), std::max(p2.x(), q2.x()), std::min(p2.y(), q2.y()),
+                        std::max(p2.y(), q2.y()), p2, q2});
       }
-      marked = t;
-      for (std::size_t j = off[t]; j < off[t + 1]; ++j) mark[pairs[j][1]] = stamp;
-    };
-    // The index of pair (t, w), w a partner of t.
-    auto index_of = [&](u32 t, u32 w) {
-      const auto at = std::lower_bound(pairs.begin() + static_cast<std::ptrdiff_t>(off[t]),
-                                       pairs.begin() + static_cast<std::ptrdiff_t>(off[t + 1]), w,
-                                       [](const std::array<u32, 2>& p, u32 x) { return p[1] < x; });
-      return static_cast<std::size_t>(at - pairs.begin());
-    };
-    constexpr std::size_t kPrime = 1000003;
-    const std::size_t b = blocks % kPrime != 0 ? k * kPrime % blocks : k;
-    std::size_t c = 0;
-    for (std::size_t i = b * kBlock; i < std::min(pairs.size(), (b + 1) * kBlock); ++i) {
-      const u32 t = pairs[i][0], u = pairs[i][1];
-      const std::size_t a_len = off[t + 1] - (i + 1), b0 = off[u], b1 = off[u + 1];
-      // Many lookups to make (the long tunnels of a sponge meet hundreds of others): first
-      // whether t and u cross at all (boxes that touch do not).
-      if (std::min(a_len, b1 - b0) >= 8 && kind(i) == 2) continue;
-      auto triple = [&](std::size_t uw, u32 w, std::size_t tw) {  // tw: kNone, found when needed
-        const std::uint8_t k = kind(i);
-        if (k == 2 || kind(uw) != k) return;
-        if (tw == kNone) tw = index_of(t, w);
-        if (kind(tw) != k) return;
-        if (k == 1) c += may_cross(soup, plane, t, u, w);
-        else c += coplanar_crossings(soup, t, u, w);
+      if (segs.size() < 2) continue;
+      std::sort(segs.begin(), segs.end(), [](const Seg& a, const Seg& b) { return a.x0 < b.x0; });
+      auto cross2 = [](const Vec2& o, const Vec2& a, const Vec2& b) {
+        return (a.x() - o.x()) * (b.y() - o.y()) - (a.y() - o.y()) * (b.x() - o.x());
       };
-      if (b1 - b0 <= 4 * a_len) {
-        // Each partner w of u looked up among t's marked partners (w > u, so after u in t's).
-        mark_partners(t);
-        for (std::size_t j = b0; j < b1; ++j) {
-          const u32 w = pairs[j][1];
-          if (mark[w] == stamp) triple(j, w, kNone);
-        }
-      } else {
-        // u has many more partners (a plate's face): t's few looked up in them.
-        for (std::size_t j = i + 1; j < off[t + 1]; ++j) {
-          const u32 w = pairs[j][1];
-          auto at = std::lower_bound(pairs.begin() + static_cast<std::ptrdiff_t>(b0), pairs.begin() + static_cast<std::ptrdiff_t>(b1),
-                                     w, [](const std::array<u32, 2>& p, u32 x) { return p[1] < x; });
-          if (at == pairs.begin() + static_cast<std::ptrdiff_t>(b1) || (*at)[1] != w) continue;
-          triple(static_cast<std::size_t>(at - pairs.begin()), w, j);
+      for (std::size_t a = 0; a < segs.size(); ++a) {
+        const Seg& A = segs[a];
+        const double la = (A.q - A.p).norm();
+        for (std::size_t b = a + 1; b < segs.size() && segs[b].x0 <= A.x1; ++b) {
+          const Seg& B = segs[b];
+          if (B.y0 > A.y1 || B.y1 < A.y0) continue;
+          const double eps = 1e-9 * la * (B.q - B.p).norm();
+          const double o1 = cross2(A.p, A.q, B.p), o2 = cross2(A.p, A.q, B.q);
+          if (!((o1 > eps && o2 < -eps) || (o1 < -eps && o2 > eps))) continue;
+          const double o3 = cross2(B.p, B.q, A.p), o4 = cross2(B.p, B.q, A.q);
+          c += (o3 > eps && o4 < -eps) || (o3 < -eps && o4 > eps);
         }
       }
     }
-    found += c;
-    done += std::min(pairs.size(), (b + 1) * kBlock) - b * kBlock;
+    return std::pair<std::size_t, std::size_t>{c, d};
   });
-  const std::size_t n = found.load(), seen = done.load();
-  if (seen == pairs.size() || seen == 0) return n;
-  return static_cast<std::size_t>(double(n) * double(pairs.size()) / double(seen));
+  if (crossing > stop_above) return crossing;
+  // Triangles in one plane: the pairs of that kind alone, each triple t < u < w from its pair
+  // (t, u) as a w in both N3+(t) (after u) and N3+(u), read against marks of N3+(t) (per thread).
+  std::vector<std::array<u32, 2>> flat;
+  for (std::size_t i = 0; i < np; ++i)
+    if (kinds[i] == 3) flat.push_back(pairs[i]);
+  if (flat.size() < 3) return crossing;
+  std::vector<std::size_t> foff(nt + 1, 0);
+  for (const auto& p : flat) ++foff[p[0] + 1];
+  for (std::size_t t = 0; t < nt; ++t) foff[t + 1] += foff[t];
+  const std::size_t coplanar = count_blocks(flat.size(), stop_above - crossing, [&](std::size_t lo, std::size_t hi) {
+    thread_local std::vector<std::uint32_t> mark;
+    thread_local std::uint32_t stamp = 0;
+    if (mark.size() < nt) mark.resize(nt, 0);
+    std::size_t c = 0;
+    u32 marked = kNone;
+    for (std::size_t i = lo; i < hi; ++i) {
+      const u32 t = flat[i][0], u = flat[i][1];
+      if (marked != t) {
+        if (++stamp == 0) {  // wrapped: no stale entry may look current
+          std::fill(mark.begin(), mark.end(), 0);
+          stamp = 1;
+        }
+        marked = t;
+        for (std::size_t j = foff[t]; j < foff[t + 1]; ++j) mark[flat[j][1]] = stamp;
+      }
+      for (std::size_t j = foff[u]; j < foff[u + 1]; ++j)
+        if (mark[flat[j][1]] == stamp) c += coplanar_crossings(soup, t, u, flat[j][1]);
+    }
+    return std::pair<std::size_t, std::size_t>{c, hi - lo};
+  });
+  return crossing + coplanar;
 }
 
 }  // namespace wedge::boolean_detail

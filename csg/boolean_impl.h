@@ -662,9 +662,10 @@ inline bool apart(const Soup& s, u32 ti, u32 ui, bool edges) {
 
 // An estimate of the points where three operands' surfaces cross (each of which the arrangement
 // finds as a crossing of two segments inside a triangle, once in each of the three triangles):
-// the triples of triangles of three different operands whose boxes meet pairwise (each pair of
-// them a candidate pair) and whose planes meet, as double arithmetic sees it, at a point inside
-// all three. Ordinary booleans have few (none in the bench's spheres, lattice and plate; the
+// the triples of triangles of three different operands whose planes meet, as double arithmetic
+// sees it, at a point inside all three: in the lowest one's list of partners, two of its cut
+// segments (each the overlap of the pair's planes' line with both triangles) crossing strictly
+// inside both. Ordinary booleans have few (none in the bench's spheres, lattice and plate; the
 // Menger sponge's tunnels meet end to end); nearly coincident operands have very many, each slow
 // to decide exactly (17 copies of a sphere rotated by 1 .. 16 degrees: about 650,000, minutes of
 // work). Triangles of three operands in one plane count the crossings of two one's edges inside
