@@ -530,7 +530,10 @@ BooleanResult boolean_detail::boolean_as_given(BooleanOp op, const std::vector<c
   std::vector<char> checked = radially_embedded(soup, &trusted, corners);
   corners = {};
   for (std::size_t i = 0; i < operands.size(); ++i) checked[i] |= trusted[i];
-  auto pairs = candidate_pairs(soup, &clash, false, &checked);
+  // Triangles inside the core of an operand that drops them (a strut's cap inside a node's ball)
+  // are settled before the broad phase, which leaves them out.
+  const std::vector<char> in_cores = settle_in_cores(soup, op, checked);
+  auto pairs = candidate_pairs(soup, &clash, false, &checked, nullptr, in_cores.empty() ? nullptr : &in_cores);
   if (clash[0] != kNone) {
     u32 t = clash[0], u = clash[1];
     auto tri = [&](u32 x) {
@@ -543,7 +546,7 @@ BooleanResult boolean_detail::boolean_as_given(BooleanOp op, const std::vector<c
   }
   // Cuts buried in an operand that drops everything there leave the arrangement: settled
   // triangles now, pairs in cores after the budget.
-  Settlement settled = settle(soup, pairs, op);
+  Settlement settled = settle(soup, pairs, op, in_cores);
   // The work budget, before the exact work (the arrangement) that would take minutes above it.
   if (operands.size() >= 3) {
     const std::size_t crossings = candidate_triples(soup, pairs, max_crossings);
@@ -556,6 +559,7 @@ BooleanResult boolean_detail::boolean_as_given(BooleanOp op, const std::vector<c
   settle_pairs(soup, pairs, op, settled);
   if (stats) {
     stats->settled = settled.settled_triangles();
+    stats->in_cores = static_cast<std::size_t>(std::count(in_cores.begin(), in_cores.end(), 1));
     stats->settled_pairs = settled.pairs.size();
   }
   lap(&BooleanStats::broad);

@@ -41,6 +41,7 @@ struct BooleanStats {
   std::size_t reorders = 0;  // other orders of the operands tried after the result could not be rounded
   std::size_t trusted = 0;  // operands known as results of earlier booleans, not checked again
   std::size_t settled = 0;  // triangles buried in an operand that drops them, left out of the arrangement
+  std::size_t in_cores = 0;  // of those, the ones settled before the broad phase (inside an operand's core)
   std::size_t settled_pairs = 0;  // other pairs whose cut lies deep inside such an operand, left out
   std::size_t quads = 0;  // pairs of cut triangles of one face retriangulated as one quadrilateral
   std::size_t quad_points = 0;  // cut points on those quadrilaterals' diagonals left out

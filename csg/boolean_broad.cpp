@@ -484,7 +484,8 @@ std::vector<u32> near_other_operands(const Soup& soup) {
 }  // namespace
 
 std::vector<std::array<u32, 2>> candidate_pairs(const Soup& soup, std::array<u32, 2>* clash, bool self,
-                                                const std::vector<char>* trusted, const std::vector<char>* active) {
+                                                const std::vector<char>* trusted, const std::vector<char>* active,
+                                                const std::vector<char>* left_out) {
   // Where no operand's own pairs are looked at, the tree holds only the triangles near others.
   bool own = self;
   for (int op = 0; op < soup.operands && !own; ++op) own = clash && !(trusted && (*trusted)[op]);
@@ -495,6 +496,7 @@ std::vector<std::array<u32, 2>> candidate_pairs(const Soup& soup, std::array<u32
   } else {
     all = near_other_operands(soup);
   }
+  if (left_out) all.erase(std::remove_if(all.begin(), all.end(), [&](u32 t) { return (*left_out)[t] != 0; }), all.end());
   const std::size_t n = all.size();
   const Bvh tree(soup, std::move(all), 3, true);
   std::vector<std::uint8_t> cert;

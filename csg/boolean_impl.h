@@ -584,9 +584,11 @@ int orient3d_v(const Soup& s, u32 a, u32 b, u32 c, u32 d);
 // With `self`, pairs of one operand that clash are candidates too (no clash is reported).
 // With `trusted` (per operand), pairs of one trusted operand are not checked.
 // With `active` (per triangle), only pairs with an active triangle are looked at.
+// With `left_out` (per triangle), those triangles have no pairs (settle_in_cores()).
 std::vector<std::array<u32, 2>> candidate_pairs(const Soup& soup, std::array<u32, 2>* clash = nullptr,
                                                 bool self = false, const std::vector<char>* trusted = nullptr,
-                                                const std::vector<char>* active = nullptr);
+                                                const std::vector<char>* active = nullptr,
+                                                const std::vector<char>* left_out = nullptr);
 
 // Per vertex v, its corners [off[v], off[v + 1]) in ascending triangle order: next[k] = (the
 // corner's next vertex << 32 | triangle), prev[k] = (its previous vertex << 32 | triangle). Made
@@ -888,9 +890,15 @@ struct Settlement {
     return std::binary_search(pairs.begin(), pairs.end(), std::array<u32, 2>{std::min(t, u), std::max(t, u)});
   }
 };
+// Before the broad phase: the triangles of operands in `checked` (whose own pairs need no look)
+// that lie in the core of an operand settling them, all three vertices (empty: none). Such a
+// triangle is settled without a pair (a truss's strut caps at each node's centre, inside the
+// node's ball: two thirds of its candidate pairs); the broad phase leaves it out.
+std::vector<char> settle_in_cores(const Soup& soup, BooleanOp op, const std::vector<char>& checked);
 // The settled triangles of a boolean's candidate pairs; their pairs are removed from `pairs` (the
-// rest keep their order).
-Settlement settle(const Soup& soup, std::vector<std::array<u32, 2>>& pairs, BooleanOp op);
+// rest keep their order). `in_cores` (settle_in_cores()'s, if any) are settled too.
+Settlement settle(const Soup& soup, std::vector<std::array<u32, 2>>& pairs, BooleanOp op,
+                  const std::vector<char>& in_cores = {});
 // Then the pairs in cores (s.pairs), removed from `pairs` as well. Run after the work budget's
 // count: on operands that nearly coincide (17 copies of a sphere turned by a degree each, 4.4M
 // pairs, every core in every cell) the cores' look took 1.1 s where the count refuses in 0.1 s.

@@ -467,14 +467,19 @@ std::vector<std::array<u32, 2>> drop_core_pairs(const Scene& sc, const std::vect
 
 namespace {
 
+// Whether the inside of operand j drops the points of operand i there, whatever else holds them
+// (in a union or a difference).
+auto settles_for(BooleanOp op) {
+  return [op](int i, int j) { return j != i && (op == BooleanOp::Union || j != 0); };
+}
+
 // Runs f(scene, degree, settles) where settling can do anything (three operands or more, a union
 // or a difference, a scene with an extent).
 template <class F>
 void with_scene(const Soup& soup, const std::vector<std::array<u32, 2>>& pairs, BooleanOp op, F&& f) {
   // With two operands every pair is with the other one: nothing to settle.
   if (soup.operands < 3 || op == BooleanOp::Intersection || pairs.empty()) return;
-  // Whether the inside of operand j drops the points of operand i there, whatever else holds them.
-  auto settles = [op](int i, int j) { return j != i && (op == BooleanOp::Union || j != 0); };
+  const auto settles = settles_for(op);
   const Scene sc(soup);
   if (!sc.usable()) return;
   // Per triangle, its pairs (one pass: the pairs of a neighbourhood sit together, and plain
@@ -486,12 +491,64 @@ void with_scene(const Soup& soup, const std::vector<std::array<u32, 2>>& pairs, 
 
 }  // namespace
 
-Settlement settle(const Soup& soup, std::vector<std::array<u32, 2>>& pairs, BooleanOp op) {
+Settlement settle(const Soup& soup, std::vector<std::array<u32, 2>>& pairs, BooleanOp op,
+                  const std::vector<char>& in_cores) {
   Settlement s;
   with_scene(soup, pairs, op, [&](const Scene& sc, const std::vector<u32>& degree, auto&& settles) {
     s.triangles = settle_triangles(sc, degree, pairs, settles);
   });
+  if (!in_cores.empty()) {
+    if (s.triangles.empty()) s.triangles = in_cores;
+    else
+      for (std::size_t t = 0; t < in_cores.size(); ++t) s.triangles[t] |= in_cores[t];
+  }
   return s;
+}
+
+std::vector<char> settle_in_cores(const Soup& soup, BooleanOp op, const std::vector<char>& checked) {
+  if (soup.operands < 3 || op == BooleanOp::Intersection) return {};
+  const auto settles = settles_for(op);
+  const Scene sc(soup);
+  if (!sc.usable()) return {};
+  const int nops = soup.operands;
+  if (std::none_of(checked.begin(), checked.end(), [](char c) { return c != 0; })) return {};
+  std::vector<Core> core(nops);
+  parallel_for(0, static_cast<std::size_t>(nops), [&](std::size_t j) { core[j] = core_of(sc, static_cast<int>(j)); });
+  std::vector<std::array<double, 6>> core_box(nops, {INFINITY, INFINITY, INFINITY, -INFINITY, -INFINITY, -INFINITY});
+  bool any = false;
+  for (int j = 0; j < nops; ++j)
+    if (core[j].r > 0) {
+      any = true;
+      for (int d = 0; d < 3; ++d) core_box[j][d] = core[j].c[d] - core[j].r, core_box[j][d + 3] = core[j].c[d] + core[j].r;
+    }
+  if (!any) return {};
+  const Grid cells = sc.grid(core_box, std::clamp(static_cast<int>(2 * std::cbrt(static_cast<double>(nops))), 1, 32));
+  soup.poll();
+  const std::size_t nt = soup.tris.size();
+  std::vector<char> in(nt, 0);
+  std::atomic<bool> found{false};
+  parallel_blocks(nt, 16384, [&](std::size_t lo, std::size_t hi) {
+    soup.poll();
+    for (std::size_t t = lo; t < hi; ++t) {
+      const int i = soup.operand[t];
+      if (!checked[i]) continue;
+      const auto& T = soup.tris[t];
+      const Vec3 *a = &soup.verts[T[0]], *b = &soup.verts[T[1]], *c = &soup.verts[T[2]];
+      // A core holding the triangle holds its first vertex, and so is listed in that one's cell.
+      for (int j : cells.at(a->data())) {
+        const Core& k = core[j];
+        if (!settles(i, j) || !(k.r > 0)) continue;
+        const double r2 = k.r * k.r * (1 - 1e-9);
+        if ((*a - k.c).squaredNorm() < r2 && (*b - k.c).squaredNorm() < r2 && (*c - k.c).squaredNorm() < r2) {
+          in[t] = 1;
+          found.store(true, std::memory_order_relaxed);
+          break;
+        }
+      }
+    }
+  });
+  if (!found.load()) return {};
+  return in;
 }
 
 void settle_pairs(const Soup& soup, std::vector<std::array<u32, 2>>& pairs, BooleanOp op, Settlement& s) {

@@ -89,6 +89,10 @@ TEST_CASE("boolean: triangles buried in an operand that drops them leave the arr
     BooleanStats st;
     const BooleanResult r = one_pass(BooleanOp::Union, truss, st);
     CHECK(st.settled > 0);
+    // The struts' caps (12 triangles each, two per strut; the last 8 operands are the balls) lie
+    // in the balls' cores, and nothing else does: settled before the broad phase.
+    CHECK(st.in_cores == (truss.size() - 8) * 2 * 12);
+    CHECK(st.in_cores <= st.settled);
     CHECK(st.settled_pairs > 0);  // struts' walls crossing near a node, inside its ball's core
     {
       // The same bits with one thread as with all of them.
@@ -98,12 +102,35 @@ TEST_CASE("boolean: triangles buried in an operand that drops them leave the arr
       CHECK(r1.mesh.positions == r.mesh.positions);
       CHECK(r1.mesh.triangles == r.mesh.triangles);
       CHECK(s1.settled == st.settled);
+      CHECK(s1.in_cores == st.in_cores);
       CHECK(s1.settled_pairs == st.settled_pairs);
     }
     // Folded two at a time (nothing settles with two operands): the same solid.
     Mesh folded = truss[0];
     for (std::size_t i = 1; i < truss.size(); ++i) folded = boolean(BooleanOp::Union, folded, truss[i]);
     CHECK(r.mesh.volume() == Approx(folded.volume()).epsilon(1e-9));
+  }
+  SECTION("an operand inside a ball's core that crosses itself: still found") {
+    // Only operands whose own pairs need no look (results, or one-to-one on a sphere about their
+    // centre) are settled before the broad phase, which checks the others for self-crossings.
+    const Mesh ball = wedge::testing::icosphere(Point3(0, 0, 0), 1, 320);
+    const Mesh bar = box_between(Vec3(-2, -0.1, -0.1), Vec3(2, 0.1, 0.1));
+    Mesh crossed = box_between(Vec3(-0.2, -0.2, -0.2), Vec3(0.1, 0.1, 0.1));
+    const Mesh other = box_between(Vec3(-0.1, -0.1, -0.1), Vec3(0.2, 0.2, 0.2));
+    const auto base = static_cast<std::uint32_t>(crossed.positions.size());
+    crossed.positions.insert(crossed.positions.end(), other.positions.begin(), other.positions.end());
+    for (auto T : other.triangles) crossed.triangles.push_back({T[0] + base, T[1] + base, T[2] + base});
+    crossed.face_ids.assign(crossed.triangles.size(), -1);
+    for (BooleanOp op : {BooleanOp::Union, BooleanOp::Difference}) {
+      INFO(boolean_op_name(op));
+      std::string message;
+      try {
+        boolean(op, {&ball, &bar, &crossed});
+      } catch (const Error& e) {
+        message = e.what();
+      }
+      CHECK(message.find("operand 3 intersects itself") != std::string::npos);
+    }
   }
   SECTION("random boxes on a coarse grid: touching, nested and crossing") {
     // Seed 7 puts pieces' centroids on settled triangles, seed 3 on triangles whose cut with the
