@@ -532,8 +532,9 @@ BooleanResult boolean_detail::boolean_as_given(BooleanOp op, const std::vector<c
   for (std::size_t i = 0; i < operands.size(); ++i) checked[i] |= trusted[i];
   // Triangles inside the core of an operand that drops them (a strut's cap inside a node's ball)
   // are settled before the broad phase, which leaves them out.
-  const std::vector<char> in_cores = settle_in_cores(soup, op, checked);
-  auto pairs = candidate_pairs(soup, &clash, false, &checked, nullptr, in_cores.empty() ? nullptr : &in_cores);
+  Settlement settled = settle_in_cores(soup, op, checked);
+  const std::size_t in_cores = settled.settled_triangles();
+  auto pairs = candidate_pairs(soup, &clash, false, &checked, nullptr, settled.triangles.empty() ? nullptr : &settled.triangles);
   if (clash[0] != kNone) {
     u32 t = clash[0], u = clash[1];
     auto tri = [&](u32 x) {
@@ -546,7 +547,7 @@ BooleanResult boolean_detail::boolean_as_given(BooleanOp op, const std::vector<c
   }
   // Cuts buried in an operand that drops everything there leave the arrangement: settled
   // triangles now, pairs in cores after the budget.
-  Settlement settled = settle(soup, pairs, op, in_cores);
+  settle(soup, pairs, op, settled);
   // The work budget, before the exact work (the arrangement) that would take minutes above it.
   if (operands.size() >= 3) {
     const std::size_t crossings = candidate_triples(soup, pairs, max_crossings);
@@ -559,7 +560,7 @@ BooleanResult boolean_detail::boolean_as_given(BooleanOp op, const std::vector<c
   settle_pairs(soup, pairs, op, settled);
   if (stats) {
     stats->settled = settled.settled_triangles();
-    stats->in_cores = static_cast<std::size_t>(std::count(in_cores.begin(), in_cores.end(), 1));
+    stats->in_cores = in_cores;
     stats->settled_pairs = settled.pairs.size();
   }
   lap(&BooleanStats::broad);

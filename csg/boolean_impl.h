@@ -876,10 +876,13 @@ Arrangement arrange(Points& pts, const std::vector<std::array<u32, 2>>& pairs, b
 // The cuts left out of the arrangement because they lie strictly inside an operand whose inside
 // drops every point of the other operands there (any other operand of a union, a subtrahend of a
 // difference): no such cut reaches the result's boundary.
+struct SettleCores;
 struct Settlement {
   // Per triangle (empty: none), whether it lies strictly inside such an operand, met by none of
   // its triangles: every pair of it left out.
   std::vector<char> triangles;
+  // The operands' cores, made once for both kinds of settling (boolean_settle.cpp).
+  std::shared_ptr<const SettleCores> cores;
   // Pairs of unsettled triangles whose cut lies in the core of such an operand (sorted).
   std::vector<std::array<u32, 2>> pairs;
   std::size_t settled_triangles() const { return static_cast<std::size_t>(std::count(triangles.begin(), triangles.end(), 1)); }
@@ -891,14 +894,13 @@ struct Settlement {
   }
 };
 // Before the broad phase: the triangles of operands in `checked` (whose own pairs need no look)
-// that lie in the core of an operand settling them, all three vertices (empty: none). Such a
-// triangle is settled without a pair (a truss's strut caps at each node's centre, inside the
-// node's ball: two thirds of its candidate pairs); the broad phase leaves it out.
-std::vector<char> settle_in_cores(const Soup& soup, BooleanOp op, const std::vector<char>& checked);
-// The settled triangles of a boolean's candidate pairs; their pairs are removed from `pairs` (the
-// rest keep their order). `in_cores` (settle_in_cores()'s, if any) are settled too.
-Settlement settle(const Soup& soup, std::vector<std::array<u32, 2>>& pairs, BooleanOp op,
-                  const std::vector<char>& in_cores = {});
+// that lie in the core of an operand settling them, all three vertices (s.triangles, empty:
+// none). Such a triangle is settled without a pair (a truss's strut caps at each node's centre,
+// inside the node's ball: two thirds of its candidate pairs); the broad phase leaves it out.
+Settlement settle_in_cores(const Soup& soup, BooleanOp op, const std::vector<char>& checked);
+// Then the settled triangles of a boolean's candidate pairs; their pairs are removed from `pairs`
+// (the rest keep their order).
+void settle(const Soup& soup, std::vector<std::array<u32, 2>>& pairs, BooleanOp op, Settlement& s);
 // Then the pairs in cores (s.pairs), removed from `pairs` as well. Run after the work budget's
 // count: on operands that nearly coincide (17 copies of a sphere turned by a degree each, 4.4M
 // pairs, every core in every cell) the cores' look took 1.1 s where the count refuses in 0.1 s.

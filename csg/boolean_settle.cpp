@@ -26,6 +26,7 @@
 #include <algorithm>
 #include <atomic>
 #include <climits>
+#include <memory>
 #include <cmath>
 
 #include "csg/boolean_impl.h"
@@ -303,6 +304,36 @@ Core core_of(const Scene& sc, int j) {
   return k;
 }
 
+// The operands' cores (none for an operand that settles nothing: the first operand of a
+// difference), their boxes, and a grid listing the boxes, finer than the operands' grid: a pair
+// or triangle looks at the cores listed in its cell (a lattice of spheres, whose cores reach past
+// their neighbours' centres, listed some 14 per cell in a grid of one cell per operand, a third of
+// the pairs' time).
+struct Cores {
+  std::vector<Core> core;
+  std::vector<std::array<double, 6>> box;
+  Grid cells;
+  bool any = false;
+};
+
+Cores cores_of(const Scene& sc, BooleanOp op) {
+  const int nops = sc.soup.operands;
+  Cores k;
+  k.core.resize(nops);
+  parallel_for(0, static_cast<std::size_t>(nops), [&](std::size_t j) {
+    if (op == BooleanOp::Difference && j == 0) return;
+    k.core[j] = core_of(sc, static_cast<int>(j));
+  });
+  k.box.assign(nops, {INFINITY, INFINITY, INFINITY, -INFINITY, -INFINITY, -INFINITY});
+  for (int j = 0; j < nops; ++j)
+    if (k.core[j].r > 0) {
+      k.any = true;
+      for (int d = 0; d < 3; ++d) k.box[j][d] = k.core[j].c[d] - k.core[j].r, k.box[j][d + 3] = k.core[j].c[d] + k.core[j].r;
+    }
+  if (k.any) k.cells = sc.grid(k.box, std::clamp(static_cast<int>(2 * std::cbrt(static_cast<double>(nops))), 1, 32));
+  return k;
+}
+
 // Points whose convex hull holds triangle a's part in the plane of triangle b (its chord there),
 // each within `slop` of where exact arithmetic puts it; n of them (at most 6). False where a
 // certainly does not meet that plane, or its coordinates are outside 1e-100 .. 1e100.
@@ -372,26 +403,16 @@ bool cut_within(const Vec3 t[3], const Vec3 u[3], const Vec3& c, double reach) {
 // operand that settles both their triangles; they leave `pairs`, and are returned (sorted).
 template <class Settles>
 std::vector<std::array<u32, 2>> drop_core_pairs(const Scene& sc, const std::vector<u32>& degree,
-                                                std::vector<std::array<u32, 2>>& pairs, Settles&& settles) {
+                                                std::vector<std::array<u32, 2>>& pairs, Settles&& settles,
+                                                const Cores& cores) {
   const Soup& soup = sc.soup;
-  const int nops = soup.operands;
-  if (std::none_of(pairs.begin(), pairs.end(),
-                   [&](const auto& p) { return degree[p[0]] >= kMinPairs || degree[p[1]] >= kMinPairs; }))
+  if (!cores.any || std::none_of(pairs.begin(), pairs.end(), [&](const auto& p) {
+        return degree[p[0]] >= kMinPairs || degree[p[1]] >= kMinPairs;
+      }))
     return {};
-  std::vector<Core> core(nops);
-  parallel_for(0, static_cast<std::size_t>(nops), [&](std::size_t j) { core[j] = core_of(sc, static_cast<int>(j)); });
-  std::vector<std::array<double, 6>> core_box(nops, {INFINITY, INFINITY, INFINITY, -INFINITY, -INFINITY, -INFINITY});
-  bool any = false;
-  for (int j = 0; j < nops; ++j)
-    if (core[j].r > 0) {
-      any = true;
-      for (int d = 0; d < 3; ++d) core_box[j][d] = core[j].c[d] - core[j].r, core_box[j][d + 3] = core[j].c[d] + core[j].r;
-    }
-  if (!any) return {};
-  // Finer than the boxes' grid: every pair looks at the cores listed in its cell (a lattice of
-  // spheres, whose cores reach past their neighbours' centres, listed some 14 per cell in a grid
-  // of one cell per operand, a third of the pairs' time).
-  const Grid cells = sc.grid(core_box, std::clamp(static_cast<int>(2 * std::cbrt(static_cast<double>(nops))), 1, 32));
+  const std::vector<Core>& core = cores.core;
+  const auto& core_box = cores.box;
+  const Grid& cells = cores.cells;
   soup.poll();
   const std::size_t np = pairs.size();
   std::vector<char> drop(np, 0);
@@ -491,38 +512,29 @@ void with_scene(const Soup& soup, const std::vector<std::array<u32, 2>>& pairs, 
 
 }  // namespace
 
-Settlement settle(const Soup& soup, std::vector<std::array<u32, 2>>& pairs, BooleanOp op,
-                  const std::vector<char>& in_cores) {
-  Settlement s;
-  with_scene(soup, pairs, op, [&](const Scene& sc, const std::vector<u32>& degree, auto&& settles) {
-    s.triangles = settle_triangles(sc, degree, pairs, settles);
-  });
-  if (!in_cores.empty()) {
-    if (s.triangles.empty()) s.triangles = in_cores;
-    else
-      for (std::size_t t = 0; t < in_cores.size(); ++t) s.triangles[t] |= in_cores[t];
-  }
-  return s;
+// What settle_in_cores() made for settle_pairs() to use again.
+struct SettleCores {
+  Cores k;
+};
+
+namespace {
+
+const Cores& cores_for(const Scene& sc, BooleanOp op, Settlement& s) {
+  if (!s.cores) s.cores = std::make_shared<SettleCores>(SettleCores{cores_of(sc, op)});
+  return s.cores->k;
 }
 
-std::vector<char> settle_in_cores(const Soup& soup, BooleanOp op, const std::vector<char>& checked) {
-  if (soup.operands < 3 || op == BooleanOp::Intersection) return {};
+}  // namespace
+
+Settlement settle_in_cores(const Soup& soup, BooleanOp op, const std::vector<char>& checked) {
+  Settlement s;
+  if (soup.operands < 3 || op == BooleanOp::Intersection) return s;
+  if (std::none_of(checked.begin(), checked.end(), [](char c) { return c != 0; })) return s;
   const auto settles = settles_for(op);
   const Scene sc(soup);
-  if (!sc.usable()) return {};
-  const int nops = soup.operands;
-  if (std::none_of(checked.begin(), checked.end(), [](char c) { return c != 0; })) return {};
-  std::vector<Core> core(nops);
-  parallel_for(0, static_cast<std::size_t>(nops), [&](std::size_t j) { core[j] = core_of(sc, static_cast<int>(j)); });
-  std::vector<std::array<double, 6>> core_box(nops, {INFINITY, INFINITY, INFINITY, -INFINITY, -INFINITY, -INFINITY});
-  bool any = false;
-  for (int j = 0; j < nops; ++j)
-    if (core[j].r > 0) {
-      any = true;
-      for (int d = 0; d < 3; ++d) core_box[j][d] = core[j].c[d] - core[j].r, core_box[j][d + 3] = core[j].c[d] + core[j].r;
-    }
-  if (!any) return {};
-  const Grid cells = sc.grid(core_box, std::clamp(static_cast<int>(2 * std::cbrt(static_cast<double>(nops))), 1, 32));
+  if (!sc.usable()) return s;
+  const Cores& cores = cores_for(sc, op, s);
+  if (!cores.any) return s;
   soup.poll();
   const std::size_t nt = soup.tris.size();
   std::vector<char> in(nt, 0);
@@ -535,8 +547,8 @@ std::vector<char> settle_in_cores(const Soup& soup, BooleanOp op, const std::vec
       const auto& T = soup.tris[t];
       const Vec3 *a = &soup.verts[T[0]], *b = &soup.verts[T[1]], *c = &soup.verts[T[2]];
       // A core holding the triangle holds its first vertex, and so is listed in that one's cell.
-      for (int j : cells.at(a->data())) {
-        const Core& k = core[j];
+      for (int j : cores.cells.at(a->data())) {
+        const Core& k = cores.core[j];
         if (!settles(i, j) || !(k.r > 0)) continue;
         const double r2 = k.r * k.r * (1 - 1e-9);
         if ((*a - k.c).squaredNorm() < r2 && (*b - k.c).squaredNorm() < r2 && (*c - k.c).squaredNorm() < r2) {
@@ -547,13 +559,22 @@ std::vector<char> settle_in_cores(const Soup& soup, BooleanOp op, const std::vec
       }
     }
   });
-  if (!found.load()) return {};
-  return in;
+  if (found.load()) s.triangles.swap(in);
+  return s;
+}
+
+void settle(const Soup& soup, std::vector<std::array<u32, 2>>& pairs, BooleanOp op, Settlement& s) {
+  with_scene(soup, pairs, op, [&](const Scene& sc, const std::vector<u32>& degree, auto&& settles) {
+    std::vector<char> more = settle_triangles(sc, degree, pairs, settles);
+    if (s.triangles.empty()) s.triangles.swap(more);
+    else
+      for (std::size_t t = 0; t < more.size(); ++t) s.triangles[t] |= more[t];
+  });
 }
 
 void settle_pairs(const Soup& soup, std::vector<std::array<u32, 2>>& pairs, BooleanOp op, Settlement& s) {
   with_scene(soup, pairs, op, [&](const Scene& sc, const std::vector<u32>& degree, auto&& settles) {
-    s.pairs = drop_core_pairs(sc, degree, pairs, settles);
+    s.pairs = drop_core_pairs(sc, degree, pairs, settles, cores_for(sc, op, s));
   });
 }
 
