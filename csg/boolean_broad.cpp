@@ -706,6 +706,53 @@ std::size_t coplanar_crossings(const Soup& s, u32 t, u32 u, u32 w) {
   return count;
 }
 
+// Calls f(a, b) once for each pair of boxes (x0, x1, y0, y1) that overlap. Few boxes, or boxes
+// that a grid would hold many times over: a sweep along x (`boxes` is sorted by x0). Many (a
+// plate's face crossed by 400 cylinders' sides: 12,800 segments in one triangle, 20 holes in
+// every column): a grid of about one box per cell, each pair met in the cell of its overlap's
+// low corner alone.
+template <class Box, class F>
+void each_overlap(std::vector<Box>& boxes, F&& f) {
+  const std::size_t n = boxes.size();
+  if (n < 2) return;
+  auto overlap = [](const Box& A, const Box& B) { return !(B.x0 > A.x1 || B.x1 < A.x0 || B.y0 > A.y1 || B.y1 < A.y0); };
+  double x0 = INFINITY, y0 = INFINITY, x1 = -INFINITY, y1 = -INFINITY;
+  for (const Box& g : boxes) x0 = std::min(x0, g.x0), y0 = std::min(y0, g.y0), x1 = std::max(x1, g.x1), y1 = std::max(y1, g.y1);
+  const int g = std::clamp(static_cast<int>(std::sqrt(static_cast<double>(n))), 1, 1024);
+  const double ix = x1 > x0 ? g / (x1 - x0) : 0, iy = y1 > y0 ? g / (y1 - y0) : 0;
+  auto cx = [&](double x) { return std::clamp(static_cast<int>((x - x0) * ix), 0, g - 1); };
+  auto cy = [&](double y) { return std::clamp(static_cast<int>((y - y0) * iy), 0, g - 1); };
+  std::size_t spans = 0;
+  if (n > 64)
+    for (const Box& a : boxes) spans += static_cast<std::size_t>(cx(a.x1) - cx(a.x0) + 1) * (cy(a.y1) - cy(a.y0) + 1);
+  if (n <= 64 || spans > 8 * n) {
+    std::sort(boxes.begin(), boxes.end(), [](const Box& a, const Box& b) { return a.x0 < b.x0; });
+    for (std::size_t a = 0; a < n; ++a)
+      for (std::size_t b = a + 1; b < n && boxes[b].x0 <= boxes[a].x1; ++b)
+        if (overlap(boxes[a], boxes[b])) f(boxes[a], boxes[b]);
+    return;
+  }
+  thread_local std::vector<u32> start, item;
+  start.assign(static_cast<std::size_t>(g) * g + 1, 0);
+  auto each_cell = [&](const Box& a, auto&& h) {
+    for (int x = cx(a.x0); x <= cx(a.x1); ++x)
+      for (int y = cy(a.y0); y <= cy(a.y1); ++y) h(static_cast<std::size_t>(x) * g + y);
+  };
+  for (const Box& a : boxes) each_cell(a, [&](std::size_t cell) { ++start[cell + 1]; });
+  for (std::size_t k = 0; k + 1 < start.size(); ++k) start[k + 1] += start[k];
+  item.resize(start.back());
+  for (u32 a = 0; a < n; ++a) each_cell(boxes[a], [&](std::size_t cell) { item[start[cell]++] = a; });
+  for (std::size_t k = start.size() - 1; k > 0; --k) start[k] = start[k - 1];
+  start[0] = 0;
+  for (std::size_t cell = 0; cell + 1 < start.size(); ++cell)
+    for (u32 a = start[cell]; a < start[cell + 1]; ++a)
+      for (u32 b = a + 1; b < start[cell + 1]; ++b) {
+        const Box &A = boxes[item[a]], &B = boxes[item[b]];
+        if (!overlap(A, B)) continue;
+        if (static_cast<std::size_t>(cx(std::max(A.x0, B.x0))) * g + cy(std::max(A.y0, B.y0)) == cell) f(A, B);
+      }
+}
+
 }  // namespace
 
 std::size_t candidate_triples(const Soup& soup, const std::vector<std::array<u32, 2>>& pairs, std::size_t stop_above) {
@@ -722,6 +769,13 @@ std::size_t candidate_triples(const Soup& soup, const std::vector<std::array<u32
     const Vec3 n = (soup.verts[T[1]] - soup.verts[T[0]]).cross(soup.verts[T[2]] - soup.verts[T[0]]);
     plane[t] = {n.x(), n.y(), n.z(), n.dot(soup.verts[T[0]])};
   });
+  // Per pair, how its triangles lie (pair_kind; 0: not looked at yet), made where first needed.
+  std::vector<std::atomic<std::uint8_t>> kinds(np);
+  auto kind_at = [&](std::size_t i, double ht[3], double hu[3]) {
+    const std::uint8_t k = pair_kind(soup, plane, pairs[i][0], pairs[i][1], ht, hu);
+    kinds[i].store(k, std::memory_order_relaxed);
+    return k;
+  };
   // Blocks of about kBlock pairs (each triangle's list whole, in the block where it starts), in a
   // shuffled order, so that a count stopped early (above stop_above) scales up to an estimate of
   // the whole.
@@ -748,87 +802,107 @@ std::size_t candidate_triples(const Soup& soup, const std::vector<std::array<u32
     return off[t] == i ? i : off[t + 1];
   };
   // Triangles that cross each other's planes: a triple t < u < w crosses (the planes meet at a
-  // point inside all three) exactly where the segments t ∩ u and t ∩ w cross inside t, counted in
-  // t's list alone. Each list's segments, in t's projection along its normal's main axis, are swept
-  // along the first coordinate; a crossing counts where each segment's ends lie off the other's
-  // line by more than 1e-9 of their length (segments that meet end to end, as the Menger sponge's
-  // tunnels do, do not count). Kinds are kept for the coplanar count below.
-  std::vector<std::uint8_t> kinds(np, 0);
+  // point inside all three) exactly where the segments t n u and t n w cross inside t, counted in
+  // t's list alone, in t's projection along its normal's main axis. Only partners of t whose
+  // operand's partners' projected boxes overlap another operand's can be in a triple (a plate's
+  // face is crossed by every cylinder's sides, each hole apart from the others): their kinds and
+  // segments are made, and a crossing counts where each segment's ends lie off the other's line by more
+  // than 1e-9 of their length (segments that meet end to end, as the Menger sponge's tunnels do,
+  // do not count).
+  struct Box {
+    double x0, x1, y0, y1;
+    std::int32_t op;
+    u32 j;  // the run
+  };
   struct Seg {
     double x0, x1, y0, y1;  // the box
+    std::int32_t op;
     Vec2 p, q;
   };
   const std::size_t crossing = count_blocks(np, stop_above, [&](std::size_t lo, std::size_t hi) {
+    thread_local std::vector<Box> boxes;
     thread_local std::vector<Seg> segs;
+    thread_local std::vector<char> need;
     std::size_t c = 0, d = 0;
+    auto cross2 = [](const Vec2& o, const Vec2& a, const Vec2& b) {
+      return (a.x() - o.x()) * (b.y() - o.y()) - (a.y() - o.y()) * (b.x() - o.x());
+    };
     for (std::size_t i = list_start(lo); i < hi; i = off[pairs[i][0] + 1]) {
       const u32 t = pairs[i][0];
       const std::size_t end = off[t + 1];
       d += end - i;
+      if (end - i < 2) continue;
       const Vec3 n(plane[t][0], plane[t][1], plane[t][2]);
       int k = 0;
       for (int a = 1; a < 3; ++a)
         if (std::abs(n[a]) > std::abs(n[k])) k = a;
       const int x = (k + 1) % 3, y = (k + 2) % 3;
+      // The partners of one operand are a run of the list (an operand's triangles are a run of
+      // the soup's): one box per run, the union of its triangles' boxes in t's projection.
+      boxes.clear();
+      for (std::size_t j = i; j < end;) {
+        const std::int32_t op = soup.operand[pairs[j][1]];
+        Box b{INFINITY, -INFINITY, INFINITY, -INFINITY, op, static_cast<u32>(boxes.size())};
+        for (; j < end && soup.operand[pairs[j][1]] == op; ++j) {
+          double blo[3], bhi[3];
+          triangle_box(soup, pairs[j][1], blo, bhi);
+          b.x0 = std::min(b.x0, blo[x]), b.x1 = std::max(b.x1, bhi[x]);
+          b.y0 = std::min(b.y0, blo[y]), b.y1 = std::max(b.y1, bhi[y]);
+        }
+        boxes.push_back(b);
+      }
+      if (boxes.size() < 2) continue;
+      need.assign(boxes.size(), 0);
+      each_overlap(boxes, [&](const Box& a, const Box& b) { need[a.j] = need[b.j] = 1; });
+      std::size_t run = 0;
       segs.clear();
       for (std::size_t j = i; j < end; ++j) {
+        if (j > i && soup.operand[pairs[j][1]] != soup.operand[pairs[j - 1][1]]) ++run;
+        if (!need[run]) continue;
         double ht[3], hu[3];
-        kinds[j] = pair_kind(soup, plane, t, pairs[j][1], ht, hu);
         Vec3 p, q;
-        if (kinds[j] != 1 || !meet_segment(soup, plane, t, pairs[j][1], ht, hu, p, q)) continue;
+        if (kind_at(j, ht, hu) != 1 || !meet_segment(soup, plane, t, pairs[j][1], ht, hu, p, q)) continue;
         const Vec2 p2(p[x], p[y]), q2(q[x], q[y]);
         segs.push_back({std::min(p2.x(), q2.x()), std::max(p2.x(), q2.x()), std::min(p2.y(), q2.y()),
-                        std::max(p2.y(), q2.y()), p2, q2});
+                        std::max(p2.y(), q2.y()), soup.operand[pairs[j][1]], p2, q2});
       }
-      if (segs.size() < 2) continue;
-      std::sort(segs.begin(), segs.end(), [](const Seg& a, const Seg& b) { return a.x0 < b.x0; });
-      auto cross2 = [](const Vec2& o, const Vec2& a, const Vec2& b) {
-        return (a.x() - o.x()) * (b.y() - o.y()) - (a.y() - o.y()) * (b.x() - o.x());
-      };
-      for (std::size_t a = 0; a < segs.size(); ++a) {
-        const Seg& A = segs[a];
-        const double la = (A.q - A.p).norm();
-        for (std::size_t b = a + 1; b < segs.size() && segs[b].x0 <= A.x1; ++b) {
-          const Seg& B = segs[b];
-          if (B.y0 > A.y1 || B.y1 < A.y0) continue;
-          const double eps = 1e-9 * la * (B.q - B.p).norm();
-          const double o1 = cross2(A.p, A.q, B.p), o2 = cross2(A.p, A.q, B.q);
-          if (!((o1 > eps && o2 < -eps) || (o1 < -eps && o2 > eps))) continue;
-          const double o3 = cross2(B.p, B.q, A.p), o4 = cross2(B.p, B.q, A.q);
-          c += (o3 > eps && o4 < -eps) || (o3 < -eps && o4 > eps);
-        }
-      }
+      each_overlap(segs, [&](const Seg& A, const Seg& B) {
+        if (A.op == B.op) return;
+        const double eps = 1e-9 * (A.q - A.p).norm() * (B.q - B.p).norm();
+        const double o1 = cross2(A.p, A.q, B.p), o2 = cross2(A.p, A.q, B.q);
+        if (!((o1 > eps && o2 < -eps) || (o1 < -eps && o2 > eps))) return;
+        const double o3 = cross2(B.p, B.q, A.p), o4 = cross2(B.p, B.q, A.q);
+        c += (o3 > eps && o4 < -eps) || (o3 < -eps && o4 > eps);
+      });
     }
     return std::pair<std::size_t, std::size_t>{c, d};
   });
   if (crossing > stop_above) return crossing;
-  // Triangles in one plane: the pairs of that kind alone, each triple t < u < w from its pair
-  // (t, u) as a w in both N3+(t) (after u) and N3+(u), read against marks of N3+(t) (per thread).
-  std::vector<std::array<u32, 2>> flat;
+  // Triangles in one plane: each triple t < u < w of coplanar pairs, from (t, u) and (t, w) both
+  // in t's list (looked at above, as t's partners of other operands overlapping there), and
+  // (u, w) in u's list (its kind made here where not yet).
+  std::vector<std::size_t> flat;
   for (std::size_t i = 0; i < np; ++i)
-    if (kinds[i] == 3) flat.push_back(pairs[i]);
-  if (flat.size() < 3) return crossing;
-  std::vector<std::size_t> foff(nt + 1, 0);
-  for (const auto& p : flat) ++foff[p[0] + 1];
-  for (std::size_t t = 0; t < nt; ++t) foff[t + 1] += foff[t];
+    if (kinds[i].load(std::memory_order_relaxed) == 3) flat.push_back(i);
+  if (flat.size() < 2) return crossing;
   const std::size_t coplanar = count_blocks(flat.size(), stop_above - crossing, [&](std::size_t lo, std::size_t hi) {
-    thread_local std::vector<std::uint32_t> mark;
-    thread_local std::uint32_t stamp = 0;
-    if (mark.size() < nt) mark.resize(nt, 0);
     std::size_t c = 0;
-    u32 marked = kNone;
-    for (std::size_t i = lo; i < hi; ++i) {
-      const u32 t = flat[i][0], u = flat[i][1];
-      if (marked != t) {
-        if (++stamp == 0) {  // wrapped: no stale entry may look current
-          std::fill(mark.begin(), mark.end(), 0);
-          stamp = 1;
-        }
-        marked = t;
-        for (std::size_t j = foff[t]; j < foff[t + 1]; ++j) mark[flat[j][1]] = stamp;
+    for (std::size_t a = lo; a < hi; ++a) {
+      const std::size_t i = flat[a];
+      const u32 t = pairs[i][0], u = pairs[i][1];
+      for (std::size_t b = a + 1; b < flat.size() && pairs[flat[b]][0] == t; ++b) {
+        const u32 w = pairs[flat[b]][1];
+        if (soup.operand[w] == soup.operand[u]) continue;
+        const auto at = std::lower_bound(pairs.begin() + static_cast<std::ptrdiff_t>(off[u]),
+                                         pairs.begin() + static_cast<std::ptrdiff_t>(off[u + 1]), w,
+                                         [](const std::array<u32, 2>& p, u32 x) { return p[1] < x; });
+        if (at == pairs.begin() + static_cast<std::ptrdiff_t>(off[u + 1]) || (*at)[1] != w) continue;
+        const std::size_t uw = static_cast<std::size_t>(at - pairs.begin());
+        std::uint8_t k = kinds[uw].load(std::memory_order_relaxed);
+        double ht[3], hu[3];
+        if (k == 0) k = kind_at(uw, ht, hu);
+        if (k == 3) c += coplanar_crossings(soup, t, u, w);
       }
-      for (std::size_t j = foff[u]; j < foff[u + 1]; ++j)
-        if (mark[flat[j][1]] == stamp) c += coplanar_crossings(soup, t, u, flat[j][1]);
     }
     return std::pair<std::size_t, std::size_t>{c, hi - lo};
   });
