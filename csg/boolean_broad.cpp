@@ -605,8 +605,8 @@ namespace {
 // How triangles t and u lie to each other's planes, as double arithmetic sees it: 1 each crosses
 // the other's plane (vertices strictly on both sides: the three pairs of a crossing point inside
 // three triangles all do), 3 both lie in one plane, 2 neither. ht gets the heights of t's vertices
-// over u's plane, hu those of u's over t's (each times its normal's length), and eps the
-// tolerance each was judged by (0 where a height is within it).
+// over u's plane, hu those of u's over t's (each times its normal's length; 0 where within the
+// tolerance the kind was judged by).
 std::uint8_t pair_kind(const Soup& s, const std::vector<std::array<double, 4>>& plane, u32 t, u32 u, double ht[3],
                        double hu[3]) {
   auto side = [&](u32 a, u32 b, double h[3]) {  // 1 across, 3 within a's plane, 2 otherwise

@@ -669,7 +669,7 @@ inline bool apart(const Soup& s, u32 ti, u32 ui, bool edges) {
 // segments (each the overlap of the pair's planes' line with both triangles) crossing strictly
 // inside both. Ordinary booleans have few (none in the bench's spheres, lattice and plate; the
 // Menger sponge's tunnels meet end to end); nearly coincident operands have very many, each slow
-// to decide exactly (17 copies of a sphere rotated by 1 .. 16 degrees: about 650,000, minutes of
+// to decide exactly (17 copies of a sphere rotated by 1 .. 16 degrees: about 700,000, minutes of
 // work). Triangles of three operands in one plane count the crossings of two one's edges inside
 // the third (copies of a box turned by a hair: their faces' edges cross in every other copy's
 // face, n^3 crossings in all, each decided exactly). The count stops once it passes `stop_above` and is then scaled up from the share of the

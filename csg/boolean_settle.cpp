@@ -26,8 +26,8 @@
 #include <algorithm>
 #include <atomic>
 #include <climits>
-#include <memory>
 #include <cmath>
+#include <memory>
 
 #include "csg/boolean_impl.h"
 #include "kernel/parallel.h"
