@@ -17,7 +17,6 @@
 #include "kernel/error.h"
 #include "kernel/parallel.h"
 #include "kernel/predicates.h"
-#include "kernel/scaled.h"
 
 namespace wedge {
 
@@ -383,7 +382,7 @@ std::vector<std::string> soup_defects(const Soup& s, CornerLists& corners, const
     }
   }
   parallel_for(0, nops, [&](std::size_t o) {
-    if (check[o] && out[o].empty() && !meshes[o]->triangles.empty() && !(frame_volume(*meshes[o]) > 0))
+    if (check[o] && out[o].empty() && !meshes[o]->triangles.empty() && volume_sign(meshes[o]->positions, meshes[o]->triangles) <= 0)
       out[o] = names[o] + " is inside out (negative volume): triangles must be counter-clockwise seen from outside";
   });
   return out;

@@ -3,7 +3,11 @@
 // only when the interval contains zero, so results are exact at near-double speed.
 #include "kernel/predicates.h"
 
+#include <cmath>
+#include <limits>
+
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Gmpq.h>
 #include <CGAL/intersections.h>
 
 #include "kernel/error.h"
@@ -35,6 +39,46 @@ int orient2d(const Point2& a, const Point2& b, const Point2& c) {
 int orient3d(const Point3& a, const Point3& b, const Point3& c, const Point3& d) {
   // CGAL::orientation(p,q,r,s) is the sign of det[q-p, r-p, s-p].
   return sign(CGAL::orientation(cg(a), cg(b), cg(c), cg(d)));
+}
+
+int volume_sign(const std::vector<Point3>& positions, const std::vector<std::array<std::uint32_t, 3>>& triangles) {
+  if (triangles.empty()) return 0;
+  for (const auto& p : positions) require_finite_point(p);
+  // The filter: the sum in a frame at the box's centre, scaled by a power of two (the volume is the
+  // same there, scaled exactly). Each term moves by at most 3 eps |a|1 |b|1 |c|1 through the
+  // translation's rounding and 6 eps of that through the determinant's; the running sum by n eps
+  // times the terms' magnitudes. Twice that bound decides the sign; within it, the exact sum does.
+  Point3 lo = positions[triangles[0][0]], hi = lo;
+  for (const auto& T : triangles)
+    for (auto v : T) {
+      lo = lo.cwiseMin(positions[v]);
+      hi = hi.cwiseMax(positions[v]);
+    }
+  const Point3 ref = 0.5 * lo + 0.5 * hi;
+  const double size = (hi - lo).maxCoeff();
+  if (size > 0 && std::isfinite(size)) {
+    const double scale = std::ldexp(1.0, -std::ilogb(size));
+    double sum = 0, magnitude = 0;
+    for (const auto& T : triangles) {
+      const Vec3 a = (positions[T[0]] - ref) * scale, b = (positions[T[1]] - ref) * scale,
+                 c = (positions[T[2]] - ref) * scale;
+      sum += a.dot(b.cross(c));
+      magnitude += a.cwiseAbs().sum() * b.cwiseAbs().sum() * c.cwiseAbs().sum();
+    }
+    const double eps = std::numeric_limits<double>::epsilon();
+    const double bound = 2 * (static_cast<double>(triangles.size()) + 16) * eps * magnitude;
+    if (std::isfinite(sum) && std::isfinite(bound) && bound > 0 && std::abs(sum) > bound) return sum > 0 ? 1 : -1;
+  }
+  // Exact: the determinants of the doubles as they are, summed as rationals.
+  CGAL::Gmpq total = 0;
+  for (const auto& T : triangles) {
+    const Point3 &p = positions[T[0]], &q = positions[T[1]], &r = positions[T[2]];
+    auto x = [](double d) { return CGAL::Gmpq(d); };
+    total += x(p.x()) * (x(q.y()) * x(r.z()) - x(q.z()) * x(r.y())) -
+             x(p.y()) * (x(q.x()) * x(r.z()) - x(q.z()) * x(r.x())) +
+             x(p.z()) * (x(q.x()) * x(r.y()) - x(q.y()) * x(r.x()));
+  }
+  return CGAL::sign(total) == CGAL::POSITIVE ? 1 : (CGAL::sign(total) == CGAL::NEGATIVE ? -1 : 0);
 }
 
 int incircle(const Point2& a, const Point2& b, const Point2& c, const Point2& d) {

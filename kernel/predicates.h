@@ -3,6 +3,10 @@
 // answers the easy cases and exact arithmetic (CGAL's filtered kernel, confined to
 // predicates.cpp) the close ones. Signs are -1, 0, +1.
 #pragma once
+#include <array>
+#include <cstdint>
+#include <vector>
+
 #include "kernel/types.h"
 
 namespace wedge {
@@ -19,6 +23,9 @@ int incircle(const Point2& a, const Point2& b, const Point2& c, const Point2& d)
 // For a positively oriented tetrahedron (orient3d(a,b,c,d) = +1): +1 if e is inside the
 // circumsphere, -1 outside, 0 on it.
 int insphere(const Point3& a, const Point3& b, const Point3& c, const Point3& d, const Point3& e);
+// The sign of the sum over `triangles` (a, b, c) of det[a, b, c]: six times the signed volume that
+// a closed mesh of these triangles bounds (the sum does not depend on where the origin is).
+int volume_sign(const std::vector<Point3>& positions, const std::vector<std::array<std::uint32_t, 3>>& triangles);
 bool coplanar(const Point3& a, const Point3& b, const Point3& c, const Point3& d);
 bool collinear(const Point3& a, const Point3& b, const Point3& c);
 

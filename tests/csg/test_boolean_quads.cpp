@@ -6,6 +6,7 @@
 #include <tbb/global_control.h>
 
 #include "csg/boolean.h"
+#include "kernel/predicates.h"
 #include "tests/support/boolean_cases.h"
 #include "tests/support/cgal_oracle.h"
 
@@ -401,6 +402,24 @@ TEST_CASE("boolean: nearly flush boxes, slanted or turned: where rounding fails 
     // result's triangles name the caller's operands: each lies in its source's plane and faces
     // its way.
     CHECK(flush_case(8, 252, 3, BooleanOp::Union).reorders == 1);
+  }
+  SECTION("two slivers of the operands' own corners: valid, though their volume sums to 0 in doubles") {
+    // Turned boxes whose faces nearly coincide leave, of the difference, two tetrahedra between
+    // a face split along one diagonal and its twin split along the other: all eight corners are
+    // the operands' (nothing rounded), and exactly their volumes are positive (1.5e-17 and
+    // 3.3e-18). Summed in doubles the volume was 0 (in the box's frame; -8.9e-16 from the
+    // origin), and the validity check, which took its sign so, called the result inside out.
+    const BooleanStats st = flush_case(104, 295, 3, BooleanOp::Difference, &r);
+    CHECK(r.mesh.triangles.size() == 8);
+    CHECK(st.flat_shells == 0);
+    CHECK(volume_sign(r.mesh.positions, r.mesh.triangles) == 1);
+    CHECK_FALSE(r.mesh.volume() > 0);
+    CHECK(mesh_solid_defect(r.mesh, "the difference") == "");
+    // A valid operand of the next boolean: united with a box it keeps the box's volume.
+    const Mesh box = box_mesh(Vec3(-1, -1, -1), Vec3(9, 9, 9));
+    BooleanStats su;
+    const BooleanResult u = run(BooleanOp::Union, {r.mesh, box}, su);
+    CHECK(u.mesh.volume() == Approx(729).epsilon(1e-15));
   }
   SECTION("caps flipped back and forth: flips stop, other means get their turn") {
     // A cap flipped, then the cap its flip made flipped back, round after round: every round

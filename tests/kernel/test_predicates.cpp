@@ -229,3 +229,41 @@ TEST_CASE("incircle and insphere are exact where the textbook determinants get t
   CHECK(naive2 > cases / 20);
   CHECK(naive3 > cases / 20);
 }
+
+TEST_CASE("volume_sign is the exact sign of a closed mesh's volume", "[predicates]") {
+  using Tris = std::vector<std::array<std::uint32_t, 3>>;
+  // A tetrahedron between two triangulations of one nearly flat quadrilateral (a face split along
+  // one diagonal, its twin along the other; corners of turned boxes): its volume is 1.5e-17, and
+  // summed in doubles, from the origin or from its box's centre, it comes out 0 or less.
+  const std::vector<Point3> sliver = {{0.67193116189064517, 3.5414445183363314, 0.081726600478897321},
+                                      {2.4445844911156231, 4.3452121183361498, -0.37833624259597431},
+                                      {2.7270805289857565, 4.2695448698169551, 0.57794324379344464},
+                                      {0.95442719976077828, 3.4657772698171367, 1.0380060868683161}};
+  const Tris out = {{0, 1, 2}, {0, 2, 3}, {1, 3, 2}, {1, 0, 3}};
+  Tris in = out;
+  for (auto& t : in) std::swap(t[1], t[2]);
+  double naive = 0;
+  for (const auto& t : out) naive += sliver[t[0]].dot(sliver[t[1]].cross(sliver[t[2]]));
+  CHECK_FALSE(naive > 0);
+  CHECK(volume_sign(sliver, out) == 1);
+  CHECK(volume_sign(sliver, in) == -1);
+  // The unit cube, far from the origin and at 1e-150: the sign of its volume either way round.
+  const Tris cube = {{0, 2, 1}, {0, 3, 2}, {4, 5, 6}, {4, 6, 7}, {0, 1, 5}, {0, 5, 4},
+                     {1, 2, 6}, {1, 6, 5}, {2, 3, 7}, {2, 7, 6}, {3, 0, 4}, {3, 4, 7}};
+  for (double at : {0.0, 1e8, -3e15})
+    for (double size : {1.0, 1e-150}) {
+      std::vector<Point3> p;
+      for (int k = 0; k < 8; ++k) {
+        const double x = (k == 1 || k == 2 || k == 5 || k == 6), y = (k == 2 || k == 3 || k == 6 || k == 7), z = k >= 4;
+        p.push_back(Point3(at + x * size, at + y * size, at + z * size));
+      }
+      INFO("at " << at << " size " << size);
+      CHECK(volume_sign(p, cube) == (at + size == at ? 0 : 1));
+      Tris turned = cube;
+      for (auto& t : turned) std::swap(t[1], t[2]);
+      CHECK(volume_sign(p, turned) == (at + size == at ? 0 : -1));
+    }
+  // Two triangles back to back bound nothing.
+  CHECK(volume_sign({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, {{0, 1, 2}, {0, 2, 1}}) == 0);
+  CHECK(volume_sign({}, {}) == 0);
+}
