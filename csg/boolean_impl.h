@@ -964,6 +964,12 @@ struct Rounding {
 std::vector<u32> rounding_defects(const Mesh& m, const Rounding& rd);
 // Mends rounding defects where it can (the bad ones left in `left`); true when none is left.
 bool repair_rounding(BooleanResult& r, Rounding& rd, std::vector<u32>* left, bool snap);
+// Before the repair: edges 8-16 ulps long with a rounded end (cut points apart only by the inputs'
+// rounding) collapse into their other end where the link condition holds, orientations in the
+// sources' projections stay, and that end lies within an ulp of every joined triangle's source
+// plane; the changed triangles get rd.recheck. The result as it was goes to *saved, *saved_rd (the
+// repair's fallback). Returns the number collapsed.
+std::size_t collapse_ulp_edges(BooleanResult& r, Rounding& rd, BooleanResult* saved, Rounding* saved_rd);
 // Leaves out the shells thinner than rounding; returns how many.
 std::size_t drop_flat_shells(BooleanResult& r, Rounding& rd);
 // A re-resolution takes the rounded result as it is: where the repair had collapsed a vertex

@@ -370,7 +370,19 @@ BooleanResult assemble(const Points& pts, const Arrangement& arr, const std::vec
   }
   std::size_t flat = 0;
   soup.poll();
+  // Edges a few ulps long go first (their triangles are rechecked with the rest); where the
+  // repair then fails, it runs again on the result as it was.
+  BooleanResult saved;
+  Rounding saved_rd;
+  const std::size_t ulp_collapses = collapse_ulp_edges(r, rd, &saved, &saved_rd);
   bool ok = repair_rounding(r, rd, crossing, snap);
+  if (!ok && ulp_collapses > 0) {
+    r = std::move(saved);
+    rd = std::move(saved_rd);
+    ok = repair_rounding(r, rd, crossing, snap);
+  } else {
+    rd.collapses += ulp_collapses;
+  }
   if (!ok) {
     // Shells thinner than rounding, left out, may have been all that was wrong (or be what keeps
     // the repair from mending the rest).

@@ -546,6 +546,118 @@ bool repair_rounding(BooleanResult& r, Rounding& rd, std::vector<u32>* left, boo
   return ok;
 }
 
+std::size_t collapse_ulp_edges(BooleanResult& r, Rounding& rd, BooleanResult* saved, Rounding* saved_rd) {
+  auto& tris = r.mesh.triangles;
+  const auto& P = r.mesh.positions;
+  const std::size_t nt = tris.size(), nv = P.size();
+  // 8 to 16 ulps of the larger end's largest coordinate (an ulp of m is within m 2^-53 .. m 2^-52).
+  auto ulp_short = [&](u32 a, u32 b) {
+    const double m = std::max(P[a].cwiseAbs().maxCoeff(), P[b].cwiseAbs().maxCoeff());
+    const double d = (P[a] - P[b]).cwiseAbs().maxCoeff();
+    return d > 0 && d <= m * 0x1p-49;
+  };
+  std::vector<std::pair<double, std::array<u32, 2>>> edges;
+  for (std::size_t t = 0; t < nt; ++t)
+    for (int e = 0; e < 3; ++e) {
+      const u32 a = tris[t][e], b = tris[t][(e + 1) % 3];
+      if (a < b && (rd.moved[a] || rd.moved[b]) && ulp_short(a, b)) edges.push_back({(P[a] - P[b]).squaredNorm(), {a, b}});
+    }
+  if (edges.empty()) return 0;
+  std::sort(edges.begin(), edges.end());
+  *saved = r;
+  *saved_rd = rd;
+  std::vector<char> wanted(nv, 0);
+  for (const auto& e : edges) wanted[e.second[0]] = wanted[e.second[1]] = 1;
+  std::vector<std::vector<u32>> around(nv);  // may list triangles gone (a repeated vertex)
+  for (std::size_t t = 0; t < nt; ++t)
+    for (u32 v : tris[t])
+      if (wanted[v]) around[v].push_back(static_cast<u32>(t));
+  auto gone = [&](u32 x) { const auto& X = tris[x]; return X[0] == X[1] || X[1] == X[2] || X[2] == X[0]; };
+  std::vector<char> changed(nt, 0);
+  std::vector<u32> into(nv);  // where each vertex went (itself while it stays)
+  std::iota(into.begin(), into.end(), 0u);
+  auto neighbours = [&](u32 a) {
+    std::vector<u32> n;
+    for (u32 x : around[a])
+      if (!gone(x))
+        for (u32 v : tris[x])
+          if (v != a) n.push_back(v);
+    std::sort(n.begin(), n.end());
+    n.erase(std::unique(n.begin(), n.end()), n.end());
+    return n;
+  };
+  std::size_t done = 0;
+  // A collapse changes its neighbourhood: one per neighbourhood in a sweep, a few sweeps (a
+  // cluster of such points).
+  for (int sweep = 0; sweep < 4; ++sweep) {
+    std::vector<char> touched(nv, 0);
+    const std::size_t done_before = done;
+    for (const auto& [len, ab] : edges) {
+      u32 a = ab[0], b = ab[1];
+      if (into[a] != a || into[b] != b || touched[a] || touched[b]) continue;
+      if (!rd.moved[a]) std::swap(a, b);  // a goes, b stays
+      // The link condition: a and b have just the two vertices opposite their edge in common.
+      const std::vector<u32> na = neighbours(a), nb = neighbours(b);
+      std::vector<u32> common, opposite;
+      std::set_intersection(na.begin(), na.end(), nb.begin(), nb.end(), std::back_inserter(common));
+      for (u32 x : around[a]) {
+        const auto& X = tris[x];
+        if (!gone(x) && (X[0] == b || X[1] == b || X[2] == b))
+          for (u32 v : X)
+            if (v != a && v != b) opposite.push_back(v);
+      }
+      std::sort(opposite.begin(), opposite.end());
+      if (opposite.size() != 2 || common != opposite) continue;
+      // Every triangle that stays keeps its orientation in its source's projection.
+      bool keeps = true;
+      for (u32 x : around[a]) {
+        auto X = tris[x];
+        if (gone(x) || X[0] == b || X[1] == b || X[2] == b) continue;
+        for (u32& v : X)
+          if (v == a) v = b;
+        const int k = rd.soup->axis[rd.src[x]], i = (k + 1) % 3, j = (k + 2) % 3;
+        auto p2 = [&](u32 v) { return Point2(P[v][i], P[v][j]); };
+        if (k < 0 || orient2d(p2(X[0]), p2(X[1]), p2(X[2])) != rd.sign[x]) {
+          keeps = false;
+          break;
+        }
+      }
+      if (!keeps) continue;
+      // b stays within rounding of the source plane of every triangle it joins (as each rounded
+      // vertex is of its own).
+      {
+        const double m = P[b].cwiseAbs().maxCoeff(), ulp = std::nextafter(m, INFINITY) - m;
+        for (u32 x : around[a])
+          if (!gone(x) && plane_gap(*rd.soup, rd.src[x], P[b]) > ulp) keeps = false;
+      }
+      if (!keeps) continue;
+      for (u32 x : around[a]) {
+        if (gone(x)) continue;
+        for (u32& v : tris[x])
+          if (v == a) v = b;
+        rd.recheck[x] = changed[x] = 1;
+        around[b].push_back(x);
+      }
+      into[a] = b;
+      for (u32 v : na) touched[v] = 1;
+      touched[a] = touched[b] = 1;
+      ++done;
+    }
+    if (done == done_before) break;
+    for (auto& l : around) {
+      std::sort(l.begin(), l.end());
+      l.erase(std::unique(l.begin(), l.end()), l.end());
+    }
+  }
+  if (done == 0) return 0;
+  rd.altered.resize(nv, 0);
+  for (std::size_t t = 0; t < nt; ++t)
+    if (changed[t])
+      for (u32 v : tris[t]) rd.altered[v] = 1;
+  compact(r, &rd);
+  return done;
+}
+
 // Removes the shells thinner than rounding: a shell with a vertex that rounding moved whose
 // volume is within what moving its vertices by a few ulps could change (and the error of
 // computing it). Rounding can turn such a shell inside out without any triangle crossing another
