@@ -110,12 +110,14 @@ std::vector<u32> rounding_defects(const Mesh& m, const Rounding& rd) {
   for (std::size_t t = 0; t < nt; ++t)
     if (rd.recheck[t]) check.push_back(static_cast<u32>(t));
   if (check.empty()) return {};
-  // The triangles looked at: all of them, or (a few to recheck, as after a repair round) those
-  // whose boxes meet a rechecked one's, found through a tree over the rechecked ones alone.
+  // The triangles looked at: all of them, or (fewer than a quarter to recheck: after a repair
+  // round, or the first check where rounding moved only the cuts' points) those whose boxes meet a
+  // rechecked one's, found through a tree over the rechecked ones alone. (Two 65k spheres' union
+  // rechecks 4% of its 88,694 triangles: the soup and tree of all of them took 11 of 16 ms.)
   Mesh part_mesh;
   const Mesh* mesh = &m;
   std::vector<u32> part;  // soup triangle -> mesh triangle, when a part is taken
-  if (check.size() * 32 < nt) {
+  if (check.size() * 4 < nt) {
     const Mesh few = sub_mesh(m, check);
     std::vector<const Mesh*> one{&few};
     const Soup fs = make_soup(one, rd.soup->interrupt);
