@@ -56,7 +56,7 @@ Mesh run(const char* name, BooleanOp op, const std::vector<Mesh>& ops) {
     best.quads = st.quads;
     best.quad_points = st.quad_points;
   }
-  std::printf("| %s | %.0f | %.0f, %.0f, %.0f, %.0f, %.0f | %zu | %.9f | %zu / %zu | %zu / %zu | %zu / %zu |\n", name, cpu,
+  std::printf("| %s | %.0f | %.1f, %.1f, %.1f, %.1f, %.1f | %zu | %.9f | %zu / %zu | %zu / %zu | %zu / %zu |\n", name, cpu,
               best.check, best.broad, best.arrange, best.classify, best.output, r.mesh.triangles.size(), r.mesh.volume(),
               best.collapses, best.resolutions, best.pairs, best.pieces, best.quads, best.quad_points);
   std::fflush(stdout);
