@@ -179,6 +179,45 @@ std::vector<u32> rounding_defects(const Mesh& m, const Rounding& rd) {
 
 namespace {
 
+// The link condition of an edge a - b, for its collapse: the vertices neighbouring both a and b
+// are just the two opposite the edge. around[v] lists the triangles at v (for a and b), of which
+// those `live` rejects are passed over. Afterwards `na` holds a's neighbours. The lists are
+// kept between calls (nothing allocated per edge).
+struct LinkTest {
+  std::vector<u32> na, nb, common, opposite;
+
+  template <class Live>
+  bool operator()(const std::vector<std::array<u32, 3>>& tris, const std::vector<std::vector<u32>>& around, u32 a,
+                  u32 b, Live&& live) {
+    neighbours(tris, around, a, live, na);
+    neighbours(tris, around, b, live, nb);
+    common.clear();
+    opposite.clear();
+    std::set_intersection(na.begin(), na.end(), nb.begin(), nb.end(), std::back_inserter(common));
+    for (u32 x : around[a]) {
+      const auto& X = tris[x];
+      if (live(x) && (X[0] == b || X[1] == b || X[2] == b))
+        for (u32 v : X)
+          if (v != a && v != b) opposite.push_back(v);
+    }
+    std::sort(opposite.begin(), opposite.end());
+    return opposite.size() == 2 && common == opposite;
+  }
+
+ private:
+  template <class Live>
+  static void neighbours(const std::vector<std::array<u32, 3>>& tris, const std::vector<std::vector<u32>>& around,
+                         u32 a, Live& live, std::vector<u32>& n) {
+    n.clear();
+    for (u32 x : around[a])
+      if (live(x))
+        for (u32 v : tris[x])
+          if (v != a) n.push_back(v);
+    std::sort(n.begin(), n.end());
+    n.erase(std::unique(n.begin(), n.end()), n.end());
+  }
+};
+
 // How far (approximately) position p is from the plane of soup triangle t.
 double plane_gap(const Soup& s, u32 t, const Vec3& p) {
   const Vec3 &a = s.verts[s.tris[t][0]], &b = s.verts[s.tris[t][1]], &c = s.verts[s.tris[t][2]];
@@ -362,15 +401,7 @@ bool repair_rounding(BooleanResult& r, Rounding& rd, std::vector<u32>* left, boo
         if (wanted[v]) around[v].push_back(static_cast<u32>(t));
     std::vector<char> touched(r.mesh.positions.size(), 0);
     bool changed = false;
-    auto neighbours = [&](u32 a) {
-      std::vector<u32> n;
-      for (u32 x : around[a])
-        for (u32 v : tris[x])
-          if (v != a) n.push_back(v);
-      std::sort(n.begin(), n.end());
-      n.erase(std::unique(n.begin(), n.end()), n.end());
-      return n;
-    };
+    LinkTest link;
     // The largest distance of b from the source planes of a's triangles that survive a -> b.
     auto cost = [&](u32 a, u32 b) {
       double worst = 0;
@@ -429,17 +460,7 @@ bool repair_rounding(BooleanResult& r, Rounding& rd, std::vector<u32>* left, boo
     // neighbours of a and b are the two opposite vertices), or else (with `fold`) where a fold's
     // two triangles come to lie on each other and both go.
     auto collapse = [&](u32 a, u32 b, bool fold) {
-      const std::vector<u32> na = neighbours(a), nb = neighbours(b);
-      std::vector<u32> common, opposite;
-      std::set_intersection(na.begin(), na.end(), nb.begin(), nb.end(), std::back_inserter(common));
-      for (u32 x : around[a]) {
-        const auto& X = tris[x];
-        if (X[0] == b || X[1] == b || X[2] == b)
-          for (u32 v : X)
-            if (v != a && v != b) opposite.push_back(v);
-      }
-      std::sort(opposite.begin(), opposite.end());
-      if (opposite.size() != 2 || common != opposite) {
+      if (!link(tris, around, a, b, [](u32) { return true; })) {
         if (!fold || !folds(a, b)) return false;
         for (u32 x : folds.changed) rd.recheck[x] = 1;
         ++rd.collapses;
@@ -450,7 +471,7 @@ bool repair_rounding(BooleanResult& r, Rounding& rd, std::vector<u32>* left, boo
           if (v == a) v = b;
         rd.recheck[x] = 1;
       }
-      for (u32 v : na) touched[v] = 1;
+      for (u32 v : link.na) touched[v] = 1;
       touched[a] = touched[b] = 1;
       ++rd.collapses;
       return true;
@@ -578,16 +599,7 @@ std::size_t collapse_ulp_edges(BooleanResult& r, Rounding& rd, BooleanResult* sa
   std::vector<char> changed(nt, 0);
   std::vector<u32> into(nv);  // where each vertex went (itself while it stays)
   std::iota(into.begin(), into.end(), 0u);
-  auto neighbours = [&](u32 a) {
-    std::vector<u32> n;
-    for (u32 x : around[a])
-      if (!gone(x))
-        for (u32 v : tris[x])
-          if (v != a) n.push_back(v);
-    std::sort(n.begin(), n.end());
-    n.erase(std::unique(n.begin(), n.end()), n.end());
-    return n;
-  };
+  LinkTest link;
   std::size_t done = 0;
   // A collapse changes its neighbourhood: one per neighbourhood in a sweep, a few sweeps (a
   // cluster of such points).
@@ -598,18 +610,7 @@ std::size_t collapse_ulp_edges(BooleanResult& r, Rounding& rd, BooleanResult* sa
       u32 a = ab[0], b = ab[1];
       if (into[a] != a || into[b] != b || touched[a] || touched[b]) continue;
       if (!rd.moved[a]) std::swap(a, b);  // a goes, b stays
-      // The link condition: a and b have just the two vertices opposite their edge in common.
-      const std::vector<u32> na = neighbours(a), nb = neighbours(b);
-      std::vector<u32> common, opposite;
-      std::set_intersection(na.begin(), na.end(), nb.begin(), nb.end(), std::back_inserter(common));
-      for (u32 x : around[a]) {
-        const auto& X = tris[x];
-        if (!gone(x) && (X[0] == b || X[1] == b || X[2] == b))
-          for (u32 v : X)
-            if (v != a && v != b) opposite.push_back(v);
-      }
-      std::sort(opposite.begin(), opposite.end());
-      if (opposite.size() != 2 || common != opposite) continue;
+      if (!link(tris, around, a, b, [&](u32 x) { return !gone(x); })) continue;
       // Every triangle that stays keeps its orientation in its source's projection.
       bool keeps = true;
       for (u32 x : around[a]) {
@@ -618,8 +619,7 @@ std::size_t collapse_ulp_edges(BooleanResult& r, Rounding& rd, BooleanResult* sa
         for (u32& v : X)
           if (v == a) v = b;
         const int k = rd.soup->axis[rd.src[x]], i = (k + 1) % 3, j = (k + 2) % 3;
-        auto p2 = [&](u32 v) { return Point2(P[v][i], P[v][j]); };
-        if (k < 0 || orient2d(p2(X[0]), p2(X[1]), p2(X[2])) != rd.sign[x]) {
+        if (k < 0 || orient2d_fast(P[X[0]][i], P[X[0]][j], P[X[1]][i], P[X[1]][j], P[X[2]][i], P[X[2]][j]) != rd.sign[x]) {
           keeps = false;
           break;
         }
@@ -641,7 +641,7 @@ std::size_t collapse_ulp_edges(BooleanResult& r, Rounding& rd, BooleanResult* sa
         around[b].push_back(x);
       }
       into[a] = b;
-      for (u32 v : na) touched[v] = 1;
+      for (u32 v : link.na) touched[v] = 1;
       touched[a] = touched[b] = 1;
       ++done;
     }
