@@ -382,7 +382,8 @@ std::vector<std::string> soup_defects(const Soup& s, CornerLists& corners, const
     }
   }
   parallel_for(0, nops, [&](std::size_t o) {
-    if (check[o] && out[o].empty() && !meshes[o]->triangles.empty() && volume_sign(meshes[o]->positions, meshes[o]->triangles) <= 0)
+    if (check[o] && out[o].empty() && !meshes[o]->triangles.empty() &&
+        volume_sign(meshes[o]->positions, meshes[o]->triangles) <= 0)
       out[o] = names[o] + " is inside out (negative volume): triangles must be counter-clockwise seen from outside";
   });
   return out;

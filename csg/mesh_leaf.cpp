@@ -33,7 +33,9 @@ MeshLeaf::MeshLeaf(Mesh mesh, const std::string& what) : mesh_(std::move(mesh)) 
   }
   // The sign exactly: a sliver a few ulps thick (a boolean's result between nearly flush faces)
   // can sum to a volume of 0 or less in doubles.
-  if (const double v = mesh_.volume(); volume_sign(mesh_.positions, mesh_.triangles) <= 0) fail(what, " is inside out or flat (signed volume ", v, "): triangles must be counter-clockwise seen from outside");
+  if (volume_sign(mesh_.positions, mesh_.triangles) <= 0)
+    fail(what, " is inside out or flat (signed volume ", mesh_.volume(),
+         "): triangles must be counter-clockwise seen from outside");
 }
 
 std::shared_ptr<const SolidLeaf> MeshLeaf::transformed(const Mat4& m) const {
