@@ -190,14 +190,6 @@ MassProperties MomentFrame::from_frame(double volume, double area, const Vec3& f
   return mp;
 }
 
-double frame_volume(const Mesh& m) {
-  const MomentFrame frame(m.bounds());
-  double v = 0;
-  for (const auto& t : m.triangles)
-    v += frame.local(m.positions[t[0]]).dot(frame.local(m.positions[t[1]]).cross(frame.local(m.positions[t[2]])));
-  return v / 6.0;
-}
-
 MassProperties mass_properties(const Mesh& mesh) {
   // For each triangle (a, b, c) the signed tetrahedron (ref, a, b, c) contributes its volume
   // det/6, its first moment vol*(a+b+c)/4 and its second moments

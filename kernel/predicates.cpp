@@ -11,6 +11,7 @@
 #include <CGAL/intersections.h>
 
 #include "kernel/error.h"
+#include "kernel/scaled.h"
 
 namespace wedge {
 
@@ -44,27 +45,22 @@ int orient3d(const Point3& a, const Point3& b, const Point3& c, const Point3& d)
 int volume_sign(const std::vector<Point3>& positions, const std::vector<std::array<std::uint32_t, 3>>& triangles) {
   if (triangles.empty()) return 0;
   for (const auto& p : positions) require_finite_point(p);
-  // The filter: the sum in a frame at the box's centre, scaled by a power of two (the volume is the
+  // The filter: the sum in the box's MomentFrame (its centre, a power of two: the volume is the
   // same there, scaled exactly), summed with Neumaier's compensation. A term moves by at most
   // 3 eps |a|1 |b|1 |c|1 through the translation's rounding and 5 eps of that through the
   // determinant's; the compensated sum errs by at most 2 eps |sum| + 2 n eps^2 (the terms'
   // magnitudes). Beyond that bound (doubled) the double sum has the exact sign; within it, the
   // exact sum decides. (With a plain sum's n eps bound, a 100 x 100 x 0.001 plate of a million
   // triangles would take the exact path: that bound is 8 times its volume; this one 6e-5 times.)
-  Point3 lo = positions[triangles[0][0]], hi = lo;
+  Box3 box;
   for (const auto& T : triangles)
-    for (auto v : T) {
-      lo = lo.cwiseMin(positions[v]);
-      hi = hi.cwiseMax(positions[v]);
-    }
-  const Point3 ref = 0.5 * lo + 0.5 * hi;
-  const double size = (hi - lo).maxCoeff();
+    for (auto v : T) box.extend(positions[v]);
+  const double size = box.size().maxCoeff();
   if (size > 0 && std::isfinite(size)) {
-    const double scale = std::ldexp(1.0, -std::ilogb(size));
+    const MomentFrame frame(box);
     double sum = 0, carry = 0, magnitude = 0;
     for (const auto& T : triangles) {
-      const Vec3 a = (positions[T[0]] - ref) * scale, b = (positions[T[1]] - ref) * scale,
-                 c = (positions[T[2]] - ref) * scale;
+      const Vec3 a = frame.local(positions[T[0]]), b = frame.local(positions[T[1]]), c = frame.local(positions[T[2]]);
       const double term = a.dot(b.cross(c));
       const double next = sum + term;
       carry += std::abs(sum) >= std::abs(term) ? (sum - next) + term : (term - next) + sum;

@@ -38,8 +38,4 @@ struct MomentFrame {
   MassProperties from_frame(double volume, double area, const Vec3& first, const Mat3& second) const;
 };
 
-// The signed volume of m measured in its MomentFrame (the volume / scale^3): its sign is the
-// volume's where the volume itself underflows (a solid 1e-120 wide) or overflows (1e120 wide).
-double frame_volume(const Mesh& m);
-
 }  // namespace wedge
