@@ -364,9 +364,9 @@ struct EdgeRec {
 using EdgeRecs = std::vector<EdgeRec, NoInit<EdgeRec>>;
 // Sorts edge records by (key, value), where every a (key >> 32) is below n: a counting sort on a,
 // then each vertex's few records sorted; linear in the records and n, where a comparison sort of
-// millions of records was a tenth of a large boolean. Returns the offsets: the records whose a is
-// v are recs[off[v] .. off[v + 1]).
-std::vector<u32> sort_edges(EdgeRecs& recs, std::size_t n, const Interrupt* interrupt = nullptr);
+// millions of records was a tenth of a large boolean. Far fewer records than n: a radix sort of
+// the keys instead (linear in the records alone).
+void sort_edges(EdgeRecs& recs, std::size_t n, const Interrupt* interrupt = nullptr);
 
 // Calls f(i, j) for each run recs[i .. j) of records with one key (recs sorted by key), in
 // parallel over blocks of records: a run belongs to the block it starts in. Polls per block.
@@ -849,11 +849,11 @@ struct Arrangement {
 };
 // Sorts v stably by key(x) (an unsigned 64-bit value): least significant digit first, 11 bits
 // at a time, passes over a digit that every element shares left out.
-template <class T, class Key>
-inline void radix_sort(std::vector<T>& v, Key&& key) {
+template <class T, class A, class Key>
+inline void radix_sort(std::vector<T, A>& v, Key&& key) {
   const std::size_t n = v.size();
   if (n < 2) return;
-  std::vector<T> spare(n);
+  std::vector<T, A> spare(n);
   std::vector<u32> count(2049);
   for (int shift = 0; shift < 64; shift += 11) {
     std::fill(count.begin(), count.end(), 0u);
