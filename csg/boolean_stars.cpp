@@ -96,6 +96,11 @@ std::vector<std::uint8_t> star_certificates(const Soup& soup, const CornerLists&
           orient3d_fast(soup.verts[T[0]], soup.verts[T[1]], soup.verts[T[2]], (*centers)[soup.operand[t]]));
     });
   }
+  // Where most corners are listed: per vertex whose corners are of one operand, that operand
+  // where its star is certified (-1 otherwise), and the triangles' bits set from it afterwards,
+  // without an atomic per corner (a quarter of the radial check of two 1M-triangle spheres).
+  const bool by_vertex = cl.next.size() >= nt;
+  std::vector<std::int32_t> whole(by_vertex ? nv : 0, -1);
   parallel_for(0, (nv + 1023) / 1024, [&](std::size_t block) {
     soup.poll();
     struct Spoke {
@@ -174,6 +179,10 @@ std::vector<std::uint8_t> star_certificates(const Soup& soup, const CornerLists&
           start = -end;
         }
         if (!ok) continue;
+        if (by_vertex && first == off[v] && r1 == off[v + 1]) {  // the vertex's only star
+          whole[v] = op;
+          continue;
+        }
         for (u32 r = first; r < r1; ++r) {
           const u32 t = static_cast<u32>(cl.next[r]);
           const u32 c = soup.tris[t][0] == v ? 0 : (soup.tris[t][1] == v ? 1 : 2);
@@ -184,6 +193,14 @@ std::vector<std::uint8_t> star_certificates(const Soup& soup, const CornerLists&
       }
     }
   });
+  if (by_vertex)
+    parallel_for(0, (nt + 4095) / 4096, [&](std::size_t block) {
+      for (std::size_t t = block * 4096; t < std::min(nt, (block + 1) * 4096); ++t) {
+        const auto& T = soup.tris[t];
+        const std::int32_t op = soup.operand[t];
+        mask[t] |= static_cast<std::uint8_t>((whole[T[0]] == op) | (whole[T[1]] == op) << 1 | (whole[T[2]] == op) << 2);
+      }
+    });
   return mask;
 }
 
