@@ -25,10 +25,11 @@
 // Work is split per triangle and concatenated in triangle order, so the result does not depend
 // on the number of threads.
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <numeric>
 
-#include <tbb/task_group.h>
+#include <tbb/task_arena.h>
 
 #include "csg/boolean_impl.h"
 #include "kernel/error.h"
@@ -811,26 +812,31 @@ Arrangement arrange(Points& pts, const std::vector<std::array<u32, 2>>& pairs, b
       for (auto& nb : inner) std::swap(nb[0], nb[2]);
   };
   // A few large triangles (a plate's face cut by hundreds of holes) can be most of this step,
-  // each on one thread: they start first, a task each, largest first, so two of them do not queue
-  // on one thread while the other idles; the rest follow in blocks.
-  std::vector<u32> heavy;
-  std::vector<char> is_heavy(work.size(), 0);
+  // each on one thread. Every thread takes the next item from one counter: the large triangles
+  // one at a time, largest first, then the rest in blocks; so the large ones start at once, side
+  // by side, and the rest fill in around them. (Run as tasks, a task group's own thread took the
+  // blocks first and the plate's second face waited for them: 25 ms of 37 at two threads where
+  // 19 would do.) Each triangle's pieces are its own, whichever thread makes them.
+  std::vector<u32> order;
   for (std::size_t wi = 0; wi < work.size(); ++wi)
-    if (work[wi].points.size() + work[wi].segs.size() >= 512) {
-      heavy.push_back(static_cast<u32>(wi));
-      is_heavy[wi] = 1;
-    }
-  std::stable_sort(heavy.begin(), heavy.end(), [&](u32 a, u32 b) {
+    if (work[wi].points.size() + work[wi].segs.size() >= 512) order.push_back(static_cast<u32>(wi));
+  std::stable_sort(order.begin(), order.end(), [&](u32 a, u32 b) {
     return work[a].points.size() + work[a].segs.size() > work[b].points.size() + work[b].segs.size();
   });
-  tbb::task_group group;
-  for (u32 wi : heavy) group.run([&triangulate_one, wi] { triangulate_one(wi); });
-  group.run([&] {
-    parallel_for(0, work.size(), [&](std::size_t wi) {
-      if (!is_heavy[wi]) triangulate_one(wi);
-    });
+  const std::size_t heavy = order.size();
+  for (std::size_t wi = 0; wi < work.size(); ++wi)
+    if (work[wi].points.size() + work[wi].segs.size() < 512) order.push_back(static_cast<u32>(wi));
+  constexpr std::size_t kBlock = 64;
+  const std::size_t items = heavy + (order.size() - heavy + kBlock - 1) / kBlock;
+  std::atomic<std::size_t> next{0};
+  const auto threads = static_cast<std::size_t>(tbb::this_task_arena::max_concurrency());
+  parallel_for(0, std::min(threads, items), [&](std::size_t) {
+    for (std::size_t i; (i = next.fetch_add(1, std::memory_order_relaxed)) < items;) {
+      const std::size_t lo = i < heavy ? i : heavy + (i - heavy) * kBlock;
+      const std::size_t hi = i < heavy ? i + 1 : std::min(order.size(), lo + kBlock);
+      for (std::size_t k = lo; k < hi; ++k) triangulate_one(order[k]);
+    }
   });
-  group.wait();
 
   Arrangement arr;
   arr.quads = quads.groups;
