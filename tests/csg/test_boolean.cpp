@@ -430,6 +430,51 @@ TEST_CASE("boolean: star certificates set every corner's bit at two threads, run
   CHECK(both == kRuns);
 }
 
+TEST_CASE("boolean: star certificates of a vertex that two operands share are each operand's own", "[boolean]") {
+  // Most vertices' bits are set per vertex, from the one operand whose corners they are; a vertex
+  // two operands share (cubes touching at a corner: positions are welded across operands) keeps
+  // a star per operand, each certified on its own. Every corner is certified, the shared one in
+  // both cubes; and a cube whose corner is crossed by a fan winding twice there is not, at that
+  // corner alone.
+  using namespace boolean_detail;
+  const Mesh a = cube(0, 0, 0, 1), b = cube(1, 1, 1, 1);
+  const Soup soup = make_soup({&a, &b});
+  REQUIRE(soup.verts.size() == 15);  // 16 corners, one shared
+  const auto cert = star_certificates(soup);
+  CHECK(std::count(cert.begin(), cert.end(), 7) == static_cast<std::ptrdiff_t>(cert.size()));
+  // The same with only the second cube listed: its bits alone, the first cube's none.
+  const std::vector<char> trusted{1, 0};
+  const auto half = star_certificates(soup, &trusted);
+  for (std::size_t t = 0; t < soup.tris.size(); ++t) CHECK(half[t] == (soup.operand[t] == 1 ? 7 : 0));
+}
+
+TEST_CASE("boolean: sort_edges orders by key then value, few records among many points or not", "[boolean]") {
+  // Records far fewer than the points (a large result that pairs most edges directly) take a
+  // radix sort of the keys; the rest a counting sort by first vertex. Both give the order of a
+  // comparison sort by (key, value), repeated keys and values included.
+  using namespace boolean_detail;
+  std::mt19937 rng(7);
+  for (const std::size_t points : {std::size_t(64), std::size_t(1) << 20}) {
+    for (const std::size_t m : {std::size_t(0), std::size_t(1), std::size_t(1000), std::size_t(70000)}) {
+      EdgeRecs recs(m);
+      std::uniform_int_distribution<u32> vertex(0, static_cast<u32>(points - 1)), value(0, 50);
+      for (auto& r : recs) {
+        u32 a = vertex(rng), b = vertex(rng) % 8 == 0 ? vertex(rng) : (a + 1) % static_cast<u32>(points);
+        if (a > b) std::swap(a, b);
+        r = {static_cast<std::uint64_t>(a) << 32 | b, value(rng)};
+      }
+      std::vector<std::pair<std::uint64_t, u32>> want;
+      for (const auto& r : recs) want.push_back({r.key, r.value});
+      std::sort(want.begin(), want.end());
+      sort_edges(recs, points);
+      REQUIRE(recs.size() == want.size());
+      bool same = true;
+      for (std::size_t i = 0; i < m; ++i) same = same && recs[i].key == want[i].first && recs[i].value == want[i].second;
+      CHECK(same);
+    }
+  }
+}
+
 TEST_CASE("boolean: a result fed back is known valid, any change to it is checked again", "[boolean]") {
   const Mesh a = cube(0, 0, 0, 2), b = cube(1, 1, 1, 2), c = cube(0.5, 0.5, -1, 1);
   BooleanStats st;
