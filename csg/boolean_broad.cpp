@@ -428,19 +428,19 @@ std::vector<u32> near_other_operands(const Soup& soup) {
   // and a triangle then reads 18 bytes of them instead of 72 of positions; two 1M-triangle
   // spheres' ranges took 37 ms at one thread from the boxes, 20 so).
   const std::size_t nv = soup.verts.size();
-  std::vector<std::array<std::int16_t, 3>> at(nv);
+  std::vector<std::array<std::int16_t, 3>> vertex_cell(nv);
   parallel_blocks(nv, 4096, [&](std::size_t lo, std::size_t hi) {
     for (std::size_t v = lo; v < hi; ++v)
-      for (int a = 0; a < 3; ++a) at[v][a] = static_cast<std::int16_t>(cell(soup.verts[v][a], a));
+      for (int a = 0; a < 3; ++a) vertex_cell[v][a] = static_cast<std::int16_t>(cell(soup.verts[v][a], a));
   });
   std::vector<std::array<std::int16_t, 6>> range(n);
   std::atomic<std::size_t> visits{0};
   parallel_blocks(n, 4096, [&](std::size_t lo, std::size_t hi) {
     std::size_t local = 0;
     for (std::size_t t = lo; t < hi; ++t) {
-      const auto& p = at[soup.tris[t][0]];
-      const auto& q = at[soup.tris[t][1]];
-      const auto& r = at[soup.tris[t][2]];
+      const auto& p = vertex_cell[soup.tris[t][0]];
+      const auto& q = vertex_cell[soup.tris[t][1]];
+      const auto& r = vertex_cell[soup.tris[t][2]];
       std::size_t cells = 1;
       for (int a = 0; a < 3; ++a) {
         range[t][a] = std::min({p[a], q[a], r[a]});
@@ -472,15 +472,11 @@ std::vector<u32> near_other_operands(const Soup& soup) {
       return true;
     };
     parallel_blocks(n, 4096, [&](std::size_t lo, std::size_t hi) {
-      for (std::size_t t = lo; t < hi; ++t) {
-        const T op = static_cast<T>(soup.operand[t]);
+      for (std::size_t t = lo; t < hi; ++t)
         for_cells(range[t], [&](std::atomic_ref<T> o) {
-          T cur = o.load(std::memory_order_relaxed);
-          while (cur != op && cur != T(-2))
-            if (o.compare_exchange_weak(cur, cur == T(-1) ? op : T(-2), std::memory_order_relaxed)) break;
+          claim(o, soup.operand[t]);
           return true;
         });
-      }
     });
     soup.poll();
     parallel_blocks(n, 4096, [&](std::size_t lo, std::size_t hi) {

@@ -256,11 +256,13 @@ inline std::uint64_t morton_spread(std::uint64_t x) {
 std::vector<u32> operand_starts(const Soup& s);
 // Each operand's box (lo, hi) over its triangles; an operand without triangles gets (inf, -inf).
 std::vector<std::array<double, 6>> operand_boxes(const Soup& s);
-// Marks `owner` as held by operand op: -1 (none) becomes op, another operand makes it -2 (several).
-inline void claim(std::atomic<std::int32_t>& owner, std::int32_t op) {
-  std::int32_t cur = owner.load(std::memory_order_relaxed);
-  while (cur != op && cur != -2)
-    if (owner.compare_exchange_weak(cur, cur == -1 ? op : -2, std::memory_order_relaxed)) break;
+// Marks `owner` (an atomic or atomic_ref) held by operand op: -1 (none) becomes op, another op -2.
+template <class Atomic>
+inline void claim(Atomic&& owner, std::int32_t op) {
+  using T = decltype(owner.load(std::memory_order_relaxed));
+  T cur = owner.load(std::memory_order_relaxed);
+  while (cur != T(op) && cur != T(-2))
+    if (owner.compare_exchange_weak(cur, cur == T(-1) ? T(op) : T(-2), std::memory_order_relaxed)) break;
 }
 // Sets s.axis[t] and s.axis_sign[t] from triangle t's vertices (-1: zero area).
 void set_axis(Soup& s, std::size_t t);
@@ -362,10 +364,9 @@ struct EdgeRec {
   u32 value;
 };
 using EdgeRecs = std::vector<EdgeRec, NoInit<EdgeRec>>;
-// Sorts edge records by (key, value), where every a (key >> 32) is below n: a counting sort on a,
-// then each vertex's few records sorted; linear in the records and n, where a comparison sort of
-// millions of records was a tenth of a large boolean. Far fewer records than n: a radix sort of
-// the keys instead (linear in the records alone).
+// Sorts edge records by (key, value), every a (key >> 32) below n: a counting sort on a, then each
+// vertex's few records (a comparison sort of millions was a tenth of a large boolean); with far
+// fewer records than n, a radix sort of the keys (linear in the records alone).
 void sort_edges(EdgeRecs& recs, std::size_t n, const Interrupt* interrupt = nullptr);
 
 // Calls f(i, j) for each run recs[i .. j) of records with one key (recs sorted by key), in
@@ -572,7 +573,6 @@ void constrained_delaunay(const Points& pts, int k, double well, const std::arra
 void constrained_delaunay_quad(const Points& pts, int k, double well, const std::array<u32, 4>& corners,
                           const std::vector<u32>& points, const std::vector<std::array<u32, 2>>& constraints,
                           std::vector<std::array<u32, 3>>& out, std::vector<std::array<u32, 3>>* inner = nullptr);
-
 
 // Exact sign of orient3d on input vertices.
 int orient3d_v(const Soup& s, u32 a, u32 b, u32 c, u32 d);

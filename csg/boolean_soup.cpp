@@ -343,19 +343,16 @@ void boolean_detail::sort_edges(EdgeRecs& recs, std::size_t n, const Interrupt* 
     if (interrupt) interrupt->poll();
   };
   poll();
-  auto less = [](const EdgeRec& x, const EdgeRec& y) { return x.key < y.key || (x.key == y.key && x.value < y.value); };
   if (recs.size() < n / 4) {
     // Few records among many points (two 1M-triangle spheres' difference pairs most edges
     // directly: 36,654 records over 1,056,628 points), where counting over every point was most of
-    // the work: the keys radix-sorted, then each run of one key put in value order.
+    // the work: the keys radix-sorted, then each run of one key put in value order (its values
+    // alone move: the keys, which for_each_run reads across blocks, are all the run's one).
     radix_sort(recs, [](const EdgeRec& r) { return r.key; });
-    poll();
-    for (std::size_t i = 0, j = 0; i < recs.size(); i = j) {
-      for (j = i + 1; j < recs.size() && recs[j].key == recs[i].key; ++j) {
-      }
+    for_each_run(recs, interrupt, [&](std::size_t i, std::size_t j) {
       for (std::size_t a = i + 1; a < j; ++a)
-        for (std::size_t b = a; b > i && less(recs[b], recs[b - 1]); --b) std::swap(recs[b], recs[b - 1]);
-    }
+        for (std::size_t b = a; b > i && recs[b].value < recs[b - 1].value; --b) std::swap(recs[b].value, recs[b - 1].value);
+    });
     return;
   }
   // A counting sort by the first vertex. Over a few chunks of the records at once: chunk c's
@@ -388,6 +385,7 @@ void boolean_detail::sort_edges(EdgeRecs& recs, std::size_t n, const Interrupt* 
   });
   next.clear();
   poll();
+  auto less = [](const EdgeRec& x, const EdgeRec& y) { return x.key < y.key || (x.key == y.key && x.value < y.value); };
   parallel_blocks(n, 4096, [&](std::size_t lo, std::size_t hi) {
     poll();
     for (std::size_t v = lo; v < hi; ++v) {

@@ -817,15 +817,13 @@ Arrangement arrange(Points& pts, const std::vector<std::array<u32, 2>>& pairs, b
   // by side, and the rest fill in around them. (Run as tasks, a task group's own thread took the
   // blocks first and the plate's second face waited for them: 25 ms of 37 at two threads where
   // 19 would do.) Each triangle's pieces are its own, whichever thread makes them.
-  std::vector<u32> order;
-  for (std::size_t wi = 0; wi < work.size(); ++wi)
-    if (work[wi].points.size() + work[wi].segs.size() >= 512) order.push_back(static_cast<u32>(wi));
-  std::stable_sort(order.begin(), order.end(), [&](u32 a, u32 b) {
-    return work[a].points.size() + work[a].segs.size() > work[b].points.size() + work[b].segs.size();
-  });
-  const std::size_t heavy = order.size();
-  for (std::size_t wi = 0; wi < work.size(); ++wi)
-    if (work[wi].points.size() + work[wi].segs.size() < 512) order.push_back(static_cast<u32>(wi));
+  auto size = [&](u32 wi) { return work[wi].points.size() + work[wi].segs.size(); };
+  std::vector<u32> order(work.size());
+  std::iota(order.begin(), order.end(), 0u);
+  const std::size_t heavy = static_cast<std::size_t>(
+      std::stable_partition(order.begin(), order.end(), [&](u32 wi) { return size(wi) >= 512; }) - order.begin());
+  std::stable_sort(order.begin(), order.begin() + static_cast<std::ptrdiff_t>(heavy),
+                   [&](u32 a, u32 b) { return size(a) > size(b); });
   constexpr std::size_t kBlock = 64;
   const std::size_t items = heavy + (order.size() - heavy + kBlock - 1) / kBlock;
   std::atomic<std::size_t> next{0};

@@ -434,8 +434,7 @@ TEST_CASE("boolean: star certificates of a vertex that two operands share are ea
   // Most vertices' bits are set per vertex, from the one operand whose corners they are; a vertex
   // two operands share (cubes touching at a corner: positions are welded across operands) keeps
   // a star per operand, each certified on its own. Every corner is certified, the shared one in
-  // both cubes; and a cube whose corner is crossed by a fan winding twice there is not, at that
-  // corner alone.
+  // both cubes.
   using namespace boolean_detail;
   const Mesh a = cube(0, 0, 0, 1), b = cube(1, 1, 1, 1);
   const Soup soup = make_soup({&a, &b});
