@@ -295,7 +295,7 @@ std::vector<std::int8_t> classify(const Points& pts, const Arrangement& arr, Boo
       }
       return (o > 0) == (soup.axis_sign[t] > 0) ? 1 : -1;
     };
-    for (u32 u : arr.coplanar[t]) {
+    for (u32 u : arr.coplanar(t)) {
       const int j = soup.operand[u];
       if (j == i || coplanar_with(j)) continue;
       if (const int c = cover_sign(u)) coplanar.push_back({j, c});
@@ -360,7 +360,7 @@ std::vector<std::int8_t> classify(const Points& pts, const Arrangement& arr, Boo
       // where its winding number is at least 1. w counts every sheet but the piece's own and the
       // coplanar ones over it; those add 1 behind the piece (same orientation) or in front.
       std::vector<std::pair<u32, int>> cover;
-      for (u32 u : arr.coplanar[t])
+      for (u32 u : arr.coplanar(t))
         if (const int c = cover_sign(u)) cover.push_back({u, c});
       int w = 0;
       query(0, lo, hi, [&](u32 u) {

@@ -834,17 +834,22 @@ struct Piece {               // an output candidate triangle
   u32 tri;                   // its input triangle
 };
 struct Arrangement {
-  std::vector<Piece> pieces;             // every triangle cut into pieces, uncut ones whole
-  std::vector<std::vector<u32>> coplanar;  // per input triangle: overlapping coplanar triangles
+  std::vector<Piece, NoInit<Piece>> pieces;  // every triangle cut into pieces, uncut ones whole
+  // Per input triangle t, the overlapping coplanar triangles (offsets per triangle, empty where
+  // none has any: a vector each was 48 MB for two 1M spheres, nearly all empty).
+  std::vector<u32> coplanar_from, coplanar_ids;
+  std::span<const u32> coplanar(u32 t) const {
+    if (coplanar_from.empty()) return {};
+    return std::span(coplanar_ids).subspan(coplanar_from[t], coplanar_from[t + 1] - coplanar_from[t]);
+  }
   // For the pieces of triangulated triangles, in piece order: the piece, and per edge e (v[e] ->
   // v[e+1]) the other piece of the same input triangle across it, where the edge is inside that
   // triangle and on no cut (so these two are the only pieces on it), else kNone.
-  std::vector<std::pair<u32, std::array<u32, 3>>> inner;
+  std::vector<std::pair<u32, std::array<u32, 3>>, NoInit<std::pair<u32, std::array<u32, 3>>>> inner;
   std::size_t quads = 0, quad_points = 0;  // flat_quads()' groups and points left out
   // Per input triangle (empty: none), the other half of its flat quadrilateral where the cuts of
   // their diagonal were erased from coplanar triangles' works (FlatQuads::erased), else kNone: a
-  // piece of such a coplanar triangle may have its centroid on the diagonal, inside neither half
-  // alone.
+  // piece of such a coplanar triangle may have its centroid on the diagonal, in neither half.
   std::vector<u32> quad_partner;
 };
 // Sorts v stably by key(x) (an unsigned 64-bit value): least significant digit first, 11 bits

@@ -550,25 +550,25 @@ Arrangement arrange(Points& pts, const std::vector<std::array<u32, 2>>& pairs, b
   auto canon_work = [&](TriWork& w) {
     for (auto& p : w.points) p = merge.rep(p);
     unique_sorted(w.points);
-    std::vector<std::array<u32, 2>> segs;
-    std::vector<Plane> planes;
+    // Drop repeated segments (same end points), keeping the first cut plane: sorted by end
+    // points, then by place. (Per-thread scratch: nothing allocated per triangle.)
+    thread_local std::vector<std::pair<std::array<u32, 2>, u32>> keyed;
+    thread_local std::vector<Plane> planes;
+    keyed.clear();
     for (std::size_t i = 0; i < w.segs.size(); ++i) {
       u32 a = merge.rep(w.segs[i][0]), b = merge.rep(w.segs[i][1]);
       if (a == b) continue;
       if (a > b) std::swap(a, b);
-      segs.push_back({a, b});
-      planes.push_back(w.cuts[i]);
+      keyed.push_back({{a, b}, static_cast<u32>(i)});
     }
-    // Drop repeated segments (same end points), keeping the first cut plane.
-    std::vector<u32> order(segs.size());
-    std::iota(order.begin(), order.end(), 0u);
-    std::stable_sort(order.begin(), order.end(), [&](u32 x, u32 y) { return segs[x] < segs[y]; });
+    std::sort(keyed.begin(), keyed.end());
+    planes.assign(w.cuts.begin(), w.cuts.end());
     w.segs.clear();
     w.cuts.clear();
-    for (std::size_t i = 0; i < order.size(); ++i) {
-      if (i > 0 && segs[order[i]] == segs[order[i - 1]]) continue;
-      w.segs.push_back(segs[order[i]]);
-      w.cuts.push_back(planes[order[i]]);
+    for (std::size_t i = 0; i < keyed.size(); ++i) {
+      if (i > 0 && keyed[i].first == keyed[i - 1].first) continue;
+      w.segs.push_back(keyed[i].first);
+      w.cuts.push_back(planes[keyed[i].second]);
     }
   };
   auto canon_all = [&] {
@@ -846,29 +846,55 @@ Arrangement arrange(Points& pts, const std::vector<std::array<u32, 2>>& pairs, b
       arr.quad_partner[e[1]] = e[0];
     }
   }
-  arr.coplanar.resize(nt);
-  std::size_t total = nt;
-  for (const auto& c : cut_pieces) total += c.size();
-  arr.pieces.reserve(total);
-  for (std::size_t t = 0; t < nt; ++t) {
-    if ((t & 0xffff) == 0) soup.poll();
-    if (slot[t] == kNone) {
-      arr.pieces.push_back({soup.tris[t], static_cast<u32>(t)});
-      continue;
+  // The pieces in triangle order, with the triangulated ones' inner neighbours and coplanar
+  // triangles: counted per block of triangles, then each block written from its starts.
+  constexpr std::size_t kTris = 16384;
+  const std::size_t blocks = (nt + kTris - 1) / kTris;
+  std::vector<std::array<std::size_t, 3>> from(blocks + 1, {0, 0, 0});  // pieces, inner, coplanar
+  parallel_for(0, blocks, [&](std::size_t b) {
+    soup.poll();
+    std::array<std::size_t, 3> n{0, 0, 0};
+    for (std::size_t t = b * kTris, e = std::min(nt, t + kTris); t < e; ++t) {
+      if (slot[t] == kNone) {
+        ++n[0];
+      } else if (!quads.absorbed[slot[t]]) {  // (else in its partner's pieces)
+        unique_sorted(work[slot[t]].coplanar);
+        n[0] += cut_pieces[slot[t]].size();
+        n[1] += cut_inner[slot[t]].size();
+        n[2] += work[slot[t]].coplanar.size();
+      }
     }
-    if (quads.absorbed[slot[t]]) continue;  // in its partner's pieces
-    const auto& inner = cut_inner[slot[t]];
-    const u32 base = static_cast<u32>(arr.pieces.size());
-    for (std::size_t q = 0; q < inner.size(); ++q) {
-      const auto& nb = inner[q];
-      arr.inner.push_back({base + static_cast<u32>(q),
-                           {nb[0] == kNone ? kNone : base + nb[0], nb[1] == kNone ? kNone : base + nb[1],
-                            nb[2] == kNone ? kNone : base + nb[2]}});
-    }
-    for (const auto& p : cut_pieces[slot[t]]) arr.pieces.push_back(p);
-    arr.coplanar[t] = std::move(work[slot[t]].coplanar);
-    unique_sorted(arr.coplanar[t]);
+    from[b + 1] = n;
+  });
+  for (std::size_t b = 0; b < blocks; ++b)
+    for (int k = 0; k < 3; ++k) from[b + 1][k] += from[b][k];
+  arr.pieces.resize(from[blocks][0]);
+  arr.inner.resize(from[blocks][1]);
+  if (from[blocks][2] > 0) {
+    arr.coplanar_from.resize(nt + 1);
+    arr.coplanar_ids.resize(from[blocks][2]);
+    arr.coplanar_from[nt] = static_cast<u32>(from[blocks][2]);
   }
+  parallel_for(0, blocks, [&](std::size_t b) {
+    auto [np, ni, nc] = from[b];
+    for (std::size_t t = b * kTris, e = std::min(nt, t + kTris); t < e; ++t) {
+      if (!arr.coplanar_from.empty()) arr.coplanar_from[t] = static_cast<u32>(nc);
+      if (slot[t] == kNone) {
+        arr.pieces[np++] = {soup.tris[t], static_cast<u32>(t)};
+        continue;
+      }
+      if (quads.absorbed[slot[t]]) continue;
+      const u32 base = static_cast<u32>(np);
+      for (std::size_t q = 0; q < cut_inner[slot[t]].size(); ++q) {
+        const auto& nb = cut_inner[slot[t]][q];
+        arr.inner[ni++] = {base + static_cast<u32>(q),
+                           {nb[0] == kNone ? kNone : base + nb[0], nb[1] == kNone ? kNone : base + nb[1],
+                            nb[2] == kNone ? kNone : base + nb[2]}};
+      }
+      for (const auto& p : cut_pieces[slot[t]]) arr.pieces[np++] = p;
+      for (u32 u : work[slot[t]].coplanar) arr.coplanar_ids[nc++] = u;
+    }
+  });
   return arr;
 }
 
