@@ -6,7 +6,10 @@
 // is its own: the driver (no arguments, or filters) starts `bench_boolean --one ...` per row and
 // prints a table. A row's time is the median of --repeats runs of the whole case (operands in,
 // result mesh out, as each engine's API takes and gives them); a run longer than 20 s is not
-// repeated. Validity is judged after timing, on the output as doubles: closed, 2-manifold and
+// repeated. Each run starts after the previous run's result is released, for every engine: kept,
+// it held memory the next run then took fresh from the kernel (a 1M-sphere result is 36 MB, some
+// 9,000 pages at about 11 us a fault on the benchmark's VM), which no caller pays who keeps one
+// result. The first run of a process still pays for all its memory fresh. Validity is judged after timing, on the output as doubles: closed, 2-manifold and
 // outward (tests/support: closed_manifold_outward) and free of self-intersections by CGAL's exact
 // test (exact_self_intersects). Volume is the exact volume of those doubles.
 //
@@ -257,6 +260,7 @@ int run_one(const std::string& case_name, const std::string& engine, int threads
     std::vector<double> times;
     PeerRun last;
     for (int r = 0; r < repeats; ++r) {
+      last = PeerRun{};  // (the previous result released first: see the top)
       const auto t0 = std::chrono::steady_clock::now();
       last = go();
       times.push_back(ms_since(t0));

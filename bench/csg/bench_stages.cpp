@@ -41,6 +41,7 @@ Mesh run(const char* name, BooleanOp op, const std::vector<Mesh>& ops) {
   BooleanResult r;
   for (int i = 0; i < g_repeats; ++i) {
     BooleanStats st;
+    r = BooleanResult{};  // the previous result released first, as bench_boolean does
     const std::clock_t c0 = std::clock();
     r = boolean(op, p, &st);
     cpu = std::min(cpu, 1000.0 * static_cast<double>(std::clock() - c0) / CLOCKS_PER_SEC);
