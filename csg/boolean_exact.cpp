@@ -356,8 +356,8 @@ namespace {
 
 // The coordinates of point p kept in `cache` (made once, by whichever thread is first), or, for an
 // input vertex, made in `scratch`.
-template <class Kept, class Eval>
-const Kept& kept_point(std::vector<Kept*>& cache, u32 nin, u32 p, Kept& scratch, Eval&& eval) {
+template <class Kept, class A, class Eval>
+const Kept& kept_point(std::vector<Kept*, A>& cache, u32 nin, u32 p, Kept& scratch, Eval&& eval) {
   if (p < nin) {
     scratch.h = eval();
     return scratch;

@@ -1,5 +1,4 @@
-// The boolean engine's private header: its data and its stages, grouped by the file that defines
-// them (this header is the map of the engine).
+// The engine's private header: its data and stages, by the file that defines them (its map).
 //
 // Notation and number representation
 // - The input is a *soup*: every operand's triangles, on vertices merged by exactly equal position
@@ -22,9 +21,8 @@
 //   projection keeps T's orientation when n_k > 0.
 // - A *segment* of T is a constraint of T's retriangulation: a piece of T's intersection with
 //   another operand, given by its two end points and the plane that cuts T along it.
-// - A *flat quadrilateral* is two cut triangles of one operand and face, coplanar and strictly
-//   convex together, retriangulated as one (boolean_quads.cpp); its pieces name the first as
-//   their source.
+// - A *flat quadrilateral*: two cut triangles of one operand and face, coplanar and strictly
+//   convex together, retriangulated as one (boolean_quads.cpp), named by the first.
 // - A *patch* is a set of output candidate triangles of one operand joined across edges that no
 //   other operand touches; a patch is all inside or all outside every other operand, but where it
 //   lies strictly inside an operand that drops everything there (settling, boolean_settle.cpp:
@@ -48,6 +46,7 @@
 #include <cmath>
 
 #include "csg/boolean.h"
+#include "kernel/memory.h"
 #include "kernel/parallel.h"
 #include "kernel/predicates.h"
 #include "kernel/types.h"
@@ -535,20 +534,20 @@ class Points {
   bool on_plane(u32 p, const Plane& P) const;
 
  private:
-  // The input vertices (ids below nin_) are read from the soup: their tables below hold only the
-  // points added since, at id - nin_ (a million-vertex operand costs no table entries).
+  // The input vertices (ids below nin_) are read from the soup: the tables below (blocks kept
+  // for the next run: kernel/memory.h) hold the points added since, at id - nin_.
   const Soup* soup_;
   u32 nin_;
-  std::vector<PointDef> defs_;
-  std::vector<std::uint8_t> fixed_;
-  std::vector<Vec3> approx_;
-  std::vector<IntervalH> ih_;
-  std::vector<std::array<double, 6>> box_;
-  std::vector<double> slack_;  // how far approx(p) may be from the point in any coordinate (from its box)
+  KeptVector<PointDef> defs_;
+  KeptVector<std::uint8_t> fixed_;
+  KeptVector<Vec3> approx_;
+  KeptVector<IntervalH> ih_;
+  KeptVector<std::array<double, 6>> box_;
+  KeptVector<double> slack_;  // how far approx(p) may be from the point in any coordinate (from its box)
   // Per added point, its exact coordinates once a predicate has needed them (null before): set by
   // any thread, once (an atomic compare-and-swap), freed with the table.
-  mutable std::vector<ExactPoint*> exact_;
-  mutable std::vector<DdPoint*> dd_;  // the same for the double-double coordinates
+  mutable KeptVector<ExactPoint*> exact_;
+  mutable KeptVector<DdPoint*> dd_;  // the same for the double-double coordinates
   void evaluate(std::size_t n);  // the filter data of added point n (at id nin_ + n)
   double slack(u32 p) const { return p < nin_ ? 0.0 : slack_[p - nin_]; }
   // The exact coordinates: an input vertex's are made in `scratch`, an added point's are kept.
@@ -662,19 +661,15 @@ inline bool apart(const Soup& s, u32 ti, u32 ui, bool edges) {
   return false;
 }
 
-// An estimate of the points where three operands' surfaces cross (each of which the arrangement
-// finds as a crossing of two segments inside a triangle, once in each of the three triangles):
-// the triples of triangles of three different operands whose planes meet, as double arithmetic
-// sees it, at a point inside all three: in the lowest one's list of partners, two of its cut
-// segments (each the overlap of the pair's planes' line with both triangles) crossing strictly
-// inside both. Ordinary booleans have few (none in the bench's spheres, lattice and plate; the
-// Menger sponge's tunnels meet end to end); nearly coincident operands have very many, each slow
-// to decide exactly (17 copies of a sphere rotated by 1 .. 16 degrees: about 700,000, minutes of
-// work). Triangles of three operands in one plane count the crossings of two one's edges inside
-// the third (copies of a box turned by a hair: their faces' edges cross in every other copy's
-// face, n^3 crossings in all, each decided exactly). The count stops once it passes `stop_above` and is then scaled up from the share of the
-// pairs looked at (an estimate of the whole). `pairs` as candidate_pairs() returns them (sorted,
-// of different operands).
+// An estimate of the points where three operands' surfaces cross (each found by the arrangement
+// as a crossing of two segments in a triangle, once in each of the three): the triples of
+// triangles of three operands whose planes meet, in doubles, at a point inside all three (in the
+// lowest one's partners, two of its cut segments crossing strictly inside both). Ordinary
+// booleans have few; nearly coincident operands very many, each slow to decide exactly (17 copies
+// of a sphere turned by 1 .. 16 degrees: some 700,000, minutes of work). Three operands' triangles
+// in one plane count two one's edges crossing inside the third (copies of a box turned by a hair:
+// n^3). The count stops past `stop_above`, then scaled up from the share of the pairs looked at.
+// `pairs` as candidate_pairs() returns them (sorted, of different operands).
 std::size_t candidate_triples(const Soup& soup, const std::vector<std::array<u32, 2>>& pairs,
                               std::size_t stop_above = static_cast<std::size_t>(-1));
 
@@ -773,6 +768,7 @@ struct TriWork {
   std::vector<u32> points;
   std::vector<u32> coplanar;
 };
+using Works = KeptVector<TriWork>;  // (its block kept for the next run: kernel/memory.h)
 // Flat quadrilaterals (boolean_quads.cpp): two cut triangles of one operand and one face id that
 // share an edge, lie in one plane and make a strictly convex quadrilateral are retriangulated as
 // one (the work of the first holds both; its pieces name it as their source), so their shared
@@ -793,8 +789,7 @@ struct FlatQuads {
   std::vector<std::array<u32, 2>> erased;
   std::size_t groups = 0, dropped = 0;
 };
-FlatQuads flat_quads(const Points& pts, const std::vector<u32>& touched, std::vector<TriWork>& work,
-                     const std::vector<char>* fixed);
+FlatQuads flat_quads(const Points& pts, const std::vector<u32>& touched, Works& work, const std::vector<char>* fixed);
 // One id per point: per symbolic definition (canonical: the same planes in any order), or per
 // position for a point whose definition fixes all three coordinates (the many definitions of one
 // corner of a sponge get one id), where an input vertex at that position keeps its own id.
@@ -810,7 +805,7 @@ class Interner {
   // the triangles cut, in order of first cut; work[w] is touched[w]'s, slot[t] its index (kNone).
   // Called once, before any other point is interned.
   void intern_cuts(const std::vector<std::array<u32, 2>>& pairs, const std::vector<PairCutView>& cuts,
-                   std::vector<u32>& slot, std::vector<u32>& touched, std::vector<TriWork>& work);
+                   std::vector<u32>& slot, std::vector<u32>& touched, Works& work);
   // One more point (not thread-safe).
   u32 operator()(const PointDef& raw);
 
@@ -823,9 +818,9 @@ class Interner {
   std::vector<std::vector<u32>> map_;  // per run, per point it made: its id
   // The keys interned since (open addressing: (the hash's high 31 bits, 1 where by position) << 32
   // | id, ~0 where empty).
-  std::vector<std::uint64_t> table_;
+  KeptVector<std::uint64_t> table_;
   std::size_t keys_ = 0;
-  std::vector<Vec3> at_;  // per id made here (from base_): its position, where interned by it
+  KeptVector<Vec3> at_;  // per id made here (from base_): its position, where interned by it
 };
 
 // --- retriangulation (boolean_triangulate.cpp) ---

@@ -111,8 +111,10 @@ std::uint64_t tag_of(std::uint64_t h, bool by_position) {
 }
 
 // The id of the key (hash h) for which same(id) holds, or kNone.
+using Table = std::vector<std::uint64_t, Kept<std::uint64_t>>;
+
 template <class Same>
-u32 lookup(const std::vector<std::uint64_t>& table, std::uint64_t h, bool by_position, Same&& same) {
+u32 lookup(const Table& table, std::uint64_t h, bool by_position, Same&& same) {
   const std::uint64_t tag = tag_of(h, by_position);
   const std::size_t mask = table.size() - 1;
   for (std::size_t s = h & mask; table[s] != kEmpty; s = (s + 1) & mask)
@@ -123,10 +125,10 @@ u32 lookup(const std::vector<std::uint64_t>& table, std::uint64_t h, bool by_pos
 // Puts (tag, id) in the table, whose keys are all different from it; rehash(slot value) gives the
 // hash of a key already there, when the table grows.
 template <class Rehash>
-void put(std::vector<std::uint64_t>& table, std::size_t& keys, std::uint64_t h, std::uint64_t tag, u32 id,
+void put(Table& table, std::size_t& keys, std::uint64_t h, std::uint64_t tag, u32 id,
          Rehash&& rehash) {
   if (2 * ++keys > table.size()) {
-    std::vector<std::uint64_t> t(table.size() * 2, kEmpty);
+    Table t(table.size() * 2, kEmpty);
     for (std::uint64_t v : table)
       if (v != kEmpty) {
         std::size_t x = rehash(v) & (t.size() - 1);
@@ -154,10 +156,10 @@ struct alignas(64) InternRun {
   // The first run adds its points to `pts` itself (their ids final); the others keep theirs here.
   // (The runs read no point of `pts` meanwhile: exact_position() reads the soup only.)
   bool direct = false;
-  std::vector<std::uint64_t> table = std::vector<std::uint64_t>(1024, kEmpty);
+  Table table = Table(1024, kEmpty);
   std::size_t keys = 0;
   std::vector<PointDef> defs;  // per point made: its canonical definition (not where direct)
-  std::vector<Vec3> at;        // per point made: its position where interned by position
+  std::vector<Vec3, Kept<Vec3>> at;  // per point made: its position where interned by position
   std::vector<char> placed;    // whether it was
   bool seeds_apart = false;    // seeded vertices get ids of their own (to translate), not theirs
 
@@ -241,7 +243,7 @@ u32 Interner::find(std::uint64_t h, bool by_position, const PointDef& d, const V
 }
 
 void Interner::intern_cuts(const std::vector<std::array<u32, 2>>& pairs, const std::vector<PairCutView>& cuts,
-                           std::vector<u32>& slot, std::vector<u32>& touched, std::vector<TriWork>& work) {
+                           std::vector<u32>& slot, std::vector<u32>& touched, Works& work) {
   const Soup& soup = pts_.soup();
   const std::size_t np = pairs.size(), nt = soup.tris.size();
 
@@ -274,7 +276,7 @@ void Interner::intern_cuts(const std::vector<std::array<u32, 2>>& pairs, const s
   // Per run but the first: per triangle, its work (kNone); per work, its triangle; the work.
   struct alignas(64) Gathered {
     std::vector<u32> of, tris;
-    std::vector<TriWork> work;
+    Works work;
   };
   std::vector<Gathered> gathered(runs);
   slot.assign(nt, kNone);
@@ -285,9 +287,10 @@ void Interner::intern_cuts(const std::vector<std::array<u32, 2>>& pairs, const s
     in.seeds_apart = r > 0;
     std::vector<u32>& of = r == 0 ? slot : gathered[r].of;
     std::vector<u32>& tris = r == 0 ? touched : gathered[r].tris;
-    std::vector<TriWork>& lw = r == 0 ? work : gathered[r].work;
+    Works& lw = r == 0 ? work : gathered[r].work;
     if (r > 0) of.assign(nt, kNone);
     const std::size_t from = start[r], to = start[r + 1];
+    lw.reserve(std::min(nt, 2 * (to - from)));  // (at most: no copies while the works grow)
     {
       const std::size_t expected = (weight[(to + kBlock - 1) / kBlock] - weight[from / kBlock]) / 2;
       std::size_t size = 1024;

@@ -16,7 +16,7 @@
 
 namespace wedge::boolean_detail {
 
-FlatQuads flat_quads(const Points& pts, const std::vector<u32>& touched, std::vector<TriWork>& work,
+FlatQuads flat_quads(const Points& pts, const std::vector<u32>& touched, Works& work,
                      const std::vector<char>* fixed) {
   const Soup& soup = pts.soup();
   const std::size_t nw = work.size();

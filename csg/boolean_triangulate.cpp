@@ -517,7 +517,7 @@ Arrangement arrange(Points& pts, const std::vector<std::array<u32, 2>>& pairs, b
 
   // 2. Interning (boolean_intern.cpp): per triangle cut, its segments and points as ids.
   std::vector<u32> slot, touched;
-  std::vector<TriWork> work;
+  Works work;
   Interner intern(pts);
   intern.intern_cuts(pairs, cuts, slot, touched, work);
   std::vector<PairCutView>().swap(cuts);

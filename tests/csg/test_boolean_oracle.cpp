@@ -332,7 +332,7 @@ TEST_CASE("boolean: the points interned in several runs get the ids of one pass 
     struct Interned {
       std::vector<PointDef> defs;
       std::vector<u32> slot, touched, again;
-      std::vector<TriWork> work;
+      Works work;
     };
     auto intern = [&](std::size_t runs) {
       tbb::global_control c(tbb::global_control::max_allowed_parallelism, runs);
@@ -640,7 +640,7 @@ TEST_CASE("boolean points: a cut met through two faces on one axis plane, or two
   for (std::size_t i = 0; i < pairs.size(); ++i) cuts[i] = intersect_pair(pts, pairs[i][0], pairs[i][1]);
   Interner in(pts);
   std::vector<u32> slot, touched;
-  std::vector<TriWork> work;
+  Works work;
   in.intern_cuts(pairs, std::vector<PairCutView>(cuts.begin(), cuts.end()), slot, touched, work);
   pts.evaluate_added();
   std::vector<u32> loose;
