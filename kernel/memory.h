@@ -44,6 +44,7 @@ std::size_t kept_bytes() noexcept;  // held by the cache now
 // A std::allocator whose large blocks come from, and go back to, the cache above.
 template <class T>
 struct Kept {
+  static_assert(alignof(T) <= __STDCPP_DEFAULT_NEW_ALIGNMENT__, "Kept's blocks have operator new's alignment");
   using value_type = T;
   Kept() = default;
   template <class U>
