@@ -158,9 +158,9 @@ struct alignas(64) InternRun {
   bool direct = false;
   Table table = Table(1024, kEmpty);
   std::size_t keys = 0;
-  std::vector<PointDef> defs;  // per point made: its canonical definition (not where direct)
-  std::vector<Vec3, Kept<Vec3>> at;  // per point made: its position where interned by position
-  std::vector<char> placed;    // whether it was
+  KeptVector<PointDef> defs;  // per point made: its canonical definition (not where direct)
+  KeptVector<Vec3> at;        // per point made: its position where interned by position
+  KeptVector<char> placed;    // whether it was
   bool seeds_apart = false;    // seeded vertices get ids of their own (to translate), not theirs
 
   const Vec3& position(u32 id) const { return id < soup->verts.size() ? soup->verts[id] : at[id - base]; }
