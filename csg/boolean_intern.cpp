@@ -110,9 +110,10 @@ std::uint64_t tag_of(std::uint64_t h, bool by_position) {
   return (h & kHigh & ~kPlaceBit) | (by_position ? kPlaceBit : 0);
 }
 
-// The id of the key (hash h) for which same(id) holds, or kNone.
-using Table = std::vector<std::uint64_t, Kept<std::uint64_t>>;
+// (Its blocks kept for the next run: kernel/memory.h.)
+using Table = KeptVector<std::uint64_t>;
 
+// The id of the key (hash h) for which same(id) holds, or kNone.
 template <class Same>
 u32 lookup(const Table& table, std::uint64_t h, bool by_position, Same&& same) {
   const std::uint64_t tag = tag_of(h, by_position);

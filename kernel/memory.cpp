@@ -67,6 +67,8 @@ void* take_block(std::size_t bytes) {
     }
     if (best < b.kept.size()) {
       const auto [p, size] = b.kept[best];
+      // (Room for its record first: if that throws, nothing has changed.)
+      if (size != bytes && b.lent.size() == b.lent.capacity()) b.lent.reserve(2 * b.lent.size() + 8);
       b.kept.erase(b.kept.begin() + static_cast<std::ptrdiff_t>(best));
       b.bytes -= size;
       if (size != bytes) b.lent.push_back({p, size});
