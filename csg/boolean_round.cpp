@@ -153,11 +153,18 @@ std::vector<u32> rounding_defects(const Mesh& m, const Rounding& rd) {
     const u32 t = orig(static_cast<u32>(i));
     if (active[i] && (s.axis[i] < 0 || projected_sign(m, rd, t) != rd.sign[t])) turned[i] = bad[i] = 1;
   });
-  std::vector<u32> all(n);
-  std::iota(all.begin(), all.end(), 0u);
-  const Bvh bvh(s, std::move(all), 3);
-  // Pairs around a vertex whose star is certified embedded cannot cross.
-  const auto cert = star_certificates(s, nullptr, &active);
+  // The tree, and the stars certified embedded (pairs around such a vertex cannot cross), made
+  // side by side: each is mostly serial at the classic figure's size (0.5 ms apiece on its
+  // cube n sphere, whose check this made 0.3 ms shorter at two threads).
+  Bvh bvh;
+  std::vector<std::uint8_t> cert;
+  parallel_invoke(
+      [&] {
+        std::vector<u32> all(n);
+        std::iota(all.begin(), all.end(), 0u);
+        bvh = Bvh(s, std::move(all), 3);
+      },
+      [&] { cert = star_certificates(s, nullptr, &active); });
   bvh.each_pair(
       &active, &s,
       [&](u32 t, u32 u) {

@@ -7,6 +7,7 @@
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_invoke.h>
 #include <tbb/task_group.h>
 
 #include "kernel/error.h"
@@ -26,6 +27,13 @@ void parallel_for(std::size_t begin, std::size_t end, F&& body) {
   if (tbb::is_current_task_group_canceling()) throw Error("parallel work cancelled by a failure beside it");
 }
 
+// a() and b() side by side: independent work, each too small or too serial to fill the threads
+// by itself. As for parallel_for, a failure beside them in a cancelled group throws here.
+template <class A, class B>
+void parallel_invoke(A&& a, B&& b) {
+  tbb::parallel_invoke(a, b);
+  if (tbb::is_current_task_group_canceling()) throw Error("parallel work cancelled by a failure beside it");
+}
 // body(lo, hi) for the blocks [lo, hi) of `block` items that cover [0, n), in parallel.
 template <class F>
 void parallel_blocks(std::size_t n, std::size_t block, F&& body) {

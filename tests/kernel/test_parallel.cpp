@@ -94,3 +94,18 @@ TEST_CASE("block compaction and prefix sums give the serial result, blocks of an
   CHECK(none == std::vector<unsigned>{0});
   CHECK(block_starts(0, 64, [](std::size_t, std::size_t) { return std::size_t(1); }).from == std::vector<std::size_t>{0});
 }
+
+TEST_CASE("parallel_invoke runs both halves and passes a half's failure on", "[kernel][parallel]") {
+  for (int threads : {1, 2}) {
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
+    std::vector<int> a, b;
+    parallel_invoke([&] { a.assign(1000, 1); }, [&] { parallel_for(0, 1000, [&](std::size_t) {}), b.assign(500, 2); });
+    CHECK(a == std::vector<int>(1000, 1));
+    CHECK(b == std::vector<int>(500, 2));
+    std::atomic<bool> other_ran{false};
+    CHECK_THROWS_WITH(parallel_invoke([&] { throw Error("the first half failed"); }, [&] { other_ran = true; }),
+                      "the first half failed");
+    CHECK_THROWS_WITH(parallel_invoke([&] { other_ran = true; }, [&] { throw Error("the second half failed"); }),
+                      "the second half failed");
+  }
+}
