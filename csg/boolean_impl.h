@@ -683,12 +683,10 @@ class Bvh {
   // Calls f(triangle id) for every triangle whose box meets the box [lo, hi].
   template <class F>
   void query(const double lo[3], const double hi[3], F&& f) const;
-
   // As query(), descending only into nodes whose (float) box `enter(lo, hi)` accepts; f(triangle
   // id) for every triangle of an accepted leaf.
   template <class Enter, class F>
   void query_if(Enter&& enter, F&& f) const;
-
   // Calls f(t, u), t < u, for every unordered pair of distinct triangles whose boxes (float,
   // rounded outward) overlap, of which at least one is active (active[triangle id] != 0; every
   // triangle when `active` is null). One traversal of the tree against itself instead of a query
@@ -699,11 +697,13 @@ class Bvh {
   // inside the walk.
   void each_pair(const std::vector<char>* active, const Soup* soup, const std::function<void(u32, u32)>& f,
                  const std::vector<std::uint8_t>* cert = nullptr) const;
-
   struct Node { float lo[3], hi[3]; u32 first, count; u32 left, right; };  // leaf: count > 0
   std::vector<Node> nodes;
   std::vector<u32> items;
-  std::vector<std::array<float, 6>> boxes;  // items[i]'s box (lo, hi), by position i
+  // items[i]'s box by position i: six rows of `stride` floats (lo x, y, z, hi x, y, z), 8 boxes
+  // past the items' that meet nothing (the join compares a leaf's boxes four at a time).
+  std::vector<float> boxes;
+  const float* box_row(int k) const { return boxes.data() + static_cast<std::size_t>(k) * (boxes.size() / 6); }
   int dims = 3;
 };
 
