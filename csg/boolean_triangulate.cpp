@@ -526,13 +526,19 @@ Arrangement arrange(Points& pts, const std::vector<std::array<u32, 2>>& pairs, b
   pts.evaluate_added();
 
   Merge merge;
-  auto merge_round = [&]() {
+  // With `near` (a box), only the points whose boxes meet it.
+  auto merge_round = [&](const std::array<double, 6>* near) {
     // Each point once, in the order first met (a mark per point instead of sorting them all).
     std::vector<u32> ids;
     std::vector<char> seen(pts.size(), 0);
     auto take = [&](u32 p) {
       if (!seen[p]) {
         seen[p] = 1;
+        if (near) {
+          const auto b = pts.box(p);
+          for (int i = 0; i < 3; ++i)
+            if (b[i] > (*near)[i + 3] || b[i + 3] < (*near)[i]) return;
+        }
         ids.push_back(p);
       }
     };
@@ -544,7 +550,7 @@ Arrangement arrange(Points& pts, const std::vector<std::array<u32, 2>>& pairs, b
     soup.poll();
     equal_points(pts, ids, merge);
   };
-  merge_round();
+  merge_round(nullptr);
 
   // 3. Proper crossings of segments within each triangle.
   auto canon_work = [&](TriWork& w) {
@@ -620,16 +626,24 @@ Arrangement arrange(Points& pts, const std::vector<std::array<u32, 2>>& pairs, b
         crossings[wi].push_back(p);
       });
     });
-    bool any = false;
+    std::vector<u32> added;
     soup.poll();
     for (std::size_t wi = 0; wi < work.size(); ++wi)
       for (const auto& p : crossings[wi]) {
-        work[wi].points.push_back(intern(p));
-        any = true;
+        added.push_back(intern(p));
+        work[wi].points.push_back(added.back());
       }
-    if (any) {
+    if (!added.empty()) {
       pts.evaluate_added();
-      merge_round();
+      // The points met before were merged among themselves: a crossing's point can equal only
+      // points whose boxes meet its own, all inside the crossings' box (the classic figure's
+      // three cylinders cross in a few places: 0.5 ms for all the points again, serial).
+      std::array<double, 6> near = {INFINITY, INFINITY, INFINITY, -INFINITY, -INFINITY, -INFINITY};
+      for (u32 p : added) {
+        const auto b = pts.box(p);
+        for (int i = 0; i < 3; ++i) near[i] = std::min(near[i], b[i]), near[i + 3] = std::max(near[i + 3], b[i + 3]);
+      }
+      merge_round(&near);
       canon_all();
     }
   }
