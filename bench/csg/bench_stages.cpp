@@ -8,8 +8,12 @@
 // union of 8 x 8 x 8 overlapping spheres of 1280 triangles), classic (cube n sphere, then minus
 // three cylinders), truss (the union of an octet truss: 126 struts and 27 balls), bosses (issue 16's plate as meshes: a 42 x 42 x 2
 // plate united with 400 bored bosses of 24 sides in one pass, then minus 400 drills), or all.
-// Each line gives the minimum over the repeats of the CPU time and of each stage.
+// Each line gives the minimum over the repeats of the CPU time and of each stage, and a hash of the
+// last result's bits (the same at any thread count, and after any change that keeps the engine's
+// decisions).
 #include <algorithm>
+#include <bit>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <ctime>
@@ -57,9 +61,20 @@ Mesh run(const char* name, BooleanOp op, const std::vector<Mesh>& ops) {
     best.quads = st.quads;
     best.quad_points = st.quad_points;
   }
-  std::printf("| %s | %.0f | %.1f, %.1f, %.1f, %.1f, %.1f | %zu | %.9f | %zu / %zu | %zu / %zu | %zu / %zu |\n", name, cpu,
-              best.check, best.broad, best.arrange, best.classify, best.output, r.mesh.triangles.size(), r.mesh.volume(),
-              best.collapses, best.resolutions, best.pairs, best.pieces, best.quads, best.quad_points);
+  // The result's bits (positions, triangles, face ids, provenance), hashed: a change to the engine
+  // that keeps its decisions keeps this.
+  std::uint64_t bits = 0xcbf29ce484222325ull;
+  auto mix = [&](std::uint64_t v) { bits = (bits ^ v) * 0x100000001b3ull; };
+  for (const auto& q : r.mesh.positions)
+    for (int k = 0; k < 3; ++k) mix(std::bit_cast<std::uint64_t>(q[k]));
+  for (const auto& t : r.mesh.triangles) mix(static_cast<std::uint64_t>(t[0]) << 42 ^ static_cast<std::uint64_t>(t[1]) << 21 ^ t[2]);
+  for (std::size_t t = 0; t < r.operand.size(); ++t)
+    mix(static_cast<std::uint64_t>(static_cast<std::uint32_t>(r.operand[t])) << 32 | static_cast<std::uint32_t>(r.source[t]));
+  for (auto f : r.mesh.face_ids) mix(static_cast<std::uint32_t>(f));
+  std::printf("| %s | %.0f | %.1f, %.1f, %.1f, %.1f, %.1f | %zu | %.9f | %zu / %zu | %zu / %zu | %zu / %zu | %016llx |\n", name,
+              cpu, best.check, best.broad, best.arrange, best.classify, best.output, r.mesh.triangles.size(), r.mesh.volume(),
+              best.collapses, best.resolutions, best.pairs, best.pieces, best.quads, best.quad_points,
+              static_cast<unsigned long long>(bits));
   std::fflush(stdout);
   return r.mesh;
 }
@@ -91,7 +106,8 @@ int main(int argc, char** argv) {
   g_repeats = argc > 3 ? std::max(1, std::atoi(argv[3])) : 3;
   tbb::global_control gc(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
   std::printf("threads %d, minimum of %d runs\n\n| case | CPU ms | check, broad, arrange, classify, output ms (wall) | "
-              "triangles | volume | collapses / resolutions | pairs / pieces | quads / points |\n|---|---|---|---|---|---|---|---|\n",
+              "triangles | volume | collapses / resolutions | pairs / pieces | quads / points | result bits (hash) |\n"
+              "|---|---|---|---|---|---|---|---|---|\n",
               threads, g_repeats);
   const bool all = which == "all";
   if (all || which == "plate") run("plate minus 400 cylinders", BooleanOp::Difference, plate_and_cylinders(20, 32));
