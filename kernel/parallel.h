@@ -34,6 +34,7 @@ void parallel_invoke(A&& a, B&& b) {
   tbb::parallel_invoke(a, b);
   if (tbb::is_current_task_group_canceling()) throw Error("parallel work cancelled by a failure beside it");
 }
+
 // body(lo, hi) for the blocks [lo, hi) of `block` items that cover [0, n), in parallel.
 template <class F>
 void parallel_blocks(std::size_t n, std::size_t block, F&& body) {
