@@ -534,11 +534,7 @@ Arrangement arrange(Points& pts, const std::vector<std::array<u32, 2>>& pairs, b
     auto take = [&](u32 p) {
       if (!seen[p]) {
         seen[p] = 1;
-        if (near) {
-          const auto b = pts.box(p);
-          for (int i = 0; i < 3; ++i)
-            if (b[i] > (*near)[i + 3] || b[i + 3] < (*near)[i]) return;
-        }
+        if (near && !boxes_overlap(pts.box(p), *near)) return;
         ids.push_back(p);
       }
     };
