@@ -605,16 +605,13 @@ CornerLists corner_lists(const Soup& soup, const std::vector<char>* listed, cons
 // direction every star triangle has the same orientation and the rim winds once (exact). Two
 // triangles of a certified star meet only in what they share. Operands marked in `trusted` get
 // no certificates (they are not checked). With `active` (per triangle), only the vertices of
-// active triangles are looked at. With `centers` (per operand), every star of an operand is seen
-// from its centre (W = the centre) instead of along its own normal.
+// active triangles are looked at.
 std::vector<std::uint8_t> star_certificates(const Soup& soup, const std::vector<char>* trusted = nullptr,
-                                            const std::vector<char>* active = nullptr,
-                                            const std::vector<Vec3>* centers = nullptr);
+                                            const std::vector<char>* active = nullptr);
 // The same from corner lists already made (whose triangles are the ones certified).
-std::vector<std::uint8_t> star_certificates(const Soup& soup, const CornerLists& corners,
-                                            const std::vector<Vec3>* centers = nullptr);
+std::vector<std::uint8_t> star_certificates(const Soup& soup, const CornerLists& corners);
 // Per operand: whether it is certainly free of self-intersections because it is one shell seen
-// one-to-one from the mean of its vertices (see boolean_broad.cpp); operands marked in `skip`
+// one-to-one from the mean of its vertices (see boolean_stars.cpp); operands marked in `skip`
 // are not looked at (false). `corners`: the corner lists of the operands not skipped.
 std::vector<char> radially_embedded(const Soup& soup, const std::vector<char>* skip, const CornerLists& corners);
 // Whether triangle T (its star_certificates() mask `cert`) and triangle U share a vertex whose

@@ -67,7 +67,7 @@ CornerLists corner_lists(const Soup& soup, const std::vector<char>* listed, cons
 }
 
 std::vector<std::uint8_t> star_certificates(const Soup& soup, const std::vector<char>* trusted,
-                                            const std::vector<char>* active, const std::vector<Vec3>* centers) {
+                                            const std::vector<char>* active) {
   std::vector<char> listed(soup.operands, 1), wanted;
   if (trusted)
     for (int o = 0; o < soup.operands; ++o) listed[o] = !(*trusted)[o];
@@ -77,25 +77,14 @@ std::vector<std::uint8_t> star_certificates(const Soup& soup, const std::vector<
       if ((*active)[t])
         for (u32 v : soup.tris[t]) wanted[v] = 1;
   }
-  return star_certificates(soup, corner_lists(soup, &listed, active ? &wanted : nullptr), centers);
+  return star_certificates(soup, corner_lists(soup, &listed, active ? &wanted : nullptr));
 }
 
-std::vector<std::uint8_t> star_certificates(const Soup& soup, const CornerLists& cl, const std::vector<Vec3>* centers) {
+std::vector<std::uint8_t> star_certificates(const Soup& soup, const CornerLists& cl) {
   const std::size_t nt = soup.tris.size(), nv = soup.verts.size();
   std::vector<std::uint8_t> mask(nt, 0);
   const std::vector<u32>& off = cl.off;
   soup.poll();
-  // Seen from an operand's centre, a triangle's orientation is the same from each of its three
-  // corners' stars (orient3d is unchanged by turning its first three points): once per triangle.
-  std::vector<std::int8_t> from_center;
-  if (centers) {
-    from_center.resize(nt);
-    parallel_for(0, nt, [&](std::size_t t) {
-      const auto& T = soup.tris[t];
-      from_center[t] = static_cast<std::int8_t>(
-          orient3d_fast(soup.verts[T[0]], soup.verts[T[1]], soup.verts[T[2]], (*centers)[soup.operand[t]]));
-    });
-  }
   // Where most corners are listed: per vertex whose corners are of one operand, that operand
   // where its star is certified (-1 otherwise), and the triangles' bits set from it afterwards,
   // without an atomic per corner (a quarter of the radial check of two 1M-triangle spheres).
@@ -137,13 +126,11 @@ std::vector<std::uint8_t> star_certificates(const Soup& soup, const CornerLists&
           sp = next(sp->b);
         }
         if (!sp || sp != &star[0] || rim.size() != star.size()) continue;  // not one cycle
-        // Seen along d = W - V, W a double near V + (the star's mean normal), or the operand's
-        // centre where one is given: any W would be exact, these make most stars pass.
+        // Seen along d = W - V, W a double near V + (the star's mean normal): any W would be
+        // exact, this one makes most stars pass.
         const Vec3& V = soup.verts[v];
         Vec3 W;
-        if (centers) {
-          W = (*centers)[op];
-        } else {
+        {
           Vec3 nrm = Vec3::Zero();
           for (std::size_t m = 0; m < rim.size(); ++m) {
             const Vec3 &P = soup.verts[rim[m]], &Q = soup.verts[rim[(m + 1) % rim.size()]];
@@ -157,7 +144,6 @@ std::vector<std::uint8_t> star_certificates(const Soup& soup, const CornerLists&
         auto orient = [&](const Vec3& a, const Vec3& b) { return orient3d_fast(V, a, b, W); };
         // Spoke m's triangle (v, rim[m], rim[m + 1]) seen from W.
         auto spoke = [&](std::size_t m) {
-          if (centers) return static_cast<int>(from_center[static_cast<u32>(cl.next[rim_rec[m]])]);
           return orient(soup.verts[rim[m]], soup.verts[rim[(m + 1) % rim.size()]]);
         };
         const std::size_t n = rim.size();
@@ -204,58 +190,169 @@ std::vector<std::uint8_t> star_certificates(const Soup& soup, const CornerLists&
   return mask;
 }
 
-// An operand all of whose triangles and stars, seen from one point c, keep their orientation
-// and wind once (its stars certified with W = c) maps onto the sphere of directions around c
-// locally one-to-one: a covering of the sphere, so each of its shells has Euler characteristic
-// 2k for k sheets. With V - E + F = 2 it is one shell of one sheet: the map is one-to-one, and
-// no two of its triangles meet beyond what they share. Convex and star-shaped operands (boxes,
-// cylinders, spheres: nearly every primitive) pass with c the mean of their vertices, in linear
-// time and without looking at pairs.
+// An operand all of whose triangles, seen from one point c, have one orientation maps onto the
+// sphere of directions around c by a branched covering (each triangle onto a spherical triangle,
+// the two triangles at an edge on either side of its arc; the closed, oriented operand check
+// came first): Riemann-Hurwitz gives chi' = 2d - B, where d is the covering's degree, B >= 0 its
+// branching at vertices (a star that winds k times adds k - 1) and chi' = V - E + F + p the
+// Euler characteristic once each of p pinched vertices is split. With V - E + F = 2 and d = 1,
+// p = B = 0: the map is one-to-one, and no two triangles meet beyond what they share. d is the
+// number of triangles that a ray from c crosses (each crossing counts once, every triangle facing
+// the same way), exact for a ray that meets no edge or vertex: it goes through the centroid of
+// one of the operand's triangles, and a few others are tried where it meets an edge or vertex.
+// Convex and star-shaped operands (boxes, cylinders, spheres: nearly every primitive) pass with
+// c the mean of their vertices, in linear time and without looking at pairs. Where no ray is
+// found, the operand's stars are certified one by one from c instead (star_certificates).
+namespace {
+
+struct Ray {
+  Vec3 to;      // a double point: the ray goes from the operand's c through it
+  Vec3 n1, n2;  // two directions across the ray: the planes through c across them nearly hold it
+  double tol;   // a vertex further than this from such a plane is surely on its side
+};
+
+// The ray through the centroid of triangle t of the operand centred at c; false where that is c.
+bool ray_through(const Soup& soup, u32 t, const Vec3& c, double reach, Ray& ray) {
+  const auto& T = soup.tris[t];
+  ray.to = (soup.verts[T[0]] + soup.verts[T[1]] + soup.verts[T[2]]) / 3.0;
+  const Vec3 d = ray.to - c;
+  const double len = d.norm();
+  if (!(len > 0) || !std::isfinite(len)) return false;
+  const Vec3 u = d / len;
+  int k = 0;
+  for (int a = 1; a < 3; ++a)
+    if (std::abs(u[a]) < std::abs(u[k])) k = a;
+  ray.n1 = u.cross(Vec3::Unit(k)).normalized();
+  ray.n2 = u.cross(ray.n1).normalized();
+  // Within `reach` of c (every vertex is), the ray is within a few ulps of reach from both planes
+  // (d has rounding in it, the normals are orthogonal to it within rounding), and a dot product
+  // of a vertex with a normal errs by a few ulps of reach: 1e-12 is thousands of times that.
+  ray.tol = 1e-12 * reach;
+  return std::isfinite(ray.tol) && ray.n1.allFinite() && ray.n2.allFinite();
+}
+
+}  // namespace
+
 std::vector<char> radially_embedded(const Soup& soup, const std::vector<char>* skip, const CornerLists& corners) {
   const int nops = soup.operands;
+  const std::size_t nt = soup.tris.size(), nv = soup.verts.size();
+  const std::vector<u32> first = operand_starts(soup);  // an operand's triangles are one run
   std::vector<std::size_t> faces(nops, 0);
-  for (std::size_t t = 0; t < soup.tris.size(); ++t) ++faces[soup.operand[t]];
+  for (int op = 0; op < nops; ++op) faces[op] = first[op + 1] - first[op];
   // Each operand's vertices (a vertex's corners of one operand are one run of its list): their
-  // number and mean, per block of vertices in parallel, the blocks summed in order.
-  const std::size_t nv = soup.verts.size(), blocks = (nv + 65535) / 65536;
-  std::vector<std::vector<Vec3>> sums(blocks);
-  std::vector<std::vector<std::size_t>> counts(blocks);
+  // number, mean and box, per block of vertices in parallel, the blocks summed in order.
+  const std::size_t blocks = (nv + 65535) / 65536;
+  struct Part {
+    Vec3 sum = Vec3::Zero(), lo = Vec3::Constant(INFINITY), hi = Vec3::Constant(-INFINITY);
+    std::size_t count = 0;
+  };
+  std::vector<std::vector<Part>> parts(blocks);
   parallel_for(0, blocks, [&](std::size_t b) {
-    sums[b].assign(nops, Vec3::Zero());
-    counts[b].assign(nops, 0);
+    parts[b].assign(nops, Part{});
     for (std::size_t v = b * 65536; v < std::min(nv, (b + 1) * 65536); ++v) {
       std::int32_t prev = -1;
       for (u32 k = corners.off[v]; k < corners.off[v + 1]; ++k) {
         const std::int32_t op = soup.operand[static_cast<u32>(corners.next[k])];
         if (op == prev) continue;
         prev = op;
-        sums[b][op] += soup.verts[v];
-        ++counts[b][op];
+        Part& p = parts[b][op];
+        p.sum += soup.verts[v];
+        p.lo = p.lo.cwiseMin(soup.verts[v]);
+        p.hi = p.hi.cwiseMax(soup.verts[v]);
+        ++p.count;
       }
     }
   });
-  std::vector<Vec3> centers(nops, Vec3::Zero());
+  std::vector<Vec3> centers(nops, Vec3::Zero()), lo(nops, Vec3::Constant(INFINITY)), hi(nops, Vec3::Constant(-INFINITY));
   std::vector<std::size_t> verts(nops, 0);
   for (std::size_t b = 0; b < blocks; ++b)
     for (int op = 0; op < nops; ++op) {
-      centers[op] += sums[b][op];
-      verts[op] += counts[b][op];
+      const Part& p = parts[b][op];
+      centers[op] += p.sum;
+      lo[op] = lo[op].cwiseMin(p.lo);
+      hi[op] = hi[op].cwiseMax(p.hi);
+      verts[op] += p.count;
     }
   std::vector<char> pass(nops, 0);
   std::vector<char> todo(nops, 0);
   for (int op = 0; op < nops; ++op) {
-    todo[op] = (!skip || !(*skip)[op]) && faces[op] > 0 && faces[op] % 2 == 0;
     centers[op] /= static_cast<double>(std::max<std::size_t>(verts[op], 1));
-  }
-  const auto cert = star_certificates(soup, corners, &centers);
-  std::vector<char> all(nops, 1);
-  for (std::size_t t = 0; t < soup.tris.size(); ++t)
-    if (cert[t] != 7) all[soup.operand[t]] = 0;
-  for (int op = 0; op < nops; ++op) {
     // V - E + F with E = 3F / 2 (closed: every edge in two triangles).
     const auto chi = static_cast<std::int64_t>(verts[op]) - static_cast<std::int64_t>(faces[op] / 2);
-    pass[op] = todo[op] && all[op] && chi == 2;
+    todo[op] = (!skip || !(*skip)[op]) && faces[op] > 0 && faces[op] % 2 == 0 && chi == 2 && centers[op].allFinite();
   }
+  // Per operand: how far its vertices reach from c at most (from its box; for the rays).
+  std::vector<double> reach(nops, 0);
+  for (int op = 0; op < nops; ++op)
+    if (todo[op]) reach[op] = (hi[op] - centers[op]).cwiseAbs().cwiseMax((lo[op] - centers[op]).cwiseAbs()).norm();
+  std::vector<Ray> ray(nops);
+  for (int op = 0; op < nops; ++op)
+    if (todo[op]) todo[op] = ray_through(soup, first[op], centers[op], 2 * reach[op], ray[op]);
+  // One pass over the triangles: each one's orientation seen from its operand's c (the signs
+  // met, per operand), and those the ray may cross (near both planes along it).
+  constexpr std::size_t kBlock = 65536;
+  const std::size_t tblocks = (nt + kBlock - 1) / kBlock;
+  std::vector<std::vector<std::uint8_t>> signs(tblocks);
+  std::vector<std::vector<u32>> near(tblocks);
+  parallel_for(0, tblocks, [&](std::size_t b) {
+    soup.poll();
+    signs[b].assign(nops, 0);
+    for (std::size_t t = b * kBlock; t < std::min(nt, (b + 1) * kBlock); ++t) {
+      const std::int32_t op = soup.operand[t];
+      if (!todo[op]) continue;
+      const auto& T = soup.tris[t];
+      const Vec3 &A = soup.verts[T[0]], &B = soup.verts[T[1]], &C = soup.verts[T[2]], &c = centers[op];
+      const int s = orient3d_fast(A, B, C, c);
+      signs[b][op] |= static_cast<std::uint8_t>(s > 0 ? 1 : s < 0 ? 2 : 4);
+      const Ray& r = ray[op];
+      const double a1 = (A - c).dot(r.n1), b1 = (B - c).dot(r.n1), c1 = (C - c).dot(r.n1);
+      const double a2 = (A - c).dot(r.n2), b2 = (B - c).dot(r.n2), c2 = (C - c).dot(r.n2);
+      auto apart = [&](double x, double y, double z) {
+        return (x > r.tol && y > r.tol && z > r.tol) || (x < -r.tol && y < -r.tol && z < -r.tol);
+      };
+      if (!apart(a1, b1, c1) && !apart(a2, b2, c2)) near[b].push_back(static_cast<u32>(t));
+    }
+  });
+  std::vector<std::uint8_t> seen(nops, 0);
+  for (const auto& sb : signs)
+    for (int op = 0; op < nops; ++op) seen[op] |= sb[op];
+  std::vector<u32> candidates;
+  for (const auto& nb : near) candidates.insert(candidates.end(), nb.begin(), nb.end());
+  // The crossings of each operand's ray, exact: a triangle (a, b, d) facing c is crossed where
+  // the ray's point is on d's side of the plane (c, a, b), and likewise for its other two edges.
+  std::vector<std::size_t> crossed(nops, 0);
+  std::vector<char> unclear(nops, 0);
+  auto count = [&](u32 t) {
+    const std::int32_t op = soup.operand[t];
+    const auto& T = soup.tris[t];
+    const Vec3 &c = centers[op], &to = ray[op].to;
+    const int ref = orient3d_fast(c, soup.verts[T[0]], soup.verts[T[1]], soup.verts[T[2]]);
+    int same = 0, zero = 0;
+    for (int e = 0; e < 3; ++e) {
+      const int s = orient3d_fast(c, soup.verts[T[e]], soup.verts[T[(e + 1) % 3]], to);
+      same += s == ref;
+      zero += s == 0;
+    }
+    if (same == 3) ++crossed[op];
+    else if (same + zero == 3) unclear[op] = 1;  // through an edge or a vertex
+  };
+  for (int op = 0; op < nops; ++op)
+    if (todo[op] && (seen[op] == 1 || seen[op] == 2)) pass[op] = 1;
+  for (u32 t : candidates)
+    if (pass[soup.operand[t]]) count(t);
+  // A ray through an edge or a vertex: others, through other triangles' centroids, looked for
+  // among all the operand's triangles (rare: a few tries; without a clear ray the operand is not
+  // passed, and the broad phase checks its pairs).
+  for (int op = 0; op < nops; ++op) {
+    for (std::size_t k = 1; k <= 3 && pass[op] && unclear[op]; ++k) {
+      const u32 t0 = static_cast<u32>(first[op] + k * faces[op] / 4);
+      if (!ray_through(soup, t0, centers[op], 2 * reach[op], ray[op])) continue;
+      crossed[op] = 0;
+      unclear[op] = 0;
+      for (u32 t = first[op]; t < first[op + 1]; ++t) count(t);
+    }
+  }
+  for (int op = 0; op < nops; ++op) pass[op] = pass[op] && !unclear[op] && crossed[op] == 1;
   return pass;
 }
 

@@ -4,7 +4,7 @@
 //   bench_stages [case] [threads, default 1] [repeats, default 3]
 //
 // Cases: plate (a plate minus 400 cylinders of 32 sides), menger (the level-3 sponge), sph65
-// (two overlapping 65k-triangle spheres, union), sph1m (the same at 1M, not in all), lattice (the
+// (two overlapping 65k-triangle spheres, union), sph4k and sph1m (the same at 4k and 1M, not in all), lattice (the
 // union of 8 x 8 x 8 overlapping spheres of 1280 triangles), classic (cube n sphere, then minus
 // three cylinders), truss (the union of an octet truss: 126 struts and 27 balls), bosses (issue 16's plate as meshes: a 42 x 42 x 2
 // plate united with 400 bored bosses of 24 sides in one pass, then minus 400 drills), or all.
@@ -113,6 +113,7 @@ int main(int argc, char** argv) {
   if (all || which == "plate") run("plate minus 400 cylinders", BooleanOp::Difference, plate_and_cylinders(20, 32));
   if (all || which == "menger") run("Menger sponge, level 3", BooleanOp::Difference, menger_operands(3));
   if (all || which == "truss") run("octet truss, 3x3x3 nodes, union", BooleanOp::Union, octet_truss(2, 0.08, 32, 320));
+  if (which == "sph4k") run("spheres 4k, union", BooleanOp::Union, overlapping_spheres(4096));
   if (all || which == "sph65") run("spheres 65k, union", BooleanOp::Union, overlapping_spheres(65536));
   if (which == "sph1m") run("spheres 1M, union", BooleanOp::Union, overlapping_spheres(1048576));
   if (which == "soup") {
