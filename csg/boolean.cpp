@@ -528,6 +528,13 @@ BooleanResult boolean_detail::boolean_as_given(BooleanOp op, const std::vector<c
   // valid: results of earlier booleans, and those one-to-one on the sphere around their centre.
   std::array<u32, 2> clash;
   std::vector<char> checked = radially_embedded(soup, &trusted, corners);
+  {
+    // Operands seen one-to-one from their centre have no pinched vertex; results of earlier
+    // booleans have no adjacency here (their edges are all sorted in the output).
+    std::vector<char> look(operands.size(), 0);
+    for (std::size_t i = 0; i < operands.size(); ++i) look[i] = untrusted[i] && !checked[i];
+    if (std::count(look.begin(), look.end(), 1) > 0) soup.pinched = pinched_vertices(soup, corners, look);
+  }
   corners = {};
   for (std::size_t i = 0; i < operands.size(); ++i) checked[i] |= trusted[i];
   // Triangles inside the core of an operand that drops them (a strut's cap inside a node's ball)

@@ -217,6 +217,9 @@ struct Soup {
   // inexact transform, or of an earlier pass's output), which the rounding repair may move, as it
   // moves constructed points. An operand's own vertices never move.
   std::vector<char> movable;
+  // Vertices where an operand's triangles make several fans (two of its shells touch there, their
+  // vertices welded here; ascending): the output keeps one copy per fan (boolean_output.cpp).
+  std::vector<u32> pinched;
   const Interrupt* interrupt = nullptr;   // the run's cancel request (null: none)
   void poll() const {
     if (interrupt) interrupt->poll();
@@ -614,6 +617,9 @@ std::vector<std::uint8_t> star_certificates(const Soup& soup, const CornerLists&
 // one-to-one from the mean of its vertices (see boolean_stars.cpp); operands marked in `skip`
 // are not looked at (false). `corners`: the corner lists of the operands not skipped.
 std::vector<char> radially_embedded(const Soup& soup, const std::vector<char>* skip, const CornerLists& corners);
+// The vertices where the triangles of an operand marked in `look` make more than one fan (the
+// corner lists hold those operands' corners), ascending.
+std::vector<u32> pinched_vertices(const Soup& soup, const CornerLists& corners, const std::vector<char>& look);
 // Whether triangle T (its star_certificates() mask `cert`) and triangle U share a vertex whose
 // star is certified at T's corner (so they cannot clash).
 inline bool shares_certified(const std::array<u32, 3>& T, std::uint8_t cert, const std::array<u32, 3>& U) {

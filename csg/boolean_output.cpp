@@ -195,7 +195,8 @@ BooleanResult assemble(const Points& pts, const Arrangement& arr, const std::vec
 
   // Vertex copies: corners (3*t+k) at the same point joined across paired edges. A point none
   // of whose edges was sorted (all paired directly: whole triangles of one disk around an input
-  // vertex) has one copy, its smallest corner; the other points' corners are joined.
+  // vertex, not a pinched one) has one copy, its smallest corner; the other points' corners are
+  // joined.
   soup.poll();
   std::vector<char> sorted_at(pts.size(), 0);
   parallel_blocks(half.size(), 65536, [&](std::size_t lo, std::size_t hi) {
@@ -204,6 +205,7 @@ BooleanResult assemble(const Points& pts, const Arrangement& arr, const std::vec
       std::atomic_ref<char>(sorted_at[half[i].key & 0xffffffffu]).store(1, std::memory_order_relaxed);
     }
   });
+  for (u32 v : soup.pinched) sorted_at[v] = 1;  // several fans: their corners are joined by edges
   std::vector<u32> least(pts.size(), kNone);  // per point with one copy: its smallest corner
   parallel_blocks(nt, 16384, [&](std::size_t lo, std::size_t hi) {
     for (std::size_t c = lo * 3; c < hi * 3; ++c) {

@@ -356,4 +356,41 @@ std::vector<char> radially_embedded(const Soup& soup, const std::vector<char>* s
   return pass;
 }
 
+std::vector<u32> pinched_vertices(const Soup& soup, const CornerLists& corners, const std::vector<char>& look) {
+  const std::size_t nv = soup.verts.size();
+  std::vector<std::vector<u32>> found((nv + 65535) / 65536);
+  parallel_for(0, found.size(), [&](std::size_t block) {
+    soup.poll();
+    std::vector<std::pair<u32, u32>> spokes;  // (a, b): triangle (v, a, b)
+    for (std::size_t v = block * 65536; v < std::min(nv, (block + 1) * 65536); ++v)
+      for (u32 r0 = corners.off[v]; r0 < corners.off[v + 1];) {
+        const std::int32_t op = soup.operand[static_cast<u32>(corners.next[r0])];
+        u32 r1 = r0;
+        spokes.clear();
+        for (; r1 < corners.off[v + 1] && soup.operand[static_cast<u32>(corners.next[r1])] == op; ++r1)
+          spokes.push_back({static_cast<u32>(corners.next[r1] >> 32), static_cast<u32>(corners.prev[r1] >> 32)});
+        r0 = r1;
+        if (!look[op]) continue;
+        // One fan: from any spoke, each next one the spoke whose a is this one's b, all of them
+        // before the first comes back (closed and oriented: each a and each b once).
+        std::sort(spokes.begin(), spokes.end());
+        std::size_t steps = 0;
+        u32 at = spokes[0].first;
+        do {
+          auto it = std::lower_bound(spokes.begin(), spokes.end(), std::pair<u32, u32>{at, 0});
+          if (it == spokes.end() || it->first != at) break;
+          at = it->second;
+          ++steps;
+        } while (at != spokes[0].first && steps <= spokes.size());
+        if (steps != spokes.size() || at != spokes[0].first) {
+          found[block].push_back(static_cast<u32>(v));
+          break;
+        }
+      }
+  });
+  std::vector<u32> out;
+  for (const auto& f : found) out.insert(out.end(), f.begin(), f.end());
+  return out;
+}
+
 }  // namespace wedge::boolean_detail

@@ -229,6 +229,32 @@ TEST_CASE("boolean: two boxes touching along an edge, joined around both its end
   CHECK(at_end == 2);
 }
 
+TEST_CASE("boolean: an operand of shells that touch at a vertex keeps them apart in the result", "[boolean]") {
+  // Two cubes touching at (1, 1, 1) in one mesh: as the engine returns such shells (the touching
+  // vertex once per shell), and with the vertex shared by both (one index, two fans). The soup
+  // welds the copies; the result must have one copy per fan again, beside an operand far away and
+  // one that cuts a cube.
+  const Mesh a = box_mesh({0, 0, 0}, {1, 1, 1}), b = box_mesh({1, 1, 1}, {1, 1, 1});
+  Mesh apart = a, shared = a;
+  apart.append(b);
+  const auto base = static_cast<std::uint32_t>(shared.positions.size());
+  for (const Point3& p : b.positions) shared.positions.push_back(p);
+  for (auto T : b.triangles) {
+    for (auto& v : T) v = b.positions[v] == Point3(1, 1, 1) ? 7u : v + base;
+    shared.add_triangle(T[0], T[1], T[2]);
+  }
+  REQUIRE(a.positions[7] == Point3(1, 1, 1));
+  const Mesh far = box_mesh({5, 5, 5}, {1, 1, 1}), cut = box_mesh({0.5, 0.5, -0.5}, {0.2, 0.2, 2});
+  for (const Mesh* two : {&apart, &shared}) {
+    const BooleanResult u = checked(BooleanOp::Union, {two, &far});
+    require_volume(u.mesh, 3.0);
+    CHECK(std::count(u.mesh.positions.begin(), u.mesh.positions.end(), Point3(1, 1, 1)) == 2);
+    const BooleanResult d = checked(BooleanOp::Difference, {two, &cut});
+    require_volume(d.mesh, 2.0 - 0.04);
+    CHECK(std::count(d.mesh.positions.begin(), d.mesh.positions.end(), Point3(1, 1, 1)) == 2);
+  }
+}
+
 TEST_CASE("boolean: A u A = A n A = A and A - A is empty", "[boolean]") {
   const Mesh a = uv_sphere({0.3, 0.1, -0.2}, 1, 1000);
   const double v = exact_volume(a);
