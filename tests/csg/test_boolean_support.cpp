@@ -136,6 +136,48 @@ TEST_CASE("boolean support: the validity checks name each defect", "[boolean_sup
   Mesh inward = b;
   for (auto& t : inward.triangles) std::swap(t[0], t[1]);
   CHECK_THAT(closed_manifold_outward(inward), Catch::Contains("not positive"));
+  // The result of a unit box minus five copies turned by 1e-7 or less (found by a fuzz run): two
+  // slivers at opposite corners, each of volume 2.9e-28, far below the error of a sum of terms
+  // near 1 (in doubles the total was not positive), so the orientation is judged by the exact sign.
+  Mesh sliver;
+  for (const Point3& p : {Point3(1, 0.999999999718162, -1),
+                          Point3(0.99999999998759659, 1, -1),
+                          Point3(1, 1, -1),
+                          Point3(0.99999999998759659, 0.999999999718162, -1),
+                          Point3(-1, -0.999999999718162, 1),
+                          Point3(-1, -1, 1),
+                          Point3(-0.99999999998759659, -1, 1),
+                          Point3(-0.99999999998759659, -0.999999999718162, 1),
+                          Point3(-0.99999999999172073, -1, 0.99999999999293421),
+                          Point3(-1, -1, 0.99999987567346382),
+                          Point3(-0.99999999999172051, -1, 0.99999987567346382),
+                          Point3(-0.99999999998759659, -1, 0.9999999999929341),
+                          Point3(0.99999999999172073, 1, -0.99999999999293421),
+                          Point3(1, 1, -0.99999987567346382),
+                          Point3(0.99999999998759659, 1, -0.9999999999929341),
+                          Point3(0.99999999999172051, 1, -0.99999987567346382),
+                          Point3(-1, -0.999999999718162, 0.99999987567346393),
+                          Point3(1, 0.999999999718162, -0.99999987567346393),
+                          Point3(-0.99999999998759659, -0.999999999718162, 0.9999999999929341),
+                          Point3(0.99999999998759659, 0.999999999718162, -0.9999999999929341),
+                          Point3(0.99999999999172051, 0.999999999718162, -0.99999987567346393),
+                          Point3(-0.99999999999172051, -0.999999999718162, 0.99999987567346393),
+                          Point3(0.99999999999172062, 0.999999999718162, -0.9999999999929341),
+                          Point3(-0.99999999999172062, -0.999999999718162, 0.9999999999929341)})
+    sliver.add_vertex(p);
+  const std::uint32_t faces[40][3] = {{0, 1, 2}, {3, 1, 0}, {4, 5, 6}, {7, 4, 6}, {8, 6, 5}, {8, 5, 9},
+                                      {8, 9, 10}, {11, 6, 8}, {12, 2, 1}, {12, 13, 2}, {14, 12, 1}, {12, 15, 13},
+                                      {5, 16, 9}, {16, 5, 4}, {17, 0, 2}, {2, 13, 17}, {11, 7, 6}, {11, 18, 7},
+                                      {14, 1, 3}, {14, 3, 19}, {20, 13, 15}, {13, 20, 17}, {9, 21, 10}, {9, 16, 21},
+                                      {19, 22, 14}, {14, 22, 12}, {18, 11, 23}, {11, 8, 23}, {21, 23, 8}, {8, 10, 21},
+                                      {20, 12, 22}, {12, 20, 15}, {4, 23, 16}, {23, 21, 16}, {7, 23, 4}, {18, 23, 7},
+                                      {0, 17, 22}, {3, 0, 22}, {19, 3, 22}, {22, 17, 20}};
+  for (const auto& f : faces) sliver.add_triangle(f[0], f[1], f[2]);
+  REQUIRE_FALSE(polyhedron_volume(sliver) > 0);  // in doubles, not positive
+  CHECK(closed_manifold_outward(sliver).empty());
+  Mesh turned = sliver;
+  for (auto& t : turned.triangles) std::swap(t[0], t[1]);
+  CHECK_THAT(closed_manifold_outward(turned), Catch::Contains("not positive"));
 
   // Two cubes sharing one vertex index: closed, but the vertex has two fans.
   Mesh pinched = b;
