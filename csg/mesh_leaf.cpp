@@ -26,8 +26,10 @@ MeshLeaf::MeshLeaf(Mesh mesh, const std::string& what) : mesh_(std::move(mesh)) 
   try {
     // A render mesh splits a vertex wherever its corners differ in uv or normal (a textured
     // cube's seams, a faceted cube's per-face normals); the surface it describes is still
-    // closed, and it is the welded copy the closed / 2-manifold / Euler checks must see.
-    counts_ = euler_counts(mesh_.welded());
+    // closed, and it is the welded copy the closed / 2-manifold / Euler checks must see. Parts
+    // that touch at a point with a vertex each (a boolean's result, exported and read back) are
+    // welded there too: each of their fans is its own vertex again.
+    counts_ = euler_counts(split_fans(mesh_.welded(), mesh_));
   } catch (const Error& e) {
     fail(what, ": ", e.what());
   }

@@ -213,6 +213,62 @@ MassProperties mass_properties(const Mesh& mesh) {
   return frame.from_frame(volume, area, first, second);
 }
 
+Mesh split_fans(const Mesh& mesh, const Mesh& original) {
+  Mesh out = mesh;
+  std::vector<std::array<std::uint32_t, 4>> corners;  // (v, u, w, corner 3t + k): triangle (v, u, w)
+  corners.reserve(mesh.triangles.size() * 3);
+  for (std::uint32_t t = 0; t < mesh.triangles.size(); ++t)
+    for (std::uint32_t k = 0; k < 3; ++k) {
+      const auto& T = mesh.triangles[t];
+      corners.push_back({T[k], T[(k + 1) % 3], T[(k + 2) % 3], 3 * t + k});
+    }
+  std::sort(corners.begin(), corners.end());
+  std::vector<char> seen(corners.size(), 0);
+  for (std::size_t i = 0; i < corners.size();) {
+    std::size_t j = i;
+    while (j < corners.size() && corners[j][0] == corners[i][0]) ++j;
+    bool closes = true;  // each u once, and each w some corner's u
+    for (std::size_t c = i + 1; c < j; ++c) closes = closes && corners[c][1] != corners[c - 1][1];
+    auto find = [&](std::uint32_t u) -> std::size_t {
+      auto it = std::lower_bound(corners.begin() + long(i), corners.begin() + long(j), u,
+                                 [](const std::array<std::uint32_t, 4>& c, std::uint32_t x) { return c[1] < x; });
+      return it != corners.begin() + long(j) && (*it)[1] == u ? std::size_t(it - corners.begin()) : j;
+    };
+    for (std::size_t c = i; c < j && closes; ++c) closes = find(corners[c][2]) != j;
+    // The fans (numbered per corner), and whether an original vertex is in two of them.
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> fan_of;  // (original vertex, fan)
+    for (std::size_t c = i, n = 0; c < j && closes; ++c) {
+      if (seen[c]) continue;
+      for (std::size_t x = c; !seen[x]; x = find(corners[x][2])) {
+        seen[x] = 1;
+        fan_of.push_back({original.triangles[corners[x][3] / 3][corners[x][3] % 3], static_cast<std::uint32_t>(n)});
+      }
+      ++n;
+    }
+    std::sort(fan_of.begin(), fan_of.end());
+    for (std::size_t k = 1; k < fan_of.size() && closes; ++k)
+      closes = fan_of[k].first != fan_of[k - 1].first || fan_of[k].second == fan_of[k - 1].second;
+    for (std::size_t c = i; c < j; ++c) seen[c] = 0;
+    std::size_t fans = 0;
+    for (std::size_t c = i; c < j && closes; ++c) {
+      if (seen[c]) continue;
+      // One fan: from corner c, each next corner the one whose u is this one's w.
+      std::uint32_t v = corners[i][0];
+      if (fans++ > 0) {
+        v = out.add_vertex(mesh.positions[corners[i][0]]);
+        if (!out.normals.empty()) out.normals.push_back(mesh.normals[corners[i][0]]);
+        if (!out.uvs.empty()) out.uvs.push_back(mesh.uvs[corners[i][0]]);
+      }
+      for (std::size_t x = c; !seen[x]; x = find(corners[x][2])) {
+        seen[x] = 1;
+        out.triangles[corners[x][3] / 3][corners[x][3] % 3] = v;
+      }
+    }
+    i = j;
+  }
+  return out;
+}
+
 EulerCounts euler_counts(const Mesh& mesh) {
   // A triangle with two corners at one vertex (a zero-area facet of an STL, welded; an OBJ face
   // "f 1 1 1 ...") was reported as "edge 0-0 is used twice in the same direction".

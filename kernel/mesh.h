@@ -95,5 +95,11 @@ MassProperties mass_properties(const Mesh& mesh);
 // Euler–Poincaré per component. Throws if an edge is not shared by exactly two triangles, or a
 // vertex joins separate fans of triangles.
 EulerCounts euler_counts(const Mesh& mesh);
+// `welded` (original.welded()) with each vertex whose triangles make several fans, from separate
+// vertices of `original` (parts that touch at one point, as a boolean returns them), split into
+// one vertex per fan again, the first fan keeping the index. A vertex of `original` itself in
+// two fans (a bowtie), or whose triangles do not close into fans, is left as it is, for
+// euler_counts to report.
+Mesh split_fans(const Mesh& welded, const Mesh& original);
 
 }  // namespace wedge
