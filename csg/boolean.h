@@ -66,7 +66,10 @@ constexpr std::size_t kDefaultMaxCrossings = 50'000;
 // The boolean of `operands` (union and intersection of all of them in one pass; difference is
 // operands[0] minus all the others). Throws wedge::Error naming the operand and the first
 // offending spot if an operand is not closed, not 2-manifold, inside out, has a zero-area triangle
-// or intersects itself. Runs on TBB's threads; the result is the same bits at any thread count.
+// that cannot be mended without moving a point (those that can are mended, and the operand
+// accepted: boolean_impl.h, mend_flat_triangles) or intersects itself. Shells of an
+// operand that touch at a vertex or an edge are accepted. Runs on TBB's threads; the result is
+// the same bits at any thread count.
 // `cancel`, if given, is polled between the stages and inside them (at most every 2 ms, from any of
 // TBB's threads, one at a time); when it returns true, boolean() throws Cancelled.
 // An operand that is bit for bit a mesh an earlier boolean() returned is known to be valid and is
