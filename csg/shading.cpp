@@ -134,6 +134,7 @@ std::array<Vec2, 3> interpolated_uv(const Mesh& in, const CornerUvs& in_uv, std:
         if (!(poles >> j & 1u)) num += bc[j] * uv[static_cast<std::size_t>(j)][free], den += bc[j];
       if (den > 1e-12) r[free] = num / den;
     }
+    if (S) r = closest_parameters(*S, p, r);
   }
   return res;
 }

@@ -47,7 +47,12 @@ const Surface* parametric_surface(const Mesh& mesh, const std::vector<FaceSurfac
 // the source's surface S given and source corners on a pole of S, the free parameter is
 // interpolated as pole_corners says, so that the pieces of a pole triangle follow its generator
 // lines as the whole triangle does (the pieces of sphere(1) and of a copy moved by 1e-13 differed
-// by 7e-7 in volume near the poles).
+// by 7e-7 in volume near the poles); that guess is then refined to the parameters of the corner's
+// closest point of S. So a vertex has one pair of parameters on a face whichever triangle it is a
+// corner of, also where the engine made one triangle of two cut triangles of a flat quadrilateral
+// (a frustum's side: extrapolated from one of the two, a corner's parameters were up to a
+// segment off), and the cut vertices of two operands on one surface (a torus and its copy turned
+// about the axis) have the same surface point on both.
 std::array<Vec2, 3> interpolated_uv(const Mesh& in, const CornerUvs& in_uv, std::size_t source, const Mesh& out,
                                     std::size_t t, const Surface* S = nullptr);
 

@@ -138,3 +138,35 @@ TEST_CASE("mass: where two curved faces cross at a wide angle the volume converg
   const Solid d = Solid::boolean(BooleanOp::Difference, {brep_solid(sphere(1)), brep_solid(box(Vec3(2, 2, 2)))});
   CHECK(std::abs(d.mass_properties(at(1e-4)).volume - 7 * kPi / 6) < 1e-10);
 }
+
+TEST_CASE("mass: a cone, a torus and a ball with their copies turned about the axis keep their volume", "[mass][tree]") {
+  // A solid of revolution turned about its axis is itself: union, intersection and difference with
+  // the turned copy have its volume (0 for the difference), though the two tessellations cross
+  // everywhere. A frustum's (and a torus's, a sphere's) side quadrilaterals are flat, and the engine
+  // makes one piece of two cut triangles of such a quadrilateral: its corners took parameters
+  // extrapolated from one of the two, up to a whole segment away from their points (at 1e-2 the
+  // cone's union was 3e-3 off, the torus's 1e-4, and the differences -9e-4 and 2e-6).
+  struct Case {
+    const char* name;
+    Solid s;
+    double exact;
+  };
+  const Case cases[] = {
+      {"frustum", brep_solid(cone(1, 0.5, 2)), kPi * 2 / 3 * (1 + 0.5 + 0.25)},
+      {"torus", brep_solid(torus(2, 0.5)), 2 * kPi * kPi * 2 * 0.25},
+      {"ball", brep_solid(sphere(1)), 4 * kPi / 3},
+  };
+  for (const Case& c : cases)
+    for (double deg : {7.0, 0.06}) {
+      const Solid turned = c.s.transformed(rotate_z(deg));
+      INFO(c.name << " turned by " << deg << " degrees");
+      for (const BooleanOp op : {BooleanOp::Union, BooleanOp::Intersection}) {
+        const double v = Solid::boolean(op, {c.s, turned}).mass_properties(at(1e-2)).volume;
+        INFO("volume " << v << ", exact " << c.exact);
+        CHECK(std::abs(v - c.exact) < 1e-7 * c.exact);
+      }
+      const double d = Solid::boolean(BooleanOp::Difference, {c.s, turned}).mass_properties(at(1e-2)).volume;
+      INFO("difference " << d);
+      CHECK(std::abs(d) < 1e-7 * c.exact);
+    }
+}
