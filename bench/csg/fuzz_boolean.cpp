@@ -1205,8 +1205,9 @@ int replay(const std::string& dir) {
   } catch (const Error& e) {
     std::printf("%s: wedge::Error after %.3f s: %s\n", opw.c_str(), now_s() - t0, e.what());
   }
-  OracleResult o = oracle_safe(op, ops);
-  std::printf("CGAL: %s volume %.17g\n", o.ok ? "ok" : "refused/crashed/skipped (touching shells)", o.volume);
+  // (CGAL's corefinement of many nearly coincident operands can take many minutes: 5 at most.)
+  OracleResult o = ops.size() <= 5 ? oracle_safe(op, ops) : OracleResult{};
+  std::printf("CGAL: %s volume %.17g\n", o.ok ? "ok" : "refused/crashed/skipped (touching shells, > 5 operands)", o.volume);
   return 0;
 }
 
