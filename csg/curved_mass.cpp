@@ -130,8 +130,9 @@ struct Patch {
 
 // The cap of triangle t into `out`; false (nothing added) when its surface points are not near it.
 // `code`: the patch's Patch::code().
+// `area`: the cap's surface area less the triangle's.
 bool cap(const Mesh& mesh, std::size_t t, const FaceSurface& fs, const CornerUvs& corner_uv, double far, const Point3& ref,
-         Sums& out, std::uint8_t& code) {
+         Sums& out, std::uint8_t& code, double& area) {
   Patch patch;
   if (!patch.make(mesh, t, fs, corner_uv)) return false;
   code = patch.code();
@@ -180,6 +181,7 @@ bool cap(const Mesh& mesh, std::size_t t, const FaceSurface& fs, const CornerUvs
   }
   local.area -= 0.5 * a1.cross(a2).norm();
   out.add(local);
+  area = local.area;
   return true;
 }
 
@@ -202,11 +204,13 @@ struct CutSide {
   int at1 = 0, at2 = 0;  // the triangle's corners at the edge's first and second end
 };
 
-void cut_edge(const CutSide& A, const CutSide& B, const Point3& v1, const Point3& v2, double far, const Point3& ref, Sums& out) {
+// Adds the edge's terms to `out`; `area_a`, `area_b`: the strips' areas on A's and on B's side.
+void cut_edge(const CutSide& A, const CutSide& B, const Point3& v1, const Point3& v2, double far, const Point3& ref, Sums& out,
+              double& area_a, double& area_b) {
   const Vec3 d = v2 - v1;  // v1 -> v2: the edge as A's triangle runs it
-  // The quadrilateral's vector area along d at edge parameter l (times the rule's weight), with
-  // the point; 0 where a wall is longer than `far` or a side has no normal.
-  auto term = [&](double l, Point3& e, double& wall) {
+  // The quadrilateral's vector area along d at edge parameter l, with the point, and the strips'
+  // widths on each side (below); 0 where a wall is longer than `far` or a side has no normal.
+  auto term = [&](double l, Point3& e, double& strip_a, double& strip_b) {
     e = v1 + l * d;
     auto on = [&](const CutSide& S, Point3& s, Vec3& n) {
       s = e, n = S.normal;
@@ -222,7 +226,8 @@ void cut_edge(const CutSide& A, const CutSide& B, const Point3& v1, const Point3
     Vec3 na, nb;
     on(A, sa, na);
     on(B, sb, nb);
-    wall = std::max((sa - e).norm(), (sb - e).norm());
+    strip_a = strip_b = 0;
+    const double wall = std::max((sa - e).norm(), (sb - e).norm());
     if (!(wall > 0) || !(wall <= far)) return 0.0;
     // C = e + alpha na + beta nb on both tangent planes: na.(C - sa) = 0, nb.(C - sb) = 0.
     Point3 c = sa + 0.5 * (sb - sa);
@@ -233,6 +238,14 @@ void cut_edge(const CutSide& A, const CutSide& B, const Point3& v1, const Point3
       const Point3 meet = e + alpha * na + beta * nb;
       if ((meet - e).norm() <= 4 * wall) c = meet;
     }
+    // The surfaces' area the caps leave out (or count twice) along the edge: from each cap's end
+    // (sa, sb) to the faces' common curve (c), across the edge and away from that side's
+    // triangle (d x na for A, whose triangle runs the edge along d; -d x nb for B), in the tangent
+    // planes: a strip of the tolerance's width (a cylinder's cap disc beyond its chords), whose
+    // error is of second order.
+    const Vec3 ma = d.cross(na), mb = nb.cross(d);
+    const double wa = ma.norm() > 0 ? (c - sa).dot(ma.normalized()) : 0.0, wb = mb.norm() > 0 ? (c - sb).dot(mb.normalized()) : 0.0;
+    if (std::isfinite(wa) && std::isfinite(wb)) strip_a = wa, strip_b = wb;
     // The quadrilateral (e, sa, c, sb): vector area (c - e) x (sb - sa) / 2, swept along d.
     const double a = 0.5 * (c - e).cross(sb - sa).dot(d);
     return std::isfinite(a) ? a : 0.0;  // not finite: a side's triangle without area
@@ -243,25 +256,24 @@ void cut_edge(const CutSide& A, const CutSide& B, const Point3& v1, const Point3
     out.first += dv * x;
     out.second += dv * x * x.transpose();
   };
-  // The middle point first: on an edge of a leaf (a cylinder's rim on its cap, where both walls
-  // end on the exact curve) the term vanishes there, by symmetry, and the other two points,
-  // whose terms are of higher order again, are not evaluated (each costs a surface evaluation a
-  // side: on the 400-boss plate, whose 89,600 edges between faces are nearly all such, the pass
-  // took half as long as the caps).
-  Point3 e;
-  double wall = 0;
-  const double mid = term(kL[1], e, wall);
-  if (!(std::abs(mid) > 1e-6 * wall * wall * d.norm())) return;
-  add(kLw[1] * mid, e);
-  for (const std::size_t j : {std::size_t(0), std::size_t(2)}) {
-    const double a = term(kL[j], e, wall);
+  const double length = d.norm();
+  area_a = area_b = 0;
+  for (std::size_t j = 0; j < kL.size(); ++j) {
+    Point3 e;
+    double strip_a = 0, strip_b = 0;
+    const double a = term(kL[j], e, strip_a, strip_b);
     add(kLw[j] * a, e);
+    area_a += kLw[j] * strip_a * length;
+    area_b += kLw[j] * strip_b * length;
   }
+  out.area += area_a + area_b;
 }
 
-// The edges between two faces (one of them curved) and their cut_edge terms, summed in edge order.
+// The edges between two faces (one of them curved) and their cut_edge terms, summed in edge order;
+// each side's strip also added to its triangle's entry of `triangle_area` where given.
 Sums cut_edges(const Mesh& mesh, const std::vector<FaceSurface>& surfaces, const CornerUvs& corner_uv,
-               const std::vector<char>& capped, const std::vector<std::uint8_t>& codes, double far, const Point3& ref) {
+               const std::vector<char>& capped, const std::vector<std::uint8_t>& codes, double far, const Point3& ref,
+               std::vector<double>* triangle_area) {
   const std::size_t n = mesh.triangles.size();
   auto face = [&](std::size_t t) { return t < mesh.face_ids.size() ? mesh.face_ids[t] : -1; };
   // Vertices where two faces meet; only edges between two of them can be such an edge.
@@ -325,6 +337,7 @@ Sums cut_edges(const Mesh& mesh, const std::vector<FaceSurface>& surfaces, const
   };
   const std::size_t block = 1024, blocks = (pairs.size() + block - 1) / block;
   std::vector<Sums> part(blocks);
+  std::vector<std::array<double, 2>> strips(triangle_area ? pairs.size() : 0);
   parallel_for(0, blocks, [&](std::size_t bi) {
     for (std::size_t i = bi * block; i < std::min(pairs.size(), (bi + 1) * block); ++i) {
       const HalfEdge &h = half[pairs[i].first], &g = half[pairs[i].second];
@@ -334,18 +347,26 @@ Sums cut_edges(const Mesh& mesh, const std::vector<FaceSurface>& surfaces, const
       CutSide A, B;
       side(h, v1, A);
       side(g, v1, B);
-      cut_edge(A, B, mesh.positions[v1], mesh.positions[v2], far, ref, part[bi]);
+      double area_a = 0, area_b = 0;
+      cut_edge(A, B, mesh.positions[v1], mesh.positions[v2], far, ref, part[bi], area_a, area_b);
+      if (triangle_area) strips[i] = {area_a, area_b};
     }
   });
   for (const Sums& p : part) total.add(p);
+  // In edge order: the same bits at any number of threads.
+  for (std::size_t i = 0; i < strips.size(); ++i) {
+    (*triangle_area)[half[pairs[i].first].t] += strips[i][0];
+    (*triangle_area)[half[pairs[i].second].t] += strips[i][1];
+  }
   return total;
 }
 
 }  // namespace
 
 MassProperties curved_mass_properties(const Mesh& mesh, const std::vector<FaceSurface>& surfaces, const CornerUvs& corner_uv,
-                                      double chordal) {
+                                      double chordal, std::vector<double>* triangle_area) {
   MassProperties mp;
+  if (triangle_area) triangle_area->assign(mesh.triangles.size(), 0.0);
   if (mesh.triangles.empty()) return mp;
   const Point3 ref = mesh.bounds().center();
   const double far = 16 * chordal + 1e-12 * mesh.bounds().diagonal();
@@ -363,19 +384,23 @@ MassProperties curved_mass_properties(const Mesh& mesh, const std::vector<FaceSu
       const double v = a.dot(p.cross(c)) / 6.0;
       const Vec3 sum = a + p + c;
       s.volume += v;
-      s.area += 0.5 * (p - a).cross(c - a).norm();
+      const double flat = 0.5 * (p - a).cross(c - a).norm();
+      s.area += flat;
+      if (triangle_area) (*triangle_area)[t] = flat;
       s.first += v * sum / 4.0;
       s.second += v / 20.0 * (a * a.transpose() + p * p.transpose() + c * c.transpose() + sum * sum.transpose());
       const std::int32_t id = t < mesh.face_ids.size() ? mesh.face_ids[t] : -1;
       if (id < 0 || static_cast<std::size_t>(id) >= surfaces.size()) continue;
       const FaceSurface& fs = surfaces[static_cast<std::size_t>(id)];
       if (fs.plane() || !fs.surface) continue;
-      capped[t] = cap(mesh, t, fs, corner_uv, far, ref, s, codes[t]);
+      double capped_area = 0;
+      capped[t] = cap(mesh, t, fs, corner_uv, far, ref, s, codes[t], capped_area);
+      if (triangle_area) (*triangle_area)[t] += capped_area;
     }
   });
   Sums total;
   for (const Sums& s : part) total.add(s);
-  total.add(cut_edges(mesh, surfaces, corner_uv, capped, codes, far, ref));
+  total.add(cut_edges(mesh, surfaces, corner_uv, capped, codes, far, ref, triangle_area));
   mp.volume = total.volume;
   mp.area = total.area;
   if (total.volume == 0) return mp;

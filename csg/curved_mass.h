@@ -11,8 +11,9 @@
 // over b and l: a 6-point degree-4 rule on the triangle (on a triangle with a pole corner, 3 x 3
 // Gauss points in the square collapsed onto the pole) and 3-point Gauss in l. s(b) is the
 // surface at the triangle's corner parameters interpolated (a parametric face: the tessellator's
-// (u, v), and for a vertex a boolean made, those interpolated in its source triangle; a corner on a
-// pole takes the others' free parameter), or the closest point (a planar builder's cylinder). Two
+// (u, v), and for a vertex a boolean made, those of its closest surface point (csg/shading.h's
+// interpolated_uv), one pair per vertex on each face; a corner on a pole takes the others' free
+// parameter), or the closest point (a planar builder's cylinder). Two
 // triangles of one face that share an edge give it the same segments, so the side walls of
 // neighbouring regions cancel. Where two faces meet (a boolean's cut, or an edge of a leaf), the
 // walls left over, from the mesh's edge to each face's surface, and the surfaces' common curve
@@ -23,8 +24,10 @@
 // there the meshes cross up to the tolerance over the angle away from the surfaces' curve, and
 // between the two curves a piece is capped toward its own surface where the other bounds the
 // solid (two balls 1e-3 apart: 8e-8 at 1e-4, relatively 2e-8 of the ball). The area is the
-// surfaces' over the curved triangles: first order still (the strips along the face edges are
-// left out; a sphere minus a cube: 1.8e-4 at 1e-3).
+// surfaces' over the curved triangles (the caps' area elements) and, along each edge between two
+// faces, the strips between the caps' ends and the faces' common curve C (a cylinder's cap disc
+// beyond its chords), their widths measured in the tangent planes: second order (a sphere minus
+// a cube: 4.5e-6 at 1e-2, 5e-8 at 1e-3, where the caps alone left 1.7e-3 and 1.7e-4).
 #pragma once
 #include <vector>
 
@@ -40,7 +43,9 @@ namespace wedge {
 // points lie farther than 16 times it off the triangle's plane, or farther along it than its
 // longest side, keeps its flat value). Every face tried converges at second order (the classic
 // figure: 9e-9 at 1e-4; a pointed cone less a quadrant, its apex a pole: 1e-12 at 1e-3).
+// `triangle_area`, where given: per triangle, its share of the area (its surface's over it and the
+// strips along its edges between faces), for the areas of single faces.
 MassProperties curved_mass_properties(const Mesh& mesh, const std::vector<FaceSurface>& surfaces, const CornerUvs& corner_uv,
-                                      double chordal);
+                                      double chordal, std::vector<double>* triangle_area = nullptr);
 
 }  // namespace wedge

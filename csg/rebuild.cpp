@@ -65,6 +65,7 @@ RebuiltSolid rebuild_brep(const Mesh& mesh) {
 
   // 1. kef across every edge between two faces of one source face.
   std::vector<EdgeId> same;  // edges with one face on both sides, for step 2
+  std::unordered_map<std::int32_t, std::int32_t> into;  // a face killed -> the face that took it in
   for (EdgeId e : m.edges().ids()) {
     FaceId a = face({e, 0}), b = face({e, 1});
     FaceData& da = data.at(a.value);
@@ -77,6 +78,7 @@ RebuiltSolid rebuild_brep(const Mesh& mesh) {
     bool a_smaller = da.triangles < db.triangles;
     FaceId f = a_smaller ? a : b, g = a_smaller ? b : a;
     m.kef(e, f);
+    into[f.value] = g.value;
     FaceData& dg = data.at(g.value);
     const FaceData& df = data.at(f.value);
     dg.area += df.area;
@@ -194,6 +196,12 @@ RebuiltSolid rebuild_brep(const Mesh& mesh) {
     m.set_surface(f, FaceSurface{});
     r.source[id] = d.source;
     r.area[id] = d.area;
+  }
+  r.triangle_face.resize(face_of.size());
+  for (std::size_t t = 0; t < face_of.size(); ++t) {
+    std::int32_t id = face_of[t].value;
+    for (auto it = into.find(id); it != into.end(); it = into.find(id)) id = it->second;
+    r.triangle_face[t] = id;
   }
   Validation v = m.validate(false);
   if (!v) fail("rebuild: the rebuilt solid is not valid: ", v.message);

@@ -26,6 +26,8 @@ struct RebuiltSolid {
   // Per model face (by id value): the source face id its triangles carry, and their total area.
   std::unordered_map<std::int32_t, std::int32_t> source;
   std::unordered_map<std::int32_t, double> area;
+  // Per triangle of the mesh, the model face (id value) it became part of.
+  std::vector<std::int32_t> triangle_face;
 };
 
 // `mesh`: closed, 2-manifold, outward-oriented, one face id per triangle (welded: a vertex is one

@@ -30,6 +30,7 @@ struct Evaluated {
   std::shared_ptr<const Mesh> shaded;
   std::mutex mass_mutex;
   std::optional<MassProperties> mass;  // of a curved result (csg/curved_mass.h)
+  std::vector<double> triangle_area;   // with it: each triangle's share of the area
 };
 
 struct Solid::Node {
