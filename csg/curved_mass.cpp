@@ -43,6 +43,7 @@ constexpr std::array<double, 3> kLw{5.0 / 18, 8.0 / 18, 5.0 / 18};
 // The surface point over q and its derivatives along the triangle's two sides a1, a2.
 struct OnSurface {
   Vec3 s, s1, s2;
+  Vec3 n = Vec3::Zero();  // the surface's normal there (either sign, any length; zero at a pole)
 };
 
 // The closest point of a cylinder (the planar builders' faces) and its derivative along a.
@@ -56,7 +57,7 @@ OnSurface on_cylinder(const Cylinder& c, const Point3& q, const Vec3& a1, const 
     const Vec3 ap = a - a.dot(ax) * ax;
     return Vec3(a.dot(ax) * ax + c.radius() / rho * (ap - e.dot(ap) * e));
   };
-  return {c.origin() + d.dot(ax) * ax + c.radius() * e, along(a1), along(a2)};
+  return {c.origin() + d.dot(ax) * ax + c.radius() * e, along(a1), along(a2), e};
 }
 
 // The map from triangle t's points to its surface: s(b) at barycentric b (see the header).
@@ -124,7 +125,7 @@ struct Patch {
     }
     Vec3 J[3];
     S->jet(p.x(), p.y(), 1, J);
-    return {J[0], d1.x() * J[1] + d1.y() * J[2], d2.x() * J[1] + d2.y() * J[2]};
+    return {J[0], d1.x() * J[1] + d1.y() * J[2], d2.x() * J[1] + d2.y() * J[2], J[1].cross(J[2])};
   }
 };
 
@@ -176,8 +177,10 @@ bool cap(const Mesh& mesh, std::size_t t, const FaceSurface& fs, const CornerUvs
       local.first += dv * x;
       local.second += dv * x * x.transpose();
     }
-    // The surface's area element in place of the flat triangle's.
-    local.area += wt * os.s1.cross(os.s2).norm();
+    // The surface's area element in place of the flat triangle's, signed as the volume's is: where
+    // the map folds a piece over (its image turned against the triangle), the two layers cancel.
+    const Vec3 element = os.s1.cross(os.s2);
+    local.area += element.dot(normal) < 0 ? -wt * element.norm() : wt * element.norm();
   }
   local.area -= 0.5 * a1.cross(a2).norm();
   out.add(local);
@@ -218,9 +221,12 @@ void cut_edge(const CutSide& A, const CutSide& B, const Point3& v1, const Point3
       double b[3] = {0, 0, 0};
       b[S.at1] = 1 - l, b[S.at2] = l;
       const OnSurface os = S.patch.at(b[1], b[2]);
-      const Vec3 m = os.s1.cross(os.s2);
       s = os.s;
-      if (m.norm() > 0) n = m.normalized();
+      // The surface's own normal, turned the triangle's way: the map's s1 x s2 on a sliver piece
+      // (its sides nearly parallel) points anywhere, and so did the strips' widths across it
+      // (two balls 0.5 apart: 6e-7 of the area at 1e-4).
+      if (os.n.norm() > 0) n = os.n.dot(S.normal) < 0 ? Vec3(-os.n.normalized()) : Vec3(os.n.normalized());
+      else if (const Vec3 m = os.s1.cross(os.s2); m.norm() > 0) n = m.normalized();
     };
     Point3 sa, sb;
     Vec3 na, nb;
