@@ -53,15 +53,15 @@ const std::vector<Gen>& generators();
 
 // ---------------------------------------------------------------- outcomes
 // Per boolean, or per case for a crash, a hang or an error of the fuzzer itself (harness). ok,
-// unroundable, budget, slow and skipped-operand are counts; harness errors are reported apart;
-// the rest are failures.
+// unroundable, budget, subnormal (an operand with a subnormal coordinate, refused by the engine),
+// slow and skipped-operand are counts; harness errors are reported apart; the rest are failures.
 enum Outcome {
-  kOk, kUnroundable, kBudget, kError, kInvalid, kPinchMerged, kPinchNew, kVolume, kOracle, kBadAccepted, kBadMsg,
-  kBitsDiffer, kCrash, kHang, kSlow, kSkipped, kHarness, kOutcomes
+  kOk, kUnroundable, kBudget, kSubnormal, kError, kInvalid, kPinchMerged, kPinchNew, kVolume, kOracle, kBadAccepted,
+  kBadMsg, kBitsDiffer, kCrash, kHang, kSlow, kSkipped, kHarness, kOutcomes
 };
 inline constexpr const char* kOutcomeName[kOutcomes] = {
-    "ok", "unroundable", "budget", "error", "invalid", "pinch-merged", "pinch-new", "volume", "oracle", "bad-accepted",
-    "bad-message", "bits-differ", "crash", "hang", "slow(>2s)", "skipped-operand", "harness-error"};
+    "ok", "unroundable", "budget", "subnormal", "error", "invalid", "pinch-merged", "pinch-new", "volume", "oracle",
+    "bad-accepted", "bad-message", "bits-differ", "crash", "hang", "slow(>2s)", "skipped-operand", "harness-error"};
 
 // In memory shared by the driver and its children (mmap, MAP_SHARED): a child counts, the driver
 // reads bool_start while the child runs and the rest once it has ended.

@@ -19,6 +19,7 @@
 #include <csignal>
 #include <cstdio>
 #include <cstring>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <string>
@@ -129,6 +130,15 @@ bool check_run(BooleanOp op, const std::vector<const Mesh*>& ops, const Run& run
       save_case(dir, op, ops, std::string(boolean_op_name(op)) + ": " + run.error);
     } else if (!run.foreign && run.error.find("budget") != std::string::npos) {
       count(kBudget);
+    } else if (!run.foreign && run.error.find("subnormal") != std::string::npos &&
+               std::any_of(ops.begin(), ops.end(), [](const Mesh* m) {
+                 return std::any_of(m->positions.begin(), m->positions.end(), [](const Point3& p) {
+                   for (int k = 0; k < 3; ++k)
+                     if (p[k] != 0 && std::abs(p[k]) < std::numeric_limits<double>::min()) return true;
+                   return false;
+                 });
+               })) {
+      count(kSubnormal);  // refused, rightly (an operand has one)
     } else {
       record_failure(kError, op, ops, "error on valid operands: " + run.error);
     }

@@ -333,8 +333,8 @@ Case gen_sliver(Rng& r) {
   return c;
 }
 // Extreme coordinates: a unit case (touching, cyl_ico or near_copy) scaled by 2^e (e from -1060,
-// subnormal, to 1018), or moved to around 1e8 with unit features, or a box up to 2^401 across
-// with that case shrunk by up to 2^-600 near its centre.
+// subnormal, which the engine refuses, to 1018), or moved to around 1e8 with unit features, or a
+// box up to 2^401 across with that case shrunk by up to 2^-600 near its centre.
 Case gen_scale(Rng& r) {
   Case c;
   Rng r2(r());
