@@ -3,9 +3,9 @@
 #include "csg/boolean.h"
 
 #include <algorithm>
-#include <limits>
 #include <atomic>
 #include <chrono>
+#include <cmath>
 #include <cstring>
 #include <mutex>
 #include <numeric>
@@ -518,9 +518,7 @@ BooleanResult boolean_detail::boolean_as_given(BooleanOp op, const std::vector<c
     if (defects[i].empty())
       for (std::size_t v = 0; v < operands[i]->positions.size(); ++v) {
         const Point3& p = operands[i]->positions[v];
-        bool tiny = false;
-        for (int k = 0; k < 3; ++k) tiny = tiny || (p[k] != 0 && std::abs(p[k]) < std::numeric_limits<double>::min());
-        if (tiny) {
+        if (std::fpclassify(p.x()) == FP_SUBNORMAL || std::fpclassify(p.y()) == FP_SUBNORMAL || std::fpclassify(p.z()) == FP_SUBNORMAL) {
           defects[i] = names[i] + ": vertex " + std::to_string(v + 1) + " " + at(p) +
                        " has a subnormal coordinate (nonzero, below 2.2e-308), where exact decisions are not possible: "
                        "scale the model up";

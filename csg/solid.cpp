@@ -603,6 +603,16 @@ std::shared_ptr<const RebuiltSolid> Solid::rebuilt(const Tolerance& tol) const {
   return e->rebuilt;
 }
 
+namespace {
+// An evaluated curved solid's mass properties and each triangle's share of its area
+// (csg/curved_mass.h), made once and kept with it.
+const MassProperties& curved_mass(Evaluated& e, const Tolerance& tol) {
+  std::lock_guard<std::mutex> lock(e.mass_mutex);
+  if (!e.mass) e.mass = curved_mass_properties(e.mesh, e.surfaces, e.corner_uv, tol.chordal, &e.triangle_area);
+  return *e.mass;
+}
+}  // namespace
+
 std::vector<SolidFace> Solid::faces(const Tolerance& tol) const {
   std::vector<SolidFace> out;
   if (empty()) return out;
@@ -612,9 +622,7 @@ std::vector<SolidFace> Solid::faces(const Tolerance& tol) const {
   std::shared_ptr<Evaluated> curved;
   auto curved_areas = [&]() -> const std::vector<double>& {
     curved = evaluate_root(node_, tol);
-    std::lock_guard<std::mutex> lock(curved->mass_mutex);
-    if (!curved->mass)
-      curved->mass = curved_mass_properties(curved->mesh, curved->surfaces, curved->corner_uv, tol.chordal, &curved->triangle_area);
+    curved_mass(*curved, tol);
     return curved->triangle_area;
   };
   if (node_->kind == Node::Kind::Leaf)
@@ -690,10 +698,7 @@ MassProperties Solid::mass_properties(const Tolerance& tol) const {
     if (auto mp = node_->leaf->mass_properties()) return *mp;
   if (empty() || polyhedral()) return wedge::mass_properties(mesh(tol));
   // Curved: the mesh and, under each curved triangle, the region up to its surface (csg/curved_mass.h).
-  auto e = evaluate_root(node_, tol);
-  std::lock_guard<std::mutex> lock(e->mass_mutex);
-  if (!e->mass) e->mass = curved_mass_properties(e->mesh, e->surfaces, e->corner_uv, tol.chordal, &e->triangle_area);
-  return *e->mass;
+  return curved_mass(*evaluate_root(node_, tol), tol);
 }
 
 EulerCounts Solid::euler(const Tolerance& tol) const {

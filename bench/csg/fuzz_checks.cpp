@@ -19,7 +19,6 @@
 #include <csignal>
 #include <cstdio>
 #include <cstring>
-#include <limits>
 #include <memory>
 #include <optional>
 #include <string>
@@ -133,9 +132,8 @@ bool check_run(BooleanOp op, const std::vector<const Mesh*>& ops, const Run& run
     } else if (!run.foreign && run.error.find("subnormal") != std::string::npos &&
                std::any_of(ops.begin(), ops.end(), [](const Mesh* m) {
                  return std::any_of(m->positions.begin(), m->positions.end(), [](const Point3& p) {
-                   for (int k = 0; k < 3; ++k)
-                     if (p[k] != 0 && std::abs(p[k]) < std::numeric_limits<double>::min()) return true;
-                   return false;
+                   return std::fpclassify(p.x()) == FP_SUBNORMAL || std::fpclassify(p.y()) == FP_SUBNORMAL ||
+                          std::fpclassify(p.z()) == FP_SUBNORMAL;
                  });
                })) {
       count(kSubnormal);  // refused, rightly (an operand has one)
