@@ -266,18 +266,28 @@ bool boolean_detail::triangles_clash(const Soup& s, u32 t, u32 u) {
 
 namespace {
 
+// The defect of an operand with a negative volume; "" where closed mesh m (named `name`) has a
+// positive volume, else that defect (exact).
+std::string inside_out(const std::string& name) {
+  return name + " is inside out (negative volume): triangles must be counter-clockwise seen from outside";
+}
+std::string volume_defect(const Mesh& m, const std::string& name) {
+  return m.triangles.empty() || volume_sign(m.positions, m.triangles) > 0 ? "" : inside_out(name);
+}
+
 // The first defect of each operand of a soup that `check` marks (its Mesh `meshes[o]`, named
 // names[o]), or "" (exact): a zero-area triangle, an edge that is not closed or not consistently
-// oriented, a negative volume. The operands' indices must be valid (Mesh::check) before the soup
-// is made. One pass over the soup's vertices for all operands at once (a vertex that two
-// operands share has both their edges, told apart by operand).
+// oriented, a negative volume (not looked at without `volumes`). The operands' indices must be
+// valid (Mesh::check) before the soup is made. One pass over the soup's vertices for all
+// operands at once (a vertex that two operands share has both their edges, told apart by
+// operand).
 //
 // With `adj` (sized to the soup's triangles, kNone), each triangle edge a -> b at a vertex a whose
 // star is one disk of one operand (each edge out of a once, each edge in once) gets the triangle
 // across it: the one with the edge b -> a.
 std::vector<std::string> soup_defects(const Soup& s, CornerLists& corners, const std::vector<const Mesh*>& meshes,
                                       const std::vector<std::string>& names, const std::vector<char>& check,
-                                      std::vector<std::array<u32, 3>>* adj = nullptr) {
+                                      std::vector<std::array<u32, 3>>* adj = nullptr, bool volumes = true) {
   const std::size_t nops = meshes.size();
   std::vector<std::string> out(nops);
   // Each operand's first zero-area triangle.
@@ -382,11 +392,10 @@ std::vector<std::string> soup_defects(const Soup& s, CornerLists& corners, const
                  std::to_string(s.local[outs[k] & 0xffffffffu] + 1) + " has no neighbour";
     }
   }
-  parallel_for(0, nops, [&](std::size_t o) {
-    if (check[o] && out[o].empty() && !meshes[o]->triangles.empty() &&
-        volume_sign(meshes[o]->positions, meshes[o]->triangles) <= 0)
-      out[o] = names[o] + " is inside out (negative volume): triangles must be counter-clockwise seen from outside";
-  });
+  if (volumes)
+    parallel_for(0, nops, [&](std::size_t o) {
+      if (check[o] && out[o].empty()) out[o] = volume_defect(*meshes[o], names[o]);
+    });
   return out;
 }
 
@@ -534,7 +543,19 @@ BooleanResult boolean_detail::boolean_as_given(BooleanOp op, const std::vector<c
   CornerLists corners = corner_lists(soup, &untrusted);
   // Triangles across edges, where the check sees them (for classify's patches).
   std::vector<std::array<u32, 3>> adj(soup.tris.size(), {kNone, kNone, kNone});
-  for (const auto& d : soup_defects(soup, corners, operands, names, untrusted, &adj))
+  defects = soup_defects(soup, corners, operands, names, untrusted, &adj, false);
+  // The volumes' signs, but where the radial check below sees every triangle of an operand face
+  // away from one point (a positive sum of tetrahedra: nearly every primitive), or toward it.
+  std::vector<std::int8_t> facing(operands.size(), 0);
+  const bool closed = std::all_of(defects.begin(), defects.end(), [](const std::string& d) { return d.empty(); });
+  // (Closed and oriented operands only: the ray and the sum rest on it.)
+  std::vector<char> checked = closed ? radially_embedded(soup, &trusted, corners, &facing) : std::vector<char>(operands.size(), 0);
+  parallel_for(0, operands.size(), [&](std::size_t o) {
+    if (!untrusted[o] || !defects[o].empty()) return;
+    if (facing[o] < 0) defects[o] = inside_out(names[o]);
+    else if (facing[o] == 0) defects[o] = volume_defect(*operands[o], names[o]);
+  });
+  for (const auto& d : defects)
     if (!d.empty()) fail("boolean: ", d);
   if (stats) stats->trusted = static_cast<std::size_t>(std::count(trusted.begin(), trusted.end(), 1));
   lap(&BooleanStats::check);
@@ -542,7 +563,6 @@ BooleanResult boolean_detail::boolean_as_given(BooleanOp op, const std::vector<c
   // The broad phase also checks each operand for self-intersections, but for the operands known
   // valid: results of earlier booleans, and those one-to-one on the sphere around their centre.
   std::array<u32, 2> clash;
-  std::vector<char> checked = radially_embedded(soup, &trusted, corners);
   {
     // Operands seen one-to-one from their centre have no pinched vertex; results of earlier
     // booleans have no adjacency here (their edges are all sorted in the output).

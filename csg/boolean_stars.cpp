@@ -233,7 +233,8 @@ bool ray_through(const Soup& soup, u32 t, const Vec3& c, double reach, Ray& ray)
 
 }  // namespace
 
-std::vector<char> radially_embedded(const Soup& soup, const std::vector<char>* skip, const CornerLists& corners) {
+std::vector<char> radially_embedded(const Soup& soup, const std::vector<char>* skip, const CornerLists& corners,
+                                    std::vector<std::int8_t>* facing) {
   const int nops = soup.operands;
   const std::size_t nt = soup.tris.size(), nv = soup.verts.size();
   const std::vector<u32> first = operand_starts(soup);  // an operand's triangles are one run
@@ -338,6 +339,9 @@ std::vector<char> radially_embedded(const Soup& soup, const std::vector<char>* s
   };
   for (int op = 0; op < nops; ++op)
     if (todo[op] && (seen[op] == 1 || seen[op] == 2)) pass[op] = 1;
+  // (orient3d(a, b, d, c) < 0: c behind the triangle, det[a - c, b - c, d - c] > 0.)
+  if (facing)
+    for (int op = 0; op < nops; ++op) (*facing)[op] = !todo[op] ? 0 : seen[op] == 2 ? 1 : seen[op] == 1 ? -1 : 0;
   for (u32 t : candidates)
     if (pass[soup.operand[t]]) count(t);
   // A ray through an edge or a vertex: others, through other triangles' centroids, looked for

@@ -34,8 +34,12 @@ std::vector<std::uint8_t> star_certificates(const Soup& soup, const std::vector<
 std::vector<std::uint8_t> star_certificates(const Soup& soup, const CornerLists& corners);
 // Per operand: whether it is certainly free of self-intersections because it is one shell seen
 // one-to-one from the mean of its vertices (see boolean_stars.cpp); operands marked in `skip`
-// are not looked at (false). `corners`: the corner lists of the operands not skipped.
-std::vector<char> radially_embedded(const Soup& soup, const std::vector<char>* skip, const CornerLists& corners);
+// are not looked at (false). `corners`: the corner lists of the operands not skipped. With
+// `facing`, per operand: 1 where every triangle faces away from that point (seen from it
+// counter-clockwise: the volume is a sum of positive tetrahedra, so positive, exactly), -1 where
+// every one faces it (negative), 0 where not known (the operand closed and consistently oriented).
+std::vector<char> radially_embedded(const Soup& soup, const std::vector<char>* skip, const CornerLists& corners,
+                                    std::vector<std::int8_t>* facing = nullptr);
 // The vertices where the triangles of an operand marked in `look` make more than one fan (the
 // corner lists hold those operands' corners), ascending.
 std::vector<u32> pinched_vertices(const Soup& soup, const CornerLists& corners, const std::vector<char>& look);

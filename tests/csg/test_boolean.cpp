@@ -197,6 +197,16 @@ TEST_CASE("boolean: bad operands are errors naming the operand and the spot", "[
   Mesh flipped = a;
   for (auto& t : flipped.triangles) std::swap(t[1], t[2]);
   CHECK_THROWS_WITH(boolean(BooleanOp::Union, flipped, a), Catch::Contains("first operand is inside out"));
+  // Two shells (not seen one-to-one from a point: the volume's sign is summed), and a sphere, each
+  // turned inside out.
+  Mesh apart = cube(0, 0, 0, 1);
+  apart.append(cube(3, 0, 0, 1));
+  Mesh ball = sphere(Vec3(0.5, 0.5, 0.5), 0.7, 24);
+  for (Mesh* m : {&apart, &ball}) {
+    CHECK_NOTHROW(boolean(BooleanOp::Union, a, *m));
+    for (auto& t : m->triangles) std::swap(t[1], t[2]);
+    CHECK_THROWS_WITH(boolean(BooleanOp::Union, a, *m), Catch::Contains("second operand is inside out"));
+  }
   Mesh one_flipped = a;  // closed, but one triangle turned over: its edges run twice one way
   std::swap(one_flipped.triangles[3][1], one_flipped.triangles[3][2]);
   CHECK_THROWS_WITH(boolean(BooleanOp::Union, a, one_flipped),
