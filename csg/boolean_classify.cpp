@@ -178,7 +178,8 @@ std::vector<std::int8_t> classify(const Points& pts, const Arrangement& arr, Boo
       for (u32 u = first_tri[j]; u < first_tri[j + 1]; ++u) f(u);  // the callers' crossing() tests the box
   };
   soup.poll();
-  const std::vector<std::array<double, 6>> op_box = operand_boxes(soup);
+  // (Boxes over the operands' positions: a point outside one is outside the operand's triangles'.)
+  const std::vector<std::array<double, 6>>& op_box = soup.boxes;
 
   // The operands whose boxes meet a vertical line, by a grid over the scene's xy extent: a piece
   // looks at the operands listed in the cell of its centroid, not at every operand (a sponge has

@@ -213,6 +213,9 @@ struct Soup {
   std::vector<std::int8_t> axis;          // per triangle: k(T)
   std::vector<std::int8_t> axis_sign;     // per triangle: sign of n_k(T)
   int operands = 0;
+  // Per operand: a box (lo, hi) that holds its triangles, over all its positions (with any its
+  // triangles do not use); (inf, -inf) for an operand without triangles.
+  std::vector<std::array<double, 6>> boxes;
   // Per vertex (or empty: none): the input position is itself a rounded one (of a mesh moved by an
   // inexact transform, or of an earlier pass's output), which the rounding repair may move, as it
   // moves constructed points. An operand's own vertices never move.

@@ -88,22 +88,40 @@ Soup boolean_detail::make_soup(const std::vector<const Mesh*>& operands, const I
   }
   const std::size_t np = vbase[nops], nt = tbase[nops];
   if (np >= (std::size_t(1) << 31)) fail("boolean: more than 2^31 positions in the operands");
-  // Every position, -0 made 0 (so that equal positions have equal bits), with its hash.
+  // Every position, -0 made 0 (so that equal positions have equal bits), with its hash; and
+  // each operand's box, per block of its positions, merged in order below.
   std::vector<Vec3, NoInit<Vec3>> all(np);
   std::vector<std::uint64_t, NoInit<std::uint64_t>> hash(np);
   constexpr std::size_t kBlock = 1 << 14;
+  std::vector<std::size_t> bbase(nops + 1, 0);
+  for (std::size_t o = 0; o < nops; ++o) bbase[o + 1] = bbase[o] + (operands[o]->positions.size() + kBlock - 1) / kBlock;
+  constexpr std::array<double, 6> kNoBox = {INFINITY, INFINITY, INFINITY, -INFINITY, -INFINITY, -INFINITY};
+  std::vector<std::array<double, 6>> part(bbase[nops], kNoBox);
   parallel_for(0, nops, [&](std::size_t o) {
     const Mesh& m = *operands[o];
     parallel_blocks(m.positions.size(), kBlock, [&](std::size_t lo, std::size_t hi) {
+      std::array<double, 6> b = kNoBox;
       for (std::size_t v = lo; v < hi; ++v) {
         Vec3 p = m.positions[v];
-        for (int i = 0; i < 3; ++i)
+        for (int i = 0; i < 3; ++i) {
           if (p[i] == 0) p[i] = 0.0;
+          b[i] = std::min(b[i], p[i]);
+          b[i + 3] = std::max(b[i + 3], p[i]);
+        }
         all[vbase[o] + v] = p;
         hash[vbase[o] + v] = position_hash(p);
       }
+      part[bbase[o] + lo / kBlock] = b;
     });
   });
+  s.boxes.assign(nops, kNoBox);
+  for (std::size_t o = 0; o < nops; ++o)
+    if (!operands[o]->triangles.empty())
+      for (std::size_t k = bbase[o]; k < bbase[o + 1]; ++k)
+        for (int i = 0; i < 3; ++i) {
+          s.boxes[o][i] = std::min(s.boxes[o][i], part[k][i]);
+          s.boxes[o][i + 3] = std::max(s.boxes[o][i + 3], part[k][i + 3]);
+        }
   s.poll();
   int bits = 4;
   while ((std::size_t(1) << bits) < 2 * np) ++bits;

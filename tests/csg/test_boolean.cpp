@@ -702,5 +702,27 @@ TEST_CASE("boolean: make_soup welds equal positions into the vertices a serial p
       for (int i = 0; i < 3; ++i) CHECK_FALSE((std::signbit(p[i]) && p[i] == 0));
     CHECK(soup.operand[30000] == 1);
     CHECK(soup.local[30001] == 1);
+    // Each operand's box: over its positions (-0 as 0), whichever block they were in.
+    REQUIRE(soup.boxes.size() == 3);
+    for (int o = 0; o < 3; ++o) {
+      std::array<double, 6> box = {INFINITY, INFINITY, INFINITY, -INFINITY, -INFINITY, -INFINITY};
+      for (const Vec3& p : ms[o].positions)
+        for (int i = 0; i < 3; ++i) box[i] = std::min(box[i], p[i] + 0.0), box[i + 3] = std::max(box[i + 3], p[i] + 0.0);
+      CHECK(soup.boxes[o] == box);
+    }
+  }
+}
+
+TEST_CASE("boolean: an operand's positions that no triangle uses change nothing", "[boolean]") {
+  // (Operand boxes are taken over the positions: one far away makes a box that holds everything.)
+  const Mesh a = sphere(Vec3(0, 0, 0), 1, 32), b = sphere(Vec3(0.5, 0.2, 0.1), 1, 32);
+  for (BooleanOp op : {BooleanOp::Union, BooleanOp::Intersection, BooleanOp::Difference}) {
+    const Mesh plain = boolean(op, a, b);
+    Mesh far_a = a, far_b = b;
+    far_a.positions.push_back(Vec3(1e6, -1e6, 1e6));
+    far_b.positions.push_back(Vec3(-1e6, 1e6, -1e6));
+    const Mesh r = boolean(op, far_a, far_b);
+    CHECK(r.triangles == plain.triangles);
+    CHECK(r.positions == plain.positions);
   }
 }
