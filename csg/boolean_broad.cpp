@@ -456,12 +456,13 @@ std::vector<u32> near_other_operands(const Soup& soup) {
   // and a triangle then reads 18 bytes of them instead of 72 of positions; two 1M-triangle
   // spheres' ranges took 37 ms at one thread from the boxes, 20 so).
   const std::size_t nv = soup.verts.size();
-  std::vector<std::array<std::int16_t, 3>> vertex_cell(nv);
+  // (A byte per axis: at most 160 cells along each.)
+  std::vector<std::array<std::uint8_t, 3>> vertex_cell(nv);
   parallel_blocks(nv, 4096, [&](std::size_t lo, std::size_t hi) {
     for (std::size_t v = lo; v < hi; ++v)
-      for (int a = 0; a < 3; ++a) vertex_cell[v][a] = static_cast<std::int16_t>(cell(soup.verts[v][a], a));
+      for (int a = 0; a < 3; ++a) vertex_cell[v][a] = static_cast<std::uint8_t>(cell(soup.verts[v][a], a));
   });
-  std::vector<std::array<std::int16_t, 6>> range(n);
+  std::vector<std::array<std::uint8_t, 6>> range(n);
   std::atomic<std::size_t> visits{0};
   parallel_blocks(n, 4096, [&](std::size_t lo, std::size_t hi) {
     std::size_t local = 0;
@@ -484,32 +485,45 @@ std::vector<u32> near_other_operands(const Soup& soup) {
   // Per cell: -1 untouched, the one operand that touches it, or -2 for several (the same at any
   // thread count: only the set of operands matters). A byte a cell where the operands are few
   // (4 MB for the 160^3 cells of two 1M-triangle spheres, against 16 for a word each: the claims
-  // and the look-ups after them 20 + 20 -> 18 + 17 ms at one thread).
+  // and the look-ups after them 20 + 20 -> 18 + 17 ms at one thread). The cells are stored in
+  // tiles of 4 x 4 x 4 (a cache line of bytes): a triangle's few cells, and its neighbours', are
+  // then mostly in one line, where rows of 160 cells put a step along x or y 160 or 25,600
+  // bytes away.
   std::vector<char> keep(n);
+  const std::size_t ty = (dim[1] + 3) / 4, tz = (dim[2] + 3) / 4;
+  auto at = [&](int x, int y, int z) {
+    return (((static_cast<std::size_t>(x) >> 2) * ty + (y >> 2)) * tz + (z >> 2)) * 64 + ((x & 3) << 4 | (y & 3) << 2 | (z & 3));
+  };
   auto mark = [&](auto zero) {
     using T = decltype(zero);
-    std::vector<T, NoInit<T>> owner(static_cast<std::size_t>(dim[0]) * dim[1] * dim[2]);
+    std::vector<T, NoInit<T>> owner(static_cast<std::size_t>((dim[0] + 3) / 4) * ty * tz * 64);
     parallel_blocks(owner.size(), kBlock, [&](std::size_t lo, std::size_t hi) {
       std::fill(owner.begin() + static_cast<std::ptrdiff_t>(lo), owner.begin() + static_cast<std::ptrdiff_t>(hi), T(-1));
     });
-    auto for_cells = [&](const std::array<std::int16_t, 6>& r, auto&& f) {
+    auto for_cells = [&](const std::array<std::uint8_t, 6>& r, auto&& f) {
       for (int x = r[0]; x <= r[3]; ++x)
         for (int y = r[1]; y <= r[4]; ++y)
           for (int z = r[2]; z <= r[5]; ++z)
-            if (!f(std::atomic_ref<T>(owner[(static_cast<std::size_t>(x) * dim[1] + y) * dim[2] + z]))) return false;
+            if (!f(std::atomic_ref<T>(owner[at(x, y, z)]))) return false;
       return true;
     };
+    // A range the same as the last triangle's (of the same operand: neighbours in the soup's
+    // order are mostly neighbours in space) is claimed once, and looked up once.
     parallel_blocks(n, 4096, [&](std::size_t lo, std::size_t hi) {
-      for (std::size_t t = lo; t < hi; ++t)
+      for (std::size_t t = lo; t < hi; ++t) {
+        if (t > lo && range[t] == range[t - 1] && soup.operand[t] == soup.operand[t - 1]) continue;
         for_cells(range[t], [&](std::atomic_ref<T> o) {
           claim(o, soup.operand[t]);
           return true;
         });
+      }
     });
     soup.poll();
     parallel_blocks(n, 4096, [&](std::size_t lo, std::size_t hi) {
       for (std::size_t t = lo; t < hi; ++t)
-        keep[t] = !for_cells(range[t], [](std::atomic_ref<T> o) { return o.load(std::memory_order_relaxed) != T(-2); });
+        keep[t] = t > lo && range[t] == range[t - 1]
+                      ? keep[t - 1]
+                      : !for_cells(range[t], [](std::atomic_ref<T> o) { return o.load(std::memory_order_relaxed) != T(-2); });
     });
   };
   if (soup.operands <= 100) mark(std::int8_t(0));
@@ -547,7 +561,8 @@ std::vector<std::array<u32, 2>> candidate_pairs(const Soup& soup, std::array<u32
   const std::size_t n = all.size();
   const Bvh tree(soup, std::move(all), 3, true);
   std::vector<std::uint8_t> cert;
-  if (clash || self) cert = star_certificates(soup, trusted, active);
+  // (Only for the pairs of one operand that are checked: none where every operand is known valid.)
+  if (own) cert = star_certificates(soup, trusted, active);
   // Per node: the operand of all its triangles (-1: several), and a vertex all its triangles
   // share with a certified star there (kNone: none). Pairs of one operand need no look unless
   // that operand is checked, and then not where both nodes hang on one certified vertex (the
