@@ -74,6 +74,42 @@ std::vector<std::int8_t> classify(const Points& pts, const Arrangement& arr, Boo
   // are joined here, and that edge needs no record. Every other piece edge is sorted.
   std::vector<std::uint8_t> direct(np, 0);  // per piece: bit e, edge e joined here
   if (piece_adj) piece_adj->assign(adj || !arr.inner.empty() ? np : 0, {kNone, kNone, kNone});
+  if (adj) {
+    const std::size_t nt = soup.tris.size(), nin = soup.verts.size();
+    // Per input vertex: the one operand whose pieces use it, or -2 for several (or where positions
+    // of several operands are welded in it). A whole triangle's piece uses its own corners only,
+    // which hold its operand's positions (soup.vertex_operand: that operand or -2): only the
+    // pieces of cut triangles claim theirs.
+    std::vector<u32> whole(nt, kNone);
+    std::vector<std::int32_t> owner(soup.vertex_operand.begin(), soup.vertex_operand.end());
+    parallel_for(0, np, [&](std::size_t i) {
+      const u32 t = pieces[i].tri;
+      if ((i == 0 || pieces[i - 1].tri != t) && (i + 1 == np || pieces[i + 1].tri != t) && pieces[i].v == soup.tris[t]) {
+        whole[t] = static_cast<u32>(i);
+        return;
+      }
+      for (u32 v : pieces[i].v)
+        if (v < nin) claim(std::atomic_ref<std::int32_t>(owner[v]), soup.operand[t]);
+    });
+    soup.poll();
+    // (The first unions of the Dsu: by blocks of pieces, most of them within a block.)
+    dsu.unite_blocks(np, 65536, [&](std::size_t lo, std::size_t hi, auto&& unite) {
+      for (std::size_t i = lo; i < hi; ++i) {
+        const u32 t = pieces[i].tri;
+        if (whole[t] != i) continue;
+        for (int e = 0; e < 3; ++e) {
+          const u32 u = (*adj)[t][e];
+          // Known from both sides (each side's vertex saw a disk), so both skip the edge's record.
+          if (u == kNone || whole[u] == kNone || ((*adj)[u][0] != t && (*adj)[u][1] != t && (*adj)[u][2] != t)) continue;
+          const u32 a = soup.tris[t][e], b = soup.tris[t][(e + 1) % 3];
+          if (owner[a] == -2 || owner[b] == -2) continue;
+          direct[i] |= static_cast<std::uint8_t>(1u << e);
+          if (piece_adj) (*piece_adj)[i][e] = whole[u];
+          if (t < u) unite(static_cast<u32>(i), whole[u]);
+        }
+      }
+    });
+  }
   // So are two pieces of one cut triangle across an edge inside it that is on no cut.
   parallel_for(0, arr.inner.size(), [&](std::size_t n) {
     const auto& [i, nb] = arr.inner[n];
@@ -85,37 +121,6 @@ std::vector<std::int8_t> classify(const Points& pts, const Arrangement& arr, Boo
       if (i < q) dsu.unite_shared(i, q);
     }
   });
-  if (adj) {
-    const std::size_t nt = soup.tris.size(), nin = soup.verts.size();
-    std::vector<u32> whole(nt, kNone);
-    parallel_for(0, np, [&](std::size_t i) {
-      const u32 t = pieces[i].tri;
-      if ((i == 0 || pieces[i - 1].tri != t) && (i + 1 == np || pieces[i + 1].tri != t) && pieces[i].v == soup.tris[t])
-        whole[t] = static_cast<u32>(i);
-    });
-    // Per input vertex: the one operand whose pieces use it, or -2 for several.
-    std::vector<std::atomic<std::int32_t>> owner(nin);
-    parallel_for(0, nin, [&](std::size_t v) { owner[v].store(-1, std::memory_order_relaxed); });
-    parallel_for(0, np, [&](std::size_t i) {
-      for (u32 v : pieces[i].v)
-        if (v < nin) claim(owner[v], soup.operand[pieces[i].tri]);
-    });
-    soup.poll();
-    parallel_for(0, nt, [&](std::size_t t) {
-      const u32 i = whole[t];
-      if (i == kNone) return;
-      for (int e = 0; e < 3; ++e) {
-        const u32 u = (*adj)[t][e];
-        // Known from both sides (each side's vertex saw a disk), so both skip the edge's record.
-        if (u == kNone || whole[u] == kNone || ((*adj)[u][0] != t && (*adj)[u][1] != t && (*adj)[u][2] != t)) continue;
-        const u32 a = soup.tris[t][e], b = soup.tris[t][(e + 1) % 3];
-        if (owner[a].load(std::memory_order_relaxed) == -2 || owner[b].load(std::memory_order_relaxed) == -2) continue;
-        direct[i] |= static_cast<std::uint8_t>(1u << e);
-        if (piece_adj) (*piece_adj)[i][e] = whole[u];
-        if (t < u) dsu.unite_shared(i, whole[u]);
-      }
-    });
-  }
   // Where each piece's records start (its edges not joined directly; three bits counted by hand:
   // std::popcount was a libgcc call on this target).
   constexpr std::size_t kBlock = 65536;
@@ -143,7 +148,7 @@ std::vector<std::int8_t> classify(const Points& pts, const Arrangement& arr, Boo
   const auto reps_from = block_starts(np, kBlock, [&](std::size_t lo, std::size_t hi) {
     std::size_t n = 0;
     for (std::size_t i = lo; i < hi; ++i) {
-      patch_of[i] = dsu.find_shared(static_cast<u32>(i));
+      patch_of[i] = dsu.root(static_cast<u32>(i));
       n += patch_of[i] == i;
     }
     return n;
@@ -337,10 +342,12 @@ std::vector<std::int8_t> classify(const Points& pts, const Arrangement& arr, Boo
     // What triangle u adds to the winding number along the ray: +-1 where the ray crosses it
     // above the centroid, 0 where it misses.
     auto crossing = [&](u32 u) {
-      double ulo[3], uhi[3];
-      triangle_box(soup, u, ulo, uhi);
-      if (uhi[0] < clo[0] || ulo[0] > chi[0] || uhi[1] < clo[1] || ulo[1] > chi[1] || uhi[2] < clo[2]) return 0;
+      // U's box against the ray's, an axis at a time (most triangles a scan meets are off in x).
       const auto& U = soup.tris[u];
+      const Vec3 &A = soup.verts[U[0]], &B = soup.verts[U[1]], &C = soup.verts[U[2]];
+      for (int d = 0; d < 2; ++d)
+        if (std::max({A[d], B[d], C[d]}) < clo[d] || std::min({A[d], B[d], C[d]}) > chi[d]) return 0;
+      if (std::max({A[2], B[2], C[2]}) < clo[2]) return 0;
       const int o = orient2d_xy(soup, U[0], U[1], U[2]);
       if (o == 0) return 0;  // vertical: the perturbed ray misses it
       for (int e = 0; e < 3; ++e) {

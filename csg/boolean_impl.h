@@ -216,6 +216,8 @@ struct Soup {
   // Per operand: a box (lo, hi) that holds its triangles, over all its positions (with any its
   // triangles do not use); (inf, -inf) for an operand without triangles.
   std::vector<std::array<double, 6>> boxes;
+  // Per vertex: the operand whose positions it holds, or -2 where it holds positions of several.
+  std::vector<std::int32_t> vertex_operand;
   // Per vertex (or empty: none): the input position is itself a rounded one (of a mesh moved by an
   // inexact transform, or of an earlier pass's output), which the rounding repair may move, as it
   // moves constructed points. An operand's own vertices never move.
@@ -335,6 +337,34 @@ class Dsu {
       u32 expected = b;  // b is a root unless another thread linked it meanwhile: then again
       if (std::atomic_ref<u32>(p_[b]).compare_exchange_strong(expected, a, std::memory_order_relaxed)) return;
     }
+  }
+  // The root of x's set by plain loads, changing nothing: for any number of threads at once after
+  // the unions (halving the paths with a compare-and-swap a step was a third of a million
+  // patches' roots).
+  u32 root(u32 x) const {
+    while (p_[x] != x) x = p_[x];
+    return x;
+  }
+  // Unions of the pairs that pairs(lo, hi, unite) names for each block [lo, hi) of `block` items
+  // of 0 .. n - 1, the blocks in parallel: a pair within the block is united at once, with plain
+  // loads and stores (a compare-and-swap per link and per halving step was most of the cost of
+  // uniting a million triangles' patches), the others afterwards by unite_shared. Each set's root
+  // is still its smallest element. Only where every element is its own set or linked within its
+  // block (as in a new Dsu): a block's finds then stay in the block, which no other thread writes.
+  template <class Pairs>
+  void unite_blocks(std::size_t n, std::size_t block, Pairs&& pairs) {
+    const std::size_t blocks = (n + block - 1) / block;
+    std::vector<std::vector<std::array<u32, 2>>> across(blocks);
+    parallel_for(0, blocks, [&](std::size_t k) {
+      const std::size_t lo = k * block, hi = std::min(n, lo + block);
+      pairs(lo, hi, [&](u32 a, u32 b) {
+        if (a >= lo && a < hi && b >= lo && b < hi) unite(a, b);
+        else across[k].push_back({a, b});
+      });
+    });
+    parallel_for(0, blocks, [&](std::size_t k) {
+      for (const auto& [a, b] : across[k]) unite_shared(a, b);
+    });
   }
 
  private:

@@ -296,7 +296,7 @@ BooleanResult assemble(const Points& pts, const Arrangement& arr, const std::vec
     std::size_t n = 0;
     for (std::size_t c = lo; c < hi; ++c) {
       const u32 v = tris[c / 3][c % 3];
-      root[c] = sorted_at[v] ? corners.find_shared(static_cast<u32>(c)) : least[v];
+      root[c] = sorted_at[v] ? corners.root(static_cast<u32>(c)) : least[v];
       n += root[c] == c;
     }
     return n;

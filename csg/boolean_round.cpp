@@ -685,7 +685,7 @@ std::size_t drop_flat_shells(BooleanResult& r, Rounding& rd) {
     shell.unite_shared(tris[t][0], tris[t][2]);
   });
   std::vector<u32> root(nv);
-  parallel_for(0, nv, [&](std::size_t v) { root[v] = shell.find_shared(static_cast<u32>(v)); });
+  parallel_for(0, nv, [&](std::size_t v) { root[v] = shell.root(static_cast<u32>(v)); });
   // Per shell (by root, its smallest vertex: the origin of its sums, so that their error scales
   // with the shell's size and not its place): whether a vertex moved, the largest coordinate,
   // six times the volume (Kahan sums), twice the area, and what bounds the sums' errors. Summed

@@ -184,17 +184,31 @@ Soup boolean_detail::make_soup(const std::vector<const Mesh*>& operands, const I
   });
   s.verts.resize(firsts.total());
   std::vector<u32, NoInit<u32>> id(np);
+  // The operand of position g.
+  auto operand_of = [&](std::size_t g) {
+    return static_cast<std::int32_t>(std::upper_bound(vbase.begin(), vbase.end(), g) - vbase.begin() - 1);
+  };
+  s.vertex_operand.resize(s.verts.size());
   fill_blocks(firsts, [&](std::size_t lo, std::size_t hi, std::size_t next) {
-    for (std::size_t g = lo; g < hi; ++g)
+    std::int32_t op = operand_of(lo);
+    for (std::size_t g = lo; g < hi; ++g) {
+      while (g >= vbase[op + 1]) ++op;
       if (rep[g] == g) {
         s.verts[next] = all[g];
+        s.vertex_operand[next] = op;
         id[g] = static_cast<u32>(next++);
       }
+    }
   });
-  // A class's index is its first position's, which precedes every other of its positions.
+  // A class's index is its first position's, which precedes every other of its positions; a
+  // class with positions of two operands is marked -2.
   parallel_blocks(np, kBlock, [&](std::size_t lo, std::size_t hi) {
     for (std::size_t g = lo; g < hi; ++g)
-      if (rep[g] != g) id[g] = id[rep[g]];
+      if (rep[g] != g) {
+        id[g] = id[rep[g]];
+        if (operand_of(g) != operand_of(rep[g]))
+          std::atomic_ref<std::int32_t>(s.vertex_operand[id[g]]).store(-2, std::memory_order_relaxed);
+      }
   });
   s.poll();
   s.tris.resize(nt);
