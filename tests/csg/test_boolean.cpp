@@ -678,14 +678,17 @@ TEST_CASE("boolean: make_soup welds equal positions into the vertices a serial p
   // The reference: one serial pass, a vertex per new position (-0 as 0) in the order met.
   std::map<std::array<double, 3>, std::uint32_t> seen;
   std::vector<Vec3> verts;
+  std::vector<std::int32_t> vertex_operand;  // the operand whose positions a vertex holds, -2 several
   std::vector<std::array<std::uint32_t, 3>> tris;
   for (const Mesh* m : ops) {
+    const auto op = static_cast<std::int32_t>(m - ms.data());
     std::vector<std::uint32_t> id(m->positions.size());
     for (std::size_t v = 0; v < m->positions.size(); ++v) {
       const Vec3& p = m->positions[v];
       const std::array<double, 3> key{p.x() + 0.0, p.y() + 0.0, p.z() + 0.0};
       auto [it, fresh] = seen.emplace(key, static_cast<std::uint32_t>(verts.size()));
-      if (fresh) verts.push_back(Vec3(key[0], key[1], key[2]));
+      if (fresh) verts.push_back(Vec3(key[0], key[1], key[2])), vertex_operand.push_back(op);
+      else if (vertex_operand[it->second] != op) vertex_operand[it->second] = -2;
       id[v] = it->second;
     }
     for (const auto& T : m->triangles) tris.push_back({id[T[0]], id[T[1]], id[T[2]]});
@@ -698,6 +701,7 @@ TEST_CASE("boolean: make_soup welds equal positions into the vertices a serial p
     REQUIRE(soup.verts.size() == verts.size());
     CHECK(soup.verts == verts);
     CHECK(soup.tris == tris);
+    CHECK(soup.vertex_operand == vertex_operand);
     for (const Vec3& p : soup.verts)
       for (int i = 0; i < 3; ++i) CHECK_FALSE((std::signbit(p[i]) && p[i] == 0));
     CHECK(soup.operand[30000] == 1);
@@ -710,6 +714,34 @@ TEST_CASE("boolean: make_soup welds equal positions into the vertices a serial p
         for (int i = 0; i < 3; ++i) box[i] = std::min(box[i], p[i] + 0.0), box[i + 3] = std::max(box[i + 3], p[i] + 0.0);
       CHECK(soup.boxes[o] == box);
     }
+  }
+}
+
+TEST_CASE("boolean: Dsu unions by blocks give the sets and roots of serial unions, at any thread count", "[boolean]") {
+  using namespace boolean_detail;
+  std::mt19937 rng(11);
+  const u32 n = 300000;
+  // Pairs mostly near each other (within a block of 65536), some anywhere (across blocks).
+  std::vector<std::array<u32, 2>> pairs;
+  std::uniform_int_distribution<u32> any(0, n - 1), near(0, 40);
+  for (int k = 0; k < 200000; ++k) {
+    const u32 a = any(rng);
+    pairs.push_back({a, k % 10 == 0 ? any(rng) : std::min(n - 1, a + near(rng))});
+  }
+  Dsu serial(n);
+  for (const auto& [a, b] : pairs) serial.unite(a, b);
+  // Each pair handed to the block of its first element.
+  std::vector<std::vector<std::array<u32, 2>>> by_block((n + 65535) / 65536);
+  for (const auto& p : pairs) by_block[p[0] / 65536].push_back(p);
+  for (int threads : {1, 2}) {
+    tbb::global_control gc(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
+    Dsu blocked(n);
+    blocked.unite_blocks(n, 65536, [&](std::size_t lo, std::size_t, auto&& unite) {
+      for (const auto& [a, b] : by_block[lo / 65536]) unite(a, b);
+    });
+    std::size_t differ = 0;
+    for (u32 x = 0; x < n; ++x) differ += blocked.root(x) != serial.find(x);
+    CHECK(differ == 0);
   }
 }
 
