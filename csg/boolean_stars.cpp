@@ -251,8 +251,21 @@ std::vector<char> radially_embedded(const Soup& soup, const std::vector<char>* s
   parallel_for(0, blocks, [&](std::size_t b) {
     parts[b].assign(nops, Part{});
     for (std::size_t v = b * 65536; v < std::min(nv, (b + 1) * 65536); ++v) {
+      const u32 k0 = corners.off[v], k1 = corners.off[v + 1];
+      if (k0 == k1) continue;
+      // The corners are in triangle order, so in operand order: one operand where the first and
+      // the last are of the same one (nearly every vertex).
+      const std::int32_t op0 = soup.operand[static_cast<u32>(corners.next[k0])];
+      if (op0 == soup.operand[static_cast<u32>(corners.next[k1 - 1])]) {
+        Part& p = parts[b][op0];
+        p.sum += soup.verts[v];
+        p.lo = p.lo.cwiseMin(soup.verts[v]);
+        p.hi = p.hi.cwiseMax(soup.verts[v]);
+        ++p.count;
+        continue;
+      }
       std::int32_t prev = -1;
-      for (u32 k = corners.off[v]; k < corners.off[v + 1]; ++k) {
+      for (u32 k = k0; k < k1; ++k) {
         const std::int32_t op = soup.operand[static_cast<u32>(corners.next[k])];
         if (op == prev) continue;
         prev = op;
