@@ -705,56 +705,80 @@ std::size_t drop_flat_shells(BooleanResult& r, Rounding& rd) {
   if (!(big > 0) || !std::isfinite(big)) return 0;
   const double scale = std::ldexp(1.0, -std::ilogb(big));
   const std::size_t nb = (nt + kBlock - 1) / kBlock;
-  std::vector<std::vector<Sums>> blocks(nb);
-  parallel_for(0, nb, [&](std::size_t b) {
-    auto& out = blocks[b];
-    for (std::size_t t = b * kBlock; t < std::min(nt, (b + 1) * kBlock); ++t) {
-      const auto& T = tris[t];
-      const u32 s = root[T[0]];
-      if (out.empty() || out.back().root != s) {
-        auto it = std::find_if(out.begin(), out.end(), [&](const Sums& x) { return x.root == s; });
-        if (it == out.end()) out.push_back({s});
-        else std::rotate(it, it + 1, out.end());  // the last one used goes last
+  // With `screen`: the area and size terms by L1 norms (no smaller than the lengths; no square
+  // roots) and no reach (the model's is no smaller than a shell's).
+  auto shell_sums = [&](bool screen) {
+    std::vector<std::vector<Sums>> blocks(nb);
+    parallel_for(0, nb, [&](std::size_t b) {
+      auto& out = blocks[b];
+      for (std::size_t t = b * kBlock; t < std::min(nt, (b + 1) * kBlock); ++t) {
+        const auto& T = tris[t];
+        const u32 s = root[T[0]];
+        if (out.empty() || out.back().root != s) {
+          auto it = std::find_if(out.begin(), out.end(), [&](const Sums& x) { return x.root == s; });
+          if (it == out.end()) out.push_back({s});
+          else std::rotate(it, it + 1, out.end());  // the last one used goes last
+        }
+        Sums& x = out.back();
+        const Vec3& o = P[s];
+        // Scaled by a power of two (exact) to the model's size: no underflow at 1e-150.
+        const Vec3 a = (P[T[0]] - o) * scale, e1 = (P[T[1]] - P[T[0]]) * scale, e2 = (P[T[2]] - P[T[0]]) * scale;
+        const Vec3 n = e1.cross(e2);
+        const double det = a.dot(n);
+        const double y = det - x.comp, sum = x.vol + y;
+        x.comp = (sum - x.vol) - y;
+        x.vol = sum;
+        x.magnitude += std::abs(det);
+        if (screen) {
+          x.area += n.cwiseAbs().sum();
+          x.size += a.cwiseAbs().sum() * e1.cwiseAbs().sum() * e2.cwiseAbs().sum();
+          for (u32 v : T) x.moved |= rd.moved[v] != 0 || (!rd.altered.empty() && rd.altered[v] != 0);
+          continue;
+        }
+        x.area += n.norm();
+        x.size += a.norm() * e1.norm() * e2.norm();
+        for (u32 v : T) {
+          x.moved |= rd.moved[v] != 0 || (!rd.altered.empty() && rd.altered[v] != 0);
+          x.reach = std::max(x.reach, P[v].cwiseAbs().maxCoeff());
+        }
       }
-      Sums& x = out.back();
-      const Vec3& o = P[s];
-      // Scaled by a power of two (exact) to the model's size: no underflow at 1e-150.
-      const Vec3 a = (P[T[0]] - o) * scale, e1 = (P[T[1]] - P[T[0]]) * scale, e2 = (P[T[2]] - P[T[0]]) * scale;
-      const Vec3 n = e1.cross(e2);
-      const double det = a.dot(n);
-      const double y = det - x.comp, sum = x.vol + y;
-      x.comp = (sum - x.vol) - y;
-      x.vol = sum;
-      x.area += n.norm();
-      x.size += a.norm() * e1.norm() * e2.norm();
-      x.magnitude += std::abs(det);
-      for (u32 v : T) {
-        x.moved |= rd.moved[v] != 0 || (!rd.altered.empty() && rd.altered[v] != 0);
-        x.reach = std::max(x.reach, P[v].cwiseAbs().maxCoeff());
+      std::sort(out.begin(), out.end(), [](const Sums& x, const Sums& y) { return x.root < y.root; });
+    });
+    // The blocks' sums of each shell, in block order (a stable sort), folded into the first.
+    std::vector<Sums> parts, all;
+    for (const auto& out : blocks) parts.insert(parts.end(), out.begin(), out.end());
+    std::stable_sort(parts.begin(), parts.end(), [](const Sums& x, const Sums& y) { return x.root < y.root; });
+    for (const Sums& x : parts) {
+      if (all.empty() || all.back().root != x.root) {
+        all.push_back(x);
+        continue;
       }
+      Sums& a = all.back();
+      a.moved |= x.moved;
+      a.reach = std::max(a.reach, x.reach);
+      const double y = x.vol - a.comp, sum = a.vol + y;
+      a.comp = (sum - a.vol) - y + x.comp;
+      a.vol = sum;
+      a.area += x.area;
+      a.size += x.size;
+      a.magnitude += x.magnitude;
     }
-    std::sort(out.begin(), out.end(), [](const Sums& x, const Sums& y) { return x.root < y.root; });
-  });
-  // The blocks' sums of each shell, in block order (a stable sort), folded into the first.
-  std::vector<Sums> parts, all;
-  for (const auto& out : blocks) parts.insert(parts.end(), out.begin(), out.end());
-  std::stable_sort(parts.begin(), parts.end(), [](const Sums& x, const Sums& y) { return x.root < y.root; });
-  for (const Sums& x : parts) {
-    if (all.empty() || all.back().root != x.root) {
-      all.push_back(x);
-      continue;
-    }
-    Sums& a = all.back();
-    a.moved |= x.moved;
-    a.reach = std::max(a.reach, x.reach);
-    const double y = x.vol - a.comp, sum = a.vol + y;
-    a.comp = (sum - a.vol) - y + x.comp;
-    a.vol = sum;
-    a.area += x.area;
-    a.size += x.size;
-    a.magnitude += x.magnitude;
-  }
+    return all;
+  };
   constexpr double eps = 0x1p-53;
+  // The test below on the screen's sums first: the same volumes (the same sums in the same order),
+  // larger bounds (by a margin past their rounding): a shell flat by the test below is within
+  // them. Where none is (nearly always), nothing is dropped, and the square roots are not taken.
+  {
+    const double delta = 0x1p-52 * big * scale;
+    const std::vector<Sums> screened = shell_sums(true);
+    if (std::none_of(screened.begin(), screened.end(), [&](const Sums& x) {
+          const double bound = 4 * 3 * delta * x.area + 16 * eps * x.size + 4 * eps * x.magnitude;
+          return x.moved && std::abs(x.vol) <= 1.0001 * bound;
+        }))
+      return 0;
+  }
+  const std::vector<Sums> all = shell_sums(false);
   std::vector<u32> flat;
   for (const Sums& x : all) {
     if (!x.moved) continue;  // exact and untouched: its volume has the sign classification gave it
