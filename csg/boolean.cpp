@@ -266,11 +266,11 @@ bool boolean_detail::triangles_clash(const Soup& s, u32 t, u32 u) {
 
 namespace {
 
-// The defect of an operand with a negative volume; "" where closed mesh m (named `name`) has a
-// positive volume, else that defect (exact).
+// The defect of an operand (named `name`) with a negative volume.
 std::string inside_out(const std::string& name) {
   return name + " is inside out (negative volume): triangles must be counter-clockwise seen from outside";
 }
+// "" where closed mesh m has a positive volume (or no triangles), else that defect (exact).
 std::string volume_defect(const Mesh& m, const std::string& name) {
   return m.triangles.empty() || volume_sign(m.positions, m.triangles) > 0 ? "" : inside_out(name);
 }

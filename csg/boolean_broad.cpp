@@ -429,27 +429,22 @@ std::vector<u32> near_other_operands(const Soup& soup) {
     return all;
   };
   if (soup.operands < 2 || n < 4096) return every();
+  // The scene's box: the operands' (make_soup's, over their positions).
   double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
-  {
-    // Per block, then merged (min and max: the same at any thread count).
-    const std::size_t nv = soup.verts.size(), vblocks = (nv + kBlock - 1) / kBlock;
-    std::vector<std::array<double, 6>> part(vblocks);
-    parallel_for(0, vblocks, [&](std::size_t b) {
-      std::array<double, 6> bb = {INFINITY, INFINITY, INFINITY, -INFINITY, -INFINITY, -INFINITY};
-      for (std::size_t i = b * kBlock; i < std::min(nv, (b + 1) * kBlock); ++i)
-        for (int a = 0; a < 3; ++a) bb[a] = std::min(bb[a], soup.verts[i][a]), bb[a + 3] = std::max(bb[a + 3], soup.verts[i][a]);
-      part[b] = bb;
-    });
-    for (const auto& bb : part)
-      for (int a = 0; a < 3; ++a) lo[a] = std::min(lo[a], bb[a]), hi[a] = std::max(hi[a], bb[a + 3]);
-  }
+  for (const auto& bb : soup.boxes)
+    for (int a = 0; a < 3; ++a) lo[a] = std::min(lo[a], bb[a]), hi[a] = std::max(hi[a], bb[a + 3]);
   const double extent = std::max({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]});
   if (!(extent > 0) || !std::isfinite(extent)) return every();
   const int g = static_cast<int>(std::clamp(1.5 * std::cbrt(static_cast<double>(n)), 8.0, 160.0));
   const double inv = g / extent;
   int dim[3];
   for (int a = 0; a < 3; ++a) dim[a] = std::clamp(static_cast<int>((hi[a] - lo[a]) * inv) + 1, 1, g);
-  auto cell = [&](double x, int a) { return std::clamp(static_cast<int>((x - lo[a]) * inv), 0, dim[a] - 1); };
+  // (Clamped before it is made an integer: a position no triangle uses, of an operand without
+  // triangles, may lie far outside the box.)
+  auto cell = [&](double x, int a) {
+    const double f = (x - lo[a]) * inv;
+    return f <= 0 ? 0 : f >= dim[a] - 1 ? dim[a] - 1 : static_cast<int>(f);
+  };
   // Cell ranges of every triangle; give up when they would visit too many cells. A cell number
   // is monotone in its coordinate, so a triangle's range is its corners' cells' least and
   // greatest: each vertex's cells are found once (half as many as the triangles' box corners,

@@ -46,6 +46,7 @@
 #include <cmath>
 
 #include "csg/boolean.h"
+#include "csg/boolean_dsu_impl.h"  // Dsu: union-find, serial, shared and by blocks
 #include "kernel/memory.h"
 #include "kernel/parallel.h"
 #include "kernel/predicates.h"
@@ -299,77 +300,6 @@ inline void mesh_triangle_box(const Mesh& m, std::size_t t, double lo[3], double
   }
 }
 
-// Union-find over 0..n-1; a set's representative is its smallest member (so results do not
-// depend on the order of unions).
-class Dsu {
- public:
-  explicit Dsu(std::size_t n) : p_(n) {
-    for (std::size_t i = 0; i < n; ++i) p_[i] = static_cast<u32>(i);
-  }
-  u32 find(u32 x) {
-    while (p_[x] != x) x = p_[x] = p_[p_[x]];
-    return x;
-  }
-  void unite(u32 a, u32 b) {
-    a = find(a);
-    b = find(b);
-    if (a != b) p_[std::max(a, b)] = std::min(a, b);
-  }
-  // The same, safe to call from several threads at once (not mixed with find() or unite()): a
-  // root is linked under the smaller root by a compare-and-swap, and paths are halved by another.
-  // Parents only ever decrease, so each set's root is its smallest element, as with unite(),
-  // whatever the order of the calls.
-  u32 find_shared(u32 x) {
-    for (;;) {
-      u32 p = std::atomic_ref<u32>(p_[x]).load(std::memory_order_relaxed);
-      if (p == x) return x;
-      const u32 g = std::atomic_ref<u32>(p_[p]).load(std::memory_order_relaxed);
-      if (g != p) std::atomic_ref<u32>(p_[x]).compare_exchange_weak(p, g, std::memory_order_relaxed);
-      x = g;
-    }
-  }
-  void unite_shared(u32 a, u32 b) {
-    for (;;) {
-      a = find_shared(a);
-      b = find_shared(b);
-      if (a == b) return;
-      if (a > b) std::swap(a, b);
-      u32 expected = b;  // b is a root unless another thread linked it meanwhile: then again
-      if (std::atomic_ref<u32>(p_[b]).compare_exchange_strong(expected, a, std::memory_order_relaxed)) return;
-    }
-  }
-  // The root of x's set by plain loads, changing nothing: for any number of threads at once after
-  // the unions (halving the paths with a compare-and-swap a step was a third of a million
-  // patches' roots).
-  u32 root(u32 x) const {
-    while (p_[x] != x) x = p_[x];
-    return x;
-  }
-  // Unions of the pairs that pairs(lo, hi, unite) names for each block [lo, hi) of `block` items
-  // of 0 .. n - 1, the blocks in parallel: a pair within the block is united at once, with plain
-  // loads and stores (a compare-and-swap per link and per halving step was most of the cost of
-  // uniting a million triangles' patches), the others afterwards by unite_shared. Each set's root
-  // is still its smallest element. Only where every element is its own set or linked within its
-  // block (as in a new Dsu): a block's finds then stay in the block, which no other thread writes.
-  template <class Pairs>
-  void unite_blocks(std::size_t n, std::size_t block, Pairs&& pairs) {
-    const std::size_t blocks = (n + block - 1) / block;
-    std::vector<std::vector<std::array<u32, 2>>> across(blocks);
-    parallel_for(0, blocks, [&](std::size_t k) {
-      const std::size_t lo = k * block, hi = std::min(n, lo + block);
-      pairs(lo, hi, [&](u32 a, u32 b) {
-        if (a >= lo && a < hi && b >= lo && b < hi) unite(a, b);
-        else across[k].push_back({a, b});
-      });
-    });
-    parallel_for(0, blocks, [&](std::size_t k) {
-      for (const auto& [a, b] : across[k]) unite_shared(a, b);
-    });
-  }
-
- private:
-  std::vector<u32> p_;
-};
 
 // An allocator whose vectors leave new elements of trivial types uninitialised (resize(n) and
 // vector(n) do not zero them): for large arrays that are wholly written next, where zeroing them

@@ -729,18 +729,15 @@ std::size_t drop_flat_shells(BooleanResult& r, Rounding& rd) {
         x.comp = (sum - x.vol) - y;
         x.vol = sum;
         x.magnitude += std::abs(det);
+        for (u32 v : T) x.moved |= rd.moved[v] != 0 || (!rd.altered.empty() && rd.altered[v] != 0);
         if (screen) {
           x.area += n.cwiseAbs().sum();
           x.size += a.cwiseAbs().sum() * e1.cwiseAbs().sum() * e2.cwiseAbs().sum();
-          for (u32 v : T) x.moved |= rd.moved[v] != 0 || (!rd.altered.empty() && rd.altered[v] != 0);
           continue;
         }
         x.area += n.norm();
         x.size += a.norm() * e1.norm() * e2.norm();
-        for (u32 v : T) {
-          x.moved |= rd.moved[v] != 0 || (!rd.altered.empty() && rd.altered[v] != 0);
-          x.reach = std::max(x.reach, P[v].cwiseAbs().maxCoeff());
-        }
+        for (u32 v : T) x.reach = std::max(x.reach, P[v].cwiseAbs().maxCoeff());
       }
       std::sort(out.begin(), out.end(), [](const Sums& x, const Sums& y) { return x.root < y.root; });
     });
