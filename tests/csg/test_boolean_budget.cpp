@@ -106,6 +106,10 @@ TEST_CASE("boolean: the broad phase over only the triangles near other operands 
   both(testing::sphere_lattice(3, 1280));
   both(testing::plate_and_cylinders(6, 32));
   both(testing::menger_operands(2));
+  // Boxes that overlap in a corner: each operand's triangles off the other's box are left out
+  // before the grid (those crossing into it, or touching it, are kept).
+  both({testing::icosphere(Point3(0, 0, 0), 1, 20000), testing::box_mesh(Point3(0.5, 0.5, 0.5), Vec3(2, 2, 2)),
+        testing::uv_sphere(Point3(1.6, 1.6, 1.6), 0.7, 6000)});
   // Touching only: boxes side by side share faces, edges and corners (boxes that touch overlap).
   std::vector<Mesh> boxes;
   for (int i = 0; i < 6; ++i)
