@@ -580,7 +580,8 @@ BooleanResult boolean_detail::boolean_as_given(BooleanOp op, const std::vector<c
   // are settled before the broad phase, which leaves them out.
   Settlement settled = settle_in_cores(soup, op, checked);
   const std::size_t in_cores = settled.settled_triangles();
-  auto pairs = candidate_pairs(soup, &clash, false, &checked, nullptr, settled.triangles.empty() ? nullptr : &settled.triangles);
+  auto pairs = candidate_pairs(soup, &clash, false, &checked, nullptr, settled.triangles.empty() ? nullptr : &settled.triangles,
+                               &settled.outside);
   if (clash[0] != kNone) {
     u32 t = clash[0], u = clash[1];
     auto tri = [&](u32 x) {

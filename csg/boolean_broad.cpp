@@ -418,7 +418,7 @@ namespace {
 // point, and its cell is in both boxes' ranges: the cell of a coordinate is monotone in it). Two
 // big spheres that overlap at a cap keep only the triangles near the cap. Everything, where the
 // grid would be too coarse or too busy to tell (huge triangles, one operand).
-std::vector<u32> near_other_operands(const Soup& soup) {
+std::vector<u32> near_other_operands(const Soup& soup, std::vector<char>* outside) {
   const std::size_t n = soup.tris.size();
   constexpr std::size_t kBlock = 65536;
   auto every = [&] {
@@ -491,6 +491,7 @@ std::vector<u32> near_other_operands(const Soup& soup) {
   // A triangle off its reach gets no cells (an empty range).
   constexpr std::array<std::uint8_t, 6> kNoCells = {1, 1, 1, 0, 0, 0};
   std::vector<std::array<std::uint8_t, 6>> range(n);
+  if (outside) outside->assign(n, 0);
   std::atomic<std::size_t> visits{0};
   parallel_blocks(n, 4096, [&](std::size_t lo, std::size_t hi) {
     std::size_t local = 0;
@@ -500,6 +501,7 @@ std::vector<u32> near_other_operands(const Soup& soup) {
       const auto& r = vertex_cell[soup.tris[t][2]];
       if (p[3] & q[3] & r[3]) {
         range[t] = kNoCells;
+        if (outside) (*outside)[t] = 1;
         continue;
       }
       std::size_t cells = 1;
@@ -512,7 +514,10 @@ std::vector<u32> near_other_operands(const Soup& soup) {
     }
     visits += local;
   });
-  if (visits.load() > 8 * n + 1000000) return every();
+  if (visits.load() > 8 * n + 1000000) {
+    if (outside) outside->clear();
+    return every();
+  }
   soup.poll();
   // Per cell: -1 untouched, the one operand that touches it, or -2 for several (the same at any
   // thread count: only the set of operands matters). A byte a cell where the operands are few
@@ -578,7 +583,8 @@ std::vector<u32> near_other_operands(const Soup& soup) {
 
 std::vector<std::array<u32, 2>> candidate_pairs(const Soup& soup, std::array<u32, 2>* clash, bool self,
                                                 const std::vector<char>* trusted, const std::vector<char>* active,
-                                                const std::vector<char>* left_out) {
+                                                const std::vector<char>* left_out, std::vector<char>* outside) {
+  if (outside) outside->clear();
   // Where no operand's own pairs are looked at, the tree holds only the triangles near others.
   bool own = self;
   for (int op = 0; op < soup.operands && !own; ++op) own = clash && !(trusted && (*trusted)[op]);
@@ -587,7 +593,7 @@ std::vector<std::array<u32, 2>> candidate_pairs(const Soup& soup, std::array<u32
     all.resize(soup.tris.size());
     for (std::size_t i = 0; i < all.size(); ++i) all[i] = static_cast<u32>(i);
   } else {
-    all = near_other_operands(soup);
+    all = near_other_operands(soup, outside);
   }
   if (left_out) all.erase(std::remove_if(all.begin(), all.end(), [&](u32 t) { return (*left_out)[t] != 0; }), all.end());
   const std::size_t n = all.size();

@@ -61,6 +61,10 @@ bool membership(BooleanOp op, const std::vector<char>& m) {
 std::vector<std::int8_t> classify(const Points& pts, const Arrangement& arr, BooleanOp op, bool self,
                                   const std::vector<std::array<u32, 3>>* adj, std::vector<std::array<u32, 3>>* piece_adj,
                                   const Settlement* settled) {
+  // Triangles outside every other operand (the broad phase's, where it knows them): a patch with
+  // a piece of one is outside every other operand, kept or dropped by its operand alone, without
+  // a ray (two overlapping spheres: the patches outside the other sphere, two of four rays).
+  const std::vector<char>* outside = settled && !settled->outside.empty() ? &settled->outside : nullptr;
   if (settled && settled->empty()) settled = nullptr;
   const Soup& soup = pts.soup();
   const auto& pieces = arr.pieces;
@@ -145,11 +149,17 @@ std::vector<std::int8_t> classify(const Points& pts, const Arrangement& arr, Boo
       dsu.unite_shared(half[i].value, half[i + 1].value);
   });
   std::vector<u32> patch_of(np);
+  std::vector<char> patch_outside(outside ? np : 0, 0);  // per patch, whether a piece is outside
   const auto reps_from = block_starts(np, kBlock, [&](std::size_t lo, std::size_t hi) {
     std::size_t n = 0;
+    u32 marked = kNone;  // (a block's pieces are mostly of one patch: marked once)
     for (std::size_t i = lo; i < hi; ++i) {
       patch_of[i] = dsu.root(static_cast<u32>(i));
       n += patch_of[i] == i;
+      if (outside && (*outside)[pieces[i].tri] && patch_of[i] != marked) {
+        marked = patch_of[i];
+        std::atomic_ref<char>(patch_outside[marked]).store(1, std::memory_order_relaxed);
+      }
     }
     return n;
   });
@@ -225,6 +235,14 @@ std::vector<std::int8_t> classify(const Points& pts, const Arrangement& arr, Boo
     int k = soup.axis[t];
     if (settled && !settled->triangles.empty() && settled->triangles[t]) {  // inside an operand that drops it
       patch_keep[pi] = 0;
+      return;
+    }
+    if (outside && patch_outside[pi]) {
+      // Outside every other operand: behind the piece only its own, in front none.
+      std::vector<char> in_front(nops, 0), behind(nops, 0);
+      behind[i] = 1;
+      const bool fb = membership(op, behind), ff = membership(op, in_front);
+      patch_keep[pi] = (fb && !ff) ? 1 : (!fb && ff) ? -1 : 0;
       return;
     }
     // Set where the centroid lies on a triangle whose cut with t settle() left out: strictly inside

@@ -550,10 +550,14 @@ int orient3d_v(const Soup& s, u32 a, u32 b, u32 c, u32 d);
 // With `trusted` (per operand), pairs of one trusted operand are not checked.
 // With `active` (per triangle), only pairs with an active triangle are looked at.
 // With `left_out` (per triangle), those triangles have no pairs (settle_in_cores()).
+// With `outside`: per triangle, 1 where its box is off every other operand's box (so it lies
+// outside all of them), as far as the broad phase saw (empty: not known; it is where every
+// operand's own pairs are looked at, or the operands are few).
 std::vector<std::array<u32, 2>> candidate_pairs(const Soup& soup, std::array<u32, 2>* clash = nullptr,
                                                 bool self = false, const std::vector<char>* trusted = nullptr,
                                                 const std::vector<char>* active = nullptr,
-                                                const std::vector<char>* left_out = nullptr);
+                                                const std::vector<char>* left_out = nullptr,
+                                                std::vector<char>* outside = nullptr);
 
 // True where double arithmetic proves that triangles t and u are apart (so that their exact
 // intersection is empty): an axis on which their projections are separated by more than the
@@ -815,6 +819,10 @@ struct Settlement {
   std::shared_ptr<const SettleCores> cores;
   // Pairs of unsettled triangles whose cut lies in the core of such an operand (sorted).
   std::vector<std::array<u32, 2>> pairs;
+  // Per triangle (empty: not known), 1 where it lies outside every other operand (its box off
+  // theirs: candidate_pairs' `outside`). Such a triangle is in no pair; classify() keeps or drops
+  // it by its operand alone.
+  std::vector<char> outside;
   std::size_t settled_triangles() const { return static_cast<std::size_t>(std::count(triangles.begin(), triangles.end(), 1)); }
   bool empty() const { return triangles.empty() && pairs.empty(); }
   // Whether the cut of triangles t and u was left out.

@@ -117,3 +117,42 @@ TEST_CASE("boolean: the broad phase over only the triangles near other operands 
   boxes.push_back(testing::uv_sphere(Point3(3, 3, 1), 2.5, 8000));
   both(boxes);
 }
+
+TEST_CASE("boolean: triangles the broad phase finds outside the other operands are outside their boxes", "[boolean]") {
+  // candidate_pairs' `outside`: a triangle is marked where its box is off every other operand's
+  // box (classify keeps or drops it, and its patch, by its operand alone). Every marked triangle
+  // must be off them all; and on two overlapping spheres about half are marked.
+  using namespace boolean_detail;
+  auto check = [](const std::vector<Mesh>& meshes, double least) {
+    const Soup soup = make_soup(pointers(meshes));
+    std::array<u32, 2> clash;
+    const std::vector<char> all(meshes.size(), 1);
+    std::vector<char> outside;
+    candidate_pairs(soup, &clash, false, &all, nullptr, nullptr, &outside);
+    REQUIRE(outside.size() == soup.tris.size());
+    std::size_t marked = 0;
+    for (std::size_t t = 0; t < outside.size(); ++t) {
+      if (!outside[t]) continue;
+      ++marked;
+      double lo[3], hi[3];
+      triangle_box(soup, static_cast<u32>(t), lo, hi);
+      for (int o = 0; o < soup.operands; ++o) {
+        if (o == soup.operand[t]) continue;
+        const auto& b = soup.boxes[o];
+        const bool meets = lo[0] <= b[3] && b[0] <= hi[0] && lo[1] <= b[4] && b[1] <= hi[1] && lo[2] <= b[5] && b[2] <= hi[2];
+        CHECK_FALSE(meets);
+      }
+    }
+    CHECK(marked >= least * static_cast<double>(soup.tris.size()));
+  };
+  check(testing::overlapping_spheres(16384), 0.3);
+  check({testing::icosphere(Point3(0, 0, 0), 1, 20000), testing::box_mesh(Point3(0.5, 0.5, 0.5), Vec3(2, 2, 2)),
+         testing::uv_sphere(Point3(1.6, 1.6, 1.6), 0.7, 6000)},
+        0.5);
+  // Boxes side by side touch: none of their triangles is off the others' boxes but where a box
+  // has no neighbour on that side.
+  std::vector<Mesh> boxes;
+  for (int i = 0; i < 4; ++i) boxes.push_back(testing::box_mesh(Point3(i, 0, 0), Vec3(1, 1, 1)));
+  boxes.push_back(testing::uv_sphere(Point3(2, 0.5, 0.5), 0.4, 8000));
+  check(boxes, 0.0);
+}
