@@ -595,6 +595,7 @@ inline bool apart(const Soup& s, u32 ti, u32 ui, bool edges) {
   return false;
 }
 
+// --- the work budget (boolean_budget.cpp) ---
 // An estimate of the points where three operands' surfaces cross (each found by the arrangement
 // as a crossing of two segments in a triangle, once in each of the three): the triples of
 // triangles of three operands whose planes meet, in doubles, at a point inside all three (in the
