@@ -225,6 +225,12 @@ std::vector<std::int8_t> classify(const Points& pts, const Arrangement& arr, Boo
   std::vector<int> all_operands(nops);
   for (int j = 0; j < nops; ++j) all_operands[j] = j;
 
+  // A piece with the operands' memberships behind it and in front: kept facing out where the
+  // result holds the space behind it and not in front, kept reversed the other way round.
+  auto keep_of = [&](const std::vector<char>& back, const std::vector<char>& front) -> std::int8_t {
+    const bool fb = membership(op, back), ff = membership(op, front);
+    return (fb && !ff) ? 1 : (!fb && ff) ? -1 : 0;
+  };
   std::vector<std::int8_t> patch_keep(np, 0);
   parallel_for(0, reps.size(), [&](std::size_t ri) {
     soup.poll();
@@ -241,8 +247,7 @@ std::vector<std::int8_t> classify(const Points& pts, const Arrangement& arr, Boo
       // Outside every other operand: behind the piece only its own, in front none.
       std::vector<char> in_front(nops, 0), behind(nops, 0);
       behind[i] = 1;
-      const bool fb = membership(op, behind), ff = membership(op, in_front);
-      patch_keep[pi] = (fb && !ff) ? 1 : (!fb && ff) ? -1 : 0;
+      patch_keep[pi] = keep_of(behind, in_front);
       return;
     }
     // Set where the centroid lies on a triangle whose cut with t settle() left out: strictly inside
@@ -459,8 +464,7 @@ std::vector<std::int8_t> classify(const Points& pts, const Arrangement& arr, Boo
       front[j] = c < 0;
       back[j] = c > 0;
     }
-    bool fb = membership(op, back), ff = membership(op, front);
-    std::int8_t keep = (fb && !ff) ? 1 : (!fb && ff) ? -1 : 0;
+    std::int8_t keep = keep_of(back, front);
     if (keep && !coplanar.empty() && coplanar.front().first < i) keep = 0;
     patch_keep[pi] = keep;
   });

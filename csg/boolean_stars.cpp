@@ -250,6 +250,13 @@ std::vector<char> radially_embedded(const Soup& soup, const std::vector<char>* s
   std::vector<std::vector<Part>> parts(blocks);
   parallel_for(0, blocks, [&](std::size_t b) {
     parts[b].assign(nops, Part{});
+    auto add = [&](std::int32_t op, const Vec3& p) {
+      Part& part = parts[b][op];
+      part.sum += p;
+      part.lo = part.lo.cwiseMin(p);
+      part.hi = part.hi.cwiseMax(p);
+      ++part.count;
+    };
     for (std::size_t v = b * 65536; v < std::min(nv, (b + 1) * 65536); ++v) {
       const u32 k0 = corners.off[v], k1 = corners.off[v + 1];
       if (k0 == k1) continue;
@@ -257,11 +264,7 @@ std::vector<char> radially_embedded(const Soup& soup, const std::vector<char>* s
       // the last are of the same one (nearly every vertex).
       const std::int32_t op0 = soup.operand[static_cast<u32>(corners.next[k0])];
       if (op0 == soup.operand[static_cast<u32>(corners.next[k1 - 1])]) {
-        Part& p = parts[b][op0];
-        p.sum += soup.verts[v];
-        p.lo = p.lo.cwiseMin(soup.verts[v]);
-        p.hi = p.hi.cwiseMax(soup.verts[v]);
-        ++p.count;
+        add(op0, soup.verts[v]);
         continue;
       }
       std::int32_t prev = -1;
@@ -269,11 +272,7 @@ std::vector<char> radially_embedded(const Soup& soup, const std::vector<char>* s
         const std::int32_t op = soup.operand[static_cast<u32>(corners.next[k])];
         if (op == prev) continue;
         prev = op;
-        Part& p = parts[b][op];
-        p.sum += soup.verts[v];
-        p.lo = p.lo.cwiseMin(soup.verts[v]);
-        p.hi = p.hi.cwiseMax(soup.verts[v]);
-        ++p.count;
+        add(op, soup.verts[v]);
       }
     }
   });
