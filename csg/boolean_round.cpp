@@ -124,15 +124,40 @@ std::vector<u32> rounding_defects(const Mesh& m, const Rounding& rd) {
     std::vector<u32> ids(check.size());
     std::iota(ids.begin(), ids.end(), 0u);
     const Bvh near(fs, std::move(ids), 3);
+    // Most triangles lie off the tree's box: per vertex, whether it is below or above the box on
+    // each axis (six bits, ANDed over a triangle: not zero where the triangle's box misses it), so
+    // that those triangles read a byte per corner instead of their positions. (Two 1M spheres:
+    // 1,373,088 triangles, of which 21,678 are taken.)
+    const Bvh::Node& root = near.nodes[0];
+    std::vector<std::uint8_t> code(m.positions.size());
+    parallel_for(0, m.positions.size(), [&](std::size_t v) {
+      const Vec3& p = m.positions[v];
+      std::uint8_t c = 0;
+      for (int d = 0; d < 3; ++d)
+        c |= static_cast<std::uint8_t>((p[d] < root.lo[d]) << d | (p[d] > root.hi[d]) << (d + 3));
+      code[v] = c;
+    });
     std::vector<char> take(nt, 0);
     parallel_for(0, nt, [&](std::size_t u) {
       if (rd.recheck[u]) {
         take[u] = 1;
         return;
       }
+      const auto& T = m.triangles[u];
+      if (code[T[0]] & code[T[1]] & code[T[2]]) return;
       double lo[3], hi[3];
       mesh_triangle_box(m, u, lo, hi);
-      near.query(lo, hi, [&](u32) { take[u] = 1; });
+      // One rechecked triangle's box met is enough: the walk stops there.
+      bool met = false;
+      near.query_if(
+          [&](const float nlo[3], const float nhi[3]) {
+            if (met) return false;
+            for (int d = 0; d < 3; ++d)
+              if (nlo[d] > hi[d] || nhi[d] < lo[d]) return false;
+            return true;
+          },
+          [&](u32) { met = true; });
+      take[u] = met;
     });
     for (std::size_t t = 0; t < nt; ++t)
       if (take[t]) part.push_back(static_cast<u32>(t));
