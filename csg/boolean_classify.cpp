@@ -77,7 +77,10 @@ std::vector<std::int8_t> classify(const Points& pts, const Arrangement& arr, Boo
   // (adj) whose end points no other operand's piece uses are the only pieces on that edge: they
   // are joined here, and that edge needs no record. Every other piece edge is sorted.
   std::vector<std::uint8_t> direct(np, 0);  // per piece: bit e, edge e joined here
-  if (piece_adj) piece_adj->assign(adj || !arr.inner.empty() ? np : 0, {kNone, kNone, kNone});
+  if (piece_adj) {
+    if (np >> kAdjPieceBits) fail("boolean: more than 2^30 pieces");
+    piece_adj->assign(adj || !arr.inner.empty() ? np : 0, {kNone, kNone, kNone});
+  }
   if (adj) {
     const std::size_t nt = soup.tris.size(), nin = soup.verts.size();
     // Per input vertex: the one operand whose pieces use it, or -2 for several (or where positions
@@ -104,11 +107,13 @@ std::vector<std::int8_t> classify(const Points& pts, const Arrangement& arr, Boo
         for (int e = 0; e < 3; ++e) {
           const u32 u = (*adj)[t][e];
           // Known from both sides (each side's vertex saw a disk), so both skip the edge's record.
-          if (u == kNone || whole[u] == kNone || ((*adj)[u][0] != t && (*adj)[u][1] != t && (*adj)[u][2] != t)) continue;
+          if (u == kNone || whole[u] == kNone) continue;
+          const u32 f = (*adj)[u][0] == t ? 0 : (*adj)[u][1] == t ? 1 : (*adj)[u][2] == t ? 2 : 3;
+          if (f == 3) continue;
           const u32 a = soup.tris[t][e], b = soup.tris[t][(e + 1) % 3];
           if (owner[a] == -2 || owner[b] == -2) continue;
           direct[i] |= static_cast<std::uint8_t>(1u << e);
-          if (piece_adj) (*piece_adj)[i][e] = whole[u];
+          if (piece_adj) (*piece_adj)[i][e] = adj_entry(whole[u], f);
           if (t < u) unite(static_cast<u32>(i), whole[u]);
         }
       }
@@ -121,7 +126,14 @@ std::vector<std::int8_t> classify(const Points& pts, const Arrangement& arr, Boo
       const u32 q = nb[e];
       if (q == kNone) continue;
       direct[i] |= static_cast<std::uint8_t>(1u << e);
-      if (piece_adj) (*piece_adj)[i][e] = q;
+      if (piece_adj) {
+        // The edge b -> a of q (pieces of one triangle turn alike).
+        const auto &V = pieces[i].v, &W = pieces[q].v;
+        u32 f = 0;
+        while (f < 3 && !(W[f] == V[(e + 1) % 3] && W[(f + 1) % 3] == V[e])) ++f;
+        if (f == 3) fail("boolean: internal error: pieces joined across an edge one of them does not have");
+        (*piece_adj)[i][e] = adj_entry(q, f);
+      }
       if (i < q) dsu.unite_shared(i, q);
     }
   });

@@ -853,10 +853,15 @@ void settle_pairs(const Soup& soup, std::vector<std::array<u32, 2>>& pairs, Bool
 // joins whole triangles into patches without sorting their edges, as arr.inner joins the pieces
 // of one cut triangle across edges on no cut; `piece_adj` (if given) then
 // receives per piece and edge the piece so joined across it (the only other piece on that edge,
-// in the same patch), else kNone.
+// in the same patch), else kNone: adj_piece() of the entry, and adj_edge() the edge of that
+// piece it is (its edge f runs from v[f] to v[f + 1], the reverse of this one).
 // `settled` (settle()'s, if given): the pieces of settled triangles are dropped, and so is a piece
 // whose centroid lies on a triangle whose cut with the piece's own triangle was left out (the
 // centroid is on that cut, strictly inside the operand that settled it).
+constexpr u32 kAdjPieceBits = 30;
+inline u32 adj_entry(u32 piece, u32 edge) { return piece | edge << kAdjPieceBits; }
+inline u32 adj_piece(u32 entry) { return entry & ((1u << kAdjPieceBits) - 1); }
+inline u32 adj_edge(u32 entry) { return entry >> kAdjPieceBits; }
 std::vector<std::int8_t> classify(const Points& pts, const Arrangement& arr, BooleanOp op, bool self = false,
                                   const std::vector<std::array<u32, 3>>* adj = nullptr,
                                   std::vector<std::array<u32, 3>>* piece_adj = nullptr,

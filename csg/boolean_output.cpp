@@ -14,6 +14,7 @@
 // Rounding happens here, once: each vertex becomes the double nearest (within an ulp) to its
 // exact position; the rounding check and its repair are in boolean_round.cpp.
 #include <algorithm>
+#include <cassert>
 #include <atomic>
 #include <cmath>
 #include <mutex>
@@ -41,8 +42,13 @@ BooleanResult assemble(const Points& pts, const Arrangement& arr, const std::vec
   std::vector<std::array<u32, 3>> tris(kept_from.total());
   std::vector<u32> src(tris.size()), piece(tris.size());
   std::vector<char> flipped(tris.size());
+  // Per piece, its output triangle (kNone: dropped, or changed by merge_flat), where classify
+  // joined pieces directly.
+  const bool joined = piece_adj && !piece_adj->empty();
+  std::vector<u32, NoInit<u32>> out_of(joined ? npieces : 0);
   fill_blocks(kept_from, [&](std::size_t lo, std::size_t hi, std::size_t w) {
     for (std::size_t p = lo; p < hi; ++p) {
+      if (joined) out_of[p] = keep[p] ? static_cast<u32>(w) : kNone;
       if (!keep[p]) continue;
       auto v = arr.pieces[p].v;
       if (keep[p] < 0) std::swap(v[1], v[2]);
@@ -53,7 +59,7 @@ BooleanResult assemble(const Points& pts, const Arrangement& arr, const std::vec
       ++w;
     }
   });
-  merge_flat(pts, tris, src, flipped, piece);
+  const std::size_t merged = merge_flat(pts, tris, src, flipped, piece);
   const std::size_t nt = tris.size();
 
   // Directed edges; partner[c] for corner-edge c = 3*t+e (edge v[e] -> v[e+1]).
@@ -61,24 +67,29 @@ BooleanResult assemble(const Points& pts, const Arrangement& arr, const std::vec
   // Edges classify joined directly (two whole triangles, the only pieces on their edge, kept
   // together) are paired here where merge_flat left both triangles as their pieces; the rest
   // are sorted.
-  if (piece_adj && !piece_adj->empty()) {
-    std::vector<u32> out_of(arr.pieces.size(), kNone);  // piece -> its unchanged output triangle
-    parallel_for(0, nt, [&](std::size_t t) {
-      auto v = arr.pieces[piece[t]].v;
-      if (flipped[t]) std::swap(v[1], v[2]);
-      if (v == tris[t]) out_of[piece[t]] = static_cast<u32>(t);
-    });
+  if (joined) {
+    if (merged) {
+      // merge_flat removed triangles (the others moved down) and changed some.
+      parallel_blocks(npieces, kBlock, [&](std::size_t lo, std::size_t hi) { std::fill(out_of.begin() + lo, out_of.begin() + hi, kNone); });
+      parallel_for(0, nt, [&](std::size_t t) {
+        auto v = arr.pieces[piece[t]].v;
+        if (flipped[t]) std::swap(v[1], v[2]);
+        if (v == tris[t]) out_of[piece[t]] = static_cast<u32>(t);
+      });
+    }
     parallel_for(0, nt, [&](std::size_t t) {
       const u32 p = piece[t];
       if (out_of[p] != t) return;
-      for (int e = 0; e < 3; ++e) {
-        const u32 q = (*piece_adj)[p][e];
-        if (q == kNone || out_of[q] == kNone) continue;
-        // Piece edge e is output edge e, or 2 - e where the triangle was turned over.
-        const int eo = flipped[t] ? 2 - e : e;
-        const u32 a = tris[t][eo], b = tris[t][(eo + 1) % 3], u = out_of[q];
-        for (int k = 0; k < 3; ++k)
-          if (tris[u][k] == b && tris[u][(k + 1) % 3] == a) partner[t * 3 + eo] = u * 3 + k;
+      for (u32 e = 0; e < 3; ++e) {
+        const u32 x = (*piece_adj)[p][e];
+        if (x == kNone) continue;
+        const u32 u = out_of[adj_piece(x)];
+        // (Turned alike: one patch's pieces are. Kept so, a piece's edge e is output edge e, or
+        // 2 - e where the triangle was turned over.)
+        if (u == kNone || flipped[u] != flipped[t]) continue;
+        const u32 eo = flipped[t] ? 2 - e : e, f = adj_edge(x), fo = flipped[t] ? 2 - f : f;
+        assert(tris[u][fo] == tris[t][(eo + 1) % 3] && tris[u][(fo + 1) % 3] == tris[t][eo]);
+        partner[t * 3 + eo] = u * 3 + fo;
       }
     });
   }
