@@ -912,7 +912,8 @@ bool repair_rounding(BooleanResult& r, Rounding& rd, std::vector<u32>* left, boo
 // rounding) collapse into their other end where the link condition holds, orientations in the
 // sources' projections stay, and that end lies within an ulp of every joined triangle's source
 // plane; the changed triangles get rd.recheck. The result as it was goes to *saved, *saved_rd (the
-// repair's fallback). Returns the number collapsed.
+// repair's fallback). Returns the number collapsed. Every triangle with a rounded vertex must
+// have rd.recheck set (only those are looked at).
 std::size_t collapse_ulp_edges(BooleanResult& r, Rounding& rd, BooleanResult* saved, Rounding* saved_rd);
 // Leaves out the shells thinner than rounding; returns how many.
 std::size_t drop_flat_shells(BooleanResult& r, Rounding& rd);

@@ -611,12 +611,23 @@ std::size_t collapse_ulp_edges(BooleanResult& r, Rounding& rd, BooleanResult* sa
     const double d = (P[a] - P[b]).cwiseAbs().maxCoeff();
     return d > 0 && d <= m * 0x1p-49;
   };
-  std::vector<std::pair<double, std::array<u32, 2>>> edges;
-  for (std::size_t t = 0; t < nt; ++t)
-    for (int e = 0; e < 3; ++e) {
-      const u32 a = tris[t][e], b = tris[t][(e + 1) % 3];
-      if (a < b && (rd.moved[a] || rd.moved[b]) && ulp_short(a, b)) edges.push_back({(P[a] - P[b]).squaredNorm(), {a, b}});
+  // The edges with an end that rounding moved: only in triangles to recheck (a triangle with a
+  // moved vertex is one). Found per block in parallel; sorted below, so in no order here.
+  using Edge = std::pair<double, std::array<u32, 2>>;
+  constexpr std::size_t kBlock = 65536;
+  std::vector<std::vector<Edge>> found((nt + kBlock - 1) / kBlock);
+  parallel_blocks(nt, kBlock, [&](std::size_t lo, std::size_t hi) {
+    auto& out = found[lo / kBlock];
+    for (std::size_t t = lo; t < hi; ++t) {
+      if (!rd.recheck[t]) continue;
+      for (int e = 0; e < 3; ++e) {
+        const u32 a = tris[t][e], b = tris[t][(e + 1) % 3];
+        if (a < b && (rd.moved[a] || rd.moved[b]) && ulp_short(a, b)) out.push_back({(P[a] - P[b]).squaredNorm(), {a, b}});
+      }
     }
+  });
+  std::vector<Edge> edges;
+  for (const auto& f : found) edges.insert(edges.end(), f.begin(), f.end());
   if (edges.empty()) return 0;
   std::sort(edges.begin(), edges.end());
   *saved = r;
