@@ -327,22 +327,26 @@ BooleanResult assemble(const Points& pts, const Arrangement& arr, const std::vec
   r.operand.resize(nt);
   r.source.resize(nt);
   r.mesh.face_ids.resize(nt);
+  std::vector<std::int8_t> sign(nt);
+  std::vector<char> recheck(nt);
   parallel_for(0, nt, [&](std::size_t t) {
-    for (int k = 0; k < 3; ++k) r.mesh.triangles[t][k] = index[root[t * 3 + k]];
+    // The exact result is free of crossings: only triangles with a vertex that rounding moved
+    // can meet another one after it.
+    char any = 0;
+    for (int k = 0; k < 3; ++k) {
+      const u32 v = index[root[t * 3 + k]];
+      r.mesh.triangles[t][k] = v;
+      any |= moved[v];
+    }
+    recheck[t] = any != 0;
     u32 s = src[t];
     r.operand[t] = soup.operand[s];
     r.source[t] = soup.local[s];
     r.mesh.face_ids[t] = soup.face_id[s];
-  });
-  Rounding rd{&soup, std::move(moved), src, std::vector<std::int8_t>(nt), std::vector<char>(nt, 0), 0};
-  parallel_for(0, nt, [&](std::size_t t) {
     // A piece keeps its source's orientation in the source's projection, reversed if flipped.
-    rd.sign[t] = static_cast<std::int8_t>(soup.axis_sign[src[t]] * (flipped[t] ? -1 : 1));
-    // The exact result is free of crossings: only triangles with a vertex that rounding moved
-    // can meet another one after it.
-    for (u32 v : r.mesh.triangles[t])
-      if (rd.moved[v]) rd.recheck[t] = 1;
+    sign[t] = static_cast<std::int8_t>(soup.axis_sign[s] * (flipped[t] ? -1 : 1));
   });
+  Rounding rd{&soup, std::move(moved), std::move(src), std::move(sign), std::move(recheck), 0, {}};
   if (!split.empty()) {
     // The split: each triangle (p, q, w) of a pair on edge p -> q becomes (p, m, w) and
     // (m, q, w), m a new copy at the edge's midpoint (rounded: it moved); the halves keep the

@@ -716,10 +716,18 @@ std::size_t drop_flat_shells(BooleanResult& r, Rounding& rd) {
   const std::size_t nv = P.size(), nt = tris.size();
   if (nt == 0) return 0;
   Dsu shell(nv);
-  parallel_for(0, nt, [&](std::size_t t) {
-    shell.unite_shared(tris[t][0], tris[t][1]);
-    shell.unite_shared(tris[t][0], tris[t][2]);
-  });
+  if (thread_count() == 1) {
+    // (No other thread: plain loads and stores, not compare-and-swaps; the same roots.)
+    for (const auto& T : tris) {
+      shell.unite(T[0], T[1]);
+      shell.unite(T[0], T[2]);
+    }
+  } else {
+    parallel_for(0, nt, [&](std::size_t t) {
+      shell.unite_shared(tris[t][0], tris[t][1]);
+      shell.unite_shared(tris[t][0], tris[t][2]);
+    });
+  }
   std::vector<u32> root(nv);
   parallel_for(0, nv, [&](std::size_t v) { root[v] = shell.root(static_cast<u32>(v)); });
   // Per shell (by root, its smallest vertex: the origin of its sums, so that their error scales

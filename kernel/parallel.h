@@ -6,8 +6,10 @@
 #include <vector>
 
 #include <tbb/blocked_range.h>
+#include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_invoke.h>
+#include <tbb/task_arena.h>
 #include <tbb/task_group.h>
 
 #include "kernel/error.h"
@@ -25,6 +27,14 @@ void parallel_for(std::size_t begin, std::size_t end, F&& body) {
   // tree, a missing block of the boolean's sums: a crash, for a tree with a failing operand beside
   // a busy one). It throws here instead; TBB keeps the first exception, so the sibling's is seen.
   if (tbb::is_current_task_group_canceling()) throw Error("parallel work cancelled by a failure beside it");
+}
+
+// How many threads a parallel loop started here can use: the current arena's, within the
+// process's limit (tbb::global_control; the arena's own count does not see it).
+inline std::size_t thread_count() {
+  return static_cast<std::size_t>(std::min<std::size_t>(
+      static_cast<std::size_t>(tbb::this_task_arena::max_concurrency()),
+      tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism)));
 }
 
 // a() and b() side by side: independent work, each too small or too serial to fill the threads
