@@ -5,7 +5,6 @@
 #include <cstring>
 #include <numeric>
 
-#include <tbb/task_arena.h>
 
 #include "csg/boolean_impl.h"
 #include "kernel/parallel.h"
@@ -403,7 +402,7 @@ void boolean_detail::sort_edges(EdgeRecs& recs, std::size_t n, const Interrupt* 
   // sort below in any case).
   const std::size_t m = recs.size();
   const std::size_t chunks =
-      m < (std::size_t(1) << 16) ? 1 : std::min<std::size_t>(8, static_cast<std::size_t>(tbb::this_task_arena::max_concurrency()));
+      m < (std::size_t(1) << 16) ? 1 : std::min<std::size_t>(8, thread_count());
   const std::size_t per = (m + chunks - 1) / chunks;
   std::vector<std::vector<u32>> next(chunks, std::vector<u32>(n, 0));
   parallel_for(0, chunks, [&](std::size_t c) {

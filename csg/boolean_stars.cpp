@@ -5,7 +5,6 @@
 #include <atomic>
 #include <cmath>
 
-#include <tbb/task_arena.h>
 
 #include "csg/boolean_impl.h"
 #include "kernel/parallel.h"
@@ -29,7 +28,7 @@ CornerLists corner_lists(const Soup& soup, const std::vector<char>* listed, cons
   // c's corners of vertex v go after chunks 0..c-1's, so each vertex's corners are in triangle
   // order, as one pass would put them.
   const std::size_t chunks =
-      nt < (std::size_t(1) << 16) ? 1 : std::min<std::size_t>(8, static_cast<std::size_t>(tbb::this_task_arena::max_concurrency()));
+      nt < (std::size_t(1) << 16) ? 1 : std::min<std::size_t>(8, thread_count());
   const std::size_t per = (nt + chunks - 1) / chunks;
   std::vector<std::vector<u32>> at(chunks, std::vector<u32>(nv, 0));
   parallel_for(0, chunks, [&](std::size_t c) {

@@ -29,7 +29,6 @@
 #include <cmath>
 #include <numeric>
 
-#include <tbb/task_arena.h>
 
 #include "csg/boolean_impl.h"
 #include "kernel/error.h"
@@ -838,7 +837,7 @@ Arrangement arrange(Points& pts, const std::vector<std::array<u32, 2>>& pairs, b
   constexpr std::size_t kBlock = 64;
   const std::size_t items = heavy + (order.size() - heavy + kBlock - 1) / kBlock;
   std::atomic<std::size_t> next{0};
-  const auto threads = static_cast<std::size_t>(tbb::this_task_arena::max_concurrency());
+  const std::size_t threads = thread_count();
   parallel_for(0, std::min(threads, items), [&](std::size_t) {
     for (std::size_t i; (i = next.fetch_add(1, std::memory_order_relaxed)) < items;) {
       const std::size_t lo = i < heavy ? i : heavy + (i - heavy) * kBlock;
