@@ -91,7 +91,7 @@ std::vector<std::int8_t> classify(const Points& pts, const Arrangement& arr, Boo
     std::vector<std::int32_t> owner(soup.vertex_operand.begin(), soup.vertex_operand.end());
     parallel_for(0, np, [&](std::size_t i) {
       const u32 t = pieces[i].tri;
-      if ((i == 0 || pieces[i - 1].tri != t) && (i + 1 == np || pieces[i + 1].tri != t) && pieces[i].v == soup.tris[t]) {
+      if ((i == 0 || pieces[i - 1].tri != t) && (i + 1 == np || pieces[i + 1].tri != t) && same_array(pieces[i].v, soup.tris[t])) {
         whole[t] = static_cast<u32>(i);
         return;
       }
@@ -140,7 +140,7 @@ std::vector<std::int8_t> classify(const Points& pts, const Arrangement& arr, Boo
   // Where each piece's records start (its edges not joined directly; three bits counted by hand:
   // std::popcount was a libgcc call on this target).
   constexpr std::size_t kBlock = 65536;
-  std::vector<u32> first_rec;
+  std::vector<u32, NoInit<u32>> first_rec;  // (every entry written by parallel_prefix)
   parallel_prefix(first_rec, np, kBlock, [&](std::size_t i) {
     return 3u - (direct[i] & 1u) - (direct[i] >> 1 & 1u) - (direct[i] >> 2 & 1u);
   });
@@ -160,7 +160,7 @@ std::vector<std::int8_t> classify(const Points& pts, const Arrangement& arr, Boo
     if (j - i == 2 && soup.operand[pieces[half[i].value].tri] == soup.operand[pieces[half[i + 1].value].tri])
       dsu.unite_shared(half[i].value, half[i + 1].value);
   });
-  std::vector<u32> patch_of(np);
+  std::vector<u32, NoInit<u32>> patch_of(np);  // (every entry written below)
   std::vector<char> patch_outside(outside ? np : 0, 0);  // per patch, whether a piece is outside
   const auto reps_from = block_starts(np, kBlock, [&](std::size_t lo, std::size_t hi) {
     std::size_t n = 0;

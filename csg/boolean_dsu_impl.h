@@ -6,6 +6,7 @@
 #include <atomic>
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "kernel/parallel.h"
@@ -16,8 +17,12 @@ namespace wedge::boolean_detail {
 // depend on the order of unions).
 class Dsu {
  public:
-  explicit Dsu(std::size_t n) : p_(n) {
-    for (std::size_t i = 0; i < n; ++i) p_[i] = static_cast<std::uint32_t>(i);
+  // (Each element its own set, written once: not zeroed first; in parallel where there are many,
+  // as for a large result's corners.)
+  explicit Dsu(std::size_t n) : p_(new std::uint32_t[n]) {
+    parallel_blocks(n, std::size_t(1) << 16, [&](std::size_t lo, std::size_t hi) {
+      for (std::size_t i = lo; i < hi; ++i) p_[i] = static_cast<std::uint32_t>(i);
+    });
   }
   std::uint32_t find(std::uint32_t x) {
     while (p_[x] != x) x = p_[x] = p_[p_[x]];
@@ -81,7 +86,7 @@ class Dsu {
   }
 
  private:
-  std::vector<std::uint32_t> p_;
+  std::unique_ptr<std::uint32_t[]> p_;
 };
 
 }  // namespace wedge::boolean_detail

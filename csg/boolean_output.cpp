@@ -14,8 +14,8 @@
 // Rounding happens here, once: each vertex becomes the double nearest (within an ulp) to its
 // exact position; the rounding check and its repair are in boolean_round.cpp.
 #include <algorithm>
-#include <cassert>
 #include <atomic>
+#include <cassert>
 #include <cmath>
 #include <mutex>
 #include <numeric>
@@ -70,11 +70,13 @@ BooleanResult assemble(const Points& pts, const Arrangement& arr, const std::vec
   if (joined) {
     if (merged) {
       // merge_flat removed triangles (the others moved down) and changed some.
-      parallel_blocks(npieces, kBlock, [&](std::size_t lo, std::size_t hi) { std::fill(out_of.begin() + lo, out_of.begin() + hi, kNone); });
+      parallel_blocks(npieces, kBlock, [&](std::size_t lo, std::size_t hi) {
+        std::fill(out_of.begin() + static_cast<std::ptrdiff_t>(lo), out_of.begin() + static_cast<std::ptrdiff_t>(hi), kNone);
+      });
       parallel_for(0, nt, [&](std::size_t t) {
         auto v = arr.pieces[piece[t]].v;
         if (flipped[t]) std::swap(v[1], v[2]);
-        if (v == tris[t]) out_of[piece[t]] = static_cast<u32>(t);
+        if (same_array(v, tris[t])) out_of[piece[t]] = static_cast<u32>(t);
       });
     }
     parallel_for(0, nt, [&](std::size_t t) {
@@ -94,7 +96,7 @@ BooleanResult assemble(const Points& pts, const Arrangement& arr, const std::vec
     });
   }
   // Where each triangle's records start (its edges not paired directly).
-  std::vector<u32> first_rec;
+  std::vector<u32, NoInit<u32>> first_rec;  // (every entry written by parallel_prefix)
   parallel_prefix(first_rec, nt, kBlock, [&](std::size_t t) {
     return u32(partner[t * 3] == kNone) + (partner[t * 3 + 1] == kNone) + (partner[t * 3 + 2] == kNone);
   });

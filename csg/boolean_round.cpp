@@ -622,7 +622,8 @@ std::size_t collapse_ulp_edges(BooleanResult& r, Rounding& rd, BooleanResult* sa
       if (!rd.recheck[t]) continue;
       for (int e = 0; e < 3; ++e) {
         const u32 a = tris[t][e], b = tris[t][(e + 1) % 3];
-        if (a < b && (rd.moved[a] || rd.moved[b]) && ulp_short(a, b)) out.push_back({(P[a] - P[b]).squaredNorm(), {a, b}});
+        if (a < b && (rd.moved[a] || rd.moved[b]) && ulp_short(a, b))
+          out.push_back({(P[a] - P[b]).squaredNorm(), {a, b}});
       }
     }
   });

@@ -79,9 +79,12 @@ void fill_blocks(const BlockStarts& s, Fill&& fill) {
 
 // out[0] = 0 and out[i + 1] = count(0) + ... + count(i) for i in [0, n) (where each item's
 // outputs start): sums within blocks of `block` items in parallel, then each block's start added.
-template <class T, class Count>
-void parallel_prefix(std::vector<T>& out, std::size_t n, std::size_t block, Count&& count) {
-  out.assign(n + 1, T(0));
+// (`out` may be a vector whose allocator leaves new elements unset: each is written here.)
+template <class Vector, class Count>
+void parallel_prefix(Vector& out, std::size_t n, std::size_t block, Count&& count) {
+  using T = typename Vector::value_type;
+  out.resize(n + 1);
+  out[0] = T(0);
   const auto from = block_starts(n, block, [&](std::size_t lo, std::size_t hi) {
     T sum = 0;
     for (std::size_t i = lo; i < hi; ++i) out[i + 1] = sum += count(i);
