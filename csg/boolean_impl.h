@@ -205,20 +205,43 @@ class Interrupt {
 };
 
 // --- the input soup (boolean.cpp) ---
+// An allocator whose vectors leave new elements of trivial types uninitialised (resize(n) and
+// vector(n) do not zero them): for large arrays that are wholly written next, where zeroing them
+// first (hundreds of megabytes on a million-triangle boolean) was a serial pass of its own.
+template <class T>
+struct NoInit : std::allocator<T> {
+  template <class U>
+  struct rebind {
+    using other = NoInit<U>;
+  };
+  NoInit() = default;
+  template <class U>
+  NoInit(const NoInit<U>&) noexcept {}
+  template <class U>
+  void construct(U* p) noexcept {
+    ::new (static_cast<void*>(p)) U;
+  }
+  template <class U, class... A>
+  void construct(U* p, A&&... a) {
+    ::new (static_cast<void*>(p)) U(std::forward<A>(a)...);
+  }
+};
+
+// (The per-triangle arrays are written whole by make_soup: not zeroed first.)
 struct Soup {
-  std::vector<Vec3> verts;                // unique input positions
-  std::vector<std::array<u32, 3>> tris;   // vertex ids, counter-clockwise seen from outside
-  std::vector<std::int32_t> operand;      // per triangle
-  std::vector<std::int32_t> local;        // per triangle: its index in its operand
-  std::vector<std::int32_t> face_id;      // per triangle: the operand's face id, or -1
-  std::vector<std::int8_t> axis;          // per triangle: k(T)
-  std::vector<std::int8_t> axis_sign;     // per triangle: sign of n_k(T)
+  std::vector<Vec3> verts;                                        // unique input positions
+  std::vector<std::array<u32, 3>, NoInit<std::array<u32, 3>>> tris;  // vertex ids, counter-clockwise seen from outside
+  std::vector<std::int32_t, NoInit<std::int32_t>> operand;        // per triangle
+  std::vector<std::int32_t, NoInit<std::int32_t>> local;          // per triangle: its index in its operand
+  std::vector<std::int32_t, NoInit<std::int32_t>> face_id;        // per triangle: the operand's face id, or -1
+  std::vector<std::int8_t, NoInit<std::int8_t>> axis;             // per triangle: k(T)
+  std::vector<std::int8_t, NoInit<std::int8_t>> axis_sign;        // per triangle: sign of n_k(T)
   int operands = 0;
   // Per operand: a box (lo, hi) that holds its triangles, over all its positions (with any its
   // triangles do not use); (inf, -inf) for an operand without triangles.
   std::vector<std::array<double, 6>> boxes;
   // Per vertex: the operand whose positions it holds, or -2 where it holds positions of several.
-  std::vector<std::int32_t> vertex_operand;
+  std::vector<std::int32_t, NoInit<std::int32_t>> vertex_operand;
   // Per vertex (or empty: none): the input position is itself a rounded one (of a mesh moved by an
   // inexact transform, or of an earlier pass's output), which the rounding repair may move, as it
   // moves constructed points. An operand's own vertices never move.
@@ -310,28 +333,6 @@ inline bool same_array(const std::array<T, N>& a, const std::array<T, N>& b) {
   for (std::size_t i = 0; i < N; ++i) differ |= a[i] != b[i];
   return !differ;
 }
-
-// An allocator whose vectors leave new elements of trivial types uninitialised (resize(n) and
-// vector(n) do not zero them): for large arrays that are wholly written next, where zeroing them
-// first (hundreds of megabytes on a million-triangle boolean) was a serial pass of its own.
-template <class T>
-struct NoInit : std::allocator<T> {
-  template <class U>
-  struct rebind {
-    using other = NoInit<U>;
-  };
-  NoInit() = default;
-  template <class U>
-  NoInit(const NoInit<U>&) noexcept {}
-  template <class U>
-  void construct(U* p) noexcept {
-    ::new (static_cast<void*>(p)) U;
-  }
-  template <class U, class... A>
-  void construct(U* p, A&&... a) {
-    ::new (static_cast<void*>(p)) U(std::forward<A>(a)...);
-  }
-};
 
 // An edge's record: key = a << 32 | b (vertex or point ids), and a value (a triangle, a corner).
 struct EdgeRec {

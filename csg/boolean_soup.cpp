@@ -248,6 +248,7 @@ void boolean_detail::set_axis(Soup& s, std::size_t t) {
   if (n2 > first) order[2] = order[1], order[1] = order[0], order[0] = 2;
   else if (n2 > second) order[2] = order[1], order[1] = 2;
   s.axis[t] = -1;
+  s.axis_sign[t] = 0;
   for (int k : order) {
     int i = (k + 1) % 3, j = (k + 2) % 3;
     int o = orient2d_fast(a[i], a[j], b[i], b[j], c[i], c[j]);
