@@ -476,19 +476,14 @@ std::vector<u32> near_other_operands(const Soup& soup, std::vector<char>* outsid
   // spheres' ranges took 37 ms at one thread from the boxes, 20 so).
   const std::size_t nv = soup.verts.size();
   // Per vertex: its cells (a byte per axis: at most 160 cells along each), and where it lies
-  // off its operand's reach (bit 2a below it along axis a, 2a + 1 above; none for a vertex that
-  // several operands share).
+  // off its operand's reach (off_box; none for a vertex that several operands share).
   std::vector<std::array<std::uint8_t, 4>> vertex_cell(nv);
   parallel_blocks(nv, 4096, [&](std::size_t lo, std::size_t hi) {
     for (std::size_t v = lo; v < hi; ++v) {
       const Vec3& p = soup.verts[v];
       const std::int32_t op = v < soup.vertex_operand.size() ? soup.vertex_operand[v] : -1;
-      std::uint8_t off = 0;
-      for (int a = 0; a < 3; ++a) {
-        vertex_cell[v][a] = static_cast<std::uint8_t>(cell(p[a], a));
-        if (op >= 0) off |= static_cast<std::uint8_t>((p[a] < reach[op][a]) << (2 * a) | (p[a] > reach[op][a + 3]) << (2 * a + 1));
-      }
-      vertex_cell[v][3] = off;
+      for (int a = 0; a < 3; ++a) vertex_cell[v][a] = static_cast<std::uint8_t>(cell(p[a], a));
+      vertex_cell[v][3] = op >= 0 ? off_box(p, reach[op].data(), reach[op].data() + 3) : 0;
     }
   });
   // A triangle off its reach gets no cells (an empty range).

@@ -619,6 +619,24 @@ inline bool apart(const Soup& s, u32 ti, u32 ui, bool edges) {
 std::size_t candidate_triples(const Soup& soup, const std::vector<std::array<u32, 2>>& pairs,
                               std::size_t stop_above = static_cast<std::size_t>(-1));
 
+// Whether the boxes [alo, ahi] and [blo, bhi] share a point on the first `dims` axes.
+template <class A, class B>
+inline bool box_meets(const A* alo, const A* ahi, const B* blo, const B* bhi, int dims = 3) {
+  for (int d = 0; d < dims; ++d)
+    if (alo[d] > bhi[d] || ahi[d] < blo[d]) return false;
+  return true;
+}
+
+// Where point p lies off the box [lo, hi]: bit a below it along axis a, bit a + 3 above. ANDed
+// over a triangle's corners, not zero exactly where the triangle's box misses the box (a byte
+// per corner read instead of its position, for the many triangles far from a small box).
+template <class B>
+inline std::uint8_t off_box(const Vec3& p, const B* lo, const B* hi) {
+  std::uint8_t c = 0;
+  for (int a = 0; a < 3; ++a) c |= static_cast<std::uint8_t>((p[a] < lo[a]) << a | (p[a] > hi[a]) << (a + 3));
+  return c;
+}
+
 // An axis-aligned box tree over triangles, for point and vertical-line queries.
 class Bvh {
  public:
@@ -629,6 +647,8 @@ class Bvh {
   // Calls f(triangle id) for every triangle whose box meets the box [lo, hi].
   template <class F>
   void query(const double lo[3], const double hi[3], F&& f) const;
+  // Whether some triangle's box meets the box [lo, hi] (the walk stops at the first).
+  bool meets(const double lo[3], const double hi[3]) const;
   // As query(), descending only into nodes whose (float) box `enter(lo, hi)` accepts; f(triangle
   // id) for every triangle of an accepted leaf.
   template <class Enter, class F>
@@ -655,13 +675,14 @@ class Bvh {
 
 template <class F>
 void Bvh::query(const double lo[3], const double hi[3], F&& f) const {
-  query_if(
-      [&](const float nlo[3], const float nhi[3]) {
-        for (int d = 0; d < dims; ++d)
-          if (nlo[d] > hi[d] || nhi[d] < lo[d]) return false;
-        return true;
-      },
-      f);
+  query_if([&](const float nlo[3], const float nhi[3]) { return box_meets(nlo, nhi, lo, hi, dims); }, f);
+}
+
+inline bool Bvh::meets(const double lo[3], const double hi[3]) const {
+  bool met = false;
+  query_if([&](const float nlo[3], const float nhi[3]) { return !met && box_meets(nlo, nhi, lo, hi, dims); },
+           [&](u32) { met = true; });
+  return met;
 }
 
 template <class Enter, class F>

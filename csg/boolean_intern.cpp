@@ -18,8 +18,6 @@
 #include "csg/boolean_impl.h"
 #include "kernel/parallel.h"
 
-#include <tbb/global_control.h>
-
 namespace wedge::boolean_detail {
 
 namespace {
@@ -252,7 +250,7 @@ void Interner::intern_cuts(const std::vector<std::array<u32, 2>>& pairs, const s
   //    in place).
   base_ = static_cast<u32>(pts_.size());
   const std::size_t runs =
-      np < 2048 ? 1 : std::min<std::size_t>(8, tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism));
+      np < 2048 ? 1 : std::min<std::size_t>(8, thread_count());
   runs_.assign(runs, InternRun(&soup, &pts_, base_));
   runs_[0].direct = true;
   map_.assign(runs, {});

@@ -231,7 +231,7 @@ BooleanResult assemble(const Points& pts, const Arrangement& arr, const std::vec
     }
   });
   auto join_corners = [&](Dsu& corners) {
-    parallel_blocks(nt, 16384, [&](std::size_t lo, std::size_t hi) {
+    corners.unite_each(nt, 16384, [&](std::size_t lo, std::size_t hi, auto&& unite) {
       soup.poll();
       for (std::size_t t = lo; t < hi; ++t)
         for (u32 e = 0; e < 3; ++e) {
@@ -239,8 +239,8 @@ BooleanResult assemble(const Points& pts, const Arrangement& arr, const std::vec
           if (c < t * 3 + e) continue;  // the pair's other side joins the same corners
           u32 t2 = c / 3, e2 = c % 3;
           // Edge v[e] -> v[e+1] of t is v[e2+1] -> v[e2] of t2.
-          if (sorted_at[tris[t][e]]) corners.unite_shared(static_cast<u32>(t * 3 + e), t2 * 3 + (e2 + 1) % 3);
-          if (sorted_at[tris[t][(e + 1) % 3]]) corners.unite_shared(static_cast<u32>(t * 3 + (e + 1) % 3), t2 * 3 + e2);
+          if (sorted_at[tris[t][e]]) unite(static_cast<u32>(t * 3 + e), t2 * 3 + (e2 + 1) % 3);
+          if (sorted_at[tris[t][(e + 1) % 3]]) unite(static_cast<u32>(t * 3 + (e + 1) % 3), t2 * 3 + e2);
         }
     });
   };

@@ -124,40 +124,20 @@ std::vector<u32> rounding_defects(const Mesh& m, const Rounding& rd) {
     std::vector<u32> ids(check.size());
     std::iota(ids.begin(), ids.end(), 0u);
     const Bvh near(fs, std::move(ids), 3);
-    // Most triangles lie off the tree's box: per vertex, whether it is below or above the box on
-    // each axis (six bits, ANDed over a triangle: not zero where the triangle's box misses it), so
-    // that those triangles read a byte per corner instead of their positions. (Two 1M spheres:
-    // 1,373,088 triangles, of which 21,678 are taken.)
+    // Most triangles lie off the tree's box (off_box codes; two 1M spheres: 1,373,088 triangles,
+    // of which 21,678 are taken).
     const Bvh::Node& root = near.nodes[0];
     std::vector<std::uint8_t> code(m.positions.size());
-    parallel_for(0, m.positions.size(), [&](std::size_t v) {
-      const Vec3& p = m.positions[v];
-      std::uint8_t c = 0;
-      for (int d = 0; d < 3; ++d)
-        c |= static_cast<std::uint8_t>((p[d] < root.lo[d]) << d | (p[d] > root.hi[d]) << (d + 3));
-      code[v] = c;
-    });
+    parallel_for(0, m.positions.size(), [&](std::size_t v) { code[v] = off_box(m.positions[v], root.lo, root.hi); });
     std::vector<char> take(nt, 0);
     parallel_for(0, nt, [&](std::size_t u) {
-      if (rd.recheck[u]) {
-        take[u] = 1;
-        return;
-      }
       const auto& T = m.triangles[u];
-      if (code[T[0]] & code[T[1]] & code[T[2]]) return;
-      double lo[3], hi[3];
-      mesh_triangle_box(m, u, lo, hi);
-      // One rechecked triangle's box met is enough: the walk stops there.
-      bool met = false;
-      near.query_if(
-          [&](const float nlo[3], const float nhi[3]) {
-            if (met) return false;
-            for (int d = 0; d < 3; ++d)
-              if (nlo[d] > hi[d] || nhi[d] < lo[d]) return false;
-            return true;
-          },
-          [&](u32) { met = true; });
-      take[u] = met;
+      if (rd.recheck[u]) take[u] = 1;
+      else if (!(code[T[0]] & code[T[1]] & code[T[2]])) {
+        double lo[3], hi[3];
+        mesh_triangle_box(m, u, lo, hi);
+        take[u] = near.meets(lo, hi);
+      }
     });
     for (std::size_t t = 0; t < nt; ++t)
       if (take[t]) part.push_back(static_cast<u32>(t));
@@ -717,18 +697,12 @@ std::size_t drop_flat_shells(BooleanResult& r, Rounding& rd) {
   const std::size_t nv = P.size(), nt = tris.size();
   if (nt == 0) return 0;
   Dsu shell(nv);
-  if (thread_count() == 1) {
-    // (No other thread: plain loads and stores, not compare-and-swaps; the same roots.)
-    for (const auto& T : tris) {
-      shell.unite(T[0], T[1]);
-      shell.unite(T[0], T[2]);
+  shell.unite_each(nt, 16384, [&](std::size_t lo, std::size_t hi, auto&& unite) {
+    for (std::size_t t = lo; t < hi; ++t) {
+      unite(tris[t][0], tris[t][1]);
+      unite(tris[t][0], tris[t][2]);
     }
-  } else {
-    parallel_for(0, nt, [&](std::size_t t) {
-      shell.unite_shared(tris[t][0], tris[t][1]);
-      shell.unite_shared(tris[t][0], tris[t][2]);
-    });
-  }
+  });
   std::vector<u32> root(nv);
   parallel_for(0, nv, [&](std::size_t v) { root[v] = shell.root(static_cast<u32>(v)); });
   // Per shell (by root, its smallest vertex: the origin of its sums, so that their error scales

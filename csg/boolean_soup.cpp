@@ -5,7 +5,6 @@
 #include <cstring>
 #include <numeric>
 
-
 #include "csg/boolean_impl.h"
 #include "kernel/parallel.h"
 #include "kernel/predicates.h"

@@ -5,7 +5,6 @@
 #include <atomic>
 #include <cmath>
 
-
 #include "csg/boolean_impl.h"
 #include "kernel/parallel.h"
 

@@ -29,7 +29,6 @@
 #include <cmath>
 #include <numeric>
 
-
 #include "csg/boolean_impl.h"
 #include "kernel/error.h"
 #include "kernel/parallel.h"
