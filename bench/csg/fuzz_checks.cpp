@@ -76,8 +76,9 @@ Run run_boolean(BooleanOp op, const std::vector<const Mesh*>& ops) {
   ++state.shared->booleans[state.gen];
   const double t0 = now_s();
   state.shared->bool_start = t0;
+  BooleanStats st;
   try {
-    run.r = boolean(op, ops);
+    run.r = boolean(op, ops, &st);
     run.ok = true;
   } catch (const Error& e) {
     run.error = e.what();
@@ -92,9 +93,12 @@ Run run_boolean(BooleanOp op, const std::vector<const Mesh*>& ops) {
   const double seconds = now_s() - t0;
   if (seconds > 2) {
     count(kSlow);
-    std::printf("SLOW %s %s %.1fs operands=%zu triangles=%zu result=%zu %s\n", state.case_name.c_str(),
-                boolean_op_name(op), seconds, ops.size(), triangles_of(ops), run.ok ? run.r.mesh.triangles.size() : 0,
-                run.ok ? "" : run.error.c_str());
+    // Where the time went (stage ms as BooleanStats gives them), so a slow case says which stage to look at.
+    std::printf("SLOW %s %s %.1fs operands=%zu triangles=%zu result=%zu stages(ms)=%.0f/%.0f/%.0f/%.0f/%.0f "
+                "pairs=%zu pieces=%zu resolutions=%zu reorders=%zu %s\n",
+                state.case_name.c_str(), boolean_op_name(op), seconds, ops.size(), triangles_of(ops),
+                run.ok ? run.r.mesh.triangles.size() : 0, st.check, st.broad, st.arrange, st.classify, st.output,
+                st.pairs, st.pieces, st.resolutions, st.reorders, run.ok ? "" : run.error.c_str());
   }
   return run;
 }
