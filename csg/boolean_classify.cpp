@@ -445,21 +445,33 @@ std::vector<std::int8_t> classify(const Points& pts, const Arrangement& arr, Boo
       const int x0 = cell(clo[0], gx0, gx1), y0 = cell(clo[1], gy0, gy1);
       if (x0 == cell(chi[0], gx0, gx1) && y0 == cell(chi[1], gy0, gy1)) candidates = &cells[x0 * grid + y0];
     }
-    // One operand can settle a piece by itself: inside another operand of a union, inside a
-    // subtrahend of a difference or outside its first operand, the piece has the same membership
-    // on both sides and is dropped, whatever the other operands say (a sponge drops most of its
-    // 120 thousand patches so, after a ray or two instead of one per bar above them).
+    // One operand can settle a piece by itself: inside another operand of a union, outside one of
+    // an intersection, inside a subtrahend of a difference or outside its first operand, the piece
+    // has the same membership on both sides and is dropped, whatever the other operands say (a
+    // sponge drops most of its 120 thousand patches so, after a ray or two instead of one per bar
+    // above them; nine nearly coincident spheres' intersection, most of its patches after two
+    // rays instead of eight).
     auto settles = [&](int j) {
-      if (op == BooleanOp::Intersection) return false;
       int w = 0;
       for (const auto& x : winding)
         if (x.first == j) w = x.second;
-      return op == BooleanOp::Union ? w > 0 : (j == 0 ? w <= 0 : w > 0);
+      switch (op) {
+        case BooleanOp::Union: return w > 0;
+        case BooleanOp::Intersection: return w <= 0;
+        case BooleanOp::Difference: return j == 0 ? w <= 0 : w > 0;
+      }
+      return false;
     };
     if (op == BooleanOp::Difference && i != 0 && !near(0) && !coplanar_with(0)) {
       patch_keep[pi] = 0;  // outside the first operand's box
       return;
     }
+    if (op == BooleanOp::Intersection)
+      for (int j = 0; j < nops; ++j)
+        if (j != i && !near(j) && !coplanar_with(j)) {
+          patch_keep[pi] = 0;  // outside another operand's box
+          return;
+        }
     for (int j : *candidates)
       if (j != i && near(j) && !coplanar_with(j)) {
         query(j, lo, hi, hit);
