@@ -14,6 +14,7 @@
 #include "csg/boolean.h"
 #include "kernel/mesh.h"
 #include "kernel/types.h"
+#include "bench/csg/off_file.h"
 
 namespace wedge::fuzz {
 
@@ -91,11 +92,7 @@ inline void count(Outcome o) { ++state.shared->outcome[state.gen][o]; }
 double now_s();  // steady clock, seconds
 
 // ---------------------------------------------------------------- case files (fuzz_boolean.cpp)
-// OFF with %.17g, written and read as they are: no welding, no mending, no checks, so that an
-// invalid operand comes back as it went out (tessellate's write_mesh and read_mesh would mend or
-// refuse it). Both throw std::runtime_error naming the file.
-void write_off(const std::string& path, const Mesh& m);
-Mesh read_off(const std::string& path);
+// write_off and read_off: off_file.h.
 // DIR/operandNN.off (earlier .off files removed) and DIR/op.txt.
 void save_operands(const std::string& dir, BooleanOp op, const std::vector<const Mesh*>& ops);
 // The same and DIR/README: `what`, and how to replay the case and make it again.
