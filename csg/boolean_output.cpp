@@ -315,16 +315,24 @@ BooleanResult assemble(const Points& pts, const Arrangement& arr, const std::vec
     return n;
   });
   r.mesh.positions.resize(first.total());
-  std::vector<char> moved(first.total());  // the copies whose point rounding moved
+  // The copies whose point rounding moved (or, in a re-resolution, may move again: the rounded
+  // points of earlier passes), and of those the ones rounded now: only those can make a crossing
+  // that was not there, and only their triangles are checked (a re-resolution's input was
+  // checked, and the crossings it had are resolved exactly).
+  std::vector<char> moved(first.total());
+  std::vector<char> rounded_now(soup.movable.empty() ? 0 : first.total());
   fill_blocks(first, [&](std::size_t lo, std::size_t hi, std::size_t n) {
     for (std::size_t c = lo; c < hi; ++c)
       if (root[c] == c) {
         index[c] = static_cast<u32>(n);
         r.mesh.positions[n] = pts.approx(tris[c / 3][c % 3]);
         const u32 p = tris[c / 3][c % 3];
-        moved[n++] = !pts.is_double(p) || (p < soup.movable.size() && soup.movable[p]);
+        const bool now = !pts.is_double(p);
+        if (!rounded_now.empty()) rounded_now[n] = now;
+        moved[n++] = now || (p < soup.movable.size() && soup.movable[p]);
       }
   });
+  const std::vector<char>& changed = rounded_now.empty() ? moved : rounded_now;
   r.mesh.triangles.resize(nt);
   r.operand.resize(nt);
   r.source.resize(nt);
@@ -338,7 +346,7 @@ BooleanResult assemble(const Points& pts, const Arrangement& arr, const std::vec
     for (int k = 0; k < 3; ++k) {
       const u32 v = index[root[t * 3 + k]];
       r.mesh.triangles[t][k] = v;
-      any |= moved[v];
+      any |= changed[v];
     }
     recheck[t] = any != 0;
     u32 s = src[t];

@@ -592,14 +592,17 @@ std::size_t collapse_ulp_edges(BooleanResult& r, Rounding& rd, BooleanResult* sa
     return d > 0 && d <= m * 0x1p-49;
   };
   // The edges with an end that rounding moved: only in triangles to recheck (a triangle with a
-  // moved vertex is one). Found per block in parallel; sorted below, so in no order here.
+  // moved vertex is one), except in a re-resolution, whose earlier passes' rounded points may
+  // move but are in triangles rechecked only where this pass rounded a point. Found per block in
+  // parallel; sorted below, so in no order here.
   using Edge = std::pair<double, std::array<u32, 2>>;
   constexpr std::size_t kBlock = 65536;
   std::vector<std::vector<Edge>> found((nt + kBlock - 1) / kBlock);
+  const bool every = !rd.soup->movable.empty();
   parallel_blocks(nt, kBlock, [&](std::size_t lo, std::size_t hi) {
     auto& out = found[lo / kBlock];
     for (std::size_t t = lo; t < hi; ++t) {
-      if (!rd.recheck[t]) continue;
+      if (!every && !rd.recheck[t]) continue;
       for (int e = 0; e < 3; ++e) {
         const u32 a = tris[t][e], b = tris[t][(e + 1) % 3];
         if (a < b && (rd.moved[a] || rd.moved[b]) && ulp_short(a, b))
