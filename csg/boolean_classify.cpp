@@ -15,6 +15,8 @@
 // operands as their orientation says), the piece is kept facing out if the result holds the
 // space behind it and not in front, kept reversed if the other way round, and dropped otherwise.
 // Coplanar pieces of several operands that are kept are kept once: by the lowest operand.
+// With few operands, patches linked across edges where exactly two flat surfaces cross take their
+// winding numbers from one patch of their component, by the crossings between (see `carry`).
 #include <algorithm>
 #include <atomic>
 #include <cmath>
@@ -182,6 +184,122 @@ std::vector<std::int8_t> classify(const Points& pts, const Arrangement& arr, Boo
       if (patch_of[i] == i) reps[n++] = static_cast<u32>(i);
   });
 
+  // Winding numbers carried across cut edges instead of a ray per patch (nearly coincident
+  // sheets: 217,122 patches, each of whose rays the exact stages decide). Where exactly two
+  // operands' surfaces cross along an edge, each flat there (the edge inside one triangle of each,
+  // neither triangle with a coplanar overlap) and no other surface on it (four pieces on the
+  // edge), the two patches of one operand on either side of it lie on opposite sides of the
+  // other's plane: their winding numbers of that operand differ by one, more on the side its
+  // normal points away from, and of every other operand not at all. Patches so linked form
+  // components; one patch per component (its smallest) gets the rays, for every operand, and the
+  // others their winding numbers from it. With few operands, none settled, and not for one operand
+  // crossing itself.
+  const bool carry = !self && !settled && nops <= 32 && reps.size() > 64;
+  std::vector<u32> comp_of;                // per patch (index in reps): its component's root (index)
+  std::vector<std::int16_t> delta;         // per patch, per operand: its winding number less its root's
+  std::vector<char> linked;                // per patch: in a component of more than one patch
+  if (carry) {
+    std::vector<u32> index_of(np);  // piece -> its patch's index in reps (roots only are read)
+    parallel_for(0, reps.size(), [&](std::size_t r) { index_of[reps[r]] = static_cast<u32>(r); });
+    struct Link {
+      u32 a, b;  // patches (indices in reps): b's winding number of `op` is a's plus `step`
+      int op, step;
+    };
+    std::vector<Link> links;
+    // Patch b's side of triangle u's plane, from its piece q's corner off the edge (x, y).
+    auto step_to = [&](u32 q, u32 x, u32 y, u32 u) {
+      u32 c = kNone;
+      for (u32 v : pieces[q].v)
+        if (v != x && v != y) c = v;
+      const int side = c == kNone ? 0 : pts.side(Plane::of_triangle(soup.tris[u]), c);
+      return side > 0 ? -1 : side < 0 ? 1 : 0;  // in front of the other's surface: outside it there
+    };
+    for (std::size_t i = 0; i < half.size();) {
+      std::size_t j = i + 1;
+      while (j < half.size() && half[j].key == half[i].key) ++j;
+      if (j - i == 4) {
+        u32 p[4];
+        for (int n = 0; n < 4; ++n) p[n] = half[i + n].value;
+        // Two pieces of one triangle and two of another, of two operands.
+        auto tri = [&](int n) { return pieces[p[n]].tri; };
+        int group[4] = {0, -1, -1, -1}, other = -1;
+        for (int n = 1; n < 4; ++n)
+          if (tri(n) == tri(0)) group[n] = 0;
+          else if (other < 0 || tri(n) == tri(other)) group[n] = 1, other = other < 0 ? n : other;
+        const int in0 = (group[1] == 0) + (group[2] == 0) + (group[3] == 0);
+        const int in1 = (group[1] == 1) + (group[2] == 1) + (group[3] == 1);
+        if (in0 == 1 && in1 == 2) {
+          const u32 t[2] = {tri(0), tri(other)};
+          const int o[2] = {soup.operand[t[0]], soup.operand[t[1]]};
+          if (o[0] != o[1] && arr.coplanar(t[0]).empty() && arr.coplanar(t[1]).empty()) {
+            const u32 x = static_cast<u32>(half[i].key >> 32), y = static_cast<u32>(half[i].key & 0xffffffffu);
+            for (int g = 0; g < 2; ++g) {
+              u32 q[2];
+              int nq = 0;
+              for (int n = 0; n < 4; ++n)
+                if (group[n] == g) q[nq++] = p[n];
+              const u32 a = index_of[patch_of[q[0]]], b = index_of[patch_of[q[1]]];
+              const int step = a == b ? 0 : step_to(q[1], x, y, t[1 - g]);
+              if (step != 0) links.push_back({a, b, o[1 - g], step});
+            }
+          }
+        }
+      }
+      i = j;
+    }
+    soup.poll();
+    // The components, in order of their smallest patch, each walked from it.
+    const std::size_t nr = reps.size();
+    std::vector<u32> from(nr + 1, 0);
+    for (const auto& l : links) ++from[l.a + 1], ++from[l.b + 1];
+    for (std::size_t r = 0; r < nr; ++r) from[r + 1] += from[r];
+    struct Arc {
+      u32 to;
+      int op, step;
+    };
+    std::vector<Arc> arcs(2 * links.size());
+    {
+      std::vector<u32> at(from.begin(), from.end() - 1);
+      for (const auto& l : links) {
+        arcs[at[l.a]++] = {l.b, l.op, l.step};
+        arcs[at[l.b]++] = {l.a, l.op, -l.step};
+      }
+    }
+    comp_of.assign(nr, kNone);
+    delta.assign(nr * nops, 0);
+    linked.assign(nr, 0);
+    std::vector<u32> queue;
+    for (u32 root = 0; root < nr; ++root) {
+      if (comp_of[root] != kNone || from[root] == from[root + 1]) continue;
+      comp_of[root] = root;
+      queue.assign(1, root);
+      bool consistent = true;
+      for (std::size_t n = 0; n < queue.size(); ++n) {
+        const u32 x = queue[n];
+        for (u32 e = from[x]; e < from[x + 1]; ++e) {
+          const Arc& arc = arcs[e];
+          const u32 y = arc.to;
+          const std::int16_t* dx = &delta[static_cast<std::size_t>(x) * nops];
+          std::int16_t* dy = &delta[static_cast<std::size_t>(y) * nops];
+          if (comp_of[y] == kNone) {
+            comp_of[y] = root;
+            std::copy(dx, dx + nops, dy);
+            dy[arc.op] = static_cast<std::int16_t>(dy[arc.op] + arc.step);
+            queue.push_back(y);
+          } else {
+            // Around a cycle the steps add up to nothing (exactly); where they do not, the rays
+            // decide every patch of the component.
+            for (int j = 0; j < nops; ++j)
+              if (dy[j] != dx[j] + (j == arc.op ? arc.step : 0)) consistent = false;
+          }
+        }
+      }
+      if (consistent && queue.size() > 1)
+        for (u32 x : queue) linked[x] = 1;
+    }
+  }
+  std::vector<std::int16_t> root_w(carry ? reps.size() * nops : 0, 0);  // per component root: its winding numbers
+
   // A tree per operand, for the vertical rays, and each operand's box: a point outside the box
   // has winding number 0 there, so the operand's tree need not be looked at (a ray through a
   // Menger sponge meets a few bars' boxes, not every bar above it).
@@ -246,6 +364,8 @@ std::vector<std::int8_t> classify(const Points& pts, const Arrangement& arr, Boo
   std::vector<std::int8_t> patch_keep(np, 0);
   parallel_for(0, reps.size(), [&](std::size_t ri) {
     soup.poll();
+    const bool root = carry && linked[ri];
+    if (root && comp_of[ri] != ri) return;  // carried from its component's root below
     u32 pi = reps[ri];
     const Piece& piece = pieces[pi];
     u32 t = piece.tri;
@@ -260,7 +380,7 @@ std::vector<std::int8_t> classify(const Points& pts, const Arrangement& arr, Boo
       std::vector<char> in_front(nops, 0), behind(nops, 0);
       behind[i] = 1;
       patch_keep[pi] = keep_of(behind, in_front);
-      return;
+      return;  // (a root's mask: none)
     }
     // Set where the centroid lies on a triangle whose cut with t settle() left out: strictly inside
     // the operand that settled it, and so dropped.
@@ -462,24 +582,32 @@ std::vector<std::int8_t> classify(const Points& pts, const Arrangement& arr, Boo
       }
       return false;
     };
-    if (op == BooleanOp::Difference && i != 0 && !near(0) && !coplanar_with(0)) {
+    if (root) {
+      // Every operand's winding number (no early stop: the component's other patches need them).
+      if (!coplanar.empty()) fail("boolean: internal error: a linked patch lies on another operand's surface");
+      for (int j : *candidates)
+        if (j != i && near(j)) query(j, lo, hi, hit);
+      for (const auto& [j, w] : winding) root_w[ri * nops + j] = static_cast<std::int16_t>(w);
+    }
+    if (!root && op == BooleanOp::Difference && i != 0 && !near(0) && !coplanar_with(0)) {
       patch_keep[pi] = 0;  // outside the first operand's box
       return;
     }
-    if (op == BooleanOp::Intersection)
+    if (!root && op == BooleanOp::Intersection)
       for (int j = 0; j < nops; ++j)
         if (j != i && !near(j) && !coplanar_with(j)) {
           patch_keep[pi] = 0;  // outside another operand's box
           return;
         }
-    for (int j : *candidates)
-      if (j != i && near(j) && !coplanar_with(j)) {
-        query(j, lo, hi, hit);
-        if (on_settled || settles(j)) {
-          patch_keep[pi] = 0;
-          return;
+    if (!root)
+      for (int j : *candidates)
+        if (j != i && near(j) && !coplanar_with(j)) {
+          query(j, lo, hi, hit);
+          if (on_settled || settles(j)) {
+            patch_keep[pi] = 0;
+            return;
+          }
         }
-      }
     front.assign(nops, 0);
     back.assign(nops, 0);
     back[i] = 1;
@@ -492,6 +620,19 @@ std::vector<std::int8_t> classify(const Points& pts, const Arrangement& arr, Boo
     if (keep && !coplanar.empty() && coplanar.front().first < i) keep = 0;
     patch_keep[pi] = keep;
   });
+  if (carry)
+    parallel_for(0, reps.size(), [&](std::size_t ri) {
+      if (!linked[ri] || comp_of[ri] == ri) return;
+      const std::int16_t* w0 = &root_w[static_cast<std::size_t>(comp_of[ri]) * nops];
+      const std::int16_t* d = &delta[ri * nops];
+      const int i = soup.operand[pieces[reps[ri]].tri];
+      thread_local std::vector<char> front, back;
+      front.assign(nops, 0);
+      back.assign(nops, 0);
+      for (int j = 0; j < nops; ++j) front[j] = back[j] = j != i && w0[j] + d[j] > 0;
+      back[i] = 1;
+      patch_keep[reps[ri]] = keep_of(back, front);
+    });
   std::vector<std::int8_t> keep(np);
   parallel_blocks(np, kBlock, [&](std::size_t lo, std::size_t hi) {
     for (std::size_t p = lo; p < hi; ++p) keep[p] = patch_keep[patch_of[p]];
