@@ -364,8 +364,8 @@ std::vector<std::int8_t> classify(const Points& pts, const Arrangement& arr, Boo
   std::vector<std::int8_t> patch_keep(np, 0);
   parallel_for(0, reps.size(), [&](std::size_t ri) {
     soup.poll();
-    const bool root = carry && linked[ri];
-    if (root && comp_of[ri] != ri) return;  // carried from its component's root below
+    if (carry && linked[ri] && comp_of[ri] != ri) return;  // carried from its component's root below
+    const bool root = carry && linked[ri];  // (its component's root: every winding number wanted)
     u32 pi = reps[ri];
     const Piece& piece = pieces[pi];
     u32 t = piece.tri;
@@ -380,7 +380,7 @@ std::vector<std::int8_t> classify(const Points& pts, const Arrangement& arr, Boo
       std::vector<char> in_front(nops, 0), behind(nops, 0);
       behind[i] = 1;
       patch_keep[pi] = keep_of(behind, in_front);
-      return;  // (a root's mask: none)
+      return;  // (a root's winding numbers: all 0, as root_w has them)
     }
     // Set where the centroid lies on a triangle whose cut with t settle() left out: strictly inside
     // the operand that settled it, and so dropped.
