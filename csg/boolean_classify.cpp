@@ -220,26 +220,16 @@ std::vector<std::int8_t> classify(const Points& pts, const Arrangement& arr, Boo
       if (j - i == 4) {
         u32 p[4];
         for (int n = 0; n < 4; ++n) p[n] = half[i + n].value;
-        // Two pieces of one triangle and two of another, of two operands.
-        auto tri = [&](int n) { return pieces[p[n]].tri; };
-        int group[4] = {0, -1, -1, -1}, other = -1;
-        for (int n = 1; n < 4; ++n)
-          if (tri(n) == tri(0)) group[n] = 0;
-          else if (other < 0 || tri(n) == tri(other)) group[n] = 1, other = other < 0 ? n : other;
-        const int in0 = (group[1] == 0) + (group[2] == 0) + (group[3] == 0);
-        const int in1 = (group[1] == 1) + (group[2] == 1) + (group[3] == 1);
-        if (in0 == 1 && in1 == 2) {
-          const u32 t[2] = {tri(0), tri(other)};
+        // Two pieces of one triangle and two of another, of two operands (a run is in piece
+        // order, and pieces are in triangle order).
+        const u32 t[2] = {pieces[p[0]].tri, pieces[p[2]].tri};
+        if (pieces[p[1]].tri == t[0] && pieces[p[3]].tri == t[1] && t[0] != t[1]) {
           const int o[2] = {soup.operand[t[0]], soup.operand[t[1]]};
           if (o[0] != o[1] && arr.coplanar(t[0]).empty() && arr.coplanar(t[1]).empty()) {
             const u32 x = static_cast<u32>(half[i].key >> 32), y = static_cast<u32>(half[i].key & 0xffffffffu);
             for (int g = 0; g < 2; ++g) {
-              u32 q[2];
-              int nq = 0;
-              for (int n = 0; n < 4; ++n)
-                if (group[n] == g) q[nq++] = p[n];
-              const u32 a = index_of[patch_of[q[0]]], b = index_of[patch_of[q[1]]];
-              const int step = a == b ? 0 : step_to(q[1], x, y, t[1 - g]);
+              const u32 a = index_of[patch_of[p[2 * g]]], b = index_of[patch_of[p[2 * g + 1]]];
+              const int step = a == b ? 0 : step_to(p[2 * g + 1], x, y, t[1 - g]);
               if (step != 0) links.push_back({a, b, o[1 - g], step});
             }
           }

@@ -884,8 +884,7 @@ int orient3d_undecided(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& 
     const DD bx = DD(b.x()) - DD(a.x()), by = DD(b.y()) - DD(a.y()), bz = DD(b.z()) - DD(a.z());
     const DD cx = DD(c.x()) - DD(a.x()), cy = DD(c.y()) - DD(a.y()), cz = DD(c.z()) - DD(a.z());
     const DD dx = DD(d.x()) - DD(a.x()), dy = DD(d.y()) - DD(a.y()), dz = DD(d.z()) - DD(a.z());
-    const DD det = bx * (cy * dz - cz * dy) + by * (cz * dx - cx * dz) + bz * (cx * dy - cy * dx);
-    if (const int s = sign_of(det); s != 2) return s;
+    if (const int s = sign_of(det3(bx, by, bz, cx, cy, cz, dx, dy, dz)); s != 2) return s;
   }
   return wedge::orient3d(a, b, c, d);
 }

@@ -809,7 +809,7 @@ struct Arrangement {
   // triangle and on no cut (so these two are the only pieces on it), else kNone.
   std::vector<std::pair<u32, std::array<u32, 3>>, NoInit<std::pair<u32, std::array<u32, 3>>>> inner;
   std::size_t quads = 0, quad_points = 0;  // flat_quads()' groups and points left out
-  std::vector<u32> quad_tris;  // the input triangles retriangulated in those groups (ascending)
+  std::vector<u32> quad_tris;  // the input triangles retriangulated in those groups
   // Per input triangle (empty: none), the other half of its flat quadrilateral where the cuts of
   // their diagonal were erased from coplanar triangles' works (FlatQuads::erased), else kNone: a
   // piece of such a coplanar triangle may have its centroid on the diagonal, in neither half.

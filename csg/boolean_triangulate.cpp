@@ -848,11 +848,9 @@ Arrangement arrange(Points& pts, const std::vector<std::array<u32, 2>>& pairs, b
   Arrangement arr;
   arr.quads = quads.groups;
   arr.quad_points = quads.dropped;
-  if (quads.groups > 0) {
+  if (quads.groups > 0)
     for (std::size_t wi = 0; wi < work.size(); ++wi)
       if (quads.quad[wi][0] != kNone || quads.absorbed[wi]) arr.quad_tris.push_back(touched[wi]);
-    std::sort(arr.quad_tris.begin(), arr.quad_tris.end());
-  }
   if (!quads.erased.empty()) {
     arr.quad_partner.assign(nt, kNone);
     for (const auto& e : quads.erased) {
