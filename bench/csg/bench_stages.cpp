@@ -8,8 +8,7 @@
 // union of 8 x 8 x 8 overlapping spheres of 1280 triangles), classic (cube n sphere, then minus
 // three cylinders), truss (the union of an octet truss: 126 struts and 27 balls), bosses (issue 16's plate as meshes: a 42 x 42 x 2
 // plate united with 400 bored bosses of 24 sides in one pass, then minus 400 drills), or all;
-// or dir:PATH, the boolean of a folder the fuzzer saved (PATH/operand*.off in name order, the op
-// in PATH/op.txt).
+// or dir:PATH, the boolean of a folder the fuzzer saved (off_file.h).
 // Each line gives the minimum over the repeats of the CPU time and of each stage, and a hash of the
 // last result's bits (the same at any thread count, and after any change that keeps the engine's
 // decisions).
@@ -19,8 +18,6 @@
 #include <cstdio>
 #include <cstdlib>
 #include <ctime>
-#include <filesystem>
-#include <fstream>
 #include <string>
 #include <vector>
 
@@ -144,25 +141,13 @@ int main(int argc, char** argv) {
   if (all || which == "lattice") run("lattice 512 spheres union", BooleanOp::Union, sphere_lattice(8, 1280));
   if (all || which == "bosses") bosses();
   if (which.rfind("dir:", 0) == 0) {
-    const std::filesystem::path dir = which.substr(4);
-    std::vector<std::filesystem::path> files;
-    for (const auto& e : std::filesystem::directory_iterator(dir))
-      if (e.path().extension() == ".off" && e.path().filename().string().rfind("operand", 0) == 0) files.push_back(e.path());
-    std::sort(files.begin(), files.end());
-    std::vector<Mesh> ops;
-    for (const auto& f : files) ops.push_back(fuzz::read_off(f.string()));
-    std::string word;
-    std::ifstream(dir / "op.txt") >> word;
-    BooleanOp op = BooleanOp::Union;
-    bool known = false;
-    for (BooleanOp o : {BooleanOp::Union, BooleanOp::Intersection, BooleanOp::Difference})
-      if (word == boolean_op_name(o)) op = o, known = true;
-    if (!known || ops.empty()) {
-      std::fprintf(stderr, "bench_stages: %s: no operand*.off, or op.txt is not union, intersection or difference\n",
-                   dir.c_str());
+    const std::string dir = which.substr(4);
+    try {
+      run(dir.c_str(), fuzz::read_case_op(dir), fuzz::read_case_operands(dir));
+    } catch (const std::runtime_error& e) {
+      std::fprintf(stderr, "bench_stages: %s\n", e.what());
       return 1;
     }
-    run(dir.c_str(), op, ops);
   }
   return 0;
 }

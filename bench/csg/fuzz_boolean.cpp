@@ -70,12 +70,6 @@ std::string how_to_rerun(const std::string& dir) {
          std::to_string(state.seed) + " --cases 1\n";
 }
 
-BooleanOp parse_op(const std::string& word) {
-  for (BooleanOp op : {BooleanOp::Union, BooleanOp::Intersection, BooleanOp::Difference})
-    if (word == boolean_op_name(op)) return op;
-  throw std::runtime_error("unknown op '" + word + "' (union, intersection or difference)");
-}
-
 }  // namespace
 
 void save_operands(const std::string& dir, BooleanOp op, const std::vector<const Mesh*>& ops) {
@@ -124,16 +118,8 @@ struct ReplayOptions {
 
 int replay(const ReplayOptions& o) {
   state.case_name = o.dir;
-  std::string word = o.op;
-  if (word.empty() && !(std::ifstream(o.dir + "/op.txt") >> word)) throw std::runtime_error("cannot read '" + o.dir + "/op.txt'");
-  const BooleanOp op = parse_op(word);
-  std::vector<std::string> files;
-  for (const auto& e : fs::directory_iterator(o.dir))
-    if (e.path().extension() == ".off") files.push_back(e.path().string());
-  if (files.empty()) throw std::runtime_error(o.dir + " holds no operand .off files");
-  std::sort(files.begin(), files.end());
-  std::vector<Mesh> ms;
-  for (const auto& f : files) ms.push_back(read_off(f));
+  const BooleanOp op = o.op.empty() ? read_case_op(o.dir) : parse_op(o.op);
+  std::vector<Mesh> ms = read_case_operands(o.dir);
   if (o.pow2)
     for (auto& m : ms) m = scaled_pow2(m, o.pow2);
   if (o.crop_r > 0) {
@@ -155,7 +141,7 @@ int replay(const ReplayOptions& o) {
     BooleanStats st;
     const BooleanResult r = boolean(op, ops, &st);
     std::printf("%s: %.3f s, %zu triangles, welded %zu, reorders %zu, resolutions %zu, collapses %zu, flat shells %zu\n",
-                word.c_str(), now_s() - t0, r.mesh.triangles.size(), st.welded, st.reorders, st.resolutions, st.collapses,
+                boolean_op_name(op), now_s() - t0, r.mesh.triangles.size(), st.welded, st.reorders, st.resolutions, st.collapses,
                 st.flat_shells);
     std::string where;
     const bool crosses = wedge::testing::exact_self_intersects(r.mesh, &where);
@@ -166,7 +152,7 @@ int replay(const ReplayOptions& o) {
                 wedge::testing::exact_volume(r.mesh));
     write_off((o.save.empty() ? o.dir : o.save) + "/result.off.out", r.mesh);
   } catch (const Error& e) {
-    std::printf("%s: wedge::Error after %.3f s: %s\n", word.c_str(), now_s() - t0, e.what());
+    std::printf("%s: wedge::Error after %.3f s: %s\n", boolean_op_name(op), now_s() - t0, e.what());
   }
   // (CGAL's corefinement of many nearly coincident operands can take many minutes: 5 at most.)
   double volume = 0;

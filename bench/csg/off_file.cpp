@@ -5,6 +5,8 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <algorithm>
+#include <filesystem>
 #include <fstream>
 #include <stdexcept>
 
@@ -54,6 +56,29 @@ Mesh read_off(const std::string& path) {
     m.triangles.push_back(t);
   }
   return m;
+}
+
+BooleanOp parse_op(const std::string& word) {
+  for (BooleanOp op : {BooleanOp::Union, BooleanOp::Intersection, BooleanOp::Difference})
+    if (word == boolean_op_name(op)) return op;
+  throw std::runtime_error("unknown op '" + word + "' (union, intersection or difference)");
+}
+
+BooleanOp read_case_op(const std::string& dir) {
+  std::string word;
+  if (!(std::ifstream(dir + "/op.txt") >> word)) throw std::runtime_error("cannot read '" + dir + "/op.txt'");
+  return parse_op(word);
+}
+
+std::vector<Mesh> read_case_operands(const std::string& dir) {
+  std::vector<std::string> files;
+  for (const auto& e : std::filesystem::directory_iterator(dir))
+    if (e.path().extension() == ".off") files.push_back(e.path().string());
+  if (files.empty()) throw std::runtime_error(dir + " holds no operand .off files");
+  std::sort(files.begin(), files.end());
+  std::vector<Mesh> ms;
+  for (const auto& f : files) ms.push_back(read_off(f));
+  return ms;
 }
 
 }  // namespace wedge::fuzz
