@@ -258,10 +258,9 @@ std::vector<char> radially_embedded(const Soup& soup, const std::vector<char>* s
     for (std::size_t v = b * 65536; v < std::min(nv, (b + 1) * 65536); ++v) {
       const u32 k0 = corners.off[v], k1 = corners.off[v + 1];
       if (k0 == k1) continue;
-      // The corners are in triangle order, so in operand order: one operand where the first and
-      // the last are of the same one (nearly every vertex).
-      const std::int32_t op0 = soup.operand[static_cast<u32>(corners.next[k0])];
-      if (op0 == soup.operand[static_cast<u32>(corners.next[k1 - 1])]) {
+      // A vertex whose positions are all of one operand has only that operand's corners (nearly
+      // every vertex); else the corners, in triangle order and so in operand order, say whose.
+      if (const std::int32_t op0 = v < soup.vertex_operand.size() ? soup.vertex_operand[v] : -1; op0 >= 0) {
         add(op0, soup.verts[v]);
         continue;
       }
