@@ -302,6 +302,9 @@ void set_axis(Soup& s, std::size_t t);
 void mend_flat_triangles(Soup& s, const std::vector<char>& check);
 // Whether triangles t and u meet anywhere but in the vertices or edge they share (exact).
 bool triangles_clash(const Soup& s, u32 t, u32 u);
+// Whether triangles t and u (their corners) meet, where their planes cross: st[k] the side of
+// t[k] of u's plane and su[k] of u[k] of t's plane (orient3d), none 0, neither all alike (exact).
+bool crossing_triangles_meet(const Vec3* const t[3], const int st[3], const Vec3* const u[3], const int su[3]);
 
 // The box of soup triangle t (exact: the min and max of its vertices).
 inline void triangle_box(const Soup& s, u32 t, double lo[3], double hi[3]) {
