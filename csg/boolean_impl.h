@@ -943,7 +943,9 @@ struct Rounding {
 // on the rounded doubles) (boolean_round.cpp).
 std::vector<u32> rounding_defects(const Mesh& m, const Rounding& rd);
 // Mends rounding defects where it can (the bad ones left in `left`); true when none is left.
-bool repair_rounding(BooleanResult& r, Rounding& rd, std::vector<u32>* left, bool snap);
+// With `flat_shells`: where the first check finds defects, the shells thinner than rounding are
+// left out first (drop_flat_shells), their number added there.
+bool repair_rounding(BooleanResult& r, Rounding& rd, std::vector<u32>* left, bool snap, std::size_t* flat_shells = nullptr);
 // Before the repair: edges 8-16 ulps long with a rounded end (cut points apart only by the inputs'
 // rounding) collapse into their other end where the link condition holds, orientations in the
 // sources' projections stay, and that end lies within an ulp of every joined triangle's source

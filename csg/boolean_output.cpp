@@ -402,11 +402,12 @@ BooleanResult assemble(const Points& pts, const Arrangement& arr, const std::vec
   BooleanResult saved;
   Rounding saved_rd;
   const std::size_t ulp_collapses = collapse_ulp_edges(r, rd, &saved, &saved_rd);
-  bool ok = repair_rounding(r, rd, crossing, snap);
+  bool ok = repair_rounding(r, rd, crossing, snap, &flat);
   if (!ok && ulp_collapses > 0) {
     r = std::move(saved);
     rd = std::move(saved_rd);
-    ok = repair_rounding(r, rd, crossing, snap);
+    flat = 0;  // (its flat shells are back)
+    ok = repair_rounding(r, rd, crossing, snap, &flat);
   } else {
     rd.collapses += ulp_collapses;
   }
