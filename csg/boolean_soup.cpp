@@ -230,7 +230,6 @@ Soup boolean_detail::make_soup(const std::vector<const Mesh*>& operands, const I
   s.axis.resize(nt);
   s.axis_sign.resize(nt);
   parallel_for(0, nt, [&](std::size_t t) { set_axis(s, t); });
-
   return s;
 }
 
