@@ -61,14 +61,19 @@ namespace wedge::boolean_detail {
 // small into the hot loops.
 int orient2d_undecided(double ax, double ay, double bx, double by, double cx, double cy);
 int orient3d_undecided(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d);
-inline int orient2d_fast(double ax, double ay, double bx, double by, double cx, double cy) {
-  const double l = (bx - ax) * (cy - ay), r = (by - ay) * (cx - ax);
+// orient2d_fast's filter on its two products, l - r the determinant: its sign, or 0 where the
+// bound does not decide it.
+inline int orient2d_filter(double l, double r) {
   const double det = l - r;
   const double bound = 3.3306690738754716e-16 * (std::abs(l) + std::abs(r));
   if (bound > 1e-280) {  // far from underflow, where the bound holds
     if (det > bound) return 1;
     if (-det > bound) return -1;
   }
+  return 0;
+}
+inline int orient2d_fast(double ax, double ay, double bx, double by, double cx, double cy) {
+  if (const int s = orient2d_filter((bx - ax) * (cy - ay), (by - ay) * (cx - ax))) return s;
   return orient2d_undecided(ax, ay, bx, by, cx, cy);
 }
 // The first stages of the point predicates (Points::orient2d, Points::incircle_certain), on

@@ -240,17 +240,16 @@ void boolean_detail::set_axis(Soup& s, std::size_t t) {
   const Vec3 &a = s.verts[T[0]], &b = s.verts[T[1]], &c = s.verts[T[2]];
   // The common case without branches on the axes' order (a sphere's triangles take them at
   // random): the axis of the largest |n_k| (the lowest of equals), whose normal component is the
-  // projection's orient2d, l_k - r_k, decided by orient2d_fast's bound as it would be there.
+  // projection's orient2d, l_k - r_k, decided by orient2d_fast's filter as it would be there.
   const Vec3 u = b - a, w = c - a;
   const double l[3] = {u[1] * w[2], u[2] * w[0], u[0] * w[1]}, r[3] = {u[2] * w[1], u[0] * w[2], u[1] * w[0]};
   const double d[3] = {l[0] - r[0], l[1] - r[1], l[2] - r[2]};
   const double m0 = std::abs(d[0]), m1 = std::abs(d[1]), m2 = std::abs(d[2]);
   int k = m1 > m0 ? 1 : 0;
   k = m2 > std::max(m0, m1) ? 2 : k;
-  const double bound = 3.3306690738754716e-16 * (std::abs(l[k]) + std::abs(r[k]));
-  if (bound > 1e-280 && std::abs(d[k]) > bound) {
+  if (const int o = orient2d_filter(l[k], r[k])) {
     s.axis[t] = static_cast<std::int8_t>(k);
-    s.axis_sign[t] = static_cast<std::int8_t>(d[k] > 0 ? 1 : -1);
+    s.axis_sign[t] = static_cast<std::int8_t>(o);
     return;
   }
   const Vec3 nrm = u.cross(w);
