@@ -19,10 +19,6 @@
 #include "kernel/parallel.h"
 #include "kernel/predicates.h"
 
-#include <cstdio>
-namespace wedge::boolean_detail { inline std::atomic<long> g_o3{0};
-struct G3 { ~G3() { std::fprintf(stderr, "O3CALLS %ld\n", g_o3.load()); } }; inline G3 g3; }
-#define orient3d_fast(...) (++wedge::boolean_detail::g_o3, wedge::boolean_detail::orient3d_fast(__VA_ARGS__))
 namespace wedge {
 
 using namespace boolean_detail;
