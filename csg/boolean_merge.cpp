@@ -61,6 +61,29 @@ std::size_t merge_flat(const Points& pts, std::vector<std::array<u32, 3>>& tris,
     const int o = pts.orient2d(U[0], U[1], U[2], k);  // non-zero: U is in S's plane
     return (o * (fu ? -1 : 1)) == (soup.axis_sign[s] * (fs ? -1 : 1));
   };
+  // Whether a fan's triangles lie in at most two oriented planes (the cheap rejection on curved
+  // surfaces, where a cut point's triangles come from three or more source planes): each
+  // triangle's plane in `group` (0 or 1), their count in `groups`.
+  auto two_planes = [&](const std::vector<u32>& fan, std::vector<char>& group, int& groups) {
+    const std::size_t n = fan.size();
+    group.assign(n, 0);
+    groups = 1;
+    std::size_t rep[2] = {0, 0};
+    for (std::size_t y = 1; y < n; ++y) {
+      const u32 ty = fan[y];
+      if (same_side(src[fan[rep[0]]], flipped[fan[rep[0]]], src[ty], flipped[ty])) continue;
+      if (groups == 2 && same_side(src[fan[rep[1]]], flipped[fan[rep[1]]], src[ty], flipped[ty])) {
+        group[y] = 1;
+      } else if (groups == 1) {
+        rep[1] = y;
+        group[y] = 1;
+        groups = 2;
+      } else {
+        return false;
+      }
+    }
+    return true;
+  };
   for (int pass = 0; pass < 16; ++pass) {
     soup.poll();
     const std::size_t nt = tris.size();
@@ -97,6 +120,21 @@ std::size_t merge_flat(const Points& pts, std::vector<std::array<u32, 3>>& tris,
         for (u32 v : tris[t])
           if (near[v]) around[next[v]++] = t;
     }
+    // The plane test of every candidate's fan as the pass finds it, in parallel (exact, and most of
+    // the work where nothing merges: a curved result's cut points). A collapse changes only the
+    // fans of the points it marks `changed`, which the loop below tests again.
+    std::vector<char> planes_ok(cands.size(), 0);
+    parallel_blocks(cands.size(), 512, [&](std::size_t lo, std::size_t hi) {
+      std::vector<u32> fan_;
+      std::vector<char> group_;
+      for (std::size_t ci = lo; ci < hi; ++ci) {
+        const u32 v = cands[ci];
+        if (off[v + 1] - off[v] < 3) continue;
+        fan_.assign(around.begin() + off[v], around.begin() + off[v + 1]);
+        int groups = 0;
+        planes_ok[ci] = two_planes(fan_, group_, groups);
+      }
+    });
     std::vector<char> locked(np, 0), gone(nt, 0), changed(np, 0);  // changed: in a triangle changed
     std::size_t collapsed = 0;
     std::vector<u32> fan, order, targets, nbx, opposite;
@@ -106,31 +144,15 @@ std::size_t merge_flat(const Points& pts, std::vector<std::array<u32, 3>>& tris,
       const u32 v = cands[ci];
       if ((ci & 0xffff) == 0) soup.poll();
       if (locked[v] || off[v + 1] - off[v] < 3) continue;
+      if (!changed[v] && !planes_ok[ci]) continue;  // its fan as it was, and that failed
       fan.clear();
       for (u32 i = off[v]; i < off[v + 1]; ++i)
         if (!gone[around[i]]) fan.push_back(around[i]);
       const std::size_t n = fan.size();
       if (n < 3) continue;
-      // Planes first (the cheap rejection on curved surfaces, where a cut point's triangles come
-      // from three or more source planes): at most two oriented planes.
-      group.assign(n, 0);
-      int groups = 1;
-      std::size_t rep[2] = {0, 0};
+      int groups = 0;
+      if (!two_planes(fan, group, groups)) continue;
       bool ok = true;
-      for (std::size_t y = 1; y < n && ok; ++y) {
-        const u32 ty = fan[y];
-        if (same_side(src[fan[rep[0]]], flipped[fan[rep[0]]], src[ty], flipped[ty])) continue;
-        if (groups == 2 && same_side(src[fan[rep[1]]], flipped[fan[rep[1]]], src[ty], flipped[ty])) {
-          group[y] = 1;
-        } else if (groups == 1) {
-          rep[1] = y;
-          group[y] = 1;
-          groups = 2;
-        } else {
-          ok = false;
-        }
-      }
-      if (!ok) continue;
       // The fan: each triangle (v, a, b) turned so that v is first; a closed fan has each
       // neighbour once as a and once as b, and following a -> b visits every triangle once.
       ab.resize(n);
