@@ -58,7 +58,8 @@ void tri_box(const Soup& s, u32 t, double lo[3], double hi[3]) { triangle_box(s,
 Bvh::Bvh(const Soup& soup, std::vector<u32> ids, int d, bool by_operand) : items(std::move(ids)), dims(d) {
   if (items.empty()) return;
   const std::size_t n = items.size();
-  std::vector<std::array<float, 6>> box(n);
+  // (The arrays below are written whole before they are read: not zeroed first, serially.)
+  std::vector<std::array<float, 6>, NoInit<std::array<float, 6>>> box(n);
   double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
   {
     // Per block, then the blocks' bounds merged (min and max: the same at any thread count).
@@ -124,7 +125,7 @@ Bvh::Bvh(const Soup& soup, std::vector<u32> ids, int d, bool by_operand) : items
     u32 i;
     u32 rank;  // the operand's, with by_operand (else 0)
   };
-  std::vector<Key> order(n);
+  std::vector<Key, NoInit<Key>> order(n);
   parallel_for(0, n, [&](std::size_t i) {
     order[i] = {morton(box[i].data()), static_cast<u32>(i), by_operand ? rank[soup.operand[items[i]]] : 0u};
   });
@@ -132,7 +133,7 @@ Bvh::Bvh(const Soup& soup, std::vector<u32> ids, int d, bool by_operand) : items
   radix_sort(order, [](const Key& k) { return k.code; });
   soup.poll();
   if (by_operand) {
-    std::vector<Key> spare(n);
+    std::vector<Key, NoInit<Key>> spare(n);
     std::vector<u32> at(static_cast<std::size_t>(soup.operands) + 1, 0);
     for (const Key& k : order) ++at[k.rank + 1];
     for (int o = 0; o < soup.operands; ++o) at[o + 1] += at[o];
@@ -143,8 +144,8 @@ Bvh::Bvh(const Soup& soup, std::vector<u32> ids, int d, bool by_operand) : items
   std::vector<u32> sorted(n);
   const std::size_t stride = n + 8;
   boxes.resize(6 * stride);
-  std::vector<std::uint64_t> scode(n);  // the sort keys in tree order: operand rank, then code
-  std::vector<u32> srank(n, 0);
+  std::vector<std::uint64_t, NoInit<std::uint64_t>> scode(n);  // the sort keys in tree order: operand rank, then code
+  std::vector<u32, NoInit<u32>> srank(n);
   parallel_for(0, n, [&](std::size_t i) {
     sorted[i] = items[order[i].i];
     for (int k = 0; k < 6; ++k) boxes[k * stride + i] = box[order[i].i][k];

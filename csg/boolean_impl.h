@@ -47,6 +47,7 @@
 
 #include "csg/boolean.h"
 #include "csg/boolean_dsu_impl.h"  // Dsu: union-find, serial, shared and by blocks
+#include "csg/boolean_sort_impl.h"  // radix_sort
 #include "kernel/memory.h"
 #include "kernel/parallel.h"
 #include "kernel/predicates.h"
@@ -676,7 +677,7 @@ class Bvh {
   std::vector<u32> items;
   // items[i]'s box by position i: six rows of `stride` floats (lo x, y, z, hi x, y, z), 8 boxes
   // past the items' that meet nothing (the join compares a leaf's boxes four at a time).
-  std::vector<float> boxes;
+  std::vector<float, NoInit<float>> boxes;  // (every entry written by the constructor)
   const float* box_row(int k) const { return boxes.data() + static_cast<std::size_t>(k) * (boxes.size() / 6); }
   int dims = 3;
 };
@@ -823,24 +824,6 @@ struct Arrangement {
   // piece of such a coplanar triangle may have its centroid on the diagonal, in neither half.
   std::vector<u32> quad_partner;
 };
-// Sorts v stably by key(x) (an unsigned 64-bit value): least significant digit first, 11 bits
-// at a time, passes over a digit that every element shares left out.
-template <class T, class A, class Key>
-inline void radix_sort(std::vector<T, A>& v, Key&& key) {
-  const std::size_t n = v.size();
-  if (n < 2) return;
-  std::vector<T, A> spare(n);
-  std::vector<u32> count(2049);
-  for (int shift = 0; shift < 64; shift += 11) {
-    std::fill(count.begin(), count.end(), 0u);
-    for (const T& x : v) ++count[((key(x) >> shift) & 0x7ff) + 1];
-    if (count[1 + ((key(v[0]) >> shift) & 0x7ff)] == n) continue;  // one digit everywhere
-    for (std::size_t d = 0; d < 2048; ++d) count[d + 1] += count[d];
-    for (const T& x : v) spare[count[(key(x) >> shift) & 0x7ff]++] = x;
-    v.swap(spare);
-  }
-}
-
 struct Settlement;
 // With `quads`, cut triangles are grouped into flat quadrilaterals (flat_quads), but for the
 // triangles of cuts `settled` left out (classify asks about those per source triangle). Not for
