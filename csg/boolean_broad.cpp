@@ -103,14 +103,29 @@ Bvh::Bvh(const Soup& soup, std::vector<u32> ids, int d, bool by_operand) : items
   // one operand, so the join can leave out an operand's own pairs whole subtrees at a time.
   std::vector<u32> rank;
   if (by_operand) {
-    std::vector<std::array<float, 6>> ob(soup.operands, {INFINITY, INFINITY, INFINITY, -INFINITY, -INFINITY, -INFINITY});
-    for (std::size_t i = 0; i < n; ++i) {
-      auto& o = ob[soup.operand[items[i]]];
-      for (int a = 0; a < 3; ++a) {
-        o[a] = std::min(o[a], box[i][a]);
-        o[a + 3] = std::max(o[a + 3], box[i][a + 3]);
+    // Each operand's box: per block of items, then the blocks' merged (min and max: the same at
+    // any thread count).
+    constexpr std::array<float, 6> kNoBox = {INFINITY, INFINITY, INFINITY, -INFINITY, -INFINITY, -INFINITY};
+    constexpr std::size_t kBlock = 16384;
+    const std::size_t blocks = (n + kBlock - 1) / kBlock, nops = static_cast<std::size_t>(soup.operands);
+    std::vector<std::array<float, 6>> part(blocks * nops, kNoBox);
+    parallel_for(0, blocks, [&](std::size_t b) {
+      std::array<float, 6>* pb = part.data() + b * nops;
+      for (std::size_t i = b * kBlock; i < std::min(n, (b + 1) * kBlock); ++i) {
+        auto& o = pb[soup.operand[items[i]]];
+        for (int a = 0; a < 3; ++a) {
+          o[a] = std::min(o[a], box[i][a]);
+          o[a + 3] = std::max(o[a + 3], box[i][a + 3]);
+        }
       }
-    }
+    });
+    std::vector<std::array<float, 6>> ob(nops, kNoBox);
+    for (std::size_t b = 0; b < blocks; ++b)
+      for (std::size_t o = 0; o < nops; ++o)
+        for (int a = 0; a < 3; ++a) {
+          ob[o][a] = std::min(ob[o][a], part[b * nops + o][a]);
+          ob[o][a + 3] = std::max(ob[o][a + 3], part[b * nops + o][a + 3]);
+        }
     std::vector<std::pair<std::uint64_t, u32>> ops;
     for (int o = 0; o < soup.operands; ++o)
       if (ob[o][0] <= ob[o][3]) ops.push_back({morton(ob[o].data()), static_cast<u32>(o)});
@@ -119,7 +134,7 @@ Bvh::Bvh(const Soup& soup, std::vector<u32> ids, int d, bool by_operand) : items
     for (std::size_t r = 0; r < ops.size(); ++r) rank[ops[r].second] = static_cast<u32>(r);
   }
   // Sorted by (rank, code, index): a stable radix sort, 11 bits of the code at a time from the
-  // lowest, then (with by_operand) a stable counting pass by rank.
+  // lowest, then (with by_operand) stably by rank (another radix pass).
   struct Key {
     std::uint64_t code;
     u32 i;
@@ -132,14 +147,7 @@ Bvh::Bvh(const Soup& soup, std::vector<u32> ids, int d, bool by_operand) : items
   soup.poll();
   radix_sort(order, [](const Key& k) { return k.code; });
   soup.poll();
-  if (by_operand) {
-    std::vector<Key, NoInit<Key>> spare(n);
-    std::vector<u32> at(static_cast<std::size_t>(soup.operands) + 1, 0);
-    for (const Key& k : order) ++at[k.rank + 1];
-    for (int o = 0; o < soup.operands; ++o) at[o + 1] += at[o];
-    for (const Key& k : order) spare[at[k.rank]++] = k;
-    order.swap(spare);
-  }
+  if (by_operand) radix_sort(order, [](const Key& k) { return static_cast<std::uint64_t>(k.rank); });  // (stable)
   soup.poll();
   std::vector<u32> sorted(n);
   const std::size_t stride = n + 8;

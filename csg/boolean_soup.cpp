@@ -418,20 +418,31 @@ void boolean_detail::sort_edges(EdgeRecs& recs, std::size_t n, const Interrupt* 
   const std::size_t chunks =
       m < (std::size_t(1) << 16) ? 1 : std::min<std::size_t>(8, thread_count());
   const std::size_t per = (m + chunks - 1) / chunks;
-  std::vector<std::vector<u32>> next(chunks, std::vector<u32>(n, 0));
+  std::vector<std::vector<u32>> next(chunks);
   parallel_for(0, chunks, [&](std::size_t c) {
+    next[c].assign(n, 0);
     for (std::size_t r = c * per; r < std::min(m, (c + 1) * per); ++r) ++next[c][recs[r].key >> 32];
   });
   poll();
-  std::vector<u32> off(n + 1, 0);
-  for (std::size_t v = 0, at = 0; v < n; ++v) {
-    off[v] = static_cast<u32>(at);
-    for (std::size_t c = 0; c < chunks; ++c) {
-      const u32 k = next[c][v];
-      next[c][v] = static_cast<u32>(at);
-      at += k;
+  // Where each vertex's records start, and each chunk's among them: per block of vertices in
+  // parallel, from the block's start.
+  std::vector<u32, NoInit<u32>> off(n + 1);
+  const auto from = block_starts(n, 16384, [&](std::size_t lo, std::size_t hi) {
+    std::size_t k = 0;
+    for (std::size_t v = lo; v < hi; ++v)
+      for (std::size_t c = 0; c < chunks; ++c) k += next[c][v];
+    return k;
+  });
+  fill_blocks(from, [&](std::size_t lo, std::size_t hi, std::size_t at) {
+    for (std::size_t v = lo; v < hi; ++v) {
+      off[v] = static_cast<u32>(at);
+      for (std::size_t c = 0; c < chunks; ++c) {
+        const u32 k = next[c][v];
+        next[c][v] = static_cast<u32>(at);
+        at += k;
+      }
     }
-  }
+  });
   off[n] = static_cast<u32>(m);
   EdgeRecs out(m);
   poll();

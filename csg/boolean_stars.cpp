@@ -29,24 +29,35 @@ CornerLists corner_lists(const Soup& soup, const std::vector<char>* listed, cons
   const std::size_t chunks =
       nt < (std::size_t(1) << 16) ? 1 : std::min<std::size_t>(8, thread_count());
   const std::size_t per = (nt + chunks - 1) / chunks;
-  std::vector<std::vector<u32>> at(chunks, std::vector<u32>(nv, 0));
+  std::vector<std::vector<u32>> at(chunks);
   parallel_for(0, chunks, [&](std::size_t c) {
+    at[c].assign(nv, 0);
     for (std::size_t t = c * per; t < std::min(nt, (c + 1) * per); ++t)
       if (take(t))
         for (u32 v : soup.tris[t])
           if (!wanted || (*wanted)[v]) ++at[c][v];
   });
   soup.poll();
-  cl.off.assign(nv + 1, 0);
-  for (std::size_t v = 0, sum = 0; v < nv; ++v) {
-    cl.off[v] = static_cast<u32>(sum);
-    for (std::size_t c = 0; c < chunks; ++c) {
-      const u32 n = at[c][v];
-      at[c][v] = static_cast<u32>(sum);
-      sum += n;
+  // Where each vertex's corners start, and each chunk's among them: per block of vertices in
+  // parallel, from the block's start.
+  cl.off.resize(nv + 1);
+  const auto from = block_starts(nv, 16384, [&](std::size_t lo, std::size_t hi) {
+    std::size_t n = 0;
+    for (std::size_t v = lo; v < hi; ++v)
+      for (std::size_t c = 0; c < chunks; ++c) n += at[c][v];
+    return n;
+  });
+  fill_blocks(from, [&](std::size_t lo, std::size_t hi, std::size_t sum) {
+    for (std::size_t v = lo; v < hi; ++v) {
+      cl.off[v] = static_cast<u32>(sum);
+      for (std::size_t c = 0; c < chunks; ++c) {
+        const u32 n = at[c][v];
+        at[c][v] = static_cast<u32>(sum);
+        sum += n;
+      }
     }
-    cl.off[v + 1] = static_cast<u32>(sum);
-  }
+  });
+  cl.off[nv] = static_cast<u32>(from.total());
   soup.poll();
   cl.next.resize(cl.off[nv]);
   cl.prev.resize(cl.off[nv]);
