@@ -60,6 +60,12 @@ Bvh::Bvh(const Soup& soup, std::vector<u32> ids, int d, bool by_operand) : items
   const std::size_t n = items.size();
   // (The arrays below are written whole before they are read: not zeroed first, serially.)
   std::vector<std::array<float, 6>, NoInit<std::array<float, 6>>> box(n);
+  // The boxes are kept as offsets from the operands' lowest corner (see `origin`).
+  for (const auto& b : soup.boxes)
+    for (int a = 0; a < 3; ++a)
+      if (std::isfinite(b[a])) origin[a] = std::isfinite(origin[a]) ? std::min(origin[a], b[a]) : b[a];
+  for (double& o : origin)
+    if (!std::isfinite(o)) o = 0;
   double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
   {
     // Per block, then the blocks' bounds merged (min and max: the same at any thread count).
@@ -73,6 +79,8 @@ Bvh::Bvh(const Soup& soup, std::vector<u32> ids, int d, bool by_operand) : items
         double blo[3], bhi[3];
         tri_box(soup, items[i], blo, bhi);
         for (int a = 0; a < 3; ++a) {
+          blo[a] -= origin[a];
+          bhi[a] -= origin[a];
           box[i][a] = down(blo[a]);
           box[i][a + 3] = up(bhi[a]);
           bb[a] = std::min(bb[a], blo[a]);

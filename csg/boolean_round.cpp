@@ -128,7 +128,8 @@ std::vector<u32> rounding_defects(const Mesh& m, const Rounding& rd) {
     // of which 21,678 are taken).
     const Bvh::Node& root = near.nodes[0];
     std::vector<std::uint8_t> code(m.positions.size());
-    parallel_for(0, m.positions.size(), [&](std::size_t v) { code[v] = off_box(m.positions[v], root.lo, root.hi); });
+    const Vec3 at(near.origin[0], near.origin[1], near.origin[2]);  // (the tree's boxes are offsets from it)
+    parallel_for(0, m.positions.size(), [&](std::size_t v) { code[v] = off_box(Vec3(m.positions[v] - at), root.lo, root.hi); });
     std::vector<char> take(nt, 0);
     parallel_for(0, nt, [&](std::size_t u) {
       const auto& T = m.triangles[u];
