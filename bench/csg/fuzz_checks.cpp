@@ -9,6 +9,7 @@
 // threads_every-th seed runs again at 2 threads and must give the same bits. A bad operand must
 // be refused with a wedge::Error naming it. Results the engine cannot round to doubles ("cannot
 // be rounded") and booleans over the work budget are allowed, and counted apart.
+#include <poll.h>
 #include <sys/prctl.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -357,6 +358,20 @@ bool oracle_volume(BooleanOp op, const std::vector<const Mesh*>& ops, double* vo
     _exit(write(fd[1], msg, sizeof msg) == static_cast<ssize_t>(sizeof msg) ? 0 : 1);
   }
   close(fd[1]);
+  // CGAL's corefinement can loop for good (a 4-operand union through one point ran 11 minutes
+  // in its constrained triangulation): given --hang seconds, then killed and reported as the
+  // oracle's, not left to the driver, which would call the case a hang of the engine's.
+  pollfd pfd{fd[0], POLLIN, 0};
+  int ready = 0;
+  do ready = poll(&pfd, 1, static_cast<int>(std::min(state.hang, 1e6) * 1000));
+  while (ready < 0 && errno == EINTR);
+  if (ready == 0) {
+    kill(pid, SIGKILL);
+    waitpid(pid, nullptr, 0);
+    close(fd[0]);
+    std::printf("ORACLE-HANG %s %s (over %g s)\n", state.case_name.c_str(), boolean_op_name(op), state.hang);
+    return false;
+  }
   double msg[2] = {0, 0};
   const bool got = read(fd[0], msg, sizeof msg) == static_cast<ssize_t>(sizeof msg);
   close(fd[0]);
