@@ -1,5 +1,6 @@
 // radix_sort: the stable sort by a 64-bit key that the boolean engine's passes use (tree order,
-// pairs, edge records, triangulation entries). Included by boolean_impl.h.
+// pairs, edge records, triangulation entries), and chunk_offsets, the middle of the counting sorts
+// by vertex (corner lists, edge records). Included by boolean_impl.h.
 #pragma once
 #include <algorithm>
 #include <cstddef>
@@ -62,6 +63,32 @@ inline void radix_sort(std::vector<T, A>& v, Key&& key) {
     });
     v.swap(spare);
   }
+}
+
+// The middle of a counting sort done over chunks of the items at once: counts[c][k] (chunk c's
+// items of key k, for keys 0 .. keys - 1) become where chunk c's items of key k go (keys in order,
+// each key's chunks in order), and off[k] where key k's items start (off holds keys + 1 entries).
+// Per block of keys in parallel, from the block's start.
+template <class Off>
+inline void chunk_offsets(std::vector<std::vector<std::uint32_t>>& counts, std::size_t keys, Off& off) {
+  const std::size_t chunks = counts.size();
+  const auto from = block_starts(keys, 16384, [&](std::size_t lo, std::size_t hi) {
+    std::size_t n = 0;
+    for (std::size_t k = lo; k < hi; ++k)
+      for (std::size_t c = 0; c < chunks; ++c) n += counts[c][k];
+    return n;
+  });
+  fill_blocks(from, [&](std::size_t lo, std::size_t hi, std::size_t at) {
+    for (std::size_t k = lo; k < hi; ++k) {
+      off[k] = static_cast<std::uint32_t>(at);
+      for (std::size_t c = 0; c < chunks; ++c) {
+        const std::uint32_t n = counts[c][k];
+        counts[c][k] = static_cast<std::uint32_t>(at);
+        at += n;
+      }
+    }
+  });
+  off[keys] = static_cast<std::uint32_t>(from.total());
 }
 
 }  // namespace wedge::boolean_detail

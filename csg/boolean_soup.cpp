@@ -424,26 +424,8 @@ void boolean_detail::sort_edges(EdgeRecs& recs, std::size_t n, const Interrupt* 
     for (std::size_t r = c * per; r < std::min(m, (c + 1) * per); ++r) ++next[c][recs[r].key >> 32];
   });
   poll();
-  // Where each vertex's records start, and each chunk's among them: per block of vertices in
-  // parallel, from the block's start.
   std::vector<u32, NoInit<u32>> off(n + 1);
-  const auto from = block_starts(n, 16384, [&](std::size_t lo, std::size_t hi) {
-    std::size_t k = 0;
-    for (std::size_t v = lo; v < hi; ++v)
-      for (std::size_t c = 0; c < chunks; ++c) k += next[c][v];
-    return k;
-  });
-  fill_blocks(from, [&](std::size_t lo, std::size_t hi, std::size_t at) {
-    for (std::size_t v = lo; v < hi; ++v) {
-      off[v] = static_cast<u32>(at);
-      for (std::size_t c = 0; c < chunks; ++c) {
-        const u32 k = next[c][v];
-        next[c][v] = static_cast<u32>(at);
-        at += k;
-      }
-    }
-  });
-  off[n] = static_cast<u32>(m);
+  chunk_offsets(next, n, off);
   EdgeRecs out(m);
   poll();
   parallel_for(0, chunks, [&](std::size_t c) {

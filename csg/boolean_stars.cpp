@@ -38,26 +38,8 @@ CornerLists corner_lists(const Soup& soup, const std::vector<char>* listed, cons
           if (!wanted || (*wanted)[v]) ++at[c][v];
   });
   soup.poll();
-  // Where each vertex's corners start, and each chunk's among them: per block of vertices in
-  // parallel, from the block's start.
   cl.off.resize(nv + 1);
-  const auto from = block_starts(nv, 16384, [&](std::size_t lo, std::size_t hi) {
-    std::size_t n = 0;
-    for (std::size_t v = lo; v < hi; ++v)
-      for (std::size_t c = 0; c < chunks; ++c) n += at[c][v];
-    return n;
-  });
-  fill_blocks(from, [&](std::size_t lo, std::size_t hi, std::size_t sum) {
-    for (std::size_t v = lo; v < hi; ++v) {
-      cl.off[v] = static_cast<u32>(sum);
-      for (std::size_t c = 0; c < chunks; ++c) {
-        const u32 n = at[c][v];
-        at[c][v] = static_cast<u32>(sum);
-        sum += n;
-      }
-    }
-  });
-  cl.off[nv] = static_cast<u32>(from.total());
+  chunk_offsets(at, nv, cl.off);
   soup.poll();
   cl.next.resize(cl.off[nv]);
   cl.prev.resize(cl.off[nv]);
