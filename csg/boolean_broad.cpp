@@ -155,7 +155,11 @@ Bvh::Bvh(const Soup& soup, std::vector<u32> ids, int d, bool by_operand) : items
   soup.poll();
   radix_sort(order, [](const Key& k) { return k.code; });
   soup.poll();
-  if (by_operand) radix_sort(order, [](const Key& k) { return static_cast<std::uint64_t>(k.rank); });  // (stable)
+  if (by_operand) {
+    int bits = 1;  // (the ranks' width: one counting pass for a few operands, not six)
+    while (bits < 64 && (std::uint64_t(1) << bits) < static_cast<std::uint64_t>(soup.operands)) ++bits;
+    radix_sort(order, [](const Key& k) { return static_cast<std::uint64_t>(k.rank); }, bits);  // (stable)
+  }
   soup.poll();
   std::vector<u32> sorted(n);
   const std::size_t stride = n + 8;

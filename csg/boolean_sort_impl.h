@@ -11,21 +11,22 @@
 
 namespace wedge::boolean_detail {
 
-// Sorts v stably by key(x) (an unsigned 64-bit value): least significant digit first, 11 bits
-// at a time, passes over a digit that every element shares left out. With more than one thread
+// Sorts v stably by key(x) (an unsigned 64-bit value below 2^bits): least significant digit
+// first, 11 bits at a time, passes over a digit that every element shares left out (each such
+// digit still costs a counting pass: a narrow key says so with `bits`). With more than one thread
 // and many elements, each pass counts and scatters by blocks in parallel (each block's share of
 // a digit placed after the earlier blocks' shares: the same order as the serial pass, so the
 // same result at any thread count); the serial passes were a third of a 130k-triangle tree's
 // build, and a tenth of its boolean's time outside parallel loops at two threads.
 template <class T, class A, class Key>
-inline void radix_sort(std::vector<T, A>& v, Key&& key) {
+inline void radix_sort(std::vector<T, A>& v, Key&& key, int bits = 64) {
   const std::size_t n = v.size();
   if (n < 2) return;
   std::vector<T, A> spare(n);
   constexpr std::size_t kDigits = 2048, kBlock = 16384;
   if (n < 2 * kBlock || thread_count() == 1) {
     std::vector<std::uint32_t> count(kDigits + 1);
-    for (int shift = 0; shift < 64; shift += 11) {
+    for (int shift = 0; shift < bits; shift += 11) {
       std::fill(count.begin(), count.end(), 0u);
       for (const T& x : v) ++count[((key(x) >> shift) & 0x7ff) + 1];
       if (count[1 + ((key(v[0]) >> shift) & 0x7ff)] == n) continue;  // one digit everywhere
@@ -38,7 +39,7 @@ inline void radix_sort(std::vector<T, A>& v, Key&& key) {
   const std::size_t blocks = (n + kBlock - 1) / kBlock;
   std::vector<std::uint32_t> at(blocks * kDigits);  // per block and digit: a count, then where it goes
   std::vector<std::uint32_t> run(kDigits + 1);
-  for (int shift = 0; shift < 64; shift += 11) {
+  for (int shift = 0; shift < bits; shift += 11) {
     parallel_for(0, blocks, [&](std::size_t b) {
       std::uint32_t* c = at.data() + b * kDigits;
       std::fill(c, c + kDigits, 0u);
