@@ -44,8 +44,9 @@ struct H {
   NT c[4];  // X, Y, Z, W
 };
 
+// The normal n of plane P (its offset d = -n . a, a = its first vertex, in plane_eval below).
 template <class NT>
-void plane_eval(const Soup& s, const Plane& P, NT n[3], NT& d) {
+void plane_normal(const Soup& s, const Plane& P, NT n[3]) {
   const Vec3& a = s.verts[P.a];
   const Vec3& b = s.verts[P.b];
   NT ax = lift<NT>(a.x()), ay = lift<NT>(a.y()), az = lift<NT>(a.z());
@@ -69,7 +70,13 @@ void plane_eval(const Soup& s, const Plane& P, NT n[3], NT& d) {
     n[1] = -ux;
     n[2] = lift<NT>(0);
   }
-  d = -(n[0] * ax + n[1] * ay + n[2] * az);
+}
+
+template <class NT>
+void plane_eval(const Soup& s, const Plane& P, NT n[3], NT& d) {
+  plane_normal(s, P, n);
+  const Vec3& a = s.verts[P.a];
+  d = -(n[0] * lift<NT>(a.x()) + n[1] * lift<NT>(a.y()) + n[2] * lift<NT>(a.z()));
 }
 
 // Whether coordinate i of point d is a double known without arithmetic (then set): an input
@@ -111,25 +118,43 @@ H<NT> point_eval(const Soup& s, const PointDef& def) {
         h.c[3] = qk - pk;
         return h;
       }
-    NT n[3], d;
-    plane_eval(s, def.P[0], n, d);
-    NT P[3] = {lift<NT>(p.x()), lift<NT>(p.y()), lift<NT>(p.z())};
-    NT Q[3] = {lift<NT>(q.x()), lift<NT>(q.y()), lift<NT>(q.z())};
-    NT dp = n[0] * P[0] + n[1] * P[1] + n[2] * P[2] + d;
-    NT dq = n[0] * Q[0] + n[1] * Q[1] + n[2] * Q[2] + d;
-    for (int i = 0; i < 3; ++i) h.c[i] = dp * Q[i] - dq * P[i];
+    // The end points' distances from the plane as n . (p - a), a its first vertex: the same
+    // numbers as n . p + d, but without d's terms, which grow with the coordinates while the
+    // distances grow with the scene. (In that form, a part 1e-8 of its coordinates wide had the
+    // filter's intervals of its cut points as wide as the part, and a union of four nearly
+    // coincident spheres at 1e8 spent 2 s in double-double arithmetic where 0.1 s did at 0.)
+    NT n[3];
+    plane_normal(s, def.P[0], n);
+    const Vec3& a = s.verts[def.P[0].a];
+    NT dp = lift<NT>(0), dq = lift<NT>(0);
+    for (int i = 0; i < 3; ++i) {
+      dp = dp + n[i] * (lift<NT>(p[i]) - lift<NT>(a[i]));
+      dq = dq + n[i] * (lift<NT>(q[i]) - lift<NT>(a[i]));
+    }
+    for (int i = 0; i < 3; ++i) h.c[i] = dp * lift<NT>(q[i]) - dq * lift<NT>(p[i]);
     h.c[3] = dp - dq;
     return h;
   }
-  NT n1[3], n2[3], n3[3], d1, d2, d3;
-  plane_eval(s, def.P[0], n1, d1);
-  plane_eval(s, def.P[1], n2, d2);
-  plane_eval(s, def.P[2], n3, d3);
+  // Three planes n_k . (x - a_k) = 0, solved for x - v with v the first plane's first vertex (so
+  // that the right-hand sides n_k . (a_k - v) grow with the scene, not the coordinates, as above),
+  // then moved back by v W.
+  NT n1[3], n2[3], n3[3];
+  plane_normal(s, def.P[0], n1);
+  plane_normal(s, def.P[1], n2);
+  plane_normal(s, def.P[2], n3);
+  const Vec3& v = s.verts[def.P[0].a];
+  const Vec3& a2 = s.verts[def.P[1].a];
+  const Vec3& a3 = s.verts[def.P[2].a];
+  NT e2 = lift<NT>(0), e3 = lift<NT>(0);  // n_k . (a_k - v); the first plane's is 0
+  for (int i = 0; i < 3; ++i) {
+    e2 = e2 + n2[i] * (lift<NT>(a2[i]) - lift<NT>(v[i]));
+    e3 = e3 + n3[i] * (lift<NT>(a3[i]) - lift<NT>(v[i]));
+  }
   NT c23[3] = {n2[1] * n3[2] - n2[2] * n3[1], n2[2] * n3[0] - n2[0] * n3[2], n2[0] * n3[1] - n2[1] * n3[0]};
   NT c31[3] = {n3[1] * n1[2] - n3[2] * n1[1], n3[2] * n1[0] - n3[0] * n1[2], n3[0] * n1[1] - n3[1] * n1[0]};
   NT c12[3] = {n1[1] * n2[2] - n1[2] * n2[1], n1[2] * n2[0] - n1[0] * n2[2], n1[0] * n2[1] - n1[1] * n2[0]};
-  for (int i = 0; i < 3; ++i) h.c[i] = -(d1 * c23[i] + d2 * c31[i] + d3 * c12[i]);
   h.c[3] = n1[0] * c23[0] + n1[1] * c23[1] + n1[2] * c23[2];
+  for (int i = 0; i < 3; ++i) h.c[i] = e2 * c31[i] + e3 * c12[i] + lift<NT>(v[i]) * h.c[3];
   return h;
 }
 
@@ -773,6 +798,17 @@ int Points::incircle_certain(u32 a, u32 b, u32 c, u32 d, int k, double well, con
 int Points::orient2d_centroid(u32 u, u32 v, const std::array<u32, 3>& t, int k) const {
   {
     Filter guard;
+    // First on the coordinate boxes, relative to u (three times the centroid's offset from it):
+    // the homogeneous form's terms grow with the coordinates, the offsets with the scene.
+    const int i = (k + 1) % 3, j = (k + 2) % 3;
+    IA x[5], y[5];
+    const u32 id[5] = {u, v, t[0], t[1], t[2]};
+    bool boxed = true;
+    for (int n = 0; n < 5 && boxed; ++n) boxed = box_ia(box(id[n]), i, j, x[n], y[n]);
+    if (boxed) {
+      const IA sx = (x[2] - x[0]) + (x[3] - x[0]) + (x[4] - x[0]), sy = (y[2] - y[0]) + (y[3] - y[0]) + (y[4] - y[0]);
+      if (const int s = sign_of((x[1] - x[0]) * sy - (y[1] - y[0]) * sx); s != 2) return s;
+    }
     H<IA> c = centroid_of(to_ia(interval(t[0])), to_ia(interval(t[1])), to_ia(interval(t[2])));
     int s = orient2d_sign(to_ia(interval(u)), to_ia(interval(v)), c, k);
     if (s != 2) return s;
@@ -791,6 +827,20 @@ int Points::orient2d_centroid(u32 u, u32 v, const std::array<u32, 3>& t, int k) 
 int Points::side_centroid(const Plane& P, const std::array<u32, 3>& t) const {
   {
     Filter guard;
+    // First on the coordinate boxes, relative to the plane's first vertex (as orient2d_centroid).
+    IA n[3], r[3] = {IA(0), IA(0), IA(0)};
+    bool boxed = true;
+    for (int m = 0; m < 3 && boxed; ++m) {
+      const auto b = box(t[m]);
+      for (int i = 0; i < 3 && boxed; ++i) {
+        boxed = std::isfinite(b[i]) && std::isfinite(b[i + 3]);
+        if (boxed) r[i] += IA(b[i], b[i + 3]) - IA(soup_->verts[P.a][i]);
+      }
+    }
+    if (boxed) {
+      plane_normal(*soup_, P, n);
+      if (const int s = sign_of(n[0] * r[0] + n[1] * r[1] + n[2] * r[2]); s != 2) return s;
+    }
     H<IA> c = centroid_of(to_ia(interval(t[0])), to_ia(interval(t[1])), to_ia(interval(t[2])));
     int s = side_sign(*soup_, P, c);
     if (s != 2) return s;

@@ -484,3 +484,101 @@ TEST_CASE("boolean: two edges that cross get one point definition from all four 
     REQUIRE(d.P[0] == at_origin[0].P[0]);
   }
 }
+
+TEST_CASE("boolean points: a small part far from the origin gets cut points boxed tightly, and centroid tests that "
+          "agree with exact arithmetic", "[boolean][points]") {
+  // A part 1 wide at 1e8 (or -3e9): the distances of a segment's ends from a plane, computed as
+  // n . p + d, cancel d's terms of the coordinates' size, and the filter's interval of the cut
+  // point was as wide as the part (a union of four nearly coincident spheres at 1e8: 2 s in
+  // double-double arithmetic, 0.1 s at the origin). As n . (p - a) they are as tight as at 0.
+  std::mt19937_64 rng(40);
+  std::uniform_real_distribution<double> u(-0.5, 0.5);
+  for (double at : {0.0, 1e8, -3e9}) {
+    INFO("at " << at);
+    auto point = [&] { return Point3(at + u(rng), at + u(rng), at + u(rng)); };
+    int lpi = 0, tpi = 0, centroid_tests = 0;
+    for (int trial = 0; trial < 200; ++trial) {
+      Mesh m;
+      for (int i = 0; i < 9; ++i) m.positions.push_back(point());
+      // Three triangles; the third's corners nearly on the line through the first two vertices
+      // (for the centroid tests), a few ulps off it.
+      m.positions[6] = m.positions[0] + (m.positions[1] - m.positions[0]) * 0.25;
+      m.positions[7] = m.positions[0] + (m.positions[1] - m.positions[0]) * 0.5;
+      m.positions[8] = m.positions[0] + (m.positions[1] - m.positions[0]) * 0.75;
+      for (int k = 0; k < 3; ++k) m.positions[6 + k].z() = std::nextafter(m.positions[6 + k].z(), (k & 1) ? INFINITY : -INFINITY);
+      m.triangles = {{0, 1, 2}, {3, 4, 5}, {6, 7, 8}};
+      std::vector<const Mesh*> one{&m};
+      const Soup soup = make_soup(one);
+      Points pts(soup);
+      auto tight = [&](u32 p) {
+        const IntervalH h = pts.interval(p);
+        REQUIRE((h.lo[3] > 0 || h.hi[3] < 0));
+        // In ulps of the part's place (coordinates near 0 have ulps far finer than the part's): at
+        // most 300 or so at every place; before, 1.6e10 at 1e8 and 4.4e11 at -3e9.
+        const double ulp = std::ldexp(1.0, std::ilogb(std::max(std::abs(at), 1.0)) - 52);
+        for (int i = 0; i < 3; ++i) {
+          const double q[4] = {h.lo[i] / h.lo[3], h.lo[i] / h.hi[3], h.hi[i] / h.lo[3], h.hi[i] / h.hi[3]};
+          const double width = (std::max({q[0], q[1], q[2], q[3]}) - std::min({q[0], q[1], q[2], q[3]})) / ulp;
+          CHECK(width <= 1024);
+        }
+      };
+      // A segment of the second triangle across the first's plane.
+      const Plane P = Plane::of_triangle(soup.tris[0]);
+      for (u32 a = 3; a < 6; ++a) {
+        const u32 b = a == 5 ? 3 : a + 1;
+        const int sa = pts.side(P, a), sb = pts.side(P, b);
+        if (sa * sb >= 0) continue;
+        // Not grazing: the ends well away from the plane, for a filter to be tight at all.
+        const Vec3 n = (m.positions[1] - m.positions[0]).cross(m.positions[2] - m.positions[0]).normalized();
+        if (std::abs(n.dot(m.positions[a] - m.positions[0])) < 0.05 || std::abs(n.dot(m.positions[b] - m.positions[0])) < 0.05)
+          continue;
+        PointDef d;
+        d.kind = PointDef::Lpi;
+        d.p = a;
+        d.q = b;
+        d.P[0] = P;
+        tight(pts.add(d));
+        ++lpi;
+      }
+      // The three triangles' planes meet in a point (where they are not nearly parallel).
+      {
+        PointDef d;
+        d.kind = PointDef::Tpi;
+        d.P[0] = P;
+        d.P[1] = Plane::of_triangle(soup.tris[1]);
+        d.P[2] = Plane::wall(0, 2, 2);
+        const Vec3 n0 = (m.positions[1] - m.positions[0]).cross(m.positions[2] - m.positions[0]);
+        const Vec3 n1 = (m.positions[4] - m.positions[3]).cross(m.positions[5] - m.positions[3]);
+        const Vec3 n2 = (m.positions[2] - m.positions[0]).cross(Vec3(0, 0, 1));
+        if (std::abs(n0.dot(n1.cross(n2))) > 0.1 * n0.norm() * n1.norm() * n2.norm()) {
+          tight(pts.add(d));
+          ++tpi;
+        }
+      }
+      // orient2d(0, 1, centroid of 6 7 8) seen along z and side of the first plane of that
+      // centroid, against exact rational arithmetic on the doubles.
+      using Q = CGAL::Gmpq;
+      auto q = [&](u32 v, int i) { return Q(m.positions[v][i]); };
+      const std::array<u32, 3> t{6, 7, 8};
+      {
+        const Q cx = (q(6, 0) + q(7, 0) + q(8, 0)) / 3, cy = (q(6, 1) + q(7, 1) + q(8, 1)) / 3;
+        const Q det = (q(1, 0) - q(0, 0)) * (cy - q(0, 1)) - (q(1, 1) - q(0, 1)) * (cx - q(0, 0));
+        CHECK(pts.orient2d_centroid(0, 1, t, 2) == CGAL::sign(det));
+      }
+      {
+        Q c[3], e1[3], e2[3];
+        for (int i = 0; i < 3; ++i) {
+          c[i] = (q(6, i) + q(7, i) + q(8, i)) / 3 - q(0, i);
+          e1[i] = q(1, i) - q(0, i);
+          e2[i] = q(2, i) - q(0, i);
+        }
+        const Q n[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
+        CHECK(pts.side_centroid(P, t) == CGAL::sign(n[0] * c[0] + n[1] * c[1] + n[2] * c[2]));
+      }
+      ++centroid_tests;
+    }
+    CHECK(lpi > 100);
+    CHECK(tpi > 100);
+    CHECK(centroid_tests == 200);
+  }
+}

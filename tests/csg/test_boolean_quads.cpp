@@ -353,7 +353,9 @@ TEST_CASE("boolean: nearly flush boxes, slanted or turned: where rounding fails 
     // Nearly flush faces' pieces that rounding makes cross (no short edge to collapse, no ulp
     // to move): the rounded mesh's own exact arrangement, winding number >= 1 kept, rounds
     // cleanly.
-    CHECK(flush_case(4, 230, 2, BooleanOp::Difference).resolutions > 0);
+    // (Which cases need it depends on how the cut points round: seed 4's trial 230 did until
+    // session 40 evaluated them relative to their planes' vertices.)
+    CHECK(flush_case(21, 5, 2, BooleanOp::Difference).resolutions > 0);
     flush_case(1, 135, 2, BooleanOp::Difference);  // resolved again until the repair's flips stalled
   }
   SECTION("pieces of sheets a few ulps apart that rounding makes overlap: a vertex goes across a flat edge") {

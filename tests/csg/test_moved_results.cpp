@@ -114,16 +114,34 @@ TEST_CASE("a moved boolean result keeps its faces' tags and surfaces when it is 
 }
 
 TEST_CASE("a tree whose operand fails beside busy ones reports the failure instead of crashing", "[tree][moved]") {
-  // s = s + s mirrored and moved, six times: one moved copy is spoiled by rounding and the engine
-  // refuses it while other operands are still being evaluated in parallel. Their nested loops,
-  // cut short by TBB, returned as if done, and the tree went on with a null operand (SIGSEGV).
+  // One operand of a union is a difference whose second operand crosses itself (two overlapping
+  // tetrahedra in one closed mesh): its boolean fails while the union's other operands, booleans
+  // of their own, are being evaluated in parallel, and the tree reports that failure. (Found as
+  // s = s + s mirrored and moved, six times over, where rounding spoiled one moved copy: the
+  // others' nested loops, cut short by TBB, returned as if done, and the tree went on with a null
+  // operand, SIGSEGV. That mechanism is tested in tests/kernel/test_parallel.cpp; since session
+  // 40's cut points round differently, no moved copy there is spoiled any more.)
   Tolerance tol;
-  Solid s = Solid::boolean(BooleanOp::Difference, {brep_solid(sphere(1)), box_solid(Vec3(1, 1, 1))});
-  for (int i = 1; i <= 6; ++i)
-    s = Solid::boolean(BooleanOp::Union, {s, s.transformed(translate({0.3 * i, 0, 0}) * scale(Vec3(-1, 1, 1)))});
-  // The failure is the moved copy's, said as such: the tree passed the copy on as it was, and the
-  // union refused "the second operand", which the script never wrote.
-  CHECK_THROWS_WITH(s.mass_properties(tol), Catch::Contains("moved by a transform that is not exact"));
+  tol.chordal = 0.002;
+  const Solid part = Solid::boolean(BooleanOp::Difference, {brep_solid(sphere(1)), box_solid(Vec3(1, 1, 1))});
+  Mesh crossed;
+  for (double d : {0.0, 0.25}) {
+    const auto o = static_cast<std::uint32_t>(crossed.positions.size());
+    for (const Point3& p : {Point3(0, 0, 0), Point3(1, 0, 0), Point3(0, 1, 0), Point3(0, 0, 1)})
+      crossed.positions.push_back(p + Vec3(d, d, d));
+    for (const auto& t : std::vector<Mesh::Triangle>{{0, 2, 1}, {0, 1, 3}, {1, 2, 3}, {2, 0, 3}})
+      crossed.triangles.push_back({t[0] + o, t[1] + o, t[2] + o});
+  }
+  // The failing boolean's first operand takes as long as each of the others, so that it fails
+  // while they are in the middle of theirs.
+  auto busy = [&](int i) {
+    return Solid::boolean(BooleanOp::Union, {part, part.transformed(translate({0.3 * i, 0, 0}) * scale(Vec3(-1, 1, 1)))});
+  };
+  std::vector<Solid> operands;
+  operands.push_back(Solid::boolean(BooleanOp::Difference, {busy(1), Solid::from_mesh(crossed, "the crossed tetrahedra")}));
+  for (int i = 2; i <= 5; ++i) operands.push_back(busy(i));
+  const Solid s = Solid::boolean(BooleanOp::Union, operands);
+  CHECK_THROWS_WITH(s.mass_properties(tol), Catch::Contains("intersects itself"));
 }
 
 TEST_CASE("a mirrored and moved copy of a result, united with it four times over, stays valid", "[tree][moved]") {
