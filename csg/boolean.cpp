@@ -23,6 +23,13 @@ namespace wedge {
 
 using namespace boolean_detail;
 
+std::string boolean_detail::point_text(const Vec3& p) {
+  std::ostringstream o;
+  o.precision(17);
+  o << "(" << p.x() << ", " << p.y() << ", " << p.z() << ")";
+  return o.str();
+}
+
 namespace {
 
 // Meshes this engine has returned: closed, 2-manifold, outward and free of self-intersections
@@ -111,12 +118,7 @@ VerifiedResults& verified_results() {
   return v;
 }
 
-std::string at(const Vec3& p) {
-  std::ostringstream o;
-  o.precision(17);
-  o << "(" << p.x() << ", " << p.y() << ", " << p.z() << ")";
-  return o.str();
-}
+std::string at(const Vec3& p) { return point_text(p); }
 
 // For triangles t and u sharing no vertex, one of them in a plane x_k = c and the other not:
 // 1 where they meet, 0 where they do not, 2 where it is not decided here (neither lies in such a

@@ -620,6 +620,16 @@ std::vector<std::array<u32, 2>> candidate_pairs(const Soup& soup, std::array<u32
   std::vector<std::uint8_t> cert;
   // (Only for the pairs of one operand that are checked: none where every operand is known valid.)
   if (own) cert = star_certificates(soup, trusted, active);
+  // Shells of one checked operand that touch along an edge and overlap in the wedge between two
+  // of their triangles there: no pair of triangles below crosses (they share the edge).
+  std::array<u32, 2> folded = {kNone, kNone};
+  if (own && clash) {
+    std::vector<char> checked(soup.tris.size(), 1);
+    if (trusted)
+      for (std::size_t t = 0; t < checked.size(); ++t) checked[t] = !(*trusted)[soup.operand[t]];
+    const std::vector<u32> f = folded_edges(soup, cert, &checked);
+    if (!f.empty()) folded = {f[0], f[1]};
+  }
   // Per node: the operand of all its triangles (-1: several), and a vertex all its triangles
   // share with a certified star there (kNone: none). Pairs of one operand need no look unless
   // that operand is checked, and then not where both nodes hang on one certified vertex (the
@@ -705,9 +715,9 @@ std::vector<std::array<u32, 2>> candidate_pairs(const Soup& soup, std::array<u32
       },
       [&] { soup.poll(); }, skip);
   if (clash) {
-    *clash = {kNone, kNone};
+    *clash = folded;
     for (const auto& c : clashes)
-      if (c[0] != kNone) {
+      if (c[0] != kNone && folded[0] == kNone) {
         *clash = c;
         break;
       }

@@ -40,6 +40,7 @@
 #include <memory>
 #include <mutex>
 #include <span>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -278,6 +279,8 @@ BooleanResult boolean_as_given(BooleanOp op, const std::vector<const Mesh*>& ope
 Soup make_soup(const std::vector<const Mesh*>& meshes, const Interrupt* interrupt = nullptr);
 // A hash of a position, every bit mixed (-0 hashes as 0).
 std::uint64_t position_hash(const Vec3& at);
+// "(x, y, z)" with 17 digits, for error messages.
+std::string point_text(const Vec3& p);
 // Spreads the low 21 bits of x to every third bit (a Morton code's one axis).
 inline std::uint64_t morton_spread(std::uint64_t x) {
   x &= 0x1fffff;

@@ -198,12 +198,20 @@ BooleanResult assemble(const Points& pts, const Arrangement& arr, const std::vec
     }
   });
   {
-    std::atomic<bool> open{false};
+    // (The first such corner-edge, by index, names the edge: the same at any thread count.)
+    std::atomic<std::size_t> open{partner.size()};
     parallel_blocks(partner.size(), kBlock, [&](std::size_t lo, std::size_t hi) {
       for (std::size_t c = lo; c < hi; ++c)
-        if (partner[c] == kNone) open.store(true, std::memory_order_relaxed);
+        if (partner[c] == kNone) {
+          for (std::size_t o = open.load(std::memory_order_relaxed); c < o && !open.compare_exchange_weak(o, c);) {
+          }
+          break;
+        }
     });
-    if (open.load()) fail("boolean: internal error: the result has an open edge");
+    if (const std::size_t c = open.load(); c < partner.size()) {
+      const u32 a = tris[c / 3][c % 3], b = tris[c / 3][(c % 3 + 1) % 3];
+      fail("boolean: internal error: the result has an open edge, ", point_text(pts.approx(a)), " - ", point_text(pts.approx(b)));
+    }
   }
 
   // Vertex copies: corners (3*t+k) at the same point joined across paired edges. A point none

@@ -171,6 +171,9 @@ std::vector<u32> rounding_defects(const Mesh& m, const Rounding& rd) {
         bvh = Bvh(s, std::move(all), 3);
       },
       [&] { cert = star_certificates(s, nullptr, &active); });
+  // Shells touching along an edge that rounding turned into each other there (no triangle
+  // crosses another: the pairs below cannot see it).
+  for (u32 t : folded_edges(s, cert, &active)) bad[t] = 1;
   bvh.each_pair(
       &active, &s,
       [&](u32 t, u32 u) {

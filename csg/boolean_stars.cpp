@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <tuple>
 
 #include "csg/boolean_impl.h"
 #include "kernel/parallel.h"
@@ -396,6 +397,94 @@ std::vector<u32> pinched_vertices(const Soup& soup, const CornerLists& corners, 
   });
   std::vector<u32> out;
   for (const auto& f : found) out.insert(out.end(), f.begin(), f.end());
+  return out;
+}
+
+std::vector<u32> folded_edges(const Soup& soup, const std::vector<std::uint8_t>& cert, const std::vector<char>* active) {
+  const std::size_t nt = soup.tris.size();
+  auto key = [](u32 a, u32 b) { return static_cast<std::uint64_t>(std::min(a, b)) << 32 | std::max(a, b); };
+  // The edges to look at (few: most stars are certified), then every triangle on them.
+  // (Triangles with a repeated vertex, gone in a repair round, are passed over.)
+  auto gone = [&](std::size_t t) {
+    const auto& T = soup.tris[t];
+    return T[0] == T[1] || T[1] == T[2] || T[2] == T[0];
+  };
+  std::vector<std::uint64_t> look;
+  for (std::size_t t = 0; t < nt; ++t) {
+    if ((active && !(*active)[t]) || gone(t)) continue;
+    for (int e = 0; e < 3; ++e)
+      if (!(cert[t] >> e & 1) && !(cert[t] >> ((e + 1) % 3) & 1)) look.push_back(key(soup.tris[t][e], soup.tris[t][(e + 1) % 3]));
+  }
+  if (look.empty()) return {};
+  std::sort(look.begin(), look.end());
+  look.erase(std::unique(look.begin(), look.end()), look.end());
+  // (edge, operand, triangle): an operand's triangles about an edge are looked at by themselves
+  // (where operands meet is the boolean's business).
+  // (Only edges whose ends are both ends of such edges are searched for.)
+  std::vector<char> end(soup.verts.size(), 0);
+  for (std::uint64_t k : look) end[k >> 32] = end[static_cast<u32>(k)] = 1;
+  std::vector<std::tuple<std::uint64_t, std::int32_t, u32>> on;
+  for (std::size_t t = 0; t < nt; ++t)
+    for (int e = 0; e < 3 && !gone(t); ++e) {
+      const u32 u = soup.tris[t][e], v = soup.tris[t][(e + 1) % 3];
+      if (!end[u] || !end[v]) continue;
+      const std::uint64_t k = key(u, v);
+      if (std::binary_search(look.begin(), look.end(), k)) on.push_back({k, soup.operand[t], static_cast<u32>(t)});
+    }
+  std::sort(on.begin(), on.end());
+  std::vector<u32> out;
+  struct Sheet {
+    u32 t;
+    Vec3 c;     // the triangle's third corner
+    bool from;  // the triangle runs a -> b
+    int half;   // 0: less than a half-turn about a -> b from the first sheet (itself included)
+  };
+  std::vector<Sheet> sheets;
+  for (std::size_t i = 0, j; i < on.size(); i = j) {
+    for (j = i; j < on.size() && std::get<0>(on[j]) == std::get<0>(on[i]) && std::get<1>(on[j]) == std::get<1>(on[i]); ++j) {
+    }
+    if (j - i < 3) continue;
+    const u32 a = static_cast<u32>(std::get<0>(on[i]) >> 32), b = static_cast<u32>(std::get<0>(on[i]));
+    const Vec3 &A = soup.verts[a], &B = soup.verts[b];
+    sheets.clear();
+    for (std::size_t x = i; x < j; ++x) {
+      const u32 t = std::get<2>(on[x]);
+      const auto& T = soup.tris[t];
+      int c = 0;
+      while (T[c] == a || T[c] == b) ++c;
+      sheets.push_back({t, soup.verts[T[c]], T[(c + 1) % 3] == a, 0});
+    }
+    // Angles about a -> b from the first sheet, positive where orient3d(A, B, C0, C) > 0: the
+    // half-turn a sheet is in, then, within one, the order orient3d(A, B, Ci, Cj) > 0 gives.
+    // (A sheet in the first one's plane: the same half-plane where the two corners lie on one
+    // side of a b in a projection that keeps that plane's triangle non-degenerate.)
+    const Vec3 n0 = (B - A).cross(sheets[0].c - A);
+    int k = 0;
+    for (int d = 1; d < 3; ++d)
+      if (std::abs(n0[d]) > std::abs(n0[k])) k = d;
+    const int pi = (k + 1) % 3, pj = (k + 2) % 3;
+    auto side = [&](const Vec3& c) { return orient2d_fast(A[pi], A[pj], B[pi], B[pj], c[pi], c[pj]); };
+    const int s0 = side(sheets[0].c);
+    bool folded = s0 == 0;  // (a triangle of no area)
+    for (Sheet& x : sheets) {
+      const int o = orient3d_fast(A, B, sheets[0].c, x.c);
+      x.half = o > 0 || (o == 0 && side(x.c) == s0) ? 0 : 1;
+    }
+    std::sort(sheets.begin(), sheets.end(), [&](const Sheet& x, const Sheet& y) {
+      if (x.half != y.half) return x.half < y.half;
+      return orient3d_fast(A, B, x.c, y.c) > 0;
+    });
+    const std::size_t n = sheets.size();
+    for (std::size_t x = 0; x < n && !folded; ++x) {
+      const Sheet &p = sheets[x], &q = sheets[(x + 1) % n];
+      // Two in one half-plane (neither before the other), or two running the same way in a row.
+      folded = p.from == q.from || (p.half == q.half && orient3d_fast(A, B, p.c, q.c) == 0);
+    }
+    if (folded)
+      for (const Sheet& x : sheets) out.push_back(x.t);
+  }
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
   return out;
 }
 

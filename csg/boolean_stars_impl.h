@@ -43,6 +43,14 @@ std::vector<char> radially_embedded(const Soup& soup, const std::vector<char>* s
 // The vertices where the triangles of an operand marked in `look` make more than one fan (the
 // corner lists hold those operands' corners), ascending.
 std::vector<u32> pinched_vertices(const Soup& soup, const CornerLists& corners, const std::vector<char>& look);
+// The triangles about edges of three or more of one operand (shells that touch along an edge,
+// their positions welded) that are not, in their exact order about the edge, alternately from and to its smaller
+// end, or of which two lie in one half-plane. Two shells sharing such an edge then overlap in the
+// wedge between two of their triangles, though no two triangles cross (a wedge 1e-8 rad thin,
+// turned over where rounding moved its edge's end: the fuzzer's grid_rot seed 6103). Only edges of
+// triangles `active` marks (all where null) neither of whose ends has a certified star in `cert`
+// (a certified star is one embedded fan, whose edges have two triangles each). Ascending.
+std::vector<u32> folded_edges(const Soup& soup, const std::vector<std::uint8_t>& cert, const std::vector<char>* active);
 // Whether triangle T (its star_certificates() mask `cert`) and triangle U share a vertex whose
 // star is certified at T's corner (so they cannot clash).
 inline bool shares_certified(const std::array<u32, 3>& T, std::uint8_t cert, const std::array<u32, 3>& U) {

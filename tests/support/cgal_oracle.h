@@ -49,8 +49,14 @@ std::string closed_manifold_outward(const Mesh& m);
 // nowhere else. `where`, if given, receives the first offending pair with coordinates.
 bool exact_self_intersects(const Mesh& m, std::string* where = nullptr);
 
-// "" for a valid result (closed_manifold_outward and no exact self-intersection), else the first
-// defect with its place.
+// Shells that touch along an edge (their vertices there distinct but of equal position) and
+// overlap in the wedge between two of their triangles, though no two triangles cross: about
+// such an edge the triangles, in exact order, do not run alternately to and from one end, or two
+// lie in one half-plane. "" where there is none, else the edge.
+std::string folded_touching_edge(const Mesh& m);
+
+// "" for a valid result (closed_manifold_outward, no exact self-intersection and no folded
+// touching edge), else the first defect with its place.
 std::string result_defect(const Mesh& m);
 
 }  // namespace wedge::testing

@@ -1,6 +1,8 @@
 // closed_manifold_outward: combinatorial checks on vertex indices, no geometry but the volume.
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <map>
 #include <sstream>
 
 #include "kernel/predicates.h"
@@ -111,9 +113,68 @@ std::string closed_manifold_outward(const Mesh& m) {
   return "";
 }
 
+std::string folded_touching_edge(const Mesh& m) {
+  // Vertices welded by position (w), and whether a position has several.
+  const std::size_t nv = m.positions.size();
+  std::vector<std::uint32_t> order(nv), w(nv);
+  for (std::size_t v = 0; v < nv; ++v) order[v] = static_cast<std::uint32_t>(v);
+  auto key = [&](std::uint32_t v) { return std::array<double, 3>{m.positions[v].x(), m.positions[v].y(), m.positions[v].z()}; };
+  std::sort(order.begin(), order.end(), [&](std::uint32_t x, std::uint32_t y) { return key(x) < key(y); });
+  std::vector<char> several(nv, 0);
+  bool any = false;
+  for (std::size_t i = 0; i < nv; ++i) {
+    w[order[i]] = i > 0 && key(order[i]) == key(order[i - 1]) ? w[order[i - 1]] : order[i];
+    if (w[order[i]] != order[i]) several[w[order[i]]] = 1, any = true;
+  }
+  if (!any) return "";
+  // Per welded edge at such a position: its triangles' third corners and directions (lo -> hi).
+  std::map<std::pair<std::uint32_t, std::uint32_t>, std::vector<std::pair<Point3, bool>>> edges;
+  for (const auto& t : m.triangles)
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t u = w[t[k]], v = w[t[(k + 1) % 3]];
+      if (several[u] || several[v]) edges[{std::min(u, v), std::max(u, v)}].push_back({m.positions[t[(k + 2) % 3]], u < v});
+    }
+  const std::vector<Vec3>& at = m.positions;
+  for (auto& [e, sheets] : edges) {
+    if (sheets.size() < 3) continue;
+    const Point3 &a = at[e.first], &b = at[e.second];
+    // Half-turns about a -> b from the first sheet, then the order within each (exact).
+    const Point3 c0 = sheets[0].first;
+    auto half = [&](const Point3& c) {
+      const int o = orient3d(a, b, c0, c);
+      if (o != 0) return o > 0 ? 0 : 1;
+      // In the first sheet's plane: the same half-plane where c and c0 lie on one side of a b
+      // seen along the plane's normal's largest axis.
+      const Vec3 n = (b - a).cross(c0 - a);
+      int k = 0;
+      for (int d = 1; d < 3; ++d)
+        if (std::abs(n[d]) > std::abs(n[k])) k = d;
+      const int i = (k + 1) % 3, j = (k + 2) % 3;
+      auto side = [&](const Point3& q) { return orient2d(Point2(a[i], a[j]), Point2(b[i], b[j]), Point2(q[i], q[j])); };
+      return side(c) == side(c0) ? 0 : 1;
+    };
+    std::sort(sheets.begin(), sheets.end(), [&](const auto& x, const auto& y) {
+      const int hx = half(x.first), hy = half(y.first);
+      return hx != hy ? hx < hy : orient3d(a, b, x.first, y.first) > 0;
+    });
+    for (std::size_t x = 0; x < sheets.size(); ++x) {
+      const auto &p = sheets[x], &q = sheets[(x + 1) % sheets.size()];
+      if (p.second == q.second || (half(p.first) == half(q.first) && orient3d(a, b, p.first, q.first) == 0)) {
+        std::ostringstream s;
+        s.precision(17);
+        s << "shells touching along the edge (" << a.x() << ", " << a.y() << ", " << a.z() << ")-(" << b.x() << ", " << b.y()
+          << ", " << b.z() << ") overlap there (its " << sheets.size() << " triangles do not alternate about it)";
+        return s.str();
+      }
+    }
+  }
+  return "";
+}
+
 std::string result_defect(const Mesh& m) {
   std::string d = closed_manifold_outward(m);
   if (d.empty() && exact_self_intersects(m, &d) && d.empty()) d = "self-intersection";
+  if (d.empty()) d = folded_touching_edge(m);
   return d;
 }
 
