@@ -198,17 +198,13 @@ BooleanResult assemble(const Points& pts, const Arrangement& arr, const std::vec
     }
   });
   {
-    // (The first such corner-edge, by index, names the edge: the same at any thread count.)
-    std::atomic<std::size_t> open{partner.size()};
+    std::atomic<bool> open{false};
     parallel_blocks(partner.size(), kBlock, [&](std::size_t lo, std::size_t hi) {
       for (std::size_t c = lo; c < hi; ++c)
-        if (partner[c] == kNone) {
-          for (std::size_t o = open.load(std::memory_order_relaxed); c < o && !open.compare_exchange_weak(o, c);) {
-          }
-          break;
-        }
+        if (partner[c] == kNone) open.store(true, std::memory_order_relaxed);
     });
-    if (const std::size_t c = open.load(); c < partner.size()) {
+    if (open.load()) {  // (the first such corner-edge names the edge)
+      const std::size_t c = static_cast<std::size_t>(std::find(partner.begin(), partner.end(), kNone) - partner.begin());
       const u32 a = tris[c / 3][c % 3], b = tris[c / 3][(c % 3 + 1) % 3];
       fail("boolean: internal error: the result has an open edge, ", point_text(pts.approx(a)), " - ", point_text(pts.approx(b)));
     }

@@ -418,11 +418,11 @@ std::vector<u32> folded_edges(const Soup& soup, const std::vector<std::uint8_t>&
   if (look.empty()) return {};
   std::sort(look.begin(), look.end());
   look.erase(std::unique(look.begin(), look.end()), look.end());
-  // (edge, operand, triangle): an operand's triangles about an edge are looked at by themselves
-  // (where operands meet is the boolean's business).
   // (Only edges whose ends are both ends of such edges are searched for.)
   std::vector<char> end(soup.verts.size(), 0);
   for (std::uint64_t k : look) end[k >> 32] = end[static_cast<u32>(k)] = 1;
+  // (edge, operand, triangle): an operand's triangles about an edge are looked at by themselves
+  // (where operands meet is the boolean's business).
   std::vector<std::tuple<std::uint64_t, std::int32_t, u32>> on;
   for (std::size_t t = 0; t < nt; ++t)
     for (int e = 0; e < 3 && !gone(t); ++e) {
