@@ -38,13 +38,24 @@ float float_above(float f) {
   std::memcpy(&f, &b, 4);
   return f;
 }
+// (Both neighbours made, one taken by a mask: whether rounding went up or down is a coin toss,
+// and as a branch it was mispredicted half the time, six times a box: a third of a tree's build.)
+float pick(bool take_g, float f, float g) {
+  std::uint32_t a, b;
+  std::memcpy(&a, &f, 4);
+  std::memcpy(&b, &g, 4);
+  const std::uint32_t m = 0u - static_cast<std::uint32_t>(take_g);
+  a = (a & ~m) | (b & m);
+  std::memcpy(&f, &a, 4);
+  return f;
+}
 float down(double x) {
   const float f = static_cast<float>(x);
-  return static_cast<double>(f) > x ? float_below(f) : f;
+  return pick(static_cast<double>(f) > x, f, float_below(f));
 }
 float up(double x) {
   const float f = static_cast<float>(x);
-  return static_cast<double>(f) < x ? float_above(f) : f;
+  return pick(static_cast<double>(f) < x, f, float_above(f));
 }
 
 void tri_box(const Soup& s, u32 t, double lo[3], double hi[3]) { triangle_box(s, t, lo, hi); }
