@@ -639,6 +639,17 @@ BooleanResult boolean_detail::boolean_as_given(BooleanOp op, const std::vector<c
     fail("boolean: ", operand_name(soup.operand[t], operands.size()), " intersects itself: triangles ", tri(t), " and ",
          tri(u));
   }
+  // Shells of one operand that overlap with no crossing (nested facing the same way), but where
+  // the operand is known valid.
+  {
+    std::vector<std::string> overlap(operands.size());
+    const std::vector<u32> first = operand_starts(soup);
+    parallel_for(0, operands.size(), [&](std::size_t i) {
+      if (!checked[i]) overlap[i] = overlapping_shells(soup, first, static_cast<std::int32_t>(i));
+    });
+    for (std::size_t i = 0; i < operands.size(); ++i)
+      if (!overlap[i].empty()) fail("boolean: ", operand_name(i, operands.size()), " ", overlap[i]);
+  }
   // Cuts buried in an operand that drops everything there leave the arrangement: settled
   // triangles now, pairs in cores after the budget.
   settle(soup, pairs, op, settled);

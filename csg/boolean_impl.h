@@ -296,6 +296,10 @@ inline std::uint64_t morton_spread(std::uint64_t x) {
 std::vector<u32> operand_starts(const Soup& s);
 // Each operand's box (lo, hi) over its triangles; an operand without triangles gets (inf, -inf).
 std::vector<std::array<double, 6>> operand_boxes(const Soup& s);
+// "" where operand o's shells (joined across edges of two triangles) nest as a solid's do, else
+// the defect from "has shells that overlap": one inside another facing the same way, say. For
+// shells that do not cross; `first` from operand_starts (boolean_shells.cpp).
+std::string overlapping_shells(const Soup& s, const std::vector<u32>& first, std::int32_t o);
 // Marks `owner` (an atomic or atomic_ref) held by operand op: -1 (none) becomes op, another op -2.
 template <class Atomic>
 inline void claim(Atomic&& owner, std::int32_t op) {
