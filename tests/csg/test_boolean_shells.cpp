@@ -58,6 +58,7 @@ TEST_CASE("boolean: an operand whose shells overlap without crossing is refused"
   auto refused = [&](const Mesh& m, const char* what) {
     CHECK(closed_manifold_outward(m).empty());
     CHECK_FALSE(exact_self_intersects(m));
+    CHECK_THAT(nested_shells(m), Catch::Contains("shells overlap"));  // (the test support's own check)
     for (BooleanOp op : {BooleanOp::Union, BooleanOp::Difference, BooleanOp::Intersection})
       CHECK_THROWS_WITH(boolean(op, {&m, &c}), Catch::Contains("the first operand has shells that overlap") && Catch::Contains(what));
     CHECK_THROWS_WITH(boolean(BooleanOp::Union, {&c, &m}), Catch::Contains("the second operand has shells that overlap"));
@@ -109,6 +110,7 @@ TEST_CASE("boolean: operands whose shells nest as a solid's do are taken as they
   cases[3].inside = 0.5;
   for (const auto& k : cases) {
     CHECK(k.m.volume() == Approx(k.volume).epsilon(1e-12));
+    CHECK(nested_shells(k.m).empty());
     BooleanResult u, d;
     REQUIRE_NOTHROW(u = boolean(BooleanOp::Union, {&k.m, &c}));
     CHECK(u.mesh.volume() == Approx(k.volume + 1 - k.inside).epsilon(1e-12));

@@ -55,8 +55,14 @@ bool exact_self_intersects(const Mesh& m, std::string* where = nullptr);
 // lie in one half-plane. "" where there is none, else the edge.
 std::string folded_touching_edge(const Mesh& m);
 
-// "" for a valid result (closed_manifold_outward, no exact self-intersection and no folded
-// touching edge), else the first defect with its place.
+// Shells (components by vertex index) that overlap with no two triangles crossing: one inside
+// another facing the same way, or a hollow (a shell facing inward) in no solid. Judged by the
+// winding number of the other shells at a vertex of each that no other shell holds (exact, along
+// a segment): 0 beside an outward shell, 1 beside an inward one. "" where there is none.
+std::string nested_shells(const Mesh& m);
+
+// "" for a valid result (closed_manifold_outward, no exact self-intersection, no folded touching
+// edge, no nested shells), else the first defect with its place.
 std::string result_defect(const Mesh& m);
 
 }  // namespace wedge::testing

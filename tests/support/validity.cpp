@@ -171,10 +171,84 @@ std::string folded_touching_edge(const Mesh& m) {
   return "";
 }
 
+std::string nested_shells(const Mesh& m) {
+  // Shells: the components of the triangles joined through vertex indices (touching shells have
+  // copies of their common vertices).
+  const std::size_t nv = m.positions.size();
+  std::vector<std::uint32_t> up(nv);
+  for (std::size_t v = 0; v < nv; ++v) up[v] = static_cast<std::uint32_t>(v);
+  auto find = [&](std::uint32_t x) {
+    while (up[x] != x) x = up[x] = up[up[x]];
+    return x;
+  };
+  for (const auto& t : m.triangles)
+    for (int k = 1; k < 3; ++k) {
+      const std::uint32_t a = find(t[0]), b = find(t[k]);
+      if (a != b) up[std::max(a, b)] = std::min(a, b);
+    }
+  std::map<std::uint32_t, std::vector<std::array<std::uint32_t, 3>>> shells;
+  for (const auto& t : m.triangles) shells[find(t[0])].push_back(t);
+  if (shells.size() < 2) return "";
+  // How many shells hold each position.
+  std::map<std::array<double, 3>, std::vector<std::uint32_t>> holders;
+  for (std::size_t v = 0; v < nv; ++v) {
+    auto& h = holders[{m.positions[v].x(), m.positions[v].y(), m.positions[v].z()}];
+    if (std::find(h.begin(), h.end(), find(static_cast<std::uint32_t>(v))) == h.end()) h.push_back(find(static_cast<std::uint32_t>(v)));
+  }
+  // The winding number at w of the shells but `skip`, along the segment w -> far: +1 where it
+  // leaves a shell's solid side, -1 where it enters; 1 << 30 where it meets an edge or a vertex.
+  auto winding = [&](std::uint32_t skip, const Point3& w, const Point3& far) {
+    int n = 0;
+    for (const auto& [root, tris] : shells) {
+      if (root == skip) continue;
+      for (const auto& t : tris) {
+        const Point3 &a = m.positions[t[0]], &b = m.positions[t[1]], &c = m.positions[t[2]];
+        const int sw = orient3d(a, b, c, w), sf = orient3d(a, b, c, far);
+        if (sw == sf && sw != 0) continue;
+        if (sw == 0 || sf == 0) {
+          if (segment_triangle_intersect(w, far, a, b, c)) return 1 << 30;
+          continue;
+        }
+        const int e0 = orient3d(w, far, a, b), e1 = orient3d(w, far, b, c), e2 = orient3d(w, far, c, a);
+        if ((e0 > 0 || e1 > 0 || e2 > 0) && (e0 < 0 || e1 < 0 || e2 < 0)) continue;
+        if (e0 == 0 || e1 == 0 || e2 == 0) return 1 << 30;
+        n += sw < 0 ? 1 : -1;
+      }
+    }
+    return n;
+  };
+  Box3 all = m.bounds();
+  const double size = (all.max - all.min).norm() + 1;
+  for (const auto& [root, tris] : shells) {
+    // A vertex of this shell's at a position no other shell holds.
+    const Point3* w = nullptr;
+    for (const auto& t : tris)
+      for (std::uint32_t v : t)
+        if (!w && holders[{m.positions[v].x(), m.positions[v].y(), m.positions[v].z()}].size() == 1) w = &m.positions[v];
+    if (!w) continue;
+    int n = 1 << 30;
+    for (int d = 0; d < 8 && n == (1 << 30); ++d) {
+      const Vec3 dir = Vec3(std::sin(1.3 * d + 0.4), std::cos(2.1 * d + 0.7), std::sin(0.9 * d + 1.9)).normalized();
+      n = winding(root, *w, *w + 4 * size * dir);
+    }
+    if (n == (1 << 30)) continue;
+    const int want = volume_sign(m.positions, tris) > 0 ? 0 : 1;
+    if (n != want) {
+      std::ostringstream s;
+      s.precision(17);
+      s << "shells overlap: the shell through (" << w->x() << ", " << w->y() << ", " << w->z() << ") lies where the others wind "
+        << n << " times (" << want << " for a solid's)";
+      return s.str();
+    }
+  }
+  return "";
+}
+
 std::string result_defect(const Mesh& m) {
   std::string d = closed_manifold_outward(m);
   if (d.empty() && exact_self_intersects(m, &d) && d.empty()) d = "self-intersection";
   if (d.empty()) d = folded_touching_edge(m);
+  if (d.empty()) d = nested_shells(m);
   return d;
 }
 
