@@ -16,10 +16,12 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <chrono>
 #include <cmath>
 #include <csignal>
 #include <cstdio>
 #include <cstring>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -28,6 +30,7 @@
 #include <tbb/global_control.h>
 
 #include "bench/csg/fuzz_boolean.h"
+#include "csg/membership.h"
 #include "kernel/error.h"
 #include "kernel/transform.h"
 #include "tests/support/boolean_cases.h"
@@ -209,6 +212,48 @@ void check_within(const char* what, double got, double lo, double hi, double tol
   record_failure(kVolume, op, ops, buf);
 }
 
+// Where the engine's volume and CGAL's disagree: an estimate of the result's volume from points
+// drawn at random in the operands' box, each placed exactly in or out of every operand
+// (classify_point: a ray's crossings, decided exactly; not the boolean engine), in rounds of
+// 10,000 up to 640,000 points or 30 s. True with the estimate and its standard deviation when
+// it tells them apart: CGAL's volume more than 6 deviations off and the engine's within 3.
+bool monte_carlo_sides_with_engine(BooleanOp op, const std::vector<const Mesh*>& ops, double engine, double cgal,
+                                   double& estimate, double& sd, long& points) {
+  Box3 box;
+  for (auto* m : ops)
+    for (const auto& p : m->positions) box.extend(p);
+  const Vec3 size = box.max - box.min;
+  const double vbox = size.x() * size.y() * size.z();
+  if (!(vbox > 0) || !std::isfinite(vbox)) return false;
+  std::uint64_t x = 0x9e3779b97f4a7c15ull ^ static_cast<std::uint64_t>(std::hash<double>{}(engine));
+  auto uniform = [&] {  // xorshift64*, in [0, 1)
+    x ^= x >> 12, x ^= x << 25, x ^= x >> 27;
+    return static_cast<double>((x * 0x2545f4914f6cdd1dull) >> 11) * 0x1p-53;
+  };
+  const auto t0 = std::chrono::steady_clock::now();
+  long in = 0;
+  points = 0;
+  while (points < 640000 && std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() < 30) {
+    for (int i = 0; i < 10000; ++i, ++points) {
+      const Point3 p(box.min.x() + uniform() * size.x(), box.min.y() + uniform() * size.y(), box.min.z() + uniform() * size.z());
+      bool any = false, all = true, first = false, rest = false;
+      for (std::size_t k = 0; k < ops.size(); ++k) {
+        const bool inside = classify_point(*ops[k], p) == Membership::Inside;
+        any |= inside;
+        all &= inside;
+        if (k == 0) first = inside;
+        else rest |= inside;
+      }
+      in += op == BooleanOp::Union ? any : op == BooleanOp::Intersection ? all : first && !rest;
+    }
+    const double f = static_cast<double>(in) / static_cast<double>(points);
+    estimate = vbox * f;
+    sd = vbox * std::sqrt(std::max(f * (1 - f), 1.0 / static_cast<double>(points)) / static_cast<double>(points));
+    if (std::abs(cgal - estimate) > 6 * sd && std::abs(engine - estimate) < 3 * sd) return true;
+  }
+  return false;
+}
+
 bool has_coincident_vertices(const Mesh& m) {
   std::vector<Vec3> p = m.positions;
   std::sort(p.begin(), p.end(), xyz_less);
@@ -269,8 +314,16 @@ void run_set(const std::vector<const Mesh*>& ops, const Case& c, BooleanOp keep_
         if (want < lo - tol || want > hi + tol)
           std::printf("ORACLE-WRONG %s %s (CGAL's volume %.17g outside [%.17g, %.17g]; wedge's %.17g)\n",
                       state.case_name.c_str(), boolean_op_name(op), want, lo, hi, v[k]);
-        else
-          check_near(std::string("volume vs CGAL's ") + boolean_op_name(op), v[k], want, tol, op, ops, kOracle);
+        else if (double est = 0, sd = 0; !(std::abs(v[k] - want) <= tol)) {
+          // Told apart by counting points (CGAL's corefinement has been wrong on unions of touching
+          // grids: grid_rot 6322, 8161, 8289, 8737; grid_mixed 8614, 9175), or a failure.
+          long points = 0;
+          if (p2 == 0 && monte_carlo_sides_with_engine(op, ops, v[k], want, est, sd, points))
+            std::printf("ORACLE-WRONG %s %s (CGAL's volume %.17g; wedge's %.17g; %ld random points say %.6g, sd %.2g)\n",
+                        state.case_name.c_str(), boolean_op_name(op), want, v[k], points, est, sd);
+          else
+            check_near(std::string("volume vs CGAL's ") + boolean_op_name(op), v[k], want, tol, op, ops, kOracle);
+        }
       }
     }
   }
