@@ -198,8 +198,10 @@ std::string overlapping_shells(const Soup& s, const std::vector<u32>& first, std
     int wn = 0;
     if (!around.empty()) {
       wn = kAmbiguous;
-      for (std::size_t d = 0; d < kDirections.size() && wn == kAmbiguous; ++d)
-        wn = winding_along(s, around, p, p + kDirections[d] * (4 * reach + 1));
+      for (std::size_t d = 0; d < kDirections.size() && wn == kAmbiguous; ++d) {
+        const Vec3 far = p + kDirections[d] * (4 * reach + 1);
+        if (far.allFinite()) wn = winding_along(s, around, p, far);  // (not past the doubles' range)
+      }
       if (wn == kAmbiguous) continue;  // (every direction through an edge: not decided here)
     }
     // The shell's own arrays (volume_sign takes a mesh's), `local` left as it was after.

@@ -229,7 +229,8 @@ std::string nested_shells(const Mesh& m) {
     int n = 1 << 30;
     for (int d = 0; d < 8 && n == (1 << 30); ++d) {
       const Vec3 dir = Vec3(std::sin(1.3 * d + 0.4), std::cos(2.1 * d + 0.7), std::sin(0.9 * d + 1.9)).normalized();
-      n = winding(root, *w, *w + 4 * size * dir);
+      const Point3 far = *w + 4 * size * dir;
+      if (far.allFinite()) n = winding(root, *w, far);  // (a model near the doubles' range: not judged)
     }
     if (n == (1 << 30)) continue;
     const int want = volume_sign(m.positions, tris) > 0 ? 0 : 1;
