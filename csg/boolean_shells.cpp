@@ -16,11 +16,13 @@
 #include <array>
 #include <cstdint>
 #include <numeric>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
 
 #include "csg/boolean_impl.h"
+#include "csg/membership.h"
 #include "kernel/predicates.h"
 
 namespace wedge::boolean_detail {
@@ -39,19 +41,9 @@ constexpr int kAmbiguous = 1 << 30;
 int winding_along(const Soup& s, const std::vector<u32>& tris, const Vec3& w, const Vec3& far) {
   int wn = 0;
   for (u32 t : tris) {
-    const Vec3 &a = s.verts[s.tris[t][0]], &b = s.verts[s.tris[t][1]], &c = s.verts[s.tris[t][2]];
-    const int sw = orient3d(a, b, c, w), sf = orient3d(a, b, c, far);
-    if (sw == sf && sw != 0) continue;
-    if (sw == 0 || sf == 0) {
-      if (segment_triangle_intersect(w, far, a, b, c)) return kAmbiguous;
-      continue;
-    }
-    const int o1 = orient3d(w, far, a, b), o2 = orient3d(w, far, b, c), o3 = orient3d(w, far, c, a);
-    if ((o1 > 0 || o2 > 0 || o3 > 0) && (o1 < 0 || o2 < 0 || o3 < 0)) continue;
-    if (o1 == 0 || o2 == 0 || o3 == 0) return kAmbiguous;
-    // (orient3d(a, b, c, w) < 0: w behind the triangle (a, b, c counter-clockwise seen from in
-    // front), on its solid side: the segment leaves the solid there.)
-    wn += sw < 0 ? 1 : -1;
+    const std::optional<int> c = segment_crossing(w, far, s.verts[s.tris[t][0]], s.verts[s.tris[t][1]], s.verts[s.tris[t][2]]);
+    if (!c) return kAmbiguous;
+    wn += *c;
   }
   return wn;
 }

@@ -33,21 +33,31 @@ Tri tri(const Mesh& m, std::uint32_t t) {
   return {&m.positions[f[0]], &m.positions[f[1]], &m.positions[f[2]]};
 }
 
+}  // namespace
+
+std::optional<int> segment_crossing(const Point3& p, const Point3& q, const Point3& a, const Point3& b, const Point3& c) {
+  const int sp = orient3d(a, b, c, p), sq = orient3d(a, b, c, q);
+  if (sp != 0 && sp == sq) return 0;
+  if (sp == 0 || sq == 0) {
+    if (segment_triangle_intersect(p, q, a, b, c)) return std::nullopt;
+    return 0;
+  }
+  int o1 = orient3d(p, q, a, b), o2 = orient3d(p, q, b, c), o3 = orient3d(p, q, c, a);
+  bool pos = o1 > 0 || o2 > 0 || o3 > 0, neg = o1 < 0 || o2 < 0 || o3 < 0;
+  if (pos && neg) return 0;
+  if (o1 == 0 || o2 == 0 || o3 == 0) return std::nullopt;
+  return sp < 0 ? 1 : -1;
+}
+
+namespace {
+
 // The crossings of segment s-t with one triangle: 1 for a proper crossing through its interior,
 // 0 for none, nullopt when the segment touches an edge, a vertex or lies in its plane where it
 // meets it (the count would be ambiguous).
 std::optional<int> crossing(const Point3& s, const Point3& t, const Tri& x) {
-  int ss = orient3d(*x.a, *x.b, *x.c, s), st = orient3d(*x.a, *x.b, *x.c, t);
-  if (ss != 0 && ss == st) return 0;
-  if (ss == 0 || st == 0) {
-    if (segment_triangle_intersect(s, t, *x.a, *x.b, *x.c)) return std::nullopt;
-    return 0;
-  }
-  int o1 = orient3d(s, t, *x.a, *x.b), o2 = orient3d(s, t, *x.b, *x.c), o3 = orient3d(s, t, *x.c, *x.a);
-  bool pos = o1 > 0 || o2 > 0 || o3 > 0, neg = o1 < 0 || o2 < 0 || o3 < 0;
-  if (pos && neg) return 0;
-  if (o1 == 0 || o2 == 0 || o3 == 0) return std::nullopt;
-  return 1;
+  const std::optional<int> c = segment_crossing(s, t, *x.a, *x.b, *x.c);
+  if (!c) return std::nullopt;
+  return *c != 0 ? 1 : 0;
 }
 
 // The parity of the crossings of s-t with the listed triangles (all triangles if list is null),

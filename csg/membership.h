@@ -16,12 +16,20 @@
 // the parent's triangles. volume_min (inside cells) and volume_max (inside + boundary cells)
 // then bracket the volume of any surface within `margin` of the mesh.
 #pragma once
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "kernel/mesh.h"
 
 namespace wedge {
+
+// How segment p-q meets triangle (a, b, c), decided exactly: +1 where it passes through the
+// triangle's interior from behind (orient3d(a, b, c, p) < 0: the solid side of an outward
+// triangle) to in front, -1 the other way, 0 where it misses, nullopt where it touches an edge or
+// a vertex or lies in the plane where it meets it. (Summed over a closed surface from p: the
+// winding number at p.)
+std::optional<int> segment_crossing(const Point3& p, const Point3& q, const Point3& a, const Point3& b, const Point3& c);
 
 enum class Membership { Outside, Inside, Boundary };
 const char* membership_name(Membership m);  // "outside" | "inside" | "boundary"
