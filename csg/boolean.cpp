@@ -546,7 +546,8 @@ std::string operand_name(std::size_t i, std::size_t n) {
 std::string mesh_solid_defect(const Mesh& mesh, const std::string& name) { return defect(mesh, name, true); }
 
 BooleanResult boolean_detail::boolean_as_given(BooleanOp op, const std::vector<const Mesh*>& operands, BooleanStats* stats,
-                                               const CancelCheck* cancel, std::size_t max_crossings) {
+                                               const CancelCheck* cancel, std::size_t max_crossings,
+                                               const std::vector<std::string>* given_names) {
   using Clock = std::chrono::steady_clock;
   auto t0 = Clock::now();
   auto lap = [&](double BooleanStats::*field) {
@@ -556,13 +557,13 @@ BooleanResult boolean_detail::boolean_as_given(BooleanOp op, const std::vector<c
     if (cancel && *cancel && (*cancel)()) throw Cancelled();
   };
   if (operands.empty()) fail("boolean: no operands");
-  for (std::size_t i = 0; i < operands.size(); ++i)
-    if (!operands[i]) fail("boolean: ", operand_name(i, operands.size()), " is null");
-  const Interrupt interrupt(cancel);
   std::vector<std::string> defects(operands.size()), names(operands.size());
+  for (std::size_t i = 0; i < operands.size(); ++i) names[i] = given_names ? (*given_names)[i] : operand_name(i, operands.size());
+  for (std::size_t i = 0; i < operands.size(); ++i)
+    if (!operands[i]) fail("boolean: ", names[i], " is null");
+  const Interrupt interrupt(cancel);
   std::vector<char> trusted(operands.size(), 0), untrusted(operands.size(), 0);
   parallel_for(0, operands.size(), [&](std::size_t i) {
-    names[i] = operand_name(i, operands.size());
     // A result of this engine was closed, manifold and outward when it was returned.
     trusted[i] = verified_results().contains(*operands[i]);
     untrusted[i] = !trusted[i];
@@ -636,7 +637,7 @@ BooleanResult boolean_detail::boolean_as_given(BooleanOp op, const std::vector<c
       return "#" + std::to_string(soup.local[x] + 1) + " " + at(soup.verts[T[0]]) + " " + at(soup.verts[T[1]]) + " " +
              at(soup.verts[T[2]]);
     };
-    fail("boolean: ", operand_name(soup.operand[t], operands.size()), " intersects itself: triangles ", tri(t), " and ",
+    fail("boolean: ", names[static_cast<std::size_t>(soup.operand[t])], " intersects itself: triangles ", tri(t), " and ",
          tri(u));
   }
   // Shells of one operand that overlap with no crossing (nested facing the same way), but where
@@ -648,7 +649,7 @@ BooleanResult boolean_detail::boolean_as_given(BooleanOp op, const std::vector<c
       if (!checked[i]) overlap[i] = overlapping_shells(soup, first, static_cast<std::int32_t>(i));
     });
     for (std::size_t i = 0; i < operands.size(); ++i)
-      if (!overlap[i].empty()) fail("boolean: ", operand_name(i, operands.size()), " ", overlap[i]);
+      if (!overlap[i].empty()) fail("boolean: ", names[i], " ", overlap[i]);
   }
   // Cuts buried in an operand that drops everything there leave the arrangement: settled
   // triangles now, pairs in cores after the budget.

@@ -75,8 +75,12 @@ constexpr std::size_t kDefaultMaxCrossings = 50'000;
 // An operand that is bit for bit a mesh an earlier boolean() returned is known to be valid and is
 // not checked again (results are remembered by a 128-bit hash; the last 256 of them).
 // `max_crossings`: the work budget above.
+// `names`, if given (one per operand), names the operands in errors, as a CSG tree names its node's
+// operands in the script's order ("the third operand of the union"); otherwise they are "the first
+// operand" and "the second operand" (two of them) or "operand 3".
 BooleanResult boolean(BooleanOp op, const std::vector<const Mesh*>& operands, BooleanStats* stats = nullptr,
-                      const CancelCheck* cancel = nullptr, std::size_t max_crossings = kDefaultMaxCrossings);
+                      const CancelCheck* cancel = nullptr, std::size_t max_crossings = kDefaultMaxCrossings,
+                      const std::vector<std::string>* names = nullptr);
 // The two-operand shorthand: boolean(op, {&a, &b}).mesh.
 Mesh boolean(BooleanOp op, const Mesh& a, const Mesh& b);
 

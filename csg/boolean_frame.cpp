@@ -103,33 +103,33 @@ bool weld_operands(const std::vector<const Mesh*>& operands, std::vector<Mesh>& 
 
 // The engine in the frame (above), on the operands' own coordinates where framing does not apply.
 BooleanResult in_frame(BooleanOp op, const std::vector<const Mesh*>& operands, BooleanStats* stats,
-                       const CancelCheck* cancel, std::size_t max_crossings) {
+                       const CancelCheck* cancel, std::size_t max_crossings, const std::vector<std::string>* names) {
   using boolean_detail::boolean_as_given;
   for (const Mesh* m : operands)
-    if (!m) return boolean_as_given(op, operands, stats, cancel, max_crossings);  // its error
+    if (!m) return boolean_as_given(op, operands, stats, cancel, max_crossings, names);  // its error
   const double s = frame_scale(operands);
-  if (s == 1) return boolean_as_given(op, operands, stats, cancel, max_crossings);
+  if (s == 1) return boolean_as_given(op, operands, stats, cancel, max_crossings, names);
   std::vector<Mesh> framed(operands.size());
   std::vector<const Mesh*> ptrs(operands.size());
   for (std::size_t i = 0; i < operands.size(); ++i) {
     if (!scale_exactly(operands[i]->positions, 1 / s, framed[i].positions))
-      return boolean_as_given(op, operands, stats, cancel, max_crossings);
+      return boolean_as_given(op, operands, stats, cancel, max_crossings, names);
     framed[i].triangles = operands[i]->triangles;
     framed[i].face_ids = operands[i]->face_ids;
     ptrs[i] = &framed[i];
   }
   BooleanResult r;
   try {
-    r = boolean_as_given(op, ptrs, stats, cancel, max_crossings);
+    r = boolean_as_given(op, ptrs, stats, cancel, max_crossings, names);
   } catch (const Cancelled&) {
     throw;
   } catch (const Error&) {
     // An operand's defect (or the work budget): said again on the operands as given, so that its
     // coordinates are the caller's.
-    return boolean_as_given(op, operands, stats, cancel, max_crossings);
+    return boolean_as_given(op, operands, stats, cancel, max_crossings, names);
   }
   std::vector<Point3> back;
-  if (!scale_exactly(r.mesh.positions, s, back)) return boolean_as_given(op, operands, stats, cancel, max_crossings);
+  if (!scale_exactly(r.mesh.positions, s, back)) return boolean_as_given(op, operands, stats, cancel, max_crossings, names);
   r.mesh.positions = std::move(back);
   // Fed to a boolean whose frame is the same, the result becomes the frame's result again, bit
   // for bit, which the engine remembers as verified: it is not checked again.
@@ -149,15 +149,17 @@ BooleanResult in_frame(BooleanOp op, const std::vector<const Mesh*>& operands, B
 // of those. Union and intersection take the operands turned by one place, up to 3 times (and
 // fewer than their number); a difference keeps its first operand and turns the rest.
 BooleanResult boolean(BooleanOp op, const std::vector<const Mesh*>& operands, BooleanStats* stats, const CancelCheck* cancel,
-                      std::size_t max_crossings) {
+                      std::size_t max_crossings, const std::vector<std::string>* names) {
+  if (names && names->size() != operands.size())
+    fail("boolean: ", names->size(), " names for ", operands.size(), " operands");
   try {
-    return in_frame(op, operands, stats, cancel, max_crossings);
+    return in_frame(op, operands, stats, cancel, max_crossings, names);
   } catch (const boolean_detail::Unroundable&) {
     const std::exception_ptr first = std::current_exception();
     // Another run: its result, or nothing where it fails too (a cancel still ends it all).
     auto attempt = [&](const std::vector<const Mesh*>& ptrs) -> std::optional<BooleanResult> {
       try {
-        return in_frame(op, ptrs, stats, cancel, max_crossings);
+        return in_frame(op, ptrs, stats, cancel, max_crossings, nullptr);  // (its errors are not reported)
       } catch (const Cancelled&) {
         throw;
       } catch (const Error&) {

@@ -272,7 +272,8 @@ class Unroundable : public Error {
 // boolean() on the operands' own coordinates (boolean_frame.cpp runs it on copies scaled by a
 // power of two where that is exact and the coordinates are far from 1).
 BooleanResult boolean_as_given(BooleanOp op, const std::vector<const Mesh*>& operands, BooleanStats* stats,
-                               const CancelCheck* cancel, std::size_t max_crossings);
+                               const CancelCheck* cancel, std::size_t max_crossings,
+                               const std::vector<std::string>* names = nullptr);
 
 // Merges meshes into one soup (positions equal in value become one vertex; -0 is 0). The soup
 // polls `interrupt` (if any), from here on.

@@ -111,8 +111,29 @@ std::size_t fan_in(const std::vector<std::shared_ptr<Evaluated>>& group, const R
   return stack_depth(box, s) > s ? s : k;
 }
 
+// The operands of the node being evaluated, as the script gave them, for the engine's errors: a
+// union's operands reach the engine grouped and ordered by their boxes, a difference's pruned, so
+// the engine's own numbering ("the first operand") would name the wrong one.
+struct Origin {
+  BooleanOp op;
+  const std::vector<std::shared_ptr<Evaluated>>* operands;
+};
+
+// "the third operand of the union"; an engine operand that is none of the node's own (a union of
+// some of them, made on the way) is "a partial union of the union's operands".
+std::string origin_name(const Origin& origin, const std::shared_ptr<Evaluated>& e, BooleanOp partial) {
+  static const char* const ordinal[] = {"first", "second", "third", "fourth", "fifth",
+                                        "sixth", "seventh", "eighth", "ninth", "tenth"};
+  const std::string node = boolean_op_name(origin.op);
+  const auto& ops = *origin.operands;
+  for (std::size_t j = 0; j < ops.size(); ++j)
+    if (ops[j] == e)
+      return (j < 10 ? std::string("the ") + ordinal[j] + " operand" : "operand " + std::to_string(j + 1)) + " of the " + node;
+  return std::string("a partial ") + boolean_op_name(partial) + " of the " + node + "'s operands";
+}
+
 // The engine on some operands; the result's face ids number the operands' faces in turn.
-std::shared_ptr<Evaluated> engine(BooleanOp op, const std::vector<std::shared_ptr<Evaluated>>& in, Run& run) {
+std::shared_ptr<Evaluated> engine(BooleanOp op, const std::vector<std::shared_ptr<Evaluated>>& in, Run& run, const Origin& origin) {
   auto out = std::make_shared<Evaluated>();
   if (in.size() == 1) {
     out->mesh = in[0]->mesh;
@@ -135,8 +156,10 @@ std::shared_ptr<Evaluated> engine(BooleanOp op, const std::vector<std::shared_pt
       out->surfaces.push_back(op == BooleanOp::Difference && ptrs.size() > 1 ? flipped_surface(f) : f);
   }
   check_boolean_budget(op, ptrs, run.max_triangles);
+  std::vector<std::string> names;
+  for (const auto& e : in) names.push_back(origin_name(origin, e, op == BooleanOp::Difference ? BooleanOp::Union : op));
   BooleanStats st;
-  BooleanResult r = wedge::boolean(op, ptrs, &st, &run.cancel, run.max_crossings);
+  BooleanResult r = wedge::boolean(op, ptrs, &st, &run.cancel, run.max_crossings, &names);
   run.add(&EvalStats::check, st.check);
   run.add(&EvalStats::broad, st.broad);
   run.add(&EvalStats::arrange, st.arrange);
@@ -162,7 +185,7 @@ std::shared_ptr<Evaluated> engine(BooleanOp op, const std::vector<std::shared_pt
   return out;
 }
 
-std::shared_ptr<Evaluated> union_of(const std::vector<std::shared_ptr<Evaluated>>& in, Run& run);
+std::shared_ptr<Evaluated> union_of(const std::vector<std::shared_ptr<Evaluated>>& in, Run& run, const Origin& origin);
 
 // The union of operands whose boxes overlap one another (transitively). Up to the fan-in, one
 // engine pass over all of them (the engine is n-ary); beyond it, a balanced tree: the operands
@@ -193,21 +216,21 @@ struct Overlaps {
   bool sparse = false;              // no point in more than the k asked of their boxes
 };
 Overlaps overlaps(const std::vector<std::shared_ptr<Evaluated>>& in, std::size_t k);
-std::shared_ptr<Evaluated> balanced_union(const std::vector<std::shared_ptr<Evaluated>>& group, Run& run) {
+std::shared_ptr<Evaluated> balanced_union(const std::vector<std::shared_ptr<Evaluated>>& group, Run& run, const Origin& origin) {
   const std::size_t k = fan_in(group, run);
-  if (k < 2 || group.size() <= k) return engine(BooleanOp::Union, group, run);
+  if (k < 2 || group.size() <= k) return engine(BooleanOp::Union, group, run, origin);
   if (run.options.prune) {
     const Overlaps o = overlaps(group, k);
-    if (o.sparse) return engine(BooleanOp::Union, group, run);
+    if (o.sparse) return engine(BooleanOp::Union, group, run, origin);
     const std::vector<std::size_t>& degree = o.degree;
     std::vector<std::shared_ptr<Evaluated>> hubs, rest;
     for (std::size_t i = 0; i < group.size(); ++i) (degree[i] > k ? hubs : rest).push_back(group[i]);
     // Two or more others, so that the group below is smaller than this one.
     if (!hubs.empty() && rest.size() >= 2) {
-      auto others = union_of(rest, run);
+      auto others = union_of(rest, run, origin);
       run.check();
       if (!others->mesh.empty()) hubs.push_back(others);
-      return balanced_union(hubs, run);
+      return balanced_union(hubs, run, origin);
     }
   }
   std::vector<std::vector<std::shared_ptr<Evaluated>>> runs(k);
@@ -216,7 +239,7 @@ std::shared_ptr<Evaluated> balanced_union(const std::vector<std::shared_ptr<Eval
   std::vector<std::shared_ptr<Evaluated>> parts(k);
   auto one = [&](std::size_t i) {
     run.check();
-    parts[i] = run.options.prune ? union_of(runs[i], run) : balanced_union(runs[i], run);
+    parts[i] = run.options.prune ? union_of(runs[i], run, origin) : balanced_union(runs[i], run, origin);
   };
   if (run.options.parallel) parallel_for(0, k, one);
   else
@@ -224,7 +247,7 @@ std::shared_ptr<Evaluated> balanced_union(const std::vector<std::shared_ptr<Eval
   run.check();
   parts.erase(std::remove_if(parts.begin(), parts.end(), [](const auto& p) { return p->mesh.empty(); }), parts.end());
   if (parts.empty()) return std::make_shared<Evaluated>();
-  return engine(BooleanOp::Union, parts, run);
+  return engine(BooleanOp::Union, parts, run, origin);
 }
 
 // For each operand, how many others its box meets (a sweep along x, as union_of's), and whether
@@ -257,7 +280,7 @@ Overlaps overlaps(const std::vector<std::shared_ptr<Evaluated>>& in, std::size_t
   return out;
 }
 
-std::shared_ptr<Evaluated> union_of(const std::vector<std::shared_ptr<Evaluated>>& in, Run& run) {
+std::shared_ptr<Evaluated> union_of(const std::vector<std::shared_ptr<Evaluated>>& in, Run& run, const Origin& origin) {
   // Operands in groups whose boxes overlap (transitively); a group of one needs no engine, and
   // groups far apart are put side by side as separate shells.
   std::vector<Box3> box(in.size());
@@ -283,7 +306,7 @@ std::shared_ptr<Evaluated> union_of(const std::vector<std::shared_ptr<Evaluated>
   if (list.empty()) return std::make_shared<Evaluated>();
   if (list.size() > 1) run.count(&EvalStats::pruned);
   std::vector<std::shared_ptr<Evaluated>> parts(list.size());
-  auto part = [&](std::size_t i) { parts[i] = balanced_union(list[i], run); };
+  auto part = [&](std::size_t i) { parts[i] = balanced_union(list[i], run, origin); };
   if (run.options.parallel && list.size() > 1) parallel_for(0, list.size(), part);
   else
     for (std::size_t i = 0; i < list.size(); ++i) part(i);
@@ -300,15 +323,15 @@ std::shared_ptr<Evaluated> union_of(const std::vector<std::shared_ptr<Evaluated>
 // coincident boxes in one pass grew past 15 GB; 16 boxes shifted by 1/1024 took 0.1 s, 32 of
 // them 1.8 s. Cut into runs of at most the fan-in, each pass stays bounded; an empty run ends it.
 // (Exact copies never reach the engine: see distinct().)
-std::shared_ptr<Evaluated> balanced_intersection(const std::vector<std::shared_ptr<Evaluated>>& group, Run& run) {
+std::shared_ptr<Evaluated> balanced_intersection(const std::vector<std::shared_ptr<Evaluated>>& group, Run& run, const Origin& origin) {
   const std::size_t k = fan_in(group, run);
-  if (k < 2 || group.size() <= k) return engine(BooleanOp::Intersection, group, run);
+  if (k < 2 || group.size() <= k) return engine(BooleanOp::Intersection, group, run, origin);
   std::vector<std::shared_ptr<Evaluated>> parts(k);
   auto one = [&](std::size_t i) {
     run.check();
     const std::vector<std::shared_ptr<Evaluated>> part(group.begin() + long(group.size() * i / k),
                                                        group.begin() + long(group.size() * (i + 1) / k));
-    parts[i] = balanced_intersection(part, run);
+    parts[i] = balanced_intersection(part, run, origin);
   };
   if (run.options.parallel) parallel_for(0, k, one);
   else
@@ -319,7 +342,7 @@ std::shared_ptr<Evaluated> balanced_intersection(const std::vector<std::shared_p
   std::vector<Box3> box;
   for (const auto& p : parts) box.push_back(mesh_box(p->mesh));
   if (run.options.prune && !boxes_meet(box)) return std::make_shared<Evaluated>();
-  return engine(BooleanOp::Intersection, parts, run);
+  return engine(BooleanOp::Intersection, parts, run, origin);
 }
 
 // first minus the subtrahends (those that can reach it). Up to the fan-in, one engine pass; beyond
@@ -328,18 +351,18 @@ std::shared_ptr<Evaluated> balanced_intersection(const std::vector<std::shared_p
 // a - b - c = a - (b + c). One pass over a thousand coincident subtrahends would grow as one
 // intersection of them does (balanced_intersection).
 std::shared_ptr<Evaluated> difference_of(const std::shared_ptr<Evaluated>& first,
-                                         const std::vector<std::shared_ptr<Evaluated>>& subtrahends, Run& run) {
+                                         const std::vector<std::shared_ptr<Evaluated>>& subtrahends, Run& run, const Origin& origin) {
   std::vector<std::shared_ptr<Evaluated>> all{first};  // first, then the subtrahends
   all.insert(all.end(), subtrahends.begin(), subtrahends.end());
   const std::size_t k = fan_in(all, run);
   // Up to the fan-in, or subtrahends apart from one another (400 drills, as for a sparse union):
   // one pass.
   if (k < 2 || subtrahends.size() <= k || (run.options.prune && overlaps(subtrahends, k - 1).sparse))
-    return engine(BooleanOp::Difference, all, run);
-  auto cut = run.options.prune ? union_of(subtrahends, run) : balanced_union(subtrahends, run);
+    return engine(BooleanOp::Difference, all, run, origin);
+  auto cut = run.options.prune ? union_of(subtrahends, run, origin) : balanced_union(subtrahends, run, origin);
   run.check();
-  if (cut->mesh.empty()) return engine(BooleanOp::Difference, {first}, run);
-  return engine(BooleanOp::Difference, {first, cut}, run);
+  if (cut->mesh.empty()) return engine(BooleanOp::Difference, {first}, run, origin);
+  return engine(BooleanOp::Difference, {first, cut}, run, origin);
 }
 
 bool same_mesh(const Mesh& a, const Mesh& b) { return a.positions == b.positions && a.triangles == b.triangles; }
@@ -387,6 +410,8 @@ std::shared_ptr<Evaluated> evaluate_boolean(const Solid::Node& n, const Toleranc
   else
     for (std::size_t i = 0; i < in.size(); ++i) one(i);
   run.check();
+  const std::vector<std::shared_ptr<Evaluated>> given = in;
+  const Origin origin{n.op, &given};
   in = distinct(in, n.op == BooleanOp::Difference ? 1 : 0);
   if (n.op == BooleanOp::Difference)  // A - A - ... is empty
     for (std::size_t i = 1; i < in.size(); ++i)
@@ -402,9 +427,9 @@ std::shared_ptr<Evaluated> evaluate_boolean(const Solid::Node& n, const Toleranc
         (n.op == BooleanOp::Intersection && all.size() != in.size()))
       return std::make_shared<Evaluated>();
     switch (n.op) {
-      case BooleanOp::Union: return balanced_union(all, run);
-      case BooleanOp::Intersection: return balanced_intersection(all, run);
-      case BooleanOp::Difference: return difference_of(all[0], {all.begin() + 1, all.end()}, run);
+      case BooleanOp::Union: return balanced_union(all, run, origin);
+      case BooleanOp::Intersection: return balanced_intersection(all, run, origin);
+      case BooleanOp::Difference: return difference_of(all[0], {all.begin() + 1, all.end()}, run, origin);
     }
   }
   switch (n.op) {
@@ -415,16 +440,16 @@ std::shared_ptr<Evaluated> evaluate_boolean(const Solid::Node& n, const Toleranc
       for (std::size_t i = 1; i < in.size(); ++i)
         if (!boxes_apart(box[0], box[i])) use.push_back(in[i]);
         else run.count(&EvalStats::pruned);
-      return difference_of(in[0], use, run);
+      return difference_of(in[0], use, run, origin);
     }
     case BooleanOp::Intersection: {
       if (!boxes_meet(box)) {
         run.count(&EvalStats::pruned);
         return std::make_shared<Evaluated>();
       }
-      return balanced_intersection(in, run);
+      return balanced_intersection(in, run, origin);
     }
-    case BooleanOp::Union: return union_of(in, run);
+    case BooleanOp::Union: return union_of(in, run, origin);
   }
   return std::make_shared<Evaluated>();
 }
