@@ -155,12 +155,28 @@ Point3 apply_point(const Mat4& m, const Point3& p) {
 
 Vec3 apply_vector(const Mat4& m, const Vec3& v) { return m.block<3, 3>(0, 0) * v; }
 
+// The inverse transpose without an inverse: for columns c0, c1, c2 of the linear part L,
+// L^-T n = (n0 c1 x c2 + n1 c2 x c0 + n2 c0 x c1) / det L. The columns are made unit length first
+// (L^-T n = L'^-T D n, L = L' D^-1 with D = diag(1 / |c_i|)), so that a scale of 1e-120 or 1e120
+// neither underflows nor overflows; only the sign of the determinant is used. A shear of 1e8,
+// far from singular (determinant 1) but beyond an LU's rank threshold, was refused as singular.
 Vec3 apply_normal(const Mat4& m, const Vec3& n) {
-  Mat3 l = m.block<3, 3>(0, 0);
-  Eigen::FullPivLU<Mat3> lu(l);
-  if (!lu.isInvertible()) fail("cannot transform a normal by a singular matrix");
-  Vec3 r = lu.inverse().transpose() * n;
-  double len = r.norm();
+  const Mat3 l = m.block<3, 3>(0, 0);
+  Vec3 u[3], w;
+  for (int i = 0; i < 3; ++i) {
+    const double len = l.col(i).stableNorm();  // (norm() of (1e-200, 0, 0) underflows to 0)
+    if (!(len > 0) || !std::isfinite(len)) fail("cannot transform a normal by a singular matrix");
+    u[i] = l.col(i) / len;
+    w[i] = n[i] / len;
+  }
+  const double big = w.cwiseAbs().maxCoeff();
+  if (!std::isfinite(big)) fail("cannot transform a normal: it is not finite");
+  if (big > 0) w /= big;
+  const double det = u[0].dot(u[1].cross(u[2]));
+  if (!(det != 0)) fail("cannot transform a normal by a singular matrix");
+  Vec3 r = w[0] * u[1].cross(u[2]) + w[1] * u[2].cross(u[0]) + w[2] * u[0].cross(u[1]);
+  if (det < 0) r = -r;
+  const double len = r.norm();
   return len > 0 ? Vec3(r / len) : r;
 }
 

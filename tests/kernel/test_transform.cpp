@@ -138,6 +138,34 @@ TEST_CASE("normals transform by the inverse transpose", "[transform]") {
   CHECK_FALSE(near(apply_vector(s, Vec3(1, 1, 0)).normalized(), n, 1e-3));
 }
 
+TEST_CASE("normals transform under far-from-unit scales and strong shears, and a mirror keeps them outward", "[transform]") {
+  // The inverse transpose of a general matrix, against Eigen's inverse.
+  Mat4 m = Mat4::Identity();
+  m.block<3, 3>(0, 0) << 2, 0.3, -1, 0.5, 1, 0.2, -0.4, 0.7, 3;
+  const Vec3 n = Vec3(0.3, -0.8, 0.5).normalized();
+  const Mat3 inv_t = m.block<3, 3>(0, 0).inverse().transpose();
+  CHECK(near(apply_normal(m, n), Vec3((inv_t * n).normalized()), 1e-15));
+  // A shear of 1e8 (determinant 1) maps the plane y = 0 to itself, and the plane x = 0 to
+  // x = 1e8 y. It was refused as a singular matrix.
+  Mat4 shear = Mat4::Identity();
+  shear(0, 1) = 1e8;
+  CHECK(near(apply_normal(shear, Vec3(0, 1, 0)), Vec3(0, 1, 0), 1e-15));
+  CHECK(near(apply_normal(shear, Vec3(1, 0, 0)), Vec3(1, -1e8, 0).normalized(), 1e-15));
+  // Scales of 1e-120 and 1e120 (their determinants under- and overflow a double).
+  CHECK(near(apply_normal(scale({1e-120, 1e-120, 1e-120}), n), n, 1e-15));
+  CHECK(near(apply_normal(scale({1e120, 1e120, 1e120}), n), n, 1e-15));
+  CHECK(near(apply_normal(scale({1e-200, 1, 1}), Vec3(1, 1, 0).normalized()), Vec3(1, 0, 0), 1e-15));
+  // A mirror: the normal is mirrored with the surface (the inverse transpose of a reflection is
+  // itself), not turned inward.
+  CHECK(near(apply_normal(scale({-1, 1, 1}), Vec3(1, 0, 0)), Vec3(-1, 0, 0), 1e-15));
+  CHECK(near(apply_normal(scale({-2, 1, 1}), n), Vec3((scale({-2, 1, 1}).block<3, 3>(0, 0).inverse().transpose() * n).normalized()), 1e-15));
+  // Singular: refused.
+  CHECK_THROWS_WITH(apply_normal(scale({1, 1, 0}), n), Catch::Contains("singular"));
+  Mat4 flat = Mat4::Identity();
+  flat.col(1) = flat.col(0);
+  CHECK_THROWS_WITH(apply_normal(flat, n), Catch::Contains("singular"));
+}
+
 TEST_CASE("projection matrices have glFrustum / gluPerspective / glOrtho entries", "[transform]") {
   Mat4 f = frustum(-1, 1, -1, 1, 1, 10);
   CHECK(f(0, 0) == 1);
