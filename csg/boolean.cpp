@@ -484,6 +484,9 @@ std::string defect(const Mesh& m, const std::string& name, bool self, const Inte
   });
   for (const auto& f : found)
     if (!f.empty()) return f;
+  // Shells that cross nowhere but lie one inside another facing the same way (a box in a box,
+  // both outward: a region counted twice), or a shell facing inward in no solid.
+  if (std::string d = overlapping_shells(s, operand_starts(s), 0); !d.empty()) return name + " " + d;
   return "";
 }
 

@@ -19,6 +19,19 @@ Box3 BrepLeaf::bounds() const {
   return bounds_;
 }
 
+std::string BrepLeaf::validate() const {
+  const std::string structure = model_->validate().message;
+  return structure.empty() ? solid_defect() : structure;
+}
+
+std::string BrepLeaf::solid_defect() const {
+  if (source_) return source_->solid_defect();
+  std::call_once(defect_once_, [&] {
+    if (polyhedral()) defect_ = mesh_solid_defect(mesh(Tolerance{}), "the solid");
+  });
+  return defect_;
+}
+
 Solid brep_solid(Model model) { return Solid(std::make_shared<const BrepLeaf>(std::move(model))); }
 
 std::optional<MassProperties> BrepLeaf::mass_properties() const {

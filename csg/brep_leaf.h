@@ -27,7 +27,10 @@ class BrepLeaf final : public SolidLeaf, public std::enable_shared_from_this<Bre
   Box3 bounds() const override;
   std::optional<MassProperties> mass_properties() const override;
   std::optional<EulerCounts> euler() const override { return model_->counts(); }
-  std::string validate() const override { return model_->validate().message; }
+  std::string validate() const override;
+  // Planar models only (a polyhedron's faces, Euler operators': their mesh is the solid); a
+  // similarity copy asks its source.
+  std::string solid_defect() const override;
   std::shared_ptr<const SolidLeaf> transformed(const Mat4& m) const override;
   std::vector<std::string> face_kinds() const override;
   std::vector<FaceSurface> face_surfaces() const override;
@@ -48,6 +51,8 @@ class BrepLeaf final : public SolidLeaf, public std::enable_shared_from_this<Bre
   mutable std::map<std::pair<double, double>, std::shared_ptr<const std::pair<Mesh, CornerUvs>>> meshes_;
   mutable std::once_flag bounds_once_;
   mutable Box3 bounds_;
+  mutable std::once_flag defect_once_;
+  mutable std::string defect_;
 };
 
 // The kind of a face's surface as s:faces() names it: "plane", "cylinder", or a curved builder's

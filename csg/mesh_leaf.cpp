@@ -10,7 +10,7 @@
 
 namespace wedge {
 
-MeshLeaf::MeshLeaf(Mesh mesh, const std::string& what) : mesh_(std::move(mesh)) {
+MeshLeaf::MeshLeaf(Mesh mesh, const std::string& what) : mesh_(std::move(mesh)), what_(what) {
   mesh_.check();
   if (mesh_.triangles.empty()) fail(what, " has no triangles");
   // The range the builders keep to (brep.h): a file's coordinate of 1e300 gave "signed volume nan",
@@ -44,8 +44,33 @@ std::shared_ptr<const SolidLeaf> MeshLeaf::transformed(const Mat4& m) const {
   auto leaf = std::shared_ptr<MeshLeaf>(new MeshLeaf());
   leaf->mesh_ = mesh_.transformed(m);
   leaf->counts_ = counts_;
+  leaf->what_ = what_;
   return leaf;
 }
+
+const MeshLeaf::Solidified& MeshLeaf::solid() const {
+  std::call_once(solid_once_, [&] {
+    const std::string defect = mesh_solid_defect(mesh_, what_);
+    if (defect.empty()) return;
+    try {
+      BooleanResult r = resolve_self(mesh_);
+      if (r.mesh.triangles.empty()) {
+        solid_.defect = defect + " (and the region it winds around is empty)";
+        return;
+      }
+      solid_.counts = euler_counts(split_fans(r.mesh.welded(), r.mesh));
+      solid_.mesh = std::move(r.mesh);
+      solid_.resolved = true;
+    } catch (const Cancelled&) {
+      throw;
+    } catch (const Error&) {
+      solid_.defect = defect + " (and it could not be resolved into the region it winds around)";
+    }
+  });
+  return solid_;
+}
+
+std::string MeshLeaf::solid_defect() const { return solid().defect; }
 
 // Regions grown across edges from each unvisited triangle, in triangle order.
 std::size_t planar_regions(Mesh& mesh, std::vector<FaceSurface>& planes) {

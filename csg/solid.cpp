@@ -693,7 +693,18 @@ Box3 Solid::bounds() const {
   return of(node_);
 }
 
+namespace {
+// A leaf whose surface crosses itself or holds shells that overlap (SolidLeaf::solid_defect) has
+// no volume or inside to speak of: an imported pair of overlapping cubes summed to 2 where the
+// region they bound is 1.875, and a point inside both was "outside".
+void require_solid(const Solid::Node& n) {
+  if (n.kind == Solid::Node::Kind::Leaf)
+    if (std::string d = n.leaf->solid_defect(); !d.empty()) fail("not a solid: ", d);
+}
+}  // namespace
+
 MassProperties Solid::mass_properties(const Tolerance& tol) const {
+  require_solid(*node_);
   if (node_->kind == Node::Kind::Leaf)
     if (auto mp = node_->leaf->mass_properties()) return *mp;
   if (empty() || polyhedral()) return wedge::mass_properties(mesh(tol));
@@ -756,12 +767,14 @@ bool Solid::polyhedral() const {
 Membership Solid::contains(const Point3& p, const Tolerance& tol) const {
   if (!p.allFinite()) fail("contains: the point (", p.x(), ", ", p.y(), ", ", p.z(), ") is not finite");
   if (empty()) return Membership::Outside;
+  require_solid(*node_);
   return classify_point(mesh(tol), p, polyhedral() ? 0.0 : tol.chordal);
 }
 
 CellDecomposition Solid::cells(double size, const Tolerance& tol) const {
   if (!(size > 0) || !std::isfinite(size)) fail("cells: size must be a positive number, got ", size);
   if (empty()) return CellDecomposition();
+  require_solid(*node_);
   return decompose_cells(mesh(tol), size, polyhedral() ? 0.0 : tol.chordal);
 }
 

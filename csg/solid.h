@@ -9,6 +9,7 @@
 #pragma once
 #include <functional>
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <string>
 #include <vector>
@@ -40,6 +41,13 @@ class SolidLeaf {
   virtual std::optional<EulerCounts> euler() const { return std::nullopt; }
   // "" when valid, otherwise the broken rule in words.
   virtual std::string validate() const = 0;
+  // For a leaf whose surface comes from outside (a file, a polyhedron's faces, Euler operators): ""
+  // when its mesh bounds a solid, decided exactly (no two triangles meet beyond what they share,
+  // no shell inside another that faces the same way), otherwise what is wrong. A closed,
+  // consistently oriented surface can still cross itself: its signed volume and its inside are
+  // then not a solid's, and volume(), contains() and cells() refuse it. Leaves built to be
+  // solids (the curved primitives) return "". Found once per leaf.
+  virtual std::string solid_defect() const { return ""; }
   // An exactly transformed copy, or nullptr if this leaf cannot transform itself (the Solid then
   // keeps a transform node and transforms the mesh).
   virtual std::shared_ptr<const SolidLeaf> transformed(const Mat4& /*m*/) const { return nullptr; }
@@ -107,17 +115,23 @@ void set_eval_options(const EvalOptions& options);
 // A closed 2-manifold triangle mesh as a leaf (what import() returns). The mesh is kept as given,
 // attributes and all (a vertex split for its uvs or normals stays split, so it renders as the file
 // has it); closedness, 2-manifoldness and the Euler counts are those of its vertices welded by
-// exactly equal position.
+// exactly equal position. A surface that crosses itself or holds shells that overlap (a file of
+// two overlapping cubes, a model written far from the origin and rounded) bounds no solid as it
+// is: the leaf is then the region it winds around at least once, resolved exactly and rounded
+// (resolve_self; its triangles keep their face ids, not the file's uvs or normals), decided on
+// the first query that needs the mesh. Where that cannot be done, the queries that need a solid
+// refuse the leaf (solid_defect) and validate() says why.
 class MeshLeaf final : public SolidLeaf {
  public:
   // Throws wedge::Error if the mesh is not closed, not 2-manifold or inside out; `what` names the
   // mesh in the message (e.g. the file it came from).
   explicit MeshLeaf(Mesh mesh, const std::string& what = "mesh");
   std::string kind() const override { return "mesh"; }
-  Mesh mesh(const Tolerance&) const override { return mesh_; }
+  Mesh mesh(const Tolerance&) const override { return solid().resolved ? solid().mesh : mesh_; }
   Box3 bounds() const override { return mesh_.bounds(); }
-  std::optional<EulerCounts> euler() const override { return counts_; }
-  std::string validate() const override { return ""; }
+  std::optional<EulerCounts> euler() const override { return solid().resolved ? solid().counts : counts_; }
+  std::string validate() const override { return solid_defect(); }
+  std::string solid_defect() const override;
   std::shared_ptr<const SolidLeaf> transformed(const Mat4& m) const override;
   bool polyhedral() const override { return true; }
   const Mesh& triangles() const { return mesh_; }
@@ -126,6 +140,18 @@ class MeshLeaf final : public SolidLeaf {
   MeshLeaf() = default;
   Mesh mesh_;
   EulerCounts counts_;
+  std::string what_ = "mesh";
+  // The solid the surface bounds: `resolved` where it is not the mesh as given; `defect` where
+  // none could be made.
+  struct Solidified {
+    bool resolved = false;
+    Mesh mesh;
+    EulerCounts counts;
+    std::string defect;
+  };
+  const Solidified& solid() const;
+  mutable std::once_flag solid_once_;
+  mutable Solidified solid_;
 };
 
 class Solid {

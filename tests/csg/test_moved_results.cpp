@@ -124,21 +124,25 @@ TEST_CASE("a tree whose operand fails beside busy ones reports the failure inste
   Tolerance tol;
   tol.chordal = 0.002;
   const Solid part = Solid::boolean(BooleanOp::Difference, {brep_solid(sphere(1)), box_solid(Vec3(1, 1, 1))});
-  Mesh crossed;
+  // (A polyhedron: a mesh leaf that crosses itself is now resolved into the region it winds
+  // around, and a boolean with it succeeds.)
+  std::vector<Point3> points;
+  std::vector<std::vector<int>> faces;
   for (double d : {0.0, 0.25}) {
-    const auto o = static_cast<std::uint32_t>(crossed.positions.size());
+    const int o = static_cast<int>(points.size());
     for (const Point3& p : {Point3(0, 0, 0), Point3(1, 0, 0), Point3(0, 1, 0), Point3(0, 0, 1)})
-      crossed.positions.push_back(p + Vec3(d, d, d));
-    for (const auto& t : std::vector<Mesh::Triangle>{{0, 2, 1}, {0, 1, 3}, {1, 2, 3}, {2, 0, 3}})
-      crossed.triangles.push_back({t[0] + o, t[1] + o, t[2] + o});
+      points.push_back(p + Vec3(d, d, d));
+    for (const auto& t : std::vector<std::vector<int>>{{0, 2, 1}, {0, 1, 3}, {1, 2, 3}, {2, 0, 3}})
+      faces.push_back({t[0] + o, t[1] + o, t[2] + o});
   }
+  const Solid crossed = brep_solid(polyhedron(points, faces));
   // The failing boolean's first operand takes as long as each of the others, so that it fails
   // while they are in the middle of theirs.
   auto busy = [&](int i) {
     return Solid::boolean(BooleanOp::Union, {part, part.transformed(translate({0.3 * i, 0, 0}) * scale(Vec3(-1, 1, 1)))});
   };
   std::vector<Solid> operands;
-  operands.push_back(Solid::boolean(BooleanOp::Difference, {busy(1), Solid::from_mesh(crossed, "the crossed tetrahedra")}));
+  operands.push_back(Solid::boolean(BooleanOp::Difference, {busy(1), crossed}));
   for (int i = 2; i <= 5; ++i) operands.push_back(busy(i));
   const Solid s = Solid::boolean(BooleanOp::Union, operands);
   CHECK_THROWS_WITH(s.mass_properties(tol), Catch::Contains("intersects itself"));

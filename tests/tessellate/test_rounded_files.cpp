@@ -111,6 +111,7 @@ TEST_CASE("a boolean result moved far from the origin writes OBJ, PLY and OFF th
     CHECK(closed_and_oriented(back));
     CHECK(flat_triangles(back) == 0);
     CHECK(back.triangle_count() == mesh.triangle_count() - as_doubles.dropped);
+    INFO(Solid::from_mesh(back, name).validate(tol));
     CHECK(Solid::from_mesh(back, name).validate(tol).empty());
     CHECK(std::abs(back.volume() - mesh.volume()) <= mesh.area() * d + 1e-9 * std::abs(mesh.volume()));
   }

@@ -1,0 +1,73 @@
+// Leaves whose surface is closed and consistently oriented but bounds no solid as it is: it
+// crosses itself, or holds a shell inside another facing the same way. An imported mesh is the
+// region it winds around at least once; a polyhedron (a B-Rep of the user's faces) is refused by
+// the queries that need a solid, and is_valid() says why. (Both were taken as solids: two
+// overlapping cubes had volume 2 where they bound 1.875, and a point inside both was "outside".)
+#include <catch2/catch.hpp>
+
+#include "brep/brep.h"
+#include "csg/brep_leaf.h"
+#include "csg/csg.h"
+#include "tests/support/boolean_cases.h"
+
+using namespace wedge;
+using wedge::testing::box_mesh;
+
+namespace {
+
+Mesh two_boxes(const Point3& lo1, double s1, const Point3& lo2, double s2) {
+  Mesh m = box_mesh(lo1, Vec3(s1, s1, s1));
+  m.append(box_mesh(lo2, Vec3(s2, s2, s2)));
+  return m;
+}
+
+Solid as_polyhedron(const Mesh& m) {
+  std::vector<std::vector<int>> faces;
+  for (const auto& t : m.triangles) faces.push_back({int(t[0]), int(t[1]), int(t[2])});
+  return brep_solid(polyhedron(m.positions, faces));
+}
+
+}  // namespace
+
+TEST_CASE("an imported mesh that crosses itself is the region it winds around", "[solid][mesh]") {
+  Tolerance tol;
+  const Solid s = Solid::from_mesh(two_boxes({0, 0, 0}, 1, {0.5, 0.5, 0.5}, 1), "overlap.obj");
+  CHECK(s.validate(tol).empty());
+  CHECK(s.mass_properties(tol).volume == Approx(1.875).epsilon(1e-12));
+  CHECK(s.contains({0.75, 0.75, 0.75}, tol) == Membership::Inside);
+  CHECK(s.contains({1.25, 1.25, 1.25}, tol) == Membership::Inside);
+  CHECK(s.contains({1.25, 0.25, 0.25}, tol) == Membership::Outside);
+  CHECK(mesh_solid_defect(s.mesh(tol)).empty());
+  const Solid u = Solid::boolean(BooleanOp::Union, {s, Solid::from_mesh(box_mesh({1, 1, 1}, Vec3(1, 1, 1)))});
+  CHECK(u.mass_properties(tol).volume == Approx(1.875 + 1 - 0.125).epsilon(1e-12));
+  // A shell inside another that faces the same way: the outer box.
+  const Solid nested = Solid::from_mesh(two_boxes({0, 0, 0}, 3, {1, 1, 1}, 1), "nested.obj");
+  CHECK(nested.validate(tol).empty());
+  CHECK(nested.mass_properties(tol).volume == Approx(27).epsilon(1e-12));
+  CHECK(nested.contains({1.5, 1.5, 1.5}, tol) == Membership::Inside);
+  // Valid meshes are kept as given (a box beside a box: two shells apart).
+  const Mesh apart = two_boxes({0, 0, 0}, 1, {2, 0, 0}, 1);
+  CHECK(Solid::from_mesh(apart).mesh(tol).triangles == apart.triangles);
+}
+
+TEST_CASE("a polyhedron that crosses itself or nests a shell facing the same way is not a solid", "[solid][brep]") {
+  Tolerance tol;
+  const Solid crossed = as_polyhedron(two_boxes({0, 0, 0}, 2, {1, 1, 1}, 2));
+  CHECK_THAT(crossed.validate(tol), Catch::Contains("intersects itself"));
+  CHECK_THROWS_WITH(crossed.mass_properties(tol), Catch::StartsWith("not a solid: the solid intersects itself"));
+  CHECK_THROWS_WITH(crossed.contains({1.5, 1.5, 1.5}, tol), Catch::Contains("not a solid"));
+  CHECK_THROWS_WITH(crossed.cells(0.5, tol), Catch::Contains("not a solid"));
+  const Solid nested = as_polyhedron(two_boxes({0, 0, 0}, 3, {1, 1, 1}, 1));
+  CHECK_THAT(nested.validate(tol), Catch::Contains("has shells that overlap"));
+  CHECK_THROWS_WITH(nested.mass_properties(tol), Catch::Contains("lies inside another of its shells that faces the same way"));
+  // Moved, the copy asks its source.
+  CHECK_THROWS_WITH(nested.transformed(translate({1, 0, 0})).mass_properties(tol), Catch::Contains("not a solid"));
+  // A hollow (the inner box facing in) and boxes apart are solids.
+  Mesh hollow = two_boxes({0, 0, 0}, 3, {1, 1, 1}, 1);
+  for (std::size_t t = 12; t < 24; ++t) std::swap(hollow.triangles[t][1], hollow.triangles[t][2]);
+  const Solid h = as_polyhedron(hollow);
+  CHECK(h.validate(tol).empty());
+  CHECK(h.mass_properties(tol).volume == Approx(26).epsilon(1e-12));
+  CHECK(h.contains({1.5, 1.5, 1.5}, tol) == Membership::Outside);
+  CHECK(as_polyhedron(two_boxes({0, 0, 0}, 1, {2, 0, 0}, 1)).mass_properties(tol).volume == Approx(2).epsilon(1e-12));
+}
