@@ -27,6 +27,7 @@
 #include "kernel/error.h"
 #include "kernel/file_io.h"
 #include "kernel/scaled.h"
+#include "tessellate/planar.h"
 
 namespace wedge {
 
@@ -154,8 +155,54 @@ struct Polygons {
   std::size_t count() const { return start.size() - 1; }
 };
 
-// A mesh of the vertices and the polygons fanned from their first corner.
-Mesh fan(std::vector<Point3> positions, const Polygons& polys) {
+// The triangles of the polygon c[0 .. n) (indices into `positions`), appended to `out`: a fan from
+// its first corner where the polygon is convex (every corner turns the same way about its Newell
+// normal, and the turns add up to one turn), else a constrained Delaunay triangulation in its plane
+// (tessellate/planar.h): fanned, a concave face (the L-shaped end of a prism, one polygon as CAD
+// exporters write it) had triangles outside itself, and the solid crossed itself. "" or, for a
+// polygon whose edges cross, what is wrong.
+std::string polygon_triangles(const std::vector<Point3>& positions, const std::uint32_t* c, std::size_t n,
+                              std::vector<Mesh::Triangle>& out) {
+  auto fan = [&] {
+    for (std::size_t k = 2; k < n; ++k) out.push_back({c[0], c[k - 1], c[k]});
+  };
+  if (n <= 3) {
+    fan();
+    return "";
+  }
+  std::vector<Point3> loop(n);
+  for (std::size_t k = 0; k < n; ++k) loop[k] = positions[c[k]];
+  const Vec3 normal = newell_normal(loop);
+  const double len = normal.norm();
+  if (!(len > 0) || !std::isfinite(len)) {  // no area: left to the checks of zero-area triangles
+    fan();
+    return "";
+  }
+  const Vec3 axis = normal / len;
+  double turning = 0;
+  bool convex = true;
+  for (std::size_t k = 0; k < n && convex; ++k) {
+    const Vec3 a = loop[k] - loop[(k + n - 1) % n], b = loop[(k + 1) % n] - loop[k];
+    const double s = a.cross(b).dot(axis);
+    convex = s >= 0;
+    turning += std::atan2(s, a.dot(b));
+  }
+  if (convex && std::abs(turning - 2 * M_PI) < 1e-6) {
+    fan();
+    return "";
+  }
+  try {
+    const std::vector<std::vector<std::uint32_t>> loops{std::vector<std::uint32_t>(c, c + n)};
+    for (const Triangle& t : triangulate_face(positions, loops, normal)) out.push_back({t[0], t[1], t[2]});
+  } catch (const Error&) {
+    return "its edges cross each other (a polygon face must be simple)";
+  }
+  return "";
+}
+
+// A mesh of the vertices and the polygons (polygon_triangles); `where(f)` names face f in errors.
+template <class Where>
+Mesh fan(std::vector<Point3> positions, const Polygons& polys, const std::string& name, Where&& where) {
   Mesh m;
   m.positions = std::move(positions);
   std::size_t tris = 0;
@@ -164,7 +211,7 @@ Mesh fan(std::vector<Point3> positions, const Polygons& polys) {
   for (std::size_t f = 0; f < polys.count(); ++f) {
     const std::uint32_t* c = polys.corners.data() + polys.start[f];
     const std::size_t n = polys.start[f + 1] - polys.start[f];
-    for (std::size_t k = 2; k < n; ++k) m.triangles.push_back({c[0], c[k - 1], c[k]});
+    if (std::string why = polygon_triangles(m.positions, c, n, m.triangles); !why.empty()) bad(name, where(f), ": ", why);
   }
   return m;
 }
@@ -308,16 +355,17 @@ Mesh parse_obj(std::string_view bytes, const std::string& name) {
     }
     return it->second;
   };
+  std::vector<std::uint32_t> idx;
+  std::vector<Mesh::Triangle> tris;
   for (std::size_t f = 0; f + 1 < face_start.size(); ++f) {
     const ObjCorner* c = corners.data() + face_start[f];
     const std::size_t n = face_start[f + 1] - face_start[f];
-    const std::uint32_t a = corner(c[0]);
-    std::uint32_t b = corner(c[1]);
-    for (std::size_t k = 2; k < n; ++k) {
-      const std::uint32_t d = corner(c[k]);
-      m.add_triangle(a, b, d);
-      b = d;
-    }
+    idx.clear();
+    for (std::size_t k = 0; k < n; ++k) idx.push_back(corner(c[k]));
+    tris.clear();
+    if (std::string why = polygon_triangles(m.positions, idx.data(), n, tris); !why.empty())
+      bad(name, "line ", face_line[f], ": face ", f + 1, ": ", why);
+    for (const auto& t : tris) m.add_triangle(t[0], t[1], t[2]);
   }
   // Smooth normals only where the file has none: area-weighted over the triangles around the
   // file's vertex (not the split mesh vertex, so a uv seam does not crease the shading). With no
@@ -532,10 +580,12 @@ Mesh parse_off(std::string_view bytes, const std::string& name) {
     }
   }
   Polygons polys;
+  std::vector<std::size_t> face_line;
   for (long long f = 0; f < nf; ++f) {
     if (!text.line_tokens(tok))
       bad(name, "the file ends after ", f, " of the header's ", nf, " faces (truncated file or wrong count)");
     const std::size_t at = text.last_line();
+    face_line.push_back(at);
     long long n = 0;
     if (std::string why = parse_integer(tok[0], n); !why.empty()) bad(name, "line ", at, ": face ", f, ": corner count ", why);
     if (n < 3) bad(name, "line ", at, ": face ", f, " has ", n, " corners, needs at least 3");
@@ -552,7 +602,7 @@ Mesh parse_off(std::string_view bytes, const std::string& name) {
   }
   if (text.line_tokens(tok))
     bad(name, "line ", text.last_line(), ": more data after the header's ", nf, " faces (wrong count?)");
-  Mesh m = fan(std::move(positions), polys);
+  Mesh m = fan(std::move(positions), polys, name, [&](std::size_t f) { return "line " + std::to_string(face_line[f]) + ": face " + std::to_string(f); });
   if (has_n) m.normals = std::move(normals);
   if (has_st) m.uvs = std::move(uvs);
   return m;
@@ -866,7 +916,7 @@ Mesh parse_ply(std::string_view bytes, const std::string& name) {
       if (polys.corners[k] >= nv)
         bad(name, "face ", face_place[f], " corner ", k - polys.start[f], ": index ", polys.corners[k],
             " is out of range (", nv, " vertices, numbered from 0)");
-  Mesh m = fan(std::move(positions), polys);
+  Mesh m = fan(std::move(positions), polys, name, [&](std::size_t f) { return "face " + std::to_string(face_place[f]); });
   if (have_normals) m.normals = std::move(normals);
   if (have_uvs) m.uvs = std::move(uvs);
   return m;

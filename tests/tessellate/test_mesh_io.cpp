@@ -192,3 +192,58 @@ TEST_CASE("a failed write leaves no file and never clobbers the old one", "[mesh
   CHECK(dir.count() == 1);
   CHECK_THROWS_WITH(write_mesh(Mesh(), dir.file("empty.stl")), Catch::Contains("no triangles"));
 }
+
+TEST_CASE("concave polygon faces are triangulated inside themselves, in OBJ, OFF and PLY", "[mesh_io]") {
+  // An L-shaped prism (the L: 2 x 2 less a 1 x 1 corner, 1 high) with each face one polygon, as
+  // CAD exporters write it. Fanned from their first corner, the L's ends had triangles across the
+  // missing corner: the solid crossed itself (a boolean refused it) though its volume looked right.
+  TempDir dir;
+  const char* points = "0 0 0\n2 0 0\n2 1 0\n1 1 0\n1 2 0\n0 2 0\n0 0 1\n2 0 1\n2 1 1\n1 1 1\n1 2 1\n0 2 1\n";
+  const std::vector<std::vector<int>> faces = {{5, 4, 3, 2, 1, 0}, {6, 7, 8, 9, 10, 11}, {0, 1, 7, 6}, {1, 2, 8, 7},
+                                               {2, 3, 9, 8},       {3, 4, 10, 9},        {4, 5, 11, 10}, {5, 0, 6, 11}};
+  {
+    std::ofstream obj(dir.file("l.obj"));
+    std::istringstream in(points);
+    for (std::string line; std::getline(in, line);) obj << "v " << line << "\n";
+    for (const auto& f : faces) {
+      obj << "f";
+      for (int i : f) obj << " " << i + 1;
+      obj << "\n";
+    }
+  }
+  {
+    std::ofstream off(dir.file("l.off"));
+    off << "OFF\n12 " << faces.size() << " 0\n" << points;
+    for (const auto& f : faces) {
+      off << f.size();
+      for (int i : f) off << " " << i;
+      off << "\n";
+    }
+  }
+  {
+    std::ofstream ply(dir.file("l.ply"));
+    ply << "ply\nformat ascii 1.0\nelement vertex 12\nproperty double x\nproperty double y\nproperty double z\n"
+           "element face " << faces.size() << "\nproperty list uchar int vertex_indices\nend_header\n" << points;
+    for (const auto& f : faces) {
+      ply << f.size();
+      for (int i : f) ply << " " << i;
+      ply << "\n";
+    }
+  }
+  Tolerance tol;
+  for (const char* name : {"l.obj", "l.off", "l.ply"}) {
+    INFO(name);
+    const Mesh m = read_mesh(dir.file(name));
+    CHECK(m.triangle_count() == 20);  // 4 in each end, 2 in each of the 6 sides
+    CHECK(mesh_solid_defect(m).empty());  // no triangle across the missing corner
+    CHECK(m.volume() == Approx(3).epsilon(1e-12));
+    CHECK(m.area() == Approx(14).epsilon(1e-12));
+    const Solid s = Solid::from_mesh(m, name);
+    CHECK(s.contains({1.5, 1.5, 0.5}, tol) == Membership::Outside);
+    CHECK(s.contains({0.5, 1.5, 0.5}, tol) == Membership::Inside);
+  }
+  // A polygon whose edges cross (a star, winding twice) is an error naming its line.
+  std::ofstream(dir.file("star.obj")) << "v 0 1 0\nv 0.588 -0.809 0\nv -0.951 0.309 0\nv 0.951 0.309 0\nv -0.588 -0.809 0\n"
+                                         "f 1 2 3 4 5\n";
+  CHECK_THROWS_WITH(read_mesh(dir.file("star.obj")), Catch::Contains("line 6: face 1: its edges cross each other"));
+}
