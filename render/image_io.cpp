@@ -3,6 +3,8 @@
 // temporary file left behind by a killed process.
 #include <spng.h>
 
+#include <cmath>
+
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -44,9 +46,9 @@ void write_png(const std::string& path, const Image& image) {
   write_file_atomically(path, buf, len);
 }
 
-Image read_png(const std::string& path) { return decode_png(read_file(path), path); }
+Image read_png(const std::string& path, std::size_t max_pixels) { return decode_png(read_file(path), path, max_pixels); }
 
-Image decode_png(std::string_view bytes, const std::string& path) {
+Image decode_png(std::string_view bytes, const std::string& path, std::size_t max_pixels) {
   std::unique_ptr<spng_ctx, SpngFree> ctx(spng_ctx_new(0));
   if (!ctx) fail("read_png '", path, "': out of memory");
   spng_set_image_limits(ctx.get(), 16384, 16384);
@@ -56,6 +58,11 @@ Image decode_png(std::string_view bytes, const std::string& path) {
   spng_ihdr ihdr{};
   int err = spng_get_ihdr(ctx.get(), &ihdr);
   if (err) fail("'", path, "' is not a readable PNG: ", spng_strerror(err));
+  if (std::size_t(ihdr.width) * ihdr.height > max_pixels) {
+    const auto side = std::size_t(std::llround(std::sqrt(double(max_pixels))));
+    fail("'", path, "' is ", ihdr.width, " x ", ihdr.height, " pixels, more than the ", max_pixels, " allowed here",
+         side * side == max_pixels ? " (" + std::to_string(side) + " x " + std::to_string(side) + ")" : std::string());
+  }
   std::size_t size = 0;
   err = spng_decoded_image_size(ctx.get(), SPNG_FMT_RGBA8, &size);
   if (err) fail("'", path, "': ", spng_strerror(err));

@@ -8,6 +8,6 @@
 
 namespace wedge::render {
 
-Image decode_png(std::string_view bytes, const std::string& name);
+Image decode_png(std::string_view bytes, const std::string& name, std::size_t max_pixels = std::size_t(16384) * 16384);
 
 }  // namespace wedge::render

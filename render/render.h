@@ -63,7 +63,8 @@ struct Image {
 // PNG through libspng. Writing goes to a temporary file renamed into place, so a failure never
 // leaves a half-written file. Throws wedge::Error naming the path.
 void write_png(const std::string& path, const Image& image);
-Image read_png(const std::string& path);
+// `max_pixels`: a larger image (by its header) is an error before anything is decoded.
+Image read_png(const std::string& path, std::size_t max_pixels = std::size_t(16384) * 16384);
 // A float image as PFM ("Pf", one channel, rows bottom to top as PFM stores them), written atomically.
 void write_pfm(const std::string& path, int width, int height, const std::vector<float>& values_bottom_up);
 
@@ -81,7 +82,9 @@ struct Texture {
   // An n x n checkerboard of `size` texels, colours a and b, starting with a at texel (0, 0).
   static std::shared_ptr<Texture> checker(int size, int n, const Vec4f& a, const Vec4f& b, bool mipmaps = true);
   // Loads a PNG (flipped so that the image's bottom row is t = 0).
+  // A PNG file as a texture; at most kMaxTextureSide x kMaxTextureSide texels.
   static std::shared_ptr<Texture> load_png(const std::string& path, TexFormat format = TexFormat::RGBA, bool mipmaps = true);
+  static constexpr int kMaxTextureSide = 8192;
   void build_mipmaps();
   // Filtered colour at (s, t) for level-of-detail lambda (log2 of the texel-per-pixel scale).
   Vec4f sample(float s, float t, float lambda) const;

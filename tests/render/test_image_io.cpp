@@ -120,3 +120,15 @@ TEST_CASE("a small PNG that declares a huge image is refused before allocating i
   std::ofstream(dir.file("text.png")) << "not a png";
   CHECK_THROWS_WITH(render::read_png(dir.file("text.png")), Catch::Contains("is not a readable PNG"));
 }
+
+TEST_CASE("a texture larger than 8192 x 8192 texels is refused before it is decoded", "[render][image_io]") {
+  // A 1 MB PNG of 16384 x 16384 (one colour compresses 1000:1) took 3.5 GB and 30 s as a texture.
+  TempDir dir;
+  const std::string sig = "\x89PNG\r\n\x1a\n";
+  std::string ihdr = be32(8193) + be32(8192) + std::string{8, 6, 0, 0, 0};
+  std::ofstream(dir.file("big.png"), std::ios::binary)
+      << sig + chunk("IHDR", ihdr) + chunk("IDAT", std::string("\x78\x9c\x03\x00\x00\x00\x00\x01", 8)) + chunk("IEND", "");
+  CHECK_THROWS_WITH(render::Texture::load_png(dir.file("big.png")),
+                    Catch::Contains("is 8193 x 8192 pixels, more than the 67108864 allowed here (8192 x 8192)"));
+  CHECK_THROWS_WITH(render::read_png(dir.file("big.png"), 100), Catch::Contains("more than the 100 allowed here (10 x 10)"));
+}
