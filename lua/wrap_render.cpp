@@ -231,11 +231,13 @@ render::Camera read_camera(lua_State* L, int idx, const Box3& bounds) {
   } else {
     lua_pop(L, 1);
     c.fit_window = false;
+    bool up_given = false;
     std::string proj = o.string("projection", "perspective");
     if (proj == "perspective") {
       c.orthographic = false;
       c.eye = o.vec3("eye", Vec3(5, 5, 5));
       c.center = o.vec3("center", Vec3(0, 0, 0));
+      up_given = o.has("up");
       c.up = o.vec3("up", Vec3(0, 0, 1));
       c.fovy = o.positive("fovy", 45);
       bool explicit_range = o.has("near") || o.has("far");
@@ -246,6 +248,7 @@ render::Camera read_camera(lua_State* L, int idx, const Box3& bounds) {
       c.orthographic = true;
       c.eye = o.vec3("eye", c.eye);
       c.center = o.vec3("center", c.center);
+      up_given = o.has("up");
       c.up = o.vec3("up", c.up);
       c.left = o.number("left", c.left), c.right = o.number("right", c.right);
       c.bottom = o.number("bottom", c.bottom), c.top = o.number("top", c.top);
@@ -271,6 +274,9 @@ render::Camera read_camera(lua_State* L, int idx, const Box3& bounds) {
       throw ArgError{1, "camera.bottom must be below camera.top, got " + number_text(c.bottom) + " and " + number_text(c.top)};
     const Vec3 sight = c.center - c.eye;
     if (sight.norm() == 0) throw ArgError{1, "camera.eye and camera.center must differ"};
+    // Looking straight down (or up) with no up= given: the default up, +z, is along the line of
+    // sight; +y is up in the picture instead (as in a top view).
+    if (!up_given && !(c.up.cross(sight).norm() > 1e-12 * c.up.norm() * sight.norm())) c.up = Vec3(0, 1, 0);
     if (!(c.up.cross(sight).norm() > 1e-12 * c.up.norm() * sight.norm()))
       throw ArgError{1, "camera.up must be a non-zero vector not along the line of sight"};
   }
@@ -287,6 +293,15 @@ render::LightSpec read_light(lua_State* L, int idx, const std::string& name) {
   else if (type == "point") l.type = render::LightSpec::Type::Point;
   else if (type == "spot") l.type = render::LightSpec::Type::Spot;
   else throw ArgError{1, prefix + "type' must be \"directional\", \"point\" or \"spot\", got '" + type + "'"};
+  // A field the light's type has no use for was taken and ignored: a point light given only a
+  // direction lit nothing, with no word.
+  if (l.type == render::LightSpec::Type::Directional && o.has("position"))
+    throw ArgError{1, prefix + "position': a directional light has a direction= (it is at infinity), not a position"};
+  if (l.type == render::LightSpec::Type::Point && o.has("direction"))
+    throw ArgError{1, prefix + "direction': a point light shines every way from its position= (a spot light has both)"};
+  for (const char* spot_only : {"cutoff", "exponent"})
+    if (l.type != render::LightSpec::Type::Spot && o.has(spot_only))
+      throw ArgError{1, prefix + spot_only + "': only a spot light has a " + spot_only + " (type=\"spot\")"};
   l.position = o.vec3("position", l.position);
   l.direction = o.vec3("direction", l.direction);
   // As the camera's eye: a light at 1e308 made every distance inf and the scene black.
@@ -490,6 +505,15 @@ int render_fn(lua_State* L) {
     if (lights_type == LUA_TTABLE) {
       int top = lua_gettop(L);
       const auto n = static_cast<lua_Integer>(lua_rawlen(L, top));
+      // One light without the list around it (lights={type="point", ...}) was a list of none.
+      lua_pushnil(L);
+      while (lua_next(L, top)) {
+        lua_pop(L, 1);
+        if (!lua_isinteger(L, -1) || lua_tointeger(L, -1) < 1 || lua_tointeger(L, -1) > n) {
+          const std::string key = lua_type(L, -1) == LUA_TSTRING ? "'" + std::string(lua_tostring(L, -1)) + "'" : type_name(L, -1);
+          throw ArgError{1, "field 'lights' must be a list of lights, as lights={{type=\"point\", position={0, 0, 5}}}; it has a key " + key};
+        }
+      }
       if (n > 8) throw ArgError{1, "field 'lights' lists " + std::to_string(n) + " lights; OpenGL has 8"};
       for (lua_Integer i = 1; i <= n; ++i) {
         lua_geti(L, top, i);

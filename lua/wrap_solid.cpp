@@ -199,10 +199,11 @@ int cells_m(lua_State* L) {
       if (!(size > 0)) throw ArgError{2, "size must be positive, got " + number_text(size)};
     } else {
       Options o(L, 2);
-      if (!o.has("size")) throw ArgError{2, "field 'size' is required (the longest side of the smallest cells)"};
+      const bool given = o.has("size");
       size = o.positive("size", 1);
       boxes = o.boolean("boxes", false);
-      o.finish();
+      o.finish();  // first: cells{sz=0.1} is a misspelt field, not a missing one
+      if (!given) throw ArgError{2, "field 'size' is required (the longest side of the smallest cells)"};
     }
     CellDecomposition d = self(L).cells(size, current_tolerance(L));
     lua_createtable(L, 0, 6);

@@ -226,6 +226,14 @@ static Mesh tessellate_at_scale(const Model& m, const Tolerance& tol_in, std::ve
     if (estimate == planar)  // the count of a polyhedron, whatever the tolerance
       fail("tessellate: the solid's planar faces make ", estimate, " triangles at any tolerance, more than the budget of ",
            tol.max_triangles, ": raise max_triangles");
+    // Where the chordal tolerance alone stays within the budget, the angle is what asks too much
+    // (tolerance{angle=1e-6} was reported as "tolerance 0.01 would need ...").
+    Tolerance chordal_only = tol;
+    chordal_only.angular = 180;
+    StraightAxes unused;
+    if (tol.angular < 180 && estimate_triangles(m, chordal_only, unused) + planar <= double(tol.max_triangles))
+      fail("tessellate: the angle tolerance of ", tol.angular, " degrees would need ", triangle_count_text(estimate),
+           " triangles, more than the budget of ", tol.max_triangles, ": use a larger angle or raise max_triangles");
     fail("tessellate: tolerance ", tol.chordal, " would need ", triangle_count_text(estimate),
          " triangles, more than the budget of ", tol.max_triangles, ": use a larger tolerance or raise max_triangles");
   }

@@ -424,6 +424,22 @@ const Case kCases[] = {
     {"export(wireframe(box(1,1,1)), '$/w.stl')", "a wireframe has no faces; export it as .obj (polylines)"},
     {"local b = brep() local v, f = b:mvfs{0,0,0} b:kfmrh(f, f)", "hostile.lua:2: kfmrh: the two faces must differ (both are 0)"},
     {"local s = box(1,1,1) * 'x'", "hostile.lua:2: operator '*' (intersection): the second operand is string 'x', a Solid expected"},
+    // Found by a hostile pass (session 42): each was taken without a word, or blamed the wrong thing.
+    {"render{box(1,1,1), out = '$/l.png', size = {4, 4}, lights = {type = 'directional', direction = {0, 0, -1}}}",
+     "hostile.lua:2: render: lights must be a list of lights, as lights={{type=\"point\", position={0, 0, 5}}}; it has a key"},
+    {"render{box(1,1,1), out = '$/l.png', size = {4, 4}, lights = {{type = 'point', direction = {0, 0, -1}}}}",
+     "hostile.lua:2: render: lights[1].direction: a point light shines every way from its position= (a spot light has both)"},
+    {"render{box(1,1,1), out = '$/l.png', size = {4, 4}, lights = {{type = 'directional', position = {0, 0, 5}}}}",
+     "hostile.lua:2: render: lights[1].position: a directional light has a direction= (it is at infinity), not a position"},
+    {"render{box(1,1,1), out = '$/l.png', size = {4, 4}, lights = {{position = {0, 0, 5}, cutoff = 30}}}",
+     "hostile.lua:2: render: lights[1].position: a directional light has a direction="},
+    {"render{box(1,1,1), out = '$/l.png', size = {4, 4}, lights = {{type = 'point', position = {0, 0, 5}, cutoff = 30}}}",
+     "hostile.lua:2: render: lights[1].cutoff: only a spot light has a cutoff (type=\"spot\")"},
+    {"box(1,1,1):cells{sz = 0.1}", "hostile.lua:2: cells: unknown field 'sz' (known: size, boxes)"},
+    {"tolerance{chordal = 0.01, angle = 1e-6} sphere(1):triangles{}",
+     "hostile.lua:2: triangles: tessellate: the angle tolerance of 9.9999999999999995e-07 degrees would need about"},
+    {"render{box(1,1,1), out = '$/c.png', size = {4, 4}, camera = {eye = {0, 0, 5}, center = {0, 0, 0}, up = {0, 0, 1}}}",
+     "hostile.lua:2: render: camera.up must be a non-zero vector not along the line of sight"},
 };
 
 std::string replace_all(std::string s, const std::string& from, const std::string& to) {
@@ -450,6 +466,22 @@ TEST_CASE("bad script calls are errors at the caller's line naming what was wron
   }
   CHECK(n >= 60);
   CHECK(fs::is_empty(dir));  // no file written, no temporary left by a refused call
+  fs::remove_all(dir);
+}
+
+TEST_CASE("a camera looking straight down with no up given renders with +y up", "[lua][hostile][render]") {
+  // The default up, +z, lay along the line of sight: "camera.up must be ... not along the line of
+  // sight", naming a field the script never set.
+  const fs::path dir = fs::temp_directory_path() / ("wedge-down-" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  std::ostringstream err;
+  const std::string out = (dir / "down.png").string();
+  const int status = wedge::lua::run_string(
+      "render{box(1, 2, 1), out = '" + out + "', size = {8, 8}, camera = {eye = {0.5, 1, 5}, center = {0.5, 1, 0}}}\n",
+      "@down.lua", err);
+  CHECK(status == 0);
+  CHECK(err.str().empty());
+  CHECK(fs::exists(out));
   fs::remove_all(dir);
 }
 
