@@ -18,6 +18,7 @@
 #include <algorithm>
 #include <cmath>
 #include <deque>
+#include <limits>
 
 #include "brep/brep.h"
 #include "kernel/scaled.h"
@@ -408,6 +409,39 @@ Section normalised(const Section& s, const char* what) {
   return out;
 }
 
+// The cyclic shift of loop l (pieces in the same order) whose pieces lie nearest those of loop ref,
+// by the sum of squared distances between points at the same fractions of corresponding pieces
+// (the correspondence a loft's sides use): a loft from a square to the same square starting at
+// another corner otherwise twisted into an hourglass pinched to a point.
+SectionLoop aligned(const SectionLoop& l, const SectionLoop& ref) {
+  const std::size_t n = l.size();
+  constexpr int kSamples = 8;
+  auto samples = [&](const SectionLoop& loop) {
+    std::vector<Point3> p;
+    for (const auto& c : loop) {
+      auto [a, b] = c->domain();
+      for (int i = 0; i < kSamples; ++i) p.push_back(c->eval(a + (b - a) * (i + 0.5) / kSamples));
+    }
+    return p;
+  };
+  const std::vector<Point3> p = samples(l), q = samples(ref);
+  std::size_t best = 0;
+  double best_cost = std::numeric_limits<double>::infinity();
+  for (std::size_t shift = 0; shift < n; ++shift) {
+    double cost = 0;
+    for (std::size_t j = 0; j < n; ++j)
+      for (int i = 0; i < kSamples; ++i) {
+        const Point3& a = p[((j + shift) % n) * kSamples + static_cast<std::size_t>(i)];
+        const Point3& b = q[j * kSamples + static_cast<std::size_t>(i)];
+        cost += (a.head<2>() - b.head<2>()).squaredNorm();
+      }
+    if (cost < best_cost) best_cost = cost, best = shift;
+  }
+  SectionLoop out;
+  for (std::size_t j = 0; j < n; ++j) out.push_back(l[(j + best) % n]);
+  return out;
+}
+
 // Builds from the section, and from its mirror image when the sweep turns it inside out (a
 // revolve maps the XY plane's counter-clockwise onto clockwise seen from outside).
 template <class MakeSide>
@@ -739,6 +773,16 @@ Model loft(const std::vector<Section>& sections, const std::vector<double>& heig
     for (std::size_t k = 0; k < ns[0].holes.size(); ++k)
       if (ns[i].holes[k].size() != ns[0].holes[k].size()) fail("loft: hole ", k + 1, " of profile ", i + 1, " has a different number of pieces");
   }
+  // Each loop starts where it best matches the same loop of the profile below (ns[0] as given).
+  for (std::size_t i = 1; i < ns.size(); ++i) {
+    ns[i].outer = aligned(ns[i].outer, ns[i - 1].outer);
+    for (std::size_t k = 0; k < ns[i].holes.size(); ++k) ns[i].holes[k] = aligned(ns[i].holes[k], ns[i - 1].holes[k]);
+  }
+  // The sections' parameters in proportion to their heights: z is then linear along the side
+  // (LoftedSurface), never outside [heights.front(), heights.back()].
+  std::vector<double> params(heights.size());
+  for (std::size_t i = 0; i < heights.size(); ++i) params[i] = (heights[i] - heights[0]) / (heights.back() - heights[0]);
+  params.back() = 1;
   // Pieces of every section at their heights; the side of piece j lofts piece j of each.
   std::vector<std::vector<SurfacePtr>> sides;
   std::size_t K = 1 + ns[0].holes.size();
@@ -751,7 +795,7 @@ Model loft(const std::vector<Section>& sections, const std::vector<double>& heig
         const SectionLoop& l = k == 0 ? ns[i].outer : ns[i].holes[k - 1];
         secs.push_back(std::make_shared<const TransformedCurve>(l[j], translate(Vec3(0, 0, heights[i]))));
       }
-      sides.back().push_back(std::make_shared<const LoftedSurface>(secs));
+      sides.back().push_back(std::make_shared<const LoftedSurface>(secs, params));
     }
   }
   Model m = sweep_raw(sides, false);

@@ -594,13 +594,21 @@ void SweptSurface::jet(double u, double v, int d, Vec3* out) const {
 
 // --- lofting ---
 
-LoftedSurface::LoftedSurface(std::vector<CurvePtr> sections) : sections_(std::move(sections)) {
+LoftedSurface::LoftedSurface(std::vector<CurvePtr> sections, std::vector<double> params) : sections_(std::move(sections)) {
   std::size_t n = sections_.size();
   if (n < 2) fail("a loft needs at least 2 sections, got ", n);
   for (std::size_t i = 0; i < n; ++i)
     if (!sections_[i]) fail("loft: section ", i + 1, " is missing");
   std::vector<double> v(n);
-  for (std::size_t i = 0; i < n; ++i) v[i] = double(i) / double(n - 1);
+  if (params.empty()) {
+    for (std::size_t i = 0; i < n; ++i) v[i] = double(i) / double(n - 1);
+  } else {
+    if (params.size() != n) fail("loft: ", n, " sections but ", params.size(), " parameters");
+    if (params.front() != 0 || params.back() != 1) fail("loft: section parameters must run from 0 to 1");
+    for (std::size_t i = 1; i < n; ++i)
+      if (!(params[i] > params[i - 1])) fail("loft: section parameters must increase (parameter ", i + 1, " is ", params[i], ")");
+    v = std::move(params);
+  }
   for (std::size_t i = 0; i < n; ++i) {
     std::vector<Point3> e(n, Point3::Zero());
     e[i] = Point3(1, 0, 0);

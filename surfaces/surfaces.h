@@ -437,11 +437,15 @@ class SweptSurface : public Surface {
 };
 
 // The skinned surface through section curves C_0..C_{n-1}: S(u, v) = sum_i C_i(u) N_i(v) with N_i
-// the cardinal natural cubic splines on v_i = i / (n - 1) (linear for two sections: a ruled surface),
-// so S(u, v_i) = C_i(u). Sections are reparametrised linearly onto [0, 1].
+// the cardinal natural cubic splines on increasing v_i from 0 to 1 (by default i / (n - 1)); linear
+// for two sections: a ruled surface. S(u, v_i) = C_i(u). Sections are reparametrised linearly onto
+// [0, 1]. A natural spline reproduces linear data exactly, so sections placed at heights z_i with
+// v_i = (z_i - z_0) / (z_{n-1} - z_0) give z(u, v) linear in v: the surface neither leaves the slab
+// of the sections nor folds back in z, and identical sections give a straight prism (with
+// uniform v_i, heights {0, 0.1, 1} made z dip below 0 and fold back on itself).
 class LoftedSurface : public Surface {
  public:
-  explicit LoftedSurface(std::vector<CurvePtr> sections);
+  explicit LoftedSurface(std::vector<CurvePtr> sections, std::vector<double> params = {});
   std::pair<double, double> u_domain() const override { return {0.0, 1.0}; }
   std::pair<double, double> v_domain() const override { return {0.0, 1.0}; }
   Point3 eval(double u, double v) const override;

@@ -1,0 +1,66 @@
+// sweep() and loft{} on the inputs of the hostile-testing pass: lofts of one square given with
+// another orientation or start vertex, and of identical squares at uneven heights, give the
+// closed-form solid.
+#include <catch2/catch.hpp>
+
+#include <chrono>
+
+#include "run_lua.h"
+
+namespace {
+double seconds_of(const std::chrono::steady_clock::time_point& t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+}  // namespace
+
+TEST_CASE("loft orients every profile counter-clockwise and aligns their start points", "[lua][loft]") {
+  // The same 2x2 square at z = 0 and z = 1 is the 2x2x1 prism however the second is written.
+  auto r = run_lua(R"(
+    local sq  = polygon{{-1, -1}, {1, -1}, {1, 1}, {-1, 1}}
+    local sqw = polygon{{-1, -1}, {-1, 1}, {1, 1}, {1, -1}}  -- clockwise
+    local sqr = polygon{{1, 1}, {-1, 1}, {-1, -1}, {1, -1}}  -- another start vertex
+    local sqwr = polygon{{1, -1}, {-1, -1}, {-1, 1}, {1, 1}}  -- both
+    for _, other in ipairs{sqw, sqr, sqwr} do
+      local s = loft{profiles = {sq, other}, heights = {0, 1}}
+      assert(math.abs(s:volume() - 4) < 1e-9, s:volume())
+      assert(math.abs(s:area() - 16) < 1e-9, s:area())
+      assert(s:contains{0.9, 0.9, 0.5} == "inside" and s:contains{0, 0, 0.5} == "inside")
+      assert(s:is_valid())
+    end
+  )", "@aligned.lua");
+  CHECK(r.status == 0);
+  CHECK(r.err == "");
+}
+
+TEST_CASE("loft of identical squares at uneven heights is the straight prism", "[lua][loft]") {
+  auto t0 = std::chrono::steady_clock::now();
+  auto r = run_lua(R"(
+    local s = loft{profiles = {rect(1, 1), rect(1, 1), rect(1, 1)}, heights = {0, 0.1, 1}}
+    local b = s:bounds()
+    assert(math.abs(b.min[3]) <= 1e-12, b.min[3])
+    assert(math.abs(b.max[3] - 1) <= 1e-12, b.max[3])
+    assert(math.abs(s:area() - 6) <= 1e-9, s:area())
+    assert(math.abs(s:volume() - 1) <= 1e-9, s:volume())
+    -- (contains calls points within the tolerance, 0.01, of a curved face the boundary)
+    assert(s:contains{0.5, 0.5, -0.02} == "outside" and s:contains{0.5, 0.5, 0.02} == "inside")
+    assert(s:is_valid())
+    assert(s:triangles{} > 0)
+  )", "@uneven.lua");
+  CHECK(seconds_of(t0) < 10);
+  CHECK(r.status == 0);
+  CHECK(r.err == "");
+}
+
+TEST_CASE("loft between different profiles stays within the slab of its heights", "[lua][loft]") {
+  // A square, a small one near it, a large one far above: z along the sides is linear in the
+  // parameter, so no point of the solid lies below the first height or above the last.
+  auto r = run_lua(R"(
+    local s = loft{profiles = {rect(2, 2, true), rect(1, 1, true), rect(3, 3, true)}, heights = {0, 0.05, 2}}
+    local b = s:bounds()
+    assert(math.abs(b.min[3]) <= 1e-12, b.min[3])
+    assert(math.abs(b.max[3] - 2) <= 1e-12, b.max[3])
+    assert(s:is_valid())
+  )", "@slab.lua");
+  CHECK(r.status == 0);
+  CHECK(r.err == "");
+}
