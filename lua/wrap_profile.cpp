@@ -295,6 +295,8 @@ int sweep_fn(lua_State* L) {
     Section s = check_section(L, 1);
     const LuaCurve& path = check_curve(L, 2);
     check_no_more(L, 2);
+    // A corner is the path's fault, whatever the profile.
+    as_arg(2, [&] { require_smooth_path(*path.curve); });
     push_solid(L, brep_solid(build(1, [&] { return sweep_along(s, path.curve); })));
     return 1;
   });

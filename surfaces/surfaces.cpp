@@ -8,6 +8,8 @@
 // cardinal natural cubic splines. Their meshes are made in tessellate/ (tessellate/surface_mesh.h).
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <string>
 
 #include "surfaces/surfaces.h"
 #include "kernel/scaled.h"
@@ -442,7 +444,36 @@ Vec3 path_tangent(const Curve& path, double t) {
   return d;
 }
 
+// Six significant digits, for a message ("90", "(0, 0, 5)"), not 17.
+std::string short_text(double x) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.6g", std::abs(x) < 1e-12 ? 0.0 : x);
+  return buf;
+}
+std::string point_text(const Point3& p) {
+  return "(" + short_text(p.x()) + ", " + short_text(p.y()) + ", " + short_text(p.z()) + ")";
+}
+
 }  // namespace
+
+// A path's tangent must be continuous: at a corner the profile's plane turns at once, the swept
+// surface is torn apart there (S(u, c-) != S(u, c+)), its volume is wrong and no tolerance can
+// mesh the tear. Corners of a piecewise curve lie at its breaks; there the turn across a small
+// step is compared with the turn over the same step on either side, which a smooth curve keeps
+// comparable and a corner does not.
+void require_smooth_path(const Curve& path) {
+  auto [a, b] = path.domain();
+  const double h = 1e-7 * (b - a);
+  for (double c : path.breaks()) {
+    if (!(c - 2 * h > a && c + 2 * h < b)) continue;
+    const Vec3 t0 = path_tangent(path, c - 2 * h), t1 = path_tangent(path, c - h), t2 = path_tangent(path, c + h),
+               t3 = path_tangent(path, c + 2 * h);
+    const double across = angle_of(t1, t2);
+    if (across > 1e-6 && across > 100 * std::max(angle_of(t0, t1), angle_of(t2, t3)))
+      fail("sweep: the path turns by ", short_text(degrees(across)), " degrees at ", point_text(path.eval(c)),
+           ": a swept solid needs a path with a continuous tangent (round the corner, e.g. a bspline of degree 3)");
+  }
+}
 
 std::vector<Frame> rotation_minimizing_frames(const Curve& path, int count) {
   if (count < 2) fail("frame count must be at least 2, got ", count);
@@ -482,6 +513,8 @@ SweptSurface::SweptSurface(CurvePtr profile, CurvePtr path, int frames, bool clo
     double phi = std::atan2(f1.r.dot(f0.s), f1.r.dot(f0.r));
     twist_rate_ = -phi / (b - a);
   }
+  // (After the closing check, whose message names a corner where a closed path closes.)
+  require_smooth_path(*path_);
 }
 
 Frame SweptSurface::frame(double v) const {

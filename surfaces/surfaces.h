@@ -405,6 +405,9 @@ struct Frame {
 // uniformly spaced parameters (ends included).
 std::vector<Frame> rotation_minimizing_frames(const Curve& path, int count);
 
+// Throws unless the tangent of `path` is continuous (no corner: a sweep along it would tear).
+void require_smooth_path(const Curve& path);
+
 // A profile (its x, y in the path's normal plane: x along r, y along s) swept along a 3D path with
 // rotation-minimising frames. u: along the profile, v: along the path. The frame at any v is the
 // double-reflection step from the nearest precomputed frame, so it is continuous. The v
@@ -413,7 +416,8 @@ std::vector<Frame> rotation_minimizing_frames(const Curve& path, int count);
 // `close_frames` (a closed, smooth path): the RMF comes back turned about the tangent by its
 // holonomy angle; the profile is turned against it linearly along v, so that S(u, v1) = S(u, v0)
 // and the swept surface closes into a ring. Throws if the path is not closed or has a corner
-// where it closes.
+// where it closes, or if the path has a corner anywhere (its tangent jumps: the surface would tear
+// there).
 class SweptSurface : public Surface {
  public:
   SweptSurface(CurvePtr profile, CurvePtr path, int frames = 512, bool close_frames = false);

@@ -1,6 +1,6 @@
-// sweep() and loft{} on the inputs of the hostile-testing pass: lofts of one square given with
-// another orientation or start vertex, and of identical squares at uneven heights, give the
-// closed-form solid.
+// sweep() and loft{} on the inputs of the hostile-testing pass: a path with a corner, lofts of one
+// square given with another orientation or start vertex, and of identical squares at uneven
+// heights. Each gives the closed-form solid or a quick error that names the cause.
 #include <catch2/catch.hpp>
 
 #include <chrono>
@@ -12,6 +12,39 @@ double seconds_of(const std::chrono::steady_clock::time_point& t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 }  // namespace
+
+TEST_CASE("sweep refuses a path with a corner at once, naming the turn and where", "[lua][sweep]") {
+  auto t0 = std::chrono::steady_clock::now();
+  auto r = run_lua(R"(
+    local path = bspline{points = {{0, 0, 0}, {0, 0, 5}, {5, 0, 5}}, degree = 1}
+    local s = sweep(rect(1, 1, true), path)
+  )", "@corner.lua");
+  CHECK(seconds_of(t0) < 2);
+  CHECK(r.status != 0);
+  CHECK_THAT(r.err, Catch::Contains("corner.lua:3: bad argument #2 to 'sweep' (sweep: the path turns by 90 degrees at "
+                                    "(0, 0, 5): a swept solid needs a path with a continuous tangent"));
+}
+
+TEST_CASE("sweep refuses a path that doubles back on itself", "[lua][sweep]") {
+  auto r = run_lua(R"(
+    sweep(rect(1, 1, true), bspline{points = {{0, 0, 0}, {0, 0, 5}, {0, 0, 2}}, degree = 1})
+  )", "@reverse.lua");
+  CHECK(r.status != 0);
+  CHECK_THAT(r.err,
+             Catch::Contains("reverse.lua:2: bad argument #2 to 'sweep' (sweep: the path turns by 180 degrees at (0, 0, 5)"));
+}
+
+TEST_CASE("sweep along smooth paths with the same points still works", "[lua][sweep]") {
+  // Degree 2 rounds the corner of the L; a straight degree-1 path has breaks but no corner.
+  auto r = run_lua(R"(
+    local s = sweep(rect(1, 1, true), bspline{points = {{0, 0, 0}, {0, 0, 5}, {5, 0, 5}}, degree = 2})
+    assert(s:is_valid())
+    local p = sweep(rect(1, 2, true), bspline{points = {{0, 0, 0}, {0, 0, 1}, {0, 0, 3}}, degree = 1})
+    assert(math.abs(p:volume() - 6) < 1e-9, p:volume())
+  )", "@smooth.lua");
+  CHECK(r.status == 0);
+  CHECK(r.err == "");
+}
 
 TEST_CASE("loft orients every profile counter-clockwise and aligns their start points", "[lua][loft]") {
   // The same 2x2 square at z = 0 and z = 1 is the 2x2x1 prism however the second is written.
