@@ -515,6 +515,42 @@ SweptSurface::SweptSurface(CurvePtr profile, CurvePtr path, int frames, bool clo
   }
   // (After the closing check, whose message names a corner where a closed path closes.)
   require_smooth_path(*path_);
+  require_no_fold();
+}
+
+// With the rotation-minimising frame, S_v = |C'| (1 - kappa (p . N)) t (N the principal normal,
+// p the placed profile point): where the profile reaches as far towards the centre of curvature
+// as the radius of curvature, S_v vanishes and the surface folds back over itself, enclosing
+// parts of space twice (a hairpin swept with a wide profile was reported valid with a wrong
+// volume). Checked at the stored frames against samples of the profile.
+void SweptSurface::require_no_fold() const {
+  std::vector<double> us;
+  const std::vector<double> br = profile_->breaks();
+  for (std::size_t i = 0; i + 1 < br.size(); ++i)
+    for (int k = 0; k < 16; ++k) us.push_back(br[i] + (br[i + 1] - br[i]) * k / 16);
+  us.push_back(br.back());
+  double worst = 0, worst_radius = 0, worst_reach = 0, worst_v = 0;
+  for (std::size_t i = 0; i < params_.size(); ++i) {
+    const double v = params_[i];
+    const Vec3 d1 = path_->derivative(v, 1), d2 = path_->derivative(v, 2);
+    const double L = d1.norm();
+    if (!(L > 0)) continue;
+    const Vec3 t = d1 / L, t1 = (d2 - d2.dot(t) * t) / L;  // dt/dv = |C'| kappa N
+    const double k = t1.norm() / L;
+    if (!(k > 0)) continue;
+    const Vec3 N = t1 / t1.norm();
+    const Frame& f = frames_[i];
+    for (double u : us) {
+      const Vec3 p = turned(u, v, 0);
+      const double reach = (p.x() * f.r + p.y() * f.s).dot(N);
+      if (k * reach > worst) worst = k * reach, worst_radius = 1 / k, worst_reach = reach, worst_v = v;
+    }
+  }
+  if (worst >= 1)
+    fail("sweep: the path bends with radius ", short_text(worst_radius), " at ", point_text(path_->eval(worst_v)),
+         ", but the profile reaches ", short_text(worst_reach),
+         " from the path towards the bend's centre: the swept surface folds over itself there (bend the path more gently or "
+         "use a smaller profile)");
 }
 
 Frame SweptSurface::frame(double v) const {

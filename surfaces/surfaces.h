@@ -416,8 +416,8 @@ void require_smooth_path(const Curve& path);
 // `close_frames` (a closed, smooth path): the RMF comes back turned about the tangent by its
 // holonomy angle; the profile is turned against it linearly along v, so that S(u, v1) = S(u, v0)
 // and the swept surface closes into a ring. Throws if the path is not closed or has a corner
-// where it closes, or if the path has a corner anywhere (its tangent jumps: the surface would tear
-// there).
+// where it closes, if the path has a corner anywhere (its tangent jumps: the surface would tear
+// there), or if it bends tighter than the profile reaches from it (the surface would fold).
 class SweptSurface : public Surface {
  public:
   SweptSurface(CurvePtr profile, CurvePtr path, int frames = 512, bool close_frames = false);
@@ -438,6 +438,8 @@ class SweptSurface : public Surface {
   double twist_rate_ = 0;
   // The profile's point (or u-derivative of order ku) turned by the closing twist at v.
   Vec3 turned(double u, double v, int ku) const;
+  // Throws where the profile reaches the centre of the path's curvature (the surface folds).
+  void require_no_fold() const;
 };
 
 // The skinned surface through section curves C_0..C_{n-1}: S(u, v) = sum_i C_i(u) N_i(v) with N_i

@@ -1,6 +1,7 @@
-// sweep() and loft{} on the inputs of the hostile-testing pass: a path with a corner, lofts of one
-// square given with another orientation or start vertex, and of identical squares at uneven
-// heights. Each gives the closed-form solid or a quick error that names the cause.
+// sweep() and loft{} on the inputs of the hostile-testing pass: a path with a corner, a hairpin path
+// whose sweep folds over itself, lofts of one square given with another orientation or start
+// vertex, and of identical squares at uneven heights. Each gives the closed-form solid or a quick
+// error that names the cause.
 #include <catch2/catch.hpp>
 
 #include <chrono>
@@ -44,6 +45,15 @@ TEST_CASE("sweep along smooth paths with the same points still works", "[lua][sw
   )", "@smooth.lua");
   CHECK(r.status == 0);
   CHECK(r.err == "");
+}
+
+TEST_CASE("sweep refuses a path that bends tighter than the profile reaches", "[lua][sweep]") {
+  auto r = run_lua(R"(
+    sweep(rect(1, 1, true), bezier{{0, 0, 0}, {0, 0, 5}, {0.1, 0, 0}})
+  )", "@hairpin.lua");
+  CHECK(r.status != 0);
+  CHECK_THAT(r.err, Catch::Contains("hairpin.lua:2: bad argument #1 to 'sweep' (sweep: the path bends with radius "));
+  CHECK_THAT(r.err, Catch::Contains("the swept surface folds over itself there"));
 }
 
 TEST_CASE("loft orients every profile counter-clockwise and aligns their start points", "[lua][loft]") {
