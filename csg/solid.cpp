@@ -431,11 +431,12 @@ Box3 loose_bounds(const std::shared_ptr<const Solid::Node>& n) {
 }
 }  // namespace
 
-Solid Solid::boolean(BooleanOp op, std::vector<Solid> operands) {
+Solid Solid::boolean(BooleanOp op, std::vector<Solid> operands, std::string where) {
   if (operands.empty()) fail("boolean: no operands");
   auto n = std::make_shared<Node>();
   n->kind = Node::Kind::Boolean;
   n->op = op;
+  n->where = std::move(where);
   // Chains become one n-ary node: a + b + c + ... one union (one engine pass over all operands,
   // grouped by their boxes, balanced when large), a * b * c one intersection, and a - b - c
   // (a script drilling holes one by one) a minus all of b, c, ...: never a chain of growing

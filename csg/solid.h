@@ -166,7 +166,8 @@ class Solid {
   // A lazy boolean node (csg/boolean.h): union and intersection of all operands, difference of
   // the first minus the rest. Nothing is computed until a query asks for the mesh; the result is
   // then kept per tolerance.
-  static Solid boolean(BooleanOp op, std::vector<Solid> operands);
+  // `where` (a script's "model.lua:12") names the node in the errors of its evaluation.
+  static Solid boolean(BooleanOp op, std::vector<Solid> operands, std::string where = {});
 
   // Queries. `tol` is the chordal tolerance used where the mesh is needed.
   Mesh mesh(const Tolerance& tol) const;

@@ -117,6 +117,7 @@ std::size_t fan_in(const std::vector<std::shared_ptr<Evaluated>>& group, const R
 struct Origin {
   BooleanOp op;
   const std::vector<std::shared_ptr<Evaluated>>* operands;
+  const std::string* where;  // where the script made the node, or empty
 };
 
 // "the third operand of the union"; an engine operand that is none of the node's own (a union of
@@ -124,12 +125,14 @@ struct Origin {
 std::string origin_name(const Origin& origin, const std::shared_ptr<Evaluated>& e, BooleanOp partial) {
   static const char* const ordinal[] = {"first", "second", "third", "fourth", "fifth",
                                         "sixth", "seventh", "eighth", "ninth", "tenth"};
-  const std::string node = boolean_op_name(origin.op);
+  // (A script's node is named by its line: the error comes from the query that evaluates it, often
+  // lines later.)
+  const std::string node = std::string(boolean_op_name(origin.op)) + (origin.where->empty() ? "" : " at " + *origin.where);
   const auto& ops = *origin.operands;
   for (std::size_t j = 0; j < ops.size(); ++j)
     if (ops[j] == e)
       return (j < 10 ? std::string("the ") + ordinal[j] + " operand" : "operand " + std::to_string(j + 1)) + " of the " + node;
-  return std::string("a partial ") + boolean_op_name(partial) + " of the " + node + "'s operands";
+  return std::string("a partial ") + boolean_op_name(partial) + " of the operands of the " + node;
 }
 
 // The engine on some operands; the result's face ids number the operands' faces in turn.
@@ -411,7 +414,7 @@ std::shared_ptr<Evaluated> evaluate_boolean(const Solid::Node& n, const Toleranc
     for (std::size_t i = 0; i < in.size(); ++i) one(i);
   run.check();
   const std::vector<std::shared_ptr<Evaluated>> given = in;
-  const Origin origin{n.op, &given};
+  const Origin origin{n.op, &given, &n.where};
   in = distinct(in, n.op == BooleanOp::Difference ? 1 : 0);
   if (n.op == BooleanOp::Difference)  // A - A - ... is empty
     for (std::size_t i = 1; i < in.size(); ++i)

@@ -56,6 +56,7 @@ struct Solid::Node {
   // would otherwise each keep a copy).
   void for_each_operand(const std::function<void(const std::shared_ptr<const Node>&)>& f) const;
   int tag = -1;  // Solid::tagged
+  std::string where;  // a boolean node: where a script made it ("model.lua:12"), for its errors
   // Levels from this node down to its deepest leaf (1 for a leaf). Evaluation, bounds and the
   // traversals recurse over the tree, so its depth is bounded where the tree is made.
   int depth = 1;
@@ -73,7 +74,7 @@ struct Solid::Node {
   Node() = default;
   Node(const Node& o)
       : kind(o.kind), leaf(o.leaf), matrix(o.matrix), child(o.child), op(o.op), parts(o.parts), size(o.size), tag(o.tag),
-        depth(o.depth) {}
+        where(o.where), depth(o.depth) {}
   ~Node();
 };
 

@@ -12,6 +12,15 @@ namespace wedge::lua {
 
 namespace {
 
+// Where the script made the node ("model.lua:12"): its errors come from a later query.
+std::string caller_line(lua_State* L) {
+  luaL_where(L, 1);
+  std::string w = lua_tostring(L, -1);
+  lua_pop(L, 1);
+  while (!w.empty() && (w.back() == ' ' || w.back() == ':')) w.pop_back();
+  return w;
+}
+
 // a + b, a - b, a * b: Lua calls the metamethod with the operands in order, whichever is the Solid.
 template <BooleanOp Op>
 int operator_m(lua_State* L) {
@@ -25,7 +34,7 @@ int operator_m(lua_State* L) {
                     " operand is " + describe(L, i) + ", a Solid expected");
       ops.push_back(*s);
     }
-    push_solid(L, Solid::boolean(Op, std::move(ops)), 1);
+    push_solid(L, Solid::boolean(Op, std::move(ops), caller_line(L)), 1);
     return 1;
   });
 }
@@ -57,7 +66,7 @@ int function_fn(lua_State* L) {
       if (n == 0) throw ArgError{1, std::string("no operands: ") + boolean_op_name(Op) + " needs at least one Solid"};
       for (int i = 1; i <= n; ++i) ops.push_back(check_solid(L, i));
     }
-    push_solid(L, Solid::boolean(Op, std::move(ops)), first);
+    push_solid(L, Solid::boolean(Op, std::move(ops), caller_line(L)), first);
     return 1;
   });
 }
