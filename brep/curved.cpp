@@ -732,6 +732,32 @@ Model revolve(const Section& s, double angle) {
   };
   check_x(s.outer);
   for (const auto& h : s.holes) check_x(h);
+  // A corner of the profile on the axis whose pieces both leave it (a triangle with one corner at
+  // x = 0) revolves into a solid pinched to a point there: "build_from_loops: the faces around
+  // vertex 0 form more than one fan" said nothing a script could act on. On the axis, a corner
+  // needs a piece along it (a half disk's diameter, for a sphere).
+  auto check_pinch = [](const SectionLoop& l) {
+    double size = 0;
+    for (const auto& c : l) {
+      auto [a, b] = c->domain();
+      for (int i = 0; i <= 8; ++i) size = std::max(size, c->eval(a + (b - a) * i / 8).head<2>().cwiseAbs().maxCoeff());
+    }
+    const double tol = 1e-12 * size;
+    auto along_axis = [&](const CurvePtr& c) {
+      auto [a, b] = c->domain();
+      for (int i = 0; i <= 8; ++i)
+        if (std::abs(c->eval(a + (b - a) * i / 8).x()) > tol) return false;
+      return true;
+    };
+    for (std::size_t i = 0; i < l.size(); ++i) {
+      const Point3 p = l[i]->eval(l[i]->domain().second);
+      if (std::abs(p.x()) <= tol && !along_axis(l[i]) && !along_axis(l[(i + 1) % l.size()]))
+        fail("revolve: the profile touches the axis at (0, ", p.y(), ") at a corner only: the solid would pinch to a point "
+             "there (give the profile an edge along the axis there, or keep it off the axis)");
+    }
+  };
+  check_pinch(s.outer);
+  for (const auto& h : s.holes) check_pinch(h);
   bool full = angle >= 2 * kPi * (1 - 1e-12);
   double a = full ? 2 * kPi : angle;
   Model m = oriented_sweep(s, full, [&](const CurvePtr& c) -> SurfacePtr { return std::make_shared<const RevolutionSurface>(c, a); },

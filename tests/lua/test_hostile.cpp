@@ -436,6 +436,8 @@ const Case kCases[] = {
     {"render{box(1,1,1), out = '$/l.png', size = {4, 4}, lights = {{type = 'point', position = {0, 0, 5}, cutoff = 30}}}",
      "hostile.lua:2: render: lights[1].cutoff: only a spot light has a cutoff (type=\"spot\")"},
     {"box(1,1,1):cells{sz = 0.1}", "hostile.lua:2: cells: unknown field 'sz' (known: size, boxes)"},
+    {"revolve(polygon{{0, 0}, {1, -1}, {1, 1}})",
+     "revolve: the profile touches the axis at (0, 0) at a corner only: the solid would pinch to a point there"},
     {"tolerance{chordal = 0.01, angle = 1e-6} sphere(1):triangles{}",
      "hostile.lua:2: triangles: tessellate: the angle tolerance of 9.9999999999999995e-07 degrees would need about"},
     {"render{box(1,1,1), out = '$/c.png', size = {4, 4}, camera = {eye = {0, 0, 5}, center = {0, 0, 0}, up = {0, 0, 1}}}",
