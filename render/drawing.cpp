@@ -296,6 +296,41 @@ Image render_drawing(const std::vector<DrawItem>& items, const DrawingOptions& o
     fail("drawing: size ", o.width, "x", o.height, " leaves cells of ", cw, "x", ch, " pixels for ", n,
          " views: too small");
 
+  // The multiview orthographic views (front, top, side) at one scale, as an engineering drawing
+  // has them: each fitted to its own extent, a box(1, 2, 3)'s x was 81 px wide in the front view
+  // and 121 in the top. Each view's window is fitted as camera_matrices fits it (its extent, the
+  // margin, widened to the cell's aspect); the widest is every one's, each about its own centre.
+  std::vector<Camera> cams;
+  for (int v = 0; v < n; ++v) cams.push_back(camera(v));
+  {
+    const double aspect = double(rw) / rh;
+    auto multiview = [&](int v) { return o.views[v] == "front" || o.views[v] == "top" || o.views[v] == "side"; };
+    double half = 0;
+    std::vector<std::array<double, 2>> centre(n);
+    for (int v = 0; v < n; ++v) {
+      if (!multiview(v)) continue;
+      const Camera& c = cams[v];
+      const Mat4 view = look_at(c.eye, c.center, c.up);
+      double x0 = 1e300, x1 = -1e300, y0 = 1e300, y1 = -1e300;
+      for (const Point3& p : points) {
+        const Vec4 e = view * p.homogeneous();
+        x0 = std::min(x0, e.x()), x1 = std::max(x1, e.x()), y0 = std::min(y0, e.y()), y1 = std::max(y1, e.y());
+      }
+      const double margin = std::max(c.margin * std::max(x1 - x0, y1 - y0), std::max(1e-9, 1e-6 * bounds.diagonal()));
+      const double hw = 0.5 * (x1 - x0) + margin, hh = 0.5 * (y1 - y0) + margin;
+      half = std::max(half, std::max(hw, hh * aspect));
+      centre[v] = {0.5 * (x0 + x1), 0.5 * (y0 + y1)};
+    }
+    if (half > 0 && std::isfinite(half))
+      for (int v = 0; v < n; ++v) {
+        if (!multiview(v)) continue;
+        Camera& c = cams[v];
+        c.fit_window = false;
+        c.left = centre[v][0] - half, c.right = centre[v][0] + half;
+        c.bottom = centre[v][1] - half / aspect, c.top = centre[v][1] + half / aspect;
+      }
+  }
+
   const Vec4f& bg = o.render.background;
   // As Context::clear converts the cells' background (ties to even), so sheet and cells agree.
   auto to8 = [](float v) { return !(v > 0.0f) ? std::uint8_t(0) : v >= 1.0f ? std::uint8_t(255) : std::uint8_t(std::lrint(v * 255.0f)); };
@@ -313,7 +348,7 @@ Image render_drawing(const std::vector<DrawItem>& items, const DrawingOptions& o
     const int cx = (v % cols) * cw, cy = (v / cols) * ch;
     RenderOptions ro = o.render;
     ro.width = rw, ro.height = rh;
-    ro.camera = camera(v);
+    ro.camera = cams[v];
     std::vector<float> depth;
     Image im = render_scene(items, ro, o.edges ? &depth : nullptr);
     for (int y = 0; y < rh; ++y)

@@ -71,6 +71,12 @@ TEST_CASE("a drawing sheet shows every view of the object in its own cell", "[re
   // The side view (cell 2) looks along -x: y/z extent, 2 x 1.
   Extent s = object_pixels(im, 0, 150, 200, 150);
   CHECK(double(s.x1 - s.x0 + 1) / (s.y1 - s.y0 + 1) == Approx(2.0).epsilon(0.08));
+  // One scale for the three multiview views, as an engineering drawing has them: the box's x is
+  // as wide in the top view as in the front, its y as wide in the side view as it is tall in the
+  // top (each view fitted alone, the top's x was half again as wide as the front's).
+  CHECK(std::abs((t.x1 - t.x0) - (f.x1 - f.x0)) <= 1);
+  CHECK(std::abs((s.x1 - s.x0) - (t.y1 - t.y0)) <= 1);
+  CHECK(std::abs((s.y1 - s.y0) - (f.y1 - f.y0)) <= 1);
   // Borders and labels: the cell's corner pixel is the border grey, and the label band above
   // the front view holds dark ink.
   CHECK(im.pixel(0, 0) == std::array<std::uint8_t, 4>{128, 128, 128, 255});
