@@ -24,14 +24,21 @@ MeshLeaf::MeshLeaf(Mesh mesh, const std::string& what) : mesh_(std::move(mesh)),
   if (const double size = mesh_.bounds().size().maxCoeff(); size < 1 / kMaxCoordinate)
     fail(what, " is ", size, " wide, below 1e-100 (its volume would underflow to zero)");
   try {
-    // A render mesh splits a vertex wherever its corners differ in uv or normal (a textured
-    // cube's seams, a faceted cube's per-face normals); the surface it describes is still
-    // closed, and it is the welded copy the closed / 2-manifold / Euler checks must see. Parts
-    // that touch at a point with a vertex each (a boolean's result, exported and read back) are
-    // welded there too: each of their fans is its own vertex again.
-    counts_ = euler_counts(split_fans(mesh_.welded(), mesh_));
-  } catch (const Error& e) {
-    fail(what, ": ", e.what());
+    // As indexed first: a boolean's result whose parts touch along an edge keeps a vertex per
+    // part at each shared point, and written to OBJ, OFF or PLY and read back it is closed and
+    // 2-manifold as it is; welded, four triangles met at the edge and the file was refused.
+    counts_ = euler_counts(mesh_);
+  } catch (const Error&) {
+    try {
+      // A render mesh splits a vertex wherever its corners differ in uv or normal (a textured
+      // cube's seams, a faceted cube's per-face normals); the surface it describes is still
+      // closed, and it is the welded copy the closed / 2-manifold / Euler checks must see. Parts
+      // that touch at a point with a vertex each (a boolean's result, exported and read back) are
+      // welded there too: each of their fans is its own vertex again.
+      counts_ = euler_counts(split_fans(mesh_.welded(), mesh_));
+    } catch (const Error& e) {
+      fail(what, ": ", e.what());
+    }
   }
   // The sign exactly: a sliver a few ulps thick (a boolean's result between nearly flush faces)
   // can sum to a volume of 0 or less in doubles.
