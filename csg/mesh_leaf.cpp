@@ -25,7 +25,7 @@ MeshLeaf::MeshLeaf(Mesh mesh, const std::string& what) : mesh_(std::move(mesh)),
     fail(what, " is ", size, " wide, below 1e-100 (its volume would underflow to zero)");
   try {
     // As indexed first: a boolean's result whose parts touch along an edge keeps a vertex per
-    // part at each shared point, and written to OBJ, OFF or PLY and read back it is closed and
+    // part at each shared point, and written to OFF or PLY and read back it is closed and
     // 2-manifold as it is; welded, four triangles met at the edge and the file was refused.
     counts_ = euler_counts(mesh_);
   } catch (const Error&) {
@@ -65,7 +65,8 @@ const MeshLeaf::Solidified& MeshLeaf::solid() const {
         solid_.defect = defect + " (and the region it winds around is empty)";
         return;
       }
-      solid_.counts = euler_counts(split_fans(r.mesh.welded(), r.mesh));
+      // (As indexed: the region's parts may touch along an edge, each with its own vertices.)
+      solid_.counts = euler_counts(r.mesh);
       solid_.mesh = std::move(r.mesh);
       solid_.resolved = true;
     } catch (const Cancelled&) {
