@@ -116,22 +116,23 @@ std::size_t fan_in(const std::vector<std::shared_ptr<Evaluated>>& group, const R
 // the engine's own numbering ("the first operand") would name the wrong one.
 struct Origin {
   BooleanOp op;
-  const std::vector<std::shared_ptr<Evaluated>>* operands;
-  const std::string* where;  // where the script made the node, or empty
+  std::unordered_map<const Evaluated*, std::size_t> place;  // each operand's first place in the node
+  const std::string* where;                                  // where the script made the node, or empty
 };
 
 // "the third operand of the union"; an engine operand that is none of the node's own (a union of
-// some of them, made on the way) is "a partial union of the union's operands".
+// some of them, made on the way) is "a partial union of the operands of the union". (Looked up,
+// not searched: a chain s = s + b of n links is one node of n operands.)
 std::string origin_name(const Origin& origin, const std::shared_ptr<Evaluated>& e, BooleanOp partial) {
   static const char* const ordinal[] = {"first", "second", "third", "fourth", "fifth",
                                         "sixth", "seventh", "eighth", "ninth", "tenth"};
   // (A script's node is named by its line: the error comes from the query that evaluates it, often
   // lines later.)
   const std::string node = std::string(boolean_op_name(origin.op)) + (origin.where->empty() ? "" : " at " + *origin.where);
-  const auto& ops = *origin.operands;
-  for (std::size_t j = 0; j < ops.size(); ++j)
-    if (ops[j] == e)
-      return (j < 10 ? std::string("the ") + ordinal[j] + " operand" : "operand " + std::to_string(j + 1)) + " of the " + node;
+  if (const auto it = origin.place.find(e.get()); it != origin.place.end()) {
+    const std::size_t j = it->second;
+    return (j < 10 ? std::string("the ") + ordinal[j] + " operand" : "operand " + std::to_string(j + 1)) + " of the " + node;
+  }
   return std::string("a partial ") + boolean_op_name(partial) + " of the operands of the " + node;
 }
 
@@ -413,8 +414,9 @@ std::shared_ptr<Evaluated> evaluate_boolean(const Solid::Node& n, const Toleranc
   else
     for (std::size_t i = 0; i < in.size(); ++i) one(i);
   run.check();
-  const std::vector<std::shared_ptr<Evaluated>> given = in;
-  const Origin origin{n.op, &given, &n.where};
+  Origin origin{n.op, {}, &n.where};
+  origin.place.reserve(in.size());
+  for (std::size_t i = 0; i < in.size(); ++i) origin.place.emplace(in[i].get(), i);  // (a repeat keeps its first place)
   in = distinct(in, n.op == BooleanOp::Difference ? 1 : 0);
   if (n.op == BooleanOp::Difference)  // A - A - ... is empty
     for (std::size_t i = 1; i < in.size(); ++i)
