@@ -164,7 +164,8 @@ Vec3 apply_normal(const Mat4& m, const Vec3& n) {
   const Mat3 l = m.block<3, 3>(0, 0);
   Vec3 u[3], w;
   for (int i = 0; i < 3; ++i) {
-    const double len = l.col(i).stableNorm();  // (norm() of (1e-200, 0, 0) underflows to 0)
+    double len = l.col(i).norm();
+    if (!(len > 0) || !std::isfinite(len)) len = l.col(i).stableNorm();  // (norm() of (1e-200, 0, 0) underflows to 0)
     if (!(len > 0) || !std::isfinite(len)) fail("cannot transform a normal by a singular matrix");
     u[i] = l.col(i) / len;
     w[i] = n[i] / len;
