@@ -10,11 +10,11 @@
 // graph with mev (each strut placed in the corner its vertex's face cycle dictates), then adding
 // each remaining edge with mef when its two corners share a loop, or kfmrh + mekr (a handle)
 // when they do not. Each mef relabels the shorter side of the loop it splits, found by walking
-// both sides in step, so the build costs O(E log E).
+// both sides in step; the faces are closed in an order that keeps that side short (a face whose
+// other edges are all there: its own corners), so the build costs O(E log d) for vertex degree d.
 #include <algorithm>
 #include <cmath>
 #include <optional>
-#include <unordered_map>
 
 #include "brep/brep.h"
 #include "brep/polyhedron_topology.h"
@@ -335,170 +335,278 @@ Model build_polyhedron(const std::vector<Point3>& points, const std::vector<std:
     if (!points[static_cast<std::size_t>(i)].allFinite()) fail("polyhedron: point ", i + 1, " is not finite");
     else if (points[static_cast<std::size_t>(i)].cwiseAbs().maxCoeff() > kMaxCoordinate)
       fail("polyhedron: point ", i + 1, " is beyond +-", kMaxCoordinate, " (volumes and normals would overflow)");
-  // Directed edges → face; each undirected edge must appear once in each direction.
-  auto key = [np](int a, int b) { return static_cast<std::int64_t>(a) * np + b; };
-  std::unordered_map<std::int64_t, int> directed;
-  directed.reserve(faces.size() * 4);
-  std::vector<int> used(static_cast<std::size_t>(np), 0);
+  const auto un = [](int i) { return static_cast<std::size_t>(i); };
+  std::vector<int> used(un(np), 0);
+  std::vector<std::size_t> offset(faces.size() + 1, 0);  // face fi's corners: offset[fi] ..
   for (std::size_t fi = 0; fi < faces.size(); ++fi) {
     const auto& f = faces[fi];
     if (f.size() < 3) fail("polyhedron: face ", fi + 1, " has ", f.size(), " corners (at least 3 needed)");
     for (std::size_t k = 0; k < f.size(); ++k) {
       int a = f[k];
       if (a < 0 || a >= np) fail("polyhedron: face ", fi + 1, " names point ", a + 1, ", but there are ", np, " points");
-      for (std::size_t j = k + 1; j < f.size(); ++j)
-        if (f[j] == a) fail("polyhedron: face ", fi + 1, " uses point ", a + 1, " twice");
-      used[static_cast<std::size_t>(a)] = 1;
+      if (f.size() <= 8) {
+        for (std::size_t j = k + 1; j < f.size(); ++j)
+          if (f[j] == a) fail("polyhedron: face ", fi + 1, " uses point ", a + 1, " twice");
+      } else if (used[un(a)] == static_cast<int>(fi) + 2) {
+        fail("polyhedron: face ", fi + 1, " uses point ", a + 1, " twice");
+      }
+      used[un(a)] = static_cast<int>(fi) + 2;  // (this face's mark, for long faces' repeats)
     }
-    for (std::size_t k = 0; k < f.size(); ++k) {
-      int a = f[k], b = f[(k + 1) % f.size()];
-      auto [it, fresh] = directed.emplace(key(a, b), static_cast<int>(fi));
-      if (!fresh)
-        fail("polyhedron: edge ", a + 1, "-", b + 1, " is used in the same direction by faces ", it->second + 1, " and ", fi + 1,
-             " (non-manifold, or faces not all counter-clockwise seen from outside)");
-    }
-  }
-  for (const auto& [k, fi] : directed) {
-    int a = static_cast<int>(k / np), b = static_cast<int>(k % np);
-    if (!directed.count(key(b, a)))
-      fail("polyhedron: the surface is open: edge ", a + 1, "-", b + 1, " belongs to face ", fi + 1, " only");
+    offset[fi + 1] = offset[fi] + f.size();
   }
   for (int i = 0; i < np; ++i)
-    if (!used[static_cast<std::size_t>(i)]) fail("polyhedron: point ", i + 1, " is used by no face");
-  // The rotation at each vertex: for a corner x → u → y, sigma_u(x) = y.
-  std::vector<std::vector<std::pair<int, int>>> sigma(static_cast<std::size_t>(np));
-  for (const auto& f : faces)
-    for (std::size_t k = 0; k < f.size(); ++k) {
-      int x = f[(k + f.size() - 1) % f.size()], u = f[k], y = f[(k + 1) % f.size()];
-      sigma[static_cast<std::size_t>(u)].emplace_back(x, y);
-    }
-  // A vertex has a handful of neighbours: a linear scan beats a hash map.
-  struct Rotation {
-    std::vector<std::pair<int, int>> xy;
-    int at(int x) const {
-      for (const auto& p : xy)
-        if (p.first == x) return p.second;
-      fail("polyhedron: point ", x + 1, " has no successor in a fan");
-    }
-    std::size_t size() const { return xy.size(); }
+    if (!used[un(i)]) fail("polyhedron: point ", i + 1, " is used by no face");
+
+  // The rotation at each vertex u: one entry per corner x -> u -> y (sigma_u(x) = y), the
+  // entries of u together and sorted by x, so that a neighbour is found by binary search (a
+  // vertex may have thousands: the apex of a fine cone).
+  struct Entry {
+    int x, y;
+    std::uint32_t face, k;  // the corner: face `face`, its corner k (at u)
   };
-  std::vector<Rotation> succ(static_cast<std::size_t>(np));
-  for (int u = 0; u < np; ++u) {
-    auto& su = succ[static_cast<std::size_t>(u)];
-    su.xy = std::move(sigma[static_cast<std::size_t>(u)]);
-    // One fan: following sigma from any neighbour visits all of them.
-    int start = su.xy[0].first, x = start;
-    std::size_t steps = 0;
-    do {
-      x = su.at(x);
-      ++steps;
-    } while (x != start && steps <= su.size());
-    if (steps != su.size())
-      fail("polyhedron: point ", u + 1, " is non-manifold: the faces around it form more than one fan");
+  std::vector<std::size_t> start(un(np) + 1, 0);
+  for (const auto& f : faces)
+    for (int a : f) start[un(a) + 1]++;
+  for (int u = 0; u < np; ++u) start[un(u) + 1] += start[un(u)];
+  std::vector<Entry> rot(offset.back());
+  {
+    std::vector<std::size_t> fill(start.begin(), start.end() - 1);
+    for (std::size_t fi = 0; fi < faces.size(); ++fi) {
+      const auto& f = faces[fi];
+      const std::size_t n = f.size();
+      for (std::size_t k = 0; k < n; ++k)
+        rot[fill[un(f[k])]++] = Entry{f[(k + n - 1) % n], f[(k + 1) % n], static_cast<std::uint32_t>(fi), static_cast<std::uint32_t>(k)};
+    }
   }
+  for (int u = 0; u < np; ++u)
+    std::sort(rot.begin() + static_cast<std::ptrdiff_t>(start[un(u)]), rot.begin() + static_cast<std::ptrdiff_t>(start[un(u) + 1]),
+              [](const Entry& a, const Entry& b) { return a.x != b.x ? a.x < b.x : a.face < b.face; });
+  // The entry at u whose x is `x` (the corner after the edge x -> u), or npos.
+  constexpr std::size_t npos = ~std::size_t(0);
+  auto entry = [&](int u, int x) -> std::size_t {
+    auto b = rot.begin() + static_cast<std::ptrdiff_t>(start[un(u)]), e = rot.begin() + static_cast<std::ptrdiff_t>(start[un(u) + 1]);
+    auto it = std::lower_bound(b, e, x, [](const Entry& a, int v) { return a.x < v; });
+    return (it != e && it->x == x) ? static_cast<std::size_t>(it - rot.begin()) : npos;
+  };
+  // Each directed edge x -> u once: two entries at u with one x use it twice. Reported where a
+  // walk of the faces in order meets the second use first (as a scan of the faces would).
+  {
+    std::size_t best_face = npos, best_edge = 0, first_face = 0;
+    int ba = 0, bb = 0;
+    for (int u = 0; u < np; ++u)
+      for (std::size_t j = start[un(u)]; j + 1 < start[un(u) + 1]; ++j) {
+        if (rot[j].x != rot[j + 1].x) continue;
+        // The uses of x -> u in scan order: (face, the edge's index in it), the edge ending at corner k.
+        std::vector<std::pair<std::size_t, std::size_t>> uses;
+        std::size_t i = j;
+        for (; i < start[un(u) + 1] && rot[i].x == rot[j].x; ++i) {
+          const std::size_t n = faces[rot[i].face].size();
+          uses.emplace_back(rot[i].face, (rot[i].k + n - 1) % n);
+        }
+        std::sort(uses.begin(), uses.end());
+        if (best_face == npos || uses[1] < std::make_pair(best_face, best_edge)) {
+          best_face = uses[1].first;
+          best_edge = uses[1].second;
+          first_face = uses[0].first;
+          ba = rot[j].x;
+          bb = u;
+        }
+        j = i - 1;
+      }
+    if (best_face != npos)
+      fail("polyhedron: edge ", ba + 1, "-", bb + 1, " is used in the same direction by faces ", first_face + 1, " and ", best_face + 1,
+           " (non-manifold, or faces not all counter-clockwise seen from outside)");
+  }
+  // Each directed edge a -> b has its reverse: an entry at a whose x is b.
+  for (std::size_t fi = 0; fi < faces.size(); ++fi) {
+    const auto& f = faces[fi];
+    for (std::size_t k = 0; k < f.size(); ++k) {
+      int a = f[k], b = f[(k + 1) % f.size()];
+      if (entry(a, b) == npos) fail("polyhedron: the surface is open: edge ", a + 1, "-", b + 1, " belongs to face ", fi + 1, " only");
+    }
+  }
+  // nxt[j]: the entry whose x is entry j's y (sigma applied once); one fan: following it from
+  // any entry of u visits all of u's.
+  std::vector<std::size_t> nxt(rot.size());
+  for (int u = 0; u < np; ++u)
+    for (std::size_t j = start[un(u)]; j < start[un(u) + 1]; ++j) nxt[j] = entry(u, rot[j].y);
+  for (int u = 0; u < np; ++u) {
+    const std::size_t d = start[un(u) + 1] - start[un(u)];
+    std::size_t j = start[un(u)], steps = 0;
+    do {
+      j = nxt[j];
+      ++steps;
+    } while (j != start[un(u)] && steps <= d);
+    if (steps != d) fail("polyhedron: point ", u + 1, " is non-manifold: the faces around it form more than one fan");
+  }
+  // The entry of each face corner (face fi, corner k at f[k]).
+  std::vector<std::size_t> corner_entry(rot.size());
+  for (std::size_t j = 0; j < rot.size(); ++j) corner_entry[offset[rot[j].face] + rot[j].k] = j;
 
   Model m;
-  std::unordered_map<std::int64_t, EdgeSide> half;  // (u, w) → the side running u → w
-  half.reserve(directed.size());
-  std::vector<VertexId> vid(static_cast<std::size_t>(np));
-  std::vector<LoopId> lone(static_cast<std::size_t>(np));
-  std::vector<int> degree(static_cast<std::size_t>(np), 0);
-  // The corner at u where the edge to w goes: the side u → y, y the first present neighbour
-  // after w in sigma_u (lone vertex: no side).
-  auto corner_at = [&](int u, int w) -> Corner {
-    if (degree[static_cast<std::size_t>(u)] == 0) return Corner{lone[static_cast<std::size_t>(u)], {}, vid[static_cast<std::size_t>(u)]};
-    const auto& su = succ[static_cast<std::size_t>(u)];
-    int y = su.at(w);
-    while (!half.count(key(u, y))) y = su.at(y);
-    EdgeSide s = half.at(key(u, y));
-    return Corner{m.side(s).loop, s, vid[static_cast<std::size_t>(u)]};
+  // side[j]: the side running u -> x for entry j at u (its x), once that edge exists.
+  std::vector<EdgeSide> side(rot.size());
+  auto has = [&](std::size_t j) { return side[j].valid(); };
+  std::vector<VertexId> vid(un(np));
+  std::vector<LoopId> lone(un(np));
+  std::vector<int> degree(un(np), 0);
+  std::vector<int> point_of;  // vertex id -> point index
+  // The corner at u where the edge to w goes: the side u -> y, y the first present neighbour
+  // after w in sigma_u (lone vertex: no side). `jw` is u's entry whose x is w.
+  auto corner_at = [&](int u, std::size_t jw) -> Corner {
+    if (degree[un(u)] == 0) return Corner{lone[un(u)], {}, vid[un(u)]};
+    std::size_t j = nxt[jw];
+    while (!has(j)) j = nxt[j];
+    const EdgeSide s = side[j];
+    return Corner{m.side(s).loop, s, vid[un(u)]};
+  };
+  auto remember = [&](int p, VertexId v) {
+    vid[un(p)] = v;
+    if (point_of.size() <= static_cast<std::size_t>(v.value)) point_of.resize(static_cast<std::size_t>(v.value) + 1, -1);
+    point_of[static_cast<std::size_t>(v.value)] = p;
   };
   // Each component gets its shell from the mvfs of its first point; the rest of its points
-  // arrive by mev in breadth-first order (vertex ids map back to points through point_of).
-  std::vector<int> parent(static_cast<std::size_t>(np), -2);
-  std::vector<std::vector<int>> nbrs(static_cast<std::size_t>(np));
-  for (int u = 0; u < np; ++u)
-    for (const auto& xy : succ[static_cast<std::size_t>(u)].xy) nbrs[static_cast<std::size_t>(u)].push_back(xy.second);
-  std::unordered_map<std::int32_t, int> point_of;  // vertex id → point index
-  auto remember = [&](int p, VertexId v) {
-    vid[static_cast<std::size_t>(p)] = v;
-    point_of[v.value] = p;
-  };
+  // arrive by mev in breadth-first order.
+  std::vector<char> reached(un(np), 0);
+  std::vector<int> queue;
   for (int root = 0; root < np; ++root) {
-    if (parent[static_cast<std::size_t>(root)] != -2) continue;
-    auto s = m.mvfs(points[static_cast<std::size_t>(root)]);
+    if (reached[un(root)]) continue;
+    auto s = m.mvfs(points[un(root)]);
     remember(root, s.v);
-    lone[static_cast<std::size_t>(root)] = m.faces()[s.f].outer;
-    parent[static_cast<std::size_t>(root)] = -1;
-    std::vector<int> queue{root};
+    lone[un(root)] = m.faces()[s.f].outer;
+    reached[un(root)] = 1;
+    queue.assign(1, root);
     for (std::size_t qi = 0; qi < queue.size(); ++qi) {
       int u = queue[qi];
-      for (int w : nbrs[static_cast<std::size_t>(u)]) {
-        if (parent[static_cast<std::size_t>(w)] != -2) continue;
-        parent[static_cast<std::size_t>(w)] = u;
-        Corner c = corner_at(u, w);
-        auto r = m.mev_at(c, points[static_cast<std::size_t>(w)]);
+      for (std::size_t j = start[un(u)]; j < start[un(u) + 1]; ++j) {
+        const int w = rot[j].x;
+        if (reached[un(w)]) continue;
+        reached[un(w)] = 1;
+        Corner c = corner_at(u, j);
+        auto r = m.mev_at(c, points[un(w)]);
         remember(w, r.v);
-        half[key(u, w)] = EdgeSide{r.e, 0};
-        half[key(w, u)] = EdgeSide{r.e, 1};
-        degree[static_cast<std::size_t>(u)]++;
-        degree[static_cast<std::size_t>(w)]++;
+        side[j] = EdgeSide{r.e, 0};
+        side[entry(w, u)] = EdgeSide{r.e, 1};
+        degree[un(u)]++;
+        degree[un(w)]++;
         queue.push_back(w);
       }
     }
   }
-  // The remaining edges.
-  for (int u = 0; u < np; ++u)
-    for (int w : nbrs[static_cast<std::size_t>(u)]) {
-      if (u > w || half.count(key(u, w))) continue;
-      Corner c1 = corner_at(u, w), c2 = corner_at(w, u);
-      EdgeId e;
-      if (c1.loop == c2.loop) {
-        // Walk both arcs of the loop in step; the shorter becomes the new face.
-        EdgeSide a = c1.out, b = c2.out;
-        bool first_shorter = false;
-        while (true) {
-          a = m.side(a).next;
-          if (a == c2.out) { first_shorter = true; break; }
-          b = m.side(b).next;
-          if (b == c1.out) break;
-        }
-        e = first_shorter ? m.mef_at(c1.out, c2.out).e : m.mef_at(c2.out, c1.out).e;
-      } else {
-        m.kfmrh(m.loops()[c2.loop].face, m.loops()[c1.loop].face);
-        e = m.mekr_at(c1, c2);
+  // A remaining edge u - w (j: u's entry whose x is w): mef when its corners share a loop (the
+  // shorter side of the loop, found by walking both in step, becomes the new face), or kfmrh +
+  // mekr (a handle) when they do not.
+  auto close = [&](int u, std::size_t j) {
+    const int w = rot[j].x;
+    const std::size_t jr = entry(w, u);
+    Corner c1 = corner_at(u, j), c2 = corner_at(w, jr);
+    EdgeId e;
+    if (c1.loop == c2.loop) {
+      EdgeSide a = c1.out, b = c2.out;
+      bool first_shorter = false;
+      while (true) {
+        a = m.side(a).next;
+        if (a == c2.out) { first_shorter = true; break; }
+        b = m.side(b).next;
+        if (b == c1.out) break;
       }
-      const BrepEdge& ed = m.edges()[e];
-      int a = point_of.at(ed.v[0].value), b = point_of.at(ed.v[1].value);
-      half[key(a, b)] = EdgeSide{e, 0};
-      half[key(b, a)] = EdgeSide{e, 1};
+      e = first_shorter ? m.mef_at(c1.out, c2.out).e : m.mef_at(c2.out, c1.out).e;
+    } else {
+      m.kfmrh(m.loops()[c2.loop].face, m.loops()[c1.loop].face);
+      e = m.mekr_at(c1, c2);
     }
+    const BrepEdge& ed = m.edges()[e];
+    const bool forward = point_of[static_cast<std::size_t>(ed.v[0].value)] == u;  // e runs u -> w
+    side[j] = EdgeSide{e, forward ? 0 : 1};
+    side[jr] = EdgeSide{e, forward ? 1 : 0};
+  };
+  // The remaining edges, first by peeling faces: a face with one edge missing is closed by it,
+  // and that side of the loop is the face's few corners, so the walk is short (in any other
+  // order the walks summed to O(E log E) and most of the build). Then the rest (around handles).
+  {
+    std::vector<std::uint32_t> missing(faces.size(), 0);
+    for (std::size_t fi = 0; fi < faces.size(); ++fi)
+      for (std::size_t k = 0; k < faces[fi].size(); ++k)
+        if (!has(nxt[corner_entry[offset[fi] + k]])) missing[fi]++;  // the side f[k] -> f[k+1]
+    std::vector<std::uint32_t> ready;
+    for (std::size_t fi = 0; fi < faces.size(); ++fi)
+      if (missing[fi] == 1) ready.push_back(static_cast<std::uint32_t>(fi));
+    // Closing an edge counts down the faces on both sides; where none has one edge missing (the
+    // edges left form cycles of faces: around the handles), the next edge in vertex order is
+    // closed, which opens its cycle to peeling again.
+    auto closed_one = [&](std::size_t j, std::uint32_t fi) {
+      missing[fi]--;
+      const std::uint32_t g = rot[j].face;  // the face across: it runs x -> u
+      missing[g]--;
+      if (missing[g] == 1) ready.push_back(g);
+      if (missing[fi] == 1) ready.push_back(fi);
+    };
+    int cu = 0;
+    std::size_t cj = 0;
+    while (true) {
+      if (!ready.empty()) {
+        const std::uint32_t fi = ready.back();
+        ready.pop_back();
+        if (missing[fi] != 1) continue;
+        const auto& f = faces[fi];
+        for (std::size_t k = 0; k < f.size(); ++k) {
+          const std::size_t j = nxt[corner_entry[offset[fi] + k]];  // at f[k], its x is f[k+1]
+          if (has(j)) continue;
+          close(f[k], j);
+          closed_one(j, fi);
+          break;
+        }
+        continue;
+      }
+      // The next edge u - x not yet there (u < x), in vertex order.
+      while (cu < np && (cj >= start[un(cu) + 1] || cu >= rot[cj].x || has(cj))) {
+        if (cj >= start[un(cu) + 1]) {
+          if (++cu < np) cj = start[un(cu)];
+        } else {
+          ++cj;
+        }
+      }
+      if (cu >= np) break;
+      close(cu, cj);
+      // (the face that runs u -> x: the corner at x after the edge from u)
+      closed_one(cj, rot[entry(rot[cj].x, cu)].face);
+    }
+  }
   // Each input face is now one face; give it its plane (Newell normal, centroid).
   if (face_of) face_of->clear();
   if (m.faces().size() != faces.size())
     fail("polyhedron: the faces do not form closed 2-manifold surfaces (", m.faces().size(), " faces built from ", faces.size(), ")");
+  std::vector<Point3> corners;
   for (std::size_t fi = 0; fi < faces.size(); ++fi) {
     const auto& f = faces[fi];
-    LoopId l = m.side(half.at(key(f[0], f[1]))).loop;
+    const EdgeSide first = side[nxt[corner_entry[offset[fi]]]];  // f[0] -> f[1]
+    LoopId l = m.side(first).loop;
     FaceId face = m.loops()[l].face;
-    if (m.faces()[face].outer != l || m.loop_sides(l).size() != f.size())
-      fail("polyhedron: face ", fi + 1, " does not close into a single loop");
-    std::vector<Point3> corners;
-    Point3 c = Point3::Zero();
-    for (int k : f) {
-      corners.push_back(points[static_cast<std::size_t>(k)]);
-      c += corners.back();
-    }
-    Vec3 n = unit_vector(newell_normal(corners));
-    if (n == Vec3::Zero()) {
-      if (geometry) fail("polyhedron: face ", fi + 1, " has zero area");
-    } else {
+    std::size_t length = 0;
+    EdgeSide s = first;
+    do {
+      s = m.side(s).next;
+      ++length;
+    } while (!(s == first) && length <= f.size());
+    if (m.faces()[face].outer != l || length != f.size()) fail("polyhedron: face ", fi + 1, " does not close into a single loop");
+    if (geometry) {
+      corners.clear();
+      Point3 c = Point3::Zero();
+      for (int k : f) {
+        corners.push_back(points[un(k)]);
+        c += corners.back();
+      }
+      Vec3 n = unit_vector(newell_normal(corners));
+      if (n == Vec3::Zero()) fail("polyhedron: face ", fi + 1, " has zero area");
       m.set_surface(face, plane_face(c / static_cast<double>(f.size()), n));
     }
     if (face_of) face_of->push_back(face);
   }
-  Validation v = m.validate(geometry);
-  if (!v) fail("polyhedron: ", v.message);
+  // (A topology alone is for a caller that changes it further and validates its own result.)
+  if (geometry) {
+    Validation v = m.validate(true);
+    if (!v) fail("polyhedron: ", v.message);
+  }
   return m;
 }
 }  // namespace

@@ -335,7 +335,10 @@ void Model::kef(EdgeId e, FaceId f) {
   VertexId x = origin(a), y = origin(b);
   link(pb, na);
   link(pa, nb);
-  relabel(na, lb);
+  // Only f's sides change loop: na round to pa, then g's (nb) follow. (Relabelling the whole
+  // merged loop made merging many faces into one quadratic: rebuild_brep's kef of a 262k-triangle
+  // result.)
+  for (EdgeSide s = na; side(s).loop != lb; s = side(s).next) side_mut(s).loop = lb;
   loops_[lb].first = nb;
   if (vertices_[x].out == a) vertices_[x].out = nb;
   if (vertices_[y].out == b) vertices_[y].out = na;
@@ -447,7 +450,15 @@ EdgeId Model::mekr_at(Corner a, Corner b, CurvePtr curve) {
   }
   if (!a.out.valid()) vertices_[va].out = s0;
   if (!b.out.valid()) vertices_[vb].out = s1;
-  relabel(s0, a.loop);
+  // Only b's sides and the new ones change loop: s0 round to s1, then a's follow (relabelling the
+  // whole merged loop cost a polyhedron's handles a walk of most of its model each).
+  {
+    EdgeSide s = s0;
+    do {
+      side_mut(s).loop = a.loop;
+      s = side(s).next;
+    } while (!(s == s0) && side(s).loop != a.loop);
+  }
   BrepLoop& keep = loops_[a.loop];
   keep.first = s0;
   keep.lone = VertexId();

@@ -1,7 +1,8 @@
-// polyhedron() without its geometric checks, for meshes whose faces may be slivers too thin for a
+// polyhedron() without its geometry, for meshes whose faces may be slivers too thin for a
 // double-precision normal (the boolean engine's output, rebuilt by csg/rebuild.cpp): the same
-// Euler-operator construction and the structural validation (closed, 2-manifold, oriented,
-// Euler-Poincare), but a face whose normal rounds to zero gets no plane instead of an error.
+// Euler-operator construction and input checks (closed, 2-manifold, one fan per vertex), but the
+// faces get no planes and the model is not validated here: the caller changes it further (kef,
+// kev, kemr) and validates what it keeps.
 #pragma once
 #include <vector>
 

@@ -542,12 +542,14 @@ Validation Model::validate(bool geometry) const {
         LoopId l = li == 0 ? face.outer : face.rings[li - 1];
         const BrepLoop& lp = loops_[l];
         if (!lp.first.valid()) {
-          if (!vseen[static_cast<std::size_t>(lp.lone.value)]++) ++V;
+          if (!vseen[static_cast<std::size_t>(lp.lone.value)]) vseen[static_cast<std::size_t>(lp.lone.value)] = 1, ++V;
           continue;
         }
         EdgeSide s = lp.first;
         do {
-          if (!vseen[static_cast<std::size_t>(origin(s).value)]++) ++V;
+          // (a flag, not a count: a char counted past 255 sides from one vertex wrapped to 0 and
+          // counted the vertex again, so a cone of 500 sides as a polyhedron was refused)
+          if (!vseen[static_cast<std::size_t>(origin(s).value)]) vseen[static_cast<std::size_t>(origin(s).value)] = 1, ++V;
           ++E2;
           FaceId g = loops_[side(s.mate()).loop].face;
           if (comp[static_cast<std::size_t>(g.value)] < 0) {

@@ -1,6 +1,8 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <cstdio>
+#include <map>
 
 #include "brep_helpers.h"
 
@@ -122,15 +124,141 @@ TEST_CASE("polyhedron builds any closed 2-manifold through Euler operators", "[b
   }
 }
 
+// A cone of n sides as a polyhedron: apex and base centre each in n triangles.
+static void cone_faces(int n, std::vector<Point3>& pts, std::vector<std::vector<int>>& faces) {
+  pts = {Point3(0, 0, 1), Point3(0, 0, 0)};
+  for (int i = 0; i < n; ++i) pts.emplace_back(std::cos(2 * kPi * i / n), std::sin(2 * kPi * i / n), 0);
+  for (int i = 0; i < n; ++i) {
+    const int a = 2 + i, b = 2 + (i + 1) % n;
+    faces.push_back({a, b, 0});
+    faces.push_back({b, a, 1});
+  }
+}
+
+TEST_CASE("polyhedron: vertices in hundreds of faces, long faces, several handles", "[brep][polyhedron]") {
+  SECTION("a cone of 600 sides") {
+    // validate() counted a shell's vertices with a char per vertex, incremented per side leaving
+    // it: past 255 it wrapped and the apex was counted twice (V - E + F - R = 4, refused).
+    std::vector<Point3> pts;
+    std::vector<std::vector<int>> faces;
+    cone_faces(600, pts, faces);
+    Model m = polyhedron(pts, faces);
+    CHECK(m.counts() == EulerCounts{602, 1800, 1200, 0, 0, 1});
+    Validation v = m.validate();
+    INFO(v.message);
+    CHECK(v.ok);
+    CHECK(m.mass_properties().volume == Approx(600 * std::sin(2 * kPi / 600) / 6).epsilon(1e-12));
+  }
+  SECTION("a prism whose caps have 1000 corners") {
+    const int n = 1000;
+    std::vector<Point3> pts;
+    std::vector<std::vector<int>> faces(2);
+    for (int i = 0; i < n; ++i) {
+      const double a = 2 * kPi * i / n;
+      pts.emplace_back(std::cos(a), std::sin(a), 0);
+      pts.emplace_back(std::cos(a), std::sin(a), 1);
+    }
+    for (int i = 0; i < n; ++i) {
+      faces[0].push_back(2 * (n - 1 - i));
+      faces[1].push_back(2 * i + 1);
+      const int j = (i + 1) % n;
+      faces.push_back({2 * i, 2 * j, 2 * j + 1, 2 * i + 1});
+    }
+    Model m = polyhedron(pts, faces);
+    CHECK(m.counts() == EulerCounts{2 * n, 3 * n, n + 2, 0, 0, 1});
+    CHECK(m.mass_properties().volume == Approx(n * std::sin(2 * kPi / n) / 2).epsilon(1e-12));
+    // A repeat far along a long face is found.
+    faces[1][700] = faces[1][3];
+    CHECK_THROWS_WITH(polyhedron(pts, faces), Catch::Contains("face 2 uses point 8 twice"));
+  }
+  SECTION("a tube of genus 2 (two holes through a block), and two such blocks apart") {
+    // Two 3 x 1 x 1 blocks of unit cubes' faces with holes: built as the surface of a grid of
+    // quads where the cubes at (0,0) and (2,0) of a 3 x 1 row are bored along z.
+    auto grid = [](double dx, std::vector<Point3>& pts, std::vector<std::vector<int>>& faces) {
+      // The boundary of the union of unit cubes {(i, j, 0)} of a 5 x 3 grid minus the cubes at (1,1)
+      // and (3,1): a plate with two square holes (genus 2).
+      auto solid = [](int i, int j) { return i >= 0 && i < 5 && j >= 0 && j < 3 && !(j == 1 && (i == 1 || i == 3)); };
+      std::map<std::array<int, 3>, int> id;
+      auto vtx = [&](int x, int y, int z) {
+        auto [it, fresh] = id.emplace(std::array<int, 3>{x, y, z}, static_cast<int>(pts.size()));
+        if (fresh) pts.emplace_back(x + dx, y, z);
+        return it->second;
+      };
+      for (int i = -1; i <= 5; ++i)
+        for (int j = -1; j <= 3; ++j) {
+          if (!solid(i, j)) continue;
+          // A face of cube (i, j) where its neighbour is empty, counter-clockwise from outside.
+          if (!solid(i + 1, j)) faces.push_back({vtx(i + 1, j, 0), vtx(i + 1, j + 1, 0), vtx(i + 1, j + 1, 1), vtx(i + 1, j, 1)});
+          if (!solid(i - 1, j)) faces.push_back({vtx(i, j, 0), vtx(i, j, 1), vtx(i, j + 1, 1), vtx(i, j + 1, 0)});
+          if (!solid(i, j + 1)) faces.push_back({vtx(i, j + 1, 0), vtx(i, j + 1, 1), vtx(i + 1, j + 1, 1), vtx(i + 1, j + 1, 0)});
+          if (!solid(i, j - 1)) faces.push_back({vtx(i, j, 0), vtx(i + 1, j, 0), vtx(i + 1, j, 1), vtx(i, j, 1)});
+          faces.push_back({vtx(i, j, 1), vtx(i + 1, j, 1), vtx(i + 1, j + 1, 1), vtx(i, j + 1, 1)});
+          faces.push_back({vtx(i, j, 0), vtx(i, j + 1, 0), vtx(i + 1, j + 1, 0), vtx(i + 1, j, 0)});
+        }
+    };
+    std::vector<Point3> pts;
+    std::vector<std::vector<int>> faces;
+    grid(0, pts, faces);
+    Model one = polyhedron(pts, faces);
+    CHECK(one.counts().H == 2);
+    CHECK(one.counts().S == 1);
+    CHECK(one.validate().ok);
+    CHECK(one.mass_properties().volume == Approx(13));
+    std::vector<Point3> pts2;
+    std::vector<std::vector<int>> faces2;
+    grid(0, pts2, faces2);
+    const int base = static_cast<int>(pts2.size());
+    std::vector<Point3> more;
+    std::vector<std::vector<int>> more_faces;
+    grid(10, more, more_faces);
+    for (const auto& p : more) pts2.push_back(p);
+    for (auto f : more_faces) {
+      for (int& i : f) i += base;
+      faces2.push_back(f);
+    }
+    Model two = polyhedron(pts2, faces2);
+    CHECK(two.counts().H == 4);
+    CHECK(two.counts().S == 2);
+    CHECK(two.validate().ok);
+    CHECK(two.mass_properties().volume == Approx(26));
+  }
+}
+
 TEST_CASE("polyhedron rejects open, non-manifold and inconsistent input", "[brep][polyhedron]") {
   auto faces = cube_faces();
   SECTION("open") {
     faces.pop_back();
     CHECK_THROWS_WITH(polyhedron(cube_points(), faces), Catch::Contains("the surface is open: edge"));
+    // The first edge of the faces, in order, whose other side is missing.
+    auto f = cube_faces();
+    const auto last = f.back();
+    f.pop_back();
+    try {
+      polyhedron(cube_points(), f);
+      FAIL("an open surface was built");
+    } catch (const Error& e) {
+      const std::string m = e.what();
+      const std::size_t at = m.find("edge ");
+      REQUIRE(at != std::string::npos);
+      int a = 0, b = 0, face = 0;
+      REQUIRE(std::sscanf(m.c_str() + at, "edge %d-%d belongs to face %d only", &a, &b, &face) == 3);
+      // a -> b is used by face `face` and b -> a by the missing face.
+      bool in_last = false;
+      for (std::size_t k = 0; k < last.size(); ++k) in_last = in_last || (last[k] + 1 == b && last[(k + 1) % last.size()] + 1 == a);
+      CHECK(in_last);
+    }
   }
   SECTION("one face turned round") {
     std::reverse(faces[0].begin(), faces[0].end());
     CHECK_THROWS_WITH(polyhedron(cube_points(), faces), Catch::Contains("is used in the same direction by faces"));
+    // Named where a scan of the faces in order meets the second use first.
+    std::vector<Point3> pts;
+    std::vector<std::vector<int>> cone;
+    cone_faces(5, pts, cone);
+    // Face 5 (4, 5, 0) reversed: its edges 0 -> 5, 5 -> 4 come before faces 7 and 6 use them, and
+    // 4 -> 0 after face 3 (3, 4, 0) did.
+    std::reverse(cone[4].begin(), cone[4].end());
+    CHECK_THROWS_WITH(polyhedron(pts, cone), Catch::Contains("edge 5-1 is used in the same direction by faces 3 and 5"));
   }
   SECTION("all faces turned inwards") {
     for (auto& f : faces) std::reverse(f.begin(), f.end());
