@@ -84,6 +84,10 @@ TEST_CASE("boolean: an operand whose touching shells overlap in a wedge about th
   CHECK_FALSE(exact_self_intersects(folded));
   CHECK_THAT(folded_touching_edge(folded), Catch::Contains("overlap there"));
   CHECK_THROWS_WITH(boolean(BooleanOp::Union, {&folded, &op3}), Catch::Contains("the first operand intersects itself"));
+  // The solid check (is_valid of a result, an imported mesh) names the fold too, though no two
+  // of its triangles cross.
+  CHECK_THAT(mesh_solid_defect(folded, "the mesh"), Catch::StartsWith("the mesh intersects itself: triangles #"));
+  CHECK(mesh_solid_defect(op3, "the mesh").empty());
 
   // Two wedges about the z axis: from 0 to 90 degrees, and from 180 to 270 they touch along it
   // (valid); from 80 to 170 degrees they overlap between 80 and 90 (their caps cross there too:
