@@ -137,10 +137,13 @@ int inertia_m(lua_State* L) {
 int bounds_m(lua_State* L) {
   return guarded(L, [&] {
     Box3 b = self(L).bounds();
+    // An empty solid (box(1,1,1) - box(1,1,1)) has no extent: an error, as a scene of empty parts
+    // gives (it was {0,0,0}-{0,0,0}, a point the solid does not hold).
+    if (b.empty()) throw Error("the solid is empty: it has no bounds");
     lua_createtable(L, 0, 2);
-    push_vec3(L, b.empty() ? Vec3::Zero() : b.min);
+    push_vec3(L, b.min);
     lua_setfield(L, -2, "min");
-    push_vec3(L, b.empty() ? Vec3::Zero() : b.max);
+    push_vec3(L, b.max);
     lua_setfield(L, -2, "max");
     return 1;
   });
