@@ -718,9 +718,10 @@ std::vector<std::array<u32, 2>> candidate_pairs(const Soup& soup, std::array<u32
         tri_box(soup, u, ulo, uhi);
         for (int a = 0; a < 3; ++a)
           if (ulo[a] > hi[a] || uhi[a] < lo[a]) return;
-        if (!same ? !apart(soup, t, u, false) : (self && triangles_clash(soup, t, u))) {
+        // (A pair of one operand proved apart by doubles needs no exact test: a cone's fan.)
+        if (!same ? !apart(soup, t, u, false) : (self && !apart(soup, t, u, false) && triangles_clash(soup, t, u))) {
           out[k].push_back({t, u});
-        } else if (!self && triangles_clash(soup, t, u)) {
+        } else if (!self && !apart(soup, t, u, false) && triangles_clash(soup, t, u)) {
           clashes[k] = {t, u};
         }
       },

@@ -179,7 +179,10 @@ std::vector<u32> rounding_defects(const Mesh& m, const Rounding& rd) {
       [&](u32 t, u32 u) {
         const bool want_t = active[t] && !turned[t];
         const bool want_u = active[u] && !turned[u];
-        if ((want_t || want_u) && triangles_clash(s, t, u)) {
+        // (apart first: a few dot products settle most pairs, the exact test's orientations of
+        // six points the rest; the long thin pieces of a cut cone's side have boxes that meet
+        // hundreds of their neighbours', and the exact tests of those pairs took 0.6 s.)
+        if ((want_t || want_u) && !apart(s, t, u, false) && triangles_clash(s, t, u)) {
           // Both: the one not rechecked may be the one whose vertex can move (a rounded cut
           // point tilting it into an input triangle that nothing moved).
           bad[t] = 1;
