@@ -759,3 +759,34 @@ TEST_CASE("boolean: an operand's positions that no triangle uses change nothing"
     CHECK(r.positions == plain.positions);
   }
 }
+
+TEST_CASE("boolean: a cube's corner on the hub of a fan of 1000 triangles", "[boolean]") {
+  // A pyramid over a regular 1000-gon (apex (0, 0, 1), base fanned from its centre at the
+  // origin): the cube [0, 0.3]^3 has its corner on the base's hub, so the cube's bottom face is
+  // cut by the 250 fan edges of its quadrant, all through that corner, and its sides by the
+  // apex triangles. (The triangulator looked each edge up by walking around the hub: a billion
+  // steps for 10,000 sides.) The cube lies inside the pyramid: the union is the pyramid, the
+  // difference takes the cube's volume out.
+  const int n = 1000;
+  Mesh cone;
+  cone.add_vertex(Vec3(0, 0, 1));
+  cone.add_vertex(Vec3(0, 0, 0));
+  for (int i = 0; i < n; ++i) cone.add_vertex(Vec3(std::cos(2 * kPi * i / n), std::sin(2 * kPi * i / n), 0));
+  for (int i = 0; i < n; ++i) {
+    const std::uint32_t a = 2 + static_cast<std::uint32_t>(i), b = 2 + static_cast<std::uint32_t>((i + 1) % n);
+    cone.add_triangle(a, b, 0);
+    cone.add_triangle(b, a, 1);
+  }
+  const double pyramid = n * std::sin(2 * kPi / n) / 6;
+  REQUIRE(cone.volume() == Approx(pyramid).epsilon(1e-12));
+  const Mesh c = cube(0, 0, 0, 0.3);
+  const Mesh u = boolean(BooleanOp::Union, cone, c);
+  require_solid(u);
+  CHECK(u.volume() == Approx(pyramid).epsilon(1e-12));
+  const Mesh d = boolean(BooleanOp::Difference, cone, c);
+  require_solid(d);
+  CHECK(d.volume() == Approx(pyramid - 0.027).epsilon(1e-12));
+  const Mesh i = boolean(BooleanOp::Intersection, cone, c);
+  require_solid(i);
+  CHECK(i.volume() == Approx(0.027).epsilon(1e-12));
+}
