@@ -37,7 +37,20 @@ MeshLeaf::MeshLeaf(Mesh mesh, const std::string& what) : mesh_(std::move(mesh)),
       // welded there too: each of their fans is its own vertex again.
       counts_ = euler_counts(split_fans(mesh_.welded(), mesh_));
     } catch (const Error& e) {
-      fail(what, ": ", e.what());
+      // Parts that touch along an edge, welded as an STL is read (or an OBJ's per-face
+      // vertices, welded to close it): four triangles at the edge. Each paired with its
+      // neighbour on its solid's side, the parts are apart again, and that mesh is the leaf's.
+      // (Only where an edge has more than two triangles: parts that touch at a point alone, by
+      // one vertex of the file's own, stay refused, as split_fans leaves them.)
+      try {
+        bool edges = false;
+        Mesh apart = split_touching(mesh_.welded(), &edges);
+        if (!edges) throw Error("no edge of more than two triangles");
+        counts_ = euler_counts(apart);
+        mesh_ = std::move(apart);
+      } catch (const Error&) {
+        fail(what, ": ", e.what());
+      }
     }
   }
   // The sign exactly: a sliver a few ulps thick (a boolean's result between nearly flush faces)

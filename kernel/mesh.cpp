@@ -9,6 +9,7 @@
 #include <unordered_map>
 
 #include "kernel/error.h"
+#include "kernel/predicates.h"
 #include "kernel/scaled.h"
 #include "kernel/transform.h"
 
@@ -265,6 +266,103 @@ Mesh split_fans(const Mesh& mesh, const Mesh& original) {
       }
     }
     i = j;
+  }
+  return out;
+}
+
+Mesh split_touching(const Mesh& welded, bool* edges) {
+  const Mesh& m = welded;
+  if (edges) *edges = false;
+  const std::size_t nt = m.triangles.size();
+  // The edge records (smaller end, larger end, corner-edge 3t + k running T[k] -> T[k+1]), sorted:
+  // each undirected edge's records together.
+  std::vector<std::array<std::uint32_t, 3>> rec;
+  rec.reserve(3 * nt);
+  for (std::uint32_t t = 0; t < nt; ++t)
+    for (std::uint32_t k = 0; k < 3; ++k) {
+      const std::uint32_t a = m.triangles[t][k], b = m.triangles[t][(k + 1) % 3];
+      rec.push_back({std::min(a, b), std::max(a, b), 3 * t + k});
+    }
+  std::sort(rec.begin(), rec.end());
+  // Corners joined across paired edges (union-find over corners 3t + k, at T[k]).
+  std::vector<std::uint32_t> parent(3 * nt);
+  std::iota(parent.begin(), parent.end(), 0u);
+  auto find = [&](std::uint32_t x) {
+    while (parent[x] != x) x = parent[x] = parent[parent[x]];
+    return x;
+  };
+  auto join = [&](std::uint32_t c, std::uint32_t d) {  // corner-edges c and d run opposite ways
+    const std::uint32_t tc = c / 3, kc = c % 3, td = d / 3, kd = d % 3;
+    parent[find(3 * tc + kc)] = find(3 * td + (kd + 1) % 3);
+    parent[find(3 * tc + (kc + 1) % 3)] = find(3 * td + kd);
+  };
+  auto point = [&](std::uint32_t c) { return m.positions[m.triangles[c / 3][(c % 3 + 2) % 3]]; };  // the third corner
+  auto from = [&](std::uint32_t c) { return m.triangles[c / 3][c % 3]; };
+  for (std::size_t i = 0; i < rec.size();) {
+    std::size_t j = i;
+    while (j < rec.size() && rec[j][0] == rec[i][0] && rec[j][1] == rec[i][1]) ++j;
+    if (j - i == 2) {
+      if (from(rec[i][2]) != from(rec[i + 1][2])) join(rec[i][2], rec[i + 1][2]);  // (else left to euler_counts)
+    } else if (j - i > 2 && (j - i) % 2 == 0) {
+      if (edges) *edges = true;
+      // Around the edge a -> b: the triangles in order of angle (right hand about a -> b), each
+      // running a -> b paired with the one before it, which must run b -> a: a triangle running
+      // a -> b has its solid on the side of smaller angles.
+      const std::uint32_t ia = rec[i][0], ib = rec[i][1];
+      const Point3 &a = m.positions[ia], &b = m.positions[ib];
+      const Point3 r = point(rec[i][2]);
+      const Vec3 n = (b - a).cross(r - a);
+      int axis = 0;
+      for (int d = 1; d < 3; ++d)
+        if (std::abs(n[d]) > std::abs(n[axis])) axis = d;
+      auto flat = [&](const Point3& p) { return Point2(p[(axis + 1) % 3], p[(axis + 2) % 3]); };
+      const int r_side = orient2d(flat(a), flat(b), flat(r));
+      // Half 0: angles [0, pi) from r; half 1: [pi, 2 pi).
+      auto half = [&](const Point3& c) {
+        const int s = orient3d(a, b, r, c);
+        if (s != 0) return s > 0 ? 0 : 1;
+        return orient2d(flat(a), flat(b), flat(c)) == r_side ? 0 : 1;  // on r's plane: with r, or opposite
+      };
+      std::vector<std::pair<int, std::uint32_t>> around;
+      for (std::size_t q = i; q < j; ++q) around.push_back({half(point(rec[q][2])), rec[q][2]});
+      bool tie = false;
+      std::sort(around.begin(), around.end(), [&](const auto& x, const auto& y) {
+        if (x.first != y.first) return x.first < y.first;
+        const int s = orient3d(a, b, point(x.second), point(y.second));
+        if (s == 0 && x.second != y.second) tie = true;
+        return s > 0;
+      });
+      if (tie || r_side == 0)
+        fail("mesh is not 2-manifold: edge ", ia, "-", ib, " has ", j - i, " triangles, two of them in one plane on one side");
+      const std::size_t n_around = around.size();
+      for (std::size_t q = 0; q < n_around; ++q) {
+        const std::uint32_t c = around[q].second;
+        if (from(c) != ia) continue;  // runs b -> a
+        const std::uint32_t before = around[(q + n_around - 1) % n_around].second;
+        if (from(before) != ib)
+          fail("mesh is not 2-manifold: edge ", ia, "-", ib, " has ", j - i, " triangles whose solids overlap around it");
+        join(c, before);
+      }
+    }
+    i = j;
+  }
+  // One vertex per class of corners at it; the class of its first corner keeps the index.
+  Mesh out = m;
+  std::vector<std::uint32_t> copy(3 * nt, ~0u);  // class root -> its vertex
+  std::vector<char> taken(m.positions.size(), 0);
+  for (std::uint32_t c = 0; c < 3 * nt; ++c) {
+    const std::uint32_t root = find(c), v = m.triangles[c / 3][c % 3];
+    if (copy[root] == ~0u) {
+      if (!taken[v]) {
+        taken[v] = 1;
+        copy[root] = v;
+      } else {
+        copy[root] = out.add_vertex(m.positions[v]);
+        if (!out.normals.empty()) out.normals.push_back(m.normals[v]);
+        if (!out.uvs.empty()) out.uvs.push_back(m.uvs[v]);
+      }
+    }
+    out.triangles[c / 3][c % 3] = copy[root];
   }
   return out;
 }

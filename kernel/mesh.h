@@ -101,5 +101,12 @@ EulerCounts euler_counts(const Mesh& mesh);
 // two fans (a bowtie), or whose triangles do not close into fans, is left as it is, for
 // euler_counts to report.
 Mesh split_fans(const Mesh& welded, const Mesh& original);
+// `welded` with its parts apart where they touch: around an edge of more than two triangles
+// (two solids sharing an edge, welded as an STL is read), each triangle is paired with its
+// neighbour on its solid's side (by exact orientation), and each vertex gets one copy per set of
+// corners joined across paired edges (its fans, as split_fans). Throws where the triangles around
+// an edge cannot be so paired (overlapping solids, two coplanar on one side). `edges`, if given,
+// says whether any edge had more than two triangles.
+Mesh split_touching(const Mesh& welded, bool* edges = nullptr);
 
 }  // namespace wedge

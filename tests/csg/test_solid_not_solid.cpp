@@ -76,11 +76,12 @@ TEST_CASE("a polyhedron that crosses itself or nests a shell facing the same way
   CHECK(as_polyhedron(two_boxes({0, 0, 0}, 1, {2, 0, 0}, 1)).mass_properties(tol).volume == Approx(2).epsilon(1e-12));
 }
 
-TEST_CASE("a result whose parts touch along an edge reads back from OFF and PLY as a solid", "[solid][mesh]") {
+TEST_CASE("a result whose parts touch along an edge reads back from OFF, PLY, STL and OBJ as a solid", "[solid][mesh]") {
   // The engine keeps a vertex per part where parts touch; OFF and PLY keep the indices. The leaf
   // checked only the welded copy, where four triangles met at the edge: "edge 6-2 is used twice
-  // in the same direction", the file refused. (OBJ's per-face normals split every vertex, so only
-  // the welded copy is closed there, and STL welds as it reads: both still refuse such a part.)
+  // in the same direction", the file refused. OBJ's per-face normals split every vertex (only the
+  // welded copy is closed) and STL welds as it reads: there the edge's triangles are paired again
+  // by angle (split_touching), which refused both files before.
   Tolerance tol;
   const Solid two = Solid::boolean(BooleanOp::Union, {Solid::from_mesh(box_mesh({0, 0, 0}, Vec3(1, 1, 1))),
                                                       Solid::from_mesh(box_mesh({1, 1, 0}, Vec3(1, 1, 1)))});
@@ -88,12 +89,13 @@ TEST_CASE("a result whose parts touch along an edge reads back from OFF and PLY 
   REQUIRE(m.positions.size() == 16);  // the edge's two points once per part
   const auto dir = std::filesystem::temp_directory_path() / ("wedge-edge-" + std::to_string(::getpid()));
   std::filesystem::create_directories(dir);
-  for (const char* name : {"two.off", "two.ply"}) {
+  for (const char* name : {"two.off", "two.ply", "two.stl", "two.obj"}) {
     INFO(name);
     const std::string path = (dir / name).string();
     write_mesh(m, path);
     const Solid back = Solid::from_mesh(read_mesh(path), name);
     CHECK(back.validate(tol).empty());
+    CHECK(back.euler(tol) == EulerCounts{16, 36, 24, 0, 0, 2});
     CHECK(back.mass_properties(tol).volume == Approx(2).epsilon(1e-12));
     CHECK(Solid::boolean(BooleanOp::Union, {back, Solid::from_mesh(box_mesh({0.5, 0.5, 0.5}, Vec3(1, 1, 1)))})
               .mass_properties(tol)

@@ -145,6 +145,55 @@ TEST_CASE("euler_counts: counts, and the first edge at fault", "[mesh][errors]")
   }
 }
 
+namespace {
+// A prism of height 1 over the triangle (0,0), (cos a1, sin a1), (cos a2, sin a2) (degrees,
+// a1 < a2 < a1 + 180): a wedge with an edge on the z axis from (0,0,0) to (0,0,1).
+Mesh wedge_prism(double a1, double a2) {
+  const double r1 = a1 * kPi / 180, r2 = a2 * kPi / 180;
+  Mesh m;
+  const Vec2 p[3] = {{0, 0}, {std::cos(r1), std::sin(r1)}, {std::cos(r2), std::sin(r2)}};
+  for (int z = 0; z < 2; ++z)
+    for (const Vec2& q : p) m.add_vertex({q.x(), q.y(), double(z)});
+  m.add_triangle(0, 2, 1, 0);  // bottom, seen from below
+  m.add_triangle(3, 4, 5, 1);  // top
+  for (std::uint32_t k = 0; k < 3; ++k) {
+    const std::uint32_t j = (k + 1) % 3;
+    m.add_triangle(k, j, j + 3, 2 + k);
+    m.add_triangle(k, j + 3, k + 3, 2 + k);
+  }
+  return m;
+}
+}  // namespace
+
+TEST_CASE("split_touching: solids that share an edge, welded, are apart again", "[mesh]") {
+  // Three wedges about the z axis, welded: six triangles at the axis edge (and the axis ends in
+  // three fans each).
+  Mesh three = wedge_prism(0, 60);
+  three.append(wedge_prism(120, 180));
+  three.append(wedge_prism(240, 300));
+  const Mesh welded = three.welded();
+  REQUIRE(welded.positions.size() == 14);
+  CHECK_THROWS_WITH(euler_counts(welded), Catch::Contains("used twice in the same direction"));
+  const Mesh apart = split_touching(welded);
+  CHECK(apart.positions.size() == 18);
+  CHECK(euler_counts(apart) == EulerCounts{18, 36, 24, 0, 0, 3});
+  CHECK(apart.volume() == Approx(3 * std::sin(kPi / 3) / 2).epsilon(1e-12));
+  // A mesh with nothing touching comes back as it was.
+  const Mesh one = wedge_prism(0, 60);
+  CHECK(split_touching(one).triangles == one.triangles);
+  CHECK(split_touching(one).positions.size() == one.positions.size());
+  // Two wedges that overlap between 30 and 60 degrees: their solids overlap about the edge.
+  Mesh overlap = wedge_prism(0, 60);
+  overlap.append(wedge_prism(30, 90));
+  CHECK_THROWS_WITH(split_touching(overlap.welded()), Catch::Contains("whose solids overlap around it"));
+  // Two wedges with a face in common (0-60 and 60-120, welded: a face pair back to back, its
+  // triangles cancelling is not this function's business): the edge's four triangles are two in
+  // one plane on each side.
+  Mesh flush = wedge_prism(0, 60);
+  flush.append(wedge_prism(60, 120));
+  CHECK_THROWS(euler_counts(split_touching(flush.welded())));
+}
+
 TEST_CASE("shading normals are split per source face", "[mesh]") {
   Mesh m = unit_tetrahedron();  // four faces, ids 0..3
   Mesh s = m.with_face_normals();
