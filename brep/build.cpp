@@ -344,13 +344,8 @@ Model build_polyhedron(const std::vector<Point3>& points, const std::vector<std:
     for (std::size_t k = 0; k < f.size(); ++k) {
       int a = f[k];
       if (a < 0 || a >= np) fail("polyhedron: face ", fi + 1, " names point ", a + 1, ", but there are ", np, " points");
-      if (f.size() <= 8) {
-        for (std::size_t j = k + 1; j < f.size(); ++j)
-          if (f[j] == a) fail("polyhedron: face ", fi + 1, " uses point ", a + 1, " twice");
-      } else if (used[un(a)] == static_cast<int>(fi) + 2) {
-        fail("polyhedron: face ", fi + 1, " uses point ", a + 1, " twice");
-      }
-      used[un(a)] = static_cast<int>(fi) + 2;  // (this face's mark, for long faces' repeats)
+      if (used[un(a)] == static_cast<int>(fi) + 2) fail("polyhedron: face ", fi + 1, " uses point ", a + 1, " twice");
+      used[un(a)] = static_cast<int>(fi) + 2;  // this face's mark (nonzero: the point is used)
     }
     offset[fi + 1] = offset[fi] + f.size();
   }

@@ -300,29 +300,9 @@ class Triangulator {
     }
   }
 
-  // Calls f(t, i) for each triangle t around vertex v (v = t.v[i]) until f returns true; true if
-  // one did.
-  template <class F>
-  bool around(int v, F&& f) {
-    const int t0 = vt_[v];
-    int t = t0;
-    do {
-      const int i = index_of(tris_[t], v);
-      if (f(t, i)) return true;
-      t = tris_[t].n[nx(i)];  // counter-clockwise next: across v -> v[i+2]
-    } while (t != kNo && t != t0);
-    if (t == t0) return false;
-    t = tris_[t0].n[pv(index_of(tris_[t0], v))];
-    while (t != kNo) {
-      const int i = index_of(tris_[t], v);
-      if (f(t, i)) return true;
-      t = tris_[t].n[pv(i)];
-    }
-    return false;
-  }
-
-  // One step at a time around vertex v, in around()'s order: next() gives the next triangle
-  // (and v's index in it), or false when all were given.
+  // One step at a time around vertex v: counter-clockwise from the triangle vt_ names until the
+  // fan closes or ends, then (an open fan) clockwise from it. next() gives the next triangle (and
+  // v's index in it), or false when all were given.
   struct Cursor {
     const std::vector<Tri>* tris;
     int v, t0, t, phase;  // phase 0: counter-clockwise from t0; 1: clockwise; 2: done
@@ -351,6 +331,17 @@ class Triangulator {
       return false;
     }
   };
+
+  // Calls f(t, i) for each triangle t around vertex v (v = t.v[i]) until f returns true; true if
+  // one did.
+  template <class F>
+  bool around(int v, F&& f) {
+    Cursor c(tris_, v, vt_[v]);
+    int t, i;
+    while (c.next(t, i))
+      if (f(t, i)) return true;
+    return false;
+  }
 
   // The triangle with the directed edge a -> b, and the index of the vertex opposite it. Looked
   // for around a and around b in turns, so the cost is that of the end with fewer triangles (a

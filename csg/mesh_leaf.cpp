@@ -29,13 +29,14 @@ MeshLeaf::MeshLeaf(Mesh mesh, const std::string& what) : mesh_(std::move(mesh)),
     // 2-manifold as it is; welded, four triangles met at the edge and the file was refused.
     counts_ = euler_counts(mesh_);
   } catch (const Error&) {
+    const Mesh welded = mesh_.welded();
     try {
       // A render mesh splits a vertex wherever its corners differ in uv or normal (a textured
       // cube's seams, a faceted cube's per-face normals); the surface it describes is still
       // closed, and it is the welded copy the closed / 2-manifold / Euler checks must see. Parts
       // that touch at a point with a vertex each (a boolean's result, exported and read back) are
       // welded there too: each of their fans is its own vertex again.
-      counts_ = euler_counts(split_fans(mesh_.welded(), mesh_));
+      counts_ = euler_counts(split_fans(welded, mesh_));
     } catch (const Error& e) {
       // Parts that touch along an edge, welded as an STL is read (or an OBJ's per-face
       // vertices, welded to close it): four triangles at the edge. Each paired with its
@@ -44,7 +45,7 @@ MeshLeaf::MeshLeaf(Mesh mesh, const std::string& what) : mesh_(std::move(mesh)),
       // one vertex of the file's own, stay refused, as split_fans leaves them.)
       try {
         bool edges = false;
-        Mesh apart = split_touching(mesh_.welded(), &edges);
+        Mesh apart = split_touching(welded, &edges);
         if (!edges) throw Error("no edge of more than two triangles");
         counts_ = euler_counts(apart);
         mesh_ = std::move(apart);
