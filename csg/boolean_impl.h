@@ -659,7 +659,13 @@ class Bvh {
  public:
   // Over the triangles `ids` of the soup; boxes of `dims` axes (2: xy only, for vertical rays).
   // With `by_operand`, each operand's triangles are kept together (see boolean_broad.cpp).
-  Bvh(const Soup& soup, std::vector<u32> ids, int dims, bool by_operand = false);
+  // With `slice` (for each_pair() and the broad phase's join only: a query would meet a triangle
+  // once per slab), a long thin triangle lying across its box (a spoke of a fan over a disk, a
+  // cut cone's side) is an item per slab of it along its box's longest axis, each slab's box
+  // holding just the part of the triangle in it: the spokes of a disk's fan met each other's
+  // boxes and those of every triangle along the disk's rim. A join's visit of items i, j counts
+  // only where canonical(i, j).
+  Bvh(const Soup& soup, std::vector<u32> ids, int dims, bool by_operand = false, bool slice = false);
   Bvh() = default;  // empty: no triangles
   // Calls f(triangle id) for every triangle whose box meets the box [lo, hi].
   template <class F>
@@ -683,6 +689,41 @@ class Bvh {
   struct Node { float lo[3], hi[3]; u32 first, count; u32 left, right; };  // leaf: count > 0
   std::vector<Node> nodes;
   std::vector<u32> items;
+  // Where triangles were sliced, per item: its triangle's slabs (their boxes from slab_boxes[first],
+  // as in `boxes`; kNone where the triangle is one item), which of them it is, and how many.
+  // Empty where nothing was sliced.
+  struct Slab { u32 first; std::uint8_t index, count; };
+  std::vector<Slab> slabs;
+  std::vector<std::array<float, 6>> slab_boxes;
+  // Whether the join's visit of items i and j (boxes that meet) is the one that counts for their
+  // triangles: not one triangle's two slabs, and the first of their slabs' pairs (in the order
+  // of slab indices, the lower triangle id's first) whose boxes meet.
+  bool canonical(u32 i, u32 j) const {
+    if (slabs.empty()) return true;
+    const Slab *I = &slabs[i], *J = &slabs[j];
+    if (I->count == 1 && J->count == 1) return true;  // (two triangles of one item each)
+    if (items[i] == items[j]) return false;
+    if (items[i] > items[j]) {
+      std::swap(I, J);
+      std::swap(i, j);
+    }
+    auto box = [&](const Slab* s, u32 at, int k, float b[6]) {
+      if (s->first == kNone)
+        for (int r = 0; r < 6; ++r) b[r] = box_row(r)[at];
+      else
+        for (int r = 0; r < 6; ++r) b[r] = slab_boxes[s->first + k][r];
+    };
+    float a[6], b[6];
+    for (int x = 0; x <= I->index; ++x) {
+      box(I, i, x, a);
+      for (int y = 0; y < J->count; ++y) {
+        if (x == I->index && y == J->index) return true;
+        box(J, j, y, b);
+        if (a[0] <= b[3] && b[0] <= a[3] && a[1] <= b[4] && b[1] <= a[4] && a[2] <= b[5] && b[2] <= a[5]) return false;
+      }
+    }
+    return true;
+  }
   // items[i]'s box by position i: six rows of `stride` floats (lo x, y, z, hi x, y, z), 8 boxes
   // past the items' that meet nothing (the join compares a leaf's boxes four at a time).
   std::vector<float, NoInit<float>> boxes;  // (every entry written by the constructor)
