@@ -43,6 +43,43 @@ bool may_cross(const Point2& p, const Point2& q, const Point2& a, const Point2& 
   return true;
 }
 
+// The first pair (i, j), i < j, in that order, of segments q[i] - q[i + 1] and q[j] - q[j + 1]
+// (closing the loop) that meet and are not neighbours, or (0, 0) where the loop is simple. The
+// segments are swept by their least x, each tested against those whose x ranges reach it and
+// whose y ranges meet its own (every pair was tested before: a face of 20,000 corners, a cone's
+// base, took 1.4 s to validate).
+std::pair<std::size_t, std::size_t> first_crossing(const std::vector<Point2>& q) {
+  const std::size_t m = q.size();
+  struct Range {
+    double xlo, xhi, ylo, yhi;
+  };
+  std::vector<Range> r(m);
+  std::vector<std::size_t> order(m);
+  for (std::size_t i = 0; i < m; ++i) {
+    const Point2 &a = q[i], &b = q[(i + 1) % m];
+    r[i] = {std::min(a.x(), b.x()), std::max(a.x(), b.x()), std::min(a.y(), b.y()), std::max(a.y(), b.y())};
+    order[i] = i;
+  }
+  // (A coordinate that is not a number orders nothing: then every pair.)
+  const bool finite = std::all_of(r.begin(), r.end(), [](const Range& x) { return std::isfinite(x.xlo + x.xhi + x.ylo + x.yhi); });
+  if (finite)
+    std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return r[a].xlo < r[b].xlo || (r[a].xlo == r[b].xlo && a < b); });
+  std::pair<std::size_t, std::size_t> first{0, 0};
+  for (std::size_t k = 0; k < m; ++k) {
+    const std::size_t a = order[k];
+    for (std::size_t l = k + 1; l < m && (!finite || r[order[l]].xlo <= r[a].xhi); ++l) {
+      const std::size_t b = order[l];
+      if (finite && (r[b].ylo > r[a].yhi || r[a].ylo > r[b].yhi)) continue;
+      const std::size_t i = std::min(a, b), j = std::max(a, b);
+      if (j == i + 1 || (i == 0 && j == m - 1)) continue;  // neighbours share a corner
+      if (first.first != first.second && std::make_pair(i, j) >= first) continue;
+      if (may_cross(q[i], q[(i + 1) % m], q[j], q[(j + 1) % m]) && segments_intersect_2d(q[i], q[(i + 1) % m], q[j], q[(j + 1) % m]))
+        first = {i, j};
+    }
+  }
+  return first;
+}
+
 }  // namespace
 
 void Model::append_arc_interior(EdgeSide s, int arc_segments, std::vector<Point3>& out) const {
@@ -629,14 +666,9 @@ Validation Model::validate(bool geometry) const {
       if (pts.size() < 3) return bad(name + "'s loop " + std::to_string(l.value) + " has fewer than three corners");
       std::vector<Point2> q;
       for (const Point3& p : pts) q.emplace_back(p[i0], p[i1]);
-      std::size_t m = q.size();
-      for (std::size_t i = 0; i < m; ++i)
-        for (std::size_t j = i + 2; j < m; ++j) {
-          if (i == 0 && j == m - 1) continue;  // neighbours share a corner
-          if (may_cross(q[i], q[(i + 1) % m], q[j], q[(j + 1) % m]) && segments_intersect_2d(q[i], q[(i + 1) % m], q[j], q[(j + 1) % m]))
-            return bad(name + "'s loop " + std::to_string(l.value) + " intersects itself (segments " + std::to_string(i) + " and " +
-                       std::to_string(j) + ")");
-        }
+      if (auto [i, j] = first_crossing(q); i != j)
+        return bad(name + "'s loop " + std::to_string(l.value) + " intersects itself (segments " + std::to_string(i) + " and " +
+                   std::to_string(j) + ")");
       Vec3 nl = newell_normal(pts);
       bool outer = l == face.outer;
       if (outer && nl.dot(n) <= 0) return bad(name + "'s outer loop " + std::to_string(l.value) + " is not counter-clockwise seen from outside");
