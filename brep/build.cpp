@@ -67,19 +67,22 @@ Ring polygon_ring(const std::vector<Vec2>& pts, double z) {
   return r;
 }
 
+// mev from the tip of a chain, the new vertex at the end of edge `last` (from e.v[0]): its one
+// corner is the side of `last` leaving it, taken without a walk along the face's loop (mev(f, v,
+// p) looks for v's corner there: a profile of 20,000 points took seconds to become a lamina).
+Model::Mev mev_from_tip(Model& m, EdgeId last, const Point3& p, CurvePtr curve = nullptr) {
+  const EdgeSide out{last, 1};
+  return m.mev_at(Corner{m.side(out).loop, out, m.origin(out)}, p, std::move(curve));
+}
+
 // Adds ring `r` (clockwise about the face normal) as a ring of face f, starting with a strut from
 // `anchor` (a vertex on f's outer loop). Returns the plug face (the polygon's own face, facing
 // the same way as f) and the ring loop.
 std::pair<FaceId, LoopId> add_ring(Model& m, FaceId f, VertexId anchor, const Ring& r) {
   std::size_t n = r.pts.size();
   auto strut = m.mev(f, anchor, r.pts[0]);
-  VertexId prev = strut.v;
-  EdgeId last_edge;
-  for (std::size_t i = 1; i < n; ++i) {
-    auto step = m.mev(f, prev, r.pts[i], r.curve(i - 1));
-    prev = step.v;
-    last_edge = step.e;
-  }
+  EdgeId last_edge = strut.e;
+  for (std::size_t i = 1; i < n; ++i) last_edge = mev_from_tip(m, last_edge, r.pts[i], r.curve(i - 1)).e;
   // Close the polygon: from the chain's end back to its start, the new face taking the chain.
   EdgeSide c1{last_edge, 1};          // leaves the chain's last vertex (a leaf)
   EdgeSide c2{strut.e, 1};            // leaves the chain's first vertex along the strut
@@ -157,10 +160,12 @@ Lamina lamina(const Ring& outer_in, const std::vector<Ring>& holes_in, double z)
   Lamina L;
   Ring outer = outer_in.area_z() < 0 ? outer_in.reversed() : outer_in;
   std::size_t n = outer.pts.size();
+  if (n < 3) fail("lamina: a profile needs at least three points, not ", n);
   auto s = L.m.mvfs(outer.pts[0]);
-  VertexId first = s.v, prev = s.v;
-  for (std::size_t i = 1; i < n; ++i) prev = L.m.mev(s.f, prev, outer.pts[i], outer.curve(i - 1)).v;
-  auto back = L.m.mef(s.f, prev, first, outer.curve(n - 1));
+  VertexId first = s.v;
+  auto tip = L.m.mev(s.f, first, outer.pts[1], outer.curve(0));
+  for (std::size_t i = 2; i < n; ++i) tip = mev_from_tip(L.m, tip.e, outer.pts[i], outer.curve(i - 1));
+  auto back = L.m.mef(s.f, tip.v, first, outer.curve(n - 1));
   L.top = s.f;
   L.bottom = back.f;
   L.m.set_surface(L.top, plane_face(Point3(0, 0, z), Vec3::UnitZ()));

@@ -136,7 +136,23 @@ Built build_from_loops(const LoopsSpec& sp) {
     Corner c1 = corner_at(org(x0), x0), c2 = corner_at(org(x1), x1);
     EdgeId id;
     if (c1.loop == c2.loop) {
-      id = m.mef_at(c1.out, c2.out).e;
+      // The shorter side of the loop, found by walking both in step, becomes the new face (its
+      // sides are relabelled: a revolved profile of 20,000 points closed each side face by
+      // relabelling the rest of a loop of them all, quadratic). Which face is new does not
+      // matter: faces are named by their loops below.
+      EdgeSide a = c1.out, b = c2.out;
+      bool first_shorter = false;
+      while (true) {
+        a = m.side(a).next;
+        if (a == c2.out) {
+          first_shorter = true;
+          break;
+        }
+        b = m.side(b).next;
+        if (b == c1.out) break;
+      }
+      id = first_shorter ? m.mef_at(c1.out, c2.out).e : m.mef_at(c2.out, c1.out).e;
+      if (m.edges()[id].v[0] != vid[static_cast<std::size_t>(org(x0))]) m.reverse_edge(id);
     } else {
       FaceId f1 = m.loops()[c1.loop].face, f2 = m.loops()[c2.loop].face;
       if (f1 != f2) m.kfmrh(f2, f1);

@@ -95,3 +95,38 @@ TEST_CASE("tube: V 8 E 12 F 6 R 2 H 1, annulus volume", "[brep][curved]") {
   CHECK(m.counts() == EulerCounts{8, 12, 6, 2, 1, 1});
   CHECK(m.mass_properties().volume == Approx(pi * 3 * 3).epsilon(1e-12));
 }
+
+TEST_CASE("profiles of thousands of points: a prism with a hole and a revolve", "[brep][curved]") {
+  // The builders' chains of mev start at the chain's tip and their mefs relabel the shorter side
+  // of the loop they split (both were walks along the whole loop: quadratic in the points).
+  const int n = 2000;
+  std::vector<Vec2> outer, hole, half;
+  for (int i = 0; i < n; ++i) {
+    const double a = 2 * pi * i / n;
+    outer.emplace_back(2 * std::cos(a), 2 * std::sin(a));
+    hole.emplace_back(std::cos(-a), std::sin(-a));
+    const double b = -pi / 2 + pi * i / (n - 1);
+    half.emplace_back(std::cos(b), std::sin(b));
+  }
+  half.front().x() = half.back().x() = 0;  // (on the axis)
+  auto polygon_area = [](const std::vector<Vec2>& p) {
+    double s = 0;
+    for (std::size_t i = 0; i < p.size(); ++i) s += p[i].x() * p[(i + 1) % p.size()].y() - p[(i + 1) % p.size()].x() * p[i].y();
+    return s / 2;
+  };
+  const Model ring = prism({outer, {hole}}, 1.5);
+  CHECK(ring.validate().ok);
+  CHECK(ring.faces().size() == std::size_t(2 * n + 2));
+  CHECK(ring.mass_properties().volume == Approx(1.5 * (polygon_area(outer) + polygon_area(hole))).epsilon(1e-12));
+  const Model spun = revolve(section_of({half, {}}), 2 * pi);
+  CHECK(spun.validate().ok);
+  // The solid of the polygon turned about its chord: a sphere less the sagittas' rings.
+  double v = 0;
+  for (int i = 0; i + 1 < n; ++i) {  // (Pappus, piece by piece: area times the centroid's path)
+    const Vec2 &p = half[i], &q = half[i + 1];
+    const double area = (p.x() + q.x()) / 2 * (q.y() - p.y());
+    const double cx = (p.x() * p.x() + p.x() * q.x() + q.x() * q.x()) / (3 * (p.x() + q.x()));
+    v += 2 * pi * cx * area;
+  }
+  CHECK(spun.mass_properties().volume == Approx(v).epsilon(1e-9));
+}
