@@ -7,10 +7,14 @@
 
 #include <CGAL/Constrained_Delaunay_triangulation_2.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Spatial_sort_traits_adapter_2.h>
+#include <CGAL/property_map.h>
+#include <CGAL/spatial_sort.h>
 #include <CGAL/Triangulation_face_base_with_info_2.h>
 #include <CGAL/Triangulation_vertex_base_with_info_2.h>
 
 #include <deque>
+#include <numeric>
 
 #include "kernel/error.h"
 #include "kernel/scaled.h"
@@ -49,19 +53,35 @@ std::vector<Triangle> triangulate_face(const std::vector<Point3>& positions,
 
   CDT cdt;
   try {
-    for (const auto& loop : loops) {
-      std::vector<CDT::Vertex_handle> handles;
-      handles.reserve(loop.size());
+    // Every loop's points first, in the spatial sort's order (along a loop, each new point on the
+    // hull of the last ones flipped edges back to most of them: a loop of 20,000 points took a
+    // second), each located from the last one's face; then the loops' edges as constraints. Where
+    // points coincide, the vertex names the last of them in loop order, as when they were
+    // inserted loop by loop.
+    std::vector<K::Point_2> pts;
+    for (const auto& loop : loops)
       for (auto idx : loop) {
         const Point3& p = positions[idx];
-        auto h = cdt.insert(K::Point_2(p.dot(u), p.dot(v)));
-        h->info() = idx;
-        handles.push_back(h);
+        pts.emplace_back(p.dot(u), p.dot(v));
       }
-      for (std::size_t i = 0; i < handles.size(); ++i) {
-        auto a = handles[i], b = handles[(i + 1) % handles.size()];
+    std::vector<std::size_t> order(pts.size());
+    std::iota(order.begin(), order.end(), std::size_t(0));
+    using Traits = CGAL::Spatial_sort_traits_adapter_2<K, CGAL::Pointer_property_map<K::Point_2>::const_type>;
+    CGAL::spatial_sort(order.begin(), order.end(), Traits(CGAL::make_property_map(static_cast<const std::vector<K::Point_2>&>(pts))));
+    std::vector<CDT::Vertex_handle> handles(pts.size());
+    CDT::Face_handle near;
+    for (std::size_t i : order) {
+      handles[i] = cdt.insert(pts[i], near);
+      near = handles[i]->face();
+    }
+    std::size_t at = 0;
+    for (const auto& loop : loops) {
+      for (std::size_t k = 0; k < loop.size(); ++k) handles[at + k]->info() = loop[k];
+      for (std::size_t k = 0; k < loop.size(); ++k) {
+        auto a = handles[at + k], b = handles[at + (k + 1) % loop.size()];
         if (a != b) cdt.insert_constraint(a, b);
       }
+      at += loop.size();
     }
   } catch (const std::exception&) {  // CGAL's Intersection_of_constraints_exception
     fail("triangulate_face: the face's loops cross each other or themselves");
