@@ -587,6 +587,15 @@ std::vector<std::array<u32, 2>> candidate_pairs(const Soup& soup, std::array<u32
                                                 const std::vector<char>* left_out = nullptr,
                                                 std::vector<char>* outside = nullptr);
 
+// Per triangle: the group (an operand's triangles of one face id, at least `least` of them) it
+// belongs to where that group is certified embedded by its projection along one axis (exact:
+// every triangle turned one way there, the group's boundary disjoint simple curves of which at
+// most one turns that way; see boolean_broad.cpp), else kNone; empty where no group is. No two
+// triangles of such a group meet beyond what they share: a planar face of a thousand corners,
+// whose triangulation is a fan of slivers whose boxes all meet, needs no pair of it tested.
+// Operands `trusted` marks are left out.
+std::vector<u32> embedded_groups(const Soup& soup, const std::vector<char>* trusted, std::size_t least = 32);
+
 // True where double arithmetic proves that triangles t and u are apart (so that their exact
 // intersection is empty): an axis on which their projections are separated by more than the
 // projections' rounding (a dot product of doubles is within 3 units in the last place of

@@ -11,6 +11,7 @@
 
 #include "csg/boolean.h"
 #include "csg/boolean_impl.h"
+#include "kernel/transform.h"
 #include "tests/support/boolean_cases.h"
 
 using namespace wedge;
@@ -164,4 +165,109 @@ TEST_CASE("boolean: the closedness check at a hub of thousands of corners", "[bo
   std::swap(turned.triangles[1001][0], turned.triangles[1001][1]);
   CHECK_THAT(mesh_solid_defect(turned), Catch::Contains("is not consistently oriented: edge") &&
                                             Catch::Contains("is used 2 times in one direction"));
+}
+
+namespace {
+// A disk of n points about (cx, cy) in the plane z = 0, as a fan of slivers from its first point,
+// counter-clockwise seen from +z, face id `id`.
+void add_disk(Mesh& m, double cx, double cy, double r, int n, int id) {
+  const u32 b = static_cast<u32>(m.positions.size());
+  for (int i = 0; i < n; ++i) m.positions.push_back(Point3(cx + r * std::cos(2 * M_PI * i / n), cy + r * std::sin(2 * M_PI * i / n), 0));
+  for (int i = 1; i + 1 < n; ++i) m.add_triangle(b, b + i, b + i + 1, id);
+}
+// An annulus between radii r0 < r1 about the origin, n points on each circle, face id `id`.
+void add_annulus(Mesh& m, double r0, double r1, int n, int id) {
+  const u32 b = static_cast<u32>(m.positions.size());
+  for (int i = 0; i < n; ++i) {
+    const double a = 2 * M_PI * i / n;
+    m.positions.push_back(Point3(r0 * std::cos(a), r0 * std::sin(a), 0));
+    m.positions.push_back(Point3(r1 * std::cos(a), r1 * std::sin(a), 0));
+  }
+  for (int i = 0; i < n; ++i) {
+    const u32 in0 = b + 2 * i, out0 = in0 + 1, in1 = b + 2 * ((i + 1) % n), out1 = in1 + 1;
+    m.add_triangle(in0, out0, out1, id);
+    m.add_triangle(in0, out1, in1, id);
+  }
+}
+bool certified(const Mesh& m) {
+  const Soup soup = make_soup({&m});
+  const std::vector<u32> g = embedded_groups(soup, nullptr, 1);
+  return !g.empty() && std::all_of(g.begin(), g.end(), [&](u32 x) { return x == g[0] && x != kNone; });
+}
+}  // namespace
+
+TEST_CASE("boolean: a planar face's triangulation is certified embedded by its projection", "[boolean][tree]") {
+  // Certified: a disk's fan of slivers, an annulus (its hole turning the other way), the same
+  // turned about a slanted axis (projected along its dominant axis).
+  Mesh disk;
+  add_disk(disk, 0, 0, 1, 400, 7);
+  CHECK(certified(disk));
+  Mesh ring;
+  add_annulus(ring, 0.5, 1, 300, 3);
+  CHECK(certified(ring));
+  Mesh tilted = ring;
+  const Mat4 turn = rotate(40, Vec3(1, 2, 0.5));
+  for (Point3& p : tilted.positions) p = apply_point(turn, p);
+  CHECK(certified(tilted));
+  // Not: two disks overlapping; a disk inside another (two curves turning one way); two disks
+  // touching at a point; a fan whose first point is moved across the disk (triangles turned over).
+  Mesh two;
+  add_disk(two, 0, 0, 1, 200, 1);
+  add_disk(two, 0.5, 0, 1, 200, 1);
+  CHECK_FALSE(certified(two));
+  Mesh nested;
+  add_disk(nested, 0, 0, 1, 200, 1);
+  add_disk(nested, 0, 0, 0.5, 200, 1);
+  CHECK_FALSE(certified(nested));
+  Mesh touching;
+  add_disk(touching, 0, 0, 1, 200, 1);
+  add_disk(touching, 2, 0, 1, 200, 1);
+  CHECK_FALSE(certified(touching));
+  Mesh folded;
+  add_disk(folded, 0, 0, 1, 200, 1);
+  folded.positions[0] = Point3(-1.5, 0, 0);
+  CHECK_FALSE(certified(folded));
+  // A fan about a centre moved out of the disk: the boundary is still the circle, but the
+  // triangles on the near side are turned over (covering it twice one way, once the other).
+  Mesh hub;
+  {
+    const int n = 200;
+    hub.positions.push_back(Point3(0, 0, 0));
+    for (int i = 0; i < n; ++i) hub.positions.push_back(Point3(std::cos(2 * M_PI * i / n), std::sin(2 * M_PI * i / n), 0));
+    for (int i = 0; i < n; ++i) hub.add_triangle(0, 1 + i, 1 + (i + 1) % n, 5);
+  }
+  CHECK(certified(hub));
+  hub.positions[0] = Point3(1.4, 0.3, 0);
+  CHECK_FALSE(certified(hub));
+  // A C whose lower arm has a spike up to the upper arm's edge, touching it at a point: one
+  // boundary curve, every triangle turned the right way, but the spike's triangle and the upper
+  // arm's meet at that point.
+  Mesh c;
+  for (auto [x, y] : std::vector<std::pair<double, double>>{{0, 0}, {6, 0}, {6, 1}, {4, 1}, {3.5, 3}, {3, 1}, {1, 1}, {1, 3}, {6, 3}, {6, 4}, {0, 4}})
+    c.positions.push_back(Point3(x, y, 0));
+  for (auto [a, b, d] : std::vector<std::array<u32, 3>>{{0, 1, 2}, {0, 2, 3}, {3, 4, 5}, {0, 3, 5}, {0, 5, 6}, {0, 6, 7}, {0, 7, 10}, {7, 8, 9}, {7, 9, 10}})
+    c.add_triangle(a, b, d, 4);
+  CHECK_FALSE(certified(c));
+  c.positions[4] = Point3(3.5, 2.9, 0);  // (the spike short of the arm)
+  CHECK(certified(c));
+  // And the self-check still finds the overlap of the two disks' triangles, closed into a solid
+  // (each disk a cap of its own drum, the drums' caps in one plane with one face id).
+  auto drum = [](Mesh& m, double cx, int n) {
+    const u32 b = static_cast<u32>(m.positions.size());
+    for (int i = 0; i < n; ++i) m.positions.push_back(Point3(cx + std::cos(2 * M_PI * i / n), std::sin(2 * M_PI * i / n), 0));
+    for (int i = 0; i < n; ++i) m.positions.push_back(Point3(cx + std::cos(2 * M_PI * i / n), std::sin(2 * M_PI * i / n), 1));
+    for (int i = 1; i + 1 < n; ++i) {
+      m.add_triangle(b, b + i + 1, b + i, 1);  // the bottom, facing -z
+      m.add_triangle(b + n, b + n + i, b + n + i + 1, 2);
+    }
+    for (int i = 0; i < n; ++i) {
+      const u32 a0 = b + i, a1 = b + (i + 1) % n, c0 = a0 + n, c1 = a1 + n;
+      m.add_triangle(a0, a1, c1, 3);
+      m.add_triangle(a0, c1, c0, 3);
+    }
+  };
+  Mesh drums;
+  drum(drums, 0, 100);
+  drum(drums, 0.5, 100);
+  CHECK_THAT(mesh_solid_defect(drums), Catch::Contains("intersects itself"));
 }
