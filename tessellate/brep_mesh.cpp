@@ -408,11 +408,25 @@ static Mesh tessellate_at_scale(const Model& m, const Tolerance& tol_in, std::ve
     // Where neither direction bends (a flat patch), the mean speeds |Su|, |Sv| keep the plane
     // isometric.
     const double ang_tol = radians(tol.angular);
-    // Chords per unit parameter that the tolerances need where the normal curvature term along the
-    // parameter is k (|Suu.n|) and the speed |Su|: the chord's deviation k d^2 / 8 and its turn
-    // k d / |Su|.
-    auto need = [&](double k, double speed) {
-      return std::max(std::sqrt(k / (8 * tol.chordal)), speed > 0 ? k / (speed * ang_tol) : 0.0);
+    // Chords per unit parameter that the tolerances need along u and along v, from a jet J (S, Su,
+    // Sv, Suu, Suv, Svv) and its unit normal n: where the normal curvature term along u is k
+    // (|Suu.n|, or the twist term |Suv.n| where larger) and the speed |Su|, the chord's deviation
+    // k d^2 / 8 and its turn |Suu.n| d / |Su|. The twist term M = Suv.n turns the normal along u by |M| |Su| / |Su x Sv| per unit u
+    // (Weingarten's equations where Suu.n = 0), not |M| / |Su|: a twisted extrusion's side 0.03
+    // wide was given rows of points 0.004 apart across it, whose slivers the border's chords then
+    // turned over, and its refinement ran to the point budget. (Where M = 0, as before.)
+    auto needs = [&](const Vec3* J, const Vec3& n) {
+      const Vec3 &Su = J[1], &Sv = J[2];
+      const double L = std::abs(J[3].dot(n)), M = std::abs(J[4].dot(n)), N = std::abs(J[5].dot(n));
+      const double su = Su.norm(), sv = Sv.norm(), area = Su.cross(Sv).norm();
+      auto one = [&](double k, double bend, double speed, double twist_turn) {
+        return std::max({std::sqrt(k / (8 * tol.chordal)), speed > 0 ? bend / (speed * ang_tol) : 0.0, twist_turn / ang_tol});
+      };
+      // (Never more than |M| / |Su| as before: where |Su x Sv| falls to 0, at a pole, the turn
+      // above would ask for points without end.)
+      const double tu = M > 0 && area > 0 && su > 0 ? std::min(M / su, M * su / area) : 0.0;
+      const double tv = M > 0 && area > 0 && sv > 0 ? std::min(M / sv, M * sv / area) : 0.0;
+      return std::array<double, 2>{one(std::max(L, M), L, su, tu), one(std::max(N, M), N, sv, tv)};
     };
     constexpr int kCells = 16;
     double su = 0, sv = 0;
@@ -435,9 +449,8 @@ static Mesh tessellate_at_scale(const Model& m, const Tolerance& tol_in, std::ve
         Vec3 n = Su.cross(Sv);
         if (!(n.norm() > 0)) continue;
         n.normalize();
-        const double kuv = std::abs(J[4].dot(n));
-        ku[i] = std::max(ku[i], need(std::max(std::abs(J[3].dot(n)), kuv), Su.norm()));
-        const double nv = need(std::max(std::abs(J[5].dot(n)), kuv), Sv.norm());
+        const auto [nu, nv] = needs(J, n);
+        ku[i] = std::max(ku[i], nu);
         kv[j] = std::max(kv[j], nv);
         gv[i] = std::max(gv[i], nv);
       }
@@ -614,7 +627,7 @@ static Mesh tessellate_at_scale(const Model& m, const Tolerance& tol_in, std::ve
           double d = sv / size;
           if (n.norm() > 0) {
             n.normalize();
-            d = std::max(d, need(std::max(std::abs(J[5].dot(n)), std::abs(J[4].dot(n))), Sv.norm()));
+            d = std::max(d, needs(J, n)[1]);
           }
           if (j > 0) cum[static_cast<std::size_t>(j)] = cum[static_cast<std::size_t>(j) - 1] + 0.5 * (prev + d) * (v1 - v0) / kRow;
           prev = d;

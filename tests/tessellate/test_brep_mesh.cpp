@@ -7,6 +7,7 @@
 #include <functional>
 #include <string>
 
+#include "csg/boolean.h"
 #include "csg/solid.h"
 #include "tessellate/brep_mesh.h"
 
@@ -261,4 +262,29 @@ TEST_CASE("a tolerance beyond the triangle budget fails at once, giving the esti
     CHECK(estimate < 1e13);
     CHECK_THAT(m, Catch::Contains("triangles, more than the budget of 10000000"));
   }
+}
+
+TEST_CASE("a twisted extrusion of a fine polygon tessellates: narrow twisted sides need few points", "[tessellate][curved]") {
+  // Each side of a 300-point polygon twisted by 90 degrees is a twisted strip 0.02 wide. The twist
+  // term turns its normal along the strip's width by |Suv.n| |Su| / |Su x Sv| per unit u; taken as
+  // |Suv.n| / |Su| it asked for rows of points a few thousandths apart across the strip, whose
+  // slivers the borders' chords turned over, and the refinement ran to the point budget (at 200
+  // points and more; 10,816 triangles at 100).
+  std::vector<Vec2> pts;
+  for (int i = 0; i < 300; ++i) {
+    const double a = 2 * M_PI * i / 300, r = 1 + 0.1 * std::sin(7 * a);
+    pts.emplace_back(r * std::cos(a), r * std::sin(a));
+  }
+  const Model m = extrude(section_of(Profile{pts, {}}), 1, M_PI / 2, 1);
+  const double exact = m.mass_properties().volume;
+  Tolerance t;
+  t.chordal = 1e-2;
+  const Mesh mesh = tessellate(m, t);
+  CHECK(mesh.triangles.size() < 20000);
+  const EulerCounts ec = euler_counts(mesh);
+  CHECK(ec.S == 1);
+  CHECK(ec.H == 0);
+  CHECK(min_area(mesh) > 0);
+  CHECK(std::abs(mesh.volume() - exact) <= 10 * t.chordal * exact);
+  CHECK(mesh_solid_defect(mesh) == "");
 }
