@@ -267,22 +267,60 @@ bool one_disk(u32 v, const std::vector<std::array<u32, 3>>& star) {
   return false;
 }
 
+// The disks the triangles `star` (each holding v) make around v: each link edge x -> y starts at
+// a different x, and they join into cycles. Returns each cycle's indices into star, or nothing
+// where they are no union of disks (a link vertex met twice, a chain that does not close).
+std::vector<std::vector<u32>> disks(u32 v, const std::vector<std::array<u32, 3>>& star) {
+  std::vector<std::array<u32, 3>> link;  // x, y, index in star
+  for (u32 i = 0; i < star.size(); ++i) {
+    const auto& T = star[i];
+    const int k = T[0] == v ? 0 : (T[1] == v ? 1 : 2);
+    link.push_back({T[(k + 1) % 3], T[(k + 2) % 3], i});
+  }
+  std::sort(link.begin(), link.end());
+  for (std::size_t i = 1; i < link.size(); ++i)
+    if (link[i][0] == link[i - 1][0]) return {};
+  std::vector<char> used(link.size(), 0);
+  std::vector<std::vector<u32>> out;
+  for (std::size_t s = 0; s < link.size(); ++s) {
+    if (used[s]) continue;
+    std::vector<u32> cycle;
+    std::size_t at = s;
+    while (!used[at]) {
+      used[at] = 1;
+      cycle.push_back(link[at][2]);
+      auto it = std::lower_bound(link.begin(), link.end(), std::array<u32, 3>{link[at][1], 0, 0});
+      if (it == link.end() || (*it)[0] != link[at][1]) return {};
+      at = static_cast<std::size_t>(it - link.begin());
+    }
+    if (at != s) return {};
+    out.push_back(std::move(cycle));
+  }
+  return out;
+}
+
 // An edge collapse a -> b where the link condition fails can still leave a closed manifold: the
 // two triangles of a fold (a, c, d) and (b, d, c) become one triangle both ways round, a film of
 // no volume, and go. (A wall thinner than rounding, turned, folds so: a short edge's ends had a
 // common neighbour beyond the two opposite vertices, and no pass could collapse it.) The collapse
 // is made where every vertex it changes keeps one disk of triangles around it, and none of them
 // is `touched` (changed earlier in the same sweep, which the stars, made once, do not know).
-// Triangles that go become {b, b, b}.
+// Triangles that go become {b, b, b}. With `pinch`, a vertex left with several disks around it
+// (two sheets nearer than rounding, met at one point: a thin wedge's vertices a few ulps apart)
+// is allowed: `pinches` then lists, per extra disk, the vertex and its triangles there, which the
+// caller gives a copy of the vertex (shells touching at a point, each kept a manifold, as the
+// output keeps touching operands).
 class FoldCollapse {
  public:
-  FoldCollapse(std::vector<std::array<u32, 3>>& tris, std::size_t nv, std::vector<char>& touched)
-      : tris_(tris), nv_(nv), touched_(touched) {}
+  FoldCollapse(std::vector<std::array<u32, 3>>& tris, std::size_t nv, std::vector<char>& touched, bool pinch = false)
+      : tris_(tris), nv_(nv), touched_(touched), pinch_(pinch) {}
   std::vector<u32> changed;  // the triangles the last collapse changed
+  std::vector<std::pair<u32, std::vector<u32>>> pinches;  // (vertex, triangles of one extra disk)
 
   bool operator()(u32 a, u32 b) {
     stars();
     changed.clear();
+    pinches.clear();
     std::vector<u32> set(star_tri_.begin() + star_first_[a], star_tri_.begin() + star_first_[a + 1]);
     set.insert(set.end(), star_tri_.begin() + star_first_[b], star_tri_.begin() + star_first_[b + 1]);
     std::sort(set.begin(), set.end());
@@ -316,11 +354,30 @@ class FoldCollapse {
       if (touched_[w]) return false;
       if (w == a) continue;
       std::vector<std::array<u32, 3>> star;
+      std::vector<u32> ids;  // star's triangles' indices
       for (u32 k = star_first_[w]; k < star_first_[w + 1]; ++k)
-        if (!std::binary_search(set.begin(), set.end(), star_tri_[k])) star.push_back(tris_[star_tri_[k]]);
+        if (!std::binary_search(set.begin(), set.end(), star_tri_[k])) {
+          star.push_back(tris_[star_tri_[k]]);
+          ids.push_back(star_tri_[k]);
+        }
       for (std::size_t i = 0; i < set.size(); ++i)
-        if (!gone[i] && (now[i][0] == w || now[i][1] == w || now[i][2] == w)) star.push_back(now[i]);
-      if (star.empty() ? w == b : !one_disk(w, star)) return false;
+        if (!gone[i] && (now[i][0] == w || now[i][1] == w || now[i][2] == w)) {
+          star.push_back(now[i]);
+          ids.push_back(set[i]);
+        }
+      if (star.empty()) {
+        if (w == b) return false;
+        continue;
+      }
+      if (one_disk(w, star)) continue;
+      if (!pinch_) return false;
+      const auto cycles = disks(w, star);
+      if (cycles.size() < 2) return false;
+      for (std::size_t c = 1; c < cycles.size(); ++c) {
+        std::vector<u32> in;
+        for (u32 i : cycles[c]) in.push_back(ids[i]);
+        pinches.push_back({w, std::move(in)});
+      }
     }
     for (std::size_t i = 0; i < set.size(); ++i) {
       tris_[set[i]] = gone[i] ? std::array<u32, 3>{b, b, b} : now[i];
@@ -347,6 +404,7 @@ class FoldCollapse {
   std::vector<std::array<u32, 3>>& tris_;
   std::size_t nv_;
   std::vector<char>& touched_;
+  bool pinch_;
   std::vector<u32> star_first_, star_tri_;
 };
 
@@ -487,7 +545,7 @@ bool repair_rounding(BooleanResult& r, Rounding& rd, std::vector<u32>* left, boo
       ++rd.collapses;
       return true;
     };
-    FoldCollapse folds(tris, r.mesh.positions.size(), touched);
+    FoldCollapse folds(tris, r.mesh.positions.size(), touched, true);
     // a -> b: a goes, its triangles take b, where the link condition holds (the common
     // neighbours of a and b are the two opposite vertices), or else (with `fold`) where a fold's
     // two triangles come to lie on each other and both go.
@@ -495,6 +553,20 @@ bool repair_rounding(BooleanResult& r, Rounding& rd, std::vector<u32>* left, boo
       if (!link(tris, around, a, b, [](u32) { return true; })) {
         if (!fold || !folds(a, b)) return false;
         for (u32 x : folds.changed) rd.recheck[x] = 1;
+        // A vertex left with several disks: a copy of it for each disk after the first.
+        for (const auto& [w, in] : folds.pinches) {
+          const u32 copy = static_cast<u32>(r.mesh.positions.size());
+          r.mesh.positions.push_back(r.mesh.positions[w]);
+          rd.moved.push_back(rd.moved[w]);
+          if (!rd.altered.empty()) rd.altered.push_back(1);
+          touched.push_back(1);
+          around.emplace_back();
+          for (u32 x : in) {
+            for (u32& v : tris[x])
+              if (v == w) v = copy;
+            rd.recheck[x] = 1;
+          }
+        }
         ++rd.collapses;
         return true;
       }

@@ -43,6 +43,7 @@ struct Case {
   std::vector<std::array<Vec3, 2>> boxes;
   int pow2 = 0;        // operands are a unit-size case scaled by 2^pow2: volumes compared scaled back
   bool chain = false;  // run as a chain of steps (ops[0], then each later operand with a random op)
+  bool no_oracle = false;  // CGAL's corefinement not asked (it runs for minutes on such operands)
   std::string note;    // which variant the generator chose (in failure messages)
 };
 

@@ -301,7 +301,7 @@ void run_set(const std::vector<const Mesh*>& ops, const Case& c, BooleanOp keep_
     }
     // Small cases: CGAL's exact corefinement as the reference (it refuses non-manifold results).
     double want = 0;
-    if (triangles_of(ops) <= 3000 && p2 == 0 && ops.size() <= 5) {
+    if (!c.no_oracle && triangles_of(ops) <= 3000 && p2 == 0 && ops.size() <= 5) {
       std::snprintf(state.shared->current, sizeof state.shared->current, "%s oracle %s", state.case_name.c_str(),
                     boolean_op_name(op));
       if (oracle_volume(op, ops, &want) && std::isfinite(vs) && want >= -tol) {

@@ -586,6 +586,53 @@ Case gen_many_near(Rng& r) {
   return c;
 }
 
+// A torus about z (radii R > r), n segments around the axis and m around the tube.
+Mesh torus_mesh(double R, double rr, int n, int m) {
+  Mesh t;
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < m; ++j) {
+      const double u = 2 * kPi * i / n, v = 2 * kPi * j / m;
+      t.add_vertex(Vec3((R + rr * std::cos(v)) * std::cos(u), (R + rr * std::cos(v)) * std::sin(u), rr * std::sin(v)));
+    }
+  auto at = [&](int i, int j) { return static_cast<std::uint32_t>((i % n) * m + j % m); };
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < m; ++j) {
+      t.add_triangle(at(i, j), at(i + 1, j), at(i + 1, j + 1));
+      t.add_triangle(at(i, j), at(i + 1, j + 1), at(i, j + 1));
+    }
+  return t;
+}
+
+// One smooth surface (torus, sphere, cylinder) tessellated twice: the copy at another resolution
+// or turned about the symmetry axis by an angle that is no multiple of a segment's, so its facets
+// lie a tessellation error apart from the first's everywhere, and perhaps also tilted by a small
+// angle about another axis (the near-coincident sheets cross in long thin slivers; rounding them
+// once left vertices a few ulps apart with no collapse that kept a manifold).
+Case gen_same_surface(Rng& r) {
+  Case c;
+  const int kind = irand(r, 0, 2);
+  auto make = [&] {
+    switch (kind) {
+      case 0: return torus_mesh(2, uni(r, 0.3, 0.9), irand(r, 12, 72), irand(r, 6, 32));
+      case 1: return uv_sphere({0, 0, 0}, 1, irand(r, 200, 3000));
+      default: return cylinder_mesh(1, -1, 1, irand(r, 12, 200));
+    }
+  };
+  const Mesh a = make();
+  c.ops.push_back(a);
+  Mesh b = coin(r) ? make() : a;
+  b = rot(b, uni(r, 0, 360), Vec3(0, 0, 1), {0, 0, 0});
+  switch (irand(r, 0, 2)) {
+    case 0: break;
+    case 1: b = rot(b, std::pow(10.0, -uni(r, 1, 9)), rand_dir(r), {0, 0, 0}); break;
+    default: b = rot(b, uni(r, 1, 20), rand_dir(r), {0, 0, 0}); break;
+  }
+  c.ops.push_back(b);
+  if (coin(r, 0.2)) c.ops.push_back(rot(a, uni(r, 0, 360), Vec3(0, 0, 1), {0, 0, 0}));
+  c.no_oracle = true;  // (CGAL's corefinement of such copies ran past the fuzzer's 30 s)
+  return c;
+}
+
 // A prism between two triangles (a0 b0 c0) and (a1 b1 c1), outward whatever their order.
 Mesh prism6(const Vec3& a0, const Vec3& b0, const Vec3& c0, const Vec3& a1, const Vec3& b1, const Vec3& c1) {
   Mesh m;
@@ -651,7 +698,8 @@ const std::vector<Gen>& generators() {
       {"grid_rot", gen_grid_rot},             {"coplanar_stack", gen_coplanar_stack},
       {"nonmanifold_ops", gen_nonmanifold_ops}, {"hires_near", gen_hires_near},
       {"hollow", gen_hollow},                 {"unused_verts", gen_unused_verts},
-      {"many_near", gen_many_near},           {"point_contact", gen_point_contact}};
+      {"many_near", gen_many_near},           {"point_contact", gen_point_contact},
+      {"same_surface", gen_same_surface}};
   return g;
 }
 
