@@ -136,15 +136,24 @@ MassProperties Model::exact_mass(bool rough) const {
         fail("mass properties: face ", f.value, " is a trimmed piece of its surface (not supported yet)");
       double sign = ps->reversed ? -1.0 : 1.0;
       std::vector<double> us = panels(S.u_breaks(), u0, u1, per), vs = panels(S.v_breaks(), v0, v1, per);
+      // Each panel's points as one grid (jet_grid: a surface of revolution turns each profile
+      // point by one sine and cosine per column; point by point, sincos was a third of a
+      // revolve's volume() over 2,000 profile points).
+      const int k = static_cast<int>(g.x.size());
+      std::vector<double> gu(g.x.size()), gv(g.x.size());
+      std::vector<Vec3> jets(g.x.size() * g.x.size() * 6);
       for (std::size_t i = 0; i + 1 < us.size(); ++i)
         for (std::size_t j = 0; j + 1 < vs.size(); ++j) {
           double hu = (us[i + 1] - us[i]) / 2, hv = (vs[j + 1] - vs[j]) / 2;
           double mu = (us[i + 1] + us[i]) / 2, mv = (vs[j + 1] + vs[j]) / 2;
+          for (std::size_t a = 0; a < g.x.size(); ++a) gu[a] = mu + hu * g.x[a], gv[a] = mv + hv * g.x[a];
+          S.jet_grid(gu.data(), k, gv.data(), k, 1, jets.data());
           for (std::size_t a = 0; a < g.x.size(); ++a)
             for (std::size_t b = 0; b < g.x.size(); ++b) {
-              double u = mu + hu * g.x[a], v = mv + hv * g.x[b], w = g.w[a] * g.w[b] * hu * hv;
-              Vec3 N = sign * per_area * S.derivative(u, v, 1, 0).cross(S.derivative(u, v, 0, 1));
-              mo.add(frame.local(S.eval(u, v)), w * N, w * N.norm());
+              const Vec3* J = &jets[(a * g.x.size() + b) * 6];
+              double w = g.w[a] * g.w[b] * hu * hv;
+              Vec3 N = sign * per_area * J[1].cross(J[2]);
+              mo.add(frame.local(J[0]), w * N, w * N.norm());
             }
         }
       return;

@@ -229,6 +229,18 @@ void RevolutionSurface::jet_grid(const double* u, int nu, const double* v, int n
   }
 }
 
+void RevolutionSurface::eval_grid(const double* u, int nu, const double* v, int nv, Point3* out) const {
+  // As eval(), with each column's sine and cosine and each row's profile point computed once.
+  std::vector<double> cvs(static_cast<std::size_t>(nv)), svs(static_cast<std::size_t>(nv));
+  for (int j = 0; j < nv; ++j) cos_sin(v[j], cvs[static_cast<std::size_t>(j)], svs[static_cast<std::size_t>(j)]);
+  for (int i = 0; i < nu; ++i) {
+    const Point3 c = profile_->eval(u[i]);
+    for (int j = 0; j < nv; ++j)
+      out[static_cast<std::ptrdiff_t>(i) * nv + j] =
+          Point3(c.x() * cvs[static_cast<std::size_t>(j)], c.x() * svs[static_cast<std::size_t>(j)], c.y());
+  }
+}
+
 TwistedExtrusionSurface::TwistedExtrusionSurface(CurvePtr profile, double height, double twist, double scale)
     : profile_(std::move(profile)), height_(height), twist_(twist), scale_(scale) {
   if (!profile_) fail("TwistedExtrusionSurface: no profile");

@@ -56,6 +56,11 @@ void Surface::jet_grid(const double* u, int nu, const double* v, int nv, int d, 
     for (int j = 0; j < nv; ++j) jet(u[i], v[j], d, out + (static_cast<std::ptrdiff_t>(i) * nv + j) * 6);
 }
 
+void Surface::eval_grid(const double* u, int nu, const double* v, int nv, Point3* out) const {
+  for (int i = 0; i < nu; ++i)
+    for (int j = 0; j < nv; ++j) out[static_cast<std::ptrdiff_t>(i) * nv + j] = eval(u[i], v[j]);
+}
+
 Vec3 Surface::normal(double u, double v) const {
   auto cross_at = [&](double uu, double vv) -> Vec3 {
     Vec3 j[3];

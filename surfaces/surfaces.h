@@ -69,6 +69,8 @@ class Surface {
   // entries per point for d = 1 too). A surface of revolution turns each profile point by one
   // sine and cosine per column instead of evaluating its profile and angle at every point.
   virtual void jet_grid(const double* u, int nu, const double* v, int nv, int d, Vec3* out) const;
+  // eval() at every (u[i], v[j]) of a grid, the same values: out[i * nv + j].
+  virtual void eval_grid(const double* u, int nu, const double* v, int nv, Point3* out) const;
   // Parameters where the surface may lose smoothness in u / in v (domain ends included).
   virtual std::vector<double> u_breaks() const;
   virtual std::vector<double> v_breaks() const;
@@ -569,6 +571,7 @@ class RevolutionSurface : public Surface {
   Vec3 derivative(double u, double v, int ku, int kv) const override;
   void jet(double u, double v, int d, Vec3* out) const override;
   void jet_grid(const double* u, int nu, const double* v, int nv, int d, Vec3* out) const override;
+  void eval_grid(const double* u, int nu, const double* v, int nv, Point3* out) const override;
   std::vector<double> u_breaks() const override { return profile_->breaks(); }
   const CurvePtr& profile() const { return profile_; }
   double angle() const { return angle_; }

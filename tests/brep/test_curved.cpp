@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "brep/brep.h"
+#include "kernel/transform.h"
 
 using namespace wedge;
 
@@ -129,4 +130,75 @@ TEST_CASE("profiles of thousands of points: a prism with a hole and a revolve", 
     v += 2 * pi * cx * area;
   }
   CHECK(spun.mass_properties().volume == Approx(v).epsilon(1e-9));
+}
+
+TEST_CASE("bounds of turned curved solids hold every surface point and are tight", "[brep][curved]") {
+  // bounds() samples each edge and face, then refines only the extremes that may reach past every
+  // sample: the box must still be the solid's (each model's box in closed form), and a dense
+  // sampling of its faces lies inside it.
+  auto dense_check = [](const Model& m, const Box3& b) {
+    Box3 seen;
+    for (FaceId f : m.faces().ids()) {
+      const FaceSurface& fs = m.surface(f);
+      if (!fs.parametric) continue;
+      const auto [u0, u1] = fs.surface->u_domain();
+      const auto [v0, v1] = fs.surface->v_domain();
+      for (int i = 0; i <= 97; ++i)
+        for (int j = 0; j <= 97; ++j) seen.extend(fs.surface->eval(u0 + (u1 - u0) * i / 97, v0 + (v1 - v0) * j / 97));
+    }
+    for (int k = 0; k < 3; ++k) {
+      INFO("axis " << k);
+      CHECK(seen.min[k] >= b.min[k] - 1e-12);
+      CHECK(seen.max[k] <= b.max[k] + 1e-12);
+    }
+  };
+  SECTION("a sphere turned 10 degrees about z") {
+    Model m = sphere(5, Point3(1, 2, 3));
+    m.transform(rotate(10, Vec3(0, 0, 1), Point3(0, 0, 0)));
+    const Box3 b = m.bounds();
+    const Point3 c = rotate(10, Vec3(0, 0, 1), Point3(0, 0, 0)).block<3, 3>(0, 0) * Point3(1, 2, 3);
+    for (int k = 0; k < 3; ++k) {
+      CHECK(b.min[k] == Approx(c[k] - 5).margin(1e-9));
+      CHECK(b.max[k] == Approx(c[k] + 5).margin(1e-9));
+    }
+    dense_check(m, b);
+  }
+  SECTION("a torus turned about a skew axis") {
+    Model m = torus(2, 0.5);
+    const Vec3 axis = Vec3(1, 2, 3).normalized();
+    m.transform(rotate(37, axis));
+    const Box3 b = m.bounds();
+    const Vec3 a = rotate(37, axis).block<3, 3>(0, 0) * Vec3(0, 0, 1);  // the torus's axis, turned
+    for (int k = 0; k < 3; ++k) {
+      const double half = 2 * std::sqrt(1 - a[k] * a[k]) + 0.5;
+      CHECK(b.min[k] == Approx(-half).margin(1e-9));
+      CHECK(b.max[k] == Approx(half).margin(1e-9));
+    }
+    dense_check(m, b);
+  }
+  SECTION("a revolve of a wavy profile of 400 points, turned") {
+    std::vector<Vec2> p;
+    for (int i = 0; i < 400; ++i) {
+      const double t = 2 * pi * i / 400, r = 1 + 0.1 * std::sin(17 * t);
+      p.emplace_back(3 + r * std::cos(t), r * std::sin(t));
+    }
+    Model m = revolve(section_of({p, {}}), 2 * pi);
+    const Mat4 turn = rotate(23, Vec3(1, 1, 0));
+    m.transform(turn);
+    const Box3 b = m.bounds();
+    // A profile point at radius x, height y sweeps a circle about the turned axis a: along axis k
+    // it reaches y a_k +- x sqrt(1 - a_k^2); along a straight piece that is linear, so the box is
+    // the points' extremes.
+    const Vec3 a = turn.block<3, 3>(0, 0) * Vec3(0, 0, 1);
+    for (int k = 0; k < 3; ++k) {
+      double lo = INFINITY, hi = -INFINITY;
+      for (const Vec2& q : p) {
+        const double off = q.x() * std::sqrt(1 - a[k] * a[k]);
+        lo = std::min(lo, q.y() * a[k] - off), hi = std::max(hi, q.y() * a[k] + off);
+      }
+      CHECK(b.min[k] == Approx(lo).margin(1e-9));
+      CHECK(b.max[k] == Approx(hi).margin(1e-9));
+    }
+    dense_check(m, b);
+  }
 }
