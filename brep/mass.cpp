@@ -53,6 +53,11 @@ const Gauss& gauss16() {
   return g;
 }
 
+const Gauss& gauss3() {
+  static const Gauss g(3);
+  return g;
+}
+
 const Gauss& gauss4() {
   static const Gauss g(4);
   return g;
@@ -135,23 +140,29 @@ MassProperties Model::exact_mass(bool rough) const {
       if (std::abs(std::abs(a2 / 2) - rect) > 1e-9 * rect)
         fail("mass properties: face ", f.value, " is a trimmed piece of its surface (not supported yet)");
       double sign = ps->reversed ? -1.0 : 1.0;
-      std::vector<double> us = panels(S.u_breaks(), u0, u1, per), vs = panels(S.v_breaks(), v0, v1, per);
+      // Where the integrands are polynomials of degree <= 4 in u (a revolved straight piece), one
+      // panel per break interval and 3 points along u are exact (a revolve's volume() over
+      // 20,000 profile points: 1.0 -> 0.1 s).
+      const bool affine_u = S.affine_area_in_u();
+      const Gauss& gu_rule = affine_u ? gauss3() : g;
+      std::vector<double> us = panels(S.u_breaks(), u0, u1, affine_u ? 1 : per), vs = panels(S.v_breaks(), v0, v1, per);
       // Each panel's points as one grid (jet_grid: a surface of revolution turns each profile
       // point by one sine and cosine per column; point by point, sincos was a third of a
       // revolve's volume() over 2,000 profile points).
-      const int k = static_cast<int>(g.x.size());
-      std::vector<double> gu(g.x.size()), gv(g.x.size());
-      std::vector<Vec3> jets(g.x.size() * g.x.size() * 6);
+      const std::size_t nu = gu_rule.x.size(), nv = g.x.size();
+      std::vector<double> gu(nu), gv(nv);
+      std::vector<Vec3> jets(nu * nv * 6);
       for (std::size_t i = 0; i + 1 < us.size(); ++i)
         for (std::size_t j = 0; j + 1 < vs.size(); ++j) {
           double hu = (us[i + 1] - us[i]) / 2, hv = (vs[j + 1] - vs[j]) / 2;
           double mu = (us[i + 1] + us[i]) / 2, mv = (vs[j + 1] + vs[j]) / 2;
-          for (std::size_t a = 0; a < g.x.size(); ++a) gu[a] = mu + hu * g.x[a], gv[a] = mv + hv * g.x[a];
-          S.jet_grid(gu.data(), k, gv.data(), k, 1, jets.data());
-          for (std::size_t a = 0; a < g.x.size(); ++a)
-            for (std::size_t b = 0; b < g.x.size(); ++b) {
-              const Vec3* J = &jets[(a * g.x.size() + b) * 6];
-              double w = g.w[a] * g.w[b] * hu * hv;
+          for (std::size_t a = 0; a < nu; ++a) gu[a] = mu + hu * gu_rule.x[a];
+          for (std::size_t b = 0; b < nv; ++b) gv[b] = mv + hv * g.x[b];
+          S.jet_grid(gu.data(), static_cast<int>(nu), gv.data(), static_cast<int>(nv), 1, jets.data());
+          for (std::size_t a = 0; a < nu; ++a)
+            for (std::size_t b = 0; b < nv; ++b) {
+              const Vec3* J = &jets[(a * nv + b) * 6];
+              double w = gu_rule.w[a] * g.w[b] * hu * hv;
               Vec3 N = sign * per_area * J[1].cross(J[2]);
               mo.add(frame.local(J[0]), w * N, w * N.norm());
             }

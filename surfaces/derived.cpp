@@ -229,6 +229,12 @@ void RevolutionSurface::jet_grid(const double* u, int nu, const double* v, int n
   }
 }
 
+bool RevolutionSurface::affine_area_in_u() const {
+  if (!profile_->affine()) return false;
+  const auto [a, b] = profile_->domain();
+  return !(profile_->eval(a).x() * profile_->eval(b).x() < 0);
+}
+
 void RevolutionSurface::eval_grid(const double* u, int nu, const double* v, int nv, Point3* out) const {
   // As eval(), with each column's sine and cosine and each row's profile point computed once.
   std::vector<double> cvs(static_cast<std::size_t>(nv)), svs(static_cast<std::size_t>(nv));

@@ -33,6 +33,9 @@ class Curve {
   virtual std::vector<double> breaks() const;
   // True if C(t0) == C(t1): a closed curve is a profile.
   virtual bool closed() const;
+  // True if C is affine in t (a straight piece run at constant speed): quadrature along it can be
+  // exact with a few points.
+  virtual bool affine() const { return false; }
 
   // Unit tangent (zero where the curve stops).
   Vec3 tangent(double t) const;
@@ -71,6 +74,10 @@ class Surface {
   virtual void jet_grid(const double* u, int nu, const double* v, int nv, int d, Vec3* out) const;
   // eval() at every (u[i], v[j]) of a grid, the same values: out[i * nv + j].
   virtual void eval_grid(const double* u, int nu, const double* v, int nv, Point3* out) const;
+  // True if, over each interval between u breaks, S is affine in u and so is |Su x Sv|: the
+  // mass integrands (x.N, x x^T N, ...) are then polynomials of degree at most 4 in u, which a
+  // 3-point Gauss rule integrates exactly (brep/mass.cpp).
+  virtual bool affine_area_in_u() const { return false; }
   // Parameters where the surface may lose smoothness in u / in v (domain ends included).
   virtual std::vector<double> u_breaks() const;
   virtual std::vector<double> v_breaks() const;
@@ -117,6 +124,7 @@ class LineSegment : public Curve {
   std::pair<double, double> domain() const override { return {0.0, 1.0}; }
   Point3 eval(double t) const override;
   Vec3 derivative(double t, int k) const override;
+  bool affine() const override { return true; }
   Point3 a, b;
 };
 
@@ -478,6 +486,7 @@ class ReversedCurve : public Curve {
   Vec3 derivative(double t, int k) const override;
   void jet(double t, int d, Vec3* out) const override;
   std::vector<double> breaks() const override;
+  bool affine() const override { return curve_->affine(); }
 
  private:
   CurvePtr curve_;
@@ -492,6 +501,7 @@ class SubCurve : public Curve {
   Vec3 derivative(double t, int k) const override { return curve_->derivative(t, k); }
   void jet(double t, int d, Vec3* out) const override { curve_->jet(t, d, out); }
   std::vector<double> breaks() const override;
+  bool affine() const override { return curve_->affine(); }
   const CurvePtr& source() const { return curve_; }
 
  private:
@@ -523,6 +533,7 @@ class TransformedCurve : public Curve {
   Point3 eval(double t) const override;
   Vec3 derivative(double t, int k) const override;
   std::vector<double> breaks() const override { return curve_->breaks(); }
+  bool affine() const override { return curve_->affine(); }
 
  private:
   CurvePtr curve_;
@@ -573,6 +584,9 @@ class RevolutionSurface : public Surface {
   void jet_grid(const double* u, int nu, const double* v, int nv, int d, Vec3* out) const override;
   void eval_grid(const double* u, int nu, const double* v, int nv, Point3* out) const override;
   std::vector<double> u_breaks() const override { return profile_->breaks(); }
+  // A straight profile piece not crossing the axis: S = (x cos v, x sin v, y) with x, y affine in
+  // u, and |Su x Sv| = |x| |c'| (Su lies in the meridian plane, Sv across it).
+  bool affine_area_in_u() const override;
   const CurvePtr& profile() const { return profile_; }
   double angle() const { return angle_; }
 

@@ -6,6 +6,7 @@
 
 #include "brep/brep.h"
 #include "kernel/transform.h"
+#include "surfaces/surfaces.h"
 
 using namespace wedge;
 
@@ -129,7 +130,30 @@ TEST_CASE("profiles of thousands of points: a prism with a hole and a revolve", 
     const double cx = (p.x() * p.x() + p.x() * q.x() + q.x() * q.x()) / (3 * (p.x() + q.x()));
     v += 2 * pi * cx * area;
   }
-  CHECK(spun.mass_properties().volume == Approx(v).epsilon(1e-9));
+  CHECK(spun.mass_properties().volume == Approx(v).epsilon(1e-12));
+}
+
+TEST_CASE("a revolved rectangle's mass properties are exact: 3 points across each straight piece", "[brep][curved]") {
+  // Revolved straight pieces are affine in the profile's parameter, and so is their area element
+  // (|x| times the piece's length): the mass integrands are polynomials of degree 4 or less
+  // there, which exact_mass integrates with 3 Gauss points and one panel per piece. A hollow
+  // cylinder, radii 1 and 2, height 3: every moment in closed form.
+  const Model m = revolve(section_of({{{1, 0}, {2, 0}, {2, 3}, {1, 3}}, {}}), 2 * pi);
+  REQUIRE(m.validate().ok);
+  const MassProperties mp = m.mass_properties();
+  const double V = pi * (4 - 1) * 3;
+  CHECK(mp.volume == Approx(V).epsilon(1e-14));
+  CHECK(mp.area == Approx(2 * pi * (1 + 2) * 3 + 2 * pi * (4 - 1)).epsilon(1e-14));
+  CHECK((mp.centroid - Point3(0, 0, 1.5)).norm() < 1e-14);
+  check_diag_inertia(mp.inertia, Vec3(V / 12 * (3 * 5 + 9), V / 12 * (3 * 5 + 9), V / 2 * 5), 1e-13);
+  // The rule is taken only where the area element is affine: a straight piece across the axis
+  // has |x| bent at the axis.
+  const auto straight = std::make_shared<const LineSegment>(Point3(1, 0, 0), Point3(2, 1, 0));
+  const auto across = std::make_shared<const LineSegment>(Point3(-1, 0, 0), Point3(2, 1, 0));
+  CHECK(RevolutionSurface(straight, 2 * pi).affine_area_in_u());
+  CHECK_FALSE(RevolutionSurface(across, 2 * pi).affine_area_in_u());
+  CHECK_FALSE(RevolutionSurface(std::make_shared<const CircularArc>(Point3(2, 0, 0), 1.0, -1.0, 1.0), 2 * pi).affine_area_in_u());
+  CHECK(RevolutionSurface(std::make_shared<const ReversedCurve>(straight), 2 * pi).affine_area_in_u());
 }
 
 TEST_CASE("bounds of turned curved solids hold every surface point and are tight", "[brep][curved]") {
