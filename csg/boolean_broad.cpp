@@ -528,8 +528,33 @@ std::vector<T> concatenate(std::vector<std::vector<T>>& parts) {
 
 }  // namespace
 
+namespace {
+
+// Per node of the tree: the group (embedded_groups) of all its triangles, kNone where they are in
+// none or several; empty without groups.
+std::vector<u32> node_groups(const Bvh& tree, const std::vector<u32>& group) {
+  std::vector<u32> node_group;
+  if (group.empty()) return node_group;
+  const std::size_t nn = tree.nodes.size();
+  node_group.assign(nn, kNone);
+  for (std::size_t i = nn; i-- > 0;) {
+    const Bvh::Node& nd = tree.nodes[i];
+    if (!nd.count) {
+      if (node_group[nd.left] == node_group[nd.right]) node_group[i] = node_group[nd.left];
+      continue;
+    }
+    u32 g = group[tree.items[nd.first]];
+    for (u32 k = nd.first + 1; k < nd.first + nd.count && g != kNone; ++k)
+      if (group[tree.items[k]] != g) g = kNone;
+    node_group[i] = g;
+  }
+  return node_group;
+}
+
+}  // namespace
+
 void Bvh::each_pair(const std::vector<char>* active, const Soup* soup, const std::function<void(u32, u32)>& f,
-                    const std::vector<std::uint8_t>* cert) const {
+                    const std::vector<std::uint8_t>* cert, const std::vector<u32>* group) const {
   // What a visit reads, copied in tree order (the soup's order is not the walk's): the
   // triangle's vertices and certified corners.
   struct Item {
@@ -541,17 +566,20 @@ void Bvh::each_pair(const std::vector<char>* active, const Soup* soup, const std
     item.resize(items.size());
     parallel_for(0, items.size(), [&](std::size_t i) { item[i] = {soup->tris[items[i]], (*cert)[items[i]]}; });
   }
+  // Node pairs within one certified group are not looked into; item pairs within one are left out.
+  const std::vector<u32> node_group = group ? node_groups(*this, *group) : std::vector<u32>();
   self_join(
       *this, active, [](std::size_t) {},
       [&](std::size_t, u32 i, u32 j) {
         if (!canonical(i, j) || (!item.empty() && shares_certified(item[i].v, item[i].cert, item[j].v))) return;
         const u32 t = items[i], u = items[j];
+        if (!node_group.empty() && (*group)[t] != kNone && (*group)[t] == (*group)[u]) return;
         f(std::min(t, u), std::max(t, u));
       },
       [&] {
         if (soup) soup->poll();
       },
-      [](u32, u32) { return false; });
+      [&](u32 a, u32 b) { return !node_group.empty() && node_group[a] != kNone && node_group[a] == node_group[b]; });
 }
 
 
@@ -775,21 +803,7 @@ std::vector<std::array<u32, 2>> candidate_pairs(const Soup& soup, std::array<u32
   std::vector<std::int32_t> node_op(nn, -1);
   std::vector<u32> hub(nn, kNone);
   // Per node: the certified group of all its triangles (kNone: none, or several).
-  std::vector<u32> node_group;
-  if (!group.empty()) {
-    node_group.assign(nn, kNone);
-    for (std::size_t i = nn; i-- > 0;) {
-      const Bvh::Node& nd = tree.nodes[i];
-      if (!nd.count) {
-        if (node_group[nd.left] == node_group[nd.right]) node_group[i] = node_group[nd.left];
-        continue;
-      }
-      u32 g = group[tree.items[nd.first]];
-      for (u32 k = nd.first + 1; k < nd.first + nd.count && g != kNone; ++k)
-        if (group[tree.items[k]] != g) g = kNone;
-      node_group[i] = g;
-    }
-  }
+  const std::vector<u32> node_group = node_groups(tree, group);
   std::vector<u32> degree;
   if (!cert.empty()) {
     degree.assign(soup.verts.size(), 0);

@@ -53,9 +53,10 @@ class Bvh {
   // once, in no fixed order, and nothing is collected (a self-check meets millions of
   // neighbouring pairs). `soup`, if given, is polled for a cancel request. With `cert` (and
   // `soup`: star_certificates() of that soup), pairs that shares_certified() clears are left out
-  // inside the walk.
+  // inside the walk. With `group` (per triangle of `soup`: embedded_groups() of it), pairs within
+  // one certified group are left out, and pairs of subtrees within one are not looked into.
   void each_pair(const std::vector<char>* active, const Soup* soup, const std::function<void(u32, u32)>& f,
-                 const std::vector<std::uint8_t>* cert = nullptr) const;
+                 const std::vector<std::uint8_t>* cert = nullptr, const std::vector<u32>* group = nullptr) const;
   struct Node { float lo[3], hi[3]; u32 first, count; u32 left, right; };  // leaf: count > 0
   std::vector<Node> nodes;
   std::vector<u32> items;

@@ -790,3 +790,28 @@ TEST_CASE("boolean: a cube's corner on the hub of a fan of 1000 triangles", "[bo
   require_solid(i);
   CHECK(i.volume() == Approx(0.027).epsilon(1e-12));
 }
+
+TEST_CASE("boolean: a pyramid over a 3000-gon with its tip cut off: the long cut pieces of its side are checked", "[boolean]") {
+  // The side's pieces below the cut run from the rim nearly to the axis: their boxes meet those
+  // of hundreds of neighbours, and each has a rounded cut point, so the rounding check looked at
+  // every such pair (and at each pair of a side piece and a triangle of the base under it). The
+  // side, one face id, is certified embedded by its projection along z on the rounded doubles,
+  // and its pairs are not looked at; the result must still be exactly valid.
+  const int n = 3000;
+  Mesh cone;
+  cone.add_vertex(Vec3(0, 0, 1));
+  cone.add_vertex(Vec3(0, 0, 0));
+  for (int i = 0; i < n; ++i) cone.add_vertex(Vec3(std::cos(2 * kPi * i / n), std::sin(2 * kPi * i / n), 0));
+  for (int i = 0; i < n; ++i) {
+    const std::uint32_t a = 2 + static_cast<std::uint32_t>(i), b = 2 + static_cast<std::uint32_t>((i + 1) % n);
+    cone.add_triangle(a, b, 0, 1);
+    cone.add_triangle(b, a, 1, 0);
+  }
+  const double pyramid = n * std::sin(2 * kPi / n) / 6;
+  // The box takes the part above z = 0.85 (a copy of the pyramid scaled by 0.15, inside the box).
+  const Mesh tip = box(Vec3(-0.25, -0.25, 0.85), Vec3(0.25, 0.25, 1.5));
+  const BooleanResult d = boolean(BooleanOp::Difference, {&cone, &tip});
+  require_solid(d.mesh);
+  CHECK(d.mesh.volume() == Approx(pyramid * (1 - 0.15 * 0.15 * 0.15)).epsilon(1e-12));
+  CHECK(d.mesh.triangles.size() == std::size_t(4 * n - 2));  // side quads, base, the cut's (n - 2)
+}
