@@ -3,6 +3,7 @@
 // closed-form surface) under the requested tolerance.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <functional>
 #include <string>
@@ -164,16 +165,38 @@ TEST_CASE("points along a curved edge grow as 1/sqrt(tolerance)", "[tessellate][
 TEST_CASE("a ruled face gets no points inside: cylinder and cone counts grow as 1/sqrt(tol), not 1/tol", "[tessellate][curved]") {
   // Along a cylinder's or cone's rulings the surface is straight: triangles run from one circle to
   // the other (or to the apex), so the count is proportional to the points on the circles.
+  // At 1e-8 each circle has some 20,000 points: the side's loop goes into its triangulation in
+  // spatial order (in loop order, along the rim's straight run in the parameter plane, each
+  // point flipped edges back to most of the others: 10 s for the cylinder).
   for (const Model& m : {cylinder(1, 2), cone(1, 0, 2), cone(1.5, 0.5, 2)}) {
     std::vector<double> n;
-    for (double tol : {1e-3, 1e-5}) {
+    for (double tol : {1e-3, 1e-5, 1e-8}) {
       Tolerance t;
       t.chordal = tol;
       t.angular = 180;
-      n.push_back(static_cast<double>(tessellate(m, t).triangles.size()));
+      const Mesh mesh = tessellate(m, t);
+      n.push_back(static_cast<double>(mesh.triangles.size()));
+      if (tol == 1e-8) {
+        // Closed and oriented: every directed edge once, its reverse once; a sphere's Euler
+        // characteristic; the volume within the tolerance's reach.
+        std::vector<std::pair<std::uint32_t, std::uint32_t>> directed, reversed;
+        for (const auto& T : mesh.triangles)
+          for (int k = 0; k < 3; ++k) {
+            directed.push_back({T[k], T[(k + 1) % 3]});
+            reversed.push_back({T[(k + 1) % 3], T[k]});
+          }
+        std::sort(directed.begin(), directed.end());
+        std::sort(reversed.begin(), reversed.end());
+        CHECK(std::adjacent_find(directed.begin(), directed.end()) == directed.end());
+        CHECK(directed == reversed);
+        CHECK(static_cast<long>(mesh.positions.size()) - static_cast<long>(directed.size() / 2) +
+                  static_cast<long>(mesh.triangles.size()) == 2);
+        CHECK(mesh.volume() == Approx(m.mass_properties().volume).epsilon(1e-6));
+      }
     }
-    INFO(n[0] << " and " << n[1] << " triangles");
+    INFO(n[0] << ", " << n[1] << " and " << n[2] << " triangles");
     CHECK(n[1] / n[0] == Approx(10).epsilon(0.35));
+    CHECK(n[2] / n[1] == Approx(std::sqrt(1000.0)).epsilon(0.35));
     // A circle of radius r needs about pi / sqrt(2 tol / r) chords; two triangles per chord on
     // the side and about one per chord on each cap; a frustum's circles also take each other's
     // points (at most twice as many).
