@@ -68,6 +68,21 @@ double vol(BooleanOp op, const Mesh& a, const Mesh& b) {
   return r.volume();
 }
 
+// A pyramid over a regular n-gon of radius 1: apex (0, 0, 1), its base fanned from its centre at
+// the origin; the side's and the base's face ids.
+Mesh pyramid_fan(int n, std::int32_t side_id = -1, std::int32_t base_id = -1) {
+  Mesh cone;
+  cone.add_vertex(Vec3(0, 0, 1));
+  cone.add_vertex(Vec3(0, 0, 0));
+  for (int i = 0; i < n; ++i) cone.add_vertex(Vec3(std::cos(2 * kPi * i / n), std::sin(2 * kPi * i / n), 0));
+  for (int i = 0; i < n; ++i) {
+    const std::uint32_t a = 2 + static_cast<std::uint32_t>(i), b = 2 + static_cast<std::uint32_t>((i + 1) % n);
+    cone.add_triangle(a, b, 0, side_id);
+    cone.add_triangle(b, a, 1, base_id);
+  }
+  return cone;
+}
+
 }  // namespace
 
 TEST_CASE("boolean: two overlapping boxes, exact volumes", "[boolean]") {
@@ -768,15 +783,7 @@ TEST_CASE("boolean: a cube's corner on the hub of a fan of 1000 triangles", "[bo
   // steps for 10,000 sides.) The cube lies inside the pyramid: the union is the pyramid, the
   // difference takes the cube's volume out.
   const int n = 1000;
-  Mesh cone;
-  cone.add_vertex(Vec3(0, 0, 1));
-  cone.add_vertex(Vec3(0, 0, 0));
-  for (int i = 0; i < n; ++i) cone.add_vertex(Vec3(std::cos(2 * kPi * i / n), std::sin(2 * kPi * i / n), 0));
-  for (int i = 0; i < n; ++i) {
-    const std::uint32_t a = 2 + static_cast<std::uint32_t>(i), b = 2 + static_cast<std::uint32_t>((i + 1) % n);
-    cone.add_triangle(a, b, 0);
-    cone.add_triangle(b, a, 1);
-  }
+  const Mesh cone = pyramid_fan(n);
   const double pyramid = n * std::sin(2 * kPi / n) / 6;
   REQUIRE(cone.volume() == Approx(pyramid).epsilon(1e-12));
   const Mesh c = cube(0, 0, 0, 0.3);
@@ -798,15 +805,7 @@ TEST_CASE("boolean: a pyramid over a 3000-gon with its tip cut off: the long cut
   // side, one face id, is certified embedded by its projection along z on the rounded doubles,
   // and its pairs are not looked at; the result must still be exactly valid.
   const int n = 3000;
-  Mesh cone;
-  cone.add_vertex(Vec3(0, 0, 1));
-  cone.add_vertex(Vec3(0, 0, 0));
-  for (int i = 0; i < n; ++i) cone.add_vertex(Vec3(std::cos(2 * kPi * i / n), std::sin(2 * kPi * i / n), 0));
-  for (int i = 0; i < n; ++i) {
-    const std::uint32_t a = 2 + static_cast<std::uint32_t>(i), b = 2 + static_cast<std::uint32_t>((i + 1) % n);
-    cone.add_triangle(a, b, 0, 1);
-    cone.add_triangle(b, a, 1, 0);
-  }
+  const Mesh cone = pyramid_fan(n, 1, 0);
   const double pyramid = n * std::sin(2 * kPi / n) / 6;
   // The box takes the part above z = 0.85 (a copy of the pyramid scaled by 0.15, inside the box).
   const Mesh tip = box(Vec3(-0.25, -0.25, 0.85), Vec3(0.25, 0.25, 1.5));
