@@ -796,8 +796,9 @@ Model sweep_along(const Section& s, const CurvePtr& path) {
   // A closed path gives a ring: the frames' holonomy is spread along it (SweptSurface), and the
   // sweep closes on itself with no caps.
   bool closed = path->closed();
+  const std::shared_ptr<const SweepFrames> frames = sweep_frames(path, 512, closed);
   return named(oriented_sweep(s, closed, [&](const CurvePtr& c) -> SurfacePtr {
-    return std::make_shared<const SweptSurface>(c, path, 512, closed);
+    return std::make_shared<const SweptSurface>(c, frames);
   }, "sweep"), "swept");
 }
 

@@ -498,28 +498,51 @@ std::vector<Frame> rotation_minimizing_frames(const Curve& path, int count) {
   return frames;
 }
 
-SweptSurface::SweptSurface(CurvePtr profile, CurvePtr path, int frames, bool close_frames)
-    : profile_(std::move(profile)), path_(std::move(path)) {
-  if (!profile_ || !path_) fail("swept surface: missing profile or path");
-  frames_ = rotation_minimizing_frames(*path_, frames);
-  auto [a, b] = path_->domain();
-  for (int i = 0; i < frames; ++i) params_.push_back(a + (b - a) * i / (frames - 1));
+std::shared_ptr<const SweepFrames> sweep_frames(CurvePtr path, int count, bool close_frames) {
+  if (!path) fail("swept surface: missing profile or path");
+  auto out = std::make_shared<SweepFrames>();
+  out->path = std::move(path);
+  const Curve& c = *out->path;
+  out->frames = rotation_minimizing_frames(c, count);
+  auto [a, b] = c.domain();
+  for (int i = 0; i < count; ++i) out->params.push_back(a + (b - a) * i / (count - 1));
   if (close_frames) {
-    const Frame& f0 = frames_.front();
-    const Frame& f1 = frames_.back();
+    const Frame& f0 = out->frames.front();
+    const Frame& f1 = out->frames.back();
     double size = 0;
-    for (const Frame& f : frames_) size = std::max(size, (f.origin - f0.origin).norm());
-    if (!path_->closed() || (f1.origin - f0.origin).norm() > 1e-9 * std::max(size, 1e-300))
+    for (const Frame& f : out->frames) size = std::max(size, (f.origin - f0.origin).norm());
+    if (!c.closed() || (f1.origin - f0.origin).norm() > 1e-9 * std::max(size, 1e-300))
       fail("sweep: the path is not closed");
     if (angle_of(f0.t, f1.t) > 1e-6)
       fail("sweep: a closed path must be smooth where it closes (its tangent turns by ", degrees(angle_of(f0.t, f1.t)),
            " degrees there)");
     // The end frame is the start frame turned by phi about t: turn the profile by -phi over v.
     double phi = std::atan2(f1.r.dot(f0.s), f1.r.dot(f0.r));
-    twist_rate_ = -phi / (b - a);
+    out->twist_rate = -phi / (b - a);
   }
   // (After the closing check, whose message names a corner where a closed path closes.)
-  require_smooth_path(*path_);
+  require_smooth_path(c);
+  // The curvature vector kappa N at each frame (zero where the path stops or runs straight).
+  for (double v : out->params) {
+    const Vec3 d1 = c.derivative(v, 1), d2 = c.derivative(v, 2);
+    const double L = d1.norm();
+    Vec3 bend = Vec3::Zero();
+    if (L > 0) {
+      const Vec3 t = d1 / L, t1 = (d2 - d2.dot(t) * t) / L;  // dt/dv = |C'| kappa N
+      const double k = t1.norm() / L;
+      if (k > 0) bend = k * (t1 / t1.norm());
+    }
+    out->bend.push_back(bend);
+  }
+  return out;
+}
+
+SweptSurface::SweptSurface(CurvePtr profile, CurvePtr path, int frames, bool close_frames)
+    : SweptSurface(std::move(profile), sweep_frames(std::move(path), frames, close_frames)) {}
+
+SweptSurface::SweptSurface(CurvePtr profile, std::shared_ptr<const SweepFrames> frames)
+    : profile_(std::move(profile)), along_(std::move(frames)) {
+  if (!profile_ || !along_) fail("swept surface: missing profile or path");
   require_no_fold();
 }
 
@@ -534,41 +557,43 @@ void SweptSurface::require_no_fold() const {
   for (std::size_t i = 0; i + 1 < br.size(); ++i)
     for (int k = 0; k < 16; ++k) us.push_back(br[i] + (br[i + 1] - br[i]) * k / 16);
   us.push_back(br.back());
+  std::vector<Vec3> ps;  // the profile's samples (turned by the closing twist per frame below)
+  for (double u : us) ps.push_back(Vec3(profile_->eval(u)));
+  const double v0 = along_->path->domain().first;
   double worst = 0, worst_radius = 0, worst_reach = 0, worst_v = 0;
-  for (std::size_t i = 0; i < params_.size(); ++i) {
-    const double v = params_[i];
-    const Vec3 d1 = path_->derivative(v, 1), d2 = path_->derivative(v, 2);
-    const double L = d1.norm();
-    if (!(L > 0)) continue;
-    const Vec3 t = d1 / L, t1 = (d2 - d2.dot(t) * t) / L;  // dt/dv = |C'| kappa N
-    const double k = t1.norm() / L;
+  for (std::size_t i = 0; i < along_->params.size(); ++i) {
+    const Vec3& bend = along_->bend[i];
+    const double k = bend.norm();
     if (!(k > 0)) continue;
-    const Vec3 N = t1 / t1.norm();
-    const Frame& f = frames_[i];
-    for (double u : us) {
-      const Vec3 p = turned(u, v, 0);
+    const double v = along_->params[i];
+    const Vec3 N = bend / k;
+    const Frame& f = along_->frames[i];
+    double c = 1, sn = 0;
+    if (along_->twist_rate != 0) c = std::cos(along_->twist_rate * (v - v0)), sn = std::sin(along_->twist_rate * (v - v0));
+    for (const Vec3& q : ps) {
+      const Vec3 p(c * q.x() - sn * q.y(), sn * q.x() + c * q.y(), q.z());
       const double reach = (p.x() * f.r + p.y() * f.s).dot(N);
       if (k * reach > worst) worst = k * reach, worst_radius = 1 / k, worst_reach = reach, worst_v = v;
     }
   }
   if (worst >= 1)
-    fail("sweep: the path bends with radius ", short_text(worst_radius), " at ", point_text(path_->eval(worst_v)),
+    fail("sweep: the path bends with radius ", short_text(worst_radius), " at ", point_text(along_->path->eval(worst_v)),
          ", but the profile reaches ", short_text(worst_reach),
          " from the path towards the bend's centre: the swept surface folds over itself there (bend the path more gently or "
          "use a smaller profile)");
 }
 
 Frame SweptSurface::frame(double v) const {
-  std::size_t i = std::upper_bound(params_.begin(), params_.end(), v) - params_.begin();
-  i = i == 0 ? 0 : std::min(i - 1, params_.size() - 1);
-  if (v == params_[i]) return frames_[i];
-  return reflect_step(frames_[i], path_->eval(v), path_tangent(*path_, v));
+  std::size_t i = std::upper_bound(along_->params.begin(), along_->params.end(), v) - along_->params.begin();
+  i = i == 0 ? 0 : std::min(i - 1, along_->params.size() - 1);
+  if (v == along_->params[i]) return along_->frames[i];
+  return reflect_step(along_->frames[i], along_->path->eval(v), path_tangent(*along_->path, v));
 }
 
 Vec3 SweptSurface::turned(double u, double v, int ku) const {
   Vec3 p = ku == 0 ? Vec3(profile_->eval(u)) : profile_->derivative(u, ku);
-  if (twist_rate_ == 0) return p;
-  double th = twist_rate_ * (v - path_->domain().first), c = std::cos(th), s = std::sin(th);
+  if (along_->twist_rate == 0) return p;
+  double th = along_->twist_rate * (v - along_->path->domain().first), c = std::cos(th), s = std::sin(th);
   return Vec3(c * p.x() - s * p.y(), s * p.x() + c * p.y(), p.z());
 }
 
@@ -595,10 +620,10 @@ Vec3 SweptSurface::derivative(double u, double v, int ku, int kv) const {
   // nearest stored frame, which turns about t only by that method's O(h^4) error, so these agree
   // with differences of eval() to that order. Orders above two, and points where C' vanishes, are
   // central differences of the analytic order below.
-  Vec3 d1 = path_->derivative(v, 1);
-  Vec3 d2 = path_->derivative(v, 2);
+  Vec3 d1 = along_->path->derivative(v, 1);
+  Vec3 d2 = along_->path->derivative(v, 2);
   double L = d1.norm();
-  auto [a, b] = path_->domain();
+  auto [a, b] = along_->path->domain();
   if (kv > 2 || !(L > 1e-12 * (1 + d2.norm()))) {
     double h = 1e-4 * (b - a);
     double c = std::clamp(v, a + h, b - h);
@@ -609,13 +634,13 @@ Vec3 SweptSurface::derivative(double u, double v, int ku, int kv) const {
   Vec3 t1 = (d2 - L1 * t) / L;
   Vec3 r1 = -f.r.dot(t1) * t, s1 = -f.s.dot(t1) * t;
   Vec3 p = turned(u, v, ku);
-  double w = twist_rate_;
+  double w = along_->twist_rate;
   double X = p.x(), Y = p.y(), X1 = -w * Y, Y1 = w * X;
   Vec3 d;
   if (kv == 1) {
     d = (ku == 0 ? d1 : Vec3::Zero()) + X * r1 + Y * s1 + p.z() * t1 + X1 * f.r + Y1 * f.s;
   } else {
-    Vec3 d3 = path_->derivative(v, 3);
+    Vec3 d3 = along_->path->derivative(v, 3);
     double L2 = d3.dot(t) + d2.dot(t1);
     Vec3 t2 = (d3 - L2 * t - 2 * L1 * t1) / L;
     Vec3 r2 = -f.r.dot(t2) * t - f.r.dot(t1) * t1, s2 = -f.s.dot(t2) * t - f.s.dot(t1) * t1;
@@ -624,30 +649,108 @@ Vec3 SweptSurface::derivative(double u, double v, int ku, int kv) const {
   return d;
 }
 
+void SweptSurface::eval_grid(const double* u, int nu, const double* v, int nv, Point3* out) const {
+  // As eval(), with each column's frame and closing twist and each row's profile point once.
+  std::vector<Frame> fs(static_cast<std::size_t>(nv));
+  std::vector<std::array<double, 2>> turn(static_cast<std::size_t>(nv), {1.0, 0.0});
+  const double w = along_->twist_rate, v0 = along_->path->domain().first;
+  for (int j = 0; j < nv; ++j) {
+    fs[static_cast<std::size_t>(j)] = frame(v[j]);
+    if (w != 0) turn[static_cast<std::size_t>(j)] = {std::cos(w * (v[j] - v0)), std::sin(w * (v[j] - v0))};
+  }
+  for (int i = 0; i < nu; ++i) {
+    const Vec3 q(profile_->eval(u[i]));
+    for (int j = 0; j < nv; ++j) {
+      const Frame& f = fs[static_cast<std::size_t>(j)];
+      const auto [c, sn] = turn[static_cast<std::size_t>(j)];
+      const Vec3 p = w == 0 ? q : Vec3(c * q.x() - sn * q.y(), sn * q.x() + c * q.y(), q.z());
+      out[static_cast<std::ptrdiff_t>(i) * nv + j] = f.origin + p.x() * f.r + p.y() * f.s + p.z() * f.t;
+    }
+  }
+}
+
+void SweptSurface::jet_grid(const double* u, int nu, const double* v, int nv, int d, Vec3* out) const {
+  if (d != 1) {
+    Surface::jet_grid(u, nu, v, nv, d, out);
+    return;
+  }
+  // As jet() at d = 1, with each column's path jet, frame and twist and each row's profile jet
+  // once (a column where the path stops goes point by point, as jet() does).
+  struct Column {
+    bool ok = false;
+    Vec3 p1;
+    Frame f;
+    Vec3 r1, s1, t1;
+    double ct = 1, st = 0;
+  };
+  std::vector<Column> cols(static_cast<std::size_t>(nv));
+  const double w = along_->twist_rate;
+  for (int j = 0; j < nv; ++j) {
+    Column& col = cols[static_cast<std::size_t>(j)];
+    Vec3 P[3];
+    along_->path->jet(v[j], 2, P);
+    const double L = P[1].norm();
+    if (!(L > 1e-12 * (1 + P[2].norm()))) continue;
+    col.ok = true;
+    col.p1 = P[1];
+    const Vec3 t = P[1] / L;
+    std::size_t i = static_cast<std::size_t>(std::upper_bound(along_->params.begin(), along_->params.end(), v[j]) - along_->params.begin());
+    i = i == 0 ? 0 : std::min(i - 1, along_->params.size() - 1);
+    col.f = v[j] == along_->params[i] ? along_->frames[i] : reflect_step(along_->frames[i], P[0], t);
+    if (w != 0) {
+      const double th = w * (v[j] - along_->path->domain().first);
+      col.ct = std::cos(th), col.st = std::sin(th);
+    }
+    const double L1 = P[2].dot(t);
+    col.t1 = (P[2] - L1 * t) / L;
+    col.r1 = -col.f.r.dot(col.t1) * t, col.s1 = -col.f.s.dot(col.t1) * t;
+  }
+  for (int i = 0; i < nu; ++i) {
+    Vec3 c0[2];
+    profile_->jet(u[i], 1, c0);
+    for (int j = 0; j < nv; ++j) {
+      Vec3* o = out + (static_cast<std::ptrdiff_t>(i) * nv + j) * 6;
+      const Column& col = cols[static_cast<std::size_t>(j)];
+      if (!col.ok) {
+        jet(u[i], v[j], 1, o);
+        continue;
+      }
+      Vec3 c[2] = {c0[0], c0[1]};
+      if (w != 0)
+        for (int k = 0; k <= 1; ++k) c[k] = Vec3(col.ct * c[k].x() - col.st * c[k].y(), col.st * c[k].x() + col.ct * c[k].y(), c[k].z());
+      const Frame& f = col.f;
+      auto place = [&](const Vec3& p) -> Vec3 { return p.x() * f.r + p.y() * f.s + p.z() * f.t; };
+      o[0] = f.origin + place(c[0]);
+      o[1] = place(c[1]);
+      o[2] = col.p1 + (c[0].x() * col.r1 + c[0].y() * col.s1 + c[0].z() * col.t1 - w * c[0].y() * f.r + w * c[0].x() * f.s);
+    }
+  }
+}
+
 void SweptSurface::jet(double u, double v, int d, Vec3* out) const {
   // derivative()'s formulas with the path, the frame and the profile evaluated once.
   Vec3 P[4];
-  path_->jet(v, d + 1, P);
+  along_->path->jet(v, d + 1, P);
   const double L = P[1].norm();
   if (d > 2 || !(L > 1e-12 * (1 + P[2].norm()))) {
     Surface::jet(u, v, d, out);
     return;
   }
   const Vec3 t = P[1] / L;
-  std::size_t i = static_cast<std::size_t>(std::upper_bound(params_.begin(), params_.end(), v) - params_.begin());
-  i = i == 0 ? 0 : std::min(i - 1, params_.size() - 1);
-  const Frame f = v == params_[i] ? frames_[i] : reflect_step(frames_[i], P[0], t);
+  std::size_t i = static_cast<std::size_t>(std::upper_bound(along_->params.begin(), along_->params.end(), v) - along_->params.begin());
+  i = i == 0 ? 0 : std::min(i - 1, along_->params.size() - 1);
+  const Frame f = v == along_->params[i] ? along_->frames[i] : reflect_step(along_->frames[i], P[0], t);
   Vec3 c[3];
   profile_->jet(u, d, c);
-  if (twist_rate_ != 0) {
-    double th = twist_rate_ * (v - path_->domain().first), ct = std::cos(th), st = std::sin(th);
+  if (along_->twist_rate != 0) {
+    double th = along_->twist_rate * (v - along_->path->domain().first), ct = std::cos(th), st = std::sin(th);
     for (int k = 0; k <= d; ++k) c[k] = Vec3(ct * c[k].x() - st * c[k].y(), st * c[k].x() + ct * c[k].y(), c[k].z());
   }
   auto place = [&](const Vec3& p) -> Vec3 { return p.x() * f.r + p.y() * f.s + p.z() * f.t; };
   const double L1 = P[2].dot(t);
   const Vec3 t1 = (P[2] - L1 * t) / L;
   const Vec3 r1 = -f.r.dot(t1) * t, s1 = -f.s.dot(t1) * t;
-  const double w = twist_rate_;
+  const double w = along_->twist_rate;
   // The v derivative of the placed profile point p (its turn by the twist included).
   auto along = [&](const Vec3& p) -> Vec3 {
     return p.x() * r1 + p.y() * s1 + p.z() * t1 - w * p.y() * f.r + w * p.x() * f.s;

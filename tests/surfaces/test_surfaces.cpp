@@ -639,6 +639,27 @@ TEST_CASE("a jet (the point and its derivatives at once) agrees with eval() and 
         s->jet(u, v, 1, j1);
         CHECK((j1[2] - j[2]).norm() <= 1e-12 * (1 + j[2].norm()));
       }
+    // The grids (jet_grid at order 1, eval_grid: a revolution's and a sweep's share each column's
+    // angle or frame and each row's profile point) give jet()'s and eval()'s values, bit for bit.
+    std::vector<double> us, vs;
+    for (int i = 0; i <= 6; ++i) us.push_back(u0 + (u1 - u0) * (i + 0.25 * (i % 2)) / 6.5);
+    for (int k = 0; k <= 7; ++k) vs.push_back(v0 + (v1 - v0) * (k + 0.4 * (k % 3)) / 7.8);
+    vs.push_back(v1);
+    const int nu = static_cast<int>(us.size()), nv = static_cast<int>(vs.size());
+    std::vector<Vec3> grid(us.size() * vs.size() * 6);
+    std::vector<Point3> points(us.size() * vs.size());
+    s->jet_grid(us.data(), nu, vs.data(), nv, 1, grid.data());
+    s->eval_grid(us.data(), nu, vs.data(), nv, points.data());
+    int same = 0;
+    for (int i = 0; i < nu; ++i)
+      for (int k = 0; k < nv; ++k) {
+        Vec3 j[3];
+        s->jet(us[static_cast<std::size_t>(i)], vs[static_cast<std::size_t>(k)], 1, j);
+        const Vec3* g = &grid[static_cast<std::size_t>((i * nv + k) * 6)];
+        same += g[0] == j[0] && g[1] == j[1] && g[2] == j[2] &&
+                points[static_cast<std::size_t>(i * nv + k)] == s->eval(us[static_cast<std::size_t>(i)], vs[static_cast<std::size_t>(k)]);
+      }
+    CHECK(same == nu * nv);
   }
 }
 
