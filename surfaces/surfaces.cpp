@@ -797,6 +797,59 @@ std::vector<double> LoftedSurface::v_breaks() const { return cardinal_[0].params
 
 Point3 LoftedSurface::eval(double u, double v) const { return derivative(u, v, 0, 0); }
 
+void LoftedSurface::eval_grid(const double* u, int nu, const double* v, int nv, Point3* out) const {
+  std::vector<Vec3> j(static_cast<std::size_t>(nu) * static_cast<std::size_t>(nv) * 6);
+  grid(u, nu, v, nv, 0, j.data());
+  for (std::size_t k = 0; k < static_cast<std::size_t>(nu) * static_cast<std::size_t>(nv); ++k) out[k] = j[k * 6];
+}
+
+void LoftedSurface::jet_grid(const double* u, int nu, const double* v, int nv, int d, Vec3* out) const {
+  if (d != 1) {
+    Surface::jet_grid(u, nu, v, nv, d, out);
+    return;
+  }
+  grid(u, nu, v, nv, 1, out);
+}
+
+// derivative()'s sums at every grid point (out[...6 per point]: S, and with d = 1 Su and Sv),
+// with each column's blending weights and each row's section points computed once.
+void LoftedSurface::grid(const double* u, int nu, const double* v, int nv, int d, Vec3* out) const {
+  const std::size_t n = sections_.size(), cols = static_cast<std::size_t>(nv);
+  std::vector<double> N(cols * n), N1(d ? cols * n : 0);
+  for (std::size_t j = 0; j < cols; ++j)
+    for (std::size_t i = 0; i < n; ++i) {
+      N[j * n + i] = cardinal_[i].derivative(v[j], 0).x();
+      if (d) N1[j * n + i] = cardinal_[i].derivative(v[j], 1).x();
+    }
+  std::vector<Vec3> C(n), C1(n);
+  std::vector<double> len(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    auto [a, b] = sections_[i]->domain();
+    len[i] = b - a;
+  }
+  for (int r = 0; r < nu; ++r) {
+    for (std::size_t i = 0; i < n; ++i) {
+      auto [a, b] = sections_[i]->domain();
+      C[i] = sections_[i]->derivative(a + u[r] * (b - a), 0);
+      if (d) C1[i] = sections_[i]->derivative(a + u[r] * (b - a), 1);
+    }
+    for (std::size_t j = 0; j < cols; ++j) {
+      Vec3* o = out + (static_cast<std::ptrdiff_t>(r) * nv + static_cast<std::ptrdiff_t>(j)) * 6;
+      Vec3 s = Vec3::Zero(), su = Vec3::Zero(), sv = Vec3::Zero();
+      for (std::size_t i = 0; i < n; ++i) {
+        const double w = N[j * n + i];
+        if (w != 0) {
+          s += w * std::pow(len[i], 0) * C[i];
+          if (d) su += w * std::pow(len[i], 1) * C1[i];
+        }
+        if (d && N1[j * n + i] != 0) sv += N1[j * n + i] * std::pow(len[i], 0) * C[i];
+      }
+      o[0] = s;
+      if (d) o[1] = su, o[2] = sv;
+    }
+  }
+}
+
 Vec3 LoftedSurface::derivative(double u, double v, int ku, int kv) const {
   if (ku < 0 || kv < 0) fail("derivative orders must be >= 0");
   Vec3 s = Vec3::Zero();

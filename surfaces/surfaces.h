@@ -480,11 +480,14 @@ class LoftedSurface : public Surface {
   std::pair<double, double> v_domain() const override { return {0.0, 1.0}; }
   Point3 eval(double u, double v) const override;
   Vec3 derivative(double u, double v, int ku, int kv) const override;
+  void jet_grid(const double* u, int nu, const double* v, int nv, int d, Vec3* out) const override;
+  void eval_grid(const double* u, int nu, const double* v, int nv, Point3* out) const override;
   std::vector<double> v_breaks() const override;
 
  private:
   std::vector<CurvePtr> sections_;
   std::vector<HermiteSpline> cardinal_;
+  void grid(const double* u, int nu, const double* v, int nv, int d, Vec3* out) const;
 };
 
 // ---------------------------------------------------------------------------------------------

@@ -595,7 +595,8 @@ TEST_CASE("a jet (the point and its derivatives at once) agrees with eval() and 
     }
   }
   // Surfaces: a revolved NURBS profile and swept tubes (an open Bezier path, and a closed circle
-  // path whose frames get the closing twist), and a NURBS patch (the default jet).
+  // path whose frames get the closing twist), a NURBS patch (the default jet) and a loft through
+  // three sections.
   // A closed saddle-shaped path: not planar, so its rotation-minimising frames come back turned.
   struct Saddle : Curve {
     std::pair<double, double> domain() const override { return {0.0, 2 * M_PI}; }
@@ -615,6 +616,10 @@ TEST_CASE("a jet (the point and its derivatives at once) agrees with eval() and 
       std::make_shared<const SweptSurface>(profile, twisted_path),
       std::make_shared<const SweptSurface>(profile, circle_path, 512, true),
       std::make_shared<const NurbsSurface>(nurbs_sphere(Point3(1, 0, 0), 2)),
+      std::make_shared<const LoftedSurface>(std::vector<CurvePtr>{
+          std::make_shared<const BezierCurve>(std::vector<Point3>{{0, 0, 0}, {1, 2, 0}, {3, 0, 0}}),
+          std::make_shared<const CircularArc>(Point3(1, 0, 1), 1.5, 0.0, 3.0),
+          std::make_shared<const BezierCurve>(std::vector<Point3>{{0, 1, 2}, {2, 3, 2}, {3, 1, 2}, {4, 0, 2}})}),
   };
   REQUIRE(dynamic_cast<const SweptSurface&>(*surfaces[3]).twist_rate() != 0);
   for (const auto& s : surfaces) {
@@ -639,8 +644,9 @@ TEST_CASE("a jet (the point and its derivatives at once) agrees with eval() and 
         s->jet(u, v, 1, j1);
         CHECK((j1[2] - j[2]).norm() <= 1e-12 * (1 + j[2].norm()));
       }
-    // The grids (jet_grid at order 1, eval_grid: a revolution's and a sweep's share each column's
-    // angle or frame and each row's profile point) give jet()'s and eval()'s values, bit for bit.
+    // The grids (jet_grid at order 1, eval_grid: a revolution's, a sweep's and a loft's share each
+    // column's angle, frame or blending weights and each row's profile or section points) give
+    // jet()'s and eval()'s values, bit for bit.
     std::vector<double> us, vs;
     for (int i = 0; i <= 6; ++i) us.push_back(u0 + (u1 - u0) * (i + 0.25 * (i % 2)) / 6.5);
     for (int k = 0; k <= 7; ++k) vs.push_back(v0 + (v1 - v0) * (k + 0.4 * (k % 3)) / 7.8);
