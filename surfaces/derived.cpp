@@ -255,6 +255,57 @@ TwistedExtrusionSurface::TwistedExtrusionSurface(CurvePtr profile, double height
   if (!(scale >= 0) || !std::isfinite(scale)) fail("TwistedExtrusionSurface: the scale must be >= 0, got ", scale);
 }
 Point3 TwistedExtrusionSurface::eval(double u, double v) const { return derivative(u, v, 0, 0); }
+
+void TwistedExtrusionSurface::eval_grid(const double* u, int nu, const double* v, int nv, Point3* out) const {
+  std::vector<Vec3> j(static_cast<std::size_t>(nu) * static_cast<std::size_t>(nv) * 6);
+  grid(u, nu, v, nv, 0, j.data());
+  for (std::size_t k = 0; k < static_cast<std::size_t>(nu) * static_cast<std::size_t>(nv); ++k) out[k] = j[k * 6];
+}
+
+void TwistedExtrusionSurface::jet_grid(const double* u, int nu, const double* v, int nv, int d, Vec3* out) const {
+  if (d != 1) {
+    Surface::jet_grid(u, nu, v, nv, d, out);
+    return;
+  }
+  grid(u, nu, v, nv, 1, out);
+}
+
+// derivative()'s values at every grid point (S, and with d = 1 Su and Sv), each column's turns
+// (a v and a v + pi/2, one sine and cosine each) and each row's profile point once.
+void TwistedExtrusionSurface::grid(const double* u, int nu, const double* v, int nv, int d, Vec3* out) const {
+  const double a = twist_, dk = scale_ - 1;
+  struct Column {
+    double k, c0, s0, c1, s1;
+  };
+  std::vector<Column> cols(static_cast<std::size_t>(nv));
+  for (int j = 0; j < nv; ++j) {
+    Column& c = cols[static_cast<std::size_t>(j)];
+    c.k = 1 + (scale_ - 1) * v[j];
+    cos_sin(a * v[j] + 0 * kPi / 2, c.c0, c.s0);
+    if (d) cos_sin(a * v[j] + 1 * kPi / 2, c.c1, c.s1);
+  }
+  auto turn = [](const Vec3& p, double c, double s) { return Vec3(c * p.x() - s * p.y(), s * p.x() + c * p.y(), p.z()); };
+  for (int i = 0; i < nu; ++i) {
+    Vec3 p0 = profile_->eval(u[i]), p1 = Vec3::Zero();
+    p0.z() = 0;
+    if (d) {
+      p1 = profile_->derivative(u[i], 1);
+      p1.z() = 0;
+    }
+    for (int j = 0; j < nv; ++j) {
+      const Column& c = cols[static_cast<std::size_t>(j)];
+      Vec3* o = out + (static_cast<std::ptrdiff_t>(i) * nv + j) * 6;
+      o[0] = c.k * std::pow(a, 0) * turn(p0, c.c0, c.s0);
+      o[0].z() = height_ * v[j];
+      if (!d) continue;
+      o[1] = c.k * std::pow(a, 0) * turn(p1, c.c0, c.s0);
+      o[1].z() = 0;
+      o[2] = c.k * std::pow(a, 1) * turn(p0, c.c1, c.s1);
+      o[2] += 1 * dk * std::pow(a, 1 - 1) * turn(p0, c.c0, c.s0);
+      o[2].z() = height_;
+    }
+  }
+}
 Vec3 TwistedExtrusionSurface::derivative(double u, double v, int ku, int kv) const {
   Vec3 p = ku == 0 ? profile_->eval(u) : profile_->derivative(u, ku);
   p.z() = 0;

@@ -622,11 +622,14 @@ class TwistedExtrusionSurface : public Surface {
   std::pair<double, double> v_domain() const override { return {0.0, 1.0}; }
   Point3 eval(double u, double v) const override;
   Vec3 derivative(double u, double v, int ku, int kv) const override;
+  void jet_grid(const double* u, int nu, const double* v, int nv, int d, Vec3* out) const override;
+  void eval_grid(const double* u, int nu, const double* v, int nv, Point3* out) const override;
   std::vector<double> u_breaks() const override { return profile_->breaks(); }
 
  private:
   CurvePtr profile_;
   double height_, twist_, scale_;
+  void grid(const double* u, int nu, const double* v, int nv, int d, Vec3* out) const;
 };
 
 // Newell's teapot: the 32 bicubic Bezier patches (rim, body, lid, handle, spout, bottom), z up.

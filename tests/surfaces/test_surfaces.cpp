@@ -595,8 +595,8 @@ TEST_CASE("a jet (the point and its derivatives at once) agrees with eval() and 
     }
   }
   // Surfaces: a revolved NURBS profile and swept tubes (an open Bezier path, and a closed circle
-  // path whose frames get the closing twist), a NURBS patch (the default jet) and a loft through
-  // three sections.
+  // path whose frames get the closing twist), a NURBS patch (the default jet), a loft through
+  // three sections and a twisted, scaled extrusion.
   // A closed saddle-shaped path: not planar, so its rotation-minimising frames come back turned.
   struct Saddle : Curve {
     std::pair<double, double> domain() const override { return {0.0, 2 * M_PI}; }
@@ -620,6 +620,8 @@ TEST_CASE("a jet (the point and its derivatives at once) agrees with eval() and 
           std::make_shared<const BezierCurve>(std::vector<Point3>{{0, 0, 0}, {1, 2, 0}, {3, 0, 0}}),
           std::make_shared<const CircularArc>(Point3(1, 0, 1), 1.5, 0.0, 3.0),
           std::make_shared<const BezierCurve>(std::vector<Point3>{{0, 1, 2}, {2, 3, 2}, {3, 1, 2}, {4, 0, 2}})}),
+      std::make_shared<const TwistedExtrusionSurface>(
+          std::make_shared<const BezierCurve>(std::vector<Point3>{{1, 0, 0}, {2, 1, 0}, {0.5, 2, 0}}), 3.0, 1.3, 0.4),
   };
   REQUIRE(dynamic_cast<const SweptSurface&>(*surfaces[3]).twist_rate() != 0);
   for (const auto& s : surfaces) {
