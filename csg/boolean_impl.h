@@ -844,6 +844,8 @@ std::vector<std::int8_t> classify(const Points& pts, const Arrangement& arr, Boo
 std::size_t collapse_short_edges(BooleanResult& r, double tau);
 // The triangles `ids` of m (in that order) with the positions they use.
 Mesh sub_mesh(const Mesh& m, const std::vector<u32>& ids);
+// The orientation of mesh triangle t in the projection along axis k (exact; boolean_round.cpp).
+int projected_orientation(const Mesh& m, std::size_t t, int k);
 // Collapses the cut vertices that lie inside one flat region or on one straight crease of the
 // kept pieces (tris, with their sources, flips and pieces), where the surface stays the same set
 // of points and every triangle keeps its exact orientation (boolean_merge.cpp). Returns the
