@@ -504,8 +504,11 @@ bool stl_is_ascii(std::string_view bytes) {
 Mesh parse_stl(std::string_view bytes, const std::string& name) {
   Mesh m = stl_is_ascii(bytes) ? parse_stl_ascii(bytes, name) : parse_stl_binary(bytes, name);
   // STL stores each triangle's corners separately; corners written from the same vertex have
-  // identical coordinates, so merging exactly equal positions rebuilds the shared vertices.
-  return m.welded();
+  // identical coordinates, so merging exactly equal positions rebuilds the shared vertices. Where
+  // that joins separate closed fans at one point (parts that touch at a corner, as a boolean
+  // returns them and export writes them), each fan gets its vertex back: the file said nothing
+  // of one vertex there, and welded the solid was refused as not 2-manifold.
+  return split_fans(m.welded(), m);
 }
 
 // --- OFF ---
