@@ -203,7 +203,13 @@ bool cap(const Mesh& mesh, std::size_t t, const FaceSurface& fs, const CornerUvs
 struct CutSide {
   Patch patch;
   bool curved = false;  // has a cap (else flat: s = e)
-  Vec3 normal;          // the triangle's unit normal
+  // The side's outward unit normal where its surface gives one: a plane's, else (when `curved`)
+  // the surface's own normal turned outward by the face's `reversed`; the triangle's normal only
+  // where neither does. A sliver triangle's own normal (two corners a rounding apart, as a cut
+  // leaves beside a vertex it nearly meets) points anywhere, and so did the tangent planes'
+  // line through it: a sphere cut by a plane through its centre gained 6.5e-7 on one such edge.
+  Vec3 normal;
+  bool reversed = false;
   int at1 = 0, at2 = 0;  // the triangle's corners at the edge's first and second end
 };
 
@@ -222,10 +228,11 @@ void cut_edge(const CutSide& A, const CutSide& B, const Point3& v1, const Point3
       b[S.at1] = 1 - l, b[S.at2] = l;
       const OnSurface os = S.patch.at(b[1], b[2]);
       s = os.s;
-      // The surface's own normal, turned the triangle's way: the map's s1 x s2 on a sliver piece
-      // (its sides nearly parallel) points anywhere, and so did the strips' widths across it
-      // (two balls 0.5 apart: 6e-7 of the area at 1e-4).
-      if (os.n.norm() > 0) n = os.n.dot(S.normal) < 0 ? Vec3(-os.n.normalized()) : Vec3(os.n.normalized());
+      // The surface's own normal, turned outward by the face's `reversed` (Su x Sv, or a
+      // cylinder's radial direction, is outward where the face is not reversed): the map's
+      // s1 x s2 on a sliver piece (its sides nearly parallel) points anywhere, and so did the
+      // strips' widths across it (two balls 0.5 apart: 6e-7 of the area at 1e-4).
+      if (os.n.norm() > 0) n = S.reversed ? Vec3(-os.n.normalized()) : Vec3(os.n.normalized());
       else if (const Vec3 m = os.s1.cross(os.s2); m.norm() > 0) n = m.normalized();
     };
     Point3 sa, sb;
@@ -335,7 +342,11 @@ Sums cut_edges(const Mesh& mesh, const std::vector<FaceSurface>& surfaces, const
   auto side = [&](const HalfEdge& h, std::uint32_t v1, CutSide& S) {
     const auto& T = mesh.triangles[h.t];
     const Point3 &q0 = mesh.positions[T[0]], &q1 = mesh.positions[T[1]], &q2 = mesh.positions[T[2]];
-    S.normal = (q1 - q0).cross(q2 - q0).normalized();
+    const std::int32_t f = face(h.t);
+    const FaceSurface* fs = f >= 0 && static_cast<std::size_t>(f) < surfaces.size() ? &surfaces[static_cast<std::size_t>(f)] : nullptr;
+    const Plane* plane = fs ? fs->plane() : nullptr;
+    S.normal = plane ? plane->unit_normal() : Vec3((q1 - q0).cross(q2 - q0).normalized());
+    S.reversed = fs && fs->reversed;
     const int a = h.k, b = (h.k + 1) % 3;
     S.at1 = T[static_cast<std::size_t>(a)] == v1 ? a : b;
     S.at2 = S.at1 == a ? b : a;

@@ -567,25 +567,19 @@ static Mesh tessellate_at_scale(const Model& m, const Tolerance& tol_in, std::ve
           for (int k = 1; k < n; ++k) pts.push_back({pole, a + (b - a) * (double(k) / n), axis});
         }
       }
-      // The loop's points, each located from the last one's face; beyond 4,096 points in the
-      // spatial sort's order (in loop order, along a side's straight run in the plane, each new
-      // point on the hull of the last ones flipped edges back to most of them: a cylinder at
-      // tolerance 1e-8, 22,800 points on each rim, took 10 s); then the infos in loop order
-      // (where points coincide, the vertex names the last of them, as when they went in in loop
-      // order), then the sides. (Smaller loops keep loop order, and so their triangulations: the
-      // Delaunay ties of points on parallel rims are broken by the order, and the curved mass
-      // correction of one turned part's booleans, held to 1e-7 by a test, moved by 4e-7 with
-      // another choice of diagonals.)
+      // The loop's points in the spatial sort's order, each located from the last one's face (in
+      // loop order, along a side's straight run in the plane, each new point on the hull of the
+      // last ones flipped edges back to most of them: a cylinder at tolerance 1e-8, 22,800 points
+      // on each rim, took 10 s); then the infos in loop order (where points coincide, the vertex
+      // names the last of them, as when they went in in loop order), then the sides.
       std::vector<K::Point_2> at(pts.size());
       for (std::size_t i = 0; i < pts.size(); ++i) at[i] = to_plane(pts[i].uv);
       std::vector<std::size_t> order(pts.size());
       std::iota(order.begin(), order.end(), std::size_t(0));
-      if (at.size() > 4096) {
-        const std::vector<K::Point_2>& sorted_at = at;
-        CGAL::spatial_sort(order.begin(), order.end(),
-                           CGAL::Spatial_sort_traits_adapter_2<K, CGAL::Pointer_property_map<K::Point_2>::const_type>(
-                               CGAL::make_property_map(sorted_at), K()));
-      }
+      const std::vector<K::Point_2>& sorted_at = at;
+      CGAL::spatial_sort(order.begin(), order.end(),
+                         CGAL::Spatial_sort_traits_adapter_2<K, CGAL::Pointer_property_map<K::Point_2>::const_type>(
+                             CGAL::make_property_map(sorted_at), K()));
       std::vector<CDT::Vertex_handle> hs(pts.size());
       CDT::Face_handle near;
       for (std::size_t i : order) {
