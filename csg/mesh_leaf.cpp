@@ -10,6 +10,37 @@
 
 namespace wedge {
 
+namespace {
+
+// `apart` (split_touching of `original`'s welded copy: the same triangles, vertices by part) with
+// `original`'s normals and uvs back: one vertex per (part's vertex, original vertex) pair met at
+// a corner, so that both the parts and the file's seams stay apart. (The welded copy has no
+// normals or uvs: an OBJ of parts touching along an edge lost its texture and its facets'
+// normals when read.)
+Mesh with_attributes(Mesh apart, const Mesh& original) {
+  const bool normals = original.normals.size() == original.positions.size() && !original.normals.empty();
+  const bool uvs = original.uvs.size() == original.positions.size() && !original.uvs.empty();
+  if (!normals && !uvs) return apart;
+  std::unordered_map<std::uint64_t, std::uint32_t> made;
+  Mesh out;
+  out.face_ids = apart.face_ids;
+  out.triangles.resize(apart.triangles.size());
+  for (std::size_t t = 0; t < apart.triangles.size(); ++t)
+    for (std::size_t k = 0; k < 3; ++k) {
+      const std::uint32_t v = apart.triangles[t][k], o = original.triangles[t][k];
+      auto [it, inserted] = made.emplace(std::uint64_t(v) << 32 | o, static_cast<std::uint32_t>(out.positions.size()));
+      if (inserted) {
+        out.positions.push_back(original.positions[o]);
+        if (normals) out.normals.push_back(original.normals[o]);
+        if (uvs) out.uvs.push_back(original.uvs[o]);
+      }
+      out.triangles[t][k] = it->second;
+    }
+  return out;
+}
+
+}  // namespace
+
 MeshLeaf::MeshLeaf(Mesh mesh, const std::string& what) : mesh_(std::move(mesh)), what_(what) {
   mesh_.check();
   if (mesh_.triangles.empty()) fail(what, " has no triangles");
@@ -48,7 +79,7 @@ MeshLeaf::MeshLeaf(Mesh mesh, const std::string& what) : mesh_(std::move(mesh)),
         Mesh apart = split_touching(welded, &edges);
         if (!edges) throw Error("no edge of more than two triangles");
         counts_ = euler_counts(apart);
-        mesh_ = std::move(apart);
+        mesh_ = with_attributes(std::move(apart), mesh_);
       } catch (const Error&) {
         fail(what, ": ", e.what());
       }

@@ -103,3 +103,47 @@ TEST_CASE("a result whose parts touch along an edge reads back from OFF, PLY, ST
   }
   std::filesystem::remove_all(dir);
 }
+
+TEST_CASE("an OBJ of parts touching along an edge keeps its normals and uvs when read", "[solid][mesh]") {
+  // Read back, the edge's triangles are paired by angle on the welded copy (split_touching); the
+  // welded copy has no normals or uvs, and the leaf's mesh lost the file's: a textured part
+  // rendered untextured, a faceted one with one normal per point.
+  Tolerance tol;
+  const Mesh m = Solid::boolean(BooleanOp::Union, {Solid::from_mesh(box_mesh({0, 0, 0}, Vec3(1, 1, 1))),
+                                                   Solid::from_mesh(box_mesh({1, 1, 0}, Vec3(1, 1, 1)))})
+                     .mesh(tol);
+  // Faceted: each triangle its own corners, with its normal and uvs from its corners' x and y.
+  Mesh faceted;
+  for (std::size_t t = 0; t < m.triangles.size(); ++t) {
+    const Vec3 n = m.triangle_normal(t);
+    const auto base = static_cast<std::uint32_t>(faceted.positions.size());
+    for (std::uint32_t v : m.triangles[t]) {
+      faceted.positions.push_back(m.positions[v]);
+      faceted.normals.push_back(n);
+      faceted.uvs.push_back(Vec2(m.positions[v].x() / 2 + 0.01 * double(t), m.positions[v].y() / 2));
+    }
+    faceted.triangles.push_back({base, base + 1, base + 2});
+  }
+  const auto dir = std::filesystem::temp_directory_path() / ("wedge-edge-uv-" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  const std::string path = (dir / "two.obj").string();
+  write_mesh(faceted, path);
+  const Mesh read = read_mesh(path);
+  REQUIRE(read.triangles.size() == faceted.triangles.size());
+  const Solid back = Solid::from_mesh(read, "two.obj");
+  CHECK(back.validate(tol).empty());
+  CHECK(back.euler(tol) == EulerCounts{16, 36, 24, 0, 0, 2});
+  CHECK(back.mass_properties(tol).volume == Approx(2).epsilon(1e-12));
+  const Mesh kept = back.mesh(tol);
+  REQUIRE(kept.triangles.size() == read.triangles.size());
+  REQUIRE(kept.normals.size() == kept.positions.size());
+  REQUIRE(kept.uvs.size() == kept.positions.size());
+  for (std::size_t t = 0; t < kept.triangles.size(); ++t)
+    for (std::size_t k = 0; k < 3; ++k) {
+      const std::uint32_t v = kept.triangles[t][k], o = read.triangles[t][k];
+      CHECK(kept.positions[v] == read.positions[o]);
+      CHECK(kept.normals[v] == read.normals[o]);
+      CHECK(kept.uvs[v] == read.uvs[o]);
+    }
+  std::filesystem::remove_all(dir);
+}
