@@ -17,11 +17,12 @@
 // Failures go to OUT/fail/<gen>_<seed>_<k>/ (the first 6 of each kind per generator; crashes and
 // hangs to OUT/fail/<gen>_<seed>_crash|hang/): the operands as OFF with %.17g, op.txt, and a README
 // saying how to replay the boolean and make the case again. Results the engine cannot round to
-// doubles go to OUT/unroundable/. The per-generator counts go to stdout at the end; the exit
-// status is 1 if anything failed. --replay runs the boolean of such a folder again at one thread
-// (scaled by 2^E, each operand cropped to the cube of half side R about (X, Y, Z) first, if asked;
-// the operands so changed saved to DIR2) and prints what the checks see, then CGAL's volume; the
-// result goes to DIR2 (or DIR)/result.off.out. Run it niced: it is CPU-bound.
+// doubles go to OUT/unroundable/, booleans over 2 s to OUT/slow/ (the first 6 per generator). The
+// per-generator counts go to stdout at the end; the exit status is 1 if anything failed.
+// --replay runs the boolean of such a folder again at one thread (scaled by 2^E, each operand
+// cropped to the cube of half side R about (X, Y, Z) first, if asked; the operands so changed
+// saved to DIR2) and prints what the checks see, then CGAL's volume; the result goes to DIR2 (or
+// DIR)/result.off.out. Run it niced: it is CPU-bound (and a build beside it makes cases "slow").
 #include <sys/mman.h>
 #include <sys/prctl.h>
 #include <sys/wait.h>

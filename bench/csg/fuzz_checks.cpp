@@ -103,6 +103,10 @@ Run run_boolean(BooleanOp op, const std::vector<const Mesh*>& ops) {
                 state.case_name.c_str(), boolean_op_name(op), seconds, ops.size(), triangles_of(ops),
                 run.ok ? run.r.mesh.triangles.size() : 0, st.check, st.broad, st.arrange, st.classify, st.output,
                 st.pairs, st.pieces, st.resolutions, st.reorders, run.ok ? "" : run.error.c_str());
+    // The first 6 of each generator's kept for --replay (OUT/slow/<gen>_<seed>_<k>/).
+    if (state.shared->outcome[state.gen][kSlow] <= 6)
+      save_case(state.out + "/slow/" + state.case_name + "_" + std::to_string(state.fail_k++), op, ops,
+                std::string(boolean_op_name(op)) + ": slow: " + std::to_string(seconds) + " s");
   }
   return run;
 }
