@@ -2,6 +2,7 @@
 // straight crease between two, merged into a neighbour before the output is rounded.
 #include <algorithm>
 #include <atomic>
+#include <map>
 
 #include "csg/boolean_impl.h"
 #include "kernel/parallel.h"
@@ -84,6 +85,31 @@ std::size_t merge_flat(const Points& pts, std::vector<std::array<u32, 3>>& tris,
     }
     return true;
   };
+  // A source face (operand, face id) is flat when all its triangles lie in the plane of its first
+  // with an area (exact; looked at once each, on demand: an operand's triangles are one run of the soup). A
+  // triangle without a face id is taken as flat: nothing says what surface it stands for.
+  const std::vector<u32> op_first = operand_starts(soup);
+  auto source_key = [&](u32 s) { return std::int64_t(soup.operand[s]) << 32 | std::uint32_t(soup.face_id[s]); };
+  std::map<std::int64_t, bool> flat_faces;
+  auto flat_source = [&](u32 s) {
+    if (soup.face_id[s] < 0) return true;
+    const std::int64_t key = source_key(s);
+    auto [it, inserted] = flat_faces.emplace(key, true);
+    if (!inserted) return it->second;
+    const auto o = static_cast<std::size_t>(soup.operand[s]);
+    u32 ref = kNone;
+    for (u32 t = op_first[o]; t < op_first[o + 1] && it->second; ++t) {
+      if (soup.face_id[t] != soup.face_id[s] || soup.axis[t] < 0) continue;  // (zero area: no plane)
+      if (ref == kNone) {
+        ref = t;
+        continue;
+      }
+      const auto& R = soup.tris[ref];
+      for (u32 v : soup.tris[t])
+        if (orient3d_v(soup, R[0], R[1], R[2], v) != 0) it->second = false;
+    }
+    return it->second;
+  };
   for (int pass = 0; pass < 16; ++pass) {
     soup.poll();
     const std::size_t nt = tris.size();
@@ -152,7 +178,24 @@ std::size_t merge_flat(const Points& pts, std::vector<std::array<u32, 3>>& tris,
       if (n < 3) continue;
       int groups = 0;
       if (!two_planes(fan, group, groups)) continue;
+      // A plane's triangles of two source faces (operand and face id) merge only where those
+      // faces are flat: a merged triangle keeps one source, and one that spanned two curved faces
+      // (stacked coaxial cylinders, whose rims met: merged along the sides' creases) took the
+      // other's region for its own; the curved volume and area from its own surface, clamped to
+      // that face's extent, lost a third of the sides' area.
       bool ok = true;
+      {
+        std::int64_t first[2] = {-1, -1};
+        bool mixed = false;
+        for (std::size_t x = 0; x < n; ++x) {
+          const std::int64_t key = source_key(src[fan[x]]);
+          std::int64_t& f = first[static_cast<std::size_t>(group[x])];
+          if (f < 0) f = key;
+          else mixed = mixed || f != key;
+        }
+        for (std::size_t x = 0; x < n && mixed && ok; ++x) ok = flat_source(src[fan[x]]);
+      }
+      if (!ok) continue;
       // The fan: each triangle (v, a, b) turned so that v is first; a closed fan has each
       // neighbour once as a and once as b, and following a -> b visits every triangle once.
       ab.resize(n);
