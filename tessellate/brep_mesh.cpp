@@ -881,7 +881,16 @@ static Mesh tessellate_at_scale(const Model& m, const Tolerance& tol_in, std::ve
           const Vec3 n3 = (pos(e[1].index) - pos(e[0].index)).cross(pos(e[2].index) - pos(e[0].index));
           if (n3.dot(e[0].normal + e[1].normal + e[2].normal) < 0) {
             over = true;
+            // At the middle of its longest edge inside the face, which halves it: at the centroid,
+            // a long thin one along a tight bend at a coarse tolerance (a tube of radius 0.12
+            // swept along an arc of radius 2 at 0.1) left long thin ones turned over again, point
+            // after point, until the budget (minutes, gigabytes).
             at = uvc;
+            double longest = 0;
+            for (int k = 0; k < 3; ++k) {
+              const double len = (pos(e[(k + 1) % 3].index) - pos(e[(k + 2) % 3].index)).squaredNorm();
+              if (!border[k] && len > longest) longest = len, at = mid[k];
+            }
           }
         }
         if (over) {

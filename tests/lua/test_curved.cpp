@@ -126,3 +126,22 @@ TEST_CASE("patch_solid closes the teapot's body and lid from Lua, bad input is n
   INFO(r.err);
   CHECK(r.status == 0);
 }
+
+TEST_CASE("a thin tube swept along an arc tessellates at a coarse tolerance", "[lua][curved][sweep]") {
+  // At tolerance 0.1 (near the tube's radius) the refinement's long thin triangles along the
+  // bend were turned over against the surface, and each took a point at its centroid, which
+  // left long thin ones turned over again: it ran until the point budget (minutes, gigabytes).
+  // Such a triangle now takes its point at the middle of its longest inner edge.
+  auto r = run(R"(
+    local w = math.sqrt(0.5)
+    local arc = nurbs{points = {{2, 0, 0}, {2, 2, 0}, {0, 2, 0}}, weights = {1, w, 1}, knots = {0, 0, 0, 1, 1, 1}, degree = 2}
+    local s = sweep(circle(0.12), arc)
+    for _, tol in ipairs({0.01, 0.1, 0.2}) do
+      local n = s:triangles{tolerance = tol}
+      assert(n > 0 and n < 8000, tol .. ": " .. n .. " triangles")
+    end
+    assert(math.abs(s:volume() - math.pi * 0.12 ^ 2 * math.pi) < 1e-9, s:volume())
+  )");
+  INFO(r.err);
+  CHECK(r.status == 0);
+}
