@@ -453,6 +453,8 @@ class SweptSurface : public Surface {
   void jet_grid(const double* u, int nu, const double* v, int nv, int d, Vec3* out) const override;
   void eval_grid(const double* u, int nu, const double* v, int nv, Point3* out) const override;
   std::vector<double> u_breaks() const override { return profile_->breaks(); }
+  // The path's own (a Catmull-Rom or B-spline path bends unevenly across its knots).
+  std::vector<double> v_breaks() const override { return along_->path->breaks(); }
   Frame frame(double v) const;
   // The turn of the profile per unit v (radians; 0 unless close_frames).
   double twist_rate() const { return along_->twist_rate; }

@@ -877,7 +877,12 @@ static Mesh tessellate_at_scale(const Model& m, const Tolerance& tol_in, std::ve
         // past the chord of the other two: a swept tube's side at 0.01) folds the mesh onto itself
         // although every point is within the tolerance, and a boolean refuses it as crossing
         // itself: it takes a point too. (Corners on a pole have no normal of their own.)
-        if (!over && e[0].free_axis < 0 && e[1].free_axis < 0 && e[2].free_axis < 0) {
+        // (Not where the triangle is far below the tolerance: there its turn is a fold far below it
+        // too, and a sliver's sign is noise; a sweep along a Catmull-Rom path at tolerance 0.3
+        // split such slivers without end, down to edges 1e-8 long.)
+        double longest = 0;
+        for (int k = 0; k < 3; ++k) longest = std::max(longest, (pos(e[(k + 1) % 3].index) - pos(e[(k + 2) % 3].index)).squaredNorm());
+        if (!over && e[0].free_axis < 0 && e[1].free_axis < 0 && e[2].free_axis < 0 && longest > 1e-6 * tol.chordal * tol.chordal) {
           const Vec3 n3 = (pos(e[1].index) - pos(e[0].index)).cross(pos(e[2].index) - pos(e[0].index));
           if (n3.dot(e[0].normal + e[1].normal + e[2].normal) < 0) {
             over = true;
@@ -886,10 +891,10 @@ static Mesh tessellate_at_scale(const Model& m, const Tolerance& tol_in, std::ve
             // swept along an arc of radius 2 at 0.1) left long thin ones turned over again, point
             // after point, until the budget (minutes, gigabytes).
             at = uvc;
-            double longest = 0;
+            double inner = 0;
             for (int k = 0; k < 3; ++k) {
               const double len = (pos(e[(k + 1) % 3].index) - pos(e[(k + 2) % 3].index)).squaredNorm();
-              if (!border[k] && len > longest) longest = len, at = mid[k];
+              if (!border[k] && len > inner) inner = len, at = mid[k];
             }
           }
         }
