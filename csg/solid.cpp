@@ -682,11 +682,41 @@ Box3 Solid::bounds() const {
       case Node::Kind::Empty: break;
       case Node::Kind::Leaf: out = n->leaf->bounds(); break;
       case Node::Kind::Transform: out = transformed_box(of(n->child), n->matrix); break;
-      case Node::Kind::Boolean:
+      case Node::Kind::Boolean: {
         // Bounds of the operands that can contribute (exact bounds need the evaluated mesh).
-        if (n->op == BooleanOp::Union) n->for_each_operand([&](const NodePtr& o) { out.extend(of(o)); });
-        else out = Solid(n).mesh(Tolerance{}).bounds();
+        if (n->op == BooleanOp::Union) {
+          n->for_each_operand([&](const NodePtr& o) { out.extend(of(o)); });
+          break;
+        }
+        // The evaluated mesh's, each triangle on a curved face grown along its normal by the
+        // tolerance it was made at: its corners lie on the surface, which bulges past it by up to
+        // that (a ball minus a box reached x = -0.99658 where the ball reaches -1). Then cut to
+        // what bounds the result: the first operand of a difference, every operand of an
+        // intersection.
+        const Tolerance tol;
+        const auto e = evaluate_root(n, tol);
+        const Mesh& m = e->mesh;
+        for (std::size_t t = 0; t < m.triangles.size(); ++t) {
+          const std::int32_t id = t < m.face_ids.size() ? m.face_ids[t] : -1;
+          const FaceSurface* fs = id >= 0 && static_cast<std::size_t>(id) < e->surfaces.size() ? &e->surfaces[static_cast<std::size_t>(id)] : nullptr;
+          const bool flat = !fs || !fs->surface || fs->plane();
+          const Vec3 grow = flat ? Vec3::Zero() : Vec3(tol.chordal * m.triangle_normal(t).cwiseAbs());
+          for (std::uint32_t v : m.triangles[t]) {
+            out.extend(Vec3(m.positions[v] - grow));
+            out.extend(Vec3(m.positions[v] + grow));
+          }
+        }
+        bool first = true;
+        n->for_each_operand([&](const NodePtr& o) {
+          if (!first && n->op == BooleanOp::Difference) return;
+          first = false;
+          const Box3 b = of(o);
+          out.min = out.min.cwiseMax(b.min);
+          out.max = out.max.cwiseMin(b.max);
+        });
+        if (out.empty()) out = Box3();
         break;
+      }
     }
     memo.emplace(n.get(), out);
     return out;
