@@ -109,7 +109,10 @@ int area_m(lua_State* L) {
 
 int centroid_m(lua_State* L) {
   return guarded(L, [&] {
-    push_vec3(L, self(L).mass_properties(current_tolerance(L)).centroid);
+    const Solid& s = self(L);
+    // As bounds(): an empty solid's centroid was {0, 0, 0}, a point it does not hold.
+    if (s.bounds().empty()) throw Error("the solid is empty: it has no centroid");
+    push_vec3(L, s.mass_properties(current_tolerance(L)).centroid);
     return 1;
   });
 }

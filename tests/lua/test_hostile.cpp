@@ -175,6 +175,7 @@ const Case kCases[] = {
     {"local b = array{box(1,1,1) - box(1,1,1), count = 2, step = {1, 0, 0}}:bounds()", "hostile.lua:2: bounds: the scene's parts are all empty solids: it has no bounds"},
     {"local b = (box(1,1,1) - box(1,1,1)):bounds()", "hostile.lua:2: bounds: the solid is empty: it has no bounds"},
     {"local b = (cube(1) * cube(1):translate(5, 0, 0)):bounds()", "hostile.lua:2: bounds: the solid is empty: it has no bounds"},
+    {"local c = (sphere(1) * sphere(1):translate(5, 0, 0)):centroid()", "hostile.lua:2: centroid: the solid is empty: it has no centroid"},
     {"box(1,1,1):material{color = {2, 0, 0}}", "hostile.lua:2: material: material.color[1] must be within 0..1, got 2"},
     {"box(1,1,1):material{diffuse = {1, 'red', 0}}", "hostile.lua:2: material: material.diffuse[2] must be a number, got string"},
     {"box(1, 'x', 1)", "bad argument #2 to 'box' (number expected, got string)"},
