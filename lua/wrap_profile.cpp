@@ -242,7 +242,13 @@ int extrude_fn(lua_State* L) {
     } else if (k == 1) {
       push_solid(L, prism_solid(p, h));
     } else if (p.holes.empty()) {
-      push_solid(L, brep_solid(frustum(p.outer, h, k, Vec2::Zero())));
+      // (A scale so small that the top face has no area in doubles, 1e-300, was reported as
+      // "polyhedron: face 2 has zero area", naming no argument.)
+      try {
+        push_solid(L, brep_solid(frustum(p.outer, h, k, Vec2::Zero())));
+      } catch (const Error& e) {
+        throw ArgError{3, "field 'scale' = " + number_text(k) + ": " + e.what()};
+      }
     } else {
       // Holes scale with the outer ring: the exact sweep (planar sides on the scaled extrusion).
       Section s = check_section(L, 1);
