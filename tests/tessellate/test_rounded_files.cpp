@@ -9,6 +9,7 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <fstream>
 #include <filesystem>
 #include <limits>
 #include <map>
@@ -62,6 +63,10 @@ TEST_CASE("boolean results round-trip through STL (32-bit floats) as closed vali
       {"sphere - cube", sphere_minus_cube()},
       {"sphere + cylinder", Solid::boolean(BooleanOp::Union, {brep_solid(sphere(1)), brep_solid(cylinder(0.5, 2))})},
       {"sphere - cube, at (1000, 2000, 0)", sphere_minus_cube().transformed(translate({1000, 2000, 0}))},
+      // (Edges 1e-15 long are kept where the boolean rounds: rounding to floats merges their
+      // ends. Before a circle's points were snapped to 2^-44 of a turn, the models above had such
+      // vertices too.)
+      {"sphere - cube, gap 1e-15", sphere_minus_cube(1e-15)},
   };
   bool any_rounded_together = false;
   for (const auto& [name, solid] : models)
@@ -120,13 +125,31 @@ TEST_CASE("a boolean result moved far from the origin writes OBJ, PLY and OFF th
 TEST_CASE("a drilled cylinder moved to 1e5 writes OBJ, PLY and OFF without zero-area triangles", "[mesh_io][rounding]") {
   // Moved to x = 1e5 (doubles 1.5e-11 apart), the drill's seam rounds four vertices onto one
   // line as two flat triangles sharing an edge; mending the first leaves a half that is the reverse
-  // of a neighbour, and the two cancel. The files read back closed, with no flat triangle.
+  // of a neighbour, and the two cancel. The files read back closed, with no flat triangle. The
+  // mesh is cylinder(1, 2) - cylinder(0.5, 3):rotate_x(90) at tolerance 0.003 as wedge made it
+  // before a circle's points were snapped to 2^-44 of a turn (tests/data/tessellate): its seam's
+  // points are those that round onto one line.
   TempDir dir;
-  Tolerance tol;
-  tol.chordal = 0.003;
-  const Solid drilled = Solid::boolean(BooleanOp::Difference, {brep_solid(cylinder(1, 2, Point3::Zero())),
-                                                               brep_solid(cylinder(0.5, 3, Point3::Zero())).transformed(rotate_x(90))});
-  const Mesh mesh = drilled.mesh(tol).transformed(translate({1e5, 0, 0}));  // the mesh itself moved, as above
+  Mesh drilled;
+  {
+    std::ifstream in(std::string(WEDGE_SOURCE_DIR) + "/tests/data/tessellate/drilled_cylinder.off");
+    std::string magic;
+    std::size_t nv = 0, nf = 0, ne = 0;
+    in >> magic >> nv >> nf >> ne;
+    for (std::size_t i = 0; i < nv; ++i) {
+      double x, y, z;
+      in >> x >> y >> z;
+      drilled.add_vertex(Point3(x, y, z));
+    }
+    for (std::size_t i = 0; i < nf; ++i) {
+      std::uint32_t k, a, b, c;
+      in >> k >> a >> b >> c;
+      drilled.add_triangle(a, b, c);
+    }
+    REQUIRE(in);
+    REQUIRE(drilled.triangles.size() == 234);
+  }
+  const Mesh mesh = drilled.transformed(translate({1e5, 0, 0}));  // the mesh itself moved, as above
   const FileMesh as_doubles = file_mesh(mesh, false);
   CHECK(as_doubles.mended > 0);
   CHECK(as_doubles.flat == 0);
