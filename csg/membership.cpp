@@ -210,8 +210,27 @@ struct Decomposer {
       leaf(b, Membership::Boundary);
       return;
     }
+    // Every point of b within the margin of one triangle: each box below touches that triangle
+    // through its margin, so every leaf is boundary, and they are made without the tests (a part
+    // far smaller than the margin, sphere(1e-3) at tolerance 0.01 in cells of 2e-4: 1.3 million
+    // leaves, each testing all 576 triangles, ran past a minute).
+    const double reach = 0.5 * sz.norm();
+    for (std::uint32_t t : mine) {
+      const Tri x = tri(mesh, t);
+      if (point_triangle_distance(c, *x.a, *x.b, *x.c) + reach <= 0.999 * margin) {
+        boundary(b);
+        return;
+      }
+    }
     Membership cs = state(c, r, rs, parent);
-    // Halve only the sides longer than `size` (a flat part is not split along its thin side).
+    halve(b, [&](const Box3& child) { split(child, mine, &c, cs); });
+  }
+
+  // f(child) for the halves of b along its sides longer than `size` (a flat part is not split
+  // along its thin side).
+  template <class F>
+  void halve(const Box3& b, F&& f) {
+    const Vec3 sz = b.size(), c = b.center();
     int nx = sz.x() > size ? 2 : 1, ny = sz.y() > size ? 2 : 1, nz = sz.z() > size ? 2 : 1;
     for (int i = 0; i < nx; ++i)
       for (int j = 0; j < ny; ++j)
@@ -220,8 +239,19 @@ struct Decomposer {
                   nz == 1 ? b.min.z() : (k ? c.z() : b.min.z()));
           Vec3 hi(nx == 1 ? b.max.x() : (i ? b.max.x() : c.x()), ny == 1 ? b.max.y() : (j ? b.max.y() : c.y()),
                   nz == 1 ? b.max.z() : (k ? b.max.z() : c.z()));
-          split(Box3(lo, hi), mine, &c, cs);
+          f(Box3(lo, hi));
         }
+  }
+
+  // The leaves split() makes of a box every point of which is within the margin of the surface.
+  void boundary(const Box3& b) {
+    const Vec3 c = b.center();
+    const bool halvable = (c.array() > b.min.array() && c.array() < b.max.array()).all();
+    if (b.size().maxCoeff() <= size || !halvable) {
+      leaf(b, Membership::Boundary);
+      return;
+    }
+    halve(b, [&](const Box3& child) { boundary(child); });
   }
 };
 
