@@ -880,9 +880,10 @@ static Mesh tessellate_at_scale(const Model& m, const Tolerance& tol_in, std::ve
         // (Not where the triangle is far below the tolerance: there its turn is a fold far below it
         // too, and a sliver's sign is noise; a sweep along a Catmull-Rom path at tolerance 0.3
         // split such slivers without end, down to edges 1e-8 long.)
-        double longest = 0;
-        for (int k = 0; k < 3; ++k) longest = std::max(longest, (pos(e[(k + 1) % 3].index) - pos(e[(k + 2) % 3].index)).squaredNorm());
-        if (!over && e[0].free_axis < 0 && e[1].free_axis < 0 && e[2].free_axis < 0 && longest > 1e-6 * tol.chordal * tol.chordal) {
+        double len[3] = {0, 0, 0};  // squared, of the edge opposite each corner
+        if (!over && e[0].free_axis < 0 && e[1].free_axis < 0 && e[2].free_axis < 0)
+          for (int k = 0; k < 3; ++k) len[k] = (pos(e[(k + 1) % 3].index) - pos(e[(k + 2) % 3].index)).squaredNorm();
+        if (std::max({len[0], len[1], len[2]}) > 1e-6 * tol.chordal * tol.chordal) {
           const Vec3 n3 = (pos(e[1].index) - pos(e[0].index)).cross(pos(e[2].index) - pos(e[0].index));
           if (n3.dot(e[0].normal + e[1].normal + e[2].normal) < 0) {
             over = true;
@@ -892,10 +893,8 @@ static Mesh tessellate_at_scale(const Model& m, const Tolerance& tol_in, std::ve
             // after point, until the budget (minutes, gigabytes).
             at = uvc;
             double inner = 0;
-            for (int k = 0; k < 3; ++k) {
-              const double len = (pos(e[(k + 1) % 3].index) - pos(e[(k + 2) % 3].index)).squaredNorm();
-              if (!border[k] && len > inner) inner = len, at = mid[k];
-            }
+            for (int k = 0; k < 3; ++k)
+              if (!border[k] && len[k] > inner) inner = len[k], at = mid[k];
           }
         }
         if (over) {
