@@ -106,12 +106,21 @@ Mat4 scale(const Vec3& k, const Point3& fixed) {
 Mat4 reflect(const Vec3& normal, const Point3& point) {
   require_finite3(normal, "mirror normal");
   require_finite3(point, "mirror point");
-  const Vec3 n = unit_vector(normal);
-  if (n == Vec3::Zero()) fail("mirror normal must be non-zero, got (0, 0, 0)");
-  // Householder: I - 2 n n^T, about the plane n.x = n.point.
+  const double big = normal.cwiseAbs().maxCoeff();
+  if (big == 0) fail("mirror normal must be non-zero, got (0, 0, 0)");
+  // Householder: I - 2 v v^T / (v.v), about the plane v.x = v.point, from the normal as given
+  // (scaled by a power of two, exactly, to a largest coordinate in [1, 2): no overflow or
+  // underflow in v.v), each entry divided once at the end. Through the rounded unit normal, the
+  // mirror about (1, 1, 0) had 1 - 2e-16 where it swaps x and y, and a centred cube minus its
+  // mirror image kept two sliver shells of area 8 (now the swap is exact, and the result empty).
+  const int e = -std::ilogb(big);  // (per coordinate: 2^1074 itself is past a double's range)
+  const Vec3 v(std::ldexp(normal.x(), e), std::ldexp(normal.y(), e), std::ldexp(normal.z(), e));
+  const double vv = v.squaredNorm();
   Mat4 m = Mat4::Identity();
-  m.block<3, 3>(0, 0) -= 2.0 * n * n.transpose();
-  m.block<3, 1>(0, 3) = 2.0 * n.dot(point) * n;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) m(i, j) -= 2 * v[i] * v[j] / vv;
+  const double d = v.dot(point);
+  for (int i = 0; i < 3; ++i) m(i, 3) = 2 * d * v[i] / vv;
   return m;
 }
 

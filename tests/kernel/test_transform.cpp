@@ -116,6 +116,26 @@ TEST_CASE("the 2D shear x' = x + y cot(theta)", "[transform]") {
   CHECK_THROWS_WITH(shear_x_2d(-540), Catch::Contains("multiple of 180"));
 }
 
+TEST_CASE("a mirror about a plane through the diagonal swaps coordinates exactly", "[transform]") {
+  // Through the rounded unit normal (0.7071..., 0.7071..., 0) the swap's entries were 1 - 2e-16,
+  // and a centred cube minus its mirror image kept sliver shells of area 8.
+  const Mat4 m = reflect({1, 1, 0});
+  CHECK(m(0, 0) == 0);
+  CHECK(m(0, 1) == -1);
+  CHECK(m(1, 0) == -1);
+  CHECK(m(1, 1) == 0);
+  CHECK(m(2, 2) == 1);
+  const Mat4 p = reflect({0, 3, 3}, {0, 1, 0});  // y <-> -z about the plane y + z = 1
+  CHECK(p(1, 2) == -1);
+  CHECK(p(2, 1) == -1);
+  CHECK(p(1, 3) == 1);
+  CHECK(p(2, 3) == 1);
+  // Huge and tiny normals are directions all the same.
+  CHECK(reflect({1e300, 1e300, 0}) == m);
+  CHECK(reflect({5e-324, 5e-324, 0}) == m);
+  CHECK_THROWS_WITH(reflect({0, 0, 0}), Catch::Contains("non-zero"));
+}
+
 TEST_CASE("2D rotation about a pivot and reflection", "[transform]") {
   Mat3 r = rotate_2d(90, {1, 1});
   CHECK(apply_point_2d(r, {1, 1}) == Vec2(1, 1));
