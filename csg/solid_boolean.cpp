@@ -417,6 +417,18 @@ std::shared_ptr<Evaluated> evaluate_boolean(const Solid::Node& n, const Toleranc
   Origin origin{n.op, {}, &n.where};
   origin.place.reserve(in.size());
   for (std::size_t i = 0; i < in.size(); ++i) origin.place.emplace(in[i].get(), i);  // (a repeat keeps its first place)
+  // A leaf that bounds no solid (a polyhedron whose faces cross) is refused here, as its own
+  // queries refuse it: the ways around the engine below (one operand, repeats, operands apart)
+  // would otherwise pass its mesh on unchecked. Two overlapping cubes in one polyhedron, united
+  // with a cube far away, had volume 3 where the region they bound is 1.875 + 1, and a point
+  // inside both was "outside".
+  for (std::size_t i = 0; i < operands.size(); ++i) {
+    const Solid::Node* o = operands[i].get();
+    while (o->kind == Solid::Node::Kind::Transform) o = o->child.get();
+    if (o->kind == Solid::Node::Kind::Leaf)
+      if (std::string d = o->leaf->solid_defect(); !d.empty())
+        fail("boolean: ", origin_name(origin, in[i], n.op), " is not a solid: ", d);
+  }
   in = distinct(in, n.op == BooleanOp::Difference ? 1 : 0);
   if (n.op == BooleanOp::Difference)  // A - A - ... is empty
     for (std::size_t i = 1; i < in.size(); ++i)

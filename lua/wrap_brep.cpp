@@ -66,6 +66,11 @@ auto op(lua_State* L, const char* name, F&& f) {
   }
 }
 
+// A solid's leaf must bound a solid: its faces may not cross one another, nor its shells overlap.
+void require_bounds_solid(const Solid& s) {
+  if (std::string d = s.validate(Tolerance{}); !d.empty()) fail("not a solid: ", d);
+}
+
 int brep_fn(lua_State* L) {
   return guarded(L, [&] {
     push_object(L, kKey, Model());
@@ -257,7 +262,11 @@ int vertices_m(lua_State* L) {
 int solid_m(lua_State* L) {
   return guarded(L, [&] {
     Model copy = self(L);
-    push_solid(L, brep_solid(std::move(copy)));
+    Solid s = brep_solid(std::move(copy));
+    // validate() holds the structure; a model whose faces cross (a hole's face lying on the face
+    // it will be cut from, before kfmrh) is sound as a graph but bounds no solid.
+    op(L, "solid", [&] { require_bounds_solid(s); });
+    push_solid(L, s);
     return 1;
   });
 }
@@ -371,7 +380,11 @@ int polyhedron_fn(lua_State* L) {
     }
     lua_pop(L, 1);
     o.finish();
-    push_solid(L, brep_solid(op(L, "polyhedron", [&] { return polyhedron(pts, faces); })));
+    Solid s = brep_solid(op(L, "polyhedron", [&] { return polyhedron(pts, faces); }));
+    // Faces that cross or shells that overlap bound no solid: refused here, at the script's line,
+    // not at the first query that needs the volume (or never, where a boolean took its mesh).
+    op(L, "polyhedron", [&] { require_bounds_solid(s); });
+    push_solid(L, s);
     return 1;
   });
 }

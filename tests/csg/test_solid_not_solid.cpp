@@ -76,6 +76,38 @@ TEST_CASE("a polyhedron that crosses itself or nests a shell facing the same way
   CHECK(as_polyhedron(two_boxes({0, 0, 0}, 1, {2, 0, 0}, 1)).mass_properties(tol).volume == Approx(2).epsilon(1e-12));
 }
 
+TEST_CASE("a boolean refuses a polyhedron that crosses itself even where the engine is not needed", "[solid][brep]") {
+  // One operand, a repeat, operands whose boxes are apart: each way around the engine passed the
+  // leaf's mesh on unchecked (union with a far cube: volume 3 where the region is 2.875).
+  Tolerance tol;
+  const Solid crossed = as_polyhedron(two_boxes({0, 0, 0}, 1, {0.5, 0.5, 0.5}, 1));
+  const Solid far = as_polyhedron(box_mesh({10, 0, 0}, Vec3(1, 1, 1)));
+  const std::vector<std::pair<BooleanOp, std::vector<Solid>>> cases = {
+      {BooleanOp::Union, {crossed, far}},        {BooleanOp::Union, {far, crossed.transformed(translate({0, 5, 0}))}},
+      {BooleanOp::Union, {crossed}},             {BooleanOp::Union, {crossed, crossed}},
+      {BooleanOp::Intersection, {crossed, crossed}}, {BooleanOp::Intersection, {crossed, far}},
+      {BooleanOp::Difference, {crossed, far}},   {BooleanOp::Difference, {far, crossed}},
+      {BooleanOp::Difference, {crossed}}};
+  for (const auto& [op, operands] : cases) {
+    const Solid r = Solid::boolean(op, operands, "model.lua:7");
+    CHECK_THROWS_WITH(r.mass_properties(tol), Catch::Contains("is not a solid: the solid intersects itself") &&
+                                                  Catch::Contains("operand of the") && Catch::Contains("at model.lua:7"));
+  }
+  // Named by the operand's place in the node, not the engine's order (a union's operands reach
+  // the engine sorted by their boxes and grouped, a difference's pruned).
+  const Solid near = as_polyhedron(box_mesh({0.5, 0.5, 0.5}, Vec3(1, 1, 1)));
+  const std::vector<std::tuple<BooleanOp, std::vector<Solid>, std::string>> named = {
+      {BooleanOp::Union, {far, near, crossed}, "boolean: the third operand of the union at model.lua:7 is not a solid"},
+      {BooleanOp::Union, {crossed, far, near}, "boolean: the first operand of the union at model.lua:7 is not a solid"},
+      {BooleanOp::Difference, {near, far, crossed}, "boolean: the third operand of the difference at model.lua:7 is not a solid"},
+      {BooleanOp::Intersection, {near, crossed}, "boolean: the second operand of the intersection at model.lua:7 is not a solid"}};
+  for (const auto& [op, operands, expect] : named)
+    CHECK_THROWS_WITH(Solid::boolean(op, operands, "model.lua:7").mass_properties(tol), Catch::StartsWith(expect));
+  // Sound operands apart are still put side by side without the engine.
+  CHECK(Solid::boolean(BooleanOp::Union, {as_polyhedron(box_mesh({0, 0, 0}, Vec3(1, 1, 1))), far}).mass_properties(tol).volume ==
+        Approx(2).epsilon(1e-12));
+}
+
 TEST_CASE("a result whose parts touch along an edge reads back from OFF, PLY, STL and OBJ as a solid", "[solid][mesh]") {
   // The engine keeps a vertex per part where parts touch; OFF and PLY keep the indices. The leaf
   // checked only the welded copy, where four triangles met at the edge: "edge 6-2 is used twice
