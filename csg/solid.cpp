@@ -576,6 +576,62 @@ Solid Solid::tagged(int tag) const {
   return Solid(std::shared_ptr<const Node>(n));
 }
 
+namespace {
+// The face ids of a boolean result with the planar faces of different sources joined where they
+// meet along an edge in one plane (exactly), facing the same way, with the same tag: cube(1) +
+// cube(1):translate(1, 0, 0) is a 2 x 1 x 1 box of six faces, not ten (each 2 x 1 side two
+// triangles, one from each cube's face). Each group takes its smallest source id; curved faces,
+// and faces of different tags (colours), stay apart.
+std::vector<std::int32_t> coplanar_faces_joined(const Mesh& mesh, const std::vector<std::string>& kinds, const std::vector<int>& tags) {
+  std::vector<std::int32_t> ids = mesh.face_ids;
+  const std::size_t nf = kinds.size();
+  auto planar = [&](std::int32_t id) { return id >= 0 && static_cast<std::size_t>(id) < nf && kinds[static_cast<std::size_t>(id)] == "plane"; };
+  // Each undirected edge's two triangles, by sorting (low vertex, high vertex, triangle).
+  std::vector<std::array<std::uint32_t, 3>> sides;
+  sides.reserve(mesh.triangles.size() * 3);
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+    if (!planar(ids[t])) continue;
+    const auto& T = mesh.triangles[t];
+    for (int k = 0; k < 3; ++k)
+      sides.push_back({std::min(T[k], T[(k + 1) % 3]), std::max(T[k], T[(k + 1) % 3]), static_cast<std::uint32_t>(t)});
+  }
+  std::sort(sides.begin(), sides.end());
+  std::vector<std::int32_t> parent(nf);
+  for (std::size_t i = 0; i < nf; ++i) parent[i] = static_cast<std::int32_t>(i);
+  auto root = [&](std::int32_t x) {
+    while (parent[static_cast<std::size_t>(x)] != x) x = parent[static_cast<std::size_t>(x)] = parent[static_cast<std::size_t>(parent[static_cast<std::size_t>(x)])];
+    return x;
+  };
+  bool joined = false;
+  for (std::size_t i = 0; i + 1 < sides.size(); ++i) {
+    const auto &a = sides[i], &b = sides[i + 1];
+    if (a[0] != b[0] || a[1] != b[1]) continue;
+    if (i + 2 < sides.size() && sides[i + 2][0] == a[0] && sides[i + 2][1] == a[1]) continue;  // more than two: leave it
+    const std::int32_t fa = ids[a[2]], fb = ids[b[2]];
+    if (fa == fb || root(fa) == root(fb)) continue;
+    const int ta = static_cast<std::size_t>(fa) < tags.size() ? tags[static_cast<std::size_t>(fa)] : -1;
+    const int tb = static_cast<std::size_t>(fb) < tags.size() ? tags[static_cast<std::size_t>(fb)] : -1;
+    if (ta != tb) continue;
+    const auto& A = mesh.triangles[a[2]];
+    const auto& B = mesh.triangles[b[2]];
+    const auto& P = mesh.positions;
+    std::uint32_t apex = B[0];
+    for (std::uint32_t v : B)
+      if (v != a[0] && v != a[1]) apex = v;
+    if (orient3d(P[A[0]], P[A[1]], P[A[2]], P[apex]) != 0) continue;
+    const Vec3 na = (P[A[1]] - P[A[0]]).cross(P[A[2]] - P[A[0]]), nb = (P[B[1]] - P[B[0]]).cross(P[B[2]] - P[B[0]]);
+    if (!(na.dot(nb) > 0)) continue;
+    const std::int32_t ra = root(fa), rb = root(fb);
+    parent[static_cast<std::size_t>(std::max(ra, rb))] = std::min(ra, rb);
+    joined = true;
+  }
+  if (joined)
+    for (auto& id : ids)
+      if (planar(id)) id = root(id);
+  return ids;
+}
+}  // namespace
+
 std::shared_ptr<const RebuiltSolid> Solid::rebuilt(const Tolerance& tol) const {
   auto e = evaluate_root(node_, tol);
   std::lock_guard<std::mutex> lock(e->rebuild_mutex);
@@ -592,7 +648,9 @@ std::shared_ptr<const RebuiltSolid> Solid::rebuilt(const Tolerance& tol) const {
     } catch (const Error&) {
       closed = false;
     }
-    auto r = std::make_shared<RebuiltSolid>(rebuild_brep(closed ? e->mesh : e->mesh.welded()));
+    Mesh joined = closed ? e->mesh : e->mesh.welded();
+    joined.face_ids = coplanar_faces_joined(joined, e->kinds, e->tags);
+    auto r = std::make_shared<RebuiltSolid>(rebuild_brep(joined));
     // Each face carries the surface of the source face its triangles came from.
     r->model.faces().for_each([&](FaceId f, const BrepFace&) {
       const std::int32_t src = r->source.at(f.value);

@@ -235,3 +235,35 @@ TEST_CASE("polyhedron and solid() refuse faces that cross at the script's line",
   INFO(r.err);
   CHECK(r.status == 0);
 }
+
+TEST_CASE("coplanar faces of different operands that meet are one face of the result", "[lua][brep][solid]") {
+  // The rebuilt solid merged a result's triangles by source face only: cube(1) +
+  // cube(1):translate(1, 0, 0) had V=8 E=16 F=10 (each 2 x 1 side two triangles, one from each
+  // cube), and a ring of four bars 18 faces whose areas followed the triangulation.
+  auto r = run(R"(
+    local function counts(s) local e = s:euler() return string.format("%d %d %d %d %d %d", e.V, e.E, e.F, e.R, e.H, e.S) end
+    local bar = cube(1) + cube(1):translate(1, 0, 0)
+    assert(counts(bar) == "8 12 6 0 0 1", counts(bar))
+    local areas = {}
+    for _, f in ipairs(bar:faces()) do areas[#areas + 1] = f.area end
+    table.sort(areas)
+    assert(table.concat(areas, " ") == "1.0 1.0 2.0 2.0 2.0 2.0", table.concat(areas, " "))
+    -- An L-shaped octagonal prism: eight sides, a top and a bottom.
+    local l = cube(1) + cube(1):translate(0.5, 0.5, 0)
+    assert(counts(l) == "16 24 10 0 0 1", counts(l))
+    -- A square ring of four bars: its top and bottom are one face each, of two loops.
+    local ring = union(box(3, 1, 1), box(3, 1, 1):translate(0, 2, 0), box(1, 3, 1), box(1, 3, 1):translate(2, 0, 0))
+    assert(counts(ring) == "16 24 10 2 1 1", counts(ring))
+    local rings = 0
+    for _, f in ipairs(ring:faces()) do
+      if f.loops == 2 then rings = rings + 1; assert(math.abs(f.area - 8) < 1e-12, f.area) end
+    end
+    assert(rings == 2 and ring:is_valid())
+    -- Faces of different materials stay apart; a pocket's floor is not the top's plane.
+    local red = cube(1):material{diffuse = {1, 0, 0}}
+    assert(#(red + cube(1):translate(1, 0, 0)):faces() == 10)
+    assert(counts(box(10, 10, 2) - box(2, 2, 1):translate(4, 4, 1)) == "16 24 11 1 0 1")
+  )");
+  INFO(r.err);
+  CHECK(r.status == 0);
+}
