@@ -95,6 +95,7 @@ int transform_m(lua_State* L) {
 
 int volume_m(lua_State* L) {
   return guarded(L, [&] {
+    check_no_more_method(L, 1);
     lua_pushnumber(L, self(L).mass_properties(current_tolerance(L)).volume);
     return 1;
   });
@@ -102,6 +103,7 @@ int volume_m(lua_State* L) {
 
 int area_m(lua_State* L) {
   return guarded(L, [&] {
+    check_no_more_method(L, 1);
     lua_pushnumber(L, self(L).mass_properties(current_tolerance(L)).area);
     return 1;
   });
@@ -109,6 +111,7 @@ int area_m(lua_State* L) {
 
 int centroid_m(lua_State* L) {
   return guarded(L, [&] {
+    check_no_more_method(L, 1);
     const Solid& s = self(L);
     // As bounds(): an empty solid's centroid was {0, 0, 0}, a point it does not hold.
     if (s.bounds().empty()) throw Error("the solid is empty: it has no centroid");
@@ -119,7 +122,12 @@ int centroid_m(lua_State* L) {
 
 int inertia_m(lua_State* L) {
   return guarded(L, [&] {
-    const MassProperties mp = self(L).mass_properties(current_tolerance(L));
+    check_no_more_method(L, 1);
+    const Solid& s = self(L);
+    // About the centroid, which an empty solid has not (centroid() is an error there too; this
+    // was a zero matrix).
+    if (s.bounds().empty()) throw Error("the solid is empty: it has no centroid to take the inertia about");
+    const MassProperties mp = s.mass_properties(current_tolerance(L));
     const Mat3& I = mp.inertia;
     // About volume x size^2: beyond doubles for a solid some 1e60 wide (its volume is not).
     if (!I.allFinite())
@@ -139,6 +147,7 @@ int inertia_m(lua_State* L) {
 
 int bounds_m(lua_State* L) {
   return guarded(L, [&] {
+    check_no_more_method(L, 1);
     Box3 b = self(L).bounds();
     // An empty solid (box(1,1,1) - box(1,1,1)) has no extent: an error, as a scene of empty parts
     // gives (it was {0,0,0}-{0,0,0}, a point the solid does not hold).
@@ -154,6 +163,7 @@ int bounds_m(lua_State* L) {
 
 int euler_m(lua_State* L) {
   return guarded(L, [&] {
+    check_no_more_method(L, 1);
     EulerCounts c = self(L).euler(current_tolerance(L));
     lua_createtable(L, 0, 6);
     const std::pair<const char*, long> fields[] = {{"V", c.V}, {"E", c.E}, {"F", c.F}, {"R", c.R}, {"H", c.H}, {"S", c.S}};
@@ -168,6 +178,7 @@ int euler_m(lua_State* L) {
 // s:is_valid() -> true, or false and the broken rule in words.
 int is_valid_m(lua_State* L) {
   return guarded(L, [&] {
+    check_no_more_method(L, 1);
     const Solid& s = self(L);
     std::string why = s.validate(current_tolerance(L));
     if (why.empty()) {
@@ -188,6 +199,7 @@ int is_valid_m(lua_State* L) {
 // s:contains({x,y,z}) -> "inside" | "outside" | "boundary"
 int contains_m(lua_State* L) {
   return guarded(L, [&] {
+    check_no_more_method(L, 2);
     Vec3 p = check_vec3(L, 2);
     lua_pushstring(L, membership_name(self(L).contains(p, current_tolerance(L))));
     return 1;
@@ -198,6 +210,7 @@ int contains_m(lua_State* L) {
 // volume_max=} (counts of octree leaf cells; with boxes=true also boxes={{min=, max=, state=}, ...})
 int cells_m(lua_State* L) {
   return table_call(L, 2, [&] {
+    check_no_more_method(L, 2);
     double size = 0;
     bool boxes = false;
     if (lua_type(L, 2) == LUA_TNUMBER) {
@@ -245,6 +258,7 @@ int cells_m(lua_State* L) {
 // the face's box), reversed true when the outward normal is -S:normal.
 int faces_m(lua_State* L) {
   return guarded(L, [&] {
+    check_no_more_method(L, 1);
     std::vector<SolidFace> faces = self(L).faces(current_tolerance(L));
     lua_createtable(L, static_cast<int>(faces.size()), 0);
     for (std::size_t i = 0; i < faces.size(); ++i) {
@@ -271,6 +285,7 @@ int faces_m(lua_State* L) {
 // s:triangles{tolerance=} -> the triangle count after tessellation
 int triangles_m(lua_State* L) {
   return table_call(L, 2, [&] {
+    check_no_more_method(L, 2);
     Tolerance tol = current_tolerance(L);
     if (!lua_isnoneornil(L, 2)) {
       Options o(L, 2);
@@ -314,7 +329,7 @@ int tostring_m(lua_State* L) {
   return guarded(L, [&] {
     const Solid& s = self(L);
     std::ostringstream out;
-    if (s.empty()) out << "Solid(empty)";
+    if (s.empty() || s.bounds().empty()) out << "Solid(empty)";
     else {
       Box3 b = s.bounds();
       out << "Solid(bounds " << b.min.x() << " " << b.min.y() << " " << b.min.z() << " .. " << b.max.x() << " "

@@ -35,6 +35,12 @@ const Case kCases[] = {
     {"box(1, 1, 1):rotate(10, {0, 0, 0})", "axis must be non-zero"},
     {"box(1, 1, 1):mirror({0, 0, 0})", "axis must be non-zero"},
     {"cube(-0.0)", "must be positive"},
+    // --- queries take no more than their arguments (these were accepted and ignored) ---
+    {"cube(1):volume(5)", "bad argument #1 to 'volume' (no argument expected here (the method takes 0), got number 5)"},
+    {"cube(1):bounds(1)", "no argument expected here (the method takes 0), got number 1"},
+    {"cube(1):contains({0.5, 0.5, 0.5}, 7)", "bad argument #2 to 'contains' (no argument expected here (the method takes 1)"},
+    {"cube(1):cells(0.5, 1)", "no argument expected here (the method takes 1)"},
+    {"(cube(1) - cube(1)):inertia()", "the solid is empty: it has no centroid to take the inertia about"},
     {"extrude(rect(1, 1), 1e300)", "prism height 1.0000000000000001e+300 is beyond 1e+100"},
     {"extrude(rect(1, 1), 0)", "height must be positive"},
     {"rect(0, 1)", "width must be positive"},
