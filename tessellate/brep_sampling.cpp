@@ -91,6 +91,9 @@ double estimate_triangles(const Model& m, const Tolerance& tol, StraightAxes& st
     for (int i = 0; i < n; ++i) us[i] = u0 + du * (i + 0.5), vs[i] = v0 + dv * (i + 0.5);
     std::vector<Vec3> grid(n * n * 6);
     S.jet_grid(us, n, vs, n, 2, grid.data());
+    Box3 extent;
+    for (int i = 0; i < n * n; ++i) extent.extend(Point3(grid[static_cast<std::size_t>(i) * 6]));
+    const double size = std::max(extent.diagonal(), 1e-300);  // no spacing longer than the face
     for (int i = 0; i < n; ++i)
       for (int j = 0; j < n; ++j) {
         const Vec3* J = &grid[static_cast<std::size_t>(i * n + j) * 6];
@@ -102,10 +105,23 @@ double estimate_triangles(const Model& m, const Tolerance& tol, StraightAxes& st
         // Normal curvatures along u, v and the diagonal (second fundamental form over the first).
         double L = J[3].dot(nrm), M = J[4].dot(nrm), N = J[5].dot(nrm);
         double E = su.squaredNorm(), F = su.dot(sv), G = sv.squaredNorm();
-        double kappa = std::max({std::abs(L) / E, std::abs(N) / G, std::abs(L + 2 * M + N) / (E + 2 * F + G),
-                                 std::abs(L - 2 * M + N) / std::max(E - 2 * F + G, 1e-300)});
-        double h = spacing_for(kappa, t, a);
-        total += area / (std::sqrt(3.0) / 4 * h * h);
+        // Along u and along v apart (the tessellator stretches each parameter by its own need):
+        // a thin tube's triangles are long along it and short around it, and an isotropic
+        // spacing from its tight curvature counted torus{R=100, r=0.01} as 13.3 million
+        // triangles where it takes 90,000. The twist (diagonal curvatures) bends both ways.
+        const double twist = std::max(std::abs(L + 2 * M + N) / (E + 2 * F + G), std::abs(L - 2 * M + N) / std::max(E - 2 * F + G, 1e-300));
+        double hu = std::min(spacing_for(std::max(std::abs(L) / E, twist), t, a), size);
+        double hv = std::min(spacing_for(std::max(std::abs(N) / G, twist), t, a), size);
+        // As the tessellator: a chord's bow off its parameter line (in the surface or out of it)
+        // within tan(angle) of the width across it.
+        auto bow = [](const Vec3& d1, const Vec3& d2) {
+          const double s2 = d1.squaredNorm();
+          return s2 > 0 ? (d2 - d2.dot(d1) / s2 * d1).norm() / s2 : 0.0;
+        };
+        const double tilt = std::tan(std::min(a, radians(45.0)));
+        if (const double bu = bow(su, J[3]); bu > 0) hu = std::min(hu, std::sqrt(8 * tilt * hv / bu));
+        if (const double bv = bow(sv, J[5]); bv > 0) hv = std::min(hv, std::sqrt(8 * tilt * hu / bv));
+        total += area / (std::sqrt(3.0) / 4 * hu * hv);
       }
   });
   return total;

@@ -355,3 +355,15 @@ TEST_CASE("a thin tube needs no more triangles at coarse tolerances than at fine
     CHECK(mesh.triangles.size() < 8000);
   }
 }
+
+TEST_CASE("the triangle estimate of a thin ring counts along it and around it apart", "[tessellate][curved][budget]") {
+  // The estimate took one spacing per cell from its tightest curvature (around the wire), as if
+  // the triangles were as short along the ring: torus{R=100, r=0.01} at tolerance 1 was refused
+  // as "about 13.3 million triangles, more than the budget of 10,000,000"; it takes about 90,000.
+  Tolerance t;
+  t.chordal = 1;
+  const Mesh mesh = tessellate(torus(100, 0.01), t);
+  INFO(mesh.triangles.size() << " triangles");
+  CHECK(mesh.triangles.size() > 20000);
+  CHECK(mesh.triangles.size() < 200000);
+}
