@@ -802,6 +802,81 @@ Model sweep_along(const Section& s, const CurvePtr& path) {
   }, "sweep"), "swept");
 }
 
+namespace {
+
+// Refuses a loft whose blend turns a section over. The sides blend the sections with the cardinal
+// natural cubic splines N_i(v) (LoftedSurface), which can overshoot: through half-widths 1, 0.1, 1
+// at heights 0, 1, 1.05 a square's half-width followed the cubic down to -2.996, so the square
+// shrank to a point and turned over. That solid passed validate() (its faces are parametric and
+// the pinch is inside one), and tessellating it ran 33 s and 2.6 GB into the point budget.
+//
+// The test is exact up to the sampling in v: the section of a loop at v is sum_i N_i(v) C_i(u), so
+// the mixed area of the sections at v and w, 1/2 of the integral of x_v y_w' - y_v x_w', is the
+// bilinear form N(v)^T B N(w) with B_ij the mixed areas of the profiles' loops (each piece taken
+// over [0, 1], as LoftedSurface does). A section that turns over between two samples v < w has a
+// mixed area of the opposite sign to the loop's own (a square scaled by s and by s' < 0: s s' times
+// its area), and one that pinches to a point or a line there has none. Sampling each pair of
+// heights 64 times costs n^2 products per sample; B costs one quadrature per piece and profile.
+void require_no_turnover(const std::vector<SectionLoop>& loops, const std::vector<double>& params,
+                         const std::vector<double>& heights, const char* which) {
+  const std::size_t n = loops.size();
+  // Points and derivatives at Gauss-Legendre nodes (8 per sixteenth of each piece's domain).
+  static const double kX[4] = {0.1834346424956498, 0.5255324099163290, 0.7966664774136267, 0.9602898564975363};
+  static const double kW[4] = {0.3626837833783620, 0.3137066708834664, 0.2223810344533745, 0.1012285362903763};
+  constexpr int kPanels = 16;
+  std::vector<std::vector<Vec3>> p(n), d(n);
+  std::vector<double> weight;
+  for (std::size_t i = 0; i < n; ++i)
+    for (const auto& c : loops[i]) {
+      auto [a, b] = c->domain();
+      for (int k = 0; k < kPanels; ++k)
+        for (int g = 0; g < 8; ++g) {
+          const double x = g < 4 ? -kX[g] : kX[g - 4], u = (k + 0.5 + 0.5 * x) / kPanels;
+          p[i].push_back(c->derivative(a + u * (b - a), 0));
+          d[i].push_back((b - a) * c->derivative(a + u * (b - a), 1));
+          if (i == 0) weight.push_back(kW[g % 4] / (2 * kPanels));
+        }
+    }
+  Eigen::MatrixXd B(n, n);
+  for (std::size_t i = 0; i < n; ++i)
+    for (std::size_t j = 0; j < n; ++j) {
+      double s = 0;
+      for (std::size_t q = 0; q < weight.size(); ++q) s += weight[q] * (p[i][q].x() * d[j][q].y() - p[i][q].y() * d[j][q].x());
+      B(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)) = s / 2;
+    }
+  // Symmetric in exact arithmetic (integration by parts); the mean of the two quadratures.
+  B = (0.5 * (B + B.transpose())).eval();
+  std::vector<HermiteSpline> cardinal;
+  for (std::size_t i = 0; i < n; ++i) {
+    std::vector<Point3> e(n, Point3::Zero());
+    e[i] = Point3(1, 0, 0);
+    cardinal.push_back(natural_spline(params, e));
+  }
+  auto blend = [&](double v) {
+    Eigen::VectorXd N(n);
+    for (std::size_t i = 0; i < n; ++i) N(static_cast<Eigen::Index>(i)) = cardinal[i].derivative(v, 0).x();
+    return N;
+  };
+  const double sign = B(0, 0) > 0 ? 1 : -1;  // outer loops counter-clockwise, holes clockwise
+  constexpr int kSteps = 64;
+  for (std::size_t i = 0; i + 1 < n; ++i) {
+    Eigen::VectorXd prev = blend(params[i]);
+    for (int s = 1; s <= kSteps; ++s) {
+      const double v = s == kSteps ? params[i + 1] : params[i] + (params[i + 1] - params[i]) * s / kSteps;
+      const Eigen::VectorXd N = blend(v);
+      if (!(sign * prev.dot(B * N) > 0) || !(sign * N.dot(B * N) > 0)) {
+        const double z = heights[i] + (heights[i + 1] - heights[i]) * (s - 0.5) / kSteps;
+        fail("loft: between profiles ", i + 1, " and ", i + 2, " (heights ", heights[i], " and ", heights[i + 1],
+             ") the spline through the profiles shrinks ", which, " to nothing and turns it over near height ",
+             z, ": space the heights more evenly, or add profiles where the shape changes fast");
+      }
+      prev = N;
+    }
+  }
+}
+
+}  // namespace
+
 Model loft(const std::vector<Section>& sections, const std::vector<double>& heights) {
   if (sections.size() < 2) fail("loft: needs at least two profiles, got ", sections.size());
   if (heights.size() != sections.size()) fail("loft: ", sections.size(), " profiles but ", heights.size(), " heights");
@@ -826,6 +901,18 @@ Model loft(const std::vector<Section>& sections, const std::vector<double>& heig
   std::vector<double> params(heights.size());
   for (std::size_t i = 0; i < heights.size(); ++i) params[i] = (heights[i] - heights[0]) / (heights.back() - heights[0]);
   params.back() = 1;
+  if (ns.size() > 2) {
+    // Two profiles blend linearly: between two sections of positive area the mixed area can
+    // still reach zero only where the loft would cross itself, which validate() sees on its caps.
+    std::vector<SectionLoop> outer;
+    for (const auto& s : ns) outer.push_back(s.outer);
+    require_no_turnover(outer, params, heights, "the outer loop");
+    for (std::size_t k = 0; k < ns[0].holes.size(); ++k) {
+      std::vector<SectionLoop> hole;
+      for (const auto& s : ns) hole.push_back(s.holes[k]);
+      require_no_turnover(hole, params, heights, ("hole " + std::to_string(k + 1)).c_str());
+    }
+  }
   // Pieces of every section at their heights; the side of piece j lofts piece j of each.
   std::vector<std::vector<SurfacePtr>> sides;
   std::size_t K = 1 + ns[0].holes.size();

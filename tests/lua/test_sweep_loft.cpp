@@ -95,10 +95,12 @@ TEST_CASE("loft of identical squares at uneven heights is the straight prism", "
 }
 
 TEST_CASE("loft between different profiles stays within the slab of its heights", "[lua][loft]") {
-  // A square, a small one near it, a large one far above: z along the sides is linear in the
-  // parameter, so no point of the solid lies below the first height or above the last.
+  // A square, a slightly smaller one near it, a large one far above: z along the sides is linear
+  // in the parameter, so no point of the solid lies below the first height or above the last.
+  // (With a square half as wide near the first, the spline through the half-widths 1, 0.5, 1.5
+  // fell to -2.94 at z = 0.82: the square turned over, and loft now refuses it, see below.)
   auto r = run_lua(R"(
-    local s = loft{profiles = {rect(2, 2, true), rect(1, 1, true), rect(3, 3, true)}, heights = {0, 0.05, 2}}
+    local s = loft{profiles = {rect(2, 2, true), rect(1.9, 1.9, true), rect(3, 3, true)}, heights = {0, 0.05, 2}}
     local b = s:bounds()
     assert(math.abs(b.min[3]) <= 1e-12, b.min[3])
     assert(math.abs(b.max[3] - 2) <= 1e-12, b.max[3])
@@ -106,4 +108,42 @@ TEST_CASE("loft between different profiles stays within the slab of its heights"
   )", "@slab.lua");
   CHECK(r.status == 0);
   CHECK(r.err == "");
+}
+
+TEST_CASE("loft refuses a blend that shrinks a section through a point and turns it over", "[lua][loft]") {
+  // The natural spline through the half-widths 1, 0.1, 1 at heights 0, 1, 1.05 reaches -2.996 at
+  // z = 0.61: the solid passed is_valid() and tessellating it took 33 s and 2.6 GB before failing.
+  auto t0 = std::chrono::steady_clock::now();
+  auto r = run_lua(R"(
+    local function sq(a) return rect(2 * a, 2 * a, true) end
+    local s = loft{profiles = {sq(1), sq(0.1), sq(1)}, heights = {0, 1, 1.05}}
+  )", "@pinch.lua");
+  CHECK(seconds_of(t0) < 2);
+  CHECK(r.status != 0);
+  CHECK_THAT(r.err, Catch::Contains("pinch.lua:3: loft: between profiles 1 and 2 (heights 0 and 1) "
+                                    "the spline through the profiles shrinks the outer loop to nothing and turns it over"));
+  // A hole turns over as well as the outer loop; a circle as well as a polygon.
+  auto h = run_lua(R"(
+    local function sq(a) return {{-a, -a}, {a, -a}, {a, a}, {-a, a}} end
+    local function p(r) return polygon{outer = sq(3), holes = {circle(r)}} end
+    local s = loft{profiles = {p(1), p(0.1), p(1)}, heights = {0, 1, 1.05}}
+  )", "@hole.lua");
+  CHECK_THAT(h.err, Catch::Contains("shrinks hole 1 to nothing and turns it over"));
+}
+
+TEST_CASE("loft through three profiles that stay apart is still built", "[lua][loft]") {
+  // Half-widths 1, 0.5, 1 at even heights: the spline dips to 0.5 and no further. The bulge of
+  // half-widths 1, 1, 0.01 at heights 0, 1, 1.01 (the spline overshoots to 19.86 between the
+  // first two, as a natural cubic with a slope of -99 at one end must) keeps its sections the
+  // right way round: a valid solid, if not the one a reader may expect.
+  auto r = run_lua(R"(
+    local function sq(a) return rect(2 * a, 2 * a, true) end
+    local s = loft{profiles = {sq(1), sq(0.5), sq(1)}, heights = {0, 1, 2}}
+    assert(s:is_valid())
+    local b = loft{profiles = {sq(1), sq(1), sq(0.01)}, heights = {0, 1, 1.01}}
+    assert(b:is_valid())
+    assert(math.abs(b:bounds().max[1] - 19.8639) < 1e-3, b:bounds().max[1])
+  )", "@apart.lua");
+  CHECK(r.err == "");
+  CHECK(r.status == 0);
 }
