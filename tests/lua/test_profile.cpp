@@ -65,3 +65,36 @@ TEST_CASE("bad profiles and extrude arguments are errors naming the argument", "
   CHECK_THAT(run("extrude(bezier{{0,0},{1,1},{2,0}}, 1)\n", "@e.lua").err, Catch::Contains("the curve is open"));
   CHECK_THAT(run("polygon{outer={{0,0},{1,0},{1,1}}, holes=5}\n", "@h.lua").err, Catch::Contains("h.lua:1: polygon: holes must be a list of polygons or closed curves, got number"));
 }
+
+TEST_CASE("a curve hole is checked against the outer ring by the exact curve", "[lua][profile][errors]") {
+  // The outer ring is the polyline of a circle 1.001 times the hole's radius: the hole's own
+  // polyline at the tolerance 0.01 fits inside it, but the exact circle crosses every edge of the
+  // ring by up to 0.009. It was accepted, is_valid() said true, and triangles{} then failed.
+  auto r = run(R"(
+    local pts = circle(1):points{tolerance = 0.01}
+    local outer = {}
+    for i = 1, #pts - 1 do outer[i] = {1.001 * pts[i][1], 1.001 * pts[i][2]} end
+    local p = polygon{outer = outer, holes = {circle(1)}}
+  )", "@hole.lua");
+  CHECK(r.status != 0);
+  CHECK_THAT(r.err, Catch::Contains("hole.lua:5: polygon: hole 1 touches or crosses the outer ring (a hole must lie strictly inside it)"));
+  // One edge of a square 0.002 inside the circle, the polyline clear of it.
+  auto e = run(R"(
+    local a, d = math.rad(5.625), 0.998
+    local n, t = {math.cos(a), math.sin(a)}, {-math.sin(a), math.cos(a)}
+    local function P(s, u) return {n[1] * s + t[1] * u, n[2] * s + t[2] * u} end
+    local p = polygon{outer = {P(-3, -3), P(d, -3), P(d, 3), P(-3, 3)}, holes = {circle(1)}}
+  )", "@edge.lua");
+  CHECK_THAT(e.err, Catch::Contains("edge.lua:5: polygon: hole 1 touches or crosses the outer ring"));
+  // Two circles 1e-6 apart touch nothing; two that overlap by 1e-6 do.
+  auto k = run(R"(
+    local sq = {{-5, -5}, {5, -5}, {5, 5}, {-5, 5}}
+    local p = polygon{outer = sq, holes = {circle(1), circle{r = 1, center = {2 + 1e-6, 0}}}}
+    assert(math.abs(p:area() - (100 - 2 * math.pi)) < 0.1, p:area())  -- of the polylines
+    assert(math.abs(extrude(p, 1):volume() - (100 - 2 * math.pi)) < 1e-9)
+    local ok, err = pcall(polygon, {outer = sq, holes = {circle(1), circle{r = 1, center = {2 - 1e-6, 0}}}})
+    assert(not ok and err:find("holes 1 and 2 touch or cross each other", 1, true), err)
+  )");
+  INFO(k.err);
+  CHECK(k.status == 0);
+}
