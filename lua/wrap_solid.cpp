@@ -356,11 +356,14 @@ int tolerance_fn(lua_State* L) {
       auto budget = o.number("max_triangles");
       auto crossings = o.number("max_crossings");
       o.finish();
-      if (budget) lua_pushnumber(L, check_max_triangles(*budget, 1)), lua_setfield(L, LUA_REGISTRYINDEX, kMaxTrianglesKey);
-      if (crossings)
-        lua_pushnumber(L, check_budget("max_crossings", *crossings, 1)), lua_setfield(L, LUA_REGISTRYINDEX, kMaxCrossingsKey);
+      // Every field is checked before any is set: {max_triangles=1000, chordal=-1} raised its
+      // error about chordal but had already set max_triangles to 1000.
+      const double checked_budget = budget ? check_max_triangles(*budget, 1) : 0;
+      const double checked_crossings = crossings ? check_budget("max_crossings", *crossings, 1) : 0;
       if (chordal && !(*chordal > 0)) throw ArgError{1, "field 'chordal' must be positive, got " + number_text(*chordal)};
       if (angle && !(*angle > 0 && *angle <= 90)) throw ArgError{1, "field 'angle' must be within 0..90 degrees (above 0), got " + number_text(*angle)};
+      if (budget) lua_pushnumber(L, checked_budget), lua_setfield(L, LUA_REGISTRYINDEX, kMaxTrianglesKey);
+      if (crossings) lua_pushnumber(L, checked_crossings), lua_setfield(L, LUA_REGISTRYINDEX, kMaxCrossingsKey);
       if (chordal) lua_pushnumber(L, *chordal), lua_setfield(L, LUA_REGISTRYINDEX, kToleranceKey);
       if (angle) lua_pushnumber(L, *angle), lua_setfield(L, LUA_REGISTRYINDEX, kAngleKey);
     } else if (!lua_isnoneornil(L, 1)) {

@@ -258,3 +258,18 @@ TEST_CASE("tolerance takes its positional and its table form", "[lua][contract]"
   INFO(r.err);
   CHECK(r.status == 0);
 }
+
+TEST_CASE("tolerance changes nothing when one of its fields is refused", "[lua][contract]") {
+  // {max_triangles = 1000, chordal = -1} raised its error about chordal but had already set the
+  // budget to 1000.
+  auto r = run(R"LUA(
+    local ok, err = pcall(tolerance, {max_triangles = 1000, chordal = -1})
+    assert(not ok and err:find("chordal must be positive, got -1", 1, true), err)
+    ok, err = pcall(tolerance, {max_crossings = 100, angle = 0})
+    assert(not ok and err:find("angle must be within 0..90", 1, true), err)
+    local c, a, t, x = tolerance()
+    assert(c == 0.01 and a == 15 and t == 10000000 and x == 50000, c .. " " .. a .. " " .. t .. " " .. x)
+  )LUA");
+  INFO(r.err);
+  CHECK(r.status == 0);
+}
