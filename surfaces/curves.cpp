@@ -45,13 +45,17 @@ void Curve::jet(double t, int d, Vec3* out) const {
 }
 
 Vec3 Curve::tangent(double t) const {
-  Vec3 d = derivative(t, 1);
-  double n = d.norm();
-  if (n == 0) {
-    d = derivative(t, 2);  // a cusp of the parametrisation: the tangent is the next derivative's
+  // Where the parametrisation stops (a cusp of it), the tangent is that of the first derivative
+  // that is not zero: bezier{{0,0},{0,0},{0,0},{1,0}} at 0 has C' = C'' = 0 and C''' = (6, 0), and
+  // stopping at the second derivative said it did not move. 64 is the highest order the curves
+  // compute (nurbs_curve.cpp); a polynomial's derivatives past its degree are all zero.
+  Vec3 d = Vec3::Zero();
+  double n = 0;
+  for (int k = 1; k <= 64 && n == 0; ++k) {
+    d = derivative(t, k);
     n = d.norm();
   }
-  return n > 0 ? Vec3(d / n) : Vec3::Zero();
+  return n > 0 && std::isfinite(n) ? Vec3(d / n) : Vec3::Zero();
 }
 
 namespace {

@@ -235,3 +235,19 @@ TEST_CASE("S:mesh{welded=true} closes seams and poles", "[lua][curves]") {
   auto pot = run_lua("local m = teapot():mesh{tolerance = 0.1, welded = true}\n", "@wp.lua");
   CHECK_THAT(pot.err, Catch::StartsWith("wp.lua:1: mesh: welded=true needs a single-patch surface (this one has 32 patches)"));
 }
+
+TEST_CASE("a tangent where the first two derivatives vanish is the next derivative's", "[lua][curves]") {
+  // bezier{{0,0},{0,0},{0,0},{1,0}} leaves its start along +x (C''' = (6, 0)), but the tangent
+  // looked at the first two derivatives only and said the curve did not move there.
+  auto r = run_lua(R"(
+    local t = bezier{{0, 0}, {0, 0}, {0, 0}, {1, 0}}:tangent(0)
+    assert(t[1] == 1 and t[2] == 0, t[1] .. " " .. t[2])
+    t = bezier{{1, 1, 1}, {1, 1, 1}, {1, 1, 1}, {1, 1, 1}, {1, 3, 1}}:tangent(0)
+    assert(t[1] == 0 and t[2] == 1 and t[3] == 0)
+    -- a curve that does not move at all still has no tangent
+    local ok, err = pcall(function() return bezier{{2, 2}, {2, 2}, {2, 2}}:tangent(0.5) end)
+    assert(not ok and err:find("no tangent at t = 0.5", 1, true), err)
+  )");
+  INFO(r.err);
+  CHECK(r.status == 0);
+}
