@@ -27,6 +27,6 @@ const LuaSurface& check_surface(lua_State* L, int idx);
 void push_surface(lua_State* L, LuaSurface s);
 // All patches meshed to `tolerance`; face_ids are the 0-based patch numbers.
 // welded: tessellate_welded (seams merged, poles collapsed); single-patch surfaces only.
-Mesh surface_mesh(const LuaSurface& s, double tolerance, bool welded = false);
+Mesh surface_mesh(const LuaSurface& s, double tolerance, bool welded = false, std::size_t max_triangles = SIZE_MAX);
 
 }  // namespace wedge::lua

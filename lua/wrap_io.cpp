@@ -122,7 +122,7 @@ int export_fn(lua_State* L) {
         mesh = format == "obj" ? solid->shaded_mesh(tol) : solid->tagged_mesh(tol);
         options.triangle_colors = triangle_colours(L, 1, mesh, solid->face_tags(tol));
       } else {
-        mesh = surface && surface->patches.size() == 1 ? surface_mesh(*surface, tol.chordal, true) : to_mesh(L, 1, 1, tol);
+        mesh = surface && surface->patches.size() == 1 ? surface_mesh(*surface, tol.chordal, true, tol.max_triangles) : to_mesh(L, 1, 1, tol);
       }
     }
     Stage stage(L, "write");
@@ -145,7 +145,7 @@ int import_fn(lua_State* L) {
 
 // Free-form surfaces (and the teapot's patches) export and render as their meshes.
 std::optional<Mesh> surface_to_mesh(lua_State* L, int idx, const Tolerance& tol) {
-  if (const LuaSurface* s = test_surface(L, idx)) return surface_mesh(*s, tol.chordal);
+  if (const LuaSurface* s = test_surface(L, idx)) return surface_mesh(*s, tol.chordal, false, tol.max_triangles);
   return std::nullopt;
 }
 

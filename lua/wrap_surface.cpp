@@ -370,7 +370,8 @@ int mesh_fn(lua_State* L) {
       welded = o.boolean("welded", false);
       o.finish();
     }
-    Mesh m = as_arg(2, [&] { return surface_mesh(s, tol, welded); });
+    const std::size_t budget = current_tolerance(L).max_triangles;
+    Mesh m = as_arg(2, [&] { return surface_mesh(s, tol, welded, budget); });
     lua_createtable(L, 0, 5);
     push_points(L, m.positions);
     lua_setfield(L, -2, "vertices");
@@ -432,14 +433,14 @@ const luaL_Reg kMeta[] = {{"__tostring", tostring_fn}, {nullptr, nullptr}};
 const LuaSurface* test_surface(lua_State* L, int idx) { return test_object<LuaSurface>(L, idx, kKey); }
 const LuaSurface& check_surface(lua_State* L, int idx) { return check_object<LuaSurface>(L, idx, kKey, "Surface"); }
 
-Mesh surface_mesh(const LuaSurface& s, double tolerance, bool welded) {
+Mesh surface_mesh(const LuaSurface& s, double tolerance, bool welded, std::size_t max_triangles) {
   if (s.patches.empty()) return Mesh();
   if (welded) {
     if (s.patches.size() != 1)
       fail("welded=true needs a single-patch surface (this one has ", s.patches.size(), " patches)");
-    return tessellate_welded(*s.patches[0], tolerance, 0);
+    return tessellate_welded(*s.patches[0], tolerance, 0, max_triangles);
   }
-  return tessellate_patches(s.patches, tolerance);
+  return tessellate_patches(s.patches, tolerance, max_triangles);
 }
 
 void register_surfaces(lua_State* L) {

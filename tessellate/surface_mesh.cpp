@@ -21,9 +21,14 @@ std::vector<double> unique_sorted(std::vector<double> v) {
   return v;
 }
 
+[[noreturn]] void over_budget(std::size_t triangles, double tolerance, std::size_t max_triangles) {
+  fail("tessellate: the surface needs about ", triangles, " triangles at tolerance ", tolerance, ", more than the budget of ",
+       max_triangles, ": use a larger tolerance or raise max_triangles");
+}
+
 // The refined parameter grid of tessellate() and its evaluated points (row-major, us outer).
 void refine_grid(const Surface& s, double tolerance, std::vector<double>& us, std::vector<double>& vs,
-                 std::vector<Point3>& grid) {
+                 std::vector<Point3>& grid, std::size_t max_triangles) {
   if (!(tolerance > 0) || !std::isfinite(tolerance)) fail("tolerance must be a positive number, got ", tolerance);
   std::vector<double> ub = unique_sorted(s.u_breaks()), vb = unique_sorted(s.v_breaks());
   std::vector<int> cu(ub.size() - 1, 2), cv(vb.size() - 1, 2);
@@ -40,6 +45,11 @@ void refine_grid(const Surface& s, double tolerance, std::vector<double>& us, st
   };
   const double limit = 0.5 * tolerance;
   const std::size_t max_vertices = std::size_t(1) << 22;
+  // The budget is checked on each grid before it is evaluated: teapot():mesh{tolerance=1e-5}
+  // ignored tolerance{max_triangles=} and grew to 9.5 GB (4M vertices a patch, 32 patches).
+  auto require_budget = [&](std::size_t nu, std::size_t nv) {
+    if (2 * (nu - 1) * (nv - 1) > max_triangles) over_budget(2 * (nu - 1) * (nv - 1), tolerance, max_triangles);
+  };
   std::vector<int> uo, vo;
   for (int round = 0;; ++round) {
     us = params(ub, cu, uo);
@@ -81,6 +91,7 @@ void refine_grid(const Surface& s, double tolerance, std::vector<double>& us, st
     std::size_t next_u = 1, next_v = 1;
     for (int c : cu) next_u += std::size_t(c);
     for (int c : cv) next_v += std::size_t(c);
+    require_budget(next_u, next_v);
     if (next_u * next_v > max_vertices || round > 30)
       fail("tolerance ", tolerance, " would need more than ", max_vertices, " mesh vertices on this surface: use a larger tolerance");
   }
@@ -107,6 +118,7 @@ void refine_grid(const Surface& s, double tolerance, std::vector<double>& us, st
     next_v += std::size_t(cv[i]);
   }
   if (!finer) return;
+  require_budget(next_u, next_v);
   if (next_u * next_v > max_vertices)
     fail("tolerance ", tolerance, " would need more than ", max_vertices,
          " mesh vertices to follow this surface's trim loops: use a larger tolerance");
@@ -119,17 +131,17 @@ void refine_grid(const Surface& s, double tolerance, std::vector<double>& us, st
 
 }  // namespace
 
-Mesh tessellate(const Surface& s, double tolerance, int face_id) {
+Mesh tessellate(const Surface& s, double tolerance, int face_id, std::size_t max_triangles) {
   std::vector<double> us, vs;
   std::vector<Point3> grid;
-  refine_grid(s, tolerance, us, vs, grid);
+  refine_grid(s, tolerance, us, vs, grid, max_triangles);
   return tessellate_grid(s, us, vs, face_id, &grid);
 }
 
-Mesh tessellate_welded(const Surface& s, double tolerance, int face_id) {
+Mesh tessellate_welded(const Surface& s, double tolerance, int face_id, std::size_t max_triangles) {
   std::vector<double> us, vs;
   std::vector<Point3> grid;
-  refine_grid(s, tolerance, us, vs, grid);
+  refine_grid(s, tolerance, us, vs, grid, max_triangles);
   return tessellate_grid_welded(s, us, vs, face_id, &grid);
 }
 
@@ -246,9 +258,9 @@ Mesh tessellate_grid_welded(const Surface& s, const std::vector<double>& us, con
   return m;
 }
 
-Mesh tessellate_patches(const std::vector<SurfacePtr>& patches, double tolerance) {
+Mesh tessellate_patches(const std::vector<SurfacePtr>& patches, double tolerance, std::size_t max_triangles) {
   if (patches.empty()) return Mesh();
-  if (patches.size() == 1) return tessellate(*patches[0], tolerance, 0);
+  if (patches.size() == 1) return tessellate(*patches[0], tolerance, 0, max_triangles);
   // Patches meshed independently would sample a shared edge at different points and leave cracks
   // (T-junctions). Instead every patch gets the same uniform grid, as fine as the most demanding
   // patch needs, so shared edges get the same points.
@@ -256,7 +268,7 @@ Mesh tessellate_patches(const std::vector<SurfacePtr>& patches, double tolerance
   bool trimmed = false;
   for (const auto& p : patches) {
     trimmed = trimmed || !p->trims.empty();
-    Mesh m = tessellate(*p, tolerance);
+    Mesh m = tessellate(*p, tolerance, -1, max_triangles);
     std::vector<double> us, vs;
     for (const auto& uv : m.uvs) {
       us.push_back(uv.x());
@@ -267,12 +279,14 @@ Mesh tessellate_patches(const std::vector<SurfacePtr>& patches, double tolerance
       n = std::max(n, std::size_t(std::unique(t->begin(), t->end()) - t->begin()) - 1);
     }
   }
+  // Every untrimmed patch gets the n x n grid: the whole is known before any of it is made.
+  if (!trimmed && 2 * n * n * patches.size() > max_triangles) over_budget(2 * n * n * patches.size(), tolerance, max_triangles);
   Mesh all;
   for (std::size_t i = 0; i < patches.size(); ++i) {
     const Surface& p = *patches[i];
     Mesh m;
     if (trimmed) {
-      m = tessellate(p, tolerance, int(i));
+      m = tessellate(p, tolerance, int(i), max_triangles - std::min(max_triangles, all.triangle_count()));
     } else {
       auto [u0, u1] = p.u_domain();
       auto [v0, v1] = p.v_domain();

@@ -2,6 +2,7 @@
 // rendering, export and closed single-surface solids (B-Rep faces go through tessellate(Model) in
 // tessellate/brep_mesh.h instead).
 #pragma once
+#include <cstdint>
 #include <vector>
 
 #include "kernel/mesh.h"
@@ -13,9 +14,10 @@ namespace wedge {
 // parameters) stays below `tolerance`: a grid refined until midpoint samples of every cell agree.
 // This is the render mesh: vertices along a closed seam or a pole are not merged, so each keeps
 // its own uv (a texture wraps without a jump). Trims keep the cells whose centroid is inside.
-// Throws if the tolerance would need more than 4M vertices. Positions, normals and uvs (the surface
+// Throws if the tolerance would need more than 4M vertices, or more than max_triangles triangles
+// (checked on each refined grid before it is evaluated). Positions, normals and uvs (the surface
 // parameters) are filled; face_ids = face_id.
-Mesh tessellate(const Surface& s, double tolerance, int face_id = -1);
+Mesh tessellate(const Surface& s, double tolerance, int face_id = -1, std::size_t max_triangles = SIZE_MAX);
 // The same grid welded for solids and export: where the first and last rows in u (or v) coincide
 // (within 1e-9 of the surface's size, found by evaluation) they become one row, and a row that
 // maps to one point (a pole) becomes one vertex that its triangles fan into (no degenerate
@@ -24,7 +26,7 @@ Mesh tessellate(const Surface& s, double tolerance, int face_id = -1);
 // tessellate() for texturing); a pole vertex has the middle of the collapsed row's parameter range
 // and the pole's limit normal (the mean of the normals taken just inside the pole from each grid
 // point). A closed result is oriented outward (triangles and normals reversed if Su x Sv points in).
-Mesh tessellate_welded(const Surface& s, double tolerance, int face_id = -1);
+Mesh tessellate_welded(const Surface& s, double tolerance, int face_id = -1, std::size_t max_triangles = SIZE_MAX);
 // The mesh of the grid us x vs (parameters increasing; trims applied as in tessellate()). Patches
 // that share an edge and are meshed with the same parameters along it get the same edge points,
 // which is how multi-patch surfaces are tessellated without cracks. `points`, if given, holds the
@@ -37,6 +39,7 @@ Mesh tessellate_grid_welded(const Surface& s, const std::vector<double>& us, con
 // Several patches (the teapot) as one mesh, triangles carrying their patch's index as face id.
 // Untrimmed patches all get one uniform grid, as fine as the most demanding patch needs, so edges
 // that patches share get the same points (no T-junctions); trimmed patches are meshed one by one.
-Mesh tessellate_patches(const std::vector<SurfacePtr>& patches, double tolerance);
+// max_triangles bounds the whole mesh, checked before the shared grid is made.
+Mesh tessellate_patches(const std::vector<SurfacePtr>& patches, double tolerance, std::size_t max_triangles = SIZE_MAX);
 
 }  // namespace wedge

@@ -2,6 +2,7 @@
 // [0, 1], meshes come back as tables, and bad input is an error naming the function and argument.
 #include <catch2/catch.hpp>
 
+#include <chrono>
 #include <sstream>
 
 #include "lua/wedge_lua.h"
@@ -250,4 +251,30 @@ TEST_CASE("a tangent where the first two derivatives vanish is the next derivati
   )");
   INFO(r.err);
   CHECK(r.status == 0);
+}
+
+TEST_CASE("S:mesh keeps to the triangle budget and refuses before it meshes", "[lua][surfaces]") {
+  // teapot():mesh{tolerance=1e-3} gave 341056 triangles under a budget of 1000, and at 1e-5 grew
+  // to 9.5 GB: S:mesh{} ignored tolerance{max_triangles=}.
+  auto t0 = std::chrono::steady_clock::now();
+  auto r = run_lua(R"(
+    tolerance{max_triangles = 1000}
+    local ok, err = pcall(function() return teapot():mesh{tolerance = 1e-3} end)
+    assert(not ok and err:find("more than the budget of 1000: use a larger tolerance or raise max_triangles", 1, true), err)
+    ok, err = pcall(function() return teapot():mesh{tolerance = 1e-6} end)
+    assert(not ok and err:find("more than the budget of 1000", 1, true), err)
+    local h = math.sqrt(2) / 2
+    local semi = nurbs{points = {{0, -1}, {1, -1}, {1, 0}, {1, 1}, {0, 1}}, weights = {1, h, 1, h, 1},
+                       knots = {0, 0, 0, 0.5, 0.5, 1, 1, 1}, degree = 2}
+    ok, err = pcall(function() return revolved_surface(semi):mesh{tolerance = 1e-4, welded = true} end)
+    assert(not ok and err:find("more than the budget of 1000", 1, true), err)
+    -- within the budget, as before
+    local m = revolved_surface(semi):mesh{tolerance = 0.1}
+    assert(#m.triangles > 0 and #m.triangles <= 1000, #m.triangles)
+    tolerance{max_triangles = 10000000}
+    assert(#teapot():mesh{tolerance = 0.05}.triangles > 1000)
+  )");
+  INFO(r.err);
+  CHECK(r.status == 0);
+  CHECK(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() < 10);
 }
