@@ -377,9 +377,19 @@ int mesh_fn(lua_State* L) {
     lua_setfield(L, -2, "vertices");
     push_points(L, m.normals);
     lua_setfield(L, -2, "normals");
+    // The mesh's uvs are each patch's own parameters (radians on a revolved surface, 0..2 on a
+    // Catmull-Rom extrusion of 3 points); S:eval takes them normalised to [0, 1] per patch, and
+    // a vertex's uv passed to it raised "parameter u must be in [0, 1]" or gave a point up to 2
+    // units away on a unit sphere. A vertex's patch is that of its triangles.
+    std::vector<int> patch_of(m.uvs.size(), 0);
+    for (std::size_t i = 0; i < m.triangles.size() && i < m.face_ids.size(); ++i)
+      for (int k = 0; k < 3; ++k) patch_of[static_cast<std::size_t>(m.triangles[i][k])] = std::max(m.face_ids[i], 0);
     lua_createtable(L, int(m.uvs.size()), 0);
     for (std::size_t i = 0; i < m.uvs.size(); ++i) {
-      push_vec2(L, m.uvs[i]);
+      const Surface& S = *s.patches[std::min(static_cast<std::size_t>(patch_of[i]), s.patches.size() - 1)];
+      auto [u0, u1] = S.u_domain();
+      auto [v0, v1] = S.v_domain();
+      push_vec2(L, Vec2(u1 > u0 ? (m.uvs[i].x() - u0) / (u1 - u0) : 0, v1 > v0 ? (m.uvs[i].y() - v0) / (v1 - v0) : 0));
       lua_rawseti(L, -2, lua_Integer(i + 1));
     }
     lua_setfield(L, -2, "uvs");

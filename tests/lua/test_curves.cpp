@@ -278,3 +278,35 @@ TEST_CASE("S:mesh keeps to the triangle budget and refuses before it meshes", "[
   CHECK(r.status == 0);
   CHECK(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() < 10);
 }
+
+TEST_CASE("S:mesh uvs are the normalised parameters S:eval takes", "[lua][surfaces]") {
+  // The uvs were each patch's own parameters: 0..6.283 around a revolved surface, 0..2 along a
+  // Catmull-Rom of three points, so S:eval(uv) raised "parameter u must be in [0, 1]".
+  auto r = run_lua(R"(
+    local h = math.sqrt(2) / 2
+    local semi = nurbs{points = {{0, -1}, {1, -1}, {1, 0}, {1, 1}, {0, 1}}, weights = {1, h, 1, h, 1},
+                       knots = {0, 0, 0, 0.5, 0.5, 1, 1, 1}, degree = 2}
+    for _, S in ipairs{revolved_surface(semi), revolved_surface(semi, {angle = 90}),
+                       extruded_surface(catmull_rom{points = {{0, 0}, {1, 0}, {1, 1}}}, {0, 0, 1}), teapot()} do
+      for _, welded in ipairs(S:patches() == 1 and {false, true} or {false}) do
+        local m = S:mesh{tolerance = 0.05, welded = welded}
+        local patch = {}
+        for i, t in ipairs(m.triangles) do for k = 1, 3 do patch[t[k]] = m.patches[i] end end
+        local umax, vmax = 0, 0
+        for i, uv in ipairs(m.uvs) do
+          assert(uv[1] >= 0 and uv[1] <= 1 and uv[2] >= 0 and uv[2] <= 1, uv[1] .. " " .. uv[2])
+          umax, vmax = math.max(umax, uv[1]), math.max(vmax, uv[2])
+          if patch[i] then
+            local p, q = S:eval(uv[1], uv[2], patch[i]), m.vertices[i]
+            local d = math.sqrt((p[1] - q[1])^2 + (p[2] - q[2])^2 + (p[3] - q[3])^2)
+            assert(d < 1e-9 or welded, tostring(S) .. " vertex " .. i .. " is " .. d .. " from S:eval of its uv")
+          end
+        end
+        -- (welded, the closing row of a seam is merged into the first)
+        assert(welded or (umax == 1 and vmax == 1), umax .. " " .. vmax)
+      end
+    end
+  )");
+  INFO(r.err);
+  CHECK(r.status == 0);
+}
