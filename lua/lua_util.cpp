@@ -365,7 +365,9 @@ static Eigen::Matrix<double, N, 1> read_vector(lua_State* L, int idx, int arg, c
                             type_name(L, idx)};
   lua_Integer n = static_cast<lua_Integer>(lua_rawlen(L, idx));
   if (n != N && !(allow_shorter && n == N - 1))
-    throw ArgError{arg, what + " must have " + std::to_string(N) + " coordinates, got " + std::to_string(n)};
+    // Where a 2D point is allowed too, say so: bezier{{0,0},{1}} said "must have 3 coordinates".
+    throw ArgError{arg, what + " must have " + (allow_shorter ? std::to_string(N - 1) + " or " : std::string()) + std::to_string(N) +
+                            " coordinates, got " + std::to_string(n)};
   Eigen::Matrix<double, N, 1> v = Eigen::Matrix<double, N, 1>::Zero();
   for (lua_Integer i = 1; i <= n; ++i) {
     int t = lua_rawgeti(L, idx, i);

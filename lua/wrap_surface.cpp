@@ -166,6 +166,12 @@ int nurbs_surface_fn(lua_State* L) {
     o.finish();
     auto s = as_arg(1, [&] {
       if (grid.empty()) fail("points: the control grid is empty");
+      // open_uniform_knots speaks of a curve ("a curve of degree 3 needs at least 4 control
+      // points, got 2" for a 2 x 2 grid): name the surface's own degree and direction.
+      if (p >= 1 && grid.size() < std::size_t(p) + 1)
+        fail("udegree ", p, " needs at least ", p + 1, " rows of control points, got ", grid.size(), " (give a lower udegree=)");
+      if (q >= 1 && grid[0].size() < std::size_t(q) + 1)
+        fail("vdegree ", q, " needs at least ", q + 1, " control points in each row, got ", grid[0].size(), " (give a lower vdegree=)");
       if (U.empty()) U = open_uniform_knots(p, grid.size());
       if (V.empty()) V = open_uniform_knots(q, grid[0].size());
       return std::make_shared<const NurbsSurface>(p, q, grid, U, V, w);

@@ -3,12 +3,26 @@
 // basis functions by the triangular Cox-de Boor recurrence (left/right differences, no division
 // by zero), A2.3 their derivatives from the same table. check_knots says in words what is wrong.
 #include <algorithm>
+#include <charconv>
 #include <cmath>
+#include <string>
 #include <string_view>
 
 #include "surfaces/surfaces.h"
 
 namespace wedge {
+
+namespace {
+
+// A knot as a message shows it: the shortest text that reads back as the same double. fail()
+// prints 17 significant digits, so a knot given as 0.7 was shown as 0.69999999999999996.
+std::string knot_text(double x) {
+  char buf[32];
+  auto [end, ec] = std::to_chars(buf, buf + sizeof buf, x);
+  return ec == std::errc() ? std::string(buf, end) : std::to_string(x);
+}
+
+}  // namespace
 
 void check_knots(const std::vector<double>& knots, int degree, std::size_t count, const char* what) {
   // A surface names its direction ("uknots", "vknots"); a curve's messages keep their plain form.
@@ -29,21 +43,21 @@ void check_knots(const std::vector<double>& knots, int degree, std::size_t count
     if (!std::isfinite(knots[i])) fail(what, ": knot ", i + 1, " is not a finite number (", knots[i], ")");
   for (std::size_t i = 1; i < knots.size(); ++i)
     if (knots[i] < knots[i - 1])
-      fail(what, " must be non-decreasing: knot ", i + 1, " (", knots[i], ") is less than knot ", i, " (",
-           knots[i - 1], ")");
+      fail(what, " must be non-decreasing: knot ", i + 1, " (", knot_text(knots[i]), ") is less than knot ", i, " (",
+           knot_text(knots[i - 1]), ")");
   for (std::size_t i = 0; i < knots.size();) {
     std::size_t j = i;
     while (j < knots.size() && knots[j] == knots[i]) ++j;
     std::size_t mult = j - i;
     bool end = i == 0 || j == knots.size();
     if (mult > std::size_t(degree) + 1 || (!end && mult > std::size_t(degree)))
-      fail(what, ": knot ", knots[i], " appears ", mult, " times; at most ", end ? degree + 1 : degree,
+      fail(what, ": knot ", knot_text(knots[i]), " appears ", mult, " times; at most ", end ? degree + 1 : degree,
            " allowed for degree ", degree, end ? " at an end" : " inside");
     i = j;
   }
   if (!(knots[degree] < knots[count]))
-    fail(what, ": the curve's domain [knot ", degree + 1, ", knot ", count + 1, "] = [", knots[degree], ", ",
-         knots[count], "] is empty");
+    fail(what, ": the curve's domain [knot ", degree + 1, ", knot ", count + 1, "] = [", knot_text(knots[degree]), ", ",
+         knot_text(knots[count]), "] is empty");
 }
 
 void check_weights(const std::vector<double>& weights, std::size_t count, const char* what) {

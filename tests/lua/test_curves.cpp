@@ -310,3 +310,24 @@ TEST_CASE("S:mesh uvs are the normalised parameters S:eval takes", "[lua][surfac
   INFO(r.err);
   CHECK(r.status == 0);
 }
+
+TEST_CASE("messages about points and knots describe what was given", "[lua][curves]") {
+  auto r = run_lua(R"LUA(
+    local function err_of(f) local ok, e = pcall(f); assert(not ok); return e end
+    -- 2D points are allowed: the message said "must have 3 coordinates, got 1"
+    local e = err_of(function() return bezier{{0, 0}, {1}} end)
+    assert(e:find("must have 2 or 3 coordinates, got 1", 1, true), e)
+    e = err_of(function() return bezier{{0, 0}, {1, 1, 1, 1}} end)
+    assert(e:find("must have 2 or 3 coordinates, got 4", 1, true), e)
+    -- a 2 x 2 grid at the default degree 3 named "a curve of degree 3"
+    e = err_of(function() return nurbs_surface{points = {{{0, 0, 0}, {1, 0, 0}}, {{0, 1, 0}, {1, 1, 0}}}} end)
+    assert(e:find("udegree 3 needs at least 4 rows of control points, got 2", 1, true), e)
+    e = err_of(function() return nurbs_surface{points = {{{0, 0, 0}, {1, 0, 0}}, {{0, 1, 0}, {1, 1, 0}}}, udegree = 1} end)
+    assert(e:find("vdegree 3 needs at least 4 control points in each row, got 2", 1, true), e)
+    -- knots as given, not 0.69999999999999996
+    e = err_of(function() return nurbs{points = {{0, 0}, {1, 1}, {2, 0}}, knots = {0, 0, 0.7, 0.3, 1, 1}, degree = 2} end)
+    assert(e:find("knot 4 (0.3) is less than knot 3 (0.7)", 1, true), e)
+  )LUA");
+  INFO(r.err);
+  CHECK(r.status == 0);
+}
