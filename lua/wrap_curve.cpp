@@ -251,6 +251,7 @@ int circle_fn(lua_State* L) {
 int eval_fn(lua_State* L) {
   return guarded(L, [&] {
     const LuaCurve& c = check_curve(L, 1);
+    check_no_more_method(L, 2);
     push_point(L, c.curve->eval(curve_param(L, *c.curve, 2)), c.planar);
     return 1;
   });
@@ -259,6 +260,7 @@ int eval_fn(lua_State* L) {
 int tangent_fn(lua_State* L) {
   return guarded(L, [&] {
     const LuaCurve& c = check_curve(L, 1);
+    check_no_more_method(L, 2);
     const Vec3 t = c.curve->tangent(curve_param(L, *c.curve, 2));
     // A curve whose points coincide there does not move: {0, 0, 0} is no direction.
     if (t == Vec3::Zero() || !t.allFinite()) fail("the curve has no tangent at t = ", number_text(lua_tonumber(L, 2)), ": it does not move there (its points coincide)");
@@ -271,6 +273,7 @@ int tangent_fn(lua_State* L) {
 int derivative_fn(lua_State* L) {
   return guarded(L, [&] {
     const LuaCurve& c = check_curve(L, 1);
+    check_no_more_method(L, 3);
     double t = curve_param(L, *c.curve, 2);
     int k = lua_isnoneornil(L, 3) ? 1 : check_integer(L, 3);
     if (k < 0) throw ArgError{3, "derivative order must be >= 0, got " + std::to_string(k)};
@@ -282,14 +285,18 @@ int derivative_fn(lua_State* L) {
 
 int length_fn(lua_State* L) {
   return guarded(L, [&] {
-    lua_pushnumber(L, check_curve(L, 1).curve->length());
+    const LuaCurve& c = check_curve(L, 1);
+    check_no_more_method(L, 1);
+    lua_pushnumber(L, c.curve->length());
     return 1;
   });
 }
 
 int closed_fn(lua_State* L) {
   return guarded(L, [&] {
-    lua_pushboolean(L, check_curve(L, 1).curve->closed());
+    const LuaCurve& c = check_curve(L, 1);
+    check_no_more_method(L, 1);
+    lua_pushboolean(L, c.curve->closed());
     return 1;
   });
 }
@@ -299,6 +306,7 @@ int closed_fn(lua_State* L) {
 int points_fn(lua_State* L) {
   return table_call(L, 2, [&] {
     const LuaCurve& c = check_curve(L, 1);
+    check_no_more_method(L, 2);
     double tol = 0.01;
     if (!lua_isnoneornil(L, 2)) {
       Options o(L, 2);

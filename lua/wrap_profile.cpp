@@ -241,6 +241,7 @@ int rect_fn(lua_State* L) {
     if (w < 1 / kMaxCoordinate) throw ArgError{1, "width " + number_text(w) + " is below 1e-100 (the area would underflow to zero)"};
     if (h < 1 / kMaxCoordinate) throw ArgError{2, "height " + number_text(h) + " is below 1e-100 (the area would underflow to zero)"};
     bool center = lua_isnoneornil(L, 3) ? false : check_boolean(L, 3);
+    check_no_more(L, 3);
     Vec2 o = center ? Vec2(-w / 2, -h / 2) : Vec2(0, 0);
     push_profile(L, Profile{{o, o + Vec2(w, 0), o + Vec2(w, h), o + Vec2(0, h)}, {}});
     return 1;

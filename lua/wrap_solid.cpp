@@ -349,6 +349,7 @@ int tostring_m(lua_State* L) {
 // and the two budgets now in force.
 int tolerance_fn(lua_State* L) {
   return table_call(L, 1, [&] {
+    check_no_more(L, 1);
     if (lua_type(L, 1) == LUA_TTABLE) {
       Options o(L, 1);
       auto chordal = o.number("chordal");

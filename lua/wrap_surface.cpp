@@ -297,6 +297,7 @@ int patch_solid_fn(lua_State* L) {
 int patch_fn(lua_State* L) {
   return guarded(L, [&] {
     const LuaSurface& s = check_surface(L, 1);
+    check_no_more_method(L, 2);
     const lua_Integer i = check_integer(L, 2);  // not luaL_checkinteger: no longjmp out of guarded()
     if (i < 1 || i > lua_Integer(s.patches.size()))
       throw ArgError{2, "patch index must be in 1.." + std::to_string(s.patches.size()) + ", got " + std::to_string(i)};
@@ -326,6 +327,7 @@ const Surface& locate(lua_State* L, const LuaSurface& s, int idx, double& u, dou
 int eval_fn(lua_State* L) {
   return guarded(L, [&] {
     const LuaSurface& s = check_surface(L, 1);
+    check_no_more_method(L, 4);
     double u, v;
     const Surface& S = locate(L, s, 2, u, v);
     push_vec3(L, S.eval(u, v));
@@ -336,6 +338,7 @@ int eval_fn(lua_State* L) {
 int normal_fn(lua_State* L) {
   return guarded(L, [&] {
     const LuaSurface& s = check_surface(L, 1);
+    check_no_more_method(L, 4);
     double u, v;
     const Surface& S = locate(L, s, 2, u, v);
     const Vec3 n = S.normal(u, v);
@@ -348,7 +351,9 @@ int normal_fn(lua_State* L) {
 
 int patches_fn(lua_State* L) {
   return guarded(L, [&] {
-    lua_pushinteger(L, lua_Integer(check_surface(L, 1).patches.size()));
+    const LuaSurface& s = check_surface(L, 1);
+    check_no_more_method(L, 1);
+    lua_pushinteger(L, lua_Integer(s.patches.size()));
     return 1;
   });
 }
@@ -368,6 +373,7 @@ void push_points(lua_State* L, const std::vector<Vec3>& pts) {
 int mesh_fn(lua_State* L) {
   return table_call(L, 2, [&] {
     const LuaSurface& s = check_surface(L, 1);
+    check_no_more_method(L, 2);
     double tol = 0.01;
     bool welded = false;
     if (!lua_isnoneornil(L, 2)) {

@@ -356,3 +356,37 @@ TEST_CASE("the length of a heavily weighted NURBS is right to 1e-9 at any scale"
   INFO(r.err);
   CHECK(r.status == 0);
 }
+
+TEST_CASE("curve surface profile and tolerance functions refuse extra arguments", "[lua][curves]") {
+  // rect(1, 2, true, 5), tolerance(0.1, 5), c:eval(0.5, 7) and c:length(5) ignored the extra
+  // argument, while box(1, 1, 1, 1) and circle(1, 2) refused theirs.
+  auto r = run_lua(R"(
+    local function err_of(f) local ok, e = pcall(f); assert(not ok, "accepted"); return e end
+    local c = bezier{{0, 0}, {1, 2}, {3, 0}}
+    local S = teapot()
+    for what, f in pairs{
+      ["rect"] = function() return rect(1, 2, true, 5) end,
+      ["tolerance"] = function() return tolerance(0.1, 5) end,
+      ["tolerance table"] = function() return tolerance({chordal = 0.1}, 5) end,
+      ["c:eval"] = function() return c:eval(0.5, 7) end,
+      ["c:tangent"] = function() return c:tangent(0.5, 7) end,
+      ["c:derivative"] = function() return c:derivative(0.5, 1, 7) end,
+      ["c:length"] = function() return c:length(5) end,
+      ["c:closed"] = function() return c:closed(5) end,
+      ["c:points"] = function() return c:points({tolerance = 0.1}, 5) end,
+      ["S:eval"] = function() return S:eval(0.5, 0.5, 1, 7) end,
+      ["S:normal"] = function() return S:normal(0.5, 0.5, 1, 7) end,
+      ["S:mesh"] = function() return S:mesh({tolerance = 0.5}, 5) end,
+      ["S:patches"] = function() return S:patches(5) end,
+      ["S:patch"] = function() return S:patch(1, 5) end,
+    } do
+      local e = err_of(f)
+      assert(e:find("no argument expected here", 1, true), what .. ": " .. e)
+    end
+    -- and what they do take still works
+    assert(rect(1, 2, true):area() == 2)
+    assert(c:eval(0.5)[1] > 0 and c:length() > 0 and S:eval(0.5, 0.5, 2)[1] ~= nil)
+  )");
+  INFO(r.err);
+  CHECK(r.status == 0);
+}
