@@ -140,26 +140,43 @@ std::vector<Pixel> circle_midpoint(int cx, int cy, int r) {
   return {pts.begin(), pts.end()};
 }
 
+namespace {
+// v converted to an int clamped to [lo, hi] (NaN to lo). The conversion is done only on a value
+// already in range: int(3e9) is undefined behaviour, and a polygon reaching x = 3e9 filled nothing.
+int clamped_int(double v, int lo, int hi) {
+  if (!(v > lo)) return lo;
+  if (!(v < hi)) return hi;
+  return int(v);
+}
+}  // namespace
+
 void fill_polygon(Grid& grid, const std::vector<Point2>& poly, FillRule rule, std::int32_t value) {
   const std::size_t n = poly.size();
   if (n < 3) return;
   struct Edge {
-    double x_at_ymin, dxdy, ymax;
-    int dir;  // +1 upward, -1 downward (for the winding number)
+    Point2 lo, hi;  // the end with the smaller y, the end with the larger
+    int dir;        // +1 upward, -1 downward (for the winding number)
+    // The edge's x at height y, for lo.y() <= y <= hi.y(). Halved terms and std::lerp keep every
+    // intermediate finite for any finite ends (1e308 - -1e308 overflows), and each row's
+    // crossing is found from the ends rather than by adding the slope once per row.
+    double x_at(double y) const {
+      const double t = (0.5 * y - 0.5 * lo.y()) / (0.5 * hi.y() - 0.5 * lo.y());
+      return std::lerp(lo.x(), hi.x(), t);
+    }
   };
   // Edge table: each non-horizontal edge in the bucket of the first scan line (pixel row whose
   // centre y + 1/2 >= ymin) it crosses.
   std::vector<std::vector<Edge>> table(grid.height);
   for (std::size_t i = 0; i < n; ++i) {
     Point2 a = poly[i], b = poly[(i + 1) % n];
+    if (!std::isfinite(a.x()) || !std::isfinite(a.y()) || !std::isfinite(b.x()) || !std::isfinite(b.y())) continue;
     if (a.y() == b.y()) continue;
     int dir = b.y() > a.y() ? 1 : -1;
     if (a.y() > b.y()) std::swap(a, b);
-    int row = int(std::ceil(a.y() - 0.5));
-    if (row >= grid.height || b.y() <= row + 0.5) continue;
-    double dxdy = (b.x() - a.x()) / (b.y() - a.y());
-    Edge e{a.x() + dxdy * (std::max(row, 0) + 0.5 - a.y()), dxdy, b.y(), dir};
-    table[std::max(row, 0)].push_back(e);
+    // The row in double first: a vertex may lie any distance off the canvas.
+    const double first = std::ceil(a.y() - 0.5);
+    if (first >= grid.height || b.y() <= std::max(first, 0.0) + 0.5) continue;
+    table[clamped_int(first, 0, grid.height - 1)].push_back(Edge{a, b, dir});
   }
   std::vector<Edge> active;
   std::vector<std::pair<double, int>> xs;
@@ -167,21 +184,21 @@ void fill_polygon(Grid& grid, const std::vector<Point2>& poly, FillRule rule, st
     const double yc = y + 0.5;
     for (auto& e : table[y]) active.push_back(e);
     // Half-open in y: an edge covers centres with ymin <= yc < ymax.
-    active.erase(std::remove_if(active.begin(), active.end(), [&](const Edge& e) { return e.ymax <= yc; }), active.end());
+    active.erase(std::remove_if(active.begin(), active.end(), [&](const Edge& e) { return e.hi.y() <= yc; }),
+                 active.end());
     xs.clear();
-    for (auto& e : active) xs.push_back({e.x_at_ymin, e.dir});
+    for (auto& e : active) xs.push_back({e.x_at(yc), e.dir});
     std::sort(xs.begin(), xs.end());
     int winding = 0;
     for (std::size_t k = 0; k + 1 < xs.size(); ++k) {
       winding += xs[k].second;
       bool in = rule == FillRule::EvenOdd ? (k % 2 == 0) : winding != 0;
       if (!in) continue;
-      // Centres x + 1/2 in [xs[k], xs[k+1]).
-      int x0 = std::max(0, int(std::ceil(xs[k].first - 0.5)));
-      int x1 = std::min(grid.width, int(std::ceil(xs[k + 1].first - 0.5)));
+      // Centres x + 1/2 in [xs[k], xs[k+1]), clamped to the row in double before becoming ints.
+      const int x0 = clamped_int(std::ceil(xs[k].first - 0.5), 0, grid.width);
+      const int x1 = clamped_int(std::ceil(xs[k + 1].first - 0.5), 0, grid.width);
       for (int x = x0; x < x1; ++x) grid.at(x, y) = value;
     }
-    for (auto& e : active) e.x_at_ymin += e.dxdy;
   }
 }
 

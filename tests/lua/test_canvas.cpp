@@ -165,3 +165,22 @@ TEST_CASE("canvas errors name the function, the argument and the value", "[lua][
   r = run_lua("local c = canvas{width = 4, height = 4}\nc:clip{window = {3, 0, 1, 4}}\n");
   CHECK_THAT(r.err, Catch::Contains("xmin < xmax"));
 }
+
+TEST_CASE("canvas polygons with vertices far off the canvas fill the part on it", "[lua][canvas]") {
+  // A rectangle over rows 0..9 reaching x = 3e9 (beyond 2^31) or further covers the whole width
+  // of those rows: 40 x 10 = 400 pixels. Converting 3e9 to int had filled nothing.
+  auto r = run_lua(std::string(kHelpers) + R"LUA(
+    for _, far in ipairs{1e9, 3e9, 1e10, 1e20, 1e300} do
+      local c = canvas{width = 40, height = 40}
+      c:polygon{{0, 0}, {far, 0}, {far, 10}, {0, 10}}
+      assert(count(c) == 400, far .. ": " .. count(c))
+      assert(black(c, 39, 9) and black(c, 0, 0) and not black(c, 0, 10))
+      c = canvas{width = 40, height = 40}
+      c:polygon{{-far, 0}, {10, 0}, {10, far}, {-far, far}}  -- columns 0..9, every row
+      assert(count(c) == 400, -far .. ": " .. count(c))
+      assert(black(c, 9, 39) and not black(c, 10, 0))
+    end
+  )LUA");
+  INFO(r.err);
+  CHECK(r.status == 0);
+}
