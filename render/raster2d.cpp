@@ -3,10 +3,11 @@
 // violated edge at a time), Liang-Barsky (3.12.4: the parametric form, entering and leaving t
 // per edge), Sutherland-Hodgman (3.14.1: the subject polygon clipped against each edge of the
 // convex clip polygon in turn), Bresenham's midpoint line (3.2.2: integer decision variable),
-// the DDA (3.2.1: step the major axis by one, the minor by the slope, round), the midpoint
-// circle (3.3.2: second-order differences in one octant, mirrored eight ways), scan-line
-// polygon fill (3.6: an edge table bucketed by scan line, the active edges' crossings sorted in
-// x, spans by the even-odd or non-zero winding rule) and a scan-line seed flood fill (19.5).
+// the DDA (3.2.1: step the major axis by one and round the minor, each taken from the start rather
+// than accumulated), the midpoint circle (3.3.2: second-order differences in one octant, mirrored
+// eight ways), scan-line polygon fill (3.6: an edge table bucketed by scan line, the active
+// edges' crossings sorted in x, spans by the even-odd or non-zero winding rule) and a scan-line
+// seed flood fill (19.5).
 #include "render/raster2d.h"
 
 #include <algorithm>
@@ -89,18 +90,25 @@ std::vector<Point2> clip_sutherland_hodgman(const std::vector<Point2>& subject, 
   return out;
 }
 
+// Both line algorithms set, at each whole position along the major axis, the exact line's minor
+// coordinate rounded to the nearest whole number, a value exactly halfway rounded up (towards
+// +infinity). The tie rule names a direction on the grid, not along the line, so a segment sets
+// the same pixels whichever end it is drawn from: Bresenham's plain d > 0 settled ties in the
+// direction of travel, and (0,0)-(2,1) took (1,0) one way and (1,1) the other.
 std::vector<Pixel> line_bresenham(int x0, int y0, int x1, int y1) {
   std::vector<Pixel> out;
   const int dx = std::abs(x1 - x0), dy = std::abs(y1 - y0);
   const int sx = x0 < x1 ? 1 : -1, sy = y0 < y1 ? 1 : -1;
   const bool steep = dy > dx;
   const int major = steep ? dy : dx, minor = steep ? dx : dy;
+  // At d == 0 the line passes through the midpoint: step only when the minor axis goes up.
+  const bool step_on_tie = (steep ? sx : sy) > 0;
   out.reserve(major + 1);
   // d = 2 minor - major: the midpoint's side of the line, updated by integer increments.
   int d = 2 * minor - major, x = x0, y = y0;
   for (int i = 0; i <= major; ++i) {
     out.push_back({x, y});
-    if (d > 0) {
+    if (d > 0 || (d == 0 && step_on_tie)) {
       if (steep) x += sx;
       else y += sy;
       d -= 2 * major;
@@ -116,10 +124,13 @@ std::vector<Pixel> line_dda(int x0, int y0, int x1, int y1) {
   std::vector<Pixel> out;
   const int steps = std::max(std::abs(x1 - x0), std::abs(y1 - y0));
   if (steps == 0) return {{x0, y0}};
-  const double ix = double(x1 - x0) / steps, iy = double(y1 - y0) / steps;
-  double x = x0, y = y0;
-  for (int i = 0; i <= steps; ++i, x += ix, y += iy)
-    out.push_back({int(std::floor(x + 0.5)), int(std::floor(y + 0.5))});
+  out.reserve(steps + 1);
+  // Each position from the start, x0 + i dx / steps, not by adding dx / steps i times: the sum
+  // drifted off an exact half ((63,154)-(185,57) put (124,105) one way, (124,106) the other).
+  // i dx is a whole number and the quotient is correctly rounded, so a true half stays a half and
+  // anything else stays at least 1 / steps away from one.
+  auto at = [steps](int v0, int dv, int i) { return int(std::floor(v0 + double(std::int64_t(i) * dv) / steps + 0.5)); };
+  for (int i = 0; i <= steps; ++i) out.push_back({at(x0, x1 - x0, i), at(y0, y1 - y0, i)});
   return out;
 }
 

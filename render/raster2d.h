@@ -24,7 +24,9 @@ bool clip_liang_barsky(Point2& a, Point2& b, const Box2& rect);
 // Clips `subject` (any simple polygon) against a convex polygon `clip` given counter-clockwise.
 std::vector<Point2> clip_sutherland_hodgman(const std::vector<Point2>& subject, const std::vector<Point2>& clip);
 
-// The pixels of the segment between two pixel positions, both endpoints included.
+// The pixels of the segment between two pixel positions, both endpoints included, in order from
+// (x0, y0). A minor coordinate exactly halfway between two pixels rounds up, so a segment has the
+// same pixels drawn from either end, and the two algorithms give the same pixels.
 std::vector<Pixel> line_bresenham(int x0, int y0, int x1, int y1);
 std::vector<Pixel> line_dda(int x0, int y0, int x1, int y1);
 

@@ -1,8 +1,10 @@
 // The 2D clipping and raster algorithms, each checked against a direct definition.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <random>
 #include <set>
+#include <utility>
 
 #include "render/raster2d.h"
 
@@ -179,4 +181,67 @@ TEST_CASE("flood fill fills the 4-connected region inside a circle outline", "[r
   CHECK(g.at(0, 0) == 0);  // the outside is untouched
   CHECK(flood_fill(g, 0, 0, 3) == 41 * 41 - filled - circle_midpoint(20, 20, 15).size());
   CHECK_THROWS(flood_fill(g, 50, 0, 1));
+}
+
+namespace {
+
+// Floor division for a positive divisor.
+long floor_div(long n, long d) { return n >= 0 ? n / d : -((-n + d - 1) / d); }
+
+// The pixels of a line by its definition: along the major axis every whole position from one end
+// to the other, and on the minor axis the exact line's value rounded to the nearest whole number,
+// a value exactly halfway rounded up (towards +infinity), in integer arithmetic.
+std::set<Pixel> line_definition(int x0, int y0, int x1, int y1) {
+  std::set<Pixel> s;
+  const bool steep = std::abs(y1 - y0) > std::abs(x1 - x0);
+  const long m0 = steep ? y0 : x0, m1 = steep ? y1 : x1, n0 = steep ? x0 : y0, n1 = steep ? x1 : y1;
+  if (m0 == m1) return {{x0, y0}};
+  const long dm = m1 - m0, dn = n1 - n0;
+  for (long m = std::min(m0, m1); m <= std::max(m0, m1); ++m) {
+    // n = n0 + (m - m0) dn / dm, rounded half up: floor((2 num + den) / (2 den)) with den > 0.
+    long num = n0 * dm + (m - m0) * dn, den = dm;
+    if (den < 0) num = -num, den = -den;
+    const long n = floor_div(2 * num + den, 2 * den);
+    s.insert(steep ? Pixel{int(n), int(m)} : Pixel{int(m), int(n)});
+  }
+  return s;
+}
+
+std::set<Pixel> as_set(const std::vector<Pixel>& v) { return {v.begin(), v.end()}; }
+
+}  // namespace
+
+TEST_CASE("a line sets the same pixels from either end", "[render][2d][line]") {
+  // (0,0)-(2,1) passes through (1, 1/2), midway between pixels (1,0) and (1,1). Bresenham's d > 0
+  // took (1,0) from (0,0) but (1,1) from (2,1); a half rounds up from either end.
+  const std::set<Pixel> worked{{0, 0}, {1, 1}, {2, 1}};
+  CHECK(as_set(line_bresenham(0, 0, 2, 1)) == worked);
+  CHECK(as_set(line_bresenham(2, 1, 0, 0)) == worked);
+  CHECK(as_set(line_dda(0, 0, 2, 1)) == worked);
+  CHECK(as_set(line_dda(2, 1, 0, 0)) == worked);
+  // The DDA's accumulated x += ix put (124,105) going one way and (124,106) the other: at x = 124
+  // y = 154 - 61 * 97 / 122 = 105.5 exactly, which rounds up to 106.
+  for (auto line : {line_dda(63, 154, 185, 57), line_dda(185, 57, 63, 154), line_bresenham(63, 154, 185, 57),
+                    line_bresenham(185, 57, 63, 154)}) {
+    CHECK(as_set(line).count({124, 106}) == 1);
+    CHECK(as_set(line).count({124, 105}) == 0);
+  }
+  std::mt19937 rng(11);
+  std::uniform_int_distribution<int> u(-200, 200);
+  for (int i = 0; i < 3000; ++i) {
+    const int x0 = u(rng), y0 = u(rng), x1 = u(rng), y1 = u(rng);
+    const std::set<Pixel> want = line_definition(x0, y0, x1, y1);
+    INFO(x0 << "," << y0 << " -> " << x1 << "," << y1);
+    REQUIRE(as_set(line_bresenham(x0, y0, x1, y1)) == want);
+    REQUIRE(as_set(line_bresenham(x1, y1, x0, y0)) == want);
+    REQUIRE(as_set(line_dda(x0, y0, x1, y1)) == want);
+    REQUIRE(as_set(line_dda(x1, y1, x0, y0)) == want);
+  }
+  // Lines with many ties: slopes 1/2 and 2 in all four directions.
+  for (auto [x1, y1] : {std::pair{10, 5}, {-10, 5}, {10, -5}, {-10, -5}, {5, 10}, {-5, 10}, {5, -10}, {-5, -10}}) {
+    INFO(x1 << "," << y1);
+    CHECK(as_set(line_bresenham(0, 0, x1, y1)) == line_definition(0, 0, x1, y1));
+    CHECK(as_set(line_bresenham(x1, y1, 0, 0)) == line_definition(0, 0, x1, y1));
+    CHECK(as_set(line_dda(x1, y1, 0, 0)) == line_definition(0, 0, x1, y1));
+  }
 }
