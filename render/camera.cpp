@@ -197,6 +197,11 @@ CameraMatrices camera_matrices(const Camera& c, const Box3& bounds, double aspec
     const double pad = 0.01 * (zmax - zmin) + 1e-6;
     f = zmax + pad;
     n = c.orthographic ? zmin - pad : std::max(zmin - pad, f * 1e-4);
+    // A perspective eye with the whole scene behind it: the fitted far is not in front of the eye
+    // (near=-0.00069, far=-6.9 for a cube behind an eye looking away from it), and perspective()
+    // refused them. Any frustum in front of the eye sees none of the scene, so the image is the
+    // background, as it is with an explicit near and far.
+    if (!c.orthographic && !(f > 0)) n = 1, f = 2;
   }
   // The window: given, or fitted around the bounds (an ortho box, or a frustum's window at
   // distance 1 in tangents, which may be off-axis).

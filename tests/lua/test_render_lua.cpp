@@ -311,3 +311,25 @@ TEST_CASE("a boolean placed in a scene keeps the material of the solid each face
   CHECK(blues > 100);
   CHECK(greens == 0);
 }
+
+TEST_CASE("render{} with the whole scene behind a perspective eye writes the background", "[lua][render][camera]") {
+  // The fitted near and far came out negative (near=-0.00069, far=-6.9) and perspective() refused
+  // them; with an explicit near and far the same camera drew the background, as it now does.
+  const std::string out = std::string(WEDGE_BINARY_DIR) + "/lua_render_behind.png";
+  for (const char* range : {"", ", near = 0.1, far = 100"}) {
+    std::filesystem::remove(out);
+    std::string err;
+    const int status = run(std::string(kCube) + "render{cube, out='" + out +
+                               "', size={50, 50}, background={0.2, 0.4, 0.6}, camera={eye={5, 5, 5}, center={10, 10, 10}" +
+                               range + "}}",
+                           err);
+    INFO(range << ": " << err);
+    REQUIRE(status == 0);
+    const render::Image im = render::read_png(out);
+    REQUIRE(im.width == 50);
+    int other = 0;
+    for (int y = 0; y < im.height; ++y)
+      for (int x = 0; x < im.width; ++x) other += im.pixel(x, y) != std::array<std::uint8_t, 4>{51, 102, 153, 255};
+    CHECK(other == 0);
+  }
+}
