@@ -337,9 +337,18 @@ render::LightSpec read_light(lua_State* L, int idx, const std::string& name) {
 struct Drawn {
   std::deque<Mesh> meshes;
   std::vector<render::DrawItem> items;
+  // The bounds the cameras are fitted to. A coordinate beyond +-1e100 (as an eye or a light may
+  // not be) is an error naming the bounds: vertices at +-1e300 made the bounds' size overflow, and
+  // the fitted default camera failed with "eye must be finite, got (inf, -inf, inf)", an eye the
+  // user never gave.
   Box3 bounds() const {
     Box3 b;
     for (const Point3& p : render::world_points(items)) b.extend(p);
+    if (b.empty()) return b;
+    const double reach = std::max(b.min.cwiseAbs().maxCoeff(), b.max.cwiseAbs().maxCoeff());
+    if (!(reach <= 1e100))
+      throw ArgError{1, "the scene's bounds overflow: a vertex coordinate reaches " + number_text(reach) +
+                            ", beyond +-1e100, and a camera fitted to them would not be finite (scale the vertices down)"};
     return b;
   }
 };

@@ -333,3 +333,16 @@ TEST_CASE("render{} with the whole scene behind a perspective eye writes the bac
     CHECK(other == 0);
   }
 }
+
+TEST_CASE("render{} names vertices too large to view as the scene's bounds, not the eye", "[lua][render][errors]") {
+  // The default camera fitted to bounds of +-1e300 had an eye of (inf, -inf, inf), and the error
+  // was "render: eye must be finite", an eye the script never set.
+  std::string err;
+  const int status = run("\nrender{{vertices={{-1e300,0,0},{1e300,0,0},{0,1e300,0}}, triangles={{1,2,3}}}, out='x.png', size={10,10}}", err);
+  CHECK(status != 0);
+  INFO(err);
+  CHECK(err.find("render_test.lua:2:") != std::string::npos);
+  CHECK(err.find("the scene's bounds overflow") != std::string::npos);
+  CHECK(err.find("1e+300") != std::string::npos);
+  CHECK(err.find("eye") == std::string::npos);
+}
