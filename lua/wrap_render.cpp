@@ -8,6 +8,7 @@
 // course's named views (render/camera.cpp), by name or as {name, options...}.
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <deque>
 #include <unordered_map>
 #include <map>
@@ -137,6 +138,20 @@ namespace {
 // A mesh table { vertices=, triangles=, material= }.
 Mesh read_mesh(lua_State* L, int idx, render::Material& material, std::shared_ptr<const render::Texture>& texture) {
   idx = lua_absindex(L, idx);
+  // Any other field is an error, as in every options table: normals={...} was silently ignored.
+  lua_pushnil(L);
+  while (lua_next(L, idx)) {
+    lua_pop(L, 1);  // the value; the key stays for lua_next
+    const bool known = lua_type(L, -1) == LUA_TSTRING && (std::strcmp(lua_tostring(L, -1), "vertices") == 0 ||
+                                                          std::strcmp(lua_tostring(L, -1), "triangles") == 0 ||
+                                                          std::strcmp(lua_tostring(L, -1), "material") == 0);
+    if (!known) {
+      const std::string key = lua_type(L, -1) == LUA_TSTRING ? "field '" + std::string(lua_tostring(L, -1)) + "'"
+                                                              : "key " + describe(L, -1);
+      lua_pop(L, 1);
+      throw ArgError{1, "the mesh table has an unknown " + key + " (known: vertices, triangles, material)"};
+    }
+  }
   Mesh m;
   lua_getfield(L, idx, "vertices");
   if (!lua_istable(L, -1)) {

@@ -346,3 +346,17 @@ TEST_CASE("render{} names vertices too large to view as the scene's bounds, not 
   CHECK(err.find("1e+300") != std::string::npos);
   CHECK(err.find("eye") == std::string::npos);
 }
+
+TEST_CASE("render{} refuses an unknown field in a mesh table", "[lua][render][errors]") {
+  // normals={} was silently ignored; a mesh table takes vertices, triangles and material only.
+  std::string err;
+  int status = run("\nrender{{vertices={{0,0,0},{1,0,0},{0,1,0}}, triangles={{1,2,3}}, normals={}}, out='x.png', size={10,10}}", err);
+  CHECK(status != 0);
+  INFO(err);
+  CHECK(err.find("render_test.lua:2:") != std::string::npos);
+  CHECK(err.find("unknown field 'normals'") != std::string::npos);
+  CHECK(err.find("known: vertices, triangles, material") != std::string::npos);
+  status = run("\ndrawing{{vertices={{0,0,0},{1,0,0},{0,1,0}}, triangles={{1,2,3}}, colour={1,0,0}}, out='x.png'}", err);
+  CHECK(status != 0);
+  CHECK(err.find("unknown field 'colour'") != std::string::npos);
+}
