@@ -68,7 +68,7 @@ struct Edges {
   std::vector<Smooth> smooth;
 };
 
-Edges item_edges(const DrawItem& it, double crease_deg) {
+Edges item_edges(const DrawItem& it, double crease_deg, bool tangent_features) {
   Edges out;
   if (!it.mesh || it.mesh->triangles.empty()) return out;
   const Mesh w = it.mesh->welded();  // shared edges by position, across normal and uv splits
@@ -94,6 +94,28 @@ Edges item_edges(const DrawItem& it, double crease_deg) {
     }
   std::sort(uses.begin(), uses.end(), [](const Use& x, const Use& y) { return x.a != y.a ? x.a < y.a : x.b < y.b; });
   const double cos_crease = std::cos(crease_deg * 3.14159265358979323846 / 180);
+  // Two faces that meet tangentially: the seam between a cylinder's two half faces, a fillet
+  // running into a plane. Unless `tangent_features`, such an edge is left out (it is drawn only where it is on the
+  // silhouette, as an edge inside a face): drawn, the seam was a line down the middle of a
+  // cylinder's side view that a reader takes for a step. The test is the shading normals of both
+  // faces at both ends of the edge (one surface's normal at one point, so equal on a seam), or,
+  // without shading normals, the two triangles' own normals; within half a degree is tangent.
+  const Mesh& m = *it.mesh;
+  const bool shading_normals = m.normals.size() == m.positions.size();
+  const double cos_tangent = std::cos(0.5 * 3.14159265358979323846 / 180);
+  auto corner_normal = [&](std::uint32_t t, std::uint32_t v) -> Vec3 {
+    for (int k = 0; k < 3; ++k)
+      if (w.triangles[t][k] == v) {
+        const Vec3 n = m.normals[m.triangles[t][k]];
+        return n.norm() > 0 ? Vec3(n.normalized()) : Vec3::Zero();
+      }
+    return Vec3::Zero();
+  };
+  auto tangent = [&](std::uint32_t t1, std::uint32_t t2, std::uint32_t a, std::uint32_t b) {
+    if (!shading_normals) return normal[t1].dot(normal[t2]) >= cos_tangent;
+    return corner_normal(t1, a).dot(corner_normal(t2, a)) >= cos_tangent &&
+           corner_normal(t1, b).dot(corner_normal(t2, b)) >= cos_tangent;
+  };
   for (std::size_t i = 0; i < uses.size();) {
     std::size_t j = i;
     while (j < uses.size() && uses[j].a == uses[i].a && uses[j].b == uses[i].b) ++j;
@@ -103,7 +125,8 @@ Edges item_edges(const DrawItem& it, double crease_deg) {
     } else {
       const std::uint32_t t1 = uses[i].t, t2 = uses[i + 1].t;
       const bool ids = !w.face_ids.empty() && w.face_ids[t1] >= 0 && w.face_ids[t2] >= 0;
-      const bool feature = ids ? w.face_ids[t1] != w.face_ids[t2] : normal[t1].dot(normal[t2]) < cos_crease;
+      const bool feature = ids ? w.face_ids[t1] != w.face_ids[t2] && (tangent_features || !tangent(t1, t2, uses[i].a, uses[i].b))
+                               : normal[t1].dot(normal[t2]) < cos_crease;
       if (feature) out.features.push_back({a, b});
       else out.smooth.push_back({a, b, normal[t1], normal[t2]});
     }
@@ -184,10 +207,10 @@ void draw_edges(Image& sheet, int ox, int oy, int rw, int rh, int aa, const std:
 
 }  // namespace
 
-std::vector<std::array<Point3, 2>> feature_edges(const Mesh& mesh, double crease_deg) {
+std::vector<std::array<Point3, 2>> feature_edges(const Mesh& mesh, double crease_deg, bool tangent_edges) {
   DrawItem it;
   it.mesh = &mesh;
-  return item_edges(it, crease_deg).features;
+  return item_edges(it, crease_deg, tangent_edges).features;
 }
 
 std::vector<std::vector<Point3>> polylines(const std::vector<std::array<Point3, 2>>& segments) {
@@ -283,7 +306,7 @@ Image render_drawing(const std::vector<DrawItem>& items, const DrawingOptions& o
   const std::vector<Point3> points = world_points(items);
   std::vector<Edges> edges;
   if (o.edges)
-    for (const auto& it : items) edges.push_back(item_edges(it, o.crease_angle));
+    for (const auto& it : items) edges.push_back(item_edges(it, o.crease_angle, false));
 
   const int cols = o.columns > 0 ? o.columns : int(std::ceil(std::sqrt(double(n))));
   const int rows = (n + cols - 1) / cols;

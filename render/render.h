@@ -379,8 +379,9 @@ struct DrawingOptions {
   int columns = 0;
   bool border = true, labels = true;
   // The items' edges as lines over the shaded faces: the edges between different source faces
-  // (face ids), or, without ids, where the faces meet at more than `crease_angle` degrees, plus
-  // boundary edges and each view's silhouette. Hidden edges are left out, or drawn dashed.
+  // (face ids) that do not meet tangentially, or, without ids, where the faces meet at more than
+  // `crease_angle` degrees, plus boundary edges and each view's silhouette. Hidden edges are left
+  // out, or drawn dashed.
   bool edges = true;
   bool hidden_dashed = false;
   double crease_angle = 30;
@@ -390,8 +391,11 @@ struct DrawingOptions {
 };
 // The edges of a mesh that a drawing or a wireframe shows: those between different source faces
 // (face ids), or, without ids, where the faces meet at more than `crease_deg` degrees, and the
-// boundary (or non-manifold) edges. Vertices are welded by position first.
-std::vector<std::array<Point3, 2>> feature_edges(const Mesh& mesh, double crease_deg);
+// boundary (or non-manifold) edges. Vertices are welded by position first. Without
+// `tangent_edges` (a drawing), an edge between two faces that meet tangentially (their shading
+// normals, or without those their triangles' normals, agree within half a degree at both ends, as
+// on a cylinder's seam) is left out; a wireframe keeps it, as an edge of the solid's faces.
+std::vector<std::array<Point3, 2>> feature_edges(const Mesh& mesh, double crease_deg, bool tangent_edges = true);
 // Segments joined end to end into polylines (a closed loop repeats its first point at the end).
 std::vector<std::vector<Point3>> polylines(const std::vector<std::array<Point3, 2>>& segments);
 

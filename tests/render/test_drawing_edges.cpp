@@ -92,3 +92,80 @@ TEST_CASE("a drawing draws visible edges and leaves out or dashes the hidden one
   CHECK(count(none, ink) == 0);
   CHECK(count(none, hidden) == 0);
 }
+
+namespace {
+
+// A cylinder of radius 1 from z = 0 to 2 made as a solid's shading mesh is: two half-cylinder
+// faces (ids 0 and 1, seams at (1, 0) and (-1, 0)) and two caps (ids 2 and 3), each face with its
+// own vertices and its surface's normals, `n` segments round.
+Mesh split_cylinder(int n) {
+  Mesh m;
+  auto ring = [&](int i) { const double a = 2 * 3.14159265358979323846 * (i % n) / n; return Vec2(std::cos(a), std::sin(a)); };
+  auto vertex = [&](const Vec2& xy, double z, const Vec3& normal) {
+    m.normals.push_back(normal);
+    return m.add_vertex(Point3(xy.x(), xy.y(), z));
+  };
+  for (int face = 0; face < 2; ++face)
+    for (int i = face * n / 2; i < (face + 1) * n / 2; ++i) {
+      const Vec2 p = ring(i), q = ring(i + 1);
+      const Vec3 np(p.x(), p.y(), 0), nq(q.x(), q.y(), 0);
+      const auto b0 = vertex(p, 0, np), b1 = vertex(q, 0, nq), t0 = vertex(p, 2, np), t1 = vertex(q, 2, nq);
+      m.add_triangle(b0, b1, t1, face);
+      m.add_triangle(b0, t1, t0, face);
+    }
+  for (int cap = 0; cap < 2; ++cap) {
+    const double z = cap == 0 ? 2 : 0;
+    const Vec3 normal(0, 0, cap == 0 ? 1 : -1);
+    const auto c = vertex(Vec2(0, 0), z, normal);
+    for (int i = 0; i < n; ++i) {
+      const auto a = vertex(ring(i), z, normal), b = vertex(ring(i + 1), z, normal);
+      if (cap == 0) m.add_triangle(c, a, b, 2);
+      else m.add_triangle(c, b, a, 3);
+    }
+  }
+  return m;
+}
+
+}  // namespace
+
+TEST_CASE("a drawing leaves out the seam between two faces that meet tangentially", "[render][drawing][edges]") {
+  const Mesh cyl = split_cylinder(32);
+  // The two cap circles are the only sharp edges; the two seams down the side join faces whose
+  // normals are the same along them. A wireframe keeps the seams (edges of the solid's faces).
+  CHECK(feature_edges(cyl, 30).size() == 2 * 32 + 2);
+  CHECK(feature_edges(cyl, 30, false).size() == 2 * 32);
+  // A box made the same way (each face its own vertices and its plane's normal) keeps all 12
+  // edges: its faces meet at 90 degrees.
+  Mesh box = box_mesh(Point3(0, 0, 0), Point3(1, 2, 3));
+  Mesh split;
+  for (std::size_t t = 0; t < box.triangles.size(); ++t) {
+    const Vec3 normal = box.triangle_normal(t).normalized();
+    std::uint32_t v[3];
+    for (int k = 0; k < 3; ++k) v[k] = split.add_vertex(box.positions[box.triangles[t][k]]), split.normals.push_back(normal);
+    split.add_triangle(v[0], v[1], v[2], std::int32_t(t / 2));
+  }
+  CHECK(feature_edges(split, 30, false).size() == 12);
+
+  // The side view looks along x, so the seam at (1, 0) runs down the middle of the picture: it
+  // drew a line of ink from top to bottom there. Now the middle columns hold only the caps'
+  // edges (the picture's top and bottom lines).
+  std::vector<DrawItem> items(1);
+  items[0].mesh = &cyl;
+  DrawingOptions o;
+  o.views = {"side"};
+  o.width = 200, o.height = 200;
+  o.labels = false, o.border = false;
+  const Image im = render_drawing(items, o);
+  const std::array<std::uint8_t, 3> ink{20, 20, 20};
+  REQUIRE(count(im, ink) > 200);  // the outline is drawn
+  int rows = 0;  // rows with ink in the middle ten columns: some 150 with the seam, a few without
+  for (int y = 0; y < im.height; ++y) {
+    bool inked = false;
+    for (int x = 95; x < 105; ++x) {
+      auto p = im.pixel(x, y);
+      inked = inked || (p[0] == 20 && p[1] == 20 && p[2] == 20);
+    }
+    rows += inked;
+  }
+  CHECK(rows < 8);
+}
