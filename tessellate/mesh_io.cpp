@@ -430,13 +430,22 @@ Mesh parse_stl_binary(std::string_view bytes, const std::string& name) {
   return m;
 }
 
+// An STL keyword in any case: some exporters write SOLID, FACET NORMAL, VERTEX, and such a file
+// was read as binary ("binary STL declares 824203333 triangles").
+bool keyword(std::string_view tok, std::string_view want) {
+  if (tok.size() != want.size()) return false;
+  for (std::size_t i = 0; i < tok.size(); ++i)
+    if (std::tolower(static_cast<unsigned char>(tok[i])) != want[i]) return false;
+  return true;
+}
+
 Mesh parse_stl_ascii(std::string_view bytes, const std::string& name) {
   Text text(bytes);
   Mesh m;
   auto expect = [&](std::string_view want) {
     std::string_view tok = text.token();
     if (tok.empty()) bad(name, "line ", text.line(), ": the file ends where ", quoted(want), " was expected (truncated)");
-    if (tok != want) bad(name, "line ", text.line(), ": expected ", quoted(want), ", got ", quoted(tok));
+    if (!keyword(tok, want)) bad(name, "line ", text.line(), ": expected ", quoted(want), ", got ", quoted(tok));
   };
   auto number = [&](const char* what) {
     std::string_view tok = text.token();
@@ -447,17 +456,17 @@ Mesh parse_stl_ascii(std::string_view bytes, const std::string& name) {
   };
   std::size_t solids = 0;
   for (std::string_view tok = text.token(); !tok.empty(); tok = text.token()) {
-    if (tok != "solid") bad(name, "line ", text.line(), ": expected 'solid', got ", quoted(tok));
+    if (!keyword(tok, "solid")) bad(name, "line ", text.line(), ": expected 'solid', got ", quoted(tok));
     ++solids;
     text.skip_line();  // the solid's name
     for (;;) {
       tok = text.token();
       if (tok.empty()) bad(name, "line ", text.line(), ": the file ends before 'endsolid' (truncated)");
-      if (tok == "endsolid") {
+      if (keyword(tok, "endsolid")) {
         text.skip_line();
         break;
       }
-      if (tok != "facet") bad(name, "line ", text.line(), ": expected 'facet' or 'endsolid', got ", quoted(tok));
+      if (!keyword(tok, "facet")) bad(name, "line ", text.line(), ": expected 'facet' or 'endsolid', got ", quoted(tok));
       expect("normal");
       for (int k = 0; k < 3; ++k) number("facet normal");  // recomputed from the corners
       expect("outer");
@@ -465,17 +474,17 @@ Mesh parse_stl_ascii(std::string_view bytes, const std::string& name) {
       const auto first = static_cast<std::uint32_t>(m.positions.size());
       for (int k = 0; k < 3; ++k) {
         tok = text.token();
-        if (tok == "endloop")
+        if (keyword(tok, "endloop"))
           bad(name, "line ", text.line(), ": a facet with ", k, " vertices (STL facets are triangles)");
         if (tok.empty()) bad(name, "line ", text.line(), ": the file ends inside a facet (truncated)");
-        if (tok != "vertex") bad(name, "line ", text.line(), ": expected 'vertex', got ", quoted(tok));
+        if (!keyword(tok, "vertex")) bad(name, "line ", text.line(), ": expected 'vertex', got ", quoted(tok));
         double x = number("vertex"), y = number("vertex"), z = number("vertex");
         m.positions.emplace_back(x, y, z);
       }
       tok = text.token();
-      if (tok == "vertex") bad(name, "line ", text.line(), ": a facet with more than 3 vertices (STL facets are triangles)");
+      if (keyword(tok, "vertex")) bad(name, "line ", text.line(), ": a facet with more than 3 vertices (STL facets are triangles)");
       if (tok.empty()) bad(name, "line ", text.line(), ": the file ends inside a facet (truncated)");
-      if (tok != "endloop") bad(name, "line ", text.line(), ": expected 'endloop', got ", quoted(tok));
+      if (!keyword(tok, "endloop")) bad(name, "line ", text.line(), ": expected 'endloop', got ", quoted(tok));
       expect("endfacet");
       m.triangles.push_back({first, first + 1, first + 2});
     }
@@ -485,18 +494,18 @@ Mesh parse_stl_ascii(std::string_view bytes, const std::string& name) {
   return m;
 }
 
-// ASCII if it starts with "solid" and its second line starts a facet or ends the solid; binary
-// otherwise (some binary files also start their header with "solid").
+// ASCII if it starts with "solid" (in any case) and its second line starts a facet or ends the
+// solid; binary otherwise (some binary files also start their header with "solid").
 bool stl_is_ascii(std::string_view bytes) {
   std::size_t i = 0;
   while (i < bytes.size() && std::isspace(static_cast<unsigned char>(bytes[i]))) ++i;
-  if (bytes.substr(i, 5) != "solid") return false;
+  if (!keyword(bytes.substr(i, 5), "solid")) return false;
   if (bytes.size() >= 84 && bytes.size() == 84 + 50 * std::uint64_t(load_u32le(bytes.data() + 80))) {
     std::size_t eol = bytes.find('\n', i);
     if (eol == std::string_view::npos) return false;
     Text rest(bytes.substr(eol + 1));
     std::string_view tok = rest.token();
-    return tok == "facet" || tok == "endsolid";
+    return keyword(tok, "facet") || keyword(tok, "endsolid");
   }
   return true;
 }
@@ -942,7 +951,7 @@ Mesh parse_mesh(std::string_view bytes, const std::string& format, const std::st
   // header may hold any bytes: only a BOM before "solid" is text.
   // (substr(pos) throws past the end: a 1-byte file is 1 byte.)
   const auto at = [&](std::size_t pos, std::string_view what) { return bytes.size() >= pos + what.size() && bytes.substr(pos, what.size()) == what; };
-  const bool text = format != "stl" || at(3, "solid") || at(2, std::string_view("s\0o\0l\0i\0d\0", 10)) || at(2, std::string_view("\0s\0o\0l\0i\0d", 10));
+  const bool text = format != "stl" || (bytes.size() >= 8 && keyword(bytes.substr(3, 5), "solid")) || at(2, std::string_view("s\0o\0l\0i\0d\0", 10)) || at(2, std::string_view("\0s\0o\0l\0i\0d", 10));
   if (text && at(0, "\xEF\xBB\xBF")) {
     bytes.remove_prefix(3);
     if (bytes.empty()) bad(name, "the file holds only a UTF-8 byte order mark");

@@ -247,3 +247,24 @@ TEST_CASE("concave polygon faces are triangulated inside themselves, in OBJ, OFF
                                          "f 1 2 3 4 5\n";
   CHECK_THROWS_WITH(read_mesh(dir.file("star.obj")), Catch::Contains("line 6: face 1: its edges cross each other"));
 }
+
+TEST_CASE("an ASCII STL with upper-case keywords is read as ASCII", "[mesh_io]") {
+  // SOLID / FACET NORMAL / VERTEX (as some exporters write them) was taken for a binary STL:
+  // "binary STL declares 824203333 triangles (41210166734 bytes) but the file has ... bytes".
+  TempDir dir;
+  std::string text = "SOLID X\n";
+  const char* tris[4][3] = {{"0 0 0", "0 1 0", "1 0 0"}, {"0 0 0", "1 0 0", "0 0 1"}, {"0 0 0", "0 0 1", "0 1 0"}, {"1 0 0", "0 1 0", "0 0 1"}};
+  for (const auto& t : tris)
+    text += std::string("  Facet Normal 0 0 0\n    OUTER LOOP\n") + "      VERTEX " + t[0] + "\n      VERTEX " + t[1] +
+            "\n      VERTEX " + t[2] + "\n    ENDLOOP\n  ENDFACET\n";
+  text += "ENDSOLID X\n";
+  std::ofstream(dir.file("upper.stl")) << text;
+  const Mesh m = read_mesh(dir.file("upper.stl"));
+  CHECK(m.triangle_count() == 4);
+  CHECK(m.vertex_count() == 4);
+  CHECK(m.volume() == Approx(1.0 / 6));
+  CHECK_NOTHROW(Solid::from_mesh(m, "upper.stl"));
+  // A keyword that is wrong in any case is still named.
+  std::ofstream(dir.file("typo.stl")) << "SOLID X\nFACET NORMAL 0 0 0\nOUTER LOP\n";
+  CHECK_THROWS_WITH(read_mesh(dir.file("typo.stl")), Catch::Contains("line 3: expected 'loop', got 'LOP'"));
+}
