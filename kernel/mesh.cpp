@@ -5,6 +5,7 @@
 #include <cmath>
 #include <map>
 #include <numeric>
+#include <ostream>
 #include <tuple>
 #include <unordered_map>
 
@@ -14,6 +15,20 @@
 #include "kernel/transform.h"
 
 namespace wedge {
+
+namespace {
+// An edge as the topology errors name it: by its ends' coordinates. A vertex index here is the
+// mesh's own, after welding and splitting, which neither a file (an OBJ numbers its vertices from
+// 1, in its own order; an STL has no numbers) nor a script can find: "edge 3-7 has only one
+// triangle" was vertices 4 and 8 of the OBJ file.
+struct EdgeText {
+  const Point3 &a, &b;
+};
+std::ostream& operator<<(std::ostream& out, const EdgeText& e) {
+  return out << "the edge from (" << e.a.x() << ", " << e.a.y() << ", " << e.a.z() << ") to (" << e.b.x() << ", "
+             << e.b.y() << ", " << e.b.z() << ")";
+}
+}  // namespace
 
 std::uint32_t Mesh::add_vertex(const Point3& p) {
   positions.push_back(p);
@@ -333,14 +348,14 @@ Mesh split_touching(const Mesh& welded, bool* edges) {
         return s > 0;
       });
       if (tie || r_side == 0)
-        fail("mesh is not 2-manifold: edge ", ia, "-", ib, " has ", j - i, " triangles, two of them in one plane on one side");
+        fail("mesh is not 2-manifold: ", EdgeText{a, b}, " has ", j - i, " triangles, two of them in one plane on one side");
       const std::size_t n_around = around.size();
       for (std::size_t q = 0; q < n_around; ++q) {
         const std::uint32_t c = around[q].second;
         if (from(c) != ia) continue;  // runs b -> a
         const std::uint32_t before = around[(q + n_around - 1) % n_around].second;
         if (from(before) != ib)
-          fail("mesh is not 2-manifold: edge ", ia, "-", ib, " has ", j - i, " triangles whose solids overlap around it");
+          fail("mesh is not 2-manifold: ", EdgeText{a, b}, " has ", j - i, " triangles whose solids overlap around it");
         join(c, before);
       }
     }
@@ -374,8 +389,8 @@ EulerCounts euler_counts(const Mesh& mesh) {
     const auto& t = mesh.triangles[i];
     if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2]) {
       const Point3& p = mesh.positions[t[0] == t[1] || t[0] == t[2] ? t[0] : t[1]];
-      fail("mesh is not 2-manifold: triangle ", i, " has two corners at one point (", p.x(), ", ", p.y(), ", ", p.z(),
-           "): a degenerate triangle");
+      fail("mesh is not 2-manifold: triangle ", i + 1, " (counting from 1) has two corners at one point (", p.x(), ", ",
+           p.y(), ", ", p.z(), "): a degenerate triangle");
     }
   }
   // The corners (v, u, w, 3t + k) of triangle t = (v, u, w) turned to start at its corner k,
@@ -408,7 +423,8 @@ EulerCounts euler_counts(const Mesh& mesh) {
       }
       i = j;
     }
-    if (twice) fail("mesh is not 2-manifold: edge ", ea, "-", eb, " is used twice in the same direction");
+    if (twice)
+      fail("mesh is not 2-manifold: ", EdgeText{mesh.positions[ea], mesh.positions[eb]}, " is used twice in the same direction");
   }
   // Closed: each directed edge's reverse is there. Around v, the edges in (w -> v) and out
   // (v -> u) are as many; every w must be some corner's u. The smallest edge without its reverse
@@ -429,7 +445,7 @@ EulerCounts euler_counts(const Mesh& mesh) {
       }
       i = j;
     }
-    if (open) fail("mesh is not closed: edge ", ea, "-", eb, " has only one triangle");
+    if (open) fail("mesh is not closed: ", EdgeText{mesh.positions[ea], mesh.positions[eb]}, " has only one triangle");
   }
   // Every vertex must be one fan of triangles: around v, each triangle (v, u, w) links u to w, and
   // the links must close into a single cycle. Two parts that touch at one point give two cycles
@@ -447,7 +463,7 @@ EulerCounts euler_counts(const Mesh& mesh) {
     for (std::uint32_t u = next(corners[i][1]); u != corners[i][1]; u = next(u)) ++steps;
     if (steps != j - i) {
       const Point3& p = mesh.positions[corners[i][0]];
-      fail("mesh is not 2-manifold: vertex ", corners[i][0], " at (", p.x(), ", ", p.y(), ", ", p.z(),
+      fail("mesh is not 2-manifold: the vertex at (", p.x(), ", ", p.y(), ", ", p.z(),
            ") joins separate fans of triangles (parts that touch at one point)");
     }
     i = j;

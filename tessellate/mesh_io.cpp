@@ -284,8 +284,10 @@ Mesh parse_obj(std::string_view bytes, const std::string& name) {
           long long idx[3] = {0, 0, 0};
           const std::size_t sizes[3] = {v.size(), vt.size(), vn.size()};
           static const char* const kind[3] = {"vertex", "texture coordinate", "normal"};
-          // Faces and corners numbered from 0, as the other readers number them.
-          const std::string corner = "face " + std::to_string(face_line.size()) + " corner " + std::to_string(k - 1) + " " + quoted(tok[k]);
+          // Faces and corners numbered from 1, as the file numbers its elements: "face 0 corner 0"
+          // was the first corner of the first face of a file whose first vertex is 1. (OFF and PLY
+          // number from 0, and their messages do too.)
+          const std::string corner = "face " + std::to_string(face_line.size() + 1) + " corner " + std::to_string(k) + " " + quoted(tok[k]);
           for (int part = 0; part < 3; ++part) {
             std::size_t slash = c.find('/');
             std::string_view field = c.substr(0, slash);
@@ -323,7 +325,7 @@ Mesh parse_obj(std::string_view bytes, const std::string& name) {
       const ObjCorner& c = corners[k];
       auto check = [&](long long i, std::size_t n, const char* what, const char* plural) {
         if (i > static_cast<long long>(n))
-          bad(name, "line ", face_line[f], ": face ", f, " corner ", k - face_start[f], ": ", what, " index ", i,
+          bad(name, "line ", face_line[f], ": face ", f + 1, " corner ", k - face_start[f] + 1, ": ", what, " index ", i,
               " is out of range (", n, " ", plural, " in the file, numbered from 1)");
       };
       check(c.v, v.size(), "vertex", "vertices");

@@ -117,21 +117,23 @@ TEST_CASE("euler_counts: counts, and the first edge at fault", "[mesh][errors]")
   Mesh two = unit_tetrahedron();
   two.append(unit_tetrahedron().transformed(translate({5, 0, 0})));
   CHECK(euler_counts(two) == EulerCounts{8, 12, 8, 0, 0, 2});
+  // Edges and vertices are named by their coordinates: the mesh's own vertex numbers (after
+  // welding and splitting) are in no file and no script ("edge 3-7" was an OBJ's vertices 4 and 8).
   SECTION("open: the smallest edge without its reverse") {
     Mesh o = unit_tetrahedron();
     o.triangles.pop_back();  // (1, 2, 3): 2 -> 1, 3 -> 2, 1 -> 3 lose their reverses
     o.face_ids.pop_back();
-    CHECK_THROWS_WITH(euler_counts(o), Catch::Equals("mesh is not closed: edge 1-3 has only one triangle"));
+    CHECK_THROWS_WITH(euler_counts(o), Catch::Equals("mesh is not closed: the edge from (1, 0, 0) to (0, 0, 1) has only one triangle"));
   }
   SECTION("an edge twice in one direction: where a scan of the triangles meets its second use") {
     Mesh d = unit_tetrahedron();
     // Triangle 3 turned round, (1, 3, 2): each of its edges has been used by an earlier
     // triangle; the scan meets 1 -> 3 first.
     d.triangles[3] = {1, 3, 2};
-    CHECK_THROWS_WITH(euler_counts(d), Catch::Equals("mesh is not 2-manifold: edge 1-3 is used twice in the same direction"));
+    CHECK_THROWS_WITH(euler_counts(d), Catch::Equals("mesh is not 2-manifold: the edge from (1, 0, 0) to (0, 0, 1) is used twice in the same direction"));
     Mesh e = unit_tetrahedron();
     e.add_triangle(1, 0, 2, 4);  // triangle 0 again, from its second corner: 1 -> 0 is met first
-    CHECK_THROWS_WITH(euler_counts(e), Catch::Equals("mesh is not 2-manifold: edge 1-0 is used twice in the same direction"));
+    CHECK_THROWS_WITH(euler_counts(e), Catch::Equals("mesh is not 2-manifold: the edge from (1, 0, 0) to (0, 0, 0) is used twice in the same direction"));
   }
   SECTION("a vertex joining two fans") {
     Mesh t = unit_tetrahedron();
@@ -141,7 +143,7 @@ TEST_CASE("euler_counts: counts, and the first edge at fault", "[mesh][errors]")
     for (std::size_t i = 4; i < t.triangles.size(); ++i)
       for (auto& v : t.triangles[i])
         if (v == base) v = 0;
-    CHECK_THROWS_WITH(euler_counts(t), Catch::Contains("vertex 0 at (0, 0, 0) joins separate fans of triangles"));
+    CHECK_THROWS_WITH(euler_counts(t), Catch::Contains("the vertex at (0, 0, 0) joins separate fans of triangles"));
   }
 }
 

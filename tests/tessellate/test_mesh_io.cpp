@@ -161,7 +161,7 @@ TEST_CASE("OBJ keeps every triangle it gives, resolves relative indices and name
   CHECK(m.vertex_count() == 5);
   CHECK(m.positions[m.triangles[2][2]] == Point3(0, 0, 1));
   std::ofstream(dir.file("far.obj")) << "v 0 0 0\nv 1 0 0\nv 0 1 0\n\nf 1 2 7\n";
-  CHECK_THROWS_WITH(read_mesh(dir.file("far.obj")), Catch::Contains("far.obj': line 5: face 0 corner 2: vertex index 7 is out of range (3 vertices in the file, numbered from 1)"));
+  CHECK_THROWS_WITH(read_mesh(dir.file("far.obj")), Catch::Contains("far.obj': line 5: face 1 corner 3: vertex index 7 is out of range (3 vertices in the file, numbered from 1)"));
   std::ofstream(dir.file("bad.obj")) << "v 0 0 zero\n";
   CHECK_THROWS_WITH(read_mesh(dir.file("bad.obj")), Catch::Contains("line 1: vertex 1: 'zero' is not a number"));
   std::ofstream(dir.file("none.obj")) << "# nothing\nv 0 0 0\n";
@@ -246,6 +246,24 @@ TEST_CASE("concave polygon faces are triangulated inside themselves, in OBJ, OFF
   std::ofstream(dir.file("star.obj")) << "v 0 1 0\nv 0.588 -0.809 0\nv -0.951 0.309 0\nv 0.951 0.309 0\nv -0.588 -0.809 0\n"
                                          "f 1 2 3 4 5\n";
   CHECK_THROWS_WITH(read_mesh(dir.file("star.obj")), Catch::Contains("line 6: face 1: its edges cross each other"));
+}
+
+TEST_CASE("import errors number an OBJ's faces as the file does and name edges by their ends", "[mesh_io][errors]") {
+  TempDir dir;
+  // The first corner of the first face is "face 1 corner 1" (it was "face 0 corner 0" in a file
+  // whose first vertex is 1).
+  std::ofstream(dir.file("zero.obj")) << "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nf 0 1 2\n";
+  CHECK_THROWS_WITH(read_mesh(dir.file("zero.obj")), Catch::Contains("line 5: face 2 corner 1 '0': vertex index 0"));
+  // A tetrahedron with its last face missing, the vertices listed in another order than the faces
+  // first use them: the error was "edge 3-7"-style mesh numbering, which is not the file's. Now
+  // the edge is named by its ends.
+  std::ofstream(dir.file("open.obj")) << "v 0 0 1\nv 0 1 0\nv 1 0 0\nv 0 0 0\nf 4 2 3\nf 4 3 1\nf 4 1 2\n";
+  const Mesh open = read_mesh(dir.file("open.obj"));
+  CHECK_THROWS_WITH(Solid::from_mesh(open, "open.obj"),
+                    Catch::Contains("mesh is not closed: the edge from (") && Catch::Contains(") has only one triangle") &&
+                        !Catch::Contains("edge 0-") && !Catch::Contains("edge 1-") && !Catch::Contains("edge 2-"));
+  // An STL has no vertex numbers: its degenerate facet is given by its number from 1 and its point
+  // (bad_files/degenerate.stl).
 }
 
 TEST_CASE("an ASCII STL with upper-case keywords is read as ASCII", "[mesh_io]") {

@@ -77,19 +77,19 @@ add("ascii_inf.stl", "solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nver
 
 # --- OBJ ---
 TET_OBJ = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\n"
-add("wrap_index.obj", TET_OBJ + "f 1 3 2\nf 1 2 4\nf 2 3 4\nf 1 4 4294967297\n", "line 8: face 3 corner 2: vertex index 4294967297 is out of range (4 vertices in the file, numbered from 1)")
-add("huge_index.obj", TET_OBJ + "f 1 3 99999999999999999999\n", "line 5: face 0 corner 2 '99999999999999999999': vertex index '99999999999999999999' is out of range")
-add("zero_index.obj", TET_OBJ + "f 0 1 2\n", "line 5: face 0 corner 0 '0': vertex index 0 (OBJ numbers from 1")
-add("before_first.obj", TET_OBJ + "f -5 1 2\n", "line 5: face 0 corner 0 '-5': vertex index -5 counts back before the first vertex (4 so far)")
+add("wrap_index.obj", TET_OBJ + "f 1 3 2\nf 1 2 4\nf 2 3 4\nf 1 4 4294967297\n", "line 8: face 4 corner 3: vertex index 4294967297 is out of range (4 vertices in the file, numbered from 1)")
+add("huge_index.obj", TET_OBJ + "f 1 3 99999999999999999999\n", "line 5: face 1 corner 3 '99999999999999999999': vertex index '99999999999999999999' is out of range")
+add("zero_index.obj", TET_OBJ + "f 0 1 2\n", "line 5: face 1 corner 1 '0': vertex index 0 (OBJ numbers from 1")
+add("before_first.obj", TET_OBJ + "f -5 1 2\n", "line 5: face 1 corner 1 '-5': vertex index -5 counts back before the first vertex (4 so far)")
 add("nan.obj", "v 0 0 0\nv nan 0 0\nv 0 1 0\nf 1 2 3\n", "line 2: vertex 2: non-finite number 'nan'")
 add("short_vertex.obj", "v 0 0\n", "line 1: 'v' needs 3 numbers")
 add("two_corners.obj", TET_OBJ + "f 1 2\n", "line 5: a face needs at least 3 corners, got 2")
 add("no_faces.obj", TET_OBJ, "holds no triangles")
-add("texcoord_range.obj", TET_OBJ + "vt 0 0\nf 1/1 3/2 2/1\n", "line 6: face 0 corner 1: texture coordinate index 2 is out of range (1 texture coordinates in the file")
-add("normal_range.obj", TET_OBJ + "vn 0 0 1\nf 1//1 3//1 2//3\n", "line 6: face 0 corner 2: normal index 3 is out of range (1 normals in the file")
-add("four_parts.obj", TET_OBJ + "f 1/1/1/1 2 3\n", "line 5: face 0 corner 0 '1/1/1/1': more than 3 parts")
-add("binary_junk.obj", b"\x00\xff\xfe" * 30 + b"\nf 1 2 3\n", "line 2: face 0 corner 0: vertex index 1 is out of range (0 vertices in the file")
-add("missing_index.obj", TET_OBJ + "f /1 2 3\n", "line 5: face 0 corner 0 '/1': vertex index missing")
+add("texcoord_range.obj", TET_OBJ + "vt 0 0\nf 1/1 3/2 2/1\n", "line 6: face 1 corner 2: texture coordinate index 2 is out of range (1 texture coordinates in the file")
+add("normal_range.obj", TET_OBJ + "vn 0 0 1\nf 1//1 3//1 2//3\n", "line 6: face 1 corner 3: normal index 3 is out of range (1 normals in the file")
+add("four_parts.obj", TET_OBJ + "f 1/1/1/1 2 3\n", "line 5: face 1 corner 1 '1/1/1/1': more than 3 parts")
+add("binary_junk.obj", b"\x00\xff\xfe" * 30 + b"\nf 1 2 3\n", "line 2: face 1 corner 1: vertex index 1 is out of range (0 vertices in the file")
+add("missing_index.obj", TET_OBJ + "f /1 2 3\n", "line 5: face 1 corner 1 '/1': vertex index missing")
 add("nan_texcoord.obj", TET_OBJ + "vt 0 inf\nf 1 3 2\n", "line 5: texture coordinate 1: non-finite number 'inf'")
 add("word_normal.obj", TET_OBJ + "vn 0 0 up\nf 1 3 2\n", "line 5: normal 1: 'up' is not a number")
 add("empty.obj", "", "empty.obj': the file is empty")
@@ -99,7 +99,7 @@ add("unknown.xyz", "OFF\n", "unknown mesh format '.xyz' (supported: .obj .stl .p
 # --- solids that are not closed or not 2-manifold (the file is fine, the solid is not) ---
 add("open.off", "OFF\n4 3 0\n" + TET_V + "3 0 2 1\n3 0 1 3\n3 0 3 2\n", "mesh is not closed")
 add("bowtie.off", "OFF\n7 8 0\n" + TET_V + "-1 0 0\n0 -1 0\n0 0 -1\n" + TET_F + "3 0 4 5\n3 0 6 4\n3 0 5 6\n3 4 6 5\n",
-    "vertex 0 at (0, 0, 0) joins separate fans of triangles")
+    "the vertex at (0, 0, 0) joins separate fans of triangles")
 add("inside_out.off", "OFF\n4 4 0\n" + TET_V + "3 0 1 2\n3 0 3 1\n3 0 2 3\n3 1 3 2\n", "inside out")
 
 # --- session 9: encodings, odd numbers, PLY types and lists, degenerate and out-of-range meshes ---
@@ -114,7 +114,7 @@ add("bom_only.ply", b"\xef\xbb\xbf", "the file holds only a UTF-8 byte order mar
 add("big_coords.obj", "v 0 0 0\nv 1e300 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 2 3 4\nf 1 4 3\n",
     "a vertex at (1.0000000000000001e+300, 0, 0) is beyond +-1e+100 (volumes and normals would overflow)")
 add("denormal.off", "OFF\n4 4 0\n0 0 0\n5e-324 0 0\n0 5e-324 0\n0 0 5e-324\n" + TET_F, "is 4.9406564584124654e-324 wide, below 1e-100")
-add("degenerate.stl", ASTL.replace("vertex 0 1 0", "vertex 0 0 0", 1), "triangle 0 has two corners at one point (0, 0, 0): a degenerate triangle")
+add("degenerate.stl", ASTL.replace("vertex 0 1 0", "vertex 0 0 0", 1), "triangle 1 (counting from 1) has two corners at one point (0, 0, 0): a degenerate triangle")
 add("repeat_corner.obj", TET_OBJ + "f 1 3 2\nf 1 2 4\nf 2 3 4\nf 1 4 3\nf 1 1 2\n", "has two corners at one point (0, 0, 0): a degenerate triangle")
 add("hex_float.obj", "v 0x1p0 0 0\n", "line 1: vertex 1: '0x1p0' is not a number")
 add("comma.obj", "v 0,5 0 0\n", "line 1: vertex 1: '0,5' is not a number")
