@@ -37,6 +37,12 @@ int main(int argc, char** argv) {
       verbatim.assign(argv + i + 1, argv + argc);
       break;
     }
+  // A first word that is no option and no subcommand is named: CLI11 said only "A subcommand is
+  // required" for `wedge frobnicate`, as if nothing had been given.
+  if (cli_argc > 1 && argv[1][0] != '-' && argv[1] != run->get_name())
+    return app.exit(CLI::Error("UnknownSubcommand",
+                               "unknown subcommand '" + std::string(argv[1]) + "' (the subcommand is run: wedge run script.lua)",
+                               CLI::ExitCodes::RequiredError));
   CLI11_PARSE(app, cli_argc, argv);
 
   if (*run) {
