@@ -6,7 +6,8 @@
 //    Each is replaced by a function that raises "... is not available under --sandbox", so the
 //    script's author reads why, not "attempt to call a nil value".
 //  - debug: getregistry, getupvalue and setupvalue reach the originals kept below (and the list of
-//    allowed folders); only debug.traceback stays.
+//    allowed folders); only debug.traceback stays, and each other debug function raises the same
+//    "... is not available under --sandbox".
 //  - load, loadfile, dofile take text chunks only: crafted bytecode can break out of any Lua.
 // What stays, but checked against the two folders (resolved through symbolic links and ".."):
 // io.open, io.lines, io.input, io.output, os.remove, os.rename, loadfile, dofile, require (Lua files
@@ -46,8 +47,10 @@ bool within(const fs::path& root, const fs::path& p) {
 }
 
 // Pushes the reason and returns true if the path is refused. The caller raises the error with
-// lua_error after this returns, when no C++ object is alive to be skipped by the longjmp.
-bool refused(lua_State* L, const char* path, bool write) {
+// lua_error after this returns, when no C++ object is alive to be skipped by the longjmp. The
+// reason starts with the calling script's file:line and the function's name (`fn`), as export's
+// refusal does ("loc.lua:2: io.open: sandbox: cannot read ..."): it had neither.
+bool refused(lua_State* L, const char* path, bool write, const char* fn) {
   std::string why;
   try {
     sandbox_check_path(L, path, write);
@@ -55,7 +58,10 @@ bool refused(lua_State* L, const char* path, bool write) {
     why = e.what();
   }
   if (why.empty()) return false;
+  luaL_where(L, 1);
+  lua_pushfstring(L, "%s: ", fn);
   lua_pushlstring(L, why.data(), why.size());
+  lua_concat(L, 3);
   return true;
 }
 
@@ -70,6 +76,7 @@ int unavailable(lua_State* L) {
 
 // Calls the original function (upvalue 1) with all arguments after checking argument `arg`
 // (upvalue 2) as a path, for writing if upvalue 3 says so (or, for io.open, if its mode writes).
+// Upvalue 4 is the function's name, for the message.
 int checked_call(lua_State* L) {
   const int arg = static_cast<int>(lua_tointeger(L, lua_upvalueindex(2)));
   // 0 read, 1 write, 2 as io.open's mode says, 3 this argument and the next for writing
@@ -78,7 +85,7 @@ int checked_call(lua_State* L) {
     if (lua_type(L, a) != LUA_TSTRING) continue;  // a file handle, or nothing: no path to check
     bool write = rule == 1 || rule == 3;
     if (rule == 2 && lua_type(L, 2) == LUA_TSTRING) write = std::strpbrk(lua_tostring(L, 2), "wa+") != nullptr;
-    if (refused(L, lua_tostring(L, a), write)) return lua_error(L);
+    if (refused(L, lua_tostring(L, a), write, lua_tostring(L, lua_upvalueindex(4)))) return lua_error(L);
   }
   const int n = lua_gettop(L);
   lua_pushvalue(L, lua_upvalueindex(1));
@@ -90,7 +97,7 @@ int checked_call(lua_State* L) {
 // load(chunk [, name [, mode [, env]]]) and loadfile(path [, mode [, env]]) with mode "t" forced.
 int text_only(lua_State* L) {
   const int mode_arg = static_cast<int>(lua_tointeger(L, lua_upvalueindex(2)));
-  if (mode_arg == 2 && refused(L, luaL_checkstring(L, 1), false)) return lua_error(L);
+  if (mode_arg == 2 && refused(L, luaL_checkstring(L, 1), false, "loadfile")) return lua_error(L);
   if (lua_gettop(L) < mode_arg) lua_settop(L, mode_arg);
   lua_pushliteral(L, "t");
   lua_replace(L, mode_arg);
@@ -104,7 +111,7 @@ int text_only(lua_State* L) {
 // dofile(path): loadfile in text mode, then call.
 int dofile_checked(lua_State* L) {
   const char* path = luaL_checkstring(L, 1);
-  if (refused(L, path, false)) return lua_error(L);
+  if (refused(L, path, false, "dofile")) return lua_error(L);
   lua_settop(L, 1);
   if (luaL_loadfilex(L, path, "t") != LUA_OK) return lua_error(L);
   lua_call(L, 0, LUA_MULTRET);
@@ -119,7 +126,7 @@ int searcher(lua_State* L) {
   const char* candidates[2] = {lua_pushfstring(L, "%s/%s.lua", dir, base), lua_pushfstring(L, "%s/%s/init.lua", dir, base)};
   for (const char* file : candidates) {
     if (!is_regular(file)) continue;
-    if (refused(L, file, false)) return lua_error(L);
+    if (refused(L, file, false, "require")) return lua_error(L);
     if (luaL_loadfilex(L, file, "t") != LUA_OK) return lua_error(L);
     lua_pushstring(L, file);
     return 2;
@@ -128,12 +135,13 @@ int searcher(lua_State* L) {
   return 1;
 }
 
-// table[name] = f(upvalues...) on the table at `t`.
-void wrap(lua_State* L, int t, const char* name, lua_CFunction f, int arg, int rule) {
+// table[name] = f(upvalues...) on the table at `t`, named `table.name` in its messages.
+void wrap(lua_State* L, int t, const char* table, const char* name, lua_CFunction f, int arg, int rule) {
   lua_getfield(L, t, name);
   lua_pushinteger(L, arg);
   lua_pushinteger(L, rule);
-  lua_pushcclosure(L, f, 3);
+  lua_pushfstring(L, "%s.%s", table, name);
+  lua_pushcclosure(L, f, 4);
   lua_setfield(L, t, name);
 }
 
@@ -195,15 +203,15 @@ void apply_sandbox(lua_State* L, const std::string& script_path) {
   lua_getfield(L, g, "os");
   const int os = lua_gettop(L);
   for (const char* name : {"execute", "tmpname", "getenv"}) disable(L, os, "os", name);
-  wrap(L, os, "remove", checked_call, 1, 1);
-  wrap(L, os, "rename", checked_call, 1, 3);  // both names are checked for writing
+  wrap(L, os, "os", "remove", checked_call, 1, 1);
+  wrap(L, os, "os", "rename", checked_call, 1, 3);  // both names are checked for writing
   lua_getfield(L, g, "io");
   const int io = lua_gettop(L);
   disable(L, io, "io", "popen");
-  wrap(L, io, "open", checked_call, 1, 2);
-  wrap(L, io, "lines", checked_call, 1, 0);
-  wrap(L, io, "input", checked_call, 1, 0);
-  wrap(L, io, "output", checked_call, 1, 1);
+  wrap(L, io, "io", "open", checked_call, 1, 2);
+  wrap(L, io, "io", "lines", checked_call, 1, 0);
+  wrap(L, io, "io", "input", checked_call, 1, 0);
+  wrap(L, io, "io", "output", checked_call, 1, 1);
   // load's mode is its 3rd argument, loadfile's its 2nd.
   lua_getfield(L, g, "load");
   lua_pushinteger(L, 3);
@@ -215,12 +223,20 @@ void apply_sandbox(lua_State* L, const std::string& script_path) {
   lua_setfield(L, g, "loadfile");
   lua_pushcfunction(L, dofile_checked);
   lua_setfield(L, g, "dofile");
-  // debug: only the traceback.
+  // debug: only the traceback; each other function raises "debug.getregistry is not available
+  // under --sandbox" (it was removed, and a call said "attempt to call a nil value").
   lua_getfield(L, g, "debug");
-  lua_getfield(L, -1, "traceback");
+  const int original_debug = lua_gettop(L);
   lua_createtable(L, 0, 1);
-  lua_insert(L, -2);
-  lua_setfield(L, -2, "traceback");
+  const int debug = lua_gettop(L);
+  lua_pushnil(L);
+  while (lua_next(L, original_debug)) {
+    lua_pop(L, 1);
+    if (lua_type(L, -1) == LUA_TSTRING && std::strcmp(lua_tostring(L, -1), "traceback") != 0)
+      disable(L, debug, "debug", lua_tostring(L, -1));
+  }
+  lua_getfield(L, original_debug, "traceback");
+  lua_setfield(L, debug, "traceback");
   lua_setfield(L, g, "debug");
   lua_pop(L, 1);
   // package: no native code; require finds preloaded modules and Lua files beside the script.

@@ -148,3 +148,37 @@ TEST_CASE("wedge run --sandbox without out= writes beside the script, a NUL in a
   CHECK(fs::is_empty(outside));
   fs::remove_all(root);
 }
+
+// A refused file access names the script's line and the function, as export's refusal does: it
+// was "sandbox: cannot read '/etc/passwd': ..." with neither. A removed debug function says it is
+// not available, where debug.getregistry() gave "attempt to call a nil value".
+TEST_CASE("wedge run --sandbox refusals give the script's file and line and the function", "[lua][sandbox]") {
+  const fs::path root = fs::temp_directory_path() / ("wedge-sandbox-where-" + std::to_string(::getpid()));
+  const fs::path dir = root / "model";
+  fs::create_directories(dir);
+  std::ofstream(dir / "loc.lua") << "local function try(f) local ok, err = pcall(f) print(err) end\n"
+                                 << "try(function() local f = io.open('/etc/passwd') end)\n"
+                                 << "try(function() local f = io.lines('/etc/passwd') end)\n"
+                                 << "try(function() local f = dofile('/etc/passwd') end)\n"
+                                 << "try(function() local f = loadfile('/etc/passwd') end)\n"
+                                 << "try(function() local f = os.remove('/etc/passwd') end)\n"
+                                 << "try(function() local f = os.rename('/etc/passwd', '/etc/x') end)\n"
+                                 << "try(function() local f = debug.getregistry() end)\n"
+                                 << "try(function() local f = debug.getupvalue(print, 1) end)\n"
+                                 << "try(function() local f = export(box(1, 1, 1), '/etc/x.stl') end)\n";
+  // From the script's folder, so that the chunk name is short enough for Lua to show it whole.
+  Result r = run("cd '" + dir.string() + "' && " + std::string(WEDGE_EXE) + " run --sandbox loc.lua");
+  INFO(r.output);
+  CHECK(r.status == 0);
+  const std::string script = "loc.lua";
+  CHECK_THAT(r.output, Catch::Contains(script + ":2: io.open: sandbox: cannot read '/etc/passwd': under --sandbox"));
+  CHECK_THAT(r.output, Catch::Contains(script + ":3: io.lines: sandbox: cannot read '/etc/passwd'"));
+  CHECK_THAT(r.output, Catch::Contains(script + ":4: dofile: sandbox: cannot read '/etc/passwd'"));
+  CHECK_THAT(r.output, Catch::Contains(script + ":5: loadfile: sandbox: cannot read '/etc/passwd'"));
+  CHECK_THAT(r.output, Catch::Contains(script + ":6: os.remove: sandbox: cannot write '/etc/passwd'"));
+  CHECK_THAT(r.output, Catch::Contains(script + ":7: os.rename: sandbox: cannot write '/etc/passwd'"));
+  CHECK_THAT(r.output, Catch::Contains(script + ":8: debug.getregistry is not available under --sandbox"));
+  CHECK_THAT(r.output, Catch::Contains(script + ":9: debug.getupvalue is not available under --sandbox"));
+  CHECK_THAT(r.output, Catch::Contains(script + ":10: export: sandbox: cannot write '/etc/x.stl'"));
+  fs::remove_all(root);
+}
