@@ -167,7 +167,8 @@ std::size_t planar_regions(Mesh& mesh, std::vector<FaceSurface>& planes) {
 
 void check_triangle_budget(std::size_t triangles, const Tolerance& tol) {
   if (triangles > tol.max_triangles)
-    fail("the mesh has ", triangles, " triangles, more than the budget of ", tol.max_triangles, ": raise max_triangles");
+    fail("the mesh has ", triangles, " triangles, more than the budget of ", tol.max_triangles,
+         ": raise the budget with tolerance{max_triangles=N}");
 }
 
 void check_boolean_budget(BooleanOp op, const std::vector<const Mesh*>& operands, std::size_t max_triangles) {
@@ -175,7 +176,8 @@ void check_boolean_budget(BooleanOp op, const std::vector<const Mesh*>& operands
   for (const Mesh* m : operands) triangles += double(m->triangles.size());
   if (triangles > double(max_triangles))
     fail("boolean: the ", boolean_op_name(op), " of ", operands.size(), " operands would make about ", std::llround(triangles),
-         " triangles (its operands' together), more than the budget of ", max_triangles, ": raise max_triangles");
+         " triangles (its operands' together), more than the budget of ", max_triangles,
+         ": raise the budget with tolerance{max_triangles=N}");
 }
 
 }  // namespace wedge

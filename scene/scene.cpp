@@ -253,7 +253,8 @@ Mesh mesh(const Node& root, const Tolerance& tol) {
   for (const auto& occ : parts) total += double(meshes.of(occ.leaf).triangles.size());
   if (!(total <= double(tol.max_triangles)))
     fail("the scene would be one mesh of ", total, " triangles (", parts.size(), " parts), more than the budget of ",
-         tol.max_triangles, ": use fewer copies, a larger tolerance, or raise max_triangles");
+         tol.max_triangles,
+         ": use fewer copies, a larger tolerance, or raise the budget with tolerance{max_triangles=N}");
   Mesh all;
   for (const auto& occ : parts) all.append(meshes.of(occ.leaf).transformed(occ.world));
   return all;
@@ -402,7 +403,8 @@ Drawable draw_items(const Node& root, const Tolerance& tol, const std::function<
     if (item.mesh) total += double(item.mesh->triangles.size());
   if (!(total <= double(tol.max_triangles)))
     fail("the scene would draw ", total, " triangles (", d.items.size(), " placed meshes), more than the budget of ",
-         tol.max_triangles, ": use fewer copies, a larger tolerance, or raise max_triangles");
+         tol.max_triangles,
+         ": use fewer copies, a larger tolerance, or raise the budget with tolerance{max_triangles=N}");
   return d;
 }
 

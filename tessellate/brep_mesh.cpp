@@ -227,7 +227,7 @@ static Mesh tessellate_at_scale(const Model& m, const Tolerance& tol_in, std::ve
   if (!(estimate <= double(tol.max_triangles))) {
     if (estimate == planar)  // the count of a polyhedron, whatever the tolerance
       fail("tessellate: the solid's planar faces make ", estimate, " triangles at any tolerance, more than the budget of ",
-           tol.max_triangles, ": raise max_triangles");
+           tol.max_triangles, ": raise the budget with tolerance{max_triangles=N}");
     // Where the chordal tolerance alone stays within the budget, the angle is what asks too much
     // (tolerance{angle=1e-6} was reported as "tolerance 0.01 would need ...").
     Tolerance chordal_only = tol;
@@ -235,9 +235,11 @@ static Mesh tessellate_at_scale(const Model& m, const Tolerance& tol_in, std::ve
     StraightAxes unused;
     if (tol.angular < 180 && estimate_triangles(m, chordal_only, unused) + planar <= double(tol.max_triangles))
       fail("tessellate: the angle tolerance of ", tol.angular, " degrees would need ", triangle_count_text(estimate),
-           " triangles, more than the budget of ", tol.max_triangles, ": use a larger angle or raise max_triangles");
+           " triangles, more than the budget of ", tol.max_triangles,
+           ": use a larger angle or raise the budget with tolerance{max_triangles=N}");
     fail("tessellate: tolerance ", tol.chordal, " would need ", triangle_count_text(estimate),
-         " triangles, more than the budget of ", tol.max_triangles, ": use a larger tolerance or raise max_triangles");
+         " triangles, more than the budget of ", tol.max_triangles,
+         ": use a larger tolerance or raise the budget with tolerance{max_triangles=N}");
   }
   Mesh out;
   const ProgressReport report(out, estimate);
@@ -952,7 +954,8 @@ static Mesh tessellate_at_scale(const Model& m, const Tolerance& tol_in, std::ve
       report();
       if (out.positions.size() + add.size() > budget)
         fail("tessellate: face ", f.value, " needs more than ", budget, " points at tolerance ", tol.chordal,
-             ", more than the budget of ", tol.max_triangles, " triangles allows: use a larger tolerance or raise max_triangles");
+             ", more than the budget of ", tol.max_triangles,
+             " triangles allows: use a larger tolerance or raise the budget with tolerance{max_triangles=N}");
       std::size_t inserted = 0;
       const double eu = 1e-12 * (u1 - u0), ev = 1e-12 * (v1 - v0);
       for (const Add& a : add) {

@@ -155,7 +155,7 @@ TEST_CASE("the triangle budget counts planar faces, boolean results and imported
   // A box is 12 triangles at any tolerance; the budget counted only curved faces' triangles.
   Run r = run(s.lua() + "export(box(1, 1, 1), dir .. '/x.stl', {max_triangles = 11})\n");
   CHECK(r.err.rfind("sizes.lua:2: export: tessellate: the solid's planar faces make 12 triangles at any tolerance, "
-                    "more than the budget of 11: raise max_triangles", 0) == 0);
+                    "more than the budget of 11: raise the budget with tolerance{max_triangles=N}", 0) == 0);
   CHECK_FALSE(fs::exists(file));
   r = run(s.lua() + "assert(export(box(1, 1, 1), dir .. '/x.stl', {max_triangles = 12}) == 12)\n");
   CHECK(r.err == "");
@@ -165,15 +165,15 @@ TEST_CASE("the triangle budget counts planar faces, boolean results and imported
   // A boolean: its operands' triangles together, before the engine runs.
   r = run(s.lua() + "export(box(2, 2, 2) - box(1, 1, 1):translate(0.5, 0.5, 0.5), dir .. '/x.stl', {max_triangles = 23})\n");
   CHECK(r.err.rfind("sizes.lua:2: export: boolean: the difference of 2 operands would make about 24 triangles "
-                    "(its operands' together), more than the budget of 23: raise max_triangles", 0) == 0);
+                    "(its operands' together), more than the budget of 23: raise the budget with tolerance{max_triangles=N}", 0) == 0);
   // A result kept from an evaluation under the default budget is checked all the same, as is a
   // union of parts apart (no engine call).
   r = run(s.lua() + "local d = box(2, 2, 2) - box(1, 1, 1):translate(0.5, 0.5, 0.5)\nassert(math.abs(d:volume() - 7) < 1e-12)\n"
                     "export(d, dir .. '/x.stl', {max_triangles = 20})\n");
-  CHECK(r.err.rfind("sizes.lua:4: export: the mesh has 24 triangles, more than the budget of 20: raise max_triangles", 0) == 0);
+  CHECK(r.err.rfind("sizes.lua:4: export: the mesh has 24 triangles, more than the budget of 20: raise the budget with tolerance{max_triangles=N}", 0) == 0);
   r = run(s.lua() + "local u = box(1, 1, 1) + box(1, 1, 1):translate(5, 0, 0)\nexport(u, dir .. '/x.obj', {max_triangles = 20})\n");
-  CHECK(r.err.rfind("sizes.lua:3: export: the mesh has 24 triangles, more than the budget of 20: raise max_triangles", 0) == 0);
+  CHECK(r.err.rfind("sizes.lua:3: export: the mesh has 24 triangles, more than the budget of 20: raise the budget with tolerance{max_triangles=N}", 0) == 0);
   // An imported mesh.
   r = run(s.lua() + "export(box(1, 1, 1), dir .. '/b.off')\nlocal m = import(dir .. '/b.off')\ntolerance{max_triangles = 11}\nlocal n = m:triangles()\n");
-  CHECK(r.err.rfind("sizes.lua:5: triangles: the mesh has 12 triangles, more than the budget of 11: raise max_triangles", 0) == 0);
+  CHECK(r.err.rfind("sizes.lua:5: triangles: the mesh has 12 triangles, more than the budget of 11: raise the budget with tolerance{max_triangles=N}", 0) == 0);
 }

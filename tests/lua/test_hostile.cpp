@@ -160,7 +160,7 @@ const Case kCases[] = {
     {"instance{box(1,1,1), box(1,1,1)}", "hostile.lua:2: instance: one thing to share expected as the first element, then transform=, name=, material=; got 2 elements"},
     // a scene of many copies: within the triangle budget, said before anything is copied or drawn
     {"tolerance{max_triangles = 1000}; export(array{box(1,1,1), count = 100, step = {2, 0, 0}}, '$/a.stl')",
-     "hostile.lua:2: export: the scene would be one mesh of 1200 triangles (100 parts), more than the budget of 1000: use fewer copies, a larger tolerance, or raise max_triangles"},
+     "hostile.lua:2: export: the scene would be one mesh of 1200 triangles (100 parts), more than the budget of 1000: use fewer copies, a larger tolerance, or raise the budget with tolerance{max_triangles=N}"},
     {"tolerance{max_triangles = 1000}; render{array{box(1,1,1), count = 100, step = {2, 0, 0}}, out = '$/a.png', size = {8, 8}}",
      "hostile.lua:2: render: the scene would draw 1200 triangles (100 placed meshes), more than the budget of 1000"},
     // a name that is no field or method is an error, not nil
@@ -279,7 +279,7 @@ const Case kCases[] = {
     {"sphere{r = 1, center = {1e300, 0, 0}}", "would reach beyond +-1e+100"},
     // --- budgets: an estimate first, an error giving it, a way to raise the budget ---
     {"export(sphere(1), '$/s.stl', {tolerance = 1e-12})", "tessellate: tolerance 9.9999999999999998e-13 would need about"},
-    {"sphere(1):triangles{tolerance = 1e-9}", "more than the budget of 10000000: use a larger tolerance or raise max_triangles"},
+    {"sphere(1):triangles{tolerance = 1e-9}", "more than the budget of 10000000: use a larger tolerance or raise the budget with tolerance{max_triangles=N}"},
     {"sphere(1):triangles{max_triangles = 100}", "more than the budget of 100"},
     {"tolerance{max_triangles = 0}", "hostile.lua:2: tolerance: max_triangles must be a whole number in 1..1e12, got 0"},
     {"export(box(1,1,1), '$/x.stl', {max_triangles = 1.5})", "hostile.lua:2: export: max_triangles must be a whole number in 1..1e12, got 1.5"},
@@ -388,7 +388,7 @@ const Case kCases[] = {
     {"natural_spline{points = {{0,0},{1e308,1},{-1e308,0}}}", "hostile.lua:2: natural_spline: points 2 and 3 are too far apart: the length along the points overflows"},
     {"tolerance{max_triangles = 1e12 + 0.5}", "hostile.lua:2: tolerance: max_triangles must be a whole number in 1..1e12, got 1000000000000.5"},
     {"sphere(1):triangles{tolerance = 5e-324}", "would need more than 1e308 triangles, more than the budget of 10000000"},
-    {"tolerance{max_triangles = 11}; export(box(1,1,1), '$/x.stl')", "hostile.lua:2: export: tessellate: the solid's planar faces make 12 triangles at any tolerance, more than the budget of 11: raise max_triangles"},
+    {"tolerance{max_triangles = 11}; export(box(1,1,1), '$/x.stl')", "hostile.lua:2: export: tessellate: the solid's planar faces make 12 triangles at any tolerance, more than the budget of 11: raise the budget with tolerance{max_triangles=N}"},
     {"box(1e90, 1e90, 1e90):inertia()", "hostile.lua:2: inertia: the inertia tensor overflows"},
     {"export(box(1e-90, 1e-90, 1e-90), '$/t.stl')", "is below 9.8607613152626476e-32, where STL's 32-bit floats lose their digits"},
     {"cylinder(5e-324, 1)", "cylinder radius 4.9406564584124654e-324 is below 1e-100"},

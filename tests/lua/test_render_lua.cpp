@@ -360,3 +360,22 @@ TEST_CASE("render{} refuses an unknown field in a mesh table", "[lua][render][er
   CHECK(status != 0);
   CHECK(err.find("unknown field 'colour'") != std::string::npos);
 }
+
+TEST_CASE("render{} over the triangle budget says how to raise it", "[lua][render][errors]") {
+  // The message said "raise max_triangles", and render{..., max_triangles=} is an unknown field;
+  // the budget is tolerance{max_triangles=N}, and doing what the message says works.
+  const std::string out = std::string(WEDGE_BINARY_DIR) + "/lua_render_budget.png";
+  std::string err;
+  int status = run("tolerance{max_triangles = 1000}\nrender{array{box(1, 1, 1), count = 100, step = {2, 0, 0}}, out = '" +
+                       out + "', size = {20, 20}}",
+                   err);
+  CHECK(status != 0);
+  INFO(err);
+  CHECK(err.find("render_test.lua:2:") != std::string::npos);
+  CHECK(err.find("more than the budget of 1000") != std::string::npos);
+  CHECK(err.find("raise the budget with tolerance{max_triangles=N}") != std::string::npos);
+  status = run("tolerance{max_triangles = 2000}\nrender{array{box(1, 1, 1), count = 100, step = {2, 0, 0}}, out = '" + out +
+                   "', size = {20, 20}}",
+               err);
+  CHECK(status == 0);
+}
