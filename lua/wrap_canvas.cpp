@@ -9,11 +9,12 @@
 // Pixel (x, y) is the unit square [x, x+1] x [y, y+1], y up from the bottom row (as raster2d's
 // Grid and a GL window); save() writes the top row first, as PNG files hold it, whole or not at all
 // (render::write_png goes through an AtomicFile). Colours are
-// {r, g, b} or {r, g, b, a} in [0, 1]. After c:clip{window=...}, a line keeps exactly the pixels of
-// the unclipped line that are in the window (the chosen algorithm, "cohen_sutherland", the default,
-// or "liang_barsky", finds the part of the line to walk), polygons are clipped by
-// Sutherland-Hodgman before they are filled, and circle pixels outside the window are dropped.
-// c:clip{} (no window) ends clipping.
+// {r, g, b} or {r, g, b, a} in [0, 1]. After c:clip{window={xmin, ymin, xmax, ymax}}, every
+// primitive draws only the pixels whose position (x, y) is in the window, its edges included
+// (xmin <= x <= xmax, ymin <= y <= ymax), and otherwise the pixels it draws unclipped: a line (the
+// chosen algorithm, "cohen_sutherland", the default, or "liang_barsky", finds the part of the
+// line to walk), a polygon (clipped by Sutherland-Hodgman before it is filled), a circle, and a
+// flood fill, which spreads only through the window. c:clip{} (no window) ends clipping.
 #include <algorithm>
 #include <cctype>
 #include <cmath>
@@ -107,10 +108,21 @@ int whole(double v, int arg, const std::string& what) {
   return int(v);
 }
 
-// Whether pixel position (x, y) is in the clip window, edges included (or there is no window).
+// Whether pixel position (x, y) is in the clip window, edges included (or there is no window). One
+// rule for every primitive: polygons, clipped to the window itself and filled by pixel centres,
+// lost the pixels on its right and top edges (a whole-canvas polygon in {10,10,20,20} covered
+// [10..19] squared, a line x = 10..20), and flood fills ignored the window (all 1600 pixels).
 bool in_window(const Canvas& c, int x, int y) {
   return !c.window || (x >= c.window->min.x() && x <= c.window->max.x() && y >= c.window->min.y() &&
                        y <= c.window->max.y());
+}
+
+// The window's pixels as cells for fill_polygon and flood_fill (the window's values may lie any
+// distance off the canvas: clamped in double before they become ints).
+render::CellRect window_cells(const Canvas& c) {
+  auto cell = [&](double v) { return int(std::clamp(v, -1.0, double(std::max(c.grid.width, c.grid.height)))); };
+  return {cell(std::ceil(c.window->min.x())), cell(std::ceil(c.window->min.y())), cell(std::floor(c.window->max.x())),
+          cell(std::floor(c.window->max.y()))};
 }
 
 void set(Canvas& c, int x, int y, std::int32_t value) {
@@ -219,13 +231,20 @@ int polygon_m(lua_State* L) {
     o.finish();
     std::vector<Point2> p = points(L, 2);
     if (p.size() < 3) throw ArgError{2, "a polygon needs at least 3 points, got " + std::to_string(p.size())};
+    std::optional<render::CellRect> cells;
     if (c.window) {
+      // Clipped to the window grown by a pixel, which keeps the centres of the window's pixels
+      // inside, and cut to the canvas grown by a pixel (a window of +-1e300 made the clipper's
+      // products overflow); the fill then sets the window's pixels only.
       const Box2& wnd = *c.window;
-      p = render::clip_sutherland_hodgman(
-          p, {wnd.min, Point2(wnd.max.x(), wnd.min.y()), wnd.max, Point2(wnd.min.x(), wnd.max.y())});
+      const Point2 lo = (wnd.min - Vec2(1, 1)).cwiseMax(Vec2(-1, -1));
+      const Point2 hi = (wnd.max + Vec2(1, 1)).cwiseMin(Vec2(c.grid.width + 1, c.grid.height + 1));
+      if (!(lo.x() < hi.x() && lo.y() < hi.y())) return 0;
+      p = render::clip_sutherland_hodgman(p, {lo, Point2(hi.x(), lo.y()), hi, Point2(lo.x(), hi.y())});
       if (p.size() < 3) return 0;
+      cells = window_cells(c);
     }
-    render::fill_polygon(c.grid, p, fill == "nonzero" ? render::FillRule::NonZero : render::FillRule::EvenOdd, col);
+    render::fill_polygon(c.grid, p, fill == "nonzero" ? render::FillRule::NonZero : render::FillRule::EvenOdd, col, cells);
     return 0;
   });
 }
@@ -243,7 +262,8 @@ int flood_fill_m(lua_State* L) {
     if (!c.grid.inside(x, y))
       throw ArgError{2, "the seed (" + std::to_string(x) + ", " + std::to_string(y) + ") is outside the " +
                             std::to_string(c.grid.width) + " x " + std::to_string(c.grid.height) + " canvas"};
-    lua_pushinteger(L, lua_Integer(render::flood_fill(c.grid, x, y, col)));
+    const std::optional<render::CellRect> cells = c.window ? std::optional(window_cells(c)) : std::nullopt;
+    lua_pushinteger(L, lua_Integer(render::flood_fill(c.grid, x, y, col, cells)));
     return 1;
   });
 }

@@ -161,9 +161,20 @@ int clamped_int(double v, int lo, int hi) {
 }
 }  // namespace
 
-void fill_polygon(Grid& grid, const std::vector<Point2>& poly, FillRule rule, std::int32_t value) {
+namespace {
+// `cells` cut to the grid (the whole grid if not given); x0 > x1 or y0 > y1 if nothing is left.
+CellRect cells_on(const Grid& grid, const std::optional<CellRect>& cells) {
+  CellRect r{0, 0, grid.width - 1, grid.height - 1};
+  if (cells) r = {std::max(r.x0, cells->x0), std::max(r.y0, cells->y0), std::min(r.x1, cells->x1), std::min(r.y1, cells->y1)};
+  return r;
+}
+}  // namespace
+
+void fill_polygon(Grid& grid, const std::vector<Point2>& poly, FillRule rule, std::int32_t value,
+                  std::optional<CellRect> cells) {
   const std::size_t n = poly.size();
-  if (n < 3) return;
+  const CellRect within = cells_on(grid, cells);
+  if (n < 3 || within.x0 > within.x1 || within.y0 > within.y1) return;
   struct Edge {
     Point2 lo, hi;  // the end with the smaller y, the end with the larger
     int dir;        // +1 upward, -1 downward (for the winding number)
@@ -200,21 +211,24 @@ void fill_polygon(Grid& grid, const std::vector<Point2>& poly, FillRule rule, st
     xs.clear();
     for (auto& e : active) xs.push_back({e.x_at(yc), e.dir});
     std::sort(xs.begin(), xs.end());
+    if (y < within.y0 || y > within.y1) continue;
     int winding = 0;
     for (std::size_t k = 0; k + 1 < xs.size(); ++k) {
       winding += xs[k].second;
       bool in = rule == FillRule::EvenOdd ? (k % 2 == 0) : winding != 0;
       if (!in) continue;
       // Centres x + 1/2 in [xs[k], xs[k+1]), clamped to the row in double before becoming ints.
-      const int x0 = clamped_int(std::ceil(xs[k].first - 0.5), 0, grid.width);
-      const int x1 = clamped_int(std::ceil(xs[k + 1].first - 0.5), 0, grid.width);
+      const int x0 = clamped_int(std::ceil(xs[k].first - 0.5), within.x0, within.x1 + 1);
+      const int x1 = clamped_int(std::ceil(xs[k + 1].first - 0.5), within.x0, within.x1 + 1);
       for (int x = x0; x < x1; ++x) grid.at(x, y) = value;
     }
   }
 }
 
-std::size_t flood_fill(Grid& grid, int x, int y, std::int32_t value) {
+std::size_t flood_fill(Grid& grid, int x, int y, std::int32_t value, std::optional<CellRect> cells) {
   if (!grid.inside(x, y)) fail("flood fill seed (", x, ", ", y, ") is outside the ", grid.width, "x", grid.height, " grid");
+  const CellRect within = cells_on(grid, cells);
+  if (x < within.x0 || x > within.x1 || y < within.y0 || y > within.y1) return 0;
   const std::int32_t target = grid.at(x, y);
   if (target == value) return 0;
   std::size_t count = 0;
@@ -225,11 +239,11 @@ std::size_t flood_fill(Grid& grid, int x, int y, std::int32_t value) {
     if (grid.at(p.x, p.y) != target) continue;
     // Fill the whole span of this row, then seed the rows above and below once per run.
     int l = p.x, r = p.x;
-    while (l > 0 && grid.at(l - 1, p.y) == target) --l;
-    while (r + 1 < grid.width && grid.at(r + 1, p.y) == target) ++r;
+    while (l > within.x0 && grid.at(l - 1, p.y) == target) --l;
+    while (r < within.x1 && grid.at(r + 1, p.y) == target) ++r;
     for (int i = l; i <= r; ++i) grid.at(i, p.y) = value, ++count;
     for (int ny : {p.y - 1, p.y + 1}) {
-      if (ny < 0 || ny >= grid.height) continue;
+      if (ny < within.y0 || ny > within.y1) continue;
       bool run = false;
       for (int i = l; i <= r; ++i) {
         bool t = grid.at(i, ny) == target;

@@ -5,6 +5,7 @@
 // the even-odd and non-zero winding rules, and a 4-connected flood fill.
 #pragma once
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include "kernel/kernel.h"
@@ -45,13 +46,20 @@ struct Grid {
   bool inside(int x, int y) const { return x >= 0 && y >= 0 && x < width && y < height; }
 };
 
-// Sets to `value` every cell whose centre (x + 1/2, y + 1/2) is inside the polygon under `rule`
-// (an edge-table / active-edge-table scan conversion; a centre exactly on a left edge is in,
-// on a right edge is out).
-void fill_polygon(Grid& grid, const std::vector<Point2>& polygon, FillRule rule, std::int32_t value);
+// The cells x0..x1 by y0..y1, both ends included: where a fill may set cells (a clip window).
+struct CellRect {
+  int x0, y0, x1, y1;
+};
 
-// Replaces the 4-connected region of cells equal to the seed's value with `value` (scan-line
-// seed fill with an explicit stack: no recursion depth limit). Returns the number of cells set.
-std::size_t flood_fill(Grid& grid, int x, int y, std::int32_t value);
+// Sets to `value` every cell (within `cells`, if given) whose centre (x + 1/2, y + 1/2) is inside
+// the polygon under `rule` (an edge-table / active-edge-table scan conversion; a centre exactly on
+// a left edge is in, on a right edge is out).
+void fill_polygon(Grid& grid, const std::vector<Point2>& polygon, FillRule rule, std::int32_t value,
+                  std::optional<CellRect> cells = std::nullopt);
+
+// Replaces the 4-connected region of cells equal to the seed's value (and within `cells`, if
+// given) with `value` (scan-line seed fill with an explicit stack: no recursion depth limit).
+// Returns the number of cells set: 0 for a seed outside `cells`.
+std::size_t flood_fill(Grid& grid, int x, int y, std::int32_t value, std::optional<CellRect> cells = std::nullopt);
 
 }  // namespace wedge::render

@@ -222,3 +222,48 @@ TEST_CASE("canvas clipping only removes the pixels outside the window", "[lua][c
   INFO(r.err);
   CHECK(r.status == 0);
 }
+
+TEST_CASE("canvas clip: every primitive keeps the pixels whose position is in the window, edges included", "[lua][canvas]") {
+  // With window {10,10,20,20} a line kept x = 10..20 but a whole-canvas polygon [10..19] squared,
+  // and a flood fill ignored the window and filled all 1600 pixels.
+  auto r = run_lua(std::string(kHelpers) + R"LUA(
+    local function only_window(c, x0, y0, x1, y1, what)
+      for y = 0, 39 do for x = 0, 39 do
+        local inside = x >= x0 and x <= x1 and y >= y0 and y <= y1
+        if black(c, x, y) and not inside then error(what .. ": (" .. x .. "," .. y .. ") outside the window") end
+      end end
+    end
+    local c = canvas{width = 40, height = 40}
+    c:clip{window = {10, 10, 20, 20}}
+    c:polygon{{0, 0}, {40, 0}, {40, 40}, {0, 40}}
+    assert(count(c) == 121, "polygon: " .. count(c))
+    assert(black(c, 20, 20) and black(c, 10, 10))
+    only_window(c, 10, 10, 20, 20, "polygon")
+    c = canvas{width = 40, height = 40}
+    c:clip{window = {10, 10, 20, 20}}
+    c:line{{0, 20}, {39, 20}}  -- along the window's top edge
+    assert(count(c) == 11, "line: " .. count(c))
+    local n = c:flood_fill{{12, 12}}
+    assert(n == 121 - 11, "flood fill: " .. n)
+    assert(count(c) == 121, count(c))
+    only_window(c, 10, 10, 20, 20, "flood fill")
+    assert(c:flood_fill{{5, 5}} == 0)  -- a seed outside the window fills nothing
+    assert(count(c) == 121)
+    -- A fractional window: pixel positions 11..20 in x, 10..19 in y.
+    c = canvas{width = 40, height = 40}
+    c:clip{window = {10.5, 9.5, 20.5, 19.5}}
+    c:polygon{{0, 0}, {40, 0}, {40, 40}, {0, 40}}
+    assert(count(c) == 100, "fractional polygon: " .. count(c))
+    only_window(c, 11, 10, 20, 19, "fractional polygon")
+    c = canvas{width = 40, height = 40}
+    c:clip{window = {10.5, 9.5, 20.5, 19.5}}
+    assert(c:flood_fill{{15, 15}} == 100)
+    -- A window reaching far off the canvas.
+    c = canvas{width = 40, height = 40}
+    c:clip{window = {-1e300, -1e300, 1e300, 1e300}}
+    c:polygon{{0, 0}, {40, 0}, {40, 40}, {0, 40}}
+    assert(count(c) == 1600, count(c))
+  )LUA");
+  INFO(r.err);
+  CHECK(r.status == 0);
+}
