@@ -23,7 +23,7 @@ std::vector<double> unique_sorted(std::vector<double> v) {
 
 [[noreturn]] void over_budget(std::size_t triangles, double tolerance, std::size_t max_triangles) {
   fail("tessellate: the surface needs about ", triangles, " triangles at tolerance ", tolerance, ", more than the budget of ",
-       max_triangles, ": use a larger tolerance or raise max_triangles");
+       max_triangles, ": use a larger tolerance or raise the budget with tolerance{max_triangles=N}");
 }
 
 // The refined parameter grid of tessellate() and its evaluated points (row-major, us outer).

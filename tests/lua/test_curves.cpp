@@ -260,7 +260,7 @@ TEST_CASE("S:mesh keeps to the triangle budget and refuses before it meshes", "[
   auto r = run_lua(R"(
     tolerance{max_triangles = 1000}
     local ok, err = pcall(function() return teapot():mesh{tolerance = 1e-3} end)
-    assert(not ok and err:find("more than the budget of 1000: use a larger tolerance or raise max_triangles", 1, true), err)
+    assert(not ok and err:find("more than the budget of 1000: use a larger tolerance or raise the budget with tolerance{max_triangles=N}", 1, true), err)
     ok, err = pcall(function() return teapot():mesh{tolerance = 1e-6} end)
     assert(not ok and err:find("more than the budget of 1000", 1, true), err)
     local h = math.sqrt(2) / 2

@@ -56,7 +56,7 @@ const Case kCases[] = {
     {"nurbs{points = {{0,0},{1,1},{2,0}}, weights = {1,-1,1}, knots = {0,0,0,1,1,1}, degree = 2}", "weight 2 must be a positive finite number, got -1"},
     {"nurbs{points = {{0,0},{1,1},{2,0}}, weights = {1,1,1}, knots = {0,0,0,1,1,0}, degree = 2}", "knots must be non-decreasing"},
     {"circle(1):points{tolerance = 0}", "hostile.lua:2: points: tolerance must be positive, got 0"},
-    {"teapot():mesh{tolerance = 1e-9}", "more than the budget of 10000000: use a larger tolerance or raise max_triangles"},
+    {"teapot():mesh{tolerance = 1e-9}", "more than the budget of 10000000: use a larger tolerance or raise the budget with tolerance{max_triangles=N}"},
     {"tolerance(-1)", "tolerance must be positive"},
     {"tolerance(0/0)", "finite number expected, got nan"},
     {"revolved_surface(circle{r = 1, center = {2, 0}}, {angle = 0})", "angle must be in (0, 360], got 0"},
