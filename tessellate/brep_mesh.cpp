@@ -48,7 +48,10 @@
 namespace wedge {
 
 using brep_sampling::angle_between;
+using brep_sampling::chords_needed;
 using brep_sampling::edge_parameters;
+using brep_sampling::tilt_tangent;
+using brep_sampling::width_across;
 using brep_sampling::estimate_triangles;
 using brep_sampling::planar_triangles;
 using brep_sampling::StraightAxes;
@@ -261,37 +264,22 @@ static Mesh tessellate_at_scale(const Model& m, const Tolerance& tol_in, std::ve
       if (const FaceSurface* ps = &m.surface(f); ps->parametric && pc) along.emplace_back(ps, pc);
     }
     double ang = radians(tol.angular);
-    const double tan_tilt = std::tan(std::min(ang, radians(45.0)));
+    const double tan_tilt = tilt_tangent(tol);
     auto turns = [&](double a, double b) {
+      double bow = -1;  // the chord's, measured once for both faces
       for (const auto& [ps, pc] : along) {
         Vec2 pa = pc->at((a - t0) / (t1 - t0)), pb = pc->at((b - t0) / (t1 - t0));
         const Surface& S = *ps->surface;
         if (angle_between(S.normal(pa.x(), pa.y()), S.normal(pb.x(), pb.y())) > ang) return true;
-        // The chord's bow along the surface against the width of the face's triangles across
-        // the edge: where the face is narrow across (a thin tube's seam), a chord bowing by more
-        // than the tilt tolerance times that width tilts the triangles on it past the angle, and
-        // turns over those the refinement puts nearer (which it then splits without end: a tube
-        // of radius 0.05 swept along a bend of radius 1 at 0.1 ran past the point budget).
-        const Vec2 d = pb - pa;
-        if (!(d.squaredNorm() > 0)) continue;
-        const Vec2 uv = (pa + pb) / 2;
-        Vec3 J[6];
-        S.jet(uv.x(), uv.y(), 2, J);
-        Vec3 n = J[1].cross(J[2]);
-        if (!(n.norm() > 0)) continue;
-        n.normalize();
-        const double E = J[1].squaredNorm(), F = J[1].dot(J[2]), G = J[2].squaredNorm();
-        const double L = J[3].dot(n), M = J[4].dot(n), N = J[5].dot(n);
-        auto first = [&](const Vec2& w) { return E * w.x() * w.x() + 2 * F * w.x() * w.y() + G * w.y() * w.y(); };
-        auto second = [&](const Vec2& w) { return L * w.x() * w.x() + 2 * M * w.x() * w.y() + N * w.y() * w.y(); };
-        const Vec2 across(-(F * d.x() + G * d.y()), E * d.x() + F * d.y());  // orthogonal to d in the surface
-        const double ia = first(across);
-        if (!(ia > 0)) continue;
-        const double k_across = std::abs(second(across)) / ia;
-        if (!(k_across > 0)) continue;
-        const double width = 1 / std::max(std::sqrt(k_across / (8 * tol.chordal)), ang > 0 ? k_across / ang : 0.0);
-        const Point3 ca = c->eval(a), cb = c->eval(b);
-        if (point_segment_distance(c->eval((a + b) / 2), ca, cb) > tan_tilt * width) return true;
+        // The chord's bow against the width of the face's triangles across the edge: where the
+        // face is narrow across (a thin tube's seam), a chord bowing by more than the tilt
+        // tolerance times that width tilts the triangles on it past the angle, and turns over
+        // those the refinement puts nearer (which it then splits without end: a tube of radius
+        // 0.05 swept along a bend of radius 1 at 0.1 ran past the point budget).
+        const double width = width_across(S, (pa + pb) / 2, pb - pa, tol);
+        if (!std::isfinite(width)) continue;
+        if (bow < 0) bow = point_segment_distance(c->eval((a + b) / 2), c->eval(a), c->eval(b));
+        if (bow > tan_tilt * width) return true;
       }
       return false;
     };
@@ -438,43 +426,7 @@ static Mesh tessellate_at_scale(const Model& m, const Tolerance& tol_in, std::ve
     // gives long triangles across it: counts then grow as 1/sqrt(tol) per curved edge, not 1/tol.
     // Where neither direction bends (a flat patch), the mean speeds |Su|, |Sv| keep the plane
     // isometric.
-    const double ang_tol = radians(tol.angular);
-    const double tan_tilt = std::tan(std::min(ang_tol, radians(45.0)));
-    // Chords per unit parameter that the tolerances need along u and along v, from a jet J (S, Su,
-    // Sv, Suu, Suv, Svv) and its unit normal n: where the normal curvature term along u is k
-    // (|Suu.n|, or the twist term |Suv.n| where larger) and the speed |Su|, the chord's deviation
-    // k d^2 / 8 and its turn |Suu.n| d / |Su|. The twist term M = Suv.n turns the normal along u by |M| |Su| / |Su x Sv| per unit u
-    // (Weingarten's equations where Suu.n = 0), not |M| / |Su|: a twisted extrusion's side 0.03
-    // wide was given rows of points 0.004 apart across it, whose slivers the border's chords then
-    // turned over, and its refinement ran to the point budget. (Where M = 0, as before.)
-    auto needs = [&](const Vec3* J, const Vec3& n) {
-      const Vec3 &Su = J[1], &Sv = J[2];
-      const double L = std::abs(J[3].dot(n)), M = std::abs(J[4].dot(n)), N = std::abs(J[5].dot(n));
-      const double su = Su.norm(), sv = Sv.norm(), area = Su.cross(Sv).norm();
-      auto one = [&](double k, double bend, double speed, double twist_turn) {
-        return std::max({std::sqrt(k / (8 * tol.chordal)), speed > 0 ? bend / (speed * ang_tol) : 0.0, twist_turn / ang_tol});
-      };
-      // (Never more than |M| / |Su| as before: where |Su x Sv| falls to 0, at a pole, the turn
-      // above would ask for points without end.)
-      const double tu = M > 0 && area > 0 && su > 0 ? std::min(M / su, M * su / area) : 0.0;
-      const double tv = M > 0 && area > 0 && sv > 0 ? std::min(M / sv, M * sv / area) : 0.0;
-      double nu = one(std::max(L, M), L, su, tu), nv = one(std::max(N, M), N, sv, tv);
-      // A chord's bow off its parameter line, |Suu| across Su times d^2 / 8, held to tan_tilt
-      // times the width of the triangles across it (sv / nv): a triangle whose long side bows by
-      // more than that tilts past the angle (and past 90 degrees, turned over, where it bows by
-      // more than its width). The bow counts in the surface too: on top of a thin torus the rows
-      // along the ring bend sideways, not out of the surface, and narrowed the triangles between
-      // them to 60 degrees of tilt. Only where the triangles are far narrower across than along
-      // (thin tubes, flat ellipsoids, tight twists) does this ask for more: torus{R=1, r=0.03}
-      // had 104,540 triangles at 0.3 and 7,078 at 0.01, now 5,168 at both.
-      auto bow = [](const Vec3& d1, const Vec3& d2) {
-        const double s2 = d1.squaredNorm();
-        return s2 > 0 ? (d2 - d2.dot(d1) / s2 * d1).norm() : 0.0;
-      };
-      if (sv > 0) nu = std::max(nu, std::sqrt(std::max(bow(Su, J[3]), M) * nv / (8 * sv * tan_tilt)));
-      if (su > 0) nv = std::max(nv, std::sqrt(std::max(bow(Sv, J[5]), M) * nu / (8 * su * tan_tilt)));
-      return std::array<double, 2>{nu, nv};
-    };
+    auto needs = [&](const Vec3* J, const Vec3& n) { return chords_needed(J, n, tol); };
     constexpr int kCells = 16;
     double su = 0, sv = 0;
     std::array<double, kCells> ku{}, kv{};  // per column: the chords per unit u (v) needed
