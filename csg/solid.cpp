@@ -603,10 +603,10 @@ std::vector<std::int32_t> coplanar_faces_joined(const Mesh& mesh, const std::vec
     return x;
   };
   bool joined = false;
-  for (std::size_t i = 0; i + 1 < sides.size(); ++i) {
+  for (std::size_t i = 0, j = 0; i < sides.size(); i = j) {
+    for (j = i + 1; j < sides.size() && sides[j][0] == sides[i][0] && sides[j][1] == sides[i][1];) ++j;
+    if (j - i != 2) continue;  // an edge of more than two triangles (or an open one): left apart
     const auto &a = sides[i], &b = sides[i + 1];
-    if (a[0] != b[0] || a[1] != b[1]) continue;
-    if (i + 2 < sides.size() && sides[i + 2][0] == a[0] && sides[i + 2][1] == a[1]) continue;  // more than two: leave it
     const std::int32_t fa = ids[a[2]], fb = ids[b[2]];
     if (fa == fb || root(fa) == root(fb)) continue;
     const int ta = static_cast<std::size_t>(fa) < tags.size() ? tags[static_cast<std::size_t>(fa)] : -1;
