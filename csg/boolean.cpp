@@ -694,7 +694,7 @@ BooleanResult boolean_detail::boolean_as_given(BooleanOp op, const std::vector<c
       fail("boolean: the ", boolean_op_name(op), " of ", operands.size(), " operands: their surfaces would cross three at a "
            "time at about ", crossings, " points, more than the budget of ", max_crossings,
            " (operands that nearly coincide, such as copies turned by a degree, cross everywhere): use fewer such "
-           "operands or raise max_crossings");
+           "operands or raise the budget with tolerance{max_crossings=N}");
   }
   settle_pairs(soup, pairs, op, settled);
   if (stats) {

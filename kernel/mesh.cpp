@@ -423,8 +423,22 @@ EulerCounts euler_counts(const Mesh& mesh) {
       }
       i = j;
     }
-    if (twice)
-      fail("mesh is not 2-manifold: ", EdgeText{mesh.positions[ea], mesh.positions[eb]}, " is used twice in the same direction");
+    if (twice) {
+      // Four or more triangles at the edge (both ways twice): parts of a file touching along it,
+      // or face to face (an exported scene of two boxes side by side); said so, where "used
+      // twice in the same direction" alone read as one triangle turned round.
+      auto uses = [&](std::uint32_t a, std::uint32_t b) {
+        const auto lo = std::lower_bound(corners.begin(), corners.end(), std::array<std::uint32_t, 4>{a, b, 0, 0});
+        const auto hi = std::lower_bound(corners.begin(), corners.end(), std::array<std::uint32_t, 4>{a, b + 1, 0, 0});
+        return static_cast<std::size_t>(hi - lo);
+      };
+      const std::size_t n = uses(ea, eb) + uses(eb, ea);
+      std::string note;
+      if (n >= 4)
+        note = " (" + std::to_string(n) +
+               " triangles meet there, where a surface has two: parts touching along it, or face to face?)";
+      fail("mesh is not 2-manifold: ", EdgeText{mesh.positions[ea], mesh.positions[eb]}, " is used twice in the same direction", note);
+    }
   }
   // Closed: each directed edge's reverse is there. Around v, the edges in (w -> v) and out
   // (v -> u) are as many; every w must be some corner's u. The smallest edge without its reverse

@@ -291,7 +291,7 @@ const Case kCases[] = {
      "hostile.lua:2: volume: boolean: the union of 17 operands: their surfaces would cross three at a time at about "},
     {"local s = sphere(1) for i = 1, 16 do s = s + sphere(1):rotate_z(i) end export(s, '$/s.stl')",
      "more than the budget of 50000 (operands that nearly coincide, such as copies turned by a degree, cross everywhere): "
-     "use fewer such operands or raise max_crossings"},
+     "use fewer such operands or raise the budget with tolerance{max_crossings=N}"},
     {"local s = sphere(1) for i = 1, 2 do s = s + sphere(1):rotate_z(i) end s:triangles{max_crossings = 10}",
      "hostile.lua:2: triangles: boolean: the union of 3 operands: their surfaces would cross three at a time at about"},
     {"tolerance{max_crossings = 10} local s = sphere(1) for i = 1, 2 do s = s + sphere(1):rotate_x(i) end s:volume()",
