@@ -871,6 +871,19 @@ static Mesh tessellate_at_scale(const Model& m, const Tolerance& tol_in, std::ve
           over = true;
           at = uvc;
         }
+        // A triangle with a corner on a pole is flat, or turned over, where its other two corners
+        // lie on one line of the free parameter (one meridian through the axis), or in the wrong
+        // order along it: the pole's point in the plane stands anywhere on its stretch, so the
+        // plane's orientation says nothing (a revolved rectangle's flat ends had triangles of zero
+        // area, and folds, there, which booleans and STL refuse). It takes a point at its
+        // centroid in the plane (the place above moves the pole corner onto the others' line).
+        if (!over && (e[0].free_axis >= 0 || e[1].free_axis >= 0 || e[2].free_axis >= 0)) {
+          const Vec3 n3 = (pos(e[1].index) - pos(e[0].index)).cross(pos(e[2].index) - pos(e[0].index));
+          if (!(n3.dot(S.normal(uvc.x(), uvc.y())) > 0)) {
+            over = true;
+            at = (e[0].uv + e[1].uv + e[2].uv) / 3;
+          }
+        }
         // A triangle turned over against the surface (a thin one along a bend, its middle corner
         // past the chord of the other two: a swept tube's side at 0.01) folds the mesh onto itself
         // although every point is within the tolerance, and a boolean refuses it as crossing

@@ -367,3 +367,24 @@ TEST_CASE("the triangle estimate of a thin ring counts along it and around it ap
   CHECK(mesh.triangles.size() > 20000);
   CHECK(mesh.triangles.size() < 200000);
 }
+
+TEST_CASE("revolved profiles that touch the axis have no flat or folded triangles at their poles", "[tessellate][curved]") {
+  // A flat end of a revolved rectangle is a disc whose centre is a pole of its parameters: a
+  // triangle there with its two other corners on one meridian was a segment (zero area), or
+  // folded over its neighbour; export refused the mesh and booleans refused it as an operand
+  // (revolve(rect(4, 10)) at the default tolerance, and every radius from 3.5 up).
+  std::vector<std::pair<std::string, Profile>> profiles;
+  for (double r = 0.5; r <= 10; r += 0.5) profiles.push_back({"rectangle of radius " + std::to_string(r), Profile{{{0, 0}, {r, 0}, {r, 5}, {0, 5}}, {}}});
+  profiles.push_back({"stepped shaft", Profile{{{0, 0}, {10, 0}, {10, 3}, {4, 3}, {4, 30}, {0, 30}}, {}}});
+  profiles.push_back({"cone", Profile{{{0, 0}, {5, 0}, {0, 5}}, {}}});
+  for (const auto& [name, p] : profiles)
+    for (double angle : {2 * kPi, 1.5 * kPi})
+      for (double tol : {1.0, 0.5, 0.1, 0.01}) {
+        INFO(name << ", angle " << angle << ", tolerance " << tol);
+        Tolerance t;
+        t.chordal = tol;
+        const Mesh mesh = tessellate(revolve(section_of(p), angle), t);
+        CHECK(min_area(mesh) > 0);
+        CHECK(mesh_solid_defect(mesh) == "");
+      }
+}
