@@ -8,10 +8,69 @@
 
 namespace wedge {
 
-BrepLeaf::BrepLeaf(Model model) {
+BrepLeaf::BrepLeaf(Model model, const Symmetry& symmetry) : symmetry_(symmetry) {
   Validation v = model.validate();
   if (!v) fail("not a valid solid: ", v.message);
   model_ = std::make_shared<const Model>(std::move(model));
+}
+
+namespace {
+
+// x to a multiple of 2^-40 of its binade (exact where it is one already: 1, 2, 0.5, 0.25...).
+double to_grid(double x) {
+  if (x == 0 || !std::isfinite(x)) return x;
+  int e = 0;
+  std::frexp(x, &e);
+  return std::ldexp(std::nearbyint(std::ldexp(x, 40 - e)), e - 40);
+}
+
+// A right-handed orthonormal frame whose third column is the unit vector d, a function of d alone:
+// the first column is the world axis least along d (the first of equals) made normal to d, so the
+// frame of +z is exactly the identity.
+Mat3 axis_frame(const Vec3& d) {
+  int k = 0;
+  for (int i = 1; i < 3; ++i)
+    if (std::abs(d[i]) < std::abs(d[k])) k = i;
+  Vec3 x = Vec3::Unit(k) - d[k] * d;
+  x.normalize();
+  Mat3 f;
+  f.col(0) = x;
+  f.col(1) = d.cross(x);
+  f.col(2) = d;
+  return f;
+}
+
+}  // namespace
+
+Mat4 canonical_move(const Mat4& m, const Symmetry& sym) {
+  if (sym.kind == Symmetry::Kind::None) return m;
+  const Mat3 exact = m.block<3, 3>(0, 0);
+  const Mat3 ata = exact.transpose() * exact;
+  const double s2 = ata.trace() / 3;
+  if (!(s2 > 0) || (ata - s2 * Mat3::Identity()).cwiseAbs().maxCoeff() > 1e-12 * s2) return m;
+  const double s = to_grid(std::sqrt(s2));
+  // The linear part to 2^-40 of the scale: a turn and its inverse, composed, are the identity
+  // again (their product was a rounding off it, and the copy's mesh with it).
+  const double q = std::ldexp(1.0, std::ilogb(s) - 40);
+  const Mat3 a = exact.unaryExpr([&](double x) { return std::nearbyint(x / q) * q; });
+  Mat3 turn = Mat3::Identity();
+  if (sym.kind == Symmetry::Kind::Axis) {
+    Vec3 d = (a * sym.axis).normalized();
+    for (int i = 0; i < 3; ++i) d[i] = to_grid(d[i]);
+    d.normalize();
+    if (sym.flip) {
+      int k = 0;
+      while (k < 2 && d[k] == 0) ++k;
+      if (d[k] < 0) d = -d;
+    }
+    turn = axis_frame(d) * axis_frame(sym.axis).transpose();
+  }
+  const Mat3 linear = s * turn;
+  // m' x = linear x + t', the centre going where m takes it: t' = t + (A - linear) c.
+  Mat4 out = m;
+  out.block<3, 3>(0, 0) = linear;
+  if (linear != a) out.block<3, 1>(0, 3) = m.block<3, 1>(0, 3) + (a * sym.centre - linear * sym.centre);
+  return out;
 }
 
 Box3 BrepLeaf::bounds() const {
@@ -32,7 +91,7 @@ std::string BrepLeaf::solid_defect() const {
   return defect_;
 }
 
-Solid brep_solid(Model model) { return Solid(std::make_shared<const BrepLeaf>(std::move(model))); }
+Solid brep_solid(Model model, const Symmetry& symmetry) { return Solid(std::make_shared<const BrepLeaf>(std::move(model), symmetry)); }
 
 std::optional<MassProperties> BrepLeaf::mass_properties() const {
   // Exact for planar models and for models of parametric faces; the planar builders' cylinder
@@ -45,8 +104,12 @@ std::optional<MassProperties> BrepLeaf::mass_properties() const {
   return model_->mass_properties();
 }
 
-std::shared_ptr<const SolidLeaf> BrepLeaf::transformed(const Mat4& m) const {
-  Model copy = *model_;
+std::shared_ptr<const SolidLeaf> BrepLeaf::transformed(const Mat4& m_in) const {
+  // A copy of a symmetric source is made from the source by the canonical move of the whole.
+  const bool canonical = symmetry_.kind != Symmetry::Kind::None;
+  const Mat4 asked = source_ ? Mat4(m_in * asked_) : m_in;
+  const Mat4 m = canonical ? canonical_move(asked, symmetry_) : m_in;
+  Model copy = canonical && source_ ? *source_->model_ : *model_;
   try {
     copy.transform(m);
   } catch (const Error&) {
@@ -60,8 +123,12 @@ std::shared_ptr<const SolidLeaf> BrepLeaf::transformed(const Mat4& m) const {
   const Mat3 ata = a.transpose() * a;
   const double s2 = ata.trace() / 3;
   if (s2 > 0 && (ata - s2 * Mat3::Identity()).cwiseAbs().maxCoeff() <= 1e-12 * s2) {
-    if (source_) return std::shared_ptr<const BrepLeaf>(new BrepLeaf(std::move(copy), source_, m * matrix_));
-    return std::shared_ptr<const BrepLeaf>(new BrepLeaf(std::move(copy), shared_from_this(), m));
+    std::shared_ptr<BrepLeaf> out;
+    if (source_) out.reset(new BrepLeaf(std::move(copy), source_, canonical ? m : Mat4(m * matrix_)));
+    else out.reset(new BrepLeaf(std::move(copy), shared_from_this(), m));
+    out->symmetry_ = symmetry_;
+    out->asked_ = asked;
+    return out;
   }
   return std::make_shared<const BrepLeaf>(std::move(copy));
 }

@@ -11,10 +11,21 @@
 
 namespace wedge {
 
+// The motions that map a builder's solid onto itself, as far as the builder knows them: every
+// rotation and mirror about a point (a sphere), or about an axis (a solid of revolution: every turn
+// about it and every mirror through a plane that holds it; with `flip`, also the mirror across the
+// plane through `centre` normal to it: a cylinder, a torus).
+struct Symmetry {
+  enum class Kind { None, Point, Axis } kind = Kind::None;
+  Point3 centre = Point3::Zero();
+  Vec3 axis = Vec3::UnitZ();  // unit
+  bool flip = false;
+};
+
 class BrepLeaf final : public SolidLeaf, public std::enable_shared_from_this<BrepLeaf> {
  public:
   // Throws wedge::Error with validate()'s message when the model is not a valid solid.
-  explicit BrepLeaf(Model model);
+  explicit BrepLeaf(Model model, const Symmetry& symmetry = {});
   std::string kind() const override { return "brep"; }
   // tessellate/brep_mesh.h: each edge sampled once for both faces, faces triangulated in their
   // plane or parameter domain and refined to the tolerance. A copy moved by a rotation,
@@ -31,9 +42,15 @@ class BrepLeaf final : public SolidLeaf, public std::enable_shared_from_this<Bre
   // Planar models only (a polyhedron's faces, Euler operators': their mesh is the solid); a
   // similarity copy asks its source.
   std::string solid_defect() const override;
+  // A similarity copy of a leaf with a known symmetry is placed by the move of its symmetry class
+  // that depends only on where the copy lies (canonical_move): sphere(5):mirror{1, 0, 0},
+  // cylinder(1, 2):rotate_z(7) and torus:rotate_z(180) are their sources' very meshes, so that
+  // s - s:mirror{1, 0, 0} is empty and a symmetric part united with its mirror image is itself
+  // (the mesh moved as asked lay a rounding or a chord's sag off, and left hundreds of slivers).
   std::shared_ptr<const SolidLeaf> transformed(const Mat4& m) const override;
   std::vector<std::string> face_kinds() const override;
   std::vector<FaceSurface> face_surfaces() const override;
+  bool symmetric() const override { return symmetry_.kind != Symmetry::Kind::None; }
   bool polyhedral() const override { return model_->all_planar() && !model_->has_param_faces(); }
   const Model& model() const { return *model_; }
 
@@ -47,6 +64,10 @@ class BrepLeaf final : public SolidLeaf, public std::enable_shared_from_this<Bre
   // A similarity copy: the leaf it was moved from (itself no copy) and the move.
   std::shared_ptr<const BrepLeaf> source_;
   Mat4 matrix_ = Mat4::Identity();
+  Symmetry symmetry_;  // of the source (a copy's is its source's)
+  // A copy of a symmetric source: the moves asked for, composed (matrix_ is its canonical_move).
+  // The next copy composes these, not matrix_: a turn and its inverse are then the identity.
+  Mat4 asked_ = Mat4::Identity();
   mutable std::mutex meshes_mutex_;
   mutable std::map<std::pair<double, double>, std::shared_ptr<const std::pair<Mesh, CornerUvs>>> meshes_;
   mutable std::once_flag bounds_once_;
@@ -63,8 +84,15 @@ std::string surface_kind(const FaceSurface& surface);
 // normal from face_normal).
 FaceSurface face_surface(const Model& m, FaceId f);
 
-// A Solid whose leaf is the model (validated).
-Solid brep_solid(Model model);
+// The similarity m' = m g, g a symmetry of `sym` (so m' moves the solid where m does), that depends
+// only on the copy: for a point symmetry, no turn (s I plus the move of the centre); for an axis,
+// the turn F(d) F(a)^T between canonical frames of the axis a and its image d (d's sign chosen
+// where `flip`), with d and the scale s taken to 2^-40 so that moves a rounding apart agree.
+// Proper (no mirror). m itself where it is no similarity or the symmetry is None.
+Mat4 canonical_move(const Mat4& m, const Symmetry& sym);
+
+// A Solid whose leaf is the model (validated), with its builder's symmetry.
+Solid brep_solid(Model model, const Symmetry& symmetry = {});
 // The planar extrude as a Solid: the profile (outer counter-clockwise, any holes) at z = 0 swept
 // to z = height through Euler operators (brep/build.cpp's prism), for binding to extrude().
 inline Solid prism_solid(const Profile& profile, double height) { return brep_solid(prism(profile, height)); }

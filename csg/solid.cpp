@@ -9,6 +9,7 @@
 #include <set>
 #include <sstream>
 #include <unordered_map>
+#include <unordered_set>
 #include <atomic>
 #include <chrono>
 
@@ -92,8 +93,53 @@ void check_tree_depth(int depth, const char* what) {
 
 namespace {
 
+NodePtr moved_node(const NodePtr& n, const Mat4& m);
+
+// True when m only swaps and negates axes (a mirror through a coordinate plane, a turn by a
+// multiple of 90 degrees about an axis; no translation), but is not the identity: it moves every
+// double exactly, and commutes with rounding, so the boolean of moved operands is the moved result.
+bool swaps_axes(const Mat4& m) {
+  if (m == Mat4::Identity() || m.block<3, 1>(0, 3) != Vec3::Zero()) return false;
+  for (int r = 0; r < 3; ++r) {
+    int ones = 0;
+    for (int c = 0; c < 3; ++c)
+      if (m(r, c) == 1 || m(r, c) == -1) ++ones;
+      else if (m(r, c) != 0) return false;
+    if (ones != 1) return false;
+  }
+  return true;
+}
+
+// True when the subtree under n has a leaf that places its copies by symmetry (at most kVisits
+// nodes are looked at: a larger tree is taken as having none).
+bool holds_symmetric_leaf(const NodePtr& n) {
+  constexpr std::size_t kVisits = 4096;
+  std::vector<const Solid::Node*> stack{n.get()};
+  std::unordered_set<const Solid::Node*> seen;
+  while (!stack.empty() && seen.size() < kVisits) {
+    const Solid::Node* x = stack.back();
+    stack.pop_back();
+    if (!seen.insert(x).second) continue;
+    switch (x->kind) {
+      case Solid::Node::Kind::Empty: break;
+      case Solid::Node::Kind::Leaf:
+        if (x->leaf->symmetric()) return true;
+        break;
+      case Solid::Node::Kind::Transform: stack.push_back(x->child.get()); break;
+      case Solid::Node::Kind::Boolean:
+        for (const auto& part : x->parts) stack.push_back(part.node.get());
+        break;
+    }
+  }
+  return false;
+}
+
 // The node n moved by m (checked by Solid::transformed): a leaf that can move itself is a new leaf
 // (its tag kept), consecutive transforms fold into one node, anything else gets a transform node.
+// A boolean that holds a symmetric leaf, mirrored or turned by 90 degrees about an axis, is
+// remade from its moved operands: a symmetric leaf's copy is then its source's own mesh, and a
+// part symmetric about x = 0 united with its mirror image is itself (moved as a whole, its sphere's
+// mesh, not symmetric, left 224 faces of slivers).
 NodePtr moved_node(const NodePtr& n, const Mat4& m) {
   switch (n->kind) {
     case Solid::Node::Kind::Empty: return n;
@@ -111,7 +157,22 @@ NodePtr moved_node(const NodePtr& n, const Mat4& m) {
       out->matrix = m * n->matrix;
       return out;
     }
-    case Solid::Node::Kind::Boolean: break;
+    case Solid::Node::Kind::Boolean:
+      if (swaps_axes(m) && holds_symmetric_leaf(n)) {
+        auto out = std::make_shared<Solid::Node>();
+        out->kind = Solid::Node::Kind::Boolean;
+        out->op = n->op;
+        out->tag = n->tag;
+        out->where = n->where;
+        n->for_each_operand([&](const NodePtr& o) {
+          NodePtr moved = moved_node(o, m);
+          out->depth = std::max(out->depth, moved->depth + 1);
+          out->parts.push_back({std::move(moved), false});
+        });
+        out->size = out->parts.size();
+        return out;
+      }
+      break;
   }
   auto out = std::make_shared<Solid::Node>();
   out->kind = Solid::Node::Kind::Transform;

@@ -53,6 +53,9 @@ class SolidLeaf {
   virtual std::shared_ptr<const SolidLeaf> transformed(const Mat4& /*m*/) const { return nullptr; }
   // True when mesh() is the solid exactly (planar faces, straight edges), at any tolerance.
   virtual bool polyhedral() const { return false; }
+  // True when transformed() places copies by the leaf's symmetry (csg/brep_leaf.h): a mirrored or
+  // turned copy may then be its source's very mesh.
+  virtual bool symmetric() const { return false; }
   // The surface kind (as s:faces() names it) of each face id that mesh() puts on its triangles,
   // indexed by the id; empty when the mesh carries no face ids of its own (its coplanar regions
   // are then its faces).

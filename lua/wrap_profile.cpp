@@ -380,7 +380,10 @@ int revolve_fn(lua_State* L) {
       o.finish();
     }
     if (!(angle > 0 && angle <= 360)) throw ArgError{2, "field 'angle' must be in (0, 360] degrees, got " + number_text(angle)};
-    push_solid(L, brep_solid(build(1, [&] { return revolve(s, radians(angle)); })));
+    // A whole turn is symmetric about the z axis.
+    Symmetry sym;
+    if (angle == 360) sym.kind = Symmetry::Kind::Axis;
+    push_solid(L, brep_solid(build(1, [&] { return revolve(s, radians(angle)); }), sym));
     return 1;
   });
 }
@@ -484,7 +487,7 @@ int sphere_fn(lua_State* L) {
     const double r = z.positive("r", 1, 1, "radius r");
     const Vec3 c = z.table() ? z.o->vec3("center", Vec3::Zero(), true) : Vec3::Zero();
     z.finish(1, "sphere{r=r, center={x, y, z}}");
-    push_solid(L, brep_solid(build(1, [&] { return sphere(r, c); })));
+    push_solid(L, brep_solid(build(1, [&] { return sphere(r, c); }), Symmetry{Symmetry::Kind::Point, Point3(c), Vec3::UnitZ(), false}));
     return 1;
   });
 }
@@ -497,7 +500,8 @@ int cylinder_fn(lua_State* L) {
     const double h = z.positive("h", 2, 1, "height h");
     const bool center = z.table() && z.o->boolean("center", false);
     z.finish(2, "cylinder{r=r, h=h, center=true}");
-    push_solid(L, brep_solid(build(1, [&] { return cylinder(r, h, Point3(0, 0, center ? -h / 2 : 0)); })));
+    push_solid(L, brep_solid(build(1, [&] { return cylinder(r, h, Point3(0, 0, center ? -h / 2 : 0)); }),
+                             Symmetry{Symmetry::Kind::Axis, Point3(0, 0, center ? 0 : h / 2), Vec3::UnitZ(), true}));
     return 1;
   });
 }
@@ -512,7 +516,8 @@ int cone_fn(lua_State* L) {
     const bool center = z.table() && z.o->boolean("center", false);
     z.finish(3, "cone{r1=r1, r2=r2, h=h, center=true}");
     if (r1 == 0 && r2 == 0) throw ArgError{1, "radii r1 and r2 must not both be 0"};
-    push_solid(L, brep_solid(build(1, [&] { return cone(r1, r2, h, Point3(0, 0, center ? -h / 2 : 0)); })));
+    push_solid(L, brep_solid(build(1, [&] { return cone(r1, r2, h, Point3(0, 0, center ? -h / 2 : 0)); }),
+                             Symmetry{Symmetry::Kind::Axis, Point3(0, 0, center ? 0 : h / 2), Vec3::UnitZ(), r1 == r2}));
     return 1;
   });
 }
@@ -528,7 +533,7 @@ int torus_fn(lua_State* L) {
     if (!(r < R))
       throw ArgError{z.table() ? 1 : 2, z.name("r", "minor radius r") + " must be less than " + z.name("R", "major radius R") + " (" +
                                             number_text(R) + "), got " + number_text(r)};
-    push_solid(L, brep_solid(build(1, [&] { return torus(R, r, c); })));
+    push_solid(L, brep_solid(build(1, [&] { return torus(R, r, c); }), Symmetry{Symmetry::Kind::Axis, Point3(c), Vec3::UnitZ(), true}));
     return 1;
   });
 }
@@ -546,7 +551,8 @@ int tube_fn(lua_State* L) {
       throw ArgError{z.table() ? 1 : 2, z.name("r_inner", "inner radius r_inner") + " must be less than " +
                                             z.name("r_outer", "outer radius r_outer") + " (" + number_text(ro) + "), got " +
                                             number_text(ri)};
-    push_solid(L, brep_solid(build(1, [&] { return tube(ro, ri, h, Point3(0, 0, center ? -h / 2 : 0)); })));
+    push_solid(L, brep_solid(build(1, [&] { return tube(ro, ri, h, Point3(0, 0, center ? -h / 2 : 0)); }),
+                             Symmetry{Symmetry::Kind::Axis, Point3(0, 0, center ? 0 : h / 2), Vec3::UnitZ(), true}));
     return 1;
   });
 }

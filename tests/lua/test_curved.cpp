@@ -183,3 +183,48 @@ TEST_CASE("a pin filling a tube's hole makes one solid cylinder", "[lua][curved]
   INFO(r.err);
   CHECK(r.status == 0);
 }
+
+TEST_CASE("a symmetric solid moved onto itself is the same solid to the boolean engine", "[lua][curved][boolean]") {
+  // A copy of a sphere, cylinder, cone, torus, tube or whole revolve, turned or mirrored onto
+  // itself, is placed by its symmetry, not by the move: its mesh is its source's. Moved as asked,
+  // its facets lay a rounding or a chord's sag off the source's, and s - s:mirror{1, 0, 0} left
+  // 170 sliver shells, cylinder(1, 2) - cylinder(1, 2):rotate_z(7) a ring of them, and a part
+  // symmetric about x = 0 united with its mirror image grew from 7 faces to 231.
+  auto r = run(R"(
+    local function empty(s, what)
+      local e = s:euler()
+      assert(e.S == 0 and e.F == 0 and s:volume() == 0, what .. string.format(": S%d F%d volume %g", e.S, e.F, s:volume()))
+    end
+    local s = sphere(5)
+    empty(s - s:mirror{1, 0, 0}, "sphere mirrored")
+    empty(s - s:rotate_z(90), "sphere turned")
+    empty(s - s:scale(-1), "sphere through its centre")
+    empty(s - s:rotate(90, {1, 1, 0}):rotate(-90, {1, 1, 0}), "sphere turned and back")
+    local off = sphere{r = 2, center = {1, 2, 3}}
+    empty(off - off:mirror{1, 0, 0}:mirror{1, 0, 0}, "sphere off the origin, mirrored twice")
+    local t = torus{R = 5, r = 1}
+    empty(t - t:rotate_z(180), "torus turned")
+    empty(t - t:mirror{0, 0, 1}, "torus mirrored across its plane")
+    local f = cone{r1 = 5, r2 = 3, h = 4}
+    empty(f - f:mirror{1, 0, 0}, "cone mirrored")
+    local c = cylinder(1, 2)
+    empty(c - c:rotate_z(7), "cylinder turned about its axis")
+    empty(c - c:rotate(90, {1, 1, 0}):rotate(-90, {1, 1, 0}), "cylinder turned and back")
+    local cc = cylinder{r = 1, h = 2, center = true}
+    empty(cc - cc:mirror{0, 0, 1}, "centred cylinder mirrored across its middle")
+    local tb = tube{r_outer = 2, r_inner = 1, h = 1}
+    empty(tb - tb:mirror{0, 0, 1}:translate(0, 0, 1), "tube turned over")
+    local rv = revolve(rect(2, 3))
+    empty(rv - rv:rotate_z(33), "revolve turned")
+    -- A part symmetric about x = 0, united with its mirror image, is the part.
+    local p = box(10, 10, 10):translate(-5, -5, 0) + sphere(5):translate(0, 0, 10)
+    local u = p + p:mirror{1, 0, 0}
+    assert(#u:faces() == #p:faces() and u:triangles{} == p:triangles{}, #u:faces() .. " faces, " .. u:triangles{} .. " triangles")
+    empty(p - p:mirror{1, 0, 0}, "part minus its mirror image")
+    -- A copy that is not the source still differs.
+    assert(math.abs((c - c:translate(0.5, 0, 0)):volume()) > 0.1)
+    assert((f - f:mirror{0, 0, 1}):volume() > 1)
+  )");
+  CHECK(r.status == 0);
+  CHECK(r.err == "");
+}

@@ -286,15 +286,16 @@ const Case kCases[] = {
     // a bow tie has zero signed area but is not collinear: named by the edges that cross
     {"polygon{{0, 0}, {1, 1}, {1, 0}, {0, 1}}", "hostile.lua:2: polygon: the outer ring crosses or touches itself (edges 1 and 3)"},
     {"polygon{{0, 0}, {1, 1}, {2, 2}}", "hostile.lua:2: polygon: the outer ring has zero area (its points are collinear)"},
-    // the boolean's work budget: copies of a sphere turned by a degree each cross everywhere
-    {"local s = sphere(1) for i = 1, 16 do s = s + sphere(1):rotate_z(i) end s:volume()",
+    // the boolean's work budget: copies of a sphere's mesh turned by a degree each cross everywhere
+    // (a boolean result moved as a whole: a sphere's own copies are placed by its symmetry)
+    {"local b = sphere(1) * cube{size = 3, center = true} local s = b for i = 1, 16 do s = s + b:rotate_z(i) end s:volume()",
      "hostile.lua:2: volume: boolean: the union of 17 operands: their surfaces would cross three at a time at about "},
-    {"local s = sphere(1) for i = 1, 16 do s = s + sphere(1):rotate_z(i) end export(s, '$/s.stl')",
+    {"local b = sphere(1) * cube{size = 3, center = true} local s = b for i = 1, 16 do s = s + b:rotate_z(i) end export(s, '$/s.stl')",
      "more than the budget of 50000 (operands that nearly coincide, such as copies turned by a degree, cross everywhere): "
      "use fewer such operands or raise the budget with tolerance{max_crossings=N}"},
-    {"local s = sphere(1) for i = 1, 2 do s = s + sphere(1):rotate_z(i) end s:triangles{max_crossings = 10}",
+    {"local b = sphere(1) * cube{size = 3, center = true} local s = b for i = 1, 2 do s = s + b:rotate_z(i) end s:triangles{max_crossings = 10}",
      "hostile.lua:2: triangles: boolean: the union of 3 operands: their surfaces would cross three at a time at about"},
-    {"tolerance{max_crossings = 10} local s = sphere(1) for i = 1, 2 do s = s + sphere(1):rotate_x(i) end s:volume()",
+    {"tolerance{max_crossings = 10} local b = sphere(1) * cube{size = 3, center = true} local s = b for i = 1, 2 do s = s + b:rotate_x(i) end s:volume()",
      "more than the budget of 10 "},
     {"tolerance{max_crossings = -1}", "hostile.lua:2: tolerance: max_crossings must be a whole number in 1..1e12, got -1"},
     {"sphere(1):triangles{max_crossings = 0/0}", "hostile.lua:2: triangles: max_crossings must be finite, got nan"},
