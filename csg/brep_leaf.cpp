@@ -104,12 +104,27 @@ std::optional<MassProperties> BrepLeaf::mass_properties() const {
   return model_->mass_properties();
 }
 
-std::shared_ptr<const SolidLeaf> BrepLeaf::transformed(const Mat4& m_in) const {
-  // A copy of a symmetric source is made from the source by the canonical move of the whole.
-  const bool canonical = symmetry_.kind != Symmetry::Kind::None;
-  const Mat4 asked = source_ ? Mat4(m_in * asked_) : m_in;
-  const Mat4 m = canonical ? canonical_move(asked, symmetry_) : m_in;
-  Model copy = canonical && source_ ? *source_->model_ : *model_;
+std::shared_ptr<const SolidLeaf> BrepLeaf::canonical() const {
+  std::call_once(canonical_once_, [&] {
+    if (!source_ || placed_ || symmetry_.kind == Symmetry::Kind::None) return;
+    const Mat4 m = canonical_move(matrix_, symmetry_);
+    if (m == matrix_) return;
+    Model copy = *source_->model_;
+    try {
+      copy.transform(m);
+    } catch (const Error&) {
+      return;
+    }
+    auto out = std::shared_ptr<BrepLeaf>(new BrepLeaf(std::move(copy), source_, m));
+    out->symmetry_ = symmetry_;
+    out->placed_ = true;
+    canonical_ = std::move(out);
+  });
+  return canonical_;
+}
+
+std::shared_ptr<const SolidLeaf> BrepLeaf::transformed(const Mat4& m) const {
+  Model copy = *model_;
   try {
     copy.transform(m);
   } catch (const Error&) {
@@ -124,10 +139,9 @@ std::shared_ptr<const SolidLeaf> BrepLeaf::transformed(const Mat4& m_in) const {
   const double s2 = ata.trace() / 3;
   if (s2 > 0 && (ata - s2 * Mat3::Identity()).cwiseAbs().maxCoeff() <= 1e-12 * s2) {
     std::shared_ptr<BrepLeaf> out;
-    if (source_) out.reset(new BrepLeaf(std::move(copy), source_, canonical ? m : Mat4(m * matrix_)));
+    if (source_) out.reset(new BrepLeaf(std::move(copy), source_, m * matrix_));
     else out.reset(new BrepLeaf(std::move(copy), shared_from_this(), m));
     out->symmetry_ = symmetry_;
-    out->asked_ = asked;
     return out;
   }
   return std::make_shared<const BrepLeaf>(std::move(copy));

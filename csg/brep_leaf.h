@@ -42,12 +42,15 @@ class BrepLeaf final : public SolidLeaf, public std::enable_shared_from_this<Bre
   // Planar models only (a polyhedron's faces, Euler operators': their mesh is the solid); a
   // similarity copy asks its source.
   std::string solid_defect() const override;
-  // A similarity copy of a leaf with a known symmetry is placed by the move of its symmetry class
-  // that depends only on where the copy lies (canonical_move): sphere(5):mirror{1, 0, 0},
-  // cylinder(1, 2):rotate_z(7) and torus:rotate_z(180) are their sources' very meshes, so that
-  // s - s:mirror{1, 0, 0} is empty and a symmetric part united with its mirror image is itself
-  // (the mesh moved as asked lay a rounding or a chord's sag off, and left hundreds of slivers).
   std::shared_ptr<const SolidLeaf> transformed(const Mat4& m) const override;
+  // A similarity copy of a leaf with a known symmetry, placed by the move of its symmetry class
+  // that depends only on where the copy lies (canonical_move): as a boolean's operand,
+  // sphere(5):mirror{1, 0, 0}, cylinder(1, 2):rotate_z(7) and torus:rotate_z(180) are their
+  // sources' very meshes, so that s - s:mirror{1, 0, 0} is empty and a symmetric part united with
+  // its mirror image is itself (moved as asked, the mesh lay a rounding or a chord's sag off, and
+  // left hundreds of slivers). Alone the copy keeps the move asked (a textured sphere turned
+  // shows its texture turned). Made once.
+  std::shared_ptr<const SolidLeaf> canonical() const override;
   std::vector<std::string> face_kinds() const override;
   std::vector<FaceSurface> face_surfaces() const override;
   bool symmetric() const override { return symmetry_.kind != Symmetry::Kind::None; }
@@ -65,9 +68,9 @@ class BrepLeaf final : public SolidLeaf, public std::enable_shared_from_this<Bre
   std::shared_ptr<const BrepLeaf> source_;
   Mat4 matrix_ = Mat4::Identity();
   Symmetry symmetry_;  // of the source (a copy's is its source's)
-  // A copy of a symmetric source: the moves asked for, composed (matrix_ is its canonical_move).
-  // The next copy composes these, not matrix_: a turn and its inverse are then the identity.
-  Mat4 asked_ = Mat4::Identity();
+  bool placed_ = false;  // a canonical twin itself
+  mutable std::once_flag canonical_once_;
+  mutable std::shared_ptr<const SolidLeaf> canonical_;
   mutable std::mutex meshes_mutex_;
   mutable std::map<std::pair<double, double>, std::shared_ptr<const std::pair<Mesh, CornerUvs>>> meshes_;
   mutable std::once_flag bounds_once_;

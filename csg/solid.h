@@ -53,9 +53,12 @@ class SolidLeaf {
   virtual std::shared_ptr<const SolidLeaf> transformed(const Mat4& /*m*/) const { return nullptr; }
   // True when mesh() is the solid exactly (planar faces, straight edges), at any tolerance.
   virtual bool polyhedral() const { return false; }
-  // True when transformed() places copies by the leaf's symmetry (csg/brep_leaf.h): a mirrored or
-  // turned copy may then be its source's very mesh.
+  // True when the leaf knows its symmetry (csg/brep_leaf.h): a mirrored or turned copy of it may
+  // be placed as its source's very mesh (canonical()).
   virtual bool symmetric() const { return false; }
+  // The same solid placed by its symmetry, for a boolean's operands (Node::operands), or nullptr
+  // where it is placed so already (or has no symmetry).
+  virtual std::shared_ptr<const SolidLeaf> canonical() const { return nullptr; }
   // The surface kind (as s:faces() names it) of each face id that mesh() puts on its triangles,
   // indexed by the id; empty when the mesh carries no face ids of its own (its coplanar regions
   // are then its faces).

@@ -70,6 +70,17 @@ const std::vector<std::shared_ptr<const Solid::Node>>& Solid::Node::operands() c
       if (!p.splice) out->push_back(p.node);
       else p.node->for_each_operand([&](const std::shared_ptr<const Node>& o) { out->push_back(o); });
     }
+    // A leaf copy placed otherwise than by its symmetry stands here as its canonical twin (the
+    // same solid: csg/brep_leaf.h), made once with this list.
+    for (auto& o : *out)
+      if (o->kind == Kind::Leaf)
+        if (auto c = o->leaf->canonical()) {
+          auto twin = std::make_shared<Node>();
+          twin->kind = Kind::Leaf;
+          twin->leaf = std::move(c);
+          twin->tag = o->tag;
+          o = std::move(twin);
+        }
     flat = std::move(out);
   }
   return *flat;

@@ -102,3 +102,29 @@ TEST_CASE("a B-Rep leaf moved by a similarity gives its source's mesh moved, tes
   CHECK(stretched.mass_properties(tol).volume == Approx(6));
   CHECK(stretched.validate(tol).empty());
 }
+
+TEST_CASE("a symmetric leaf's copy alone keeps the move asked and as an operand stands as its canonical twin", "[csg][brep]") {
+  // Alone, a turned sphere is its source's mesh turned (a texture on it turns with it); as a
+  // boolean's operand it is placed by its symmetry, its source's very mesh, so that a sphere minus
+  // its turned copy is empty.
+  const Symmetry point{Symmetry::Kind::Point, Point3::Zero(), Vec3::UnitZ(), false};
+  const Solid s = brep_solid(sphere(1, Point3::Zero()), point);
+  const Solid turned = s.transformed(rotate_z(30));
+  Tolerance tol;
+  const Mesh source = s.mesh(tol);
+  const Mesh alone = turned.mesh(tol);
+  REQUIRE(alone.positions.size() == source.positions.size());
+  const Mesh asked = source.transformed(rotate_z(30));
+  for (std::size_t i = 0; i < asked.positions.size(); ++i) CHECK((alone.positions[i] - asked.positions[i]).norm() <= 1e-15);
+  bool moved = false;
+  for (std::size_t i = 0; i < source.positions.size(); ++i) moved = moved || source.positions[i] != alone.positions[i];
+  CHECK(moved);
+  const Solid d = Solid::boolean(BooleanOp::Difference, {s, turned});
+  CHECK(d.mesh(tol).triangles.empty());
+  // A move asked twice through its canonical placement (placed already): no twin of the twin.
+  CHECK(canonical_move(canonical_move(rotate_z(30), point), point) == canonical_move(rotate_z(30), point));
+  // Without a symmetry, a turned sphere's copy is another solid to the engine.
+  const Solid plain = brep_solid(sphere(1, Point3::Zero()));
+  const Solid d2 = Solid::boolean(BooleanOp::Difference, {plain, plain.transformed(rotate_z(30))});
+  CHECK(!d2.mesh(tol).triangles.empty());
+}
