@@ -29,12 +29,19 @@ int export_split(lua_State* L, const std::string& path, const Tolerance& tol, co
     const auto occs = scene::flatten(*root);
     Progress progress(L, "meshing the scene's parts", occs.size());
     for (std::size_t k = 0; k < occs.size(); ++k) {
-      progress.step();
       std::string symbol = occs[k].symbol;
       for (char& c : symbol)
         if (!std::isalnum(static_cast<unsigned char>(c)) && c != '_' && c != '-') c = '_';
-      files.emplace_back(stem + "-" + std::to_string(k + 1) + "-" + symbol + ext,
-                         scene::leaf_mesh(*occs[k].leaf, tol, false).transformed(occs[k].world));
+      std::string part = stem + "-" + std::to_string(k + 1) + "-" + symbol + ext;
+      // Each part's own path under --sandbox, not only the base path: a symbolic link named
+      // "out-1-solid.stl" beside the script led the write outside its folder. All are checked
+      // before anything is meshed or written.
+      sandbox_check_path(L, part, true);
+      files.emplace_back(std::move(part), Mesh{});
+    }
+    for (std::size_t k = 0; k < occs.size(); ++k) {
+      progress.step();
+      files[k].second = scene::leaf_mesh(*occs[k].leaf, tol, false).transformed(occs[k].world);
     }
   }
   Stage stage(L, "write");
@@ -121,6 +128,10 @@ int export_fn(lua_State* L) {
         // materials of the solids the faces came from.
         mesh = format == "obj" ? solid->shaded_mesh(tol) : solid->tagged_mesh(tol);
         options.triangle_colors = triangle_colours(L, 1, mesh, solid->face_tags(tol));
+        // The material library written beside an OBJ with colours is a path of its own, checked
+        // as the OBJ's is (a symbolic link "x.mtl" would lead the write elsewhere).
+        if (format == "obj" && !options.triangle_colors.empty())
+          sandbox_check_path(L, path.substr(0, path.find_last_of('.')) + ".mtl", true);
       } else {
         mesh = surface && surface->patches.size() == 1 ? surface_mesh(*surface, tol.chordal, true, tol.max_triangles) : to_mesh(L, 1, 1, tol);
       }

@@ -182,3 +182,33 @@ TEST_CASE("wedge run --sandbox refusals give the script's file and line and the 
   CHECK_THAT(r.output, Catch::Contains(script + ":10: export: sandbox: cannot write '/etc/x.stl'"));
   fs::remove_all(root);
 }
+
+// The paths an export derives from the one it is given pass the same check: export{split=true}'s
+// "stem-K-symbol.ext" per part, and the ".mtl" beside an OBJ with colours. A symbolic link of that
+// name shipped beside the script led the write outside (only the base path was checked).
+TEST_CASE("wedge run --sandbox checks each path a split export or an OBJ material library derives", "[lua][sandbox]") {
+  const fs::path root = fs::temp_directory_path() / ("wedge-sandbox-split-" + std::to_string(::getpid()));
+  const fs::path dir = root / "model", outside = root / "outside";
+  for (const auto& d : {dir, outside}) fs::create_directories(d);
+  for (const char* name : {"victim.stl", "victim.mtl"}) std::ofstream(outside / name) << "SECRET";
+  fs::create_symlink("../outside/victim.stl", dir / "out-2-solid.stl");
+  fs::create_symlink("../outside/victim.mtl", dir / "red.mtl");
+  std::ofstream(dir / "s.lua") << "print(pcall(export, group{box(1, 1, 1), box(2, 2, 2)}, 'out.stl', {split = true}))\n"
+                               << "local red = box(1, 1, 1):material{diffuse = {1, 0, 0}}\n"
+                               << "print(pcall(export, red, 'red.obj'))\n"
+                               << "print(#export(group{box(1, 1, 1)}, 'in.stl', {split = true}))\n";
+  Result r = run("cd '" + dir.string() + "' && " + std::string(WEDGE_EXE) + " run --sandbox s.lua");
+  INFO(r.output);
+  CHECK(r.status == 0);
+  CHECK_THAT(r.output, Catch::Contains("false\texport: sandbox: cannot write 'out-2-solid.stl': under --sandbox"));
+  CHECK_THAT(r.output, Catch::Contains("false\texport: sandbox: cannot write 'red.mtl': under --sandbox"));
+  CHECK(!fs::exists(dir / "out-1-solid.stl"));  // refused before anything is written
+  CHECK(!fs::exists(dir / "red.obj"));
+  CHECK(fs::exists(dir / "in-1-solid.stl"));  // a split export inside the folder still works
+  for (const char* name : {"victim.stl", "victim.mtl"}) {
+    std::ifstream in(outside / name);
+    std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    CHECK(text == "SECRET");
+  }
+  fs::remove_all(root);
+}
