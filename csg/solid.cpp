@@ -545,6 +545,14 @@ Solid Solid::from_mesh(Mesh mesh, const std::string& what) {
 
 bool Solid::empty() const { return node_->kind == Node::Kind::Empty; }
 
+bool Solid::evaluates_empty(const Tolerance& tol) const {
+  if (node_->kind == Node::Kind::Empty) return true;
+  // Leaves refuse to be made without triangles (MeshLeaf, the builders).
+  if (node_->kind == Node::Kind::Leaf || (node_->kind == Node::Kind::Transform && node_->child->kind == Node::Kind::Leaf))
+    return false;
+  return mesh(tol).triangles.empty();
+}
+
 Solid Solid::transformed(const Mat4& m) const {
   if (!m.allFinite()) fail("transform has non-finite entries");
   {

@@ -167,6 +167,10 @@ class Solid {
   static Solid from_mesh(Mesh mesh, const std::string& what = "mesh");
 
   bool empty() const;
+  // Whether the solid has nothing in it at `tol`: the empty solid, or a boolean whose result is
+  // empty (box(1,1,1) - box(1,1,1), which empty() cannot see without evaluating it). A leaf, moved
+  // or not, never is; anything else is evaluated (the result is kept, as for mesh(tol)).
+  bool evaluates_empty(const Tolerance& tol) const;
   Solid transformed(const Mat4& m) const;
 
   // A lazy boolean node (csg/boolean.h): union and intersection of all operands, difference of

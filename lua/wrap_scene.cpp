@@ -35,6 +35,16 @@ NodePtr child_node(lua_State* L, int idx, int arg) {
   auto leaf = std::make_shared<SceneLeaf>();
   if (const Solid* s = test_solid(L, idx)) {
     if (s->empty()) throw ArgError{arg, "the empty solid cannot be part of a scene"};
+    // A boolean with nothing left (box(1,1,1) - box(1,1,1)) is refused here too, whichever
+    // function adds it: let in, it was a row of table() for a part that does not exist, and bounds,
+    // export, render and drawing each answered it differently (an error, a white picture).
+    bool nothing = false;
+    {
+      Stage stage(L, "mesh");
+      nothing = s->evaluates_empty(current_tolerance(L));
+    }
+    if (nothing)
+      throw ArgError{arg, "the solid is empty (its boolean leaves nothing): the empty solid cannot be part of a scene"};
     leaf->solid = *s;
     if (push_material(L, idx) == LUA_TTABLE) {
       std::shared_ptr<const render::Texture> texture;

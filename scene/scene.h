@@ -59,7 +59,8 @@ using NodePtr = std::shared_ptr<Node>;
 Mat4 checked_transform(const Mat4& m, const std::string& what = "transform");
 NodePtr group(const Mat4& transform = Mat4::Identity(), std::string name = {});
 NodePtr group(std::string name);  // a named group under the identity
-// A leaf node holding a solid (not the empty one) or a mesh with triangles.
+// A leaf node holding a solid (not the empty one; the Lua bindings also refuse a boolean whose
+// result is empty, which needs its evaluation) or a mesh with triangles.
 NodePtr part(Solid solid, std::optional<render::Material> material = std::nullopt,
              std::shared_ptr<const render::Texture> texture = nullptr);
 NodePtr part(Mesh mesh, std::optional<render::Material> material = std::nullopt,

@@ -178,7 +178,7 @@ const Case kCases[] = {
     {"local s = box(1,1,1); s.volume = 1", "hostile.lua:2: cannot set field 'volume' of a Solid: it has no fields to set (use its methods)"},
     {"local m = matrix.identity(); m[1] = 5", "hostile.lua:2: cannot set field number 1 of a Matrix: it has no fields to set"},
     {"local c = canvas{width = 2, height = 2}; c.width = 5", "hostile.lua:2: cannot set field 'width' of a Canvas"},
-    {"local b = array{box(1,1,1) - box(1,1,1), count = 2, step = {1, 0, 0}}:bounds()", "hostile.lua:2: bounds: the scene's parts are all empty solids: it has no bounds"},
+    {"local b = array{box(1,1,1) - box(1,1,1), count = 2, step = {1, 0, 0}}:bounds()", "hostile.lua:2: array: the solid is empty (its boolean leaves nothing): the empty solid cannot be part of a scene"},
     {"local b = (box(1,1,1) - box(1,1,1)):bounds()", "hostile.lua:2: bounds: the solid is empty: it has no bounds"},
     {"local b = (cube(1) * cube(1):translate(5, 0, 0)):bounds()", "hostile.lua:2: bounds: the solid is empty: it has no bounds"},
     {"local c = (sphere(1) * sphere(1):translate(5, 0, 0)):centroid()", "hostile.lua:2: centroid: the solid is empty: it has no centroid"},

@@ -232,6 +232,15 @@ TEST_CASE("bad calls of the new functions name the function, the problem and the
       {"radial_array{box(1, 1, 1), count = 4, radius = 1, angle = 0}", "radial_array: angle must be within 0..360"},
       {"radial_array{box(1, 1, 1), count = 4, radius = 1, angle = 400}", "radial_array: angle must be within 0..360"},
       {"export(box(1, 1, 1), 'x.stl', {split = true})", "export: split needs a scene group to split, got Solid"},
+      // A boolean with nothing left is refused where it joins the scene, by every function that
+      // adds one, as the empty solid is (it was let in and each use then answered differently).
+      {"group{box(1, 1, 1) - box(1, 1, 1)}", "bad.lua:3: group: element 1: the solid is empty (its boolean leaves nothing): the empty solid cannot be part of a scene"},
+      {"group{box(1, 1, 1), (box(1, 1, 1) - box(2, 2, 2)):translate(3, 0, 0)}", "bad.lua:3: group: element 2: the solid is empty"},
+      {"group():add(box(1, 1, 1), cube(1) * cube(1):translate(5, 0, 0))", "bad argument #2 to 'add' (the solid is empty (its boolean leaves nothing)"},
+      {"instance(box(1, 1, 1) - box(1, 1, 1))", "bad argument #1 to 'instance' (the solid is empty"},
+      {"instance{box(1, 1, 1) - box(1, 1, 1)}", "bad.lua:3: instance: the solid is empty"},
+      {"array{box(1, 1, 1) - box(1, 1, 1), count = 3, step = {1, 0, 0}}", "bad.lua:3: array: the solid is empty"},
+      {"radial_array{union(box(1, 1, 1) - box(1, 1, 1), box(1, 1, 1) - box(1, 1, 1)), count = 3, radius = 1}", "bad.lua:3: radial_array: the solid is empty"},
       // views and projections
       {"render{box(1, 1, 1), out = 'x.png', view = 'perspective'}", "unknown view 'perspective'"},
       {"render{box(1, 1, 1), out = 'x.png', view = 3}", "view must be a view name or {name, options...}, got number"},
