@@ -3,7 +3,7 @@
 // by their world matrices. The model, the traversal and the instance table are scene/scene.h's.
 #include "lua/wrap_scene.h"
 
-#include <sstream>
+#include <cmath>
 
 #include "lua/lua_util.h"
 #include "lua/wedge_lua.h"
@@ -365,11 +365,7 @@ int len_m(lua_State* L) {
 
 int tostring_m(lua_State* L) {
   return guarded(L, [&] {
-    const NodePtr& g = self(L);
-    std::ostringstream out;
-    out << "Group(" << (g->name.empty() ? "" : "'" + g->name + "', ") << g->children.size()
-        << (g->children.size() == 1 ? " child)" : " children)");
-    const std::string s = out.str();
+    const std::string s = scene::describe(*self(L));  // as errors name groups
     lua_pushlstring(L, s.data(), s.size());
     return 1;
   });

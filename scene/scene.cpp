@@ -28,32 +28,60 @@ bool reaches(const Node* from, const Node* target) {
   return false;
 }
 
-// Whether `from` has more than kMaxDepth levels (itself and its descendants), by a traversal that
-// visits each node once with its deepest level seen so far.
-bool too_deep(const Node* from) {
-  std::vector<std::pair<const Node*, std::size_t>> todo{{from, 1}};
-  std::unordered_map<const Node*, std::size_t> level;
+// The deepest level of `from` and its descendants with `from` at `level` (1 for a node without
+// parents), or the first level found beyond kMaxDepth, by a traversal that visits each node again
+// only when it is reached deeper than before.
+std::size_t deepest(const Node* from, std::size_t level) {
+  std::vector<std::pair<const Node*, std::size_t>> todo{{from, level}};
+  std::unordered_map<const Node*, std::size_t> seen;
+  std::size_t out = level;
   while (!todo.empty()) {
     auto [n, depth] = todo.back();
     todo.pop_back();
-    if (depth > kMaxDepth) return true;
-    auto [it, fresh] = level.try_emplace(n, depth);
+    out = std::max(out, depth);
+    if (depth > kMaxDepth) return depth;
+    auto [it, fresh] = seen.try_emplace(n, depth);
     if (!fresh) {
       if (it->second >= depth) continue;
       it->second = depth;
     }
     for (const auto& c : n->children) todo.emplace_back(c.get(), depth + 1);
   }
-  return false;
+  return out;
+}
+
+// Records that `child` now has `above` levels over it (at least), and so its descendants one more
+// each: Node::above grows where a path is longer than those seen, and the walk stops where it
+// does not (every child already has more levels above it than its parent).
+void lower(Node& child, std::size_t above) {
+  std::vector<std::pair<Node*, std::size_t>> todo{{&child, above}};
+  while (!todo.empty()) {
+    auto [n, a] = todo.back();
+    todo.pop_back();
+    if (n->above >= a) continue;
+    n->above = a;
+    for (const auto& c : n->children) todo.emplace_back(c.get(), a + 1);
+  }
+}
+
+// Refuses a prototype that would sit at `level` (array: level 3, under the array and a copy) with
+// its deepest level beyond kMaxDepth.
+void check_prototype_depth(const NodePtr& prototype, std::size_t level, const char* fn) {
+  if (const std::size_t d = deepest(prototype.get(), level); d > kMaxDepth)
+    fail(fn, ": the scene would be deeper than ", kMaxDepth, " levels: ", describe(*prototype), " would reach level ", d,
+         " under the copies");
 }
 
 void check_count(int count, const char* fn) {
   if (count < 1 || count > kMaxCount) fail(fn, ": count must be within 1..", kMaxCount, ", got ", count);
 }
 
+// `depth` counts from 1 at the root, as flatten() does (from 0, a scene of 1001 levels was
+// copied and then refused by every other use).
 NodePtr deep_copy(const NodePtr& n, std::size_t depth) {
   if (depth > kMaxDepth) fail("copy: the scene is deeper than ", kMaxDepth, " levels");
   auto c = std::make_shared<Node>(*n);
+  c->above = depth - 1;  // the copy is a tree: one path down to each node
   for (auto& child : c->children) child = deep_copy(child, depth + 1);
   return c;
 }
@@ -99,11 +127,27 @@ NodePtr part(Mesh mesh, std::optional<render::Material> material, std::shared_pt
   return node;
 }
 
+std::string describe(const Node& node) {
+  if (node.leaf) return "a part";
+  const std::size_t n = node.children.size();
+  return "Group(" + (node.name.empty() ? "" : "'" + node.name + "', ") + std::to_string(n) + (n == 1 ? " child)" : " children)");
+}
+
 void add(Node& parent, NodePtr child) {
   if (!child) fail("add: the child is null");
   if (parent.leaf) fail("add: a part (leaf) cannot hold children; put both in a group");
-  if (reaches(child.get(), &parent)) fail("the group would contain itself (a scene must have no cycle)");
-  if (too_deep(child.get())) fail("the scene would be deeper than ", kMaxDepth, " levels");
+  if (child.get() == &parent)
+    fail("the group would contain itself (a scene must have no cycle): ", describe(parent), " cannot be added to itself");
+  if (reaches(child.get(), &parent))
+    fail("the group would contain itself (a scene must have no cycle): ", describe(parent), " is already inside ",
+         describe(*child), ", which cannot be added to it");
+  // The levels above `parent` count as well as those below `child`: built from the top (a new
+  // group added under the last one, a million times), the scene passed here and then every use
+  // of it failed.
+  if (const std::size_t d = deepest(child.get(), parent.above + 2); d > kMaxDepth)
+    fail("the scene would be deeper than ", kMaxDepth, " levels: ", describe(*child), " added to ", describe(parent),
+         " (at level ", parent.above + 1, ") would reach level ", d);
+  lower(*child, parent.above + 1);
   parent.children.push_back(std::move(child));
 }
 
@@ -127,12 +171,14 @@ NodePtr instance(NodePtr prototype, const Mat4& transform, std::string name) {
 
 NodePtr array(NodePtr prototype, int count, const Vec3& step) {
   if (!prototype) fail("array: the prototype is null");
-  if (too_deep(prototype.get())) fail("array: the scene would be deeper than ", kMaxDepth, " levels");
+  check_prototype_depth(prototype, 3, "array");
   check_count(count, "array");
   if (!step.allFinite()) fail("array: step must be finite");
+  lower(*prototype, 2);
   auto node = std::make_shared<Node>();
   for (int k = 0; k < count; ++k) {
     auto inst = std::make_shared<Node>();
+    inst->above = 1;
     inst->transform = translate(double(k) * step);
     inst->children.push_back(prototype);
     node->children.push_back(std::move(inst));
@@ -142,7 +188,7 @@ NodePtr array(NodePtr prototype, int count, const Vec3& step) {
 
 NodePtr radial_array(NodePtr prototype, int count, double radius, const Vec3& axis, const Point3& center, double angle) {
   if (!prototype) fail("radial_array: the prototype is null");
-  if (too_deep(prototype.get())) fail("radial_array: the scene would be deeper than ", kMaxDepth, " levels");
+  check_prototype_depth(prototype, 3, "radial_array");
   check_count(count, "radial_array");
   if (!(radius >= 0) || !std::isfinite(radius)) fail("radial_array: radius must be finite and not negative, got ", radius);
   if (!axis.allFinite() || axis.norm() == 0) fail("radial_array: axis must be finite and non-zero");
@@ -153,9 +199,11 @@ NodePtr radial_array(NodePtr prototype, int count, double radius, const Vec3& ax
   if (out.norm() < 1e-9) out = Vec3::UnitY() - a.y() * a;
   out.normalize();
   const double step = angle >= 360 ? 360.0 / count : count > 1 ? angle / (count - 1) : 0;
+  lower(*prototype, 2);
   auto node = std::make_shared<Node>();
   for (int k = 0; k < count; ++k) {
     auto inst = std::make_shared<Node>();
+    inst->above = 1;
     inst->transform = rotate(k * step, a, center) * translate(Vec3(center) + radius * out);
     inst->children.push_back(prototype);
     node->children.push_back(std::move(inst));
@@ -165,7 +213,7 @@ NodePtr radial_array(NodePtr prototype, int count, double radius, const Vec3& ax
 
 NodePtr copy(const NodePtr& root) {
   if (!root) fail("copy: the scene is null");
-  return deep_copy(root, 0);
+  return deep_copy(root, 1);
 }
 
 std::vector<Occurrence> flatten(const Node& root) {

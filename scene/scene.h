@@ -44,6 +44,10 @@ struct Node {
   std::shared_ptr<const render::Texture> texture;
   std::vector<std::shared_ptr<Node>> children;
   std::shared_ptr<const Leaf> leaf;  // set on leaf nodes only (no children)
+  // The most levels above this node on any path down to it from a node without parents, as add()
+  // has seen them (kept by add(), array() and copy(); a parent that dies is not forgotten). It
+  // lets add() see the depth of a chain built from the top, each new group added under the last.
+  std::size_t above = 0;
 
   Node() = default;
   Node(const Node&) = default;
@@ -68,6 +72,8 @@ NodePtr part(Mesh mesh, std::optional<render::Material> material = std::nullopt,
 // Adds `child` under `parent` (shared, not copied); a child that reaches `parent` would make a
 // cycle and is refused, as is a child more than 1000 levels deep.
 void add(Node& parent, NodePtr child);
+// A node as errors and Lua's tostring name it: "Group('arm', 2 children)", "Group(1 child)", "a part".
+std::string describe(const Node& node);
 // A node that shares `prototype` under a transform of its own.
 NodePtr instance(NodePtr prototype, const Mat4& transform = Mat4::Identity(), std::string name = {});
 // `count` instances of `prototype`, the k-th (from 0) translated by k * step. count in 1..100000.

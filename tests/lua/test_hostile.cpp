@@ -321,9 +321,13 @@ const Case kCases[] = {
      "hostile.lua:2: line: point 2's x must be a whole number within -32768..32768 (a pixel position), got 1000000000"},
     {"canvas{width = 4, height = 4}:circle{center = {1, 1}, radius = 1e6}", "hostile.lua:2: circle: radius must be a whole number within 0..32768, got 1000000"},
     {"local g = group{box(1, 1, 1)} for i = 1, 2000 do g = group{g} end", "hostile.lua:2: group: the scene would be deeper than 1000 levels"},
-    {"local g = box(1, 1, 1) for i = 1, 2000 do g = instance(g) end", "bad argument #1 to 'instance' (the scene would be deeper than 1000 levels)"},
-    {"local root = group() local g = root for i = 1, 200000 do local n = group() g:add(n) g = n end g:add(box(1, 1, 1)) root:bounds()",
-     "hostile.lua:2: bounds: the scene is deeper than 1000 levels"},
+    {"local g = box(1, 1, 1) for i = 1, 2000 do g = instance(g) end", "bad argument #1 to 'instance' (the scene would be deeper than 1000 levels: Group(1 child) added to Group(0 children) (at level 1) would reach level 1001)"},
+    // Built from the top, the chain is refused at the add that goes too deep (it was let in, and
+    // then bounds, table, export, render, copy, instance and array all refused it).
+    {"local root = group() local g = root for i = 1, 200000 do local n = group() g:add(n) g = n end",
+     "bad argument #1 to 'add' (the scene would be deeper than 1000 levels: Group(0 children) added to Group(0 children) (at level 1000) would reach level 1001)"},
+    {"local root = group() local g = root for i = 1, 998 do local n = group() g:add(n) g = n end g:add(box(1,1,1)) group():add(root)",
+     "bad argument #1 to 'add' (the scene would be deeper than 1000 levels: Group(1 child) added to Group(0 children) (at level 1) would reach level 1001)"},
     {"local s = box(1,1,1) for i = 1, 2000 do if i % 2 == 0 then s = s + box(1,1,1) else s = s - box(0.5,0.5,0.5) end end",
      "union: the CSG tree would be 1001 levels deep, beyond 1000"},
     // --- a solid moved where doubles are too far apart to hold its shape ---
@@ -419,7 +423,8 @@ const Case kCases[] = {
     {"tolerance{angle = 1e308}", "hostile.lua:2: tolerance: angle must be within 0..90 degrees (above 0), got 1e+308"},
     {"checker{n = 4, colour = {}}", "hostile.lua:2: checker: unknown field 'colour' (known: n, size, colors)"},
     {"canvas{width = 4, height = 4}:line{{0, 0}, {1, 1}, width = 3}", "hostile.lua:2: line: unknown field 'width' (known: algorithm, color)"},
-    {"local g = group() local h = group{g} g:add(h)", "bad argument #1 to 'add' (the group would contain itself (a scene must have no cycle))"},
+    {"local g = group() local h = group{g} g:add(h)", "bad argument #1 to 'add' (the group would contain itself (a scene must have no cycle): Group(0 children) is already inside Group(1 child), which cannot be added to it)"},
+    {"local g = group{name = 'arm'} g:add(g)", "bad argument #1 to 'add' (the group would contain itself (a scene must have no cycle): Group('arm', 0 children) cannot be added to itself)"},
     {"local g = group() g.nonsense = 5", "hostile.lua:2: Group has no field 'nonsense' to set (transform, name)"},
     {"radial_array{box(1,1,1), count = 3, radius = 1, axis = {0,0,0}}", "hostile.lua:2: radial_array: axis must be non-zero"},
     {"instance(box(1,1,1), {tranform = matrix.identity()})", "hostile.lua:2: instance: unknown field 'tranform' (known: transform, name, material)"},

@@ -165,3 +165,40 @@ TEST_CASE("bad scenes are errors naming what is wrong", "[scene][errors]") {
   CHECK_THROWS_WITH(scene::bounds(*scene::group(), Tolerance{}), Catch::Contains("the scene is empty"));
   CHECK_THROWS_WITH(scene::part(Mesh{}), Catch::Contains("needs triangles"));
 }
+
+// The depth limit counts the levels above the parent too: a chain built from the top (each new
+// group added under the last) was let in at any depth, and then every use refused it. A copy
+// counts its levels as flatten() does (one of 1001 levels was copied, then refused by table()).
+TEST_CASE("the depth limit holds for scenes built from the top and from the bottom", "[scene][errors]") {
+  std::vector<scene::NodePtr> chain{scene::group("root")};  // chain[i] at level i + 1
+  while (chain.size() < 999) {
+    auto next = scene::group();
+    scene::add(*chain.back(), next);
+    chain.push_back(next);
+  }
+  const auto& root = chain.front();
+  const auto& deepest = chain.back();  // level 999
+  auto part = scene::part(block(1, 1, 1));
+  auto holder = scene::group("holder");
+  scene::add(*holder, part);
+  CHECK_THROWS_WITH(scene::add(*deepest, holder),
+                    Catch::Contains("the scene would be deeper than 1000 levels: Group('holder', 1 child) added to Group(0 children) "
+                                    "(at level 999) would reach level 1001"));
+  scene::add(*deepest, part);  // level 1000: the deepest allowed
+  CHECK(scene::flatten(*root).size() == 1);
+  CHECK(scene::flatten(*scene::copy(root)).size() == 1);
+  // under a new top every level moves down one
+  auto top = scene::group("top");
+  CHECK_THROWS_WITH(scene::add(*top, root),
+                    Catch::Contains("Group('root', 1 child) added to Group('top', 0 children) (at level 1) would reach level 1001"));
+  // a group that gains children after it was placed deep
+  auto late = scene::group("late");
+  scene::add(*deepest, late);  // level 1000, empty: allowed
+  CHECK_THROWS_WITH(scene::add(*late, scene::part(block(1, 1, 1))), Catch::Contains("would reach level 1001"));
+  // a small tree placed deep afterwards: its own children move down with it
+  auto a = scene::group("a"), b = scene::group("b"), c = scene::group("c");
+  scene::add(*a, b);
+  scene::add(*chain[996], a);  // a at level 998, b at 999
+  scene::add(*b, c);           // c at 1000
+  CHECK_THROWS_WITH(scene::add(*c, scene::part(block(1, 1, 1))), Catch::Contains("would reach level 1001"));
+}
