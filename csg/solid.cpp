@@ -553,8 +553,8 @@ bool Solid::evaluates_empty(const Tolerance& tol) const {
   return mesh(tol).triangles.empty();
 }
 
-Solid Solid::transformed(const Mat4& m) const {
-  if (!m.allFinite()) fail("transform has non-finite entries");
+void check_transform(const Mat4& m, const Box3& box, const std::string& what) {
+  if (!m.allFinite()) fail(what, " has non-finite entries");
   {
     // A determinant below 1e-300 is either a singular transform (it flattens the solid) or tiny
     // factors that are not singular (scale(1e-101)), whose volumes underflow: the determinant of
@@ -566,18 +566,18 @@ Solid Solid::transformed(const Mat4& m) const {
       // stableNorm: norm() of (1e-200, 0, 0) underflows to 0.
       const Vec3 len(a.col(0).stableNorm(), a.col(1).stableNorm(), a.col(2).stableNorm());
       const double shape = len.minCoeff() > 0 ? Mat3(a * len.cwiseInverse().asDiagonal()).determinant() : 0.0;
-      if (!(std::abs(shape) >= 1e-12)) fail("transform is singular: it would flatten the solid");
+      if (!(std::abs(shape) >= 1e-12)) fail(what, " is singular: it would flatten the solid");
       std::ostringstream factor;  // 6 digits: 1e-303, not 1.0000000000000001e-303
       if (det != 0) factor << std::abs(det);
       else factor << "about 1e" << std::lround(std::log10(std::abs(shape)) + std::log10(len.x()) + std::log10(len.y()) + std::log10(len.z()));
-      fail("the transform shrinks volumes by a factor of ", factor.str(),
+      fail(what, " shrinks volumes by a factor of ", factor.str(),
            ", below 1e-300: the solid's volume and normals would underflow to zero");
     }
   }
   if ((m.row(3) - Eigen::RowVector4d(0, 0, 0, 1)).cwiseAbs().maxCoeff() != 0)
-    fail("transform is projective (last row not 0 0 0 1): solids take affine transforms only");
+    fail(what, " is projective (last row not 0 0 0 1): solids take affine transforms only");
   // A result beyond the coordinates a solid may have is an error here, not a nan volume later.
-  if (const Box3 b = loose_bounds(node_); !b.empty()) {
+  if (const Box3& b = box; !b.empty()) {
     double reach = 0;
     for (int i = 0; i < 8; ++i) {
       const Vec3 corner((i & 1) ? b.max.x() : b.min.x(), (i & 2) ? b.max.y() : b.min.y(), (i & 4) ? b.max.z() : b.min.z());
@@ -585,7 +585,7 @@ Solid Solid::transformed(const Mat4& m) const {
       reach = std::max(reach, p.cwiseAbs().maxCoeff());
     }
     if (!(reach <= kMaxCoordinate))
-      fail("the transform overflows: the solid would reach coordinate ", reach, ", beyond +-", kMaxCoordinate,
+      fail(what, " overflows: the solid would reach coordinate ", reach, ", beyond +-", kMaxCoordinate,
            " (its volume and normals would not be finite numbers)");
     // Far from the origin doubles are far apart (16384 at 1e20): a solid whose size is below
     // 1e-12 of its distance from the origin spans too few of them to keep its shape (a unit sphere
@@ -595,10 +595,16 @@ Solid Solid::transformed(const Mat4& m) const {
     linear.block<3, 1>(0, 3).setZero();
     const double size = transformed_box(b, linear).size().maxCoeff();
     if (size < 1e-12 * reach)
-      fail("the transform moves the solid to coordinate ", reach, ", where doubles are ",
+      fail(what, " moves the solid to coordinate ", reach, ", where doubles are ",
            std::nextafter(reach, 2 * reach) - reach, " apart: a solid of size ", size,
            " there would lose its shape (keep its size above 1e-12 of its distance from the origin)");
   }
+}
+
+Box3 Solid::loose_bounds() const { return wedge::loose_bounds(node_); }
+
+Solid Solid::transformed(const Mat4& m) const {
+  check_transform(m, wedge::loose_bounds(node_));
   return Solid(moved_node(node_, m));
 }
 

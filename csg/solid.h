@@ -160,6 +160,14 @@ class MeshLeaf final : public SolidLeaf {
   mutable Solidified solid_;
 };
 
+// The checks Solid::transformed(m) makes, for a solid lying in `box` (an empty box: only those of
+// the matrix itself), with `what` naming m in the message ("the transform"). Throws wedge::Error
+// when m is not finite; flattens (singular: the determinant of its columns made unit length is
+// below 1e-12); shrinks volumes below 1e-300 otherwise (tiny factors, as scale(1e-101): volumes and
+// normals would underflow); is projective; puts the box beyond +-kMaxCoordinate; or moves it so far
+// from the origin that doubles there cannot hold its shape. Scenes place their parts by the same rule.
+void check_transform(const Mat4& m, const Box3& box, const std::string& what = "the transform");
+
 class Solid {
  public:
   Solid();  // the empty solid
@@ -171,7 +179,11 @@ class Solid {
   // empty (box(1,1,1) - box(1,1,1), which empty() cannot see without evaluating it). A leaf, moved
   // or not, never is; anything else is evaluated (the result is kept, as for mesh(tol)).
   bool evaluates_empty(const Tolerance& tol) const;
+  // Checked by check_transform(m, loose_bounds()).
   Solid transformed(const Mat4& m) const;
+  // The box the solid lies in, found without evaluating anything (a difference: its first
+  // operand's), so it may be larger than bounds().
+  Box3 loose_bounds() const;
 
   // A lazy boolean node (csg/boolean.h): union and intersection of all operands, difference of
   // the first minus the rest. Nothing is computed until a query asks for the mesh; the result is

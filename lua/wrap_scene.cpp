@@ -241,6 +241,12 @@ int radial_array_fn(lua_State* L) {
     const Vec3 axis = o.vec3("axis", Vec3(0, 0, 1));
     if (axis.norm() == 0) throw ArgError{1, "field 'axis' must be non-zero"};
     const Vec3 center = o.vec3("center", Vec3::Zero());
+    // Within the coordinates a solid may have, as array's step is (radius = 1e300 put every copy
+    // there, flattened to a point by rounding).
+    if (!(radius + center.cwiseAbs().maxCoeff() <= kMaxCoordinate))
+      throw ArgError{1, "field 'radius' " + number_text(radius) + " about center {" + number_text(center.x()) + ", " +
+                            number_text(center.y()) + ", " + number_text(center.z()) + "} puts the copies beyond +-" +
+                            number_text(kMaxCoordinate)};
     const double angle = o.number("angle", 360);
     if (!(angle > 0) || angle > 360) throw ArgError{1, "field 'angle' must be within 0..360 (above 0), got " + number_text(angle)};
     auto node = std::make_shared<SceneNode>();

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <sstream>
 #include <unordered_map>
 #include <unordered_set>
 
@@ -76,6 +77,21 @@ void check_count(int count, const char* fn) {
   if (count < 1 || count > kMaxCount) fail(fn, ": count must be within 1..", kMaxCount, ", got ", count);
 }
 
+// A part is placed by the product of the transforms on the way down to it, each checked alone
+// when it was set; the product is checked here by the rule a solid's transform is: within the
+// coordinates a solid may have (+-1e100), not singular, not shrinking volumes below 1e-300.
+// (group{transform=matrix.translate(1e300, 0, 0)} placed a box of zero width there, and two nested
+// scale(1e200) gave a world matrix of infinities: table() said scale nan, render "singular".)
+void check_world(const Occurrence& o, std::size_t k, std::unordered_map<const Leaf*, Box3>& boxes) {
+  auto [it, fresh] = boxes.try_emplace(o.leaf);
+  if (fresh) it->second = o.leaf->solid ? o.leaf->solid->loose_bounds() : o.leaf->mesh.bounds();
+  try {
+    check_transform(o.world, it->second, "its world matrix (the product of the transforms above it)");
+  } catch (const Error& e) {
+    fail("part ", k, " of the scene ('", o.path.empty() ? o.symbol : o.path, "'): ", e.what());
+  }
+}
+
 // `depth` counts from 1 at the root, as flatten() does (from 0, a scene of 1001 levels was
 // copied and then refused by every other use).
 NodePtr deep_copy(const NodePtr& n, std::size_t depth) {
@@ -91,8 +107,16 @@ Mat4 checked_transform(const Mat4& m, const std::string& what) {
   if (!m.allFinite()) fail(what, " must be finite");
   if (m(3, 0) != 0 || m(3, 1) != 0 || m(3, 2) != 0 || m(3, 3) != 1)
     fail(what, " must be affine (last row 0 0 0 1); a projection cannot place a part");
-  const double det = m.block<3, 3>(0, 0).determinant();
-  if (!(std::abs(det) > 1e-300)) fail(what, " is singular (it flattens the part)");
+  // Singular and underflowing volumes by the rule solids use (a uniform scale(1e-101) was called
+  // singular here, with |det| > 1e-300 as the test); the box of each part is checked where the
+  // scene is used (flatten), against its world matrix.
+  check_transform(m, Box3(), what);
+  const Vec3 t = m.block<3, 1>(0, 3);
+  if (!(t.cwiseAbs().maxCoeff() <= kMaxCoordinate)) {
+    std::ostringstream by;  // 6 digits: 1e+300, not 1.0000000000000001e+300
+    by << "{" << t.x() << ", " << t.y() << ", " << t.z() << "}";
+    fail(what, " moves by ", by.str(), ", beyond +-", kMaxCoordinate, " (the coordinates a solid may have)");
+  }
   return m;
 }
 
@@ -174,6 +198,11 @@ NodePtr array(NodePtr prototype, int count, const Vec3& step) {
   check_prototype_depth(prototype, 3, "array");
   check_count(count, "array");
   if (!step.allFinite()) fail("array: step must be finite");
+  if (!(double(count - 1) * step.cwiseAbs().maxCoeff() <= kMaxCoordinate)) {
+    std::ostringstream by;
+    by << "{" << step.x() << ", " << step.y() << ", " << step.z() << "}";
+    fail("array: step ", by.str(), " puts copy ", count, " beyond +-", kMaxCoordinate);
+  }
   lower(*prototype, 2);
   auto node = std::make_shared<Node>();
   for (int k = 0; k < count; ++k) {
@@ -193,6 +222,13 @@ NodePtr radial_array(NodePtr prototype, int count, double radius, const Vec3& ax
   if (!(radius >= 0) || !std::isfinite(radius)) fail("radial_array: radius must be finite and not negative, got ", radius);
   if (!axis.allFinite() || axis.norm() == 0) fail("radial_array: axis must be finite and non-zero");
   if (!center.allFinite()) fail("radial_array: center must be finite");
+  // Within the coordinates a solid may have, as array's step is (a radius of 1e300 put every
+  // copy there, flattened).
+  if (!(radius + center.cwiseAbs().maxCoeff() <= kMaxCoordinate)) {
+    std::ostringstream where;
+    where << "radius " << radius << " about center {" << center.x() << ", " << center.y() << ", " << center.z() << "}";
+    fail("radial_array: ", where.str(), " puts the copies beyond +-", kMaxCoordinate);
+  }
   if (!(angle > 0) || angle > 360) fail("radial_array: angle must be within 0..360 (above 0), got ", angle);
   const Vec3 a = axis.normalized();
   Vec3 out = Vec3::UnitX() - a.x() * a;
@@ -218,6 +254,7 @@ NodePtr copy(const NodePtr& root) {
 
 std::vector<Occurrence> flatten(const Node& root) {
   std::vector<Occurrence> out;
+  std::unordered_map<const Leaf*, Box3> boxes;  // check_world's, each leaf's once
   // The traversal's stacks, one entry per node on the way down: the node and the next child to
   // visit, its world matrix (the matrix stack), its material and its path.
   struct Frame {
@@ -248,6 +285,7 @@ std::vector<Occurrence> flatten(const Node& root) {
       o.world = top.world;
       o.path = top.path;
       o.symbol = !top.symbol.empty() ? top.symbol : leaf->solid ? "solid" : "mesh";
+      check_world(o, out.size() + 1, boxes);
       if (leaf->material) o.material = *leaf->material, o.texture = leaf->texture;
       else if (top.material) o.material = *top.material, o.texture = top.texture;
       out.push_back(std::move(o));
@@ -345,7 +383,7 @@ std::vector<InstanceRow> instance_table(const Node& root) {
     const Mat4& m = occ.world;
     row.translation = m.block<3, 1>(0, 3);
     const Mat3 a = m.block<3, 3>(0, 0);
-    row.scale = Vec3(a.col(0).norm(), a.col(1).norm(), a.col(2).norm());
+    row.scale = Vec3(a.col(0).stableNorm(), a.col(1).stableNorm(), a.col(2).stableNorm());  // 1e-200 squared underflows
     if (a.determinant() < 0) row.scale.x() = -row.scale.x();
     Mat3 r = a;
     for (int k = 0; k < 3; ++k) r.col(k) /= row.scale[k];

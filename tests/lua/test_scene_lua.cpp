@@ -232,6 +232,10 @@ TEST_CASE("bad calls of the new functions name the function, the problem and the
       {"radial_array{box(1, 1, 1), count = 4, radius = 1, angle = 0}", "radial_array: angle must be within 0..360"},
       {"radial_array{box(1, 1, 1), count = 4, radius = 1, angle = 400}", "radial_array: angle must be within 0..360"},
       {"export(box(1, 1, 1), 'x.stl', {split = true})", "export: split needs a scene group to split, got Solid"},
+      // Scene transforms keep to the coordinates solids keep to.
+      {"group{transform = matrix.translate(1e300, 0, 0)}", "bad.lua:3: group: transform moves by {1e+300, 0, 0}, beyond +-1e+100"},
+      {"radial_array{box(1, 1, 1), count = 3, radius = 1e300}", "bad.lua:3: radial_array: radius 1e+300 about center {0, 0, 0} puts the copies beyond +-1e+100"},
+      {"radial_array{box(1, 1, 1), count = 3, radius = 1, center = {-1e101, 0, 0}}", "radial_array: radius 1 about center {-1e+101, 0, 0} puts the copies beyond"},
       // A boolean with nothing left is refused where it joins the scene, by every function that
       // adds one, as the empty solid is (it was let in and each use then answered differently).
       {"group{box(1, 1, 1) - box(1, 1, 1)}", "bad.lua:3: group: element 1: the solid is empty (its boolean leaves nothing): the empty solid cannot be part of a scene"},
@@ -319,6 +323,54 @@ TEST_CASE("a group's bounds are its solids' own and not their meshes'", "[lua][s
     local sb = s:bounds()
     assert(sb.max[1] == 9 and sb.max[2] == 1.5 and sb.max[3] == 2, sb.max[1])
   )");
+  INFO(r.err);
+  CHECK(r.status == 0);
+}
+
+// The world matrix of each part (the product of the transforms on the way down) is held to the
+// rule a solid's transform is: each group's transform alone passed, and the product did not.
+TEST_CASE("a part's world matrix keeps to the coordinates and scales solids keep to", "[lua][scene][errors]") {
+  auto r = run(R"LUA(
+    local s = box(1, 1, 1)
+    local function fails(f, pattern)
+      local ok, err = pcall(f)
+      assert(not ok, "accepted: " .. pattern)
+      assert(err:find(pattern, 1, true), err)
+    end
+    -- two scales of 1e200: a world matrix of infinities (table() said scale nan, render "singular")
+    local a = group{transform = matrix.scale(1e200, 1e200, 1e200)}
+    local c = group{transform = matrix.scale(1e200, 1e200, 1e200)}
+    a:add(c); c:add(s)
+    local inf = "part 1 of the scene ('solid'): its world matrix (the product of the transforms above it) has non-finite entries"
+    fails(function() return a:table() end, inf)
+    fails(function() return a:bounds() end, inf)
+    fails(function() return render{a, out = "never.png", size = {8, 8}} end, inf)
+    fails(function() return export(a, "never.stl") end, inf)
+    -- two scales of 1e-90: volumes below 1e-300 (exported flat, table() said rotation nan)
+    local d = group{transform = matrix.scale(1e-90, 1e-90, 1e-90), name = "d"}
+    local f = group{transform = matrix.scale(1e-90, 1e-90, 1e-90)}
+    d:add(f); f:add(s)
+    fails(function() return d:table() end, "part 1 of the scene ('d'): its world matrix (the product of the transforms above it) shrinks volumes by a factor of about 1e-540, below 1e-300")
+    -- two translations of 6e99: beyond +-1e100
+    local p = group{transform = matrix.translate(6e99, 0, 0)}
+    local q = group{transform = matrix.translate(6e99, 0, 0)}
+    p:add(q); q:add(s)
+    fails(function() return p:bounds() end, "overflows: the solid would reach coordinate 1.2000000000000001e+100, beyond +-1e+100")
+    -- a uniform scale of 1e-101 by the solids' rule (it was called singular), a singular one still is
+    fails(function() return group{transform = matrix.scale(1e-101, 1e-101, 1e-101)} end,
+          "group: transform shrinks volumes by a factor of 1e-303, below 1e-300")
+    fails(function() return group{transform = matrix.scale(1, 0, 1)} end, "group: transform is singular")
+    fails(function() return group{transform = matrix.translate(0, 0, -2e100)} end, "transform moves by {0, 0, -2e+100}")
+    local g = group(); fails(function() g.transform = matrix.translate(1e300, 0, 0) end, "Group transform moves by {1e+300, 0, 0}")
+    -- a small uniform scale that solids take: accepted, and its table is finite
+    local e = group{transform = matrix.scale(1e-50, 1e-50, 1e-50)}
+    e:add(s)
+    local row = e:table()[1]
+    for i = 1, 3 do
+      assert(math.abs(row.scale[i] / 1e-50 - 1) < 1e-12 and row.rotation[i] == 0, row.scale[i] .. " " .. row.rotation[i])
+    end
+    assert(math.abs(e:bounds().max[1] / 1e-50 - 1) < 1e-12)
+  )LUA", "@world.lua");
   INFO(r.err);
   CHECK(r.status == 0);
 }
