@@ -1,7 +1,9 @@
 // Lua bindings of mesh files: export(value, path [, {ascii=, tolerance=}]) and import(path).
 #include <cctype>
+#include <filesystem>
 #include <map>
 
+#include "kernel/file_io.h"
 #include "lua/lua_util.h"
 #include "lua/wedge_lua.h"
 #include "lua/wrap_curve.h"
@@ -45,13 +47,30 @@ int export_split(lua_State* L, const std::string& path, const Tolerance& tol, co
     }
   }
   Stage stage(L, "write");
+  // The set is written whole or not at all, as each file is: a part that could not be written
+  // (part 3 a folder) left parts 1 and 2 behind. Every target is opened first (and dropped:
+  // AtomicFile's checks of the folder and the name), so such a part stops the export before any
+  // file is touched; a write that fails later (a full disk, Ctrl-C) removes the parts this export
+  // has already written.
+  for (const auto& file : files) AtomicFile probe(file.first);
   lua_createtable(L, int(files.size()), 0);
   Progress progress(L, "writing files", files.size());
-  for (std::size_t k = 0; k < files.size(); ++k) {
-    progress.step();
-    write_mesh(files[k].second, files[k].first, options);
-    lua_pushstring(L, files[k].first.c_str());
-    lua_rawseti(L, -2, lua_Integer(k + 1));
+  std::size_t written = 0;
+  try {
+    for (; written < files.size(); ++written) {
+      progress.step();
+      write_mesh(files[written].second, files[written].first, options);
+      lua_pushstring(L, files[written].first.c_str());
+      lua_rawseti(L, -2, lua_Integer(written + 1));
+    }
+  } catch (...) {
+    for (std::size_t k = 0; k < written; ++k) {
+      // What AtomicFile replaced: the file a symbolic link names, not the link.
+      std::error_code ec;
+      const auto target = std::filesystem::weakly_canonical(files[k].first, ec);
+      std::filesystem::remove(ec ? std::filesystem::path(files[k].first) : target, ec);
+    }
+    throw;
   }
   return 1;
 }

@@ -4,9 +4,13 @@
 // message and its line.
 #include <catch2/catch.hpp>
 
+#include <cerrno>
 #include <filesystem>
 #include <sstream>
 
+#include <unistd.h>
+
+#include "kernel/file_io.h"
 #include "lua/wedge_lua.h"
 #include "render/render.h"
 
@@ -373,4 +377,50 @@ TEST_CASE("a part's world matrix keeps to the coordinates and scales solids keep
   )LUA", "@world.lua");
   INFO(r.err);
   CHECK(r.status == 0);
+}
+
+namespace {
+// A write hook that fails every call after the first `g_split_writes_left` with ENOSPC.
+int g_split_writes_left = 0;
+ssize_t split_failing_write(int fd, const void* data, std::size_t size) {
+  if (g_split_writes_left-- <= 0) {
+    errno = ENOSPC;
+    return -1;
+  }
+  return ::write(fd, data, size);
+}
+}  // namespace
+
+// A split export writes all its files or none (each file was atomic, the set was not: part 3 a
+// folder left parts 1 and 2 behind). A part that cannot be written stops it before any file is
+// touched; a write that fails later (a full disk) removes the parts already written.
+TEST_CASE("a split export that fails leaves none of its files", "[lua][scene]") {
+  const std::string dir = kOut + "/split-fail";
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir + "/part-3-solid.stl");  // a folder where part 3 goes
+  const std::string script = "local g = array{box(1, 1, 1), count = 5, step = {2, 0, 0}}\n"
+                             "local ok, err = pcall(export, g, '" + dir + "/part.stl', {split = true})\n"
+                             "assert(not ok and err:find('part%-3%-solid.stl\\': it is a folder'), err)\n";
+  auto r = run(script, "@split.lua");
+  INFO(r.err);
+  CHECK(r.status == 0);
+  for (int k : {1, 2, 4, 5}) CHECK(!std::filesystem::exists(dir + "/part-" + std::to_string(k) + "-solid.stl"));
+  std::filesystem::remove(dir + "/part-3-solid.stl");
+
+  // The disk fills during part 3: parts 1 and 2, written, are removed.
+  const FileHooks saved = file_hooks();
+  file_hooks().write = split_failing_write;
+  g_split_writes_left = 2;  // one write() for each small file
+  auto full = run("local g = array{box(1, 1, 1), count = 5, step = {2, 0, 0}}\n"
+                  "local ok, err = pcall(export, g, '" + dir + "/part.stl', {split = true})\n"
+                  "assert(not ok and err:find('No space left on device'), err)\n", "@split.lua");
+  file_hooks() = saved;
+  INFO(full.err);
+  CHECK(full.status == 0);
+  CHECK(std::filesystem::is_empty(dir));
+  // and with room, all five
+  auto ok = run("assert(#export(array{box(1, 1, 1), count = 5, step = {2, 0, 0}}, '" + dir + "/part.stl', {split = true}) == 5)", "@split.lua");
+  INFO(ok.err);
+  CHECK(ok.status == 0);
+  CHECK(std::filesystem::exists(dir + "/part-5-solid.stl"));
 }
