@@ -106,6 +106,7 @@ std::vector<Vec3> triangle_colours(lua_State* L, int obj, const Mesh& mesh, cons
 
 int export_fn(lua_State* L) {
   return table_call(L, 3, [&] {
+    check_no_more(L, 3);
     std::string path = check_string(L, 2);
     sandbox_check_path(L, path, true);
     Tolerance tol = current_tolerance(L);

@@ -496,6 +496,7 @@ void read_drawn(lua_State* L, const char* fn, Drawn& drawn) {
 int render_fn(lua_State* L) {
   return options_call(L, [&] {
     check_table(L, 1);
+    check_no_more(L, 1);
     Options o(L, 1);
     o.allow_positional();
     Drawn drawn;
@@ -621,6 +622,7 @@ int render_fn(lua_State* L) {
 int drawing_fn(lua_State* L) {
   return options_call(L, [&] {
     check_table(L, 1);
+    check_no_more(L, 1);
     Options o(L, 1);
     o.allow_positional();
     Drawn drawn;

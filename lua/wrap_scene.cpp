@@ -92,6 +92,7 @@ void read_node_options(lua_State* L, Options& o, SceneNode& node) {
 // group() | group{child, ..., transform=, name=, material=}
 int group_fn(lua_State* L) {
   return table_call(L, 1, [&] {
+    check_no_more(L, 1);  // group({}, 5) ignored the 5; box(1, 1, 1, 1) is refused
     auto node = std::make_shared<SceneNode>();
     if (!lua_isnoneornil(L, 1)) {
       Options o(L, 1);
@@ -134,6 +135,7 @@ int add_m(lua_State* L) {
 // g:copy(): a new tree equal to g now; later changes to g or its parts do not reach it.
 int copy_m(lua_State* L) {
   return guarded(L, [&] {
+    check_no_more_method(L, 1);
     push_group(L, scene::copy(self(L)));
     return 1;
   });
@@ -175,6 +177,7 @@ int instance_fn(lua_State* L) {
       push_group(L, std::move(node));
       return 1;
     }
+    check_no_more(L, 2);
     NodePtr proto = child_node(L, 1, 1);
     if (!lua_isnoneornil(L, 2)) {
       Options o(L, 2);
@@ -199,6 +202,7 @@ int required_count(Options& o) {
 int array_fn(lua_State* L) {
   return table_call(L, 1, [&] {
     check_table(L, 1);
+    check_no_more(L, 1);
     Options o(L, 1);
     o.allow_positional();
     one_element(L, "one thing to repeat", "count= and step=");
@@ -231,6 +235,7 @@ int array_fn(lua_State* L) {
 int radial_array_fn(lua_State* L) {
   return table_call(L, 1, [&] {
     check_table(L, 1);
+    check_no_more(L, 1);
     Options o(L, 1);
     o.allow_positional();
     one_element(L, "one thing to repeat", "count= and radius=");
@@ -270,6 +275,7 @@ std::optional<Mesh> scene_to_mesh(lua_State* L, int idx, const Tolerance& tol) {
 // g:bounds(): {min=, max=} of the leaves' meshes in world coordinates.
 int bounds_m(lua_State* L) {
   return guarded(L, [&] {
+    check_no_more_method(L, 1);
     const Box3 b = scene::bounds(*self(L), current_tolerance(L));
     // Parts that are all empty solids (box(1,1,1) - box(1,1,1)) have no extent: an error, not
     // min = inf, max = -inf.
@@ -288,6 +294,7 @@ int bounds_m(lua_State* L) {
 //  scale={sx,sy,sz}, shear=false, matrix=M_world}
 int table_m(lua_State* L) {
   return guarded(L, [&] {
+    check_no_more_method(L, 1);
     const auto rows = scene::instance_table(*self(L));
     lua_createtable(L, int(rows.size()), 0);
     for (std::size_t i = 0; i < rows.size(); ++i) {

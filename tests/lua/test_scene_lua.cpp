@@ -236,6 +236,17 @@ TEST_CASE("bad calls of the new functions name the function, the problem and the
       {"radial_array{box(1, 1, 1), count = 4, radius = 1, angle = 0}", "radial_array: angle must be within 0..360"},
       {"radial_array{box(1, 1, 1), count = 4, radius = 1, angle = 400}", "radial_array: angle must be within 0..360"},
       {"export(box(1, 1, 1), 'x.stl', {split = true})", "export: split needs a scene group to split, got Solid"},
+      // Extra arguments are refused, as solids' functions refuse them (they were ignored).
+      {"group({}, 5)", "bad argument #2 to 'group' (no argument expected here (the function takes 1), got number 5)"},
+      {"array({box(1, 1, 1), count = 3, step = {1, 0, 0}}, 5)", "bad argument #2 to 'array' (no argument expected here"},
+      {"radial_array({box(1, 1, 1), count = 3, radius = 1}, 1)", "bad argument #2 to 'radial_array' (no argument expected here"},
+      {"instance(box(1, 1, 1), {}, 5)", "bad argument #3 to 'instance' (no argument expected here (the function takes 2)"},
+      {"group{box(1, 1, 1)}:bounds(5)", "bad argument #1 to 'bounds' (no argument expected here (the method takes 0), got number 5)"},
+      {"group{box(1, 1, 1)}:table('x')", "bad argument #1 to 'table' (no argument expected here (the method takes 0)"},
+      {"group{box(1, 1, 1)}:copy(1)", "bad argument #1 to 'copy' (no argument expected here"},
+      {"export(box(1, 1, 1), 'x.stl', {}, 4)", "bad argument #4 to 'export' (no argument expected here (the function takes 3)"},
+      {"render({box(1, 1, 1), out = 'x.png'}, 5)", "bad argument #2 to 'render' (no argument expected here"},
+      {"drawing({box(1, 1, 1), out = 'x.png'}, 5)", "bad argument #2 to 'drawing' (no argument expected here"},
       // Scene transforms keep to the coordinates solids keep to.
       {"group{transform = matrix.translate(1e300, 0, 0)}", "bad.lua:3: group: transform moves by {1e+300, 0, 0}, beyond +-1e+100"},
       {"radial_array{box(1, 1, 1), count = 3, radius = 1e300}", "bad.lua:3: radial_array: radius 1e+300 about center {0, 0, 0} puts the copies beyond +-1e+100"},
