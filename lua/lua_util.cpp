@@ -526,6 +526,16 @@ Vec2 Options::vec2(const char* key, const Vec2& fallback) {
   return read_and_pop<Vec2>(L_, [&] { return to_vec2(L_, -1, arg_, "field '" + field(key) + "'"); });
 }
 
+namespace {
+// Whether the key at `key` is one of the elements 1..#t of the table at `table`.
+// (A float key with an integer value, [2.0], is stored as the integer 2.)
+bool is_element_key(lua_State* L, int key, int table) {
+  if (!lua_isinteger(L, key)) return false;
+  const lua_Integer k = lua_tointeger(L, key);
+  return k >= 1 && static_cast<lua_Unsigned>(k) <= lua_rawlen(L, table);
+}
+}  // namespace
+
 void Options::finish() {
   lua_pushnil(L_);
   while (lua_next(L_, idx_)) {
@@ -538,10 +548,14 @@ void Options::finish() {
         for (const auto& k : known_) names += (names.empty() ? "" : ", ") + k;
         throw ArgError{arg_, "unknown field '" + field(key) + "'" + (names.empty() ? "" : " (known: " + names + ")")};
       }
-    } else if (!(positional_ && lua_type(L_, -1) == LUA_TNUMBER)) {
+    } else if (!positional_ || !is_element_key(L_, -1, idx_)) {
+      // A number key outside 1..#t (group{s, [10] = s}, [1.5] = s) is no element either: it was
+      // dropped without a word, where [true] = s was refused.
+      const bool number = lua_type(L_, -1) == LUA_TNUMBER;
       std::string what = describe(L_, -1);
       lua_pop(L_, 1);
-      throw ArgError{arg_, "unexpected key " + what + " in " + (prefix_.empty() ? std::string("options table") : "field '" + prefix_ + "'")};
+      throw ArgError{arg_, "unexpected key " + what + " in " + (prefix_.empty() ? std::string("options table") : "field '" + prefix_ + "'") +
+                               (positional_ && number ? " (the elements are numbered 1.." + std::to_string(lua_rawlen(L_, idx_)) + ", without gaps)" : "")};
     }
   }
 }

@@ -247,6 +247,10 @@ TEST_CASE("bad calls of the new functions name the function, the problem and the
       {"export(box(1, 1, 1), 'x.stl', {}, 4)", "bad argument #4 to 'export' (no argument expected here (the function takes 3)"},
       {"render({box(1, 1, 1), out = 'x.png'}, 5)", "bad argument #2 to 'render' (no argument expected here"},
       {"drawing({box(1, 1, 1), out = 'x.png'}, 5)", "bad argument #2 to 'drawing' (no argument expected here"},
+      // A number key outside the elements is an unknown field (it was dropped: 1 child).
+      {"local s = box(1, 1, 1) group{s, [10] = s}", "bad.lua:3: group: unexpected key number 10 in options table (the elements are numbered 1..1, without gaps)"},
+      {"local s = box(1, 1, 1) group{s, [1.5] = s}", "group: unexpected key number 1.5 in options table"},
+      {"local s = box(1, 1, 1) array{s, [5] = s, count = 2, step = {1, 0, 0}}", "array: unexpected key number 5"},
       // Scene transforms keep to the coordinates solids keep to.
       {"group{transform = matrix.translate(1e300, 0, 0)}", "bad.lua:3: group: transform moves by {1e+300, 0, 0}, beyond +-1e+100"},
       {"radial_array{box(1, 1, 1), count = 3, radius = 1e300}", "bad.lua:3: radial_array: radius 1e+300 about center {0, 0, 0} puts the copies beyond +-1e+100"},
