@@ -192,9 +192,12 @@ int instance_fn(lua_State* L) {
 
 int required_count(Options& o) {
   if (!o.has("count")) throw ArgError{1, "field 'count' is missing (how many copies)"};
-  const int count = o.integer("count", 0);
-  if (count < 1 || count > 100000) throw ArgError{1, "field 'count' must be within 1..100000, got " + std::to_string(count)};
-  return count;
+  // The range before the integer test: 2^53 and math.maxinteger are integers, and were told
+  // "must be an integer".
+  const double count = *o.number("count");
+  if (count != std::floor(count)) throw ArgError{1, "field 'count' must be an integer, got " + number_text(count)};
+  if (count < 1 || count > 100000) throw ArgError{1, "field 'count' must be within 1..100000, got " + number_text(count)};
+  return static_cast<int>(count);
 }
 
 // array{x, count=, step={dx, dy, dz}, transform=, name=}: count instances of x, the k-th (from 0)

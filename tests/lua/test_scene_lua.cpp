@@ -251,6 +251,10 @@ TEST_CASE("bad calls of the new functions name the function, the problem and the
       {"local s = box(1, 1, 1) group{s, [10] = s}", "bad.lua:3: group: unexpected key number 10 in options table (the elements are numbered 1..1, without gaps)"},
       {"local s = box(1, 1, 1) group{s, [1.5] = s}", "group: unexpected key number 1.5 in options table"},
       {"local s = box(1, 1, 1) array{s, [5] = s, count = 2, step = {1, 0, 0}}", "array: unexpected key number 5"},
+      // count is an integer out of range, not "not an integer"
+      {"array{box(1, 1, 1), count = 2^53, step = {1, 0, 0}}", "array: count must be within 1..100000, got 9.007199255e+15"},
+      {"array{box(1, 1, 1), count = math.maxinteger, step = {1, 0, 0}}", "array: count must be within 1..100000, got 9.223372037e+18"},
+      {"radial_array{box(1, 1, 1), count = 2^31, radius = 1}", "radial_array: count must be within 1..100000, got 2147483648"},
       // Scene transforms keep to the coordinates solids keep to.
       {"group{transform = matrix.translate(1e300, 0, 0)}", "bad.lua:3: group: transform moves by {1e+300, 0, 0}, beyond +-1e+100"},
       {"radial_array{box(1, 1, 1), count = 3, radius = 1e300}", "bad.lua:3: radial_array: radius 1e+300 about center {0, 0, 0} puts the copies beyond +-1e+100"},
