@@ -70,7 +70,8 @@ NodePtr part(Solid solid, std::optional<render::Material> material = std::nullop
 NodePtr part(Mesh mesh, std::optional<render::Material> material = std::nullopt,
              std::shared_ptr<const render::Texture> texture = nullptr);
 // Adds `child` under `parent` (shared, not copied); a child that reaches `parent` would make a
-// cycle and is refused, as is a child more than 1000 levels deep.
+// cycle and is refused, as is a child whose deepest level, counted from the top of the deepest
+// path down to `parent`, would be beyond 1000.
 void add(Node& parent, NodePtr child);
 // A node as errors and Lua's tostring name it: "Group('arm', 2 children)", "Group(1 child)", "a part".
 std::string describe(const Node& node);
