@@ -194,6 +194,10 @@ class Solid {
   // Queries. `tol` is the chordal tolerance used where the mesh is needed.
   Mesh mesh(const Tolerance& tol) const;
   Box3 bounds() const;
+  // The bounds of the solid moved by m (affine), as tight as bounds() (a boolean's from its
+  // evaluated mesh moved, not from its box moved: the box of a turned sphere is too big), without
+  // making the moved solid: for a scene's parts, each placed by its own world matrix.
+  Box3 bounds(const Mat4& m) const;
   MassProperties mass_properties(const Tolerance& tol) const;
   EulerCounts euler(const Tolerance& tol) const;
   std::string validate(const Tolerance& tol) const;  // "" when valid

@@ -33,6 +33,8 @@ struct Evaluated {
   std::vector<double> triangle_area;   // with it: each triangle's share of the area
 };
 
+struct BoundPoints;
+
 struct Solid::Node {
   enum class Kind { Empty, Leaf, Transform, Boolean } kind = Kind::Empty;
   std::shared_ptr<const SolidLeaf> leaf;
@@ -70,6 +72,10 @@ struct Solid::Node {
   mutable std::map<std::pair<double, double>, std::shared_ptr<Slot>> cache;
   mutable std::mutex flat_mutex;
   mutable std::shared_ptr<const std::vector<std::shared_ptr<const Node>>> flat;  // operands(), once made
+  // A difference's or intersection's evaluated mesh as bounds need it (Solid::bounds, solid.cpp),
+  // once made.
+  mutable std::mutex bound_points_mutex;
+  mutable std::shared_ptr<const BoundPoints> bound_points;
 
   Node() = default;
   Node(const Node& o)
