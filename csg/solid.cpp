@@ -501,8 +501,15 @@ Solid Solid::boolean(BooleanOp op, std::vector<Solid> operands, std::string wher
   // Chains become one n-ary node: a + b + c + ... one union (one engine pass over all operands,
   // grouped by their boxes, balanced when large), a * b * c one intersection, and a - b - c
   // (a script drilling holes one by one) a minus all of b, c, ...: never a chain of growing
-  // intermediate results. A tagged node keeps its own (its tag colours its faces), and so does
-  // one already evaluated (its result is reused). An operand is spliced, not copied (Node::parts),
+  // intermediate results. A tagged node keeps its own (its tag colours its faces). One already
+  // evaluated is spliced all the same: the tree's shape, and so the result's bits, must follow
+  // from the script alone. Kept whole when evaluated (its result reused), c - s gave another
+  // rounding than cube - cylinder - s whenever c:volume() (or any query of c) came first: a volume
+  // 5e-13 apart, an OBJ whose every vertex moved, an export that failed or did not. The cost is
+  // the cached result not reused: querying a chain after each link repeats the earlier links'
+  // engine work (a plate drilled 100 times, its volume asked after every hole: 7.4 s of CPU where
+  // reusing took 2.5 s; asked every 10 holes, or only at the end, no slower). An operand is
+  // spliced, not copied (Node::parts),
   // so each link of a chain costs the same however long the chain is. The same node twice in one
   // call is spliced once (s + s, repeated, would otherwise double the list each time), and no
   // list grows past kMaxSpliced: beyond it an operand stays a node of its own.
@@ -516,7 +523,7 @@ Solid Solid::boolean(BooleanOp op, std::vector<Solid> operands, std::string wher
     const auto subtracted_too = [&] {
       return std::any_of(operands.begin() + 1, operands.end(), [&](const Solid& later) { return later.node_ == o; });
     };
-    bool splice = o->kind == Node::Kind::Boolean && o->op == op && o->tag < 0 && !cached(*o, Tolerance{}) &&
+    bool splice = o->kind == Node::Kind::Boolean && o->op == op && o->tag < 0 &&
                   (op != BooleanOp::Difference || (i == 0 && !subtracted_too())) && n->size + o->size <= kMaxSpliced;
     if (splice) splice = spliced.insert(o.get()).second;
     n->parts.push_back({o, splice});
