@@ -105,6 +105,28 @@ TEST_CASE("contains: a sphere within its tolerance", "[membership][slow]") {
   CHECK(s.contains(Point3(1 + 2 * std::cos(0.3), 2 * std::sin(0.3), 0), tol) == Membership::Boundary);
 }
 
+TEST_CASE("contains: a curved leaf is tessellated once per tolerance and not again on every call", "[membership]") {
+  // contains() took the leaf's mesh afresh each call: sphere(1000) at 0.001 spent 15 s and 2 GB
+  // per call, and a bisection by contains() grew past 2 GB.
+  EvalStats stats;
+  EvalControl control;
+  control.stats = &stats;
+  set_eval_control(&control);
+  struct Off {
+    ~Off() { set_eval_control(nullptr); }
+  } off;
+  Tolerance tol;
+  Solid s = brep_solid(sphere(1)), moved = s.transformed(translate(Vec3(5, 0, 0)));
+  for (int i = 0; i < 3; ++i) {
+    CHECK(s.contains({0, 0, 0}, tol) == Membership::Inside);
+    CHECK(moved.contains({5, 0, 0}, tol) == Membership::Inside);
+  }
+  CHECK(stats.cached >= 4);  // the second and third calls of each found the first's mesh
+  const long before = stats.cached;
+  CHECK(s.cells(0.5, tol).cells.size() > 0);
+  CHECK(stats.cached == before + 1);
+}
+
 TEST_CASE("cells: octree volume bounds bracket the exact volume and tighten", "[membership][cells]") {
   Tolerance tol;
   SECTION("a box and an L-shaped difference (exact volumes 6 and 7)") {
