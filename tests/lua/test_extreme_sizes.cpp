@@ -177,3 +177,20 @@ TEST_CASE("the triangle budget counts planar faces, boolean results and imported
   r = run(s.lua() + "export(box(1, 1, 1), dir .. '/b.off')\nlocal m = import(dir .. '/b.off')\ntolerance{max_triangles = 11}\nlocal n = m:triangles()\n");
   CHECK(r.err.rfind("sizes.lua:5: triangles: the mesh has 12 triangles, more than the budget of 11: raise the budget with tolerance{max_triangles=N}", 0) == 0);
 }
+
+TEST_CASE("the triangle budget refuses a scaled curved boolean at once from its estimate", "[lua][extreme][budget]") {
+  // The estimate counted the ideal mesh, about half of what the refinement makes: scaled by 1e4
+  // (its leaves at tolerance 1e-6), torus - cylinder passed the estimate and volume() refined for
+  // 84 s and 3.2 GB before the refinement's own count refused it.
+  Run r = run(std::string(kHelpers) + R"(
+tolerance{max_triangles = 1000000}
+local s = torus{R = 2, r = 0.5} - cylinder{r = 0.6, h = 2}:translate(2, 0, -1)
+local t0 = os.clock()
+local ok, err = pcall(function() return s:scale(1e3):volume() end)
+assert(not ok and err:find("would need", 1, true) and err:find("tolerance{max_triangles=N}", 1, true), err)
+assert(os.clock() - t0 < 1, "refused after " .. (os.clock() - t0) .. " s")
+-- A mesh within the budget is not refused by its estimate (16,792 triangles).
+assert(torus{R = 2, r = 0.5}:triangles{tolerance = 1e-3, max_triangles = 20000} > 16000)
+)");
+  CHECK(r.err == "");
+}
