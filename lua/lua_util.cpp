@@ -92,6 +92,9 @@ FunctionName function_name(lua_State* L) {
   if (!lua_getstack(L, 0, &ar) || !lua_getinfo(L, "nf", &ar)) return {};
   // Stack: ..., function
   std::string what = ar.namewhat ? ar.namewhat : "";
+  // A call through a computed key names no function: Lua says "?" (e[q](e)) or "integer index"
+  // (({e.bounds})[1](e)), and the message began "?: the solid is empty". The API's name instead.
+  if (ar.name && (std::strcmp(ar.name, "?") == 0 || std::strcmp(ar.name, "integer index") == 0)) ar.name = nullptr;
   FunctionName out;
   if (what == "metamethod" && ar.name && (std::strcmp(ar.name, "index") == 0 || std::strcmp(ar.name, "newindex") == 0)) {
     // g.field / g.field = v: the message names the field; "index" would only puzzle.

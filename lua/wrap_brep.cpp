@@ -31,6 +31,14 @@ constexpr const char* kKey = "wedge.Brep";
 
 Model& self(lua_State* L) { return check_object<Model>(L, 1, kKey, "Brep"); }
 
+// An id of one of this model's elements (`what`: "a face"), blamed on the argument that gave it:
+// the operator's own check named the operator alone ("mev: -1 is not a face of this model").
+template <class IdT, class Elements>
+IdT check_id(lua_State* L, int idx, const Elements& elements, const char* what) {
+  const IdT id(check_integer(L, idx));
+  if (!elements.contains(id)) throw ArgError{idx, std::to_string(id.value) + " is not " + what + " of this model"};
+  return id;
+}
 template <class IdT>
 IdT check_id(lua_State* L, int idx) {
   return IdT(check_integer(L, idx));
@@ -38,7 +46,7 @@ IdT check_id(lua_State* L, int idx) {
 // A vertex position: finite (check_vec3) and within +-kMaxCoordinate, as every builder keeps
 // its solids (brep.h); blamed on the argument that gave it.
 Point3 check_point(lua_State* L, int idx) {
-  Point3 p = check_vec3(L, idx, true);
+  Point3 p = check_vec3(L, idx);  // {x, y, z}: mvfs{5, 5} was taken as (5, 5, 0)
   for (int k = 0; k < 3; ++k)
     if (std::abs(p[k]) > kMaxCoordinate)
       throw ArgError{idx, "point coordinate " + std::to_string(k + 1) + " is " + number_text(p[k]) + ", beyond +-" +
@@ -81,6 +89,7 @@ int brep_fn(lua_State* L) {
 int mvfs_m(lua_State* L) {
   return guarded(L, [&] {
     Model& m = self(L);
+    check_no_more_method(L, 2);
     Point3 p = check_point(L, 2);
     auto r = op(L, "mvfs", [&] { return m.mvfs(p); });
     push_id(L, r.v);
@@ -92,8 +101,9 @@ int mvfs_m(lua_State* L) {
 int mev_m(lua_State* L) {
   return guarded(L, [&] {
     Model& m = self(L);
-    auto f = check_id<FaceId>(L, 2);
-    auto v = check_id<VertexId>(L, 3);
+    check_no_more_method(L, 4);
+    auto f = check_id<FaceId>(L, 2, m.faces(), "a face");
+    auto v = check_id<VertexId>(L, 3, m.vertices(), "a vertex");
     Point3 p = check_point(L, 4);
     auto r = op(L, "mev", [&] { return m.mev(f, v, p); });
     push_id(L, r.e);
@@ -105,9 +115,10 @@ int mev_m(lua_State* L) {
 int mef_m(lua_State* L) {
   return guarded(L, [&] {
     Model& m = self(L);
-    auto f = check_id<FaceId>(L, 2);
-    auto v1 = check_id<VertexId>(L, 3);
-    auto v2 = check_id<VertexId>(L, 4);
+    check_no_more_method(L, 4);
+    auto f = check_id<FaceId>(L, 2, m.faces(), "a face");
+    auto v1 = check_id<VertexId>(L, 3, m.vertices(), "a vertex");
+    auto v2 = check_id<VertexId>(L, 4, m.vertices(), "a vertex");
     auto r = op(L, "mef", [&] { return m.mef(f, v1, v2); });
     push_id(L, r.e);
     push_id(L, r.f);
@@ -118,7 +129,8 @@ int mef_m(lua_State* L) {
 int kemr_m(lua_State* L) {
   return guarded(L, [&] {
     Model& m = self(L);
-    auto e = check_id<EdgeId>(L, 2);
+    check_no_more_method(L, 2);
+    auto e = check_id<EdgeId>(L, 2, m.edges(), "an edge");
     push_id(L, op(L, "kemr", [&] { return m.kemr(e); }));
     return 1;
   });
@@ -127,8 +139,9 @@ int kemr_m(lua_State* L) {
 int mekr_m(lua_State* L) {
   return guarded(L, [&] {
     Model& m = self(L);
-    auto v1 = check_id<VertexId>(L, 2);
-    auto v2 = check_id<VertexId>(L, 3);
+    check_no_more_method(L, 3);
+    auto v1 = check_id<VertexId>(L, 2, m.vertices(), "a vertex");
+    auto v2 = check_id<VertexId>(L, 3, m.vertices(), "a vertex");
     push_id(L, op(L, "mekr", [&] { return m.mekr(v1, v2); }));
     return 1;
   });
@@ -137,8 +150,9 @@ int mekr_m(lua_State* L) {
 int kfmrh_m(lua_State* L) {
   return guarded(L, [&] {
     Model& m = self(L);
-    auto h = check_id<FaceId>(L, 2);
-    auto f = check_id<FaceId>(L, 3);
+    check_no_more_method(L, 3);
+    auto h = check_id<FaceId>(L, 2, m.faces(), "a face");
+    auto f = check_id<FaceId>(L, 3, m.faces(), "a face");
     push_id(L, op(L, "kfmrh", [&] { return m.kfmrh(h, f); }));
     return 1;
   });
@@ -147,8 +161,9 @@ int kfmrh_m(lua_State* L) {
 int mfkrh_m(lua_State* L) {
   return guarded(L, [&] {
     Model& m = self(L);
-    auto f = check_id<FaceId>(L, 2);
-    auto l = check_id<LoopId>(L, 3);
+    check_no_more_method(L, 3);
+    auto f = check_id<FaceId>(L, 2, m.faces(), "a face");
+    auto l = check_id<LoopId>(L, 3, m.loops(), "a loop");
     push_id(L, op(L, "mfkrh", [&] { return m.mfkrh(f, l); }));
     return 1;
   });
@@ -157,8 +172,9 @@ int mfkrh_m(lua_State* L) {
 int kev_m(lua_State* L) {
   return guarded(L, [&] {
     Model& m = self(L);
-    auto e = check_id<EdgeId>(L, 2);
-    auto v = check_id<VertexId>(L, 3);
+    check_no_more_method(L, 3);
+    auto e = check_id<EdgeId>(L, 2, m.edges(), "an edge");
+    auto v = check_id<VertexId>(L, 3, m.vertices(), "a vertex");
     op(L, "kev", [&] { m.kev(e, v); });
     return 0;
   });
@@ -167,8 +183,9 @@ int kev_m(lua_State* L) {
 int kef_m(lua_State* L) {
   return guarded(L, [&] {
     Model& m = self(L);
-    auto e = check_id<EdgeId>(L, 2);
-    auto f = check_id<FaceId>(L, 3);
+    check_no_more_method(L, 3);
+    auto e = check_id<EdgeId>(L, 2, m.edges(), "an edge");
+    auto f = check_id<FaceId>(L, 3, m.faces(), "a face");
     op(L, "kef", [&] { m.kef(e, f); });
     return 0;
   });
@@ -177,7 +194,8 @@ int kef_m(lua_State* L) {
 int kvfs_m(lua_State* L) {
   return guarded(L, [&] {
     Model& m = self(L);
-    auto v = check_id<VertexId>(L, 2);
+    check_no_more_method(L, 2);
+    auto v = check_id<VertexId>(L, 2, m.vertices(), "a vertex");
     op(L, "kvfs", [&] { m.kvfs(v); });
     return 0;
   });
@@ -186,7 +204,8 @@ int kvfs_m(lua_State* L) {
 int semv_m(lua_State* L) {
   return guarded(L, [&] {
     Model& m = self(L);
-    auto e = check_id<EdgeId>(L, 2);
+    check_no_more_method(L, 3);
+    auto e = check_id<EdgeId>(L, 2, m.edges(), "an edge");
     Point3 p = check_point(L, 3);
     auto r = op(L, "semv", [&] { return m.semv(e, p); });
     push_id(L, r.e);
@@ -198,8 +217,9 @@ int semv_m(lua_State* L) {
 int jekv_m(lua_State* L) {
   return guarded(L, [&] {
     Model& m = self(L);
-    auto e = check_id<EdgeId>(L, 2);
-    auto v = check_id<VertexId>(L, 3);
+    check_no_more_method(L, 3);
+    auto e = check_id<EdgeId>(L, 2, m.edges(), "an edge");
+    auto v = check_id<VertexId>(L, 3, m.vertices(), "a vertex");
     op(L, "jekv", [&] { m.jekv(e, v); });
     return 0;
   });
@@ -225,6 +245,7 @@ int counts_m(lua_State* L) {
 int validate_m(lua_State* L) {
   return guarded(L, [&] {
     Model& m = self(L);
+    check_no_more_method(L, 2);
     bool geometry = lua_isnoneornil(L, 2) ? true : check_boolean(L, 2);
     Validation v = m.validate(geometry);
     lua_pushboolean(L, v.ok);
@@ -237,6 +258,7 @@ int validate_m(lua_State* L) {
 int point_m(lua_State* L) {
   return guarded(L, [&] {
     Model& m = self(L);
+    check_no_more_method(L, 2);
     auto v = check_id<VertexId>(L, 2);
     push_vec3(L, op(L, "point", [&] { return m.point(v); }));
     return 1;
@@ -247,6 +269,7 @@ int point_m(lua_State* L) {
 int vertices_m(lua_State* L) {
   return guarded(L, [&] {
     Model& m = self(L);
+    check_no_more_method(L, 2);
     auto f = check_id<FaceId>(L, 2);
     if (!m.faces().contains(f)) throw ArgError{2, "no face " + std::to_string(f.value) + " in this model"};
     auto vs = m.loop_vertices(m.faces()[f].outer);
