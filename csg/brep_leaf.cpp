@@ -40,14 +40,21 @@ Mat3 axis_frame(const Vec3& d) {
   return f;
 }
 
+// |A|^2 / 3 (the square of its scale) where the linear part A is a similarity (A^T A a multiple of
+// the identity, to 1e-12), else 0.
+double similarity_scale2(const Mat3& a) {
+  const Mat3 ata = a.transpose() * a;
+  const double s2 = ata.trace() / 3;
+  return s2 > 0 && (ata - s2 * Mat3::Identity()).cwiseAbs().maxCoeff() <= 1e-12 * s2 ? s2 : 0.0;
+}
+
 }  // namespace
 
 Mat4 canonical_move(const Mat4& m, const Symmetry& sym) {
   if (sym.kind == Symmetry::Kind::None) return m;
   const Mat3 exact = m.block<3, 3>(0, 0);
-  const Mat3 ata = exact.transpose() * exact;
-  const double s2 = ata.trace() / 3;
-  if (!(s2 > 0) || (ata - s2 * Mat3::Identity()).cwiseAbs().maxCoeff() > 1e-12 * s2) return m;
+  const double s2 = similarity_scale2(exact);
+  if (!(s2 > 0)) return m;
   const double s = to_grid(std::sqrt(s2));
   // The linear part to 2^-40 of the scale: a turn and its inverse, composed, are the identity
   // again (their product was a rounding off it, and the copy's mesh with it).
@@ -134,10 +141,7 @@ std::shared_ptr<const SolidLeaf> BrepLeaf::transformed(const Mat4& m) const {
   // validate() is invariant under them): the copy is not validated again. That validation (for a
   // curved model, its exact volume by quadrature) cost 1.7 ms per translated cylinder: 0.68 s of
   // building bench_tree's plate of 400 drilled bosses, and as much of a script that places parts.
-  const Mat3 a = m.block<3, 3>(0, 0);
-  const Mat3 ata = a.transpose() * a;
-  const double s2 = ata.trace() / 3;
-  if (s2 > 0 && (ata - s2 * Mat3::Identity()).cwiseAbs().maxCoeff() <= 1e-12 * s2) {
+  if (similarity_scale2(m.block<3, 3>(0, 0)) > 0) {
     std::shared_ptr<BrepLeaf> out;
     if (source_) out.reset(new BrepLeaf(std::move(copy), source_, m * matrix_));
     else out.reset(new BrepLeaf(std::move(copy), shared_from_this(), m));

@@ -9,7 +9,6 @@
 #include <set>
 #include <sstream>
 #include <unordered_map>
-#include <unordered_set>
 #include <atomic>
 #include <chrono>
 
@@ -94,6 +93,7 @@ void check_tree_depth(int depth, const char* what) {
 namespace {
 
 NodePtr moved_node(const NodePtr& n, const Mat4& m);
+NodePtr moved_operands(const Solid::Node& b, const Mat4& m, bool leaves_only);
 
 // True when m only swaps and negates axes (a mirror through a coordinate plane, a turn by a
 // multiple of 90 degrees about an axis; no translation), but is not the identity: it moves every
@@ -110,28 +110,28 @@ bool swaps_axes(const Mat4& m) {
   return true;
 }
 
-// True when the subtree under n has a leaf that places its copies by symmetry (at most kVisits
-// nodes are looked at: a larger tree is taken as having none).
-bool holds_symmetric_leaf(const NodePtr& n) {
-  constexpr std::size_t kVisits = 4096;
+// True when the subtree under n is small (at most kRemade nodes, counted along every path, as a
+// copy of it counts them) and has a leaf that places its copies by symmetry. (Unbounded, s = s +
+// s:mirror{1, 0, 0} repeated copied the tree along every path: 14 times, 4.7 s and 1.2 GB.)
+bool remade_when_moved(const NodePtr& n) {
+  constexpr std::size_t kRemade = 64;
   std::vector<const Solid::Node*> stack{n.get()};
-  std::unordered_set<const Solid::Node*> seen;
-  while (!stack.empty() && seen.size() < kVisits) {
+  std::size_t visits = 0;
+  bool symmetric = false;
+  while (!stack.empty()) {
+    if (++visits > kRemade) return false;
     const Solid::Node* x = stack.back();
     stack.pop_back();
-    if (!seen.insert(x).second) continue;
     switch (x->kind) {
       case Solid::Node::Kind::Empty: break;
-      case Solid::Node::Kind::Leaf:
-        if (x->leaf->symmetric()) return true;
-        break;
+      case Solid::Node::Kind::Leaf: symmetric = symmetric || x->leaf->symmetric(); break;
       case Solid::Node::Kind::Transform: stack.push_back(x->child.get()); break;
       case Solid::Node::Kind::Boolean:
-        for (const auto& part : x->parts) stack.push_back(part.node.get());
+        x->for_each_operand([&](const NodePtr& o) { stack.push_back(o.get()); });
         break;
     }
   }
-  return false;
+  return symmetric;
 }
 
 // The node n moved by m (checked by Solid::transformed): a leaf that can move itself is a new leaf
@@ -158,20 +158,7 @@ NodePtr moved_node(const NodePtr& n, const Mat4& m) {
       return out;
     }
     case Solid::Node::Kind::Boolean:
-      if (swaps_axes(m) && holds_symmetric_leaf(n)) {
-        auto out = std::make_shared<Solid::Node>();
-        out->kind = Solid::Node::Kind::Boolean;
-        out->op = n->op;
-        out->tag = n->tag;
-        out->where = n->where;
-        n->for_each_operand([&](const NodePtr& o) {
-          NodePtr moved = moved_node(o, m);
-          out->depth = std::max(out->depth, moved->depth + 1);
-          out->parts.push_back({std::move(moved), false});
-        });
-        out->size = out->parts.size();
-        return out;
-      }
+      if (swaps_axes(m) && remade_when_moved(n)) return moved_operands(*n, m, false);
       break;
   }
   auto out = std::make_shared<Solid::Node>();
@@ -222,23 +209,24 @@ bool thin_for_rounding(const Mesh& moved) {
   return false;
 }
 
-// The boolean node b with every operand moved by m, when each moved operand is a leaf: the same
-// solid, moved, made by one engine call on moved leaves (as costly as b's own) instead of by
-// moving b's result. Otherwise nullptr: remaking operands that are booleans themselves nested,
-// and a tree that shares a subtree under many moves (s = s + s:mirror("x"):translate(...),
+// The boolean node b with every operand moved by m: the same solid, moved, made by one engine call
+// on moved operands (as costly as b's own) instead of by moving b's result. With `leaves_only`,
+// nullptr unless each moved operand is a leaf: remaking operands that are booleans themselves
+// nested, and a tree that shares a subtree under many moves (s = s + s:mirror("x"):translate(...),
 // repeated) was remade at every level into one pass of near-coincident copies (a minute in the
 // engine, then a failure, where the spoiled operand is reported at once).
-NodePtr moved_operands(const Solid::Node& b, const Mat4& m) {
+NodePtr moved_operands(const Solid::Node& b, const Mat4& m, bool leaves_only) {
   auto out = std::make_shared<Solid::Node>();
   out->kind = Solid::Node::Kind::Boolean;
   out->op = b.op;
   out->tag = b.tag;
+  out->where = b.where;
   for (const NodePtr& o : b.operands()) {
     NodePtr moved = moved_node(o, m);
-    if (moved->kind != Solid::Node::Kind::Leaf) return nullptr;
+    if (leaves_only && moved->kind != Solid::Node::Kind::Leaf) return nullptr;
+    out->depth = std::max(out->depth, moved->depth + 1);
     out->parts.push_back({std::move(moved), false});
   }
-  out->depth = 2;
   out->size = out->parts.size();
   return out;
 }
@@ -360,7 +348,7 @@ std::shared_ptr<Evaluated> compute_untagged(const Solid::Node& n, const Toleranc
           } catch (const Error& e) {
             unresolved = e.what();
           }
-          if (NodePtr remade = moved_operands(*n.child, n.matrix)) {
+          if (NodePtr remade = moved_operands(*n.child, n.matrix, true)) {
             run.count(&EvalStats::remade);
             return evaluate(remade, tol, run);
           }

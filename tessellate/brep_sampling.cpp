@@ -107,9 +107,7 @@ double spacing_for(double kappa, double t, double a) {
   if (!(kappa > 0)) return std::numeric_limits<double>::infinity();
   return std::min(std::sqrt(8 * t / kappa), a / kappa);
 }
-}  // namespace
 
-namespace {
 // The refinement halves a triangle that misses the tolerance, so its triangles end between half
 // and all of the spacing the tolerance allows: it makes 1.77 (torus) to 1.94 (sphere) times the
 // triangles of the ideal equilateral mesh counted below. Counted at 1, the estimate let through
