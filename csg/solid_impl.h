@@ -1,9 +1,11 @@
 // The CSG tree's node and a node's evaluated result: private to csg/ (solid.cpp evaluates the
-// tree, solid_boolean.cpp its boolean nodes; solid_node.cpp holds the node's own functions).
+// tree, solid_boolean.cpp its boolean nodes, solid_queries.cpp answers the queries on results;
+// solid_node.cpp holds the node's own functions).
 // Not installed (named *_impl.h).
 #pragma once
 #include <algorithm>
 #include <atomic>
+#include <chrono>
 #include <functional>
 #include <map>
 #include <memory>
@@ -127,6 +129,16 @@ struct Run {
 
 // solid.cpp: the node's result at tol, from its cache slot or computed (once, however many callers).
 std::shared_ptr<Evaluated> evaluate(const NodePtr& n, const Tolerance& tol, Run& run);
+// solid.cpp: the result of the tree under n at tol, one evaluation from a public entry point
+// (the installed control, the budgets of tol); the queries (solid_queries.cpp) start here.
+std::shared_ptr<Evaluated> evaluate_root(const NodePtr& n, const Tolerance& tol);
+// The tolerance a transform node asks of its child: finer by the largest stretch it applies.
+Tolerance child_tolerance(const Solid::Node& n, const Tolerance& tol);
+// The box around b's eight corners moved by m.
+Box3 transformed_box(const Box3& b, const Mat4& m);
+// The installed EvalControl (set_eval_control), or nullptr.
+const EvalControl* eval_control();
+double elapsed_ms(std::chrono::steady_clock::time_point t0);
 
 // solid_boolean.cpp: a boolean node's result from its operands' (pruned, grouped, balanced).
 std::shared_ptr<Evaluated> evaluate_boolean(const Solid::Node& n, const Tolerance& tol, Run& run);
